@@ -1,0 +1,5 @@
+//! The `hyst` command-line tool.
+
+fn main() {
+    println!("hyst");
+}

@@ -1,0 +1,136 @@
+//! The one error type of the core.
+
+use core::fmt;
+
+/// Everything that can go wrong in the core. Every variant names the offending parameter or value.
+///
+/// Values are carried as `f64` (exact for `f32` too) so the type does not depend on the precision.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum Error {
+    /// A parameter is outside its valid range (not finite, not positive, …).
+    InvalidParameter {
+        /// The parameter's name, as in the paper where it has one (`k1`, `k2`, …).
+        name: &'static str,
+        /// The value that was given.
+        value: f64,
+        /// What the value must be, e.g. "finite and > 0".
+        expected: &'static str,
+    },
+    /// An input sample is NaN or infinite. The operator's memory is left untouched.
+    NonFiniteInput {
+        /// The sample.
+        value: f64,
+    },
+    /// An initial state lies outside the band |output − input| ≤ k1 where the operator is defined.
+    StateOutsideBand {
+        /// The operator input of the state.
+        input: f64,
+        /// The operator output of the state.
+        output: f64,
+        /// The hysteresis half-width k1.
+        k1: f64,
+    },
+    /// A shaping function is not strictly increasing on its domain, so it has no inverse.
+    NotMonotone {
+        /// The shaping function, e.g. "polynomial".
+        name: &'static str,
+        /// A point of the domain where the slope is ≤ 0.
+        at: f64,
+        /// The slope there.
+        slope: f64,
+    },
+    /// A value is outside the range of a shaping function, so its inverse does not exist.
+    OutOfRange {
+        /// The shaping function, e.g. "tanh".
+        name: &'static str,
+        /// The value to invert.
+        value: f64,
+        /// Lower end of the range (exclusive or inclusive as documented by the function).
+        min: f64,
+        /// Upper end of the range.
+        max: f64,
+    },
+    /// The input-dependent k2 law returned a value that is not finite and positive.
+    InvalidK2 {
+        /// The operator input at which the law was evaluated.
+        input: f64,
+        /// The value the law returned.
+        k2: f64,
+    },
+    /// Two slices that must have the same length do not.
+    LengthMismatch {
+        /// Length of the input slice.
+        input: usize,
+        /// Length of the output slice.
+        output: usize,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::InvalidParameter {
+                name,
+                value,
+                expected,
+            } => write!(f, "invalid parameter {name} = {value}: must be {expected}"),
+            Error::NonFiniteInput { value } => {
+                write!(f, "input sample {value} is not finite")
+            }
+            Error::StateOutsideBand { input, output, k1 } => write!(
+                f,
+                "state (input {input}, output {output}) is outside the band |output - input| <= k1 = {k1}"
+            ),
+            Error::NotMonotone { name, at, slope } => write!(
+                f,
+                "{name} shaping function is not strictly increasing: slope {slope} at {at}"
+            ),
+            Error::OutOfRange {
+                name,
+                value,
+                min,
+                max,
+            } => write!(
+                f,
+                "{value} is outside the range ({min}, {max}) of the {name} shaping function"
+            ),
+            Error::InvalidK2 { input, k2 } => write!(
+                f,
+                "the k2 law gave k2 = {k2} at input {input}: must be finite and > 0"
+            ),
+            Error::LengthMismatch { input, output } => write!(
+                f,
+                "input has {input} samples but the output buffer has {output}"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for Error {}
+
+/// Checks that `value` is finite and strictly positive, naming it in the error otherwise.
+pub(crate) fn positive<T: crate::Real>(name: &'static str, value: T) -> Result<T, Error> {
+    if value.is_finite() && value > T::zero() {
+        Ok(value)
+    } else {
+        Err(Error::InvalidParameter {
+            name,
+            value: value.as_f64(),
+            expected: "finite and > 0",
+        })
+    }
+}
+
+/// Checks that `value` is finite, naming it in the error otherwise.
+pub(crate) fn finite<T: crate::Real>(name: &'static str, value: T) -> Result<T, Error> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::InvalidParameter {
+            name,
+            value: value.as_f64(),
+            expected: "finite",
+        })
+    }
+}

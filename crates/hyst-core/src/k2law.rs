@@ -1,0 +1,141 @@
+//! The transition-rate parameter k2: constant, or a function of the operator input (Section 4.3).
+//!
+//! With k2 = φ(v) the direct operator uses φ of its input v, and the inverse uses φ of its input
+//! u_d (Proposition 4.3): the pair is then inverse only up to a parameter deviation
+//! Δk2 ≤ sup |φ'| k1, which [`K2Law::max_slope`] provides for the error bound.
+
+#[cfg(feature = "serde")]
+use serde::{Deserialize, Serialize};
+
+use crate::{error::positive, Error, Jet, Real, Scalar};
+
+/// How k2 depends on the operator's input. Implement it for any smooth function: write `k2`
+/// generically over [`Scalar`] and the operator gets its time derivatives for free.
+pub trait K2Law<T: Real> {
+    /// k2 at the operator input `input` (a plain value or a jet). Must be finite and > 0.
+    fn k2<S: Scalar<T>>(&self, input: S) -> S;
+
+    /// Checks the law's own parameters (called when an operator is built).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the bad parameter.
+    fn validate(&self) -> Result<(), Error>;
+
+    /// (min, max) of k2 over inputs in [lo, hi]. The default samples 1025 points.
+    fn range(&self, lo: T, hi: T) -> (T, T) {
+        let mut min = T::infinity();
+        let mut max = T::neg_infinity();
+        for x in grid(lo, hi) {
+            let k = self.k2(x);
+            min = min.min(k);
+            max = max.max(k);
+        }
+        (min, max)
+    }
+
+    /// sup |dφ/dv| over [lo, hi] (Proposition 4.3). The default samples 1025 points with jets.
+    fn max_slope(&self, lo: T, hi: T) -> T {
+        grid(lo, hi)
+            .map(|x| {
+                let d = self.k2(Jet::<T, 1>::variable(x)).derivatives();
+                d.first().map_or(T::zero(), |s| s.abs())
+            })
+            .fold(T::zero(), T::max)
+    }
+}
+
+fn grid<T: Real>(lo: T, hi: T) -> impl Iterator<Item = T> {
+    const POINTS: usize = 1025;
+    (0..POINTS).map(move |i| lo + (hi - lo) * T::lit(i as f64 / (POINTS - 1) as f64))
+}
+
+/// A constant k2 (Definition 2.2): the rate of the smooth transition towards the asymptotes,
+/// in 1 / (units of the operator input). Finite and > 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct ConstantK2<T>(pub T);
+
+impl<T: Real> K2Law<T> for ConstantK2<T> {
+    #[inline]
+    fn k2<S: Scalar<T>>(&self, _input: S) -> S {
+        S::cst(self.0)
+    }
+    fn validate(&self) -> Result<(), Error> {
+        positive("k2", self.0).map(|_| ())
+    }
+    fn range(&self, _lo: T, _hi: T) -> (T, T) {
+        (self.0, self.0)
+    }
+    fn max_slope(&self, _lo: T, _hi: T) -> T {
+        T::zero()
+    }
+}
+
+/// An affine k2 = φ(v) = `at_zero` + `slope` · v, clamped to [`min`, `max`] so it stays positive
+/// on every input (Example 1 uses φ(in) = 9 − 2 in with k2 ∈ [5, 12]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct AffineK2<T> {
+    /// φ(0).
+    pub at_zero: T,
+    /// dφ/dv, in 1 / (input units)².
+    pub slope: T,
+    /// Lower clamp, finite and > 0.
+    pub min: T,
+    /// Upper clamp, finite and ≥ `min`.
+    pub max: T,
+}
+
+impl<T: Real> AffineK2<T> {
+    /// Builds and validates an affine law.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a non-finite coefficient, `min` ≤ 0 or `max` < `min`.
+    pub fn new(at_zero: T, slope: T, min: T, max: T) -> Result<Self, Error> {
+        let law = Self {
+            at_zero,
+            slope,
+            min,
+            max,
+        };
+        law.validate()?;
+        Ok(law)
+    }
+}
+
+impl<T: Real> K2Law<T> for AffineK2<T> {
+    #[inline]
+    fn k2<S: Scalar<T>>(&self, input: S) -> S {
+        let k = input * self.slope + self.at_zero;
+        let v = k.value();
+        if v < self.min {
+            S::cst(self.min)
+        } else if v > self.max {
+            S::cst(self.max)
+        } else {
+            k
+        }
+    }
+    fn validate(&self) -> Result<(), Error> {
+        crate::error::finite("k2 law at_zero", self.at_zero)?;
+        crate::error::finite("k2 law slope", self.slope)?;
+        positive("k2 law min", self.min)?;
+        crate::error::finite("k2 law max", self.max)?;
+        if self.max < self.min {
+            return Err(Error::InvalidParameter {
+                name: "k2 law max",
+                value: self.max.as_f64(),
+                expected: ">= k2 law min",
+            });
+        }
+        Ok(())
+    }
+    fn range(&self, lo: T, hi: T) -> (T, T) {
+        let a = self.k2(lo);
+        let b = self.k2(hi);
+        (a.min(b), a.max(b))
+    }
+    fn max_slope(&self, _lo: T, _hi: T) -> T {
+        self.slope.abs()
+    }
+}

@@ -1,0 +1,226 @@
+//! The memory of Definition 2.1: the last reversal point (α0, β0) and the direction of the input.
+//!
+//! In discrete time (Section 4.2, "Causality") the direction is the sign of the last non-zero input
+//! step x[k] − x[k−1]; a zero step keeps the current direction, and at a change of direction the
+//! previous sample becomes the reversal point. For a [`Jet`](crate::Jet) input whose value does
+//! not move, the sign of its lowest-order non-zero derivative decides instead, so that a
+//! continuous-time trajectory starting at a turning point gets the right mode from the start.
+
+#[cfg(feature = "serde")]
+use serde::{Deserialize, Serialize};
+
+use crate::{Error, Real, Scalar};
+
+/// The mode of the operator (Fig. 2): rising input (α̇ ≥ 0) or falling input (α̇ < 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Direction {
+    /// The input is rising (or has not moved yet): s = +1 in the transformation T of Definition 2.1.
+    #[default]
+    Rising,
+    /// The input is falling: s = −1.
+    Falling,
+}
+
+impl Direction {
+    /// s = +1 for [`Direction::Rising`], −1 for [`Direction::Falling`].
+    #[must_use]
+    #[inline]
+    pub fn sign<T: Real>(self) -> T {
+        match self {
+            Direction::Rising => T::one(),
+            Direction::Falling => -T::one(),
+        }
+    }
+
+    /// The other direction.
+    #[must_use]
+    pub fn reversed(self) -> Self {
+        match self {
+            Direction::Rising => Direction::Falling,
+            Direction::Falling => Direction::Rising,
+        }
+    }
+
+    fn from_rising(rising: bool) -> Self {
+        if rising {
+            Direction::Rising
+        } else {
+            Direction::Falling
+        }
+    }
+}
+
+/// The state of one operator: Definition 2.1's reversal point (α0, β0) and direction, plus the
+/// last input and output sample (the causal, discrete-time form of Section 4.2).
+///
+/// α is the operator's input and β its output: for the direct operator (eq. 2) α = v, β = u;
+/// for the inverse (eq. 4) α = u_d, β = v. The same type serves both. A controller that restarts
+/// saves this value and restores it with `set_memory` to resume exactly where it stopped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Memory<T> {
+    /// α0: the operator input at the last reversal.
+    pub reversal_input: T,
+    /// β0: the operator output at the last reversal.
+    pub reversal_output: T,
+    /// The current mode.
+    pub direction: Direction,
+    /// The last input sample.
+    pub last_input: T,
+    /// The last output sample.
+    pub last_output: T,
+}
+
+impl<T: Real> Memory<T> {
+    /// A memory at rest at the point (input, output), heading in `direction`: that point is the
+    /// reversal point. Checks that the point lies in the band |output − input| ≤ k1.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for non-finite values, [`Error::StateOutsideBand`] outside the
+    /// band.
+    pub fn at_rest(input: T, output: T, direction: Direction, k1: T) -> Result<Self, Error> {
+        crate::error::finite("initial input", input)?;
+        crate::error::finite("initial output", output)?;
+        if (output - input).abs() > k1 {
+            return Err(Error::StateOutsideBand {
+                input: input.as_f64(),
+                output: output.as_f64(),
+                k1: k1.as_f64(),
+            });
+        }
+        Ok(Self {
+            reversal_input: input,
+            reversal_output: output,
+            direction,
+            last_input: input,
+            last_output: output,
+        })
+    }
+
+    /// Checks a memory that comes from outside (a saved state): all values finite, the reversal
+    /// point inside the band of half-width k1 and the last point inside the band (both with a
+    /// relative tolerance of 1e-9 for rounding).
+    ///
+    /// # Errors
+    /// As [`Memory::at_rest`].
+    pub fn validate(&self, k1: T) -> Result<(), Error> {
+        let tol = k1 * T::lit(1e-9);
+        for (name, value) in [
+            ("reversal_input", self.reversal_input),
+            ("reversal_output", self.reversal_output),
+            ("last_input", self.last_input),
+            ("last_output", self.last_output),
+        ] {
+            crate::error::finite(name, value)?;
+        }
+        for (input, output) in [
+            (self.reversal_input, self.reversal_output),
+            (self.last_input, self.last_output),
+        ] {
+            if (output - input).abs() > k1 + tol {
+                return Err(Error::StateOutsideBand {
+                    input: input.as_f64(),
+                    output: output.as_f64(),
+                    k1: k1.as_f64(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Applies the discrete direction rule to a new input sample: a non-zero step sets the
+    /// direction (a zero step defers to `trend`, the sign of the input's first non-zero
+    /// derivative when it has one); a change of direction makes the last sample the reversal point.
+    #[inline]
+    pub fn observe(&mut self, x: T, trend: Option<bool>) {
+        let direction = if x > self.last_input {
+            Some(Direction::Rising)
+        } else if x < self.last_input {
+            Some(Direction::Falling)
+        } else {
+            trend.map(Direction::from_rising)
+        };
+        if let Some(d) = direction {
+            if d != self.direction {
+                self.reversal_input = self.last_input;
+                self.reversal_output = self.last_output;
+                self.direction = d;
+            }
+        }
+    }
+
+    /// The first sample of an operator with no history: a reversal point on the line
+    /// output = input, heading the way the input's derivatives say (rising if they say nothing).
+    #[must_use]
+    pub fn first_sample(x: T, trend: Option<bool>) -> Self {
+        Self {
+            reversal_input: x,
+            reversal_output: x,
+            direction: trend.map_or(Direction::Rising, Direction::from_rising),
+            last_input: x,
+            last_output: x,
+        }
+    }
+
+    /// The transformed input α̃ = s (α − α0) of Definition 2.1.
+    #[inline]
+    pub fn transform<S: Scalar<T>>(&self, alpha: S) -> S {
+        (alpha - self.reversal_input) * self.direction.sign::<T>()
+    }
+
+    /// The output from its transformed value: β = β0 + s β̃ (Definition 2.1 solved for β).
+    #[inline]
+    pub fn untransform<S: Scalar<T>>(&self, beta_tilde: S) -> S {
+        beta_tilde * self.direction.sign::<T>() + self.reversal_output
+    }
+
+    /// M(α, β) = s (β0 − α0) of Definition 2.1: the signed distance of the reversal point from
+    /// the line β = α.
+    #[must_use]
+    #[inline]
+    pub fn m(&self) -> T {
+        (self.reversal_output - self.reversal_input) * self.direction.sign::<T>()
+    }
+
+    /// The same memory seen from the other side of the operator pair (input and output swapped):
+    /// the memory of the inverse operator that undoes this operator exactly (Proposition 4.1).
+    #[must_use]
+    pub fn swapped(&self) -> Self {
+        Self {
+            reversal_input: self.reversal_output,
+            reversal_output: self.reversal_input,
+            direction: self.direction,
+            last_input: self.last_output,
+            last_output: self.last_input,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn direction_rule() {
+        let mut m = Memory::first_sample(0.0_f64, None);
+        assert_eq!(m.direction, Direction::Rising);
+        m.last_input = 1.0;
+        m.last_output = 0.9;
+        m.observe(1.0, None); // zero step keeps the direction
+        assert_eq!(m.direction, Direction::Rising);
+        assert_eq!(m.reversal_input, 0.0);
+        m.observe(0.5, None); // falls: (1.0, 0.9) becomes the reversal point
+        assert_eq!(m.direction, Direction::Falling);
+        assert_eq!((m.reversal_input, m.reversal_output), (1.0, 0.9));
+        assert!((m.m() - 0.1).abs() < 1e-15);
+    }
+
+    #[test]
+    fn band_is_checked() {
+        assert!(Memory::at_rest(0.0, 0.2, Direction::Rising, 0.1_f64).is_err());
+        assert!(Memory::at_rest(0.0, 0.1, Direction::Rising, 0.1_f64).is_ok());
+        assert!(Memory::at_rest(f64::NAN, 0.0, Direction::Rising, 0.1_f64).is_err());
+    }
+}

@@ -1,0 +1,367 @@
+//! The direct (Definition 2.2, eq. 2) and inverse (Definition 2.5, eq. 4) parametric hysteresis
+//! operators, as one generic type with two branches.
+
+use core::marker::PhantomData;
+
+#[cfg(feature = "serde")]
+use serde::{Deserialize, Serialize};
+
+use crate::{error::positive, ConstantK2, Direction, Error, Jet, K2Law, Memory, Real, Scalar};
+
+mod sealed {
+    pub trait Sealed {}
+}
+
+/// Which operator of the pair: [`Direct`] (eq. 2) or [`Inverse`] (eq. 4).
+pub trait Branch: sealed::Sealed + Copy + core::fmt::Debug {
+    /// "direct" or "inverse".
+    const NAME: &'static str;
+    /// M* from the memory: M(α, β) + k1 for the direct operator, −M(α, β) + k1 for the inverse
+    /// (eq. 4; Proposition 2.7 uses the same, see `docs/errata.md`). Clamped to [0, 2 k1], the
+    /// range it has on every consistent state, so rounding can never leave the band.
+    fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T;
+    /// The transformed output from the transformed input: eq. (2) or eq. (4).
+    fn transition<T: Real, S: Scalar<T>>(x_tilde: S, m_star: T, k2: S) -> S;
+}
+
+/// Marker for the direct operator u = H(k1, k2)[v] of eq. (2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Direct;
+
+/// Marker for the inverse operator v = H⁻¹(k1, k2)[u_d] of eq. (4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Inverse;
+
+impl sealed::Sealed for Direct {}
+impl sealed::Sealed for Inverse {}
+
+#[inline]
+fn clamp_band<T: Real>(m: T, k1: T) -> T {
+    m.max(T::zero()).min(k1 + k1)
+}
+
+impl Branch for Direct {
+    const NAME: &'static str = "direct";
+    #[inline]
+    fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T {
+        clamp_band(memory.m() + k1, k1)
+    }
+    /// Eq. (2): ũ = ṽ − M* + W(k2 M* e^(k2 (M* − ṽ))) / k2.
+    ///
+    /// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b), w + ln w = ln a + b gives the
+    /// equivalent ũ = ln(a / w) / k2, which is free of the cancellation between ṽ − M* and w/k2:
+    /// its absolute error is a few ulps of 1/k2, and it is exactly 0 at a reversal point. It is
+    /// used while w is a normal number; for vanishing w the printed form is exact to rounding.
+    /// When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain), so k2 up to 1e12
+    /// (near-backlash) stays finite and accurate.
+    #[inline]
+    fn transition<T: Real, S: Scalar<T>>(v_tilde: S, m_star: T, k2: S) -> S {
+        let at_reversal = v_tilde.value() == T::zero();
+        let a = k2 * m_star;
+        let b = k2 * (S::cst(m_star) - v_tilde);
+        let x = a * b.exp();
+        let u_tilde = if x.value().is_finite() {
+            let w = x.w0();
+            if w.value() > T::min_positive_value().sqrt() {
+                (a / w).ln() / k2
+            } else {
+                v_tilde - m_star + w / k2
+            }
+        } else {
+            let ln_a = k2.ln() + m_star.ln();
+            let w = (ln_a + b).omega();
+            (ln_a - w.ln()) / k2
+        };
+        if at_reversal {
+            u_tilde.with_value(T::zero())
+        } else {
+            u_tilde
+        }
+    }
+}
+
+impl Branch for Inverse {
+    const NAME: &'static str = "inverse";
+    #[inline]
+    fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T {
+        clamp_band(k1 - memory.m(), k1)
+    }
+    /// Eq. (4): ṽ = ũ_d + M* (1 − e^(−k2 ũ_d)), with 1 − e^(−z) = −expm1(−z) for accuracy.
+    #[inline]
+    fn transition<T: Real, S: Scalar<T>>(ud_tilde: S, m_star: T, k2: S) -> S {
+        ud_tilde - (-(k2 * ud_tilde)).exp_m1() * m_star
+    }
+}
+
+/// A parametric hysteresis operator with its memory: parameters k1 (half-width of the loop, in
+/// output units, > 0) and k2 (rate of the transition, 1/input units, > 0, or a law k2 = φ(input)),
+/// the memory of Definition 2.1, and the branch `B` ([`Direct`] or [`Inverse`]).
+///
+/// Use the aliases [`Hysteresis`] and [`InverseHysteresis`]. The value is small and `Copy` (when
+/// the k2 law is), never allocates and never panics.
+///
+/// Non-finite input: [`Operator::try_step`] returns [`Error::NonFiniteInput`] and leaves the
+/// memory untouched; [`Operator::step`] then holds the last output (or returns the input as is
+/// when there is no history yet). The memory never holds a NaN.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Operator<T, K, B> {
+    k1: T,
+    law: K,
+    initial: Option<Memory<T>>,
+    memory: Option<Memory<T>>,
+    branch: PhantomData<B>,
+}
+
+/// The direct parametric hysteresis operator u = H(k1, k2)[v] (Definition 2.2, eq. 2).
+///
+/// # Examples
+/// ```
+/// use hyst_core::Hysteresis;
+/// let mut h = Hysteresis::new(0.14_f64, 8.0)?;
+/// assert_eq!(h.step(0.0), 0.0); // the first sample is a reversal point on u = v
+/// let up = h.step(1.0);
+/// assert!(up < 1.0 && up > 1.0 - 0.14); // rising: below the line, above the asymptote v − k1
+/// # Ok::<(), hyst_core::Error>(())
+/// ```
+pub type Hysteresis<T, K = ConstantK2<T>> = Operator<T, K, Direct>;
+
+/// The inverse parametric hysteresis operator v = H⁻¹(k1, k2)[u_d] (Definition 2.5, eq. 4),
+/// the exact left and right inverse of [`Hysteresis`] with the same parameters and initial
+/// state (Proposition 4.1).
+///
+/// # Examples
+/// ```
+/// use hyst_core::{Hysteresis, InverseHysteresis};
+/// let mut h = Hysteresis::new(0.2_f64, 8.0)?;
+/// let mut hinv = InverseHysteresis::new(0.2_f64, 8.0)?;
+/// for k in 0..100 {
+///     let ud = (k as f64 * 0.1).sin();
+///     let v = hinv.step(ud);
+///     assert!((h.step(v) - ud).abs() < 1e-12);
+/// }
+/// # Ok::<(), hyst_core::Error>(())
+/// ```
+pub type InverseHysteresis<T, K = ConstantK2<T>> = Operator<T, K, Inverse>;
+
+impl<T: Real, B: Branch> Operator<T, ConstantK2<T>, B> {
+    /// An operator with constant k2, no history (its first sample becomes a reversal point on
+    /// the line output = input).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `k1` or `k2` unless both are finite and > 0.
+    pub fn new(k1: T, k2: T) -> Result<Self, Error> {
+        Self::with_k2_law(k1, ConstantK2(k2))
+    }
+
+    /// k2 (constant).
+    #[must_use]
+    pub fn k2(&self) -> T {
+        self.law.0
+    }
+}
+
+impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
+    /// An operator whose k2 follows `law` (Section 4.3), no history.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for k1 not finite and > 0, or from the law's own check.
+    pub fn with_k2_law(k1: T, law: K) -> Result<Self, Error> {
+        positive("k1", k1)?;
+        law.validate()?;
+        Ok(Self {
+            k1,
+            law,
+            initial: None,
+            memory: None,
+            branch: PhantomData,
+        })
+    }
+
+    /// Starts the operator at rest at (input, output), heading in `direction`: that point is the
+    /// reversal point (α0, β0). [`Operator::reset`] returns here.
+    ///
+    /// # Errors
+    /// [`Error::StateOutsideBand`] unless |output − input| ≤ k1 (outside that band the paper's
+    /// operator is not defined); [`Error::InvalidParameter`] for non-finite values.
+    pub fn with_initial_state(
+        mut self,
+        input: T,
+        output: T,
+        direction: Direction,
+    ) -> Result<Self, Error> {
+        let m = Memory::at_rest(input, output, direction, self.k1)?;
+        self.initial = Some(m);
+        self.memory = Some(m);
+        Ok(self)
+    }
+
+    /// k1, the half-width of the loop (the asymptotes are output = input ∓ k1).
+    #[must_use]
+    pub fn k1(&self) -> T {
+        self.k1
+    }
+
+    /// The k2 law.
+    #[must_use]
+    pub fn k2_law(&self) -> &K {
+        &self.law
+    }
+
+    /// The current memory, `None` before the first sample (without an initial state).
+    #[must_use]
+    pub fn memory(&self) -> Option<Memory<T>> {
+        self.memory
+    }
+
+    /// Restores a saved memory (for example after a controller restart).
+    ///
+    /// # Errors
+    /// As [`Memory::validate`]; on error the operator is unchanged.
+    pub fn set_memory(&mut self, memory: Memory<T>) -> Result<(), Error> {
+        memory.validate(self.k1)?;
+        self.memory = Some(memory);
+        Ok(())
+    }
+
+    /// Forgets the history: back to the initial state, or to "no history" if none was given.
+    pub fn reset(&mut self) {
+        self.memory = self.initial;
+    }
+
+    /// One sample of a plain value.
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteInput`] or [`Error::InvalidK2`]; the memory is then unchanged.
+    #[inline]
+    pub fn try_step(&mut self, x: T) -> Result<T, Error> {
+        self.eval(x)
+    }
+
+    /// One sample; a non-finite input (or an invalid k2 from a custom law) holds the last output
+    /// and leaves the memory untouched. Before any valid sample, it returns the input as is.
+    #[inline]
+    pub fn step(&mut self, x: T) -> T {
+        match self.eval(x) {
+            Ok(y) => y,
+            Err(_) => self.memory.map_or(x, |m| m.last_output),
+        }
+    }
+
+    /// One sample of a jet: the input's value and its first `N` time derivatives in, the
+    /// output's value and first `N` time derivatives out (Proposition 2.7 and beyond).
+    ///
+    /// # Errors
+    /// As [`Operator::try_step`] (a non-finite derivative counts as non-finite input).
+    #[inline]
+    pub fn step_jet<const N: usize>(&mut self, x: Jet<T, N>) -> Result<Jet<T, N>, Error> {
+        self.eval(x)
+    }
+
+    /// The output the operator would give for `x`, without changing its memory.
+    ///
+    /// # Errors
+    /// As [`Operator::try_step`].
+    pub fn peek<S: Scalar<T>>(&self, x: S) -> Result<S, Error> {
+        self.compute(x).map(|(y, _)| y)
+    }
+
+    /// The common path of every evaluation: plain values and jets alike.
+    ///
+    /// # Errors
+    /// As [`Operator::try_step`].
+    #[inline]
+    pub fn eval<S: Scalar<T>>(&mut self, x: S) -> Result<S, Error> {
+        let (y, memory) = self.compute(x)?;
+        self.memory = Some(memory);
+        Ok(y)
+    }
+
+    /// The output for `x` and the memory after it, without committing the memory.
+    #[inline]
+    pub(crate) fn compute<S: Scalar<T>>(&self, x: S) -> Result<(S, Memory<T>), Error> {
+        let v = x.value();
+        if !x.all_finite() {
+            return Err(Error::NonFiniteInput { value: v.as_f64() });
+        }
+        let mut memory = match self.memory {
+            Some(m) => m,
+            None => Memory::first_sample(v, x.trend()),
+        };
+        memory.observe(v, x.trend());
+        let k2 = self.law.k2(x);
+        if !(k2.value() > T::zero() && k2.all_finite()) {
+            return Err(Error::InvalidK2 {
+                input: v.as_f64(),
+                k2: k2.value().as_f64(),
+            });
+        }
+        let m_star = B::m_star(&memory, self.k1);
+        let y = memory.untransform(B::transition(memory.transform(x), m_star, k2));
+        memory.last_input = v;
+        memory.last_output = y.value();
+        Ok((y, memory))
+    }
+
+    /// Commits a memory produced by [`Operator::compute`].
+    #[inline]
+    pub(crate) fn commit(&mut self, memory: Memory<T>) {
+        self.memory = Some(memory);
+    }
+
+    /// Processes a block of samples into `output` (same length), without allocating. Each sample
+    /// behaves as [`Operator::step`].
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] when the slices differ in length (nothing is processed).
+    pub fn process(&mut self, input: &[T], output: &mut [T]) -> Result<(), Error> {
+        if input.len() != output.len() {
+            return Err(Error::LengthMismatch {
+                input: input.len(),
+                output: output.len(),
+            });
+        }
+        for (x, y) in input.iter().zip(output.iter_mut()) {
+            *y = self.step(*x);
+        }
+        Ok(())
+    }
+
+    /// Processes a block of samples in place: each input sample is replaced by the output.
+    pub fn process_in_place(&mut self, samples: &mut [T]) {
+        for x in samples.iter_mut() {
+            *x = self.step(*x);
+        }
+    }
+}
+
+impl<T: Real, K: K2Law<T> + Clone> Operator<T, K, Direct> {
+    /// The inverse operator with the same parameters, whose memory mirrors this one's: from here
+    /// on, `inverse.step(u_d)` fed into `self.step` gives back `u_d` (Proposition 4.1).
+    #[must_use]
+    pub fn inverse(&self) -> Operator<T, K, Inverse> {
+        Operator {
+            k1: self.k1,
+            law: self.law.clone(),
+            initial: self.initial.map(|m| m.swapped()),
+            memory: self.memory.map(|m| m.swapped()),
+            branch: PhantomData,
+        }
+    }
+}
+
+impl<T: Real, K: K2Law<T> + Clone> Operator<T, K, Inverse> {
+    /// The direct operator with the same parameters, whose memory mirrors this one's.
+    #[must_use]
+    pub fn direct(&self) -> Operator<T, K, Direct> {
+        Operator {
+            k1: self.k1,
+            law: self.law.clone(),
+            initial: self.initial.map(|m| m.swapped()),
+            memory: self.memory.map(|m| m.swapped()),
+            branch: PhantomData,
+        }
+    }
+}

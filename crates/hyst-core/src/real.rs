@@ -1,0 +1,55 @@
+//! The floating-point types the core works with.
+
+use core::fmt::{Debug, Display};
+
+/// A real floating-point type: implemented for `f32` and `f64`.
+///
+/// All maths goes through [`num_traits::Float`] backed by `libm`, so the same code runs with and
+/// without the standard library. The extra items here are the constants and the Lambert W
+/// approximation the operator needs at each precision.
+pub trait Real:
+    num_traits::Float + num_traits::FloatConst + Debug + Display + Default + Send + Sync + 'static
+{
+    /// Converts an `f64` literal to this type (rounding to nearest for `f32`).
+    fn lit(x: f64) -> Self;
+    /// Converts this value to `f64` (exact for both implementations).
+    fn as_f64(self) -> f64;
+    /// Principal branch of the Lambert W function for `x ≥ 0`, by Fukushima's minimax method
+    /// (the `lambert_w` crate): 50 bits for `f64`, 24 bits for `f32`.
+    fn lambert_w0_fukushima(self) -> Self;
+    /// The largest `y` for which `exp(y)` is finite, less a safety margin: above it the Wright
+    /// omega function is evaluated in the log domain.
+    const EXP_ARG_MAX: Self;
+}
+
+impl Real for f64 {
+    #[inline]
+    fn lit(x: f64) -> Self {
+        x
+    }
+    #[inline]
+    fn as_f64(self) -> f64 {
+        self
+    }
+    #[inline]
+    fn lambert_w0_fukushima(self) -> Self {
+        lambert_w::lambert_w0(self)
+    }
+    const EXP_ARG_MAX: Self = 700.0;
+}
+
+impl Real for f32 {
+    #[inline]
+    fn lit(x: f64) -> Self {
+        x as f32
+    }
+    #[inline]
+    fn as_f64(self) -> f64 {
+        f64::from(self)
+    }
+    #[inline]
+    fn lambert_w0_fukushima(self) -> Self {
+        lambert_w::lambert_w0f(self)
+    }
+    const EXP_ARG_MAX: Self = 85.0;
+}
