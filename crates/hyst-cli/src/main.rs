@@ -1,5 +1,51 @@
-//! The `hyst` command-line tool.
+//! `hyst`: the command-line face of the hyst library. One module per subcommand.
 
-fn main() {
-    println!("hyst");
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod bench;
+mod bound;
+mod fit;
+mod paper;
+mod run;
+
+/// Smooth parametric hysteresis: model, bound, compensate and fit.
+#[derive(Parser, Debug)]
+#[command(name = "hyst", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run the direct operator (or its inverse, the compensator) over a CSV file.
+    Run(run::Args),
+    /// Error bound Δa of a family of operators (Propositions 3.2, 3.3).
+    Bound(bound::Args),
+    /// Reproduce the paper's examples, figures and numbers.
+    Paper(paper::Args),
+    /// Identify a model from measured data.
+    Fit(fit::Args),
+    /// Measure the speed of the operators (ns per sample).
+    Bench(bench::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(args) => run::main(args),
+        Command::Bound(args) => bound::main(args),
+        Command::Paper(args) => paper::main(args),
+        Command::Fit(args) => fit::main(args),
+        Command::Bench(args) => bench::main(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
 }

@@ -670,7 +670,7 @@ impl<T: Real> Shaping<T> for QuadraticExp<T> {
 /// Any of the built-in shaping functions, chosen at run time (model files, the CLI, fitting).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "kebab-case"))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Shape<T> {
     /// [`Identity`].
     #[default]
