@@ -8,6 +8,7 @@ mod bench;
 mod bound;
 mod fit;
 mod paper;
+mod plot;
 mod run;
 
 /// Smooth parametric hysteresis: model, bound, compensate and fit.

@@ -1,0 +1,484 @@
+//! Shared plotting helpers: figures of one or more panels, each with line, dashed and scatter
+//! series, axis labels (with units), a legend and optional horizontal lines (error bounds),
+//! written as PNG and SVG with the embedded DejaVu Sans font (no system font library).
+//!
+//! ```ignore
+//! let panel = Panel::new("Compensation error", "time t (s)", "error (normalised flux)")
+//!     .series(Series::line("u_d − Φ", points))
+//!     .bound("bound Δb = ±0.03", 0.03);
+//! let written = Figure::row(vec![panel]).save(Path::new("out"), "fig5")?; // fig5.png, fig5.svg
+//! ```
+#![allow(dead_code)] // a shared API: not every helper is used by every command
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use anyhow::{anyhow, Context, Result};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::{register_font, FontStyle, RGBColor};
+
+/// DejaVu Sans 2.37 (see `assets/README.md` for its origin and licence).
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+
+/// Registers the embedded font as plotters' "sans-serif" family, once.
+fn ensure_font() -> Result<()> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok =
+        *REGISTERED.get_or_init(|| register_font("sans-serif", FontStyle::Normal, FONT).is_ok());
+    if ok {
+        Ok(())
+    } else {
+        Err(anyhow!("the embedded font could not be loaded"))
+    }
+}
+
+/// Colours of series, in order of use (colour-blind friendly, after Okabe and Ito).
+pub const PALETTE: [RGBColor; 8] = [
+    RGBColor(0, 114, 178),   // blue
+    RGBColor(213, 94, 0),    // vermillion
+    RGBColor(0, 158, 115),   // green
+    RGBColor(204, 121, 167), // purple
+    RGBColor(230, 159, 0),   // orange
+    RGBColor(86, 180, 233),  // sky blue
+    RGBColor(120, 120, 120), // grey
+    RGBColor(0, 0, 0),       // black
+];
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    /// A solid line through the points in order.
+    Line,
+    /// A dashed line through the points in order.
+    Dashed,
+    /// One dot per point.
+    Points,
+}
+
+/// One data series of a panel.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend text (empty: not in the legend).
+    pub label: String,
+    /// (x, y) points in data units; non-finite points are skipped.
+    pub points: Vec<(f64, f64)>,
+    /// Line, dashed line or points.
+    pub style: Style,
+    /// Index into [`PALETTE`]; `None` takes the next colour.
+    pub color: Option<usize>,
+    /// Line width or dot radius, in pixels.
+    pub width: u32,
+}
+
+impl Series {
+    fn new(label: &str, points: Vec<(f64, f64)>, style: Style, width: u32) -> Self {
+        Self {
+            label: label.to_string(),
+            points,
+            style,
+            color: None,
+            width,
+        }
+    }
+    /// A solid line.
+    pub fn line(label: &str, points: Vec<(f64, f64)>) -> Self {
+        Self::new(label, points, Style::Line, 2)
+    }
+    /// A dashed line.
+    pub fn dashed(label: &str, points: Vec<(f64, f64)>) -> Self {
+        Self::new(label, points, Style::Dashed, 2)
+    }
+    /// A scatter of dots.
+    pub fn scatter(label: &str, points: Vec<(f64, f64)>) -> Self {
+        Self::new(label, points, Style::Points, 2)
+    }
+    /// Picks the colour (index into [`PALETTE`], wrapping).
+    #[must_use]
+    pub fn color(mut self, index: usize) -> Self {
+        self.color = Some(index);
+        self
+    }
+    /// Sets the line width or dot radius in pixels.
+    #[must_use]
+    pub fn width(mut self, pixels: u32) -> Self {
+        self.width = pixels.max(1);
+        self
+    }
+}
+
+/// A horizontal reference line (an error bound, say), drawn dashed across the panel.
+#[derive(Clone, Debug)]
+pub struct HLine {
+    /// Legend text (shared by lines with the same label: it appears once).
+    pub label: String,
+    /// Height in data units.
+    pub y: f64,
+    /// Index into [`PALETTE`].
+    pub color: usize,
+}
+
+/// Where the legend goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Legend {
+    /// Top left corner.
+    UpperLeft,
+    /// Top right corner.
+    UpperRight,
+    /// Bottom left corner.
+    LowerLeft,
+    /// Bottom right corner.
+    LowerRight,
+    /// No legend.
+    Hidden,
+}
+
+/// One chart: a title, labelled axes, series, horizontal lines and a legend.
+#[derive(Clone, Debug)]
+pub struct Panel {
+    /// Title above the chart.
+    pub title: String,
+    /// X axis label, with units, e.g. "time t (s)".
+    pub x_label: String,
+    /// Y axis label, with units.
+    pub y_label: String,
+    /// The data.
+    pub series: Vec<Series>,
+    /// Horizontal lines.
+    pub hlines: Vec<HLine>,
+    /// Fixed x range; `None` fits the data.
+    pub x_range: Option<(f64, f64)>,
+    /// Fixed y range; `None` fits the data (and the horizontal lines).
+    pub y_range: Option<(f64, f64)>,
+    /// Legend position.
+    pub legend: Legend,
+}
+
+impl Panel {
+    /// An empty panel with a title and axis labels (put the units in the labels).
+    pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
+        Self {
+            title: title.to_string(),
+            x_label: x_label.to_string(),
+            y_label: y_label.to_string(),
+            series: Vec::new(),
+            hlines: Vec::new(),
+            x_range: None,
+            y_range: None,
+            legend: Legend::UpperRight,
+        }
+    }
+    /// Adds a series.
+    #[must_use]
+    pub fn series(mut self, series: Series) -> Self {
+        self.series.push(series);
+        self
+    }
+    /// Adds a horizontal line at `y` (black dashed unless recoloured with [`Panel::hline_color`]).
+    #[must_use]
+    pub fn hline(self, label: &str, y: f64) -> Self {
+        self.hline_color(label, y, 7)
+    }
+    /// Adds a horizontal line at `y` with a palette colour.
+    #[must_use]
+    pub fn hline_color(mut self, label: &str, y: f64, color: usize) -> Self {
+        self.hlines.push(HLine {
+            label: label.to_string(),
+            y,
+            color,
+        });
+        self
+    }
+    /// Adds the pair of horizontal lines ±`bound` (one legend entry).
+    #[must_use]
+    pub fn bound(self, label: &str, bound: f64) -> Self {
+        self.hline(label, bound).hline(label, -bound)
+    }
+    /// Fixes the x range.
+    #[must_use]
+    pub fn x_range(mut self, lo: f64, hi: f64) -> Self {
+        self.x_range = Some((lo, hi));
+        self
+    }
+    /// Fixes the y range.
+    #[must_use]
+    pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
+        self.y_range = Some((lo, hi));
+        self
+    }
+    /// Moves (or hides) the legend.
+    #[must_use]
+    pub fn legend(mut self, legend: Legend) -> Self {
+        self.legend = legend;
+        self
+    }
+
+    fn data_range(&self) -> ((f64, f64), (f64, f64)) {
+        let mut x = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut y = (f64::INFINITY, f64::NEG_INFINITY);
+        for (px, py) in self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .filter(|(a, b)| a.is_finite() && b.is_finite())
+        {
+            x = (x.0.min(px), x.1.max(px));
+            y = (y.0.min(py), y.1.max(py));
+        }
+        for h in self.hlines.iter().filter(|h| h.y.is_finite()) {
+            y = (y.0.min(h.y), y.1.max(h.y));
+        }
+        let x = self.x_range.unwrap_or_else(|| pad(x, 0.0));
+        let y = self.y_range.unwrap_or_else(|| pad(y, 0.06));
+        (x, y)
+    }
+}
+
+/// Widens a range by `fraction` of its span on each side; guards empty and zero-width ranges.
+fn pad((lo, hi): (f64, f64), fraction: f64) -> (f64, f64) {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return (0.0, 1.0);
+    }
+    let span = hi - lo;
+    if span <= f64::EPSILON * lo.abs().max(hi.abs()).max(1e-300) {
+        let d = if lo == 0.0 { 1.0 } else { 0.1 * lo.abs() };
+        return (lo - d, hi + d);
+    }
+    (lo - fraction * span, hi + fraction * span)
+}
+
+/// A figure: panels laid out in a grid of `columns` columns.
+#[derive(Clone, Debug)]
+pub struct Figure {
+    /// The panels, row by row.
+    pub panels: Vec<Panel>,
+    /// Panels per row (≥ 1).
+    pub columns: usize,
+    /// Size of one panel in pixels (width, height).
+    pub panel_size: (u32, u32),
+}
+
+impl Figure {
+    /// Panels side by side in one row, 720 × 540 pixels each.
+    pub fn row(panels: Vec<Panel>) -> Self {
+        let columns = panels.len().max(1);
+        Self {
+            panels,
+            columns,
+            panel_size: (720, 540),
+        }
+    }
+    /// Panels in a grid with `columns` columns.
+    #[must_use]
+    pub fn grid(panels: Vec<Panel>, columns: usize) -> Self {
+        Self {
+            panels,
+            columns: columns.max(1),
+            panel_size: (720, 540),
+        }
+    }
+    /// Sets the size of one panel in pixels.
+    #[must_use]
+    pub fn panel_size(mut self, width: u32, height: u32) -> Self {
+        self.panel_size = (width.max(200), height.max(150));
+        self
+    }
+
+    fn size(&self) -> (u32, u32) {
+        let rows = self.panels.len().div_ceil(self.columns).max(1);
+        let cols = self.columns.min(self.panels.len()).max(1);
+        (
+            self.panel_size.0 * cols as u32,
+            self.panel_size.1 * rows as u32,
+        )
+    }
+
+    /// Writes `dir/stem.png` and `dir/stem.svg` (creating `dir`), returning both paths.
+    ///
+    /// # Errors
+    /// When the directory cannot be created or a file cannot be written.
+    pub fn save(&self, dir: &Path, stem: &str) -> Result<Vec<PathBuf>> {
+        ensure_font()?;
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create directory {}", dir.display()))?;
+        let png = dir.join(format!("{stem}.png"));
+        let svg = dir.join(format!("{stem}.svg"));
+        let size = self.size();
+        {
+            let root = BitMapBackend::new(&png, size).into_drawing_area();
+            self.draw(&root)
+                .with_context(|| format!("cannot draw {}", png.display()))?;
+            root.present()
+                .map_err(|e| anyhow!("{e}"))
+                .with_context(|| format!("cannot write {}", png.display()))?;
+        }
+        {
+            let root = SVGBackend::new(&svg, size).into_drawing_area();
+            self.draw(&root)
+                .with_context(|| format!("cannot draw {}", svg.display()))?;
+            root.present()
+                .map_err(|e| anyhow!("{e}"))
+                .with_context(|| format!("cannot write {}", svg.display()))?;
+        }
+        Ok(vec![png, svg])
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+        let rows = self.panels.len().div_ceil(self.columns).max(1);
+        let cols = self.columns.min(self.panels.len()).max(1);
+        let areas = root.split_evenly((rows, cols));
+        for (panel, area) in self.panels.iter().zip(areas.iter()) {
+            draw_panel(panel, area)?;
+        }
+        Ok(())
+    }
+}
+
+fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
+    let ((x0, x1), (y0, y1)) = panel.data_range();
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(52)
+        .y_label_area_size(78)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(panel.x_label.as_str())
+        .y_desc(panel.y_label.as_str())
+        .axis_desc_style(("sans-serif", 18))
+        .label_style(("sans-serif", 15))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .x_labels(7)
+        .y_labels(7)
+        .draw()
+        .map_err(err)?;
+
+    let mut next = 0usize;
+    let mut any_label = false;
+    for s in &panel.series {
+        let index = s.color.unwrap_or_else(|| {
+            let i = next;
+            next += 1;
+            i
+        });
+        let color = PALETTE[index % PALETTE.len()];
+        let pts = s
+            .points
+            .iter()
+            .copied()
+            .filter(|(a, b)| a.is_finite() && b.is_finite());
+        let w = s.width;
+        let anno = match s.style {
+            Style::Line => chart
+                .draw_series(LineSeries::new(pts, color.stroke_width(w)))
+                .map_err(err)?,
+            Style::Dashed => chart
+                .draw_series(DashedLineSeries::new(
+                    pts.collect::<Vec<_>>(),
+                    10,
+                    6,
+                    color.stroke_width(w),
+                ))
+                .map_err(err)?,
+            Style::Points => chart
+                .draw_series(pts.map(|p| Circle::new(p, w, color.filled())))
+                .map_err(err)?,
+        };
+        if !s.label.is_empty() {
+            any_label = true;
+            let anno = anno.label(s.label.as_str());
+            if s.style == Style::Points {
+                anno.legend(move |(x, y)| {
+                    EmptyElement::at((x, y)) + Circle::new((10, 0), 4, color.filled())
+                });
+            } else {
+                anno.legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new(vec![(0, 0), (22, 0)], color.stroke_width(3))
+                });
+            }
+        }
+    }
+    let mut seen: Vec<&str> = Vec::new();
+    for h in &panel.hlines {
+        let color = PALETTE[h.color % PALETTE.len()];
+        let anno = chart
+            .draw_series(DashedLineSeries::new(
+                vec![(x0, h.y), (x1, h.y)],
+                8,
+                6,
+                color.stroke_width(2),
+            ))
+            .map_err(err)?;
+        if !h.label.is_empty() && !seen.contains(&h.label.as_str()) {
+            seen.push(h.label.as_str());
+            any_label = true;
+            anno.label(h.label.as_str()).legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (8, 0)], color.stroke_width(2))
+                    + PathElement::new(vec![(13, 0), (22, 0)], color.stroke_width(2))
+            });
+        }
+    }
+    let position = match panel.legend {
+        Legend::UpperLeft => Some(SeriesLabelPosition::UpperLeft),
+        Legend::UpperRight => Some(SeriesLabelPosition::UpperRight),
+        Legend::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
+        Legend::LowerRight => Some(SeriesLabelPosition::LowerRight),
+        Legend::Hidden => None,
+    };
+    if let (Some(position), true) = (position, any_label) {
+        chart
+            .configure_series_labels()
+            .position(position)
+            .label_font(("sans-serif", 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(150, 150, 150))
+            .margin(10)
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_png_and_svg() -> Result<()> {
+        let dir = std::env::temp_dir().join(format!("hyst-plot-test-{}", std::process::id()));
+        let pts: Vec<(f64, f64)> = (0..100)
+            .map(|i| (i as f64, (i as f64 * 0.1).sin()))
+            .collect();
+        let fig = Figure::row(vec![
+            Panel::new("sine", "time t (s)", "y (1)")
+                .series(Series::line("sin", pts.clone()))
+                .bound("±0.5", 0.5),
+            Panel::new("dots", "x (1)", "y (1)")
+                .series(Series::scatter("pts", pts))
+                .legend(Legend::LowerLeft),
+        ]);
+        let files = fig.save(&dir, "t")?;
+        for f in &files {
+            let len = std::fs::metadata(f)?.len();
+            assert!(len > 1000, "{} has {len} bytes", f.display());
+        }
+        let svg = std::fs::read_to_string(&files[1])?;
+        assert!(svg.contains("time t (s)"));
+        std::fs::remove_dir_all(&dir)?;
+        Ok(())
+    }
+
+    #[test]
+    fn degenerate_ranges_are_widened() {
+        assert_eq!(pad((1.0, 1.0), 0.0), (0.9, 1.1));
+        assert_eq!(pad((0.0, 0.0), 0.0), (-1.0, 1.0));
+        assert_eq!(pad((f64::INFINITY, f64::NEG_INFINITY), 0.1), (0.0, 1.0));
+    }
+}
