@@ -217,5 +217,5 @@ fn non_finite_input_never_corrupts_the_state() {
         assert_eq!(h.step(bad), y);
         assert_eq!(h.memory(), before);
     }
-    assert!(h.memory().map_or(false, |m| m.last_output.is_finite()));
+    assert!(h.memory().is_some_and(|m| m.last_output.is_finite()));
 }
