@@ -1,0 +1,324 @@
+//! The error type of this crate.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Everything that can go wrong while reading or writing tables and files.
+///
+/// Every message starts with the file it is about (`data.csv: ...`), followed by
+/// the 1-based line number where there is one (`data.csv:17: ...`), the column as
+/// both 1-based index and header name where there is one (`column 2 ("y")`), and
+/// the offending value, for example
+/// `data.csv:17: column 2 ("y"): cannot parse "1.2.3" as a number`.
+///
+/// Tables built in memory with [`Table::new`](crate::Table::new) use the source
+/// name `<memory>` unless renamed with
+/// [`Table::with_source`](crate::Table::with_source).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum IoError {
+    /// The file could not be opened or read (the OS error is attached).
+    #[error("{file}: cannot read: {source}")]
+    Read {
+        /// The file (path or source name).
+        file: String,
+        /// The underlying OS error.
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// The path to read from or write to is a directory.
+    #[error("{}: is a directory, not a file", path.display())]
+    IsDirectory {
+        /// The offending path.
+        path: PathBuf,
+    },
+
+    /// The input has no lines other than blank lines and `#` comments.
+    #[error("{file}: no header row: the input is empty (only blank lines and # comments)")]
+    Empty {
+        /// The file (path or source name).
+        file: String,
+    },
+
+    /// The first row contains only numbers, so it is data rather than column names.
+    #[error(
+        "{file}:{line}: no header row: the first row ({}) contains only numbers; \
+         add a first line with the column names, e.g. \"x,y\"",
+        quoted_list(cells)
+    )]
+    NoHeader {
+        /// The file (path or source name).
+        file: String,
+        /// The 1-based line of the would-be header.
+        line: usize,
+        /// The cells of that row, trimmed.
+        cells: Vec<String>,
+    },
+
+    /// A header cell is empty (or only whitespace).
+    #[error("{file}:{line}: column {column}: empty column name in the header")]
+    EmptyName {
+        /// The file (path or source name).
+        file: String,
+        /// The 1-based line of the header.
+        line: usize,
+        /// The 1-based column index.
+        column: usize,
+    },
+
+    /// Two header cells have the same name.
+    #[error(
+        "{file}:{line}: column {column} ({name:?}): duplicate column name \
+         (column {first} has the same name)"
+    )]
+    DuplicateName {
+        /// The file (path or source name).
+        file: String,
+        /// The 1-based line of the header.
+        line: usize,
+        /// The 1-based index of the second occurrence.
+        column: usize,
+        /// The duplicated name.
+        name: String,
+        /// The 1-based index of the first occurrence.
+        first: usize,
+    },
+
+    /// A data row has a different number of cells than the header.
+    #[error(
+        "{file}:{line}: expected {expected} cells (one per column of the header on line \
+         {header_line}), found {found}: {}",
+        quoted_list(cells)
+    )]
+    CellCount {
+        /// The file (path or source name).
+        file: String,
+        /// The 1-based line of the row.
+        line: usize,
+        /// The number of columns in the header.
+        expected: usize,
+        /// The number of cells in the row.
+        found: usize,
+        /// The 1-based line of the header.
+        header_line: usize,
+        /// The cells of the row, trimmed.
+        cells: Vec<String>,
+    },
+
+    /// A cell is not valid UTF-8.
+    #[error("{file}:{line}: column {column} ({name:?}): invalid UTF-8 in {value:?}")]
+    InvalidUtf8 {
+        /// The file (path or source name).
+        file: String,
+        /// The 1-based line of the row.
+        line: usize,
+        /// The 1-based column index.
+        column: usize,
+        /// The column name (`""` if the header itself is affected).
+        name: String,
+        /// The cell, with invalid bytes replaced by U+FFFD.
+        value: String,
+    },
+
+    /// A data cell does not parse as a number.
+    #[error("{file}:{line}: column {column} ({name:?}): cannot parse {value:?} as a number")]
+    Parse {
+        /// The file (path or source name).
+        file: String,
+        /// The 1-based line of the row.
+        line: usize,
+        /// The 1-based column index.
+        column: usize,
+        /// The column name.
+        name: String,
+        /// The cell, trimmed.
+        value: String,
+    },
+
+    /// A data cell parses as a number, but not a finite one (`nan`, `inf`, `1e999`).
+    #[error("{file}:{line}: column {column} ({name:?}): {value:?} is not a finite number")]
+    NonFinite {
+        /// The file (path or source name).
+        file: String,
+        /// The 1-based line of the row.
+        line: usize,
+        /// The 1-based column index.
+        column: usize,
+        /// The column name.
+        name: String,
+        /// The cell, trimmed.
+        value: String,
+    },
+
+    /// The CSV parser reported an error.
+    #[error("{file}:{line}: malformed CSV: {message}")]
+    Csv {
+        /// The file (path or source name).
+        file: String,
+        /// The 1-based line where the problem was found.
+        line: usize,
+        /// The parser's description.
+        message: String,
+    },
+
+    /// The file has a header but no data rows.
+    #[error("{file}: no data rows: the header is on line {header_line} and nothing follows it")]
+    NoData {
+        /// The file (path or source name).
+        file: String,
+        /// The 1-based line of the header.
+        header_line: usize,
+    },
+
+    /// A column was asked for by a name the table does not have.
+    #[error(
+        "{file}: no column named {name:?}; the available columns are {}",
+        quoted_list(available)
+    )]
+    UnknownColumn {
+        /// The file (path or source name).
+        file: String,
+        /// The name asked for.
+        name: String,
+        /// The column names of the table.
+        available: Vec<String>,
+    },
+
+    /// No input column was named, and none can be chosen automatically.
+    #[error(
+        "{file}: cannot tell which column is the input: there is no column named \"x\" \
+         and there are {} columns ({}); pass --column NAME",
+        available.len(),
+        quoted_list(available)
+    )]
+    AmbiguousColumn {
+        /// The file (path or source name).
+        file: String,
+        /// The column names of the table.
+        available: Vec<String>,
+    },
+
+    /// [`Table::new`](crate::Table::new) got a different number of names and columns.
+    #[error("{file}: {names} column names but {columns} columns")]
+    ShapeMismatch {
+        /// The table's source name.
+        file: String,
+        /// The number of names.
+        names: usize,
+        /// The number of columns.
+        columns: usize,
+    },
+
+    /// [`Table::new`](crate::Table::new) got no columns at all.
+    #[error("{file}: a table needs at least one column")]
+    NoColumns {
+        /// The table's source name.
+        file: String,
+    },
+
+    /// [`Table::new`](crate::Table::new) got a column name that could not be
+    /// written and read back (empty, duplicate, surrounding whitespace, line break,
+    /// or all names numeric).
+    #[error("{file}: column {column} ({name:?}): invalid column name: {reason}")]
+    InvalidName {
+        /// The table's source name.
+        file: String,
+        /// The 1-based column index.
+        column: usize,
+        /// The offending name.
+        name: String,
+        /// Why it is rejected.
+        reason: String,
+    },
+
+    /// [`Table::new`](crate::Table::new) got columns of different lengths.
+    #[error(
+        "{file}: column {column} ({name:?}) has {found} values, but column 1 ({first:?}) \
+         has {expected}"
+    )]
+    ColumnLength {
+        /// The table's source name.
+        file: String,
+        /// The 1-based column index.
+        column: usize,
+        /// The column name.
+        name: String,
+        /// The number of values in this column.
+        found: usize,
+        /// The name of the first column.
+        first: String,
+        /// The number of values in the first column.
+        expected: usize,
+    },
+
+    /// [`Table::new`](crate::Table::new) got a NaN or infinite value.
+    #[error("{file}: column {column} ({name:?}), row {row}: {value} is not a finite number")]
+    NonFiniteValue {
+        /// The table's source name.
+        file: String,
+        /// The 1-based column index.
+        column: usize,
+        /// The column name.
+        name: String,
+        /// The 1-based row index (not counting the header).
+        row: usize,
+        /// The offending value.
+        value: f64,
+    },
+
+    /// Writing a file failed; the destination was left untouched and the
+    /// temporary file was removed.
+    #[error("{}: cannot {action}: {source}", path.display())]
+    Write {
+        /// The destination path.
+        path: PathBuf,
+        /// What was being done, e.g. `create a temporary file in "out"`.
+        action: String,
+        /// The underlying OS error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// Formats names or cells as `"a", "b", "c"` (each in Rust debug quoting).
+fn quoted_list(items: &[String]) -> QuotedList<'_> {
+    QuotedList(items)
+}
+
+/// Display helper for [`quoted_list`].
+struct QuotedList<'a>(&'a [String]);
+
+impl fmt::Display for QuotedList<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, item) in self.0.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            write!(f, "{item:?}")?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quoted_list_formats_and_escapes() {
+        let items = vec!["x".to_string(), "a \"b\"".to_string()];
+        assert_eq!(quoted_list(&items).to_string(), r#""x", "a \"b\"""#);
+        assert_eq!(quoted_list(&[]).to_string(), "");
+    }
+
+    #[test]
+    fn io_errors_keep_their_source() {
+        let err = IoError::Read {
+            file: "a.csv".into(),
+            source: std::io::Error::new(std::io::ErrorKind::NotFound, "gone"),
+        };
+        assert_eq!(err.to_string(), "a.csv: cannot read: gone");
+        assert!(std::error::Error::source(&err).is_some());
+    }
+}

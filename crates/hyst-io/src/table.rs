@@ -1,0 +1,1239 @@
+//! Numeric CSV tables.
+
+use std::collections::HashMap;
+use std::fs;
+use std::io::{self, Read, Write};
+use std::path::Path;
+
+use crate::atomic::write_atomic_with;
+use crate::IoError;
+
+/// Source name of tables built with [`Table::new`].
+const MEMORY_SOURCE: &str = "<memory>";
+
+/// A table of named `f64` columns, all of the same length, as read from or
+/// written to a CSV file with a header row.
+///
+/// Every value is finite and every name is non-empty and unique; the
+/// constructors ([`Table::read`], [`Table::from_reader`], [`Table::new`])
+/// enforce this. Each row remembers the line of the source file it came from,
+/// so later checks (for example by the fitting code) can point at the exact
+/// line of bad data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// Column names, in file order.
+    names: Vec<String>,
+    /// Column values; `columns[i]` belongs to `names[i]`.
+    columns: Vec<Vec<f64>>,
+    /// 1-based source line of each row.
+    lines: Vec<usize>,
+    /// File path or other name of the source, used in error messages.
+    source: String,
+}
+
+impl Table {
+    /// Reads a CSV file with a header row.
+    ///
+    /// All cells must parse as `f64` (leading and trailing spaces are allowed);
+    /// `nan`, `inf` and out-of-range values such as `1e999` are rejected as
+    /// non-finite. Blank lines and lines starting with `#` are skipped, but
+    /// still count for line numbers. `\r\n` line endings and a UTF-8 byte order
+    /// mark are accepted. The path (as displayed) becomes the table's
+    /// [`source`](Table::source).
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::Read`] or [`IoError::IsDirectory`] if the file cannot be
+    /// read, and every error of [`Table::from_reader`].
+    pub fn read(path: &Path) -> Result<Table, IoError> {
+        let file = path.display().to_string();
+        if path.is_dir() {
+            return Err(IoError::IsDirectory {
+                path: path.to_path_buf(),
+            });
+        }
+        let bytes = fs::read(path).map_err(|source| IoError::Read {
+            file: file.clone(),
+            source,
+        })?;
+        parse(&bytes, &file)
+    }
+
+    /// Reads a CSV table from any reader, with the same rules as [`Table::read`];
+    /// `source` is the name used in error messages (e.g. `"<stdin>"`).
+    ///
+    /// # Errors
+    ///
+    /// - [`IoError::Read`] if reading fails;
+    /// - [`IoError::Empty`] if there are no lines besides blank lines and comments;
+    /// - [`IoError::NoHeader`] if the first row contains only numbers;
+    /// - [`IoError::EmptyName`] / [`IoError::DuplicateName`] for bad header cells;
+    /// - [`IoError::CellCount`] if a row does not have one cell per column;
+    /// - [`IoError::Parse`] / [`IoError::NonFinite`] / [`IoError::InvalidUtf8`]
+    ///   for bad cells;
+    /// - [`IoError::NoData`] if there is a header but no data rows.
+    pub fn from_reader<R: Read>(mut reader: R, source: &str) -> Result<Table, IoError> {
+        let mut bytes = Vec::new();
+        reader.read_to_end(&mut bytes).map_err(|e| IoError::Read {
+            file: source.to_string(),
+            source: e,
+        })?;
+        parse(&bytes, source)
+    }
+
+    /// Builds a table from column names and columns.
+    ///
+    /// The table's [`source`](Table::source) is `<memory>` (change it with
+    /// [`Table::with_source`]), and row `i` gets line `i + 2`, the line it has
+    /// when the table is written with [`Table::write_atomic`].
+    ///
+    /// # Errors
+    ///
+    /// - [`IoError::ShapeMismatch`] if there are not as many names as columns;
+    /// - [`IoError::NoColumns`] if there are none;
+    /// - [`IoError::InvalidName`] if a name is empty, duplicated, has leading or
+    ///   trailing whitespace or a line break, or if every name parses as a
+    ///   number (the file written from such a table could not be read back);
+    /// - [`IoError::ColumnLength`] if the columns differ in length;
+    /// - [`IoError::NonFiniteValue`] for NaN or infinite values.
+    pub fn new(names: Vec<String>, columns: Vec<Vec<f64>>) -> Result<Table, IoError> {
+        let file = MEMORY_SOURCE.to_string();
+        if names.len() != columns.len() {
+            return Err(IoError::ShapeMismatch {
+                file,
+                names: names.len(),
+                columns: columns.len(),
+            });
+        }
+        if names.is_empty() {
+            return Err(IoError::NoColumns { file });
+        }
+        let invalid = |i: usize, reason: String| IoError::InvalidName {
+            file: MEMORY_SOURCE.to_string(),
+            column: i + 1,
+            name: names[i].clone(),
+            reason,
+        };
+        let mut seen: HashMap<&str, usize> = HashMap::new();
+        for (i, name) in names.iter().enumerate() {
+            if name.trim().is_empty() {
+                return Err(invalid(i, "the name is empty".into()));
+            }
+            if name.trim() != name {
+                return Err(invalid(
+                    i,
+                    "leading or trailing whitespace would be lost when the file is read back"
+                        .into(),
+                ));
+            }
+            if name.contains(['\n', '\r']) {
+                return Err(invalid(i, "names cannot contain line breaks".into()));
+            }
+            if let Some(first) = seen.insert(name, i + 1) {
+                return Err(invalid(i, format!("column {first} has the same name")));
+            }
+        }
+        if names.iter().all(|n| looks_numeric(n)) {
+            return Err(invalid(
+                0,
+                "all column names are numbers, so the header could not be told apart from data"
+                    .into(),
+            ));
+        }
+        let len = columns[0].len();
+        for (i, column) in columns.iter().enumerate() {
+            if column.len() != len {
+                return Err(IoError::ColumnLength {
+                    file,
+                    column: i + 1,
+                    name: names[i].clone(),
+                    found: column.len(),
+                    first: names[0].clone(),
+                    expected: len,
+                });
+            }
+            if let Some(row) = column.iter().position(|v| !v.is_finite()) {
+                return Err(IoError::NonFiniteValue {
+                    file,
+                    column: i + 1,
+                    name: names[i].clone(),
+                    row: row + 1,
+                    value: column[row],
+                });
+            }
+        }
+        Ok(Table {
+            names,
+            columns,
+            lines: (2..len + 2).collect(),
+            source: file,
+        })
+    }
+
+    /// Returns the table with its source name (used in error messages) replaced.
+    #[must_use]
+    pub fn with_source(mut self, source: impl Into<String>) -> Table {
+        self.source = source.into();
+        self
+    }
+
+    /// The column names, in file order.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// All columns, in the order of [`Table::names`].
+    pub fn columns(&self) -> &[Vec<f64>] {
+        &self.columns
+    }
+
+    /// The number of rows (not counting the header).
+    pub fn len(&self) -> usize {
+        self.lines.len()
+    }
+
+    /// Whether the table has no rows (only possible for tables from [`Table::new`]).
+    pub fn is_empty(&self) -> bool {
+        self.lines.is_empty()
+    }
+
+    /// The values of the column called `name`.
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::UnknownColumn`], listing the available columns, if there is no
+    /// such column.
+    pub fn column(&self, name: &str) -> Result<&[f64], IoError> {
+        match self.column_index(name) {
+            Some(i) => Ok(&self.columns[i]),
+            None => Err(self.unknown_column(name)),
+        }
+    }
+
+    /// The 0-based index of the column called `name` (exact, case-sensitive match).
+    pub fn column_index(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+
+    /// The 1-based line number in the source of row `row` (0-based); the header
+    /// of a file without leading comments is line 1, so its first row is line 2.
+    ///
+    /// # Panics
+    ///
+    /// If `row >= self.len()`.
+    pub fn line_of_row(&self, row: usize) -> usize {
+        self.lines[row]
+    }
+
+    /// The file path or other source name used in error messages.
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// Chooses the input column the way `hyst run` does: the column called
+    /// `name` if given; otherwise a column called `x`; otherwise the only
+    /// column. Returns its 0-based index and values.
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::UnknownColumn`] if `name` is given but not a column, and
+    /// [`IoError::AmbiguousColumn`] (listing the columns and suggesting
+    /// `--column`) if no name is given, there is no `x` column and there is more
+    /// than one column.
+    pub fn pick_column(&self, name: Option<&str>) -> Result<(usize, &[f64]), IoError> {
+        let index = match name {
+            Some(name) => self
+                .column_index(name)
+                .ok_or_else(|| self.unknown_column(name))?,
+            None => match self.column_index("x") {
+                Some(i) => i,
+                None if self.names.len() == 1 => 0,
+                None => {
+                    return Err(IoError::AmbiguousColumn {
+                        file: self.source.clone(),
+                        available: self.names.clone(),
+                    })
+                }
+            },
+        };
+        Ok((index, &self.columns[index]))
+    }
+
+    /// Writes the table as CSV with a header row, atomically (see
+    /// [`write_atomic`](crate::write_atomic)).
+    ///
+    /// Every value is written in the shortest form that parses back to the
+    /// identical `f64` (including `-0`), in plain notation for magnitudes in
+    /// `[1e-5, 1e16)` and in exponent notation (`1e300`, `5e-324`) otherwise.
+    /// Names containing `,` or `"`, or a first name starting with `#`, are
+    /// quoted. Lines end with `\n`.
+    ///
+    /// # Errors
+    ///
+    /// As [`write_atomic`](crate::write_atomic): on any error the destination is
+    /// untouched and no temporary file remains.
+    pub fn write_atomic(&self, path: &Path) -> Result<(), IoError> {
+        write_atomic_with(path, |w| self.write_csv(w))
+    }
+
+    /// Writes the table as CSV to any writer (not atomic; see
+    /// [`Table::write_atomic`] for files).
+    ///
+    /// # Errors
+    ///
+    /// Whatever the writer returns.
+    pub fn write_csv<W: Write>(&self, w: &mut W) -> io::Result<()> {
+        for (i, name) in self.names.iter().enumerate() {
+            if i > 0 {
+                w.write_all(b",")?;
+            }
+            let needs_quotes =
+                name.contains([',', '"', '\n', '\r']) || (i == 0 && name.starts_with('#'));
+            if needs_quotes {
+                write!(w, "\"{}\"", name.replace('"', "\"\""))?;
+            } else {
+                w.write_all(name.as_bytes())?;
+            }
+        }
+        w.write_all(b"\n")?;
+        let mut line = String::new();
+        for row in 0..self.len() {
+            line.clear();
+            for (i, column) in self.columns.iter().enumerate() {
+                if i > 0 {
+                    line.push(',');
+                }
+                push_f64(&mut line, column[row]);
+            }
+            line.push('\n');
+            w.write_all(line.as_bytes())?;
+        }
+        Ok(())
+    }
+
+    /// The error for a column name that does not exist.
+    fn unknown_column(&self, name: &str) -> IoError {
+        IoError::UnknownColumn {
+            file: self.source.clone(),
+            name: name.to_string(),
+            available: self.names.clone(),
+        }
+    }
+}
+
+/// Appends `v` in its shortest round-trip form.
+fn push_f64(out: &mut String, v: f64) {
+    use std::fmt::Write as _;
+    let a = v.abs();
+    // Both `{}` and `{:e}` print the shortest digits that parse back to `v`;
+    // `{}` never uses an exponent, which gets unwieldy for 1e300 or 5e-324.
+    // Writing into a String cannot fail.
+    let _ = if a == 0.0 || (1e-5..1e16).contains(&a) {
+        write!(out, "{v}")
+    } else {
+        write!(out, "{v:e}")
+    };
+}
+
+/// Whether a (trimmed) cell parses as a number, finite or not.
+fn looks_numeric(cell: &str) -> bool {
+    cell.trim().parse::<f64>().is_ok()
+}
+
+/// Skips what the CSV parser skips before a record (blank lines, `#` comment
+/// lines, and at the very start a UTF-8 BOM) and returns the offset of the
+/// record's first byte.
+fn skip_to_record(bytes: &[u8], mut pos: usize) -> usize {
+    if pos == 0 && bytes.starts_with(b"\xEF\xBB\xBF") {
+        pos = 3;
+    }
+    while pos < bytes.len() {
+        match bytes[pos] {
+            b'\r' | b'\n' => pos += 1,
+            b'#' => match bytes[pos..].iter().position(|&b| b == b'\n') {
+                Some(nl) => pos += nl + 1,
+                None => pos = bytes.len(),
+            },
+            _ => break,
+        }
+    }
+    pos
+}
+
+/// Converts byte offsets into 1-based line numbers, for increasing offsets.
+struct LineCounter<'a> {
+    /// The whole input.
+    bytes: &'a [u8],
+    /// Offset up to which newlines have been counted.
+    pos: usize,
+    /// The line number at `pos`.
+    line: usize,
+}
+
+impl LineCounter<'_> {
+    /// The 1-based line containing byte offset `offset` (must not decrease).
+    fn line_at(&mut self, offset: usize) -> usize {
+        let offset = offset.min(self.bytes.len());
+        if offset > self.pos {
+            self.line += self.bytes[self.pos..offset]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count();
+            self.pos = offset;
+        }
+        self.line
+    }
+}
+
+/// Decodes one cell of `record`, trimmed of surrounding whitespace.
+fn cell<'r>(
+    record: &'r csv::ByteRecord,
+    index: usize,
+    file: &str,
+    line: usize,
+    name: &str,
+) -> Result<&'r str, IoError> {
+    let raw = record.get(index).unwrap_or_default();
+    match std::str::from_utf8(raw) {
+        Ok(s) => Ok(s.trim()),
+        Err(_) => Err(IoError::InvalidUtf8 {
+            file: file.to_string(),
+            line,
+            column: index + 1,
+            name: name.to_string(),
+            value: String::from_utf8_lossy(raw).trim().to_string(),
+        }),
+    }
+}
+
+/// Whether the record is an all-whitespace line (the parser skips truly empty
+/// lines itself, but not lines of spaces).
+fn is_blank(record: &csv::ByteRecord) -> bool {
+    record.len() == 1
+        && record
+            .get(0)
+            .is_some_and(|c| c.iter().all(|b| b.is_ascii_whitespace()))
+}
+
+/// Parses a whole CSV input.
+fn parse(bytes: &[u8], file: &str) -> Result<Table, IoError> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .from_reader(bytes);
+    let mut lines = LineCounter {
+        bytes,
+        pos: 0,
+        line: 1,
+    };
+    let mut record = csv::ByteRecord::new();
+
+    // Reads the next non-blank record and returns its 1-based start line.
+    let mut next = |record: &mut csv::ByteRecord| -> Result<Option<usize>, IoError> {
+        loop {
+            let start = usize::try_from(reader.position().byte()).unwrap_or(usize::MAX);
+            let more = reader.read_byte_record(record).map_err(|e| IoError::Csv {
+                file: file.to_string(),
+                line: lines.line_at(skip_to_record(bytes, start)),
+                message: e.to_string(),
+            })?;
+            if !more {
+                return Ok(None);
+            }
+            let line = lines.line_at(skip_to_record(bytes, start));
+            if !is_blank(record) {
+                return Ok(Some(line));
+            }
+        }
+    };
+
+    // Header.
+    let Some(header_line) = next(&mut record)? else {
+        return Err(IoError::Empty {
+            file: file.to_string(),
+        });
+    };
+    let mut names = Vec::with_capacity(record.len());
+    for i in 0..record.len() {
+        let name = cell(&record, i, file, header_line, "")?;
+        // csv-core strips a BOM at the start of the input; be safe if it did not.
+        let name = if i == 0 {
+            name.trim_start_matches('\u{feff}').trim()
+        } else {
+            name
+        };
+        names.push(name.to_string());
+    }
+    if names.iter().all(|n| looks_numeric(n)) {
+        return Err(IoError::NoHeader {
+            file: file.to_string(),
+            line: header_line,
+            cells: names,
+        });
+    }
+    let mut seen: HashMap<&str, usize> = HashMap::new();
+    for (i, name) in names.iter().enumerate() {
+        if name.is_empty() {
+            return Err(IoError::EmptyName {
+                file: file.to_string(),
+                line: header_line,
+                column: i + 1,
+            });
+        }
+        if let Some(first) = seen.insert(name, i + 1) {
+            return Err(IoError::DuplicateName {
+                file: file.to_string(),
+                line: header_line,
+                column: i + 1,
+                name: name.clone(),
+                first,
+            });
+        }
+    }
+
+    // Data rows.
+    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
+    let mut row_lines = Vec::new();
+    while let Some(line) = next(&mut record)? {
+        if record.len() != names.len() {
+            let cells = (0..record.len())
+                .map(|i| {
+                    String::from_utf8_lossy(record.get(i).unwrap_or_default())
+                        .trim()
+                        .to_string()
+                })
+                .collect();
+            return Err(IoError::CellCount {
+                file: file.to_string(),
+                line,
+                expected: names.len(),
+                found: record.len(),
+                header_line,
+                cells,
+            });
+        }
+        for (i, (name, column)) in names.iter().zip(&mut columns).enumerate() {
+            let text = cell(&record, i, file, line, name)?;
+            let value: f64 = text.parse().map_err(|_| IoError::Parse {
+                file: file.to_string(),
+                line,
+                column: i + 1,
+                name: name.clone(),
+                value: text.to_string(),
+            })?;
+            if !value.is_finite() {
+                return Err(IoError::NonFinite {
+                    file: file.to_string(),
+                    line,
+                    column: i + 1,
+                    name: name.clone(),
+                    value: text.to_string(),
+                });
+            }
+            column.push(value);
+        }
+        row_lines.push(line);
+    }
+    if row_lines.is_empty() {
+        return Err(IoError::NoData {
+            file: file.to_string(),
+            header_line,
+        });
+    }
+    Ok(Table {
+        names,
+        columns,
+        lines: row_lines,
+        source: file.to_string(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+    use super::*;
+
+    /// Parses `text` as a file called `data.csv`.
+    fn read_str(text: &str) -> Result<Table, IoError> {
+        Table::from_reader(text.as_bytes(), "data.csv")
+    }
+
+    /// The message of the error from parsing `text`.
+    fn err_str(text: &str) -> String {
+        match read_str(text) {
+            Ok(t) => panic!("expected an error, got {t:?}"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    fn strings(names: &[&str]) -> Vec<String> {
+        names.iter().map(|s| s.to_string()).collect()
+    }
+
+    fn files_in(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    // ---------------------------------------------------------------- reading
+
+    #[test]
+    fn reads_a_simple_table() {
+        let t = read_str("x,y\n1,2\n3,4.5\n").unwrap();
+        assert_eq!(t.names(), ["x", "y"]);
+        assert_eq!(t.len(), 2);
+        assert!(!t.is_empty());
+        assert_eq!(t.column("x").unwrap(), [1.0, 3.0]);
+        assert_eq!(t.column("y").unwrap(), [2.0, 4.5]);
+        assert_eq!(t.columns(), [vec![1.0, 3.0], vec![2.0, 4.5]]);
+        assert_eq!(t.column_index("y"), Some(1));
+        assert_eq!(t.column_index("Y"), None);
+        assert_eq!((t.line_of_row(0), t.line_of_row(1)), (2, 3));
+        assert_eq!(t.source(), "data.csv");
+    }
+
+    #[test]
+    fn no_trailing_newline_is_fine() {
+        let t = read_str("x\n1\n2").unwrap();
+        assert_eq!(t.column("x").unwrap(), [1.0, 2.0]);
+        assert_eq!(t.line_of_row(1), 3);
+    }
+
+    #[test]
+    fn trims_spaces_and_tabs_around_cells_and_names() {
+        let t = read_str("  x ,\ty\t\n  1 ,  -2.5e3\t\n+3,.5\n").unwrap();
+        assert_eq!(t.names(), ["x", "y"]);
+        assert_eq!(t.column("x").unwrap(), [1.0, 3.0]);
+        assert_eq!(t.column("y").unwrap(), [-2500.0, 0.5]);
+    }
+
+    #[test]
+    fn accepts_quoted_cells() {
+        let t = read_str("\"x, in V\",\"y \"\"raw\"\"\"\n\"1\", 2\n").unwrap();
+        assert_eq!(t.names(), ["x, in V", "y \"raw\""]);
+        assert_eq!(t.columns(), [vec![1.0], vec![2.0]]);
+    }
+
+    #[test]
+    fn crlf_line_endings_with_exact_line_numbers() {
+        let t = read_str("x,y\r\n1,2\r\n\r\n# note\r\n3,4\r\n").unwrap();
+        assert_eq!(t.names(), ["x", "y"]);
+        assert_eq!(t.columns(), [vec![1.0, 3.0], vec![2.0, 4.0]]);
+        assert_eq!((t.line_of_row(0), t.line_of_row(1)), (2, 5));
+        assert_eq!(
+            err_str("x,y\r\n1,2\r\n\r\n# note\r\n3,oops\r\n"),
+            r#"data.csv:5: column 2 ("y"): cannot parse "oops" as a number"#
+        );
+    }
+
+    #[test]
+    fn utf8_bom_is_ignored() {
+        let t = read_str("\u{feff}x,y\n1,2\n").unwrap();
+        assert_eq!(t.names(), ["x", "y"]);
+        assert_eq!(t.column_index("x"), Some(0));
+        let t = read_str("\u{feff}# comment first\nx\n1\n").unwrap();
+        assert_eq!(t.names(), ["x"]);
+        assert_eq!(t.line_of_row(0), 3);
+    }
+
+    #[test]
+    fn comments_and_blank_lines_are_skipped_but_counted() {
+        let text = "# hysteresis test rig\n\n# units: V\nx,y\n\n1,2\n# pause\n   \n\t\n3,4\n\n";
+        let t = read_str(text).unwrap();
+        assert_eq!(t.names(), ["x", "y"]);
+        assert_eq!(t.columns(), [vec![1.0, 3.0], vec![2.0, 4.0]]);
+        assert_eq!((t.line_of_row(0), t.line_of_row(1)), (6, 10));
+        assert_eq!(
+            err_str("# c\n\nx,y\n# c\n\n1,2\n\n# c\n5,1.2.3\n"),
+            r#"data.csv:9: column 2 ("y"): cannot parse "1.2.3" as a number"#
+        );
+    }
+
+    #[test]
+    fn line_numbers_follow_multiline_quoted_cells() {
+        let t = read_str("\"x\nlong\",y\n1,2\n3,4\n").unwrap();
+        assert_eq!(t.names(), ["x\nlong", "y"]);
+        assert_eq!((t.line_of_row(0), t.line_of_row(1)), (3, 4));
+    }
+
+    #[test]
+    fn unparsable_cell_names_file_line_column_and_value() {
+        let mut text = String::from("x,y\n");
+        for i in 0..15 {
+            text.push_str(&format!("{i},{i}\n"));
+        }
+        text.push_str("16, 1.2.3 \n");
+        assert_eq!(
+            err_str(&text),
+            r#"data.csv:17: column 2 ("y"): cannot parse "1.2.3" as a number"#
+        );
+        assert_eq!(
+            err_str("x,y\n,2\n"),
+            r#"data.csv:2: column 1 ("x"): cannot parse "" as a number"#
+        );
+        assert_eq!(
+            err_str("x,y\n1,2 3\n"),
+            r#"data.csv:2: column 2 ("y"): cannot parse "2 3" as a number"#
+        );
+        assert_eq!(
+            err_str("x,y\n1,1,5\n"),
+            r#"data.csv:2: expected 2 cells (one per column of the header on line 1), found 3: "1", "1", "5""#
+        );
+        let err = read_str("a,b\n1,x\n").unwrap_err();
+        match err {
+            IoError::Parse {
+                file,
+                line,
+                column,
+                name,
+                value,
+            } => {
+                assert_eq!(
+                    (file.as_str(), line, column, name.as_str(), value.as_str()),
+                    ("data.csv", 2, 2, "b", "x")
+                );
+            }
+            other => panic!("wrong variant: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn non_finite_values_are_rejected() {
+        for (cell, shown) in [
+            ("nan", "nan"),
+            ("NaN", "NaN"),
+            (" inf ", "inf"),
+            ("-inf", "-inf"),
+            ("+infinity", "+infinity"),
+            ("1e999", "1e999"),
+            ("-1e400", "-1e400"),
+        ] {
+            assert_eq!(
+                err_str(&format!("x,y\n1,2\n3,{cell}\n")),
+                format!(r#"data.csv:3: column 2 ("y"): "{shown}" is not a finite number"#),
+                "cell {cell:?}"
+            );
+        }
+        assert!(matches!(
+            read_str("x\nnan\n").unwrap_err(),
+            IoError::NonFinite {
+                line: 2,
+                column: 1,
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn tiny_values_underflow_to_subnormal_or_zero_and_are_accepted() {
+        let t = read_str("x\n5e-324\n1e-400\n-1e-400\n").unwrap();
+        let x = t.column("x").unwrap();
+        assert_eq!(x[0].to_bits(), 1);
+        assert_eq!(x[1].to_bits(), 0);
+        assert_eq!(x[2].to_bits(), (-0.0f64).to_bits());
+    }
+
+    #[test]
+    fn header_of_numbers_is_no_header() {
+        assert_eq!(
+            err_str("1,2\n3,4\n"),
+            r#"data.csv:1: no header row: the first row ("1", "2") contains only numbers; add a first line with the column names, e.g. "x,y""#
+        );
+        assert_eq!(
+            err_str("# data\n\n 0.5 \n"),
+            r#"data.csv:3: no header row: the first row ("0.5") contains only numbers; add a first line with the column names, e.g. "x,y""#
+        );
+        assert!(matches!(
+            read_str("nan,1\n").unwrap_err(),
+            IoError::NoHeader { line: 1, .. }
+        ));
+        // One name among numbers is a header (with odd names, but a header).
+        let t = read_str("x,1\n1,2\n").unwrap();
+        assert_eq!(t.names(), ["x", "1"]);
+    }
+
+    #[test]
+    fn empty_input_is_an_error() {
+        let expected =
+            "data.csv: no header row: the input is empty (only blank lines and # comments)";
+        assert_eq!(err_str(""), expected);
+        assert_eq!(err_str("\n\r\n  \n"), expected);
+        assert_eq!(err_str("# only\n# comments\n"), expected);
+        assert_eq!(err_str("\u{feff}"), expected);
+    }
+
+    #[test]
+    fn empty_header_name_is_an_error() {
+        assert_eq!(
+            err_str("x,,y\n1,2,3\n"),
+            "data.csv:1: column 2: empty column name in the header"
+        );
+        assert_eq!(
+            err_str("# c\nx,y,\n1,2,3\n"),
+            "data.csv:2: column 3: empty column name in the header"
+        );
+    }
+
+    #[test]
+    fn duplicate_header_name_is_an_error() {
+        assert_eq!(
+            err_str("x,y, x\n1,2,3\n"),
+            r#"data.csv:1: column 3 ("x"): duplicate column name (column 1 has the same name)"#
+        );
+    }
+
+    #[test]
+    fn wrong_number_of_cells_is_an_error() {
+        assert_eq!(
+            err_str("x,y,z\n1,2,3\n\n4,5\n"),
+            r#"data.csv:4: expected 3 cells (one per column of the header on line 1), found 2: "4", "5""#
+        );
+        assert_eq!(
+            err_str("# c\nx\n1\n2,\n"),
+            r#"data.csv:4: expected 1 cells (one per column of the header on line 2), found 2: "2", """#
+        );
+        assert!(matches!(
+            read_str("a,b\n1,2,3\n").unwrap_err(),
+            IoError::CellCount {
+                line: 2,
+                expected: 2,
+                found: 3,
+                header_line: 1,
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn header_without_data_is_an_error() {
+        assert_eq!(
+            err_str("x,y\n"),
+            "data.csv: no data rows: the header is on line 1 and nothing follows it"
+        );
+        assert_eq!(
+            err_str("# c\nx,y\n\n# nothing\n"),
+            "data.csv: no data rows: the header is on line 2 and nothing follows it"
+        );
+    }
+
+    #[test]
+    fn invalid_utf8_is_an_error() {
+        let err = Table::from_reader(&b"x,y\n1,\xff2\n"[..], "data.csv").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "data.csv:2: column 2 (\"y\"): invalid UTF-8 in \"\u{fffd}2\""
+        );
+        let err = Table::from_reader(&b"x,\xffy\n1,2\n"[..], "data.csv").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "data.csv:1: column 2 (\"\"): invalid UTF-8 in \"\u{fffd}y\""
+        );
+    }
+
+    #[test]
+    fn from_reader_reports_read_errors() {
+        struct Broken;
+        impl Read for Broken {
+            fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+                Err(io::Error::other("cable unplugged"))
+            }
+        }
+        let err = Table::from_reader(Broken, "<stdin>").unwrap_err();
+        assert_eq!(err.to_string(), "<stdin>: cannot read: cable unplugged");
+    }
+
+    #[test]
+    fn read_uses_the_path_in_messages() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("meas.csv");
+        fs::write(&path, "x,y\r\n1,2\r\n3,abc\r\n").unwrap();
+        let err = Table::read(&path).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            format!(
+                r#"{}:3: column 2 ("y"): cannot parse "abc" as a number"#,
+                path.display()
+            )
+        );
+        fs::write(&path, "x,y\n1,2\n").unwrap();
+        let t = Table::read(&path).unwrap();
+        assert_eq!(t.source(), path.display().to_string());
+        assert_eq!(
+            t.column("z").unwrap_err().to_string(),
+            format!(
+                r#"{}: no column named "z"; the available columns are "x", "y""#,
+                path.display()
+            )
+        );
+    }
+
+    #[test]
+    fn unreadable_file_names_path_and_os_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("missing.csv");
+        let err = Table::read(&path).unwrap_err();
+        assert!(matches!(err, IoError::Read { .. }), "{err:?}");
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "{}: cannot read: {}",
+                path.display(),
+                io::Error::from_raw_os_error(2)
+            )
+        );
+        assert!(err.to_string().contains("No such file or directory"));
+
+        let err = Table::read(dir.path()).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            format!("{}: is a directory, not a file", dir.path().display())
+        );
+    }
+
+    // ---------------------------------------------------------------- columns
+
+    #[test]
+    fn unknown_column_lists_the_available_ones() {
+        let t = read_str("t,x,y\n0,1,2\n").unwrap();
+        let err = t.column("u").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            r#"data.csv: no column named "u"; the available columns are "t", "x", "y""#
+        );
+        match err {
+            IoError::UnknownColumn {
+                name, available, ..
+            } => {
+                assert_eq!(name, "u");
+                assert_eq!(available, ["t", "x", "y"]);
+            }
+            other => panic!("wrong variant: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn pick_column_prefers_the_given_name() {
+        let t = read_str("t,x,y\n0,1,2\n").unwrap();
+        assert_eq!(t.pick_column(Some("y")).unwrap(), (2, &[2.0][..]));
+        assert_eq!(t.pick_column(Some("x")).unwrap(), (1, &[1.0][..]));
+        assert_eq!(
+            t.pick_column(Some("X")).unwrap_err().to_string(),
+            r#"data.csv: no column named "X"; the available columns are "t", "x", "y""#
+        );
+    }
+
+    #[test]
+    fn pick_column_falls_back_to_x() {
+        let t = read_str("t,x,y\n0,1,2\n").unwrap();
+        assert_eq!(t.pick_column(None).unwrap(), (1, &[1.0][..]));
+    }
+
+    #[test]
+    fn pick_column_falls_back_to_the_only_column() {
+        let t = read_str("u\n7\n8\n").unwrap();
+        assert_eq!(t.pick_column(None).unwrap(), (0, &[7.0, 8.0][..]));
+        // A single column still honours an explicit, wrong name.
+        assert!(matches!(
+            t.pick_column(Some("x")).unwrap_err(),
+            IoError::UnknownColumn { .. }
+        ));
+    }
+
+    #[test]
+    fn pick_column_is_ambiguous_without_x() {
+        let t = read_str("t,u,y\n0,1,2\n").unwrap();
+        let err = t.pick_column(None).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            r#"data.csv: cannot tell which column is the input: there is no column named "x" and there are 3 columns ("t", "u", "y"); pass --column NAME"#
+        );
+        assert!(matches!(err, IoError::AmbiguousColumn { .. }));
+    }
+
+    // ---------------------------------------------------------------- new
+
+    #[test]
+    fn new_builds_a_table() {
+        let t = Table::new(strings(&["x", "y"]), vec![vec![1.0, 2.0], vec![3.0, 4.0]]).unwrap();
+        assert_eq!(t.source(), "<memory>");
+        assert_eq!(t.len(), 2);
+        assert_eq!((t.line_of_row(0), t.line_of_row(1)), (2, 3));
+        let t = t.with_source("fit result");
+        assert_eq!(t.source(), "fit result");
+        assert_eq!(
+            t.column("z").unwrap_err().to_string(),
+            r#"fit result: no column named "z"; the available columns are "x", "y""#
+        );
+        let empty = Table::new(strings(&["x"]), vec![vec![]]).unwrap();
+        assert!(empty.is_empty());
+        assert_eq!(empty.len(), 0);
+    }
+
+    #[test]
+    fn new_rejects_bad_shapes() {
+        let err = Table::new(strings(&["x", "y"]), vec![vec![1.0]]).unwrap_err();
+        assert_eq!(err.to_string(), "<memory>: 2 column names but 1 columns");
+        let err = Table::new(vec![], vec![]).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "<memory>: a table needs at least one column"
+        );
+        let err = Table::new(strings(&["x", "y"]), vec![vec![1.0, 2.0], vec![3.0]]).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            r#"<memory>: column 2 ("y") has 1 values, but column 1 ("x") has 2"#
+        );
+    }
+
+    #[test]
+    fn new_rejects_bad_names() {
+        let cases: [(&[&str], &str); 6] = [
+            (
+                &["x", ""],
+                r#"<memory>: column 2 (""): invalid column name: the name is empty"#,
+            ),
+            (
+                &[" "],
+                r#"<memory>: column 1 (" "): invalid column name: the name is empty"#,
+            ),
+            (
+                &["x", "y", "x"],
+                r#"<memory>: column 3 ("x"): invalid column name: column 1 has the same name"#,
+            ),
+            (
+                &["x "],
+                r#"<memory>: column 1 ("x "): invalid column name: leading or trailing whitespace would be lost when the file is read back"#,
+            ),
+            (
+                &["a\nb"],
+                r#"<memory>: column 1 ("a\nb"): invalid column name: names cannot contain line breaks"#,
+            ),
+            (
+                &["1", "2.5"],
+                r#"<memory>: column 1 ("1"): invalid column name: all column names are numbers, so the header could not be told apart from data"#,
+            ),
+        ];
+        for (names, expected) in cases {
+            let columns = vec![vec![0.0]; names.len()];
+            let err = Table::new(strings(names), columns).unwrap_err();
+            assert_eq!(err.to_string(), expected);
+        }
+    }
+
+    #[test]
+    fn new_rejects_non_finite_values() {
+        let err = Table::new(
+            strings(&["x", "y"]),
+            vec![vec![1.0, 2.0], vec![3.0, f64::NAN]],
+        )
+        .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            r#"<memory>: column 2 ("y"), row 2: NaN is not a finite number"#
+        );
+        let err = Table::new(strings(&["x"]), vec![vec![f64::NEG_INFINITY]]).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            r#"<memory>: column 1 ("x"), row 1: -inf is not a finite number"#
+        );
+    }
+
+    // ---------------------------------------------------------------- writing
+
+    /// Awkward values that must survive a round trip bit for bit.
+    fn awkward() -> Vec<f64> {
+        vec![
+            0.0,
+            -0.0,
+            5e-324,
+            -5e-324,
+            2.2250738585072014e-308,
+            2.225073858507201e-308,
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            f64::MIN,
+            1.7976931348623157e308,
+            1e300,
+            -1e-300,
+            0.1 + 0.2,
+            0.1,
+            1.0 / 3.0,
+            9007199254740993.0,
+            1e15,
+            1e16,
+            123456789012345680.0,
+            1e-5,
+            9.999999999999999e-6,
+            std::f64::consts::PI,
+            -1.0,
+            42.0,
+        ]
+    }
+
+    #[test]
+    fn formats_values_in_shortest_round_trip_form() {
+        let shown: Vec<String> = [
+            -0.0,
+            0.0,
+            1e300,
+            5e-324,
+            1.7976931348623157e308,
+            0.1 + 0.2,
+            1.5,
+            1e16,
+            1e-5,
+            1e-6,
+        ]
+        .iter()
+        .map(|&v| {
+            let mut s = String::new();
+            push_f64(&mut s, v);
+            s
+        })
+        .collect();
+        assert_eq!(
+            shown,
+            [
+                "-0",
+                "0",
+                "1e300",
+                "5e-324",
+                "1.7976931348623157e308",
+                "0.30000000000000004",
+                "1.5",
+                "1e16",
+                "0.00001",
+                "1e-6"
+            ]
+        );
+    }
+
+    #[test]
+    fn formatting_round_trips_random_bit_patterns() {
+        // xorshift64*: deterministic, no extra dependency.
+        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut checked = 0;
+        let mut s = String::new();
+        while checked < 200_000 {
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            let bits = state.wrapping_mul(0x2545_F491_4F6C_DD1D);
+            let v = f64::from_bits(bits);
+            if !v.is_finite() {
+                continue;
+            }
+            s.clear();
+            push_f64(&mut s, v);
+            let back: f64 = s.parse().unwrap();
+            assert_eq!(back.to_bits(), v.to_bits(), "{v:e} written as {s}");
+            checked += 1;
+        }
+    }
+
+    #[test]
+    fn write_and_read_back_bit_exactly() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("awkward.csv");
+        let values = awkward();
+        let negated: Vec<f64> = values.iter().map(|v| -v).collect();
+        let t = Table::new(
+            strings(&["x", "minus x"]),
+            vec![values.clone(), negated.clone()],
+        )
+        .unwrap();
+        t.write_atomic(&path).unwrap();
+        let text = fs::read_to_string(&path).unwrap();
+        assert!(
+            text.starts_with("x,minus x\n0,-0\n-0,0\n5e-324,-5e-324\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("\n0.30000000000000004,-0.30000000000000004\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("\n1.7976931348623157e308,-1.7976931348623157e308\n"),
+            "{text}"
+        );
+        assert!(text.contains("\n1e300,-1e300\n"), "{text}");
+
+        let back = Table::read(&path).unwrap();
+        assert_eq!(back.names(), t.names());
+        assert_eq!(back.len(), values.len());
+        for (col, expected) in [(0, &values), (1, &negated)] {
+            let got = &back.columns()[col];
+            let got_bits: Vec<u64> = got.iter().map(|v| v.to_bits()).collect();
+            let want_bits: Vec<u64> = expected.iter().map(|v| v.to_bits()).collect();
+            assert_eq!(got_bits, want_bits);
+        }
+        for row in 0..t.len() {
+            assert_eq!(back.line_of_row(row), t.line_of_row(row));
+        }
+        assert_eq!(files_in(dir.path()), ["awkward.csv"]);
+    }
+
+    #[test]
+    fn awkward_names_round_trip() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("names.csv");
+        let names = strings(&["#x", "a,b", "say \"hi\"", "µ0 (H/m)", "1"]);
+        let t = Table::new(names.clone(), vec![vec![1.0]; 5]).unwrap();
+        t.write_atomic(&path).unwrap();
+        assert_eq!(
+            fs::read_to_string(&path).unwrap(),
+            "\"#x\",\"a,b\",\"say \"\"hi\"\"\",µ0 (H/m),1\n1,1,1,1,1\n"
+        );
+        let back = Table::read(&path).unwrap();
+        assert_eq!(back.names(), names);
+        assert_eq!(back.line_of_row(0), 2);
+    }
+
+    #[test]
+    fn empty_table_writes_only_the_header() {
+        let mut out = Vec::new();
+        Table::new(strings(&["x", "y"]), vec![vec![], vec![]])
+            .unwrap()
+            .write_csv(&mut out)
+            .unwrap();
+        assert_eq!(out, b"x,y\n");
+    }
+
+    #[test]
+    fn failed_table_write_leaves_old_file_and_no_temp() {
+        let dir = tempfile::tempdir().unwrap();
+        let t = Table::new(strings(&["x"]), vec![vec![1.0, 2.0]]).unwrap();
+
+        // Into a directory that does not exist.
+        let missing = dir.path().join("nope").join("out.csv");
+        let err = t.write_atomic(&missing).unwrap_err();
+        assert!(matches!(err, IoError::Write { .. }), "{err:?}");
+        assert!(err.to_string().starts_with(&format!(
+            "{}: cannot create a temporary file in ",
+            missing.display()
+        )));
+        assert_eq!(files_in(dir.path()), Vec::<String>::new());
+
+        // Onto a path that is a directory.
+        let sub = dir.path().join("out.csv");
+        fs::create_dir(&sub).unwrap();
+        let err = t.write_atomic(&sub).unwrap_err();
+        assert!(matches!(err, IoError::IsDirectory { .. }), "{err:?}");
+        assert_eq!(files_in(dir.path()), ["out.csv"]);
+        assert!(sub.is_dir());
+        assert_eq!(files_in(&sub), Vec::<String>::new());
+
+        // Replacing an existing file works and leaves nothing else behind.
+        let path = dir.path().join("real.csv");
+        fs::write(&path, "old\n").unwrap();
+        t.write_atomic(&path).unwrap();
+        assert_eq!(fs::read_to_string(&path).unwrap(), "x\n1\n2\n");
+        assert_eq!(files_in(dir.path()), ["out.csv", "real.csv"]);
+    }
+}
