@@ -1,10 +1,103 @@
-//! `hyst bench` (being built; see the issue tracker).
+//! `hyst bench`: ns per sample of the operators and of the yardsticks, measured in one process,
+//! with the speed goals as ratios (timings on shared machines are noisy; ratios measured in one
+//! run are what to compare).
+
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Result};
+use serde_json::json;
+
+use crate::workloads::{Inputs, NAMES, SAMPLES};
 
 /// Arguments of `hyst bench`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    /// Print JSON (keys direct_ns, inverse_ns, inverse_d2_ns, model_ns, exp_ns, lambert_w0_ns,
+    /// plus the goal ratios) instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Seconds of measurement per workload.
+    #[arg(long, default_value_t = 0.5)]
+    pub seconds: f64,
+}
+
+/// Median ns per sample of workload `index`: batches of calls for `seconds`, rounds interleaved
+/// by the caller so every workload sees the same machine load.
+fn batch_ns(inputs: &Inputs, index: usize, calls: usize) -> f64 {
+    let start = Instant::now();
+    let mut checksum = 0.0;
+    for _ in 0..calls {
+        checksum += inputs.run(index);
+    }
+    let elapsed = start.elapsed();
+    std::hint::black_box(checksum);
+    elapsed.as_secs_f64() * 1e9 / (calls * SAMPLES) as f64
+}
 
 /// Runs `hyst bench`.
-pub fn main(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("hyst bench is not available in this build yet")
+pub fn main(args: Args) -> Result<()> {
+    if !(args.seconds.is_finite() && args.seconds > 0.0 && args.seconds <= 60.0) {
+        bail!("--seconds {}: must be in (0, 60]", args.seconds);
+    }
+    let inputs = Inputs::new();
+    for (index, (name, _)) in NAMES.iter().enumerate() {
+        if !inputs.run(index).is_finite() {
+            bail!("benchmark workload {name:?} gave a non-finite checksum");
+        }
+    }
+    // Calibrate calls per batch to ~10 ms, then interleave rounds of all workloads.
+    let calls: Vec<usize> = (0..NAMES.len())
+        .map(|i| {
+            let t = Instant::now();
+            let _ = inputs.run(i);
+            let one = t.elapsed().max(Duration::from_micros(1));
+            ((0.01 / one.as_secs_f64()) as usize).clamp(1, 10_000)
+        })
+        .collect();
+    let rounds = ((args.seconds / 0.01) as usize).clamp(5, 6000);
+    let mut samples = vec![Vec::with_capacity(rounds); NAMES.len()];
+    for _ in 0..rounds {
+        for (i, s) in samples.iter_mut().enumerate() {
+            s.push(batch_ns(&inputs, i, calls[i]));
+        }
+    }
+    let medians: Vec<f64> = samples
+        .iter_mut()
+        .map(|s| {
+            s.sort_by(f64::total_cmp);
+            s[s.len() / 2]
+        })
+        .collect();
+    let (direct, inverse, exp, w0) = (medians[0], medians[1], medians[4], medians[5]);
+    let inverse_ratio = inverse / exp;
+    let direct_ratio = direct / (w0 + exp);
+    if args.json {
+        let mut map = serde_json::Map::new();
+        for ((_, key), ns) in NAMES.iter().zip(&medians) {
+            map.insert((*key).to_string(), json!(ns));
+        }
+        map.insert("inverse_over_exp".into(), json!(inverse_ratio));
+        map.insert("direct_over_w0_plus_exp".into(), json!(direct_ratio));
+        map.insert(
+            "goals_met".into(),
+            json!(inverse_ratio <= 1.5 && direct_ratio <= 1.5),
+        );
+        println!("{}", serde_json::to_string_pretty(&map)?);
+    } else {
+        println!("{:<36} {:>10}", "workload", "ns/sample");
+        for ((name, _), ns) in NAMES.iter().zip(&medians) {
+            println!("{name:<36} {ns:>10.2}");
+        }
+        let verdict = |r: f64| if r <= 1.5 { "met" } else { "NOT met" };
+        println!();
+        println!(
+            "goal inverse <= 1.5 x exp:            {inverse_ratio:.2} ({})",
+            verdict(inverse_ratio)
+        );
+        println!(
+            "goal direct <= 1.5 x (lambert_w0+exp): {direct_ratio:.2} ({})",
+            verdict(direct_ratio)
+        );
+    }
+    Ok(())
 }

@@ -10,6 +10,7 @@ mod fit;
 mod paper;
 mod plot;
 mod run;
+mod workloads;
 
 /// Smooth parametric hysteresis: model, bound, compensate and fit.
 #[derive(Parser, Debug)]

@@ -1,10 +1,152 @@
-//! `hyst run` (being built; see the issue tracker).
+//! `hyst run`: the direct operator, or its inverse (the compensator), over a CSV file.
+//!
+//! Contract (relied on by tests and other tools):
+//! - INPUT has a header row. The input column is `--column NAME`, else `x`, else the only column.
+//! - With `--derivatives N` INPUT also holds `<name>_d1 … <name>_dN`, the input's time
+//!   derivatives, and OUTPUT gets `y_d1 … y_dN` (Proposition 2.7 and beyond, by jets).
+//! - OUTPUT has the header `x,y[,y_d1…]`, one row per input row, every value in full `f64`
+//!   precision (parses back to the identical number).
+//! - Errors name the file, line and column; nothing is written on failure (temporary file, then
+//!   rename).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use hyst_core::{Error, Hysteresis, InverseHysteresis, Jet, K2Law, Operator, Scalar};
+use hyst_io::Table;
+
+/// The most time derivatives `--derivatives` accepts.
+pub const MAX_DERIVATIVES: usize = 8;
 
 /// Arguments of `hyst run`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    /// k1: half-width of the hysteresis loop, in output units (> 0).
+    #[arg(long, required_unless_present = "model", allow_negative_numbers = true)]
+    pub k1: Option<f64>,
+    /// k2: rate of the transition to the asymptotes, in 1/input units (> 0).
+    #[arg(long, required_unless_present = "model", allow_negative_numbers = true)]
+    pub k2: Option<f64>,
+    /// A fitted model file (TOML, see docs/formats.md) instead of --k1/--k2.
+    #[arg(long, conflicts_with_all = ["k1", "k2"])]
+    pub model: Option<PathBuf>,
+    /// Run the inverse operator H⁻¹ (eq. 4): the compensator, desired output in, command out.
+    #[arg(long)]
+    pub inverse: bool,
+    /// The input column (default: `x`, or the only column).
+    #[arg(long)]
+    pub column: Option<String>,
+    /// Also propagate N time derivatives (columns <column>_d1 … <column>_dN in, y_d1 … out).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=MAX_DERIVATIVES as i64))]
+    pub derivatives: u8,
+    /// Input CSV file.
+    pub input: PathBuf,
+    /// Output CSV file (written atomically).
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+/// Something that maps input samples (plain or jets) to output samples, causally, with memory.
+pub trait Evaluate {
+    /// One sample.
+    ///
+    /// # Errors
+    /// The core's error for this sample (the memory is then unchanged).
+    fn evaluate<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error>;
+}
+
+impl<K: K2Law<f64>, B: hyst_core::Branch> Evaluate for Operator<f64, K, B> {
+    fn evaluate<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error> {
+        self.eval(x)
+    }
+}
 
 /// Runs `hyst run`.
-pub fn main(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("hyst run is not available in this build yet")
+pub fn main(args: Args) -> Result<()> {
+    let table = Table::read(&args.input)?;
+    if let Some(path) = &args.model {
+        bail!(
+            "--model {}: model files are not supported by this build",
+            path.display()
+        );
+    }
+    let (k1, k2) = match (args.k1, args.k2) {
+        (Some(k1), Some(k2)) => (k1, k2),
+        _ => bail!("give --k1 and --k2 (or --model FILE)"),
+    };
+    let output = if args.inverse {
+        let mut op = InverseHysteresis::new(k1, k2).context("--k1/--k2")?;
+        run_table(&mut op, &table, args.column.as_deref(), args.derivatives)?
+    } else {
+        let mut op = Hysteresis::new(k1, k2).context("--k1/--k2")?;
+        run_table(&mut op, &table, args.column.as_deref(), args.derivatives)?
+    };
+    output.write_atomic(&args.output)?;
+    Ok(())
+}
+
+/// Runs `op` over the chosen column of `table` (with `derivatives` time derivatives) and returns
+/// the output table `x,y[,y_d1…]`.
+///
+/// # Errors
+/// A missing column, or a sample the operator refuses, named by file, line and column.
+pub fn run_table<E: Evaluate>(
+    op: &mut E,
+    table: &Table,
+    column: Option<&str>,
+    derivatives: u8,
+) -> Result<Table> {
+    macro_rules! with_order {
+        ($($n:literal)*) => {
+            match derivatives {
+                0 => run_order::<E, 0>(op, table, column),
+                $($n => run_order::<E, $n>(op, table, column),)*
+                n => bail!("--derivatives {n}: at most {MAX_DERIVATIVES} are supported"),
+            }
+        };
+    }
+    with_order!(1 2 3 4 5 6 7 8)
+}
+
+fn run_order<E: Evaluate, const N: usize>(
+    op: &mut E,
+    table: &Table,
+    column: Option<&str>,
+) -> Result<Table> {
+    let (index, xs) = table.pick_column(column)?;
+    let name = table.names().get(index).cloned().unwrap_or_default();
+    let mut derivative_columns: Vec<&[f64]> = Vec::with_capacity(N);
+    for k in 1..=N {
+        let wanted = format!("{name}_d{k}");
+        derivative_columns.push(table.column(&wanted).with_context(|| {
+            format!(
+                "--derivatives {N} needs the column {wanted:?} (time derivative {k} of {name:?})"
+            )
+        })?);
+    }
+    let mut columns = vec![Vec::with_capacity(xs.len()); N + 2];
+    for (row, &x) in xs.iter().enumerate() {
+        let mut d = [0.0; N];
+        for (k, c) in derivative_columns.iter().enumerate() {
+            d[k] = c.get(row).copied().unwrap_or(0.0);
+        }
+        let y = op
+            .evaluate(Jet::<f64, N>::from_derivatives(x, d))
+            .with_context(|| {
+                format!(
+                    "{}:{}: column {} ({name:?}): value {x}",
+                    table.source(),
+                    table.line_of_row(row),
+                    index + 1
+                )
+            })?;
+        columns[0].push(x);
+        columns[1].push(y.value());
+        for (k, dk) in y.derivatives().iter().enumerate() {
+            columns[k + 2].push(*dk);
+        }
+    }
+    let mut names = vec!["x".to_string(), "y".to_string()];
+    names.extend((1..=N).map(|k| format!("y_d{k}")));
+    Ok(Table::new(names, columns)?)
 }
