@@ -1,0 +1,376 @@
+//! Feed-forward compensation of hysteresis preceded by linear dynamics (Lemma 5.1).
+//!
+//! The plant is x1(s) / u(s) = b / (a_n sⁿ + … + a_1 s + 1) (eq. 18) followed by the hysteresis
+//! x2 = Hyst(x1), modelled as ψ_out(H(k1, k2)[ψ_in(x1)]). The compensator integrates the new
+//! input n times, v⁽ⁿ⁾ = u_new, evaluates the exact inverse model on the jet (v, v̇, …, v⁽ⁿ⁾) —
+//! which gives x = ψ_in⁻¹(H⁻¹[ψ_out⁻¹(v)]) and its first n time derivatives by Taylor arithmetic
+//! — and outputs eq. (19):
+//!
+//! u = (1/b) (x + a_1 ẋ + … + a_n x⁽ⁿ⁾).
+//!
+//! With the exact model the plant then follows x1 = x and x2 = v: n pure integrators from u_new to
+//! x2 (eq. 20 with Δ = 0). With a hysteresis that is only reproducible by a family, the error
+//! stays within the family's Δa (Propositions 3.2, 3.3).
+//!
+//! No allocation, no panics, `f32` or `f64`, `no_std`; one [`Compensator::step`] per sample.
+
+use crate::{ConstantK2, Error, Identity, InverseModel, Jet, K2Law, Model, Real, Shaping};
+
+/// The Lemma 5.1 compensator for a plant of order `N` (N = n ≥ 0; the paper's Example 2 has
+/// N = 1, Example 3 has N = 2).
+///
+/// # Examples
+/// Example 3's compensator, F = Ḧ⁻¹ + 0.9 Ḣ⁻¹ + H⁻¹ for m ẍ = F − 0.9 ẋ − x:
+/// ```
+/// use hyst_core::{compensator::Compensator, Hysteresis, Identity, Model};
+/// let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+/// let mut comp = Compensator::from_model(&model, 1.0, [0.9, 1.0])?;
+/// let force = comp.step(0.5, 1e-3); // u_new = v̈ = 0.5 for one 1 ms sample
+/// assert!(force.is_finite());
+/// # Ok::<(), hyst_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Compensator<T, const N: usize, I = Identity, K = ConstantK2<T>, O = Identity> {
+    inverse: InverseModel<T, I, K, O>,
+    b: T,
+    a: [T; N],
+    v: [T; N],
+    initial_v: [T; N],
+    last_command: T,
+    last_reference: T,
+    last_target: Jet<T, N>,
+}
+
+impl<T: Real, const N: usize, I, K, O> Compensator<T, N, I, K, O>
+where
+    I: Shaping<T> + Clone,
+    K: K2Law<T> + Clone,
+    O: Shaping<T> + Clone,
+{
+    /// The compensator of `model` for the plant gain `b` and denominator coefficients
+    /// `a = [a_1, …, a_n]` of eq. (18) (the constant term is 1), at rest at v = 0.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] when b is zero or not finite, or a coefficient is not finite.
+    pub fn from_model(model: &Model<T, I, K, O>, b: T, a: [T; N]) -> Result<Self, Error> {
+        Self::new(model.inverse(), b, a)
+    }
+
+    /// As [`Compensator::from_model`], from the inverse model directly.
+    ///
+    /// # Errors
+    /// As [`Compensator::from_model`].
+    pub fn new(inverse: InverseModel<T, I, K, O>, b: T, a: [T; N]) -> Result<Self, Error> {
+        crate::error::finite("b", b)?;
+        if b == T::zero() {
+            return Err(Error::InvalidParameter {
+                name: "b",
+                value: 0.0,
+                expected: "non-zero",
+            });
+        }
+        for c in a.iter() {
+            crate::error::finite("a_i", *c)?;
+        }
+        Ok(Self {
+            inverse,
+            b,
+            a,
+            v: [T::zero(); N],
+            initial_v: [T::zero(); N],
+            last_command: T::zero(),
+            last_reference: T::zero(),
+            last_target: Jet::constant(T::zero()),
+        })
+    }
+
+    /// Starts the integrator chain at (v, v̇, …, v⁽ⁿ⁻¹⁾) = `state`; [`Compensator::reset`]
+    /// returns here.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a non-finite value.
+    pub fn with_state(mut self, state: [T; N]) -> Result<Self, Error> {
+        for x in state.iter() {
+            crate::error::finite("integrator state", *x)?;
+        }
+        self.v = state;
+        self.initial_v = state;
+        Ok(self)
+    }
+
+    /// The integrator chain (v, v̇, …, v⁽ⁿ⁻¹⁾) at the current time.
+    #[must_use]
+    pub fn state(&self) -> [T; N] {
+        self.v
+    }
+
+    /// The inverse model (with its memory).
+    #[must_use]
+    pub fn inverse_model(&self) -> &InverseModel<T, I, K, O> {
+        &self.inverse
+    }
+
+    /// v at the last evaluated sample: the output x2 the compensated plant should show.
+    #[must_use]
+    pub fn last_reference(&self) -> T {
+        self.last_reference
+    }
+
+    /// x = ψ_in⁻¹(H⁻¹[ψ_out⁻¹(v)]) and its n time derivatives at the last evaluated sample: the
+    /// plant state x1 the command drives it to.
+    #[must_use]
+    pub fn last_target(&self) -> Jet<T, N> {
+        self.last_target
+    }
+
+    /// The last command returned.
+    #[must_use]
+    pub fn last_command(&self) -> T {
+        self.last_command
+    }
+
+    /// The jet (v, v̇, …, v⁽ⁿ⁾) of the state `v` with v⁽ⁿ⁾ = `u_new`.
+    fn jet_of(v: &[T; N], u_new: T) -> Jet<T, N> {
+        let value = if N == 0 {
+            T::zero()
+        } else {
+            v.first().copied().unwrap_or_else(T::zero)
+        };
+        let d: [T; N] = core::array::from_fn(|i| {
+            if i + 1 < N {
+                v.get(i + 1).copied().unwrap_or_else(T::zero)
+            } else {
+                u_new
+            }
+        });
+        Jet::from_derivatives(value, d)
+    }
+
+    /// Eq. (19) on a jet x of the plant input target: (1/b)(x + Σ a_i x⁽ⁱ⁾).
+    fn law(&self, x: &Jet<T, N>) -> T {
+        let mut u = x.value();
+        for (a, d) in self.a.iter().zip(x.derivatives().iter()) {
+            u = u + *a * *d;
+        }
+        u / self.b
+    }
+
+    /// The integrator chain advanced by `dt` with v⁽ⁿ⁾ = `u_new` held constant (exact).
+    fn advanced(v: &[T; N], u_new: T, dt: T) -> [T; N] {
+        core::array::from_fn(|k| {
+            // v^(k)(t + dt) = Σ_{j=0}^{N−1−k} v^(k+j) dt^j / j! + u_new dt^(N−k) / (N−k)!.
+            let mut sum = T::zero();
+            let mut term = T::one();
+            for j in 0..(N - k) {
+                sum = sum + v.get(k + j).copied().unwrap_or_else(T::zero) * term;
+                term = term * dt / T::lit((j + 1) as f64);
+            }
+            sum + u_new * term
+        })
+    }
+
+    /// One sample: evaluates the command u(t) for the current state with v⁽ⁿ⁾ = `u_new`, then
+    /// advances the integrators to t + `dt`.
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteInput`] for a non-finite `u_new` or `dt` (or dt < 0), and the inverse
+    /// model's errors (a reference outside the range of a saturating shaping function). The
+    /// compensator is then unchanged.
+    pub fn try_step(&mut self, u_new: T, dt: T) -> Result<T, Error> {
+        if !(u_new.is_finite() && dt.is_finite() && dt >= T::zero()) {
+            let bad = if u_new.is_finite() { dt } else { u_new };
+            return Err(Error::NonFiniteInput {
+                value: bad.as_f64(),
+            });
+        }
+        let jet = Self::jet_of(&self.v, u_new);
+        let x = self.inverse.eval(jet)?;
+        let u = self.law(&x);
+        self.last_command = u;
+        self.last_reference = jet.value();
+        self.last_target = x;
+        // A turning point of v inside the sample becomes the reversal point exactly there.
+        Self::pass_turning_points(&mut self.inverse, &self.v, u_new, dt);
+        self.v = Self::advanced(&self.v, u_new, dt);
+        Ok(u)
+    }
+
+    /// The first time τ in (from, to] where v̇ has changed sign (v̇ is a polynomial of degree
+    /// n − 1 in τ while u_new is held), by a scan of 16 sub-intervals and bisection; the point
+    /// returned is the first one, to rounding, on the new side of the extremum.
+    fn turning_point_between(v: &[T; N], u_new: T, from: T, to: T) -> Option<T> {
+        if N < 2 || to.partial_cmp(&from) != Some(core::cmp::Ordering::Greater) {
+            return None;
+        }
+        let rate = |tau: T| {
+            Self::advanced(v, u_new, tau)
+                .get(1)
+                .copied()
+                .unwrap_or_else(T::zero)
+        };
+        let r0 = rate(from);
+        if r0 == T::zero() {
+            return None;
+        }
+        const SCAN: usize = 16;
+        let mut lo = from;
+        for i in 1..=SCAN {
+            let hi = from + (to - from) * T::lit(i as f64 / SCAN as f64);
+            let r = rate(hi);
+            if r * r0 < T::zero() {
+                let mut a = lo;
+                let mut b = hi;
+                for _ in 0..64 {
+                    let mid = (a + b) / T::lit(2.0);
+                    if mid <= a || mid >= b {
+                        break;
+                    }
+                    if rate(mid) * r0 > T::zero() {
+                        a = mid;
+                    } else {
+                        b = mid;
+                    }
+                }
+                let _ = a;
+                return Some(b);
+            }
+            lo = hi;
+        }
+        None
+    }
+
+    /// Commits to `inverse` the turning points of v in (0, `until`) (at most 4 per sample), so
+    /// that the reversal point of Definition 2.1 is the true extremum of v and not the sample
+    /// after it.
+    fn pass_turning_points(inverse: &mut InverseModel<T, I, K, O>, v: &[T; N], u_new: T, until: T) {
+        let mut from = T::zero();
+        for _ in 0..4 {
+            match Self::turning_point_between(v, u_new, from, until) {
+                Some(tau) => {
+                    let state = Self::advanced(v, u_new, tau);
+                    let at = Self::jet_of(&state, u_new);
+                    // Evaluate at the extremum without its derivatives, so the direction rule
+                    // sees a continuation of the current run.
+                    let _ = inverse.eval(Jet::<T, N>::constant(at.value()));
+                    if tau <= from {
+                        break;
+                    }
+                    from = tau + (until - tau) * T::lit(1e-9);
+                }
+                None => break,
+            }
+        }
+    }
+
+    /// One sample; on error (see [`Compensator::try_step`]) the last command is held and the
+    /// state is unchanged.
+    pub fn step(&mut self, u_new: T, dt: T) -> T {
+        self.try_step(u_new, dt).unwrap_or(self.last_command)
+    }
+
+    /// The first turning point of v (v̇ = 0 with a change of sign) inside the coming sample of
+    /// length `dt` with `u_new` held, as a time offset τ ∈ (0, dt] (only for n ≥ 2: for n ≤ 1
+    /// v̇ is constant within a sample). The operator's reversal happens there; a simulator
+    /// should split its integration step at τ, because the command's n-th derivative term
+    /// jumps (Proposition 2.7: second and higher derivatives are discontinuous at reversals).
+    #[must_use]
+    pub fn turning_point(&self, u_new: T, dt: T) -> Option<T> {
+        Self::turning_point_between(&self.v, u_new, T::zero(), dt)
+    }
+
+    /// The command at t + `tau` (0 ≤ tau ≤ the sample time) if `u_new` is held, without changing
+    /// anything: for integrating a continuous plant between samples (the stages of a Runge–Kutta
+    /// step).
+    ///
+    /// # Errors
+    /// As [`Compensator::try_step`].
+    pub fn peek(&self, u_new: T, tau: T) -> Result<T, Error> {
+        if !(u_new.is_finite() && tau.is_finite()) {
+            return Err(Error::NonFiniteInput {
+                value: u_new.as_f64(),
+            });
+        }
+        let v = Self::advanced(&self.v, u_new, tau);
+        let mut inverse = self.inverse.clone();
+        Self::pass_turning_points(&mut inverse, &self.v, u_new, tau);
+        let x = inverse.eval(Self::jet_of(&v, u_new))?;
+        Ok(self.law(&x))
+    }
+
+    /// Reference-trajectory mode: the command for a given reference v and its first n time
+    /// derivatives (in a jet), bypassing the integrator chain (whose state is set to the
+    /// reference's so that integrator mode can continue from here).
+    ///
+    /// # Errors
+    /// As [`Compensator::try_step`].
+    pub fn track(&mut self, reference: Jet<T, N>) -> Result<T, Error> {
+        let x = self.inverse.eval(reference)?;
+        let u = self.law(&x);
+        let d = reference.derivatives();
+        self.v = core::array::from_fn(|k| {
+            if k == 0 {
+                reference.value()
+            } else {
+                d.get(k - 1).copied().unwrap_or_else(T::zero)
+            }
+        });
+        self.last_command = u;
+        self.last_reference = reference.value();
+        self.last_target = x;
+        Ok(u)
+    }
+
+    /// Back to the initial integrator state, and the inverse model's memory forgotten.
+    pub fn reset(&mut self) {
+        self.v = self.initial_v;
+        self.inverse.reset();
+        self.last_command = T::zero();
+        self.last_reference = T::zero();
+        self.last_target = Jet::constant(T::zero());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Hysteresis, Identity};
+
+    #[test]
+    fn integrator_chain_is_exact_for_polynomials() -> Result<(), Error> {
+        let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+        let mut c = Compensator::from_model(&model, 1.0, [0.0, 0.0, 0.0])?;
+        // v''' = 6 from rest: v = t³, v' = 3t², v'' = 6t.
+        for _ in 0..10 {
+            let _ = c.try_step(6.0, 0.1)?;
+        }
+        let [v, v1, v2] = c.state();
+        assert!((v - 1.0).abs() < 1e-12 && (v1 - 3.0).abs() < 1e-12 && (v2 - 6.0).abs() < 1e-12);
+        Ok(())
+    }
+
+    #[test]
+    fn static_case_is_the_inverse_model() -> Result<(), Error> {
+        let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+        let mut c = Compensator::from_model(&model, 2.0, [])?;
+        let mut inv = model.inverse();
+        for k in 0..50 {
+            let r = (k as f64 * 0.2).sin();
+            let u = c.track(Jet::constant(r))?;
+            assert!((u - inv.step(r) / 2.0).abs() < 1e-15);
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn bad_input_leaves_state_alone() -> Result<(), Error> {
+        let model = Model::new(Identity, Hysteresis::new(0.2_f32, 8.0)?, Identity)?;
+        let mut c = Compensator::from_model(&model, 1.0, [0.1])?;
+        let u = c.step(1.0, 0.01);
+        let s = c.state();
+        assert!(c.try_step(f32::NAN, 0.01).is_err());
+        assert_eq!(c.step(f32::INFINITY, 0.01), u);
+        assert_eq!(c.state(), s);
+        assert!(Compensator::from_model(&model, 0.0, [0.1]).is_err());
+        Ok(())
+    }
+}

@@ -1,0 +1,715 @@
+//! Families of operators (Definition 2.8, eqs. 9–10) and their error bounds: Δa of
+//! Proposition 3.2 (eqs. 12–14, with the corrected denominator of eq. 13), Δb ≤ Δa of
+//! Proposition 3.3 (eq. 15), the bound after an output shaping function, the parameter deviation
+//! Δk2 of Proposition 4.3, the envelope Υ(RH)[v] of a family along an input signal, and a check
+//! that measured data is reproducible by a family.
+//!
+//! # The bound as implemented
+//! For the exact inverse H⁻¹(k1, k2) and a family member H⁻¹(k̄1, k̄2), the worst-case error on
+//! a monotone segment (eq. 14) is, with ũd ≥ 0 the transformed input,
+//!
+//! Δx(ũd) = k̄1 − k1 + 2 (k1 e^(−k2 ũd) − k̄1 e^(−k̄2 ũd)).
+//!
+//! Its end values are Δx(0) = k1 − k̄1 and Δx(∞) = k̄1 − k1. Its only stationary point
+//! (∂Δx/∂ũd = 0) is ũd* = ln(k̄1 k̄2 / (k1 k2)) / (k̄2 − k2) — eq. (13) prints the denominator as
+//! "k2 − k2", a misprint — taken when it is finite and > 0; for k̄2 = k2 there is none. The corner
+//! value Δxi is Δx at max(ũd*, 0) for each of the four corners (k1 ∓ Δk1, k2 ∓ Δk2) of eq. (13),
+//! and Δa = max over the corners of max(|Δxi|, |k̄1 − k1|), the last term covering ũd → ∞.
+
+use crate::{
+    error::{finite, positive},
+    ConstantK2, Error, Hysteresis, InverseHysteresis, Jet, K2Law, Real, Scalar, Shaping,
+};
+
+/// Eq. (14): the worst-case error Δx(ũd) = k̄1 − k1 + 2 (k1 e^(−k2 ũd) − k̄1 e^(−k̄2 ũd)) between
+/// H⁻¹(k̄1, k̄2) and H⁻¹(k1, k2) at the transformed input ũd ≥ 0 (output units of H⁻¹).
+#[must_use]
+pub fn delta_x<T: Real>(k1: T, k1_bar: T, k2: T, k2_bar: T, ud: T) -> T {
+    let two = T::lit(2.0);
+    k1_bar - k1 + two * (k1 * (-k2 * ud).exp() - k1_bar * (-k2_bar * ud).exp())
+}
+
+/// The stationary point ũd* = ln(k̄1 k̄2 / (k1 k2)) / (k̄2 − k2) of eq. (14) (eq. 13 with its
+/// denominator corrected to k̄2 − k2), clipped to ũd ≥ 0: `max(ũd*, 0)`. Returns 0 when there is
+/// no finite stationary point (k̄2 = k2).
+#[must_use]
+pub fn extremum_point<T: Real>(k1: T, k1_bar: T, k2: T, k2_bar: T) -> T {
+    let x = ((k1_bar * k2_bar) / (k1 * k2)).ln() / (k2_bar - k2);
+    if x.is_finite() && x > T::zero() {
+        x
+    } else {
+        T::zero()
+    }
+}
+
+/// One corner value Δxi of eq. (13): Δx of eq. (14) at `max(ũd*, 0)` (see [`extremum_point`]).
+#[must_use]
+pub fn corner_value<T: Real>(k1: T, k1_bar: T, k2: T, k2_bar: T) -> T {
+    delta_x(
+        k1,
+        k1_bar,
+        k2,
+        k2_bar,
+        extremum_point(k1, k1_bar, k2, k2_bar),
+    )
+}
+
+/// The bound of Proposition 3.2 for one family RH(k1, Δk1, k2, Δk2) with constant k2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bound<T> {
+    /// Δa (eq. 12): the largest |H⁻¹(k̄1, k̄2)[ud] − H⁻¹(k1, k2)[ud]| over the family, in the
+    /// output units of H⁻¹ (the input units of H). Also the bound on Δb (eq. 15).
+    pub delta_a: T,
+    /// Δx1..Δx4 of eq. (13), at the corners (k1 − Δk1, k2 − Δk2), (k1 − Δk1, k2 + Δk2),
+    /// (k1 + Δk1, k2 − Δk2), (k1 + Δk1, k2 + Δk2).
+    pub corners: [T; 4],
+    /// The transformed inputs max(ũd*, 0) at which the corner values are taken.
+    pub corner_points: [T; 4],
+    /// The corner parameters (k̄1, k̄2), in the order of `corners`.
+    pub corner_params: [(T, T); 4],
+}
+
+/// Δa of Proposition 3.2 (eqs. 12–13, corrected) with its four corner values.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] unless k1, k2 are finite and > 0, Δk1, Δk2 are finite and ≥ 0,
+/// and the family stays positive: k1 − Δk1 > 0 and k2 − Δk2 > 0.
+///
+/// # Examples
+/// Example 1 of the paper, RH(0.14, 0.1, 8, 5):
+/// ```
+/// let b = hyst_core::family::delta_a(0.14_f64, 0.1, 8.0, 5.0)?;
+/// assert!((b.delta_a - 0.1301).abs() < 5e-5);
+/// assert!((b.corners[0] + 0.1131).abs() < 5e-5);
+/// # Ok::<(), hyst_core::Error>(())
+/// ```
+pub fn delta_a<T: Real>(k1: T, dk1: T, k2: T, dk2: T) -> Result<Bound<T>, Error> {
+    check_family(k1, dk1, k2, dk2)?;
+    let params = [
+        (k1 - dk1, k2 - dk2),
+        (k1 - dk1, k2 + dk2),
+        (k1 + dk1, k2 - dk2),
+        (k1 + dk1, k2 + dk2),
+    ];
+    let mut corners = [T::zero(); 4];
+    let mut points = [T::zero(); 4];
+    let mut worst = T::zero();
+    for (i, (k1b, k2b)) in params.iter().enumerate() {
+        let x = extremum_point(k1, *k1b, k2, *k2b);
+        let value = delta_x(k1, *k1b, k2, *k2b, x);
+        if let (Some(c), Some(p)) = (corners.get_mut(i), points.get_mut(i)) {
+            *c = value;
+            *p = x;
+        }
+        // The end points ũd = 0 and ũd → ∞ have |value| = |k̄1 − k1|.
+        worst = worst.max(value.abs()).max((*k1b - k1).abs());
+    }
+    Ok(Bound {
+        delta_a: worst,
+        corners,
+        corner_points: points,
+        corner_params: params,
+    })
+}
+
+/// Δa by brute force: the largest |Δx(ũd)| of eq. (14) over a grid of `n` × `n` parameter
+/// pairs in the family's rectangle and `m` transformed inputs ũd ∈ [0, 50 / min k̄2] plus
+/// ũd → ∞. A cross-check of [`delta_a`] (which evaluates only the corners, after the
+/// monotonicity argument of the proof of Proposition 3.2).
+///
+/// # Errors
+/// As [`delta_a`].
+pub fn delta_a_scan<T: Real>(k1: T, dk1: T, k2: T, dk2: T, n: usize, m: usize) -> Result<T, Error> {
+    check_family(k1, dk1, k2, dk2)?;
+    let n = n.max(2);
+    let m = m.max(2);
+    let frac = |i: usize, count: usize| T::lit(i as f64 / (count - 1) as f64);
+    let x_max = T::lit(50.0) / (k2 - dk2);
+    let mut worst = T::zero();
+    for i in 0..n {
+        let k1b = k1 - dk1 + (dk1 + dk1) * frac(i, n);
+        worst = worst.max((k1b - k1).abs());
+        for j in 0..n {
+            let k2b = k2 - dk2 + (dk2 + dk2) * frac(j, n);
+            for l in 0..m {
+                let x = x_max * frac(l, m) * frac(l, m);
+                worst = worst.max(delta_x(k1, k1b, k2, k2b, x).abs());
+            }
+        }
+    }
+    Ok(worst)
+}
+
+fn check_family<T: Real>(k1: T, dk1: T, k2: T, dk2: T) -> Result<(), Error> {
+    positive("k1", k1)?;
+    positive("k2", k2)?;
+    for (name, d) in [("dk1", dk1), ("dk2", dk2)] {
+        finite(name, d)?;
+        if d < T::zero() {
+            return Err(Error::InvalidParameter {
+                name,
+                value: d.as_f64(),
+                expected: ">= 0",
+            });
+        }
+    }
+    if k1 - dk1 <= T::zero() {
+        return Err(Error::InvalidParameter {
+            name: "dk1",
+            value: dk1.as_f64(),
+            expected: "< k1 (every member needs k1 > 0)",
+        });
+    }
+    if k2 - dk2 <= T::zero() {
+        return Err(Error::InvalidParameter {
+            name: "dk2",
+            value: dk2.as_f64(),
+            expected: "< k2 (every member needs k2 > 0)",
+        });
+    }
+    Ok(())
+}
+
+/// Δa over a range of nominal k2 (an input-dependent k2 = φ(·) taking values in [k2_lo, k2_hi]):
+/// the largest Δa of [`delta_a`] over `points` ≥ 2 values of k2 spread over the range, with the
+/// values at both ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RangeBound<T> {
+    /// The largest Δa over the range.
+    pub delta_a: T,
+    /// The nominal k2 where it occurs.
+    pub at_k2: T,
+    /// Δa at k2 = k2_lo.
+    pub at_lo: T,
+    /// Δa at k2 = k2_hi.
+    pub at_hi: T,
+}
+
+/// Δa for a family whose nominal k2 ranges over [k2_lo, k2_hi] (Example 1 with φ(in) = 9 − 2 in:
+/// k2 ∈ [5, 12]), scanning `points` values of k2.
+///
+/// # Errors
+/// As [`delta_a`] (at k2_lo and k2_hi), or [`Error::InvalidParameter`] when k2_hi < k2_lo.
+pub fn delta_a_over_k2_range<T: Real>(
+    k1: T,
+    dk1: T,
+    k2_lo: T,
+    k2_hi: T,
+    dk2: T,
+    points: usize,
+) -> Result<RangeBound<T>, Error> {
+    if k2_hi.is_nan() || k2_lo.is_nan() || k2_hi < k2_lo {
+        return Err(Error::InvalidParameter {
+            name: "k2_hi",
+            value: k2_hi.as_f64(),
+            expected: ">= k2_lo",
+        });
+    }
+    let at_lo = delta_a(k1, dk1, k2_lo, dk2)?.delta_a;
+    let at_hi = delta_a(k1, dk1, k2_hi, dk2)?.delta_a;
+    let mut best = RangeBound {
+        delta_a: at_lo,
+        at_k2: k2_lo,
+        at_lo,
+        at_hi,
+    };
+    let points = points.max(2);
+    for i in 0..points {
+        let k2 = k2_lo + (k2_hi - k2_lo) * T::lit(i as f64 / (points - 1) as f64);
+        let d = delta_a(k1, dk1, k2, dk2)?.delta_a;
+        if d > best.delta_a {
+            best.delta_a = d;
+            best.at_k2 = k2;
+        }
+    }
+    Ok(best)
+}
+
+/// The bound after an output shaping function ψ_out: Δ · L, with L = sup ψ_out' on the working
+/// interval [lo, hi] of the operator output (the Lipschitz constant of ψ_out there).
+pub fn shaped_bound<T: Real, O: Shaping<T>>(delta: T, output: &O, lo: T, hi: T) -> T {
+    delta * output.lipschitz(lo, hi)
+}
+
+/// Proposition 4.3: with k2 = φ(·), the direct operator uses φ(v) and the inverse φ(ud), with
+/// |v − ud| ≤ k1, so the pair differs by Δk2* ≤ sup over [lo, hi] of |φ'| · k1.
+pub fn delta_k2_prop43<T: Real, K: K2Law<T>>(law: &K, k1: T, lo: T, hi: T) -> T {
+    law.max_slope(lo, hi) * k1
+}
+
+/// A k2 law shifted by a constant: k2 = φ(input) + `shift` (a member of a family with
+/// input-dependent k2, Definition 2.8 with k2 ± Δk2 around φ).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShiftedK2<K, T> {
+    /// The nominal law φ.
+    pub law: K,
+    /// The shift, in the units of k2 (1 / input units).
+    pub shift: T,
+}
+
+impl<T: Real, K: K2Law<T>> K2Law<T> for ShiftedK2<K, T> {
+    #[inline]
+    fn k2<S: Scalar<T>>(&self, input: S) -> S {
+        self.law.k2(input) + self.shift
+    }
+    fn validate(&self) -> Result<(), Error> {
+        finite("k2 shift", self.shift)?;
+        self.law.validate()
+    }
+    fn range(&self, lo: T, hi: T) -> (T, T) {
+        let (a, b) = self.law.range(lo, hi);
+        (a + self.shift, b + self.shift)
+    }
+    fn max_slope(&self, lo: T, hi: T) -> T {
+        self.law.max_slope(lo, hi)
+    }
+}
+
+/// A family RH(k1, Δk1, k2, Δk2) of direct operators (eq. 9) and RH⁻¹ of inverse ones (eq. 10):
+/// every H(k̄1, k̄2) with |k̄1 − k1| ≤ Δk1 and |k̄2 − k2| ≤ Δk2. The nominal k2 is a law `K`
+/// (a constant, or φ(input) as in Example 1; members are then φ(input) + δ, |δ| ≤ Δk2).
+///
+/// # Examples
+/// ```
+/// use hyst_core::family::Family;
+/// let family = Family::new(0.06_f64, 0.005, 5.0, 2.5)?; // Example 2
+/// assert!((family.bound()?.delta_a - 0.0302).abs() < 5e-5);
+/// let mut corner = family.member(-1.0, 1.0)?; // H(0.055, 7.5)
+/// assert!((corner.k1() - 0.055).abs() < 1e-15);
+/// let _ = corner.step(0.3);
+/// # Ok::<(), hyst_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Family<T, K = ConstantK2<T>> {
+    k1: T,
+    dk1: T,
+    law: K,
+    dk2: T,
+}
+
+impl<T: Real> Family<T, ConstantK2<T>> {
+    /// RH(k1, Δk1, k2, Δk2) with constant nominal k2.
+    ///
+    /// # Errors
+    /// As [`delta_a`].
+    pub fn new(k1: T, dk1: T, k2: T, dk2: T) -> Result<Self, Error> {
+        check_family(k1, dk1, k2, dk2)?;
+        Ok(Self {
+            k1,
+            dk1,
+            law: ConstantK2(k2),
+            dk2,
+        })
+    }
+
+    /// The nominal k2.
+    #[must_use]
+    pub fn k2(&self) -> T {
+        self.law.0
+    }
+
+    /// Δa and the corner values of Proposition 3.2 (also the bound on Δb, Proposition 3.3).
+    ///
+    /// # Errors
+    /// Never for a family built by [`Family::new`].
+    pub fn bound(&self) -> Result<Bound<T>, Error> {
+        delta_a(self.k1, self.dk1, self.law.0, self.dk2)
+    }
+}
+
+impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
+    /// A family around an input-dependent k2 = φ(input): members use φ(input) + δ, |δ| ≤ Δk2.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for k1 not finite and > 0, Δk1, Δk2 not finite and ≥ 0, or
+    /// Δk1 ≥ k1; the law's own validation errors.
+    pub fn with_k2_law(k1: T, dk1: T, law: K, dk2: T) -> Result<Self, Error> {
+        check_family(k1, dk1, T::one(), T::zero())?;
+        finite("dk2", dk2)?;
+        if dk2 < T::zero() {
+            return Err(Error::InvalidParameter {
+                name: "dk2",
+                value: dk2.as_f64(),
+                expected: ">= 0",
+            });
+        }
+        law.validate()?;
+        Ok(Self { k1, dk1, law, dk2 })
+    }
+
+    /// The nominal k1.
+    #[must_use]
+    pub fn k1(&self) -> T {
+        self.k1
+    }
+    /// Δk1.
+    #[must_use]
+    pub fn dk1(&self) -> T {
+        self.dk1
+    }
+    /// Δk2.
+    #[must_use]
+    pub fn dk2(&self) -> T {
+        self.dk2
+    }
+    /// The nominal k2 law.
+    #[must_use]
+    pub fn law(&self) -> &K {
+        &self.law
+    }
+
+    /// The member parameters at relative position (a, b) ∈ [−1, 1]²: k̄1 = k1 + a Δk1 and the
+    /// k2 shift δ = b Δk2 (a and b are clamped into [−1, 1]; the corners are a, b = ±1).
+    #[must_use]
+    pub fn member_params(&self, a: T, b: T) -> (T, T) {
+        let one = T::one();
+        let a = a.max(-one).min(one);
+        let b = b.max(-one).min(one);
+        (self.k1 + a * self.dk1, b * self.dk2)
+    }
+
+    /// The direct member H(k1 + a Δk1, k2 + b Δk2) (eq. 9), with no history.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] when a or b is not finite.
+    pub fn member(&self, a: T, b: T) -> Result<Hysteresis<T, ShiftedK2<K, T>>, Error> {
+        finite("member position a", a)?;
+        finite("member position b", b)?;
+        let (k1, shift) = self.member_params(a, b);
+        Hysteresis::with_k2_law(
+            k1,
+            ShiftedK2 {
+                law: self.law.clone(),
+                shift,
+            },
+        )
+    }
+
+    /// The inverse member H⁻¹(k1 + a Δk1, k2 + b Δk2) (eq. 10), with no history.
+    ///
+    /// # Errors
+    /// As [`Family::member`].
+    pub fn inverse_member(
+        &self,
+        a: T,
+        b: T,
+    ) -> Result<InverseHysteresis<T, ShiftedK2<K, T>>, Error> {
+        finite("member position a", a)?;
+        finite("member position b", b)?;
+        let (k1, shift) = self.member_params(a, b);
+        InverseHysteresis::with_k2_law(
+            k1,
+            ShiftedK2 {
+                law: self.law.clone(),
+                shift,
+            },
+        )
+    }
+
+    /// The nominal member H(k1, k2) (no shift).
+    ///
+    /// # Errors
+    /// Never for a valid family.
+    pub fn nominal(&self) -> Result<Hysteresis<T, ShiftedK2<K, T>>, Error> {
+        self.member(T::zero(), T::zero())
+    }
+
+    /// Δa for this family on a working interval [lo, hi] of the operator input, with k2 = φ
+    /// ranging over φ([lo, hi]) and Δk2 widened by Proposition 4.3 when `with_prop43` is true
+    /// (Δk2 + sup|φ'| k1: the compensator H⁻¹ uses φ(ud) rather than φ(v)). `points` values of
+    /// the nominal k2 are scanned.
+    ///
+    /// # Errors
+    /// As [`delta_a_over_k2_range`].
+    pub fn bound_on(
+        &self,
+        lo: T,
+        hi: T,
+        with_prop43: bool,
+        points: usize,
+    ) -> Result<RangeBound<T>, Error> {
+        let (k2_lo, k2_hi) = self.law.range(lo, hi);
+        let extra = if with_prop43 {
+            delta_k2_prop43(&self.law, self.k1, lo, hi)
+        } else {
+            T::zero()
+        };
+        delta_a_over_k2_range(self.k1, self.dk1, k2_lo, k2_hi, self.dk2 + extra, points)
+    }
+
+    /// The envelope Υ(RH)[v] of the family along the input signal `input` (Section 3): for each
+    /// sample, the smallest and the largest output over a `grid` × `grid` lattice of members
+    /// (corners included; `grid` ≥ 2), all started without history. Writes into `lower` and
+    /// `upper` (same length as `input`); no allocation.
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] for slices of different lengths; a member's
+    /// [`Error::InvalidK2`] (a law that goes non-positive once shifted by −Δk2). Non-finite
+    /// input samples give non-finite envelope samples.
+    pub fn envelope(
+        &self,
+        input: &[T],
+        lower: &mut [T],
+        upper: &mut [T],
+        grid: usize,
+    ) -> Result<(), Error> {
+        if input.len() != lower.len() || input.len() != upper.len() {
+            return Err(Error::LengthMismatch {
+                input: input.len(),
+                output: lower.len().min(upper.len()),
+            });
+        }
+        lower.iter_mut().for_each(|x| *x = T::infinity());
+        upper.iter_mut().for_each(|x| *x = T::neg_infinity());
+        let grid = grid.max(2);
+        let pos = |i: usize| T::lit(-1.0 + 2.0 * i as f64 / (grid - 1) as f64);
+        for i in 0..grid {
+            for j in 0..grid {
+                let mut member = self.member(pos(i), pos(j))?;
+                for ((x, lo), hi) in input.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
+                    match member.try_step(*x) {
+                        Ok(y) => {
+                            *lo = lo.min(y);
+                            *hi = hi.max(y);
+                        }
+                        Err(Error::NonFiniteInput { .. }) => {
+                            *lo = T::nan();
+                            *hi = T::nan();
+                        }
+                        Err(e) => return Err(e),
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks that measured data is reproducible by the family, through shaping functions:
+    /// output ≈ ψ_out(H[ψ_in(input)]). The envelope is computed on ψ_in(input) and mapped
+    /// through ψ_out (increasing, so it maps lower to lower). A sample is inside when
+    /// lower − `tolerance` ≤ output ≤ upper + `tolerance`. `lower` and `upper` are scratch
+    /// buffers of the input's length (they hold the shaped envelope afterwards).
+    ///
+    /// # Errors
+    /// As [`Family::envelope`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn reproducibility<I: Shaping<T>, O: Shaping<T>>(
+        &self,
+        input_shaping: &I,
+        output_shaping: &O,
+        input: &[T],
+        output: &[T],
+        tolerance: T,
+        lower: &mut [T],
+        upper: &mut [T],
+        grid: usize,
+    ) -> Result<Reproducibility<T>, Error> {
+        if input.len() != output.len() {
+            return Err(Error::LengthMismatch {
+                input: input.len(),
+                output: output.len(),
+            });
+        }
+        if lower.len() != input.len() || upper.len() != input.len() {
+            return Err(Error::LengthMismatch {
+                input: input.len(),
+                output: lower.len().min(upper.len()),
+            });
+        }
+        lower.iter_mut().for_each(|x| *x = T::infinity());
+        upper.iter_mut().for_each(|x| *x = T::neg_infinity());
+        let grid = grid.max(2);
+        let pos = |i: usize| T::lit(-1.0 + 2.0 * i as f64 / (grid - 1) as f64);
+        for i in 0..grid {
+            for j in 0..grid {
+                let mut member = self.member(pos(i), pos(j))?;
+                for ((x, lo), hi) in input.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
+                    if let Ok(y) = member.try_step(input_shaping.apply(*x)) {
+                        *lo = lo.min(y);
+                        *hi = hi.max(y);
+                    }
+                }
+            }
+        }
+        let mut inside = 0usize;
+        let mut counted = 0usize;
+        let mut worst = T::zero();
+        let mut worst_index = 0usize;
+        for (k, ((y, lo), hi)) in output
+            .iter()
+            .zip(lower.iter_mut())
+            .zip(upper.iter_mut())
+            .enumerate()
+        {
+            *lo = output_shaping.apply(*lo);
+            *hi = output_shaping.apply(*hi);
+            if !(y.is_finite() && lo.is_finite() && hi.is_finite()) {
+                continue;
+            }
+            counted += 1;
+            let excursion = (*lo - *y).max(*y - *hi).max(T::zero());
+            if excursion <= tolerance {
+                inside += 1;
+            }
+            if excursion > worst {
+                worst = excursion;
+                worst_index = k;
+            }
+        }
+        Ok(Reproducibility {
+            fraction_inside: if counted == 0 {
+                T::zero()
+            } else {
+                T::lit(inside as f64 / counted as f64)
+            },
+            worst_excursion: worst,
+            worst_index,
+            samples: counted,
+        })
+    }
+}
+
+/// How well measured data is reproduced by a family (see [`Family::reproducibility`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reproducibility<T> {
+    /// Fraction of the (finite) samples inside the envelope, within the tolerance.
+    pub fraction_inside: T,
+    /// The largest distance of a sample outside the envelope (0 when all are inside), in
+    /// output units.
+    pub worst_excursion: T,
+    /// The index of that sample.
+    pub worst_index: usize,
+    /// The number of samples compared (finite output and envelope).
+    pub samples: usize,
+}
+
+/// The slope of a jet-capable law, for callers without [`K2Law::max_slope`] overrides: dφ/dv at
+/// `input` (1 / input units²).
+pub fn law_slope<T: Real, K: K2Law<T>>(law: &K, input: T) -> T {
+    law.k2(Jet::<T, 1>::variable(input))
+        .derivatives()
+        .first()
+        .copied()
+        .unwrap_or_else(T::zero)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::AffineK2;
+
+    fn close(a: f64, b: f64, tol: f64) -> bool {
+        (a - b).abs() <= tol
+    }
+
+    #[test]
+    fn example1_linear_matches_notes() -> Result<(), Error> {
+        let b = delta_a(0.14_f64, 0.1, 8.0, 5.0)?;
+        assert!(close(b.delta_a, 0.1301, 5e-5), "{}", b.delta_a);
+        let expected = [-0.1131, 0.1000, -0.1301, 0.1209];
+        for (c, e) in b.corners.iter().zip(expected) {
+            assert!(close(*c, e, 5e-5), "{c} vs {e}");
+        }
+        // After the output shaping 1.4 out: 0.1822.
+        let shaped = shaped_bound(b.delta_a, &crate::Affine::new(1.4, 0.0)?, -1.0, 1.0);
+        assert!(close(shaped, 0.1822, 5e-5), "{shaped}");
+        Ok(())
+    }
+
+    #[test]
+    fn example2_and_nonlinear_match_notes() -> Result<(), Error> {
+        let b = delta_a(0.06_f64, 0.005, 5.0, 2.5)?;
+        assert!(close(b.delta_a, 0.0302, 5e-5), "{}", b.delta_a);
+        let lo = delta_a(0.105_f64, 0.005, 5.0, 1.235)?.delta_a;
+        let hi = delta_a(0.105_f64, 0.005, 12.0, 1.235)?.delta_a;
+        assert!(close(lo, 0.0229, 5e-5), "{lo}");
+        assert!(close(hi, 0.0102, 5e-5), "{hi}");
+        let r = delta_a_over_k2_range(0.105_f64, 0.005, 5.0, 12.0, 1.235, 65)?;
+        assert!(close(r.delta_a, lo, 1e-12) && r.at_k2 == 5.0);
+        Ok(())
+    }
+
+    #[test]
+    fn corners_agree_with_a_dense_scan() -> Result<(), Error> {
+        for &(k1, dk1, k2, dk2) in &[
+            (0.14_f64, 0.1, 8.0, 5.0),
+            (0.06, 0.005, 5.0, 2.5),
+            (0.105, 0.005, 5.0, 1.235),
+            (0.2, 0.15, 3.0, 2.9),
+            (1.0, 0.0, 4.0, 0.0),
+        ] {
+            let corners = delta_a(k1, dk1, k2, dk2)?.delta_a;
+            let scan = delta_a_scan(k1, dk1, k2, dk2, 41, 4001)?;
+            assert!(scan <= corners * (1.0 + 1e-9) + 1e-15, "{scan} > {corners}");
+            assert!(scan >= corners * 0.995, "{scan} << {corners}");
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn equal_k2_has_no_interior_extremum() {
+        assert_eq!(extremum_point(0.1_f64, 0.12, 5.0, 5.0), 0.0);
+        let v = corner_value(0.1_f64, 0.12, 5.0, 5.0);
+        assert!(close(v, -0.02, 1e-15));
+        assert!(close(delta_x(0.1_f64, 0.12, 5.0, 5.0, 1e9), 0.02, 1e-15));
+    }
+
+    #[test]
+    fn invalid_families_are_refused() {
+        assert!(delta_a(0.1_f64, 0.1, 8.0, 1.0).is_err());
+        assert!(delta_a(0.1_f64, 0.01, 8.0, 8.0).is_err());
+        assert!(delta_a(0.1_f64, -0.01, 8.0, 1.0).is_err());
+        assert!(Family::new(f64::NAN, 0.0, 1.0, 0.0).is_err());
+    }
+
+    #[test]
+    fn prop43_example1() -> Result<(), Error> {
+        let phi = AffineK2::new(9.0_f64, -2.0, 5.0, 12.0)?;
+        let d = delta_k2_prop43(&phi, 0.105, -1.5, 2.0);
+        assert!(close(d, 0.21, 1e-12));
+        assert!(close(law_slope(&phi, 0.0), -2.0, 1e-12));
+        Ok(())
+    }
+
+    #[test]
+    fn envelope_contains_every_member() -> Result<(), Error> {
+        let fam = Family::new(0.1_f64, 0.02, 6.0, 2.0)?;
+        let input: [f64; 64] = core::array::from_fn(|k| (k as f64 * 0.3).sin() * (k as f64 / 20.0));
+        let mut lo = [0.0; 64];
+        let mut hi = [0.0; 64];
+        fam.envelope(&input, &mut lo, &mut hi, 5)?;
+        let mut m = fam.member(0.3, -0.7)?;
+        for ((x, l), h) in input.iter().zip(&lo).zip(&hi) {
+            let y = m.step(*x);
+            // Interior members lie between the lattice's members up to the lattice spacing.
+            assert!(y >= l - 2e-3 && y <= h + 2e-3, "{l} <= {y} <= {h}");
+        }
+        let mut nominal = fam.nominal()?;
+        let out: [f64; 64] = core::array::from_fn(|k| nominal.step(input[k]));
+        let r = fam.reproducibility(
+            &crate::Identity,
+            &crate::Identity,
+            &input,
+            &out,
+            0.0,
+            &mut lo,
+            &mut hi,
+            3,
+        )?;
+        assert_eq!(r.fraction_inside, 1.0);
+        assert_eq!(r.worst_excursion, 0.0);
+        let shifted: [f64; 64] = core::array::from_fn(|k| out[k] + 0.5);
+        let r = fam.reproducibility(
+            &crate::Identity,
+            &crate::Identity,
+            &input,
+            &shifted,
+            0.0,
+            &mut lo,
+            &mut hi,
+            3,
+        )?;
+        assert!(r.fraction_inside < 0.1 && r.worst_excursion > 0.3);
+        Ok(())
+    }
+}
