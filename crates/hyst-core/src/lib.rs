@@ -7,7 +7,9 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod compensator;
 pub mod error;
+pub mod family;
 pub mod jet;
 pub mod k2law;
 pub mod lambert;
@@ -18,7 +20,9 @@ pub mod real;
 pub mod scalar;
 pub mod shaping;
 
+pub use compensator::Compensator;
 pub use error::Error;
+pub use family::{Bound, Family, Reproducibility, ShiftedK2};
 pub use jet::Jet;
 pub use k2law::{AffineK2, ConstantK2, K2Law};
 pub use memory::{Direction, Memory};
