@@ -1,10 +1,96 @@
-//! `hyst bound` (being built; see the issue tracker).
+//! `hyst bound`: the error bound Δa of a family RH(k1, Δk1, k2, Δk2) (Proposition 3.2, eqs.
+//! 12–13 with the corrected denominator k̄2 − k2), its four corner values, and Δb ≤ Δa
+//! (Proposition 3.3), optionally scaled by a linear output shaping gain.
+
+use anyhow::{Context, Result};
+use hyst_core::family::delta_a;
 
 /// Arguments of `hyst bound`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    /// Nominal k1 (half-width of the loop, output units).
+    #[arg(long)]
+    pub k1: f64,
+    /// Δk1: the family's k1 ranges over [k1 − Δk1, k1 + Δk1].
+    #[arg(long, default_value_t = 0.0)]
+    pub dk1: f64,
+    /// Nominal k2 (transition rate, 1 / input units).
+    #[arg(long)]
+    pub k2: f64,
+    /// Δk2: the family's k2 ranges over [k2 − Δk2, k2 + Δk2].
+    #[arg(long, default_value_t = 0.0)]
+    pub dk2: f64,
+    /// Gain (Lipschitz constant) of a linear output shaping function: scales Δb.
+    #[arg(long, default_value_t = 1.0)]
+    pub output_gain: f64,
+    /// Print JSON (keys delta_a, corners, delta_b_max, ...) instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
 
 /// Runs `hyst bound`.
-pub fn main(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("hyst bound is not available in this build yet")
+pub fn main(args: Args) -> Result<()> {
+    if !args.output_gain.is_finite() {
+        anyhow::bail!("--output-gain must be finite, got {}", args.output_gain);
+    }
+    let b = delta_a(args.k1, args.dk1, args.k2, args.dk2).with_context(|| {
+        format!(
+            "invalid family RH(k1 = {}, dk1 = {}, k2 = {}, dk2 = {})",
+            args.k1, args.dk1, args.k2, args.dk2
+        )
+    })?;
+    let gain = args.output_gain.abs();
+    let delta_b_max = b.delta_a * gain;
+    if args.json {
+        let corners: Vec<serde_json::Value> = b
+            .corner_params
+            .iter()
+            .zip(b.corners.iter().zip(b.corner_points.iter()))
+            .map(|((k1b, k2b), (value, at))| {
+                serde_json::json!({ "k1": k1b, "k2": k2b, "value": value, "at_ud": at })
+            })
+            .collect();
+        let out = serde_json::json!({
+            "family": { "k1": args.k1, "dk1": args.dk1, "k2": args.k2, "dk2": args.dk2 },
+            "delta_a": b.delta_a,
+            "corners": b.corners,
+            "corner_details": corners,
+            "output_gain": gain,
+            "delta_b_max": delta_b_max,
+        });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+        return Ok(());
+    }
+    println!(
+        "family RH(k1 = {}, dk1 = {}, k2 = {}, dk2 = {})",
+        args.k1, args.dk1, args.k2, args.dk2
+    );
+    println!("corner values of eq. (13) (denominator corrected to k2bar - k2):");
+    for (i, ((k1b, k2b), (value, at))) in b
+        .corner_params
+        .iter()
+        .zip(b.corners.iter().zip(b.corner_points.iter()))
+        .enumerate()
+    {
+        println!(
+            "  dx{} = {:+.4}   at k1bar = {:.6}, k2bar = {:.6}, ud~ = {:.4}",
+            i + 1,
+            value,
+            k1b,
+            k2b,
+            at
+        );
+    }
+    println!("delta_a = {:.4}  (Proposition 3.2, eq. 12)", b.delta_a);
+    println!(
+        "delta_b <= delta_a = {:.4}  (Proposition 3.3, eq. 15)",
+        b.delta_a
+    );
+    if gain != 1.0 {
+        println!(
+            "after the output shaping (gain {gain}): delta_b <= {:.4}",
+            delta_b_max
+        );
+    }
+    Ok(())
 }

@@ -1,0 +1,78 @@
+//! `hyst bound` end to end: the numbers of the paper's examples (NOTES.md), JSON keys, errors.
+
+use std::process::Command;
+
+fn hyst(args: &[&str]) -> std::process::Output {
+    match Command::new(env!("CARGO_BIN_EXE_hyst")).args(args).output() {
+        Ok(o) => o,
+        Err(e) => unreachable!("cannot run hyst: {e}"),
+    }
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let out = hyst(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    match serde_json::from_slice(&out.stdout) {
+        Ok(v) => v,
+        Err(e) => unreachable!("bad JSON ({e}): {}", String::from_utf8_lossy(&out.stdout)),
+    }
+}
+
+fn num(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap_or(f64::NAN)
+}
+
+#[test]
+fn example1_linear_with_output_gain() {
+    let v = json(&[
+        "bound",
+        "--k1",
+        "0.14",
+        "--dk1",
+        "0.1",
+        "--k2",
+        "8",
+        "--dk2",
+        "5",
+        "--output-gain",
+        "1.4",
+        "--json",
+    ]);
+    assert!((num(&v["delta_a"]) - 0.1301).abs() < 5e-5, "{v}");
+    assert!((num(&v["delta_b_max"]) - 0.1822).abs() < 5e-5, "{v}");
+    let corners: Vec<f64> = v["corners"]
+        .as_array()
+        .map_or(vec![], |a| a.iter().map(num).collect());
+    assert_eq!(corners.len(), 4);
+    for (c, e) in corners.iter().zip([-0.1131, 0.1000, -0.1301, 0.1209]) {
+        assert!((c - e).abs() < 5e-5, "{c} vs {e}");
+    }
+}
+
+#[test]
+fn example2_text() {
+    let out = hyst(&[
+        "bound", "--k1", "0.06", "--dk1", "0.005", "--k2", "5", "--dk2", "2.5",
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("delta_a = 0.0302"), "{text}");
+    let v = json(&[
+        "bound", "--k1", "0.06", "--dk1", "0.005", "--k2", "5", "--dk2", "2.5", "--json",
+    ]);
+    assert!((num(&v["delta_b_max"]) - num(&v["delta_a"])).abs() < 1e-15);
+}
+
+#[test]
+fn invalid_family_is_an_error() {
+    let out = hyst(&[
+        "bound", "--k1", "0.1", "--dk1", "0.2", "--k2", "5", "--dk2", "1",
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("dk1"), "{err}");
+}
