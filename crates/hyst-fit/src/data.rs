@@ -1,0 +1,362 @@
+//! Measured data: one or more independent records of (input, output) samples with optional
+//! weights, read from a CSV table, and the split into training and validation records.
+
+use std::collections::BTreeMap;
+
+use hyst_io::Table;
+use serde::{Deserialize, Serialize};
+
+use crate::FitError;
+
+/// One independent record (a loop, a reversal curve, an experiment): the model starts afresh
+/// at its first sample.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// The record id (value of the record column, or the segment number).
+    pub id: i64,
+    /// Input samples (units of the input column).
+    pub input: Vec<f64>,
+    /// Output samples (units of the output column).
+    pub output: Vec<f64>,
+    /// Sample weights (≥ 0; 1 when no weight column is given).
+    pub weight: Vec<f64>,
+    /// Row index in the table of each sample (for error messages and plots over time).
+    pub rows: Vec<usize>,
+    /// Whether the record is held out for validation.
+    pub validation: bool,
+}
+
+impl Record {
+    /// Number of samples.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.input.len()
+    }
+    /// Whether the record has no samples.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.input.is_empty()
+    }
+}
+
+/// Which columns hold what, and where the data came from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub struct Columns {
+    /// Input column name.
+    pub input: String,
+    /// Output column name.
+    pub output: String,
+    /// Record column name, if the file is segmented.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub record: Option<String>,
+    /// Weight column name, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weight: Option<String>,
+}
+
+/// How to read a dataset from a table.
+#[derive(Clone, Debug, Default)]
+pub struct DataOptions {
+    /// Input column.
+    pub input: String,
+    /// Output column.
+    pub output: String,
+    /// Record column; `None` looks for a column called `loop`, `curve_index` or `record`.
+    pub record: Option<String>,
+    /// Use no record column even if one of the usual names exists.
+    pub no_record: bool,
+    /// Weight column.
+    pub weight: Option<String>,
+    /// Cut every record into consecutive segments of this many samples (each its own record).
+    pub segment: Option<usize>,
+    /// Record ids (after segmentation: segment numbers 0, 1, …) held out for validation.
+    pub validate: Vec<i64>,
+    /// Hold out every k-th record (the 2nd, …) for validation, if no explicit list is given.
+    pub validate_every: Option<usize>,
+}
+
+/// A dataset: named columns, records, and the file it came from.
+#[derive(Clone, Debug)]
+pub struct Dataset {
+    /// The source file (as given).
+    pub source: String,
+    /// The columns used.
+    pub columns: Columns,
+    /// The records, in file order.
+    pub records: Vec<Record>,
+}
+
+/// Column names recognised as record columns when none is named.
+pub const RECORD_COLUMNS: [&str; 3] = ["loop", "curve_index", "record"];
+
+impl Dataset {
+    /// Builds a dataset from a table read by `hyst_io` (which has already refused non-numeric
+    /// and non-finite cells, naming file, line and column).
+    ///
+    /// # Errors
+    /// Missing columns ([`FitError::Io`]), non-integer record ids, negative weights, unknown
+    /// validation records, a split that leaves no training record.
+    pub fn from_table(table: &Table, options: &DataOptions) -> Result<Self, FitError> {
+        let input = table.column(&options.input)?;
+        let output = table.column(&options.output)?;
+        let record_name = if options.no_record {
+            None
+        } else {
+            match &options.record {
+                Some(name) => Some(name.clone()),
+                None => RECORD_COLUMNS
+                    .iter()
+                    .find(|n| table.column_index(n).is_some())
+                    .map(|n| (*n).to_string()),
+            }
+        };
+        let record = match &record_name {
+            Some(name) => Some(table.column(name)?),
+            None => None,
+        };
+        let weight = match &options.weight {
+            Some(name) => Some(table.column(name)?),
+            None => None,
+        };
+        let file = table.source().to_string();
+        let mut records: Vec<Record> = Vec::new();
+        let mut index_of: BTreeMap<i64, usize> = BTreeMap::new();
+        for row in 0..table.len() {
+            let id = match record {
+                Some(col) => {
+                    let v = col[row];
+                    if v.fract() != 0.0 || v.abs() > 9.0e15 {
+                        return Err(FitError::BadRecordId {
+                            file,
+                            line: table.line_of_row(row),
+                            column: record_name.clone().unwrap_or_default(),
+                            value: v,
+                        });
+                    }
+                    v as i64
+                }
+                None => 0,
+            };
+            let w = match weight {
+                Some(col) => {
+                    let w = col[row];
+                    if w < 0.0 {
+                        return Err(FitError::NegativeWeight {
+                            file,
+                            line: table.line_of_row(row),
+                            column: options.weight.clone().unwrap_or_default(),
+                            value: w,
+                        });
+                    }
+                    w
+                }
+                None => 1.0,
+            };
+            // A record is a run of equal ids; an id that comes back later continues its record.
+            let at = *index_of.entry(id).or_insert_with(|| {
+                records.push(Record {
+                    id,
+                    input: Vec::new(),
+                    output: Vec::new(),
+                    weight: Vec::new(),
+                    rows: Vec::new(),
+                    validation: false,
+                });
+                records.len() - 1
+            });
+            let r = &mut records[at];
+            r.input.push(input[row]);
+            r.output.push(output[row]);
+            r.weight.push(w);
+            r.rows.push(row);
+        }
+        if let Some(len) = options.segment {
+            if len < 2 {
+                return Err(FitError::Invalid(format!(
+                    "--segment {len}: a segment needs at least 2 samples"
+                )));
+            }
+            let mut cut = Vec::new();
+            let mut next = 0_i64;
+            for r in records {
+                for start in (0..r.len()).step_by(len) {
+                    let end = (start + len).min(r.len());
+                    cut.push(Record {
+                        id: next,
+                        input: r.input[start..end].to_vec(),
+                        output: r.output[start..end].to_vec(),
+                        weight: r.weight[start..end].to_vec(),
+                        rows: r.rows[start..end].to_vec(),
+                        validation: false,
+                    });
+                    next += 1;
+                }
+            }
+            records = cut;
+        }
+        if !options.validate.is_empty() {
+            for id in &options.validate {
+                match records.iter_mut().find(|r| r.id == *id) {
+                    Some(r) => r.validation = true,
+                    None => {
+                        let ids: Vec<String> = records.iter().map(|r| r.id.to_string()).collect();
+                        return Err(FitError::Invalid(format!(
+                            "{file}: no record {id} to hold out for validation (records: {})",
+                            abbreviate(&ids)
+                        )));
+                    }
+                }
+            }
+        } else if let Some(k) = options.validate_every {
+            if k < 2 {
+                return Err(FitError::Invalid(
+                    "--validate-every K needs K >= 2 (K = 1 would hold out every record)".into(),
+                ));
+            }
+            for (i, r) in records.iter_mut().enumerate() {
+                r.validation = i % k == k - 1;
+            }
+        }
+        if records.iter().all(|r| r.validation) {
+            return Err(FitError::Invalid(format!(
+                "{file}: every record is held out for validation; nothing is left to fit"
+            )));
+        }
+        Ok(Self {
+            source: file,
+            columns: Columns {
+                input: options.input.clone(),
+                output: options.output.clone(),
+                record: record_name,
+                weight: options.weight.clone(),
+            },
+            records,
+        })
+    }
+
+    /// Builds a dataset from records in memory (tests, synthetic data).
+    #[must_use]
+    pub fn from_records(source: &str, columns: Columns, records: Vec<Record>) -> Self {
+        Self {
+            source: source.to_string(),
+            columns,
+            records,
+        }
+    }
+
+    /// A one-record dataset from input and output slices (unit weights).
+    #[must_use]
+    pub fn single(input: &[f64], output: &[f64]) -> Self {
+        let n = input.len().min(output.len());
+        Self::from_records(
+            "<memory>",
+            Columns {
+                input: "x".into(),
+                output: "y".into(),
+                record: None,
+                weight: None,
+            },
+            vec![Record {
+                id: 0,
+                input: input[..n].to_vec(),
+                output: output[..n].to_vec(),
+                weight: vec![1.0; n],
+                rows: (0..n).collect(),
+                validation: false,
+            }],
+        )
+    }
+
+    /// The training records.
+    pub fn training(&self) -> impl Iterator<Item = &Record> {
+        self.records.iter().filter(|r| !r.validation)
+    }
+
+    /// The validation records.
+    pub fn validation(&self) -> impl Iterator<Item = &Record> {
+        self.records.iter().filter(|r| r.validation)
+    }
+
+    /// Training samples with a non-zero weight.
+    #[must_use]
+    pub fn training_samples(&self) -> usize {
+        self.training()
+            .map(|r| r.weight.iter().filter(|w| **w > 0.0).count())
+            .sum()
+    }
+
+    /// (min, max) of the input over all records.
+    #[must_use]
+    pub fn input_range(&self) -> (f64, f64) {
+        range(self.records.iter().flat_map(|r| r.input.iter()))
+    }
+
+    /// (min, max) of the output over all records.
+    #[must_use]
+    pub fn output_range(&self) -> (f64, f64) {
+        range(self.records.iter().flat_map(|r| r.output.iter()))
+    }
+
+    /// Checks that the data can identify a model with `parameters` free parameters: a moving
+    /// input, more training samples than parameters, an output that rises with the input.
+    ///
+    /// # Errors
+    /// [`FitError::ConstantInput`], [`FitError::TooFewSamples`], [`FitError::DecreasingOutput`].
+    pub fn check(&self, parameters: usize) -> Result<(), FitError> {
+        let samples = self.training_samples();
+        let (lo, hi) = range(self.training().flat_map(|r| r.input.iter()));
+        if hi.is_nan() || hi <= lo {
+            return Err(FitError::ConstantInput {
+                file: self.source.clone(),
+                column: self.columns.input.clone(),
+                value: lo,
+                samples,
+            });
+        }
+        if samples <= parameters {
+            return Err(FitError::TooFewSamples {
+                file: self.source.clone(),
+                samples,
+                parameters,
+            });
+        }
+        // Sign of the input-output correlation over the training data.
+        let (mut n, mut sx, mut sy, mut sxy, mut sxx) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for r in self.training() {
+            for (x, y) in r.input.iter().zip(&r.output) {
+                n += 1.0;
+                sx += x;
+                sy += y;
+                sxy += x * y;
+                sxx += x * x;
+            }
+        }
+        let cov = sxy / n - (sx / n) * (sy / n);
+        if cov < 0.0 && sxx / n - (sx / n) * (sx / n) > 0.0 {
+            return Err(FitError::DecreasingOutput {
+                file: self.source.clone(),
+                column: self.columns.output.clone(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// (min, max) of finite values; (+∞, −∞) when there are none.
+pub(crate) fn range<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
+    values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(*v), hi.max(*v))
+    })
+}
+
+fn abbreviate(items: &[String]) -> String {
+    if items.len() <= 12 {
+        items.join(", ")
+    } else {
+        format!(
+            "{}, …, {}",
+            items[..6].join(", "),
+            items[items.len() - 3..].join(", ")
+        )
+    }
+}

@@ -1,0 +1,108 @@
+//! The error type of identification.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while preparing data, fitting, or reading a model file. Messages
+/// name the file, the line and the column where there is one.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FitError {
+    /// Reading the CSV failed: missing file, missing column, non-numeric or non-finite cell
+    /// (the message names file, line and column).
+    #[error(transparent)]
+    Io(#[from] hyst_io::IoError),
+
+    /// The input column does not vary, so no hysteresis can be identified from it.
+    #[error(
+        "{file}: column {column:?} (the input) is constant ({value}) over all {samples} \
+         training samples: a hysteresis model needs an input that moves"
+    )]
+    ConstantInput {
+        /// The data file.
+        file: String,
+        /// The input column.
+        column: String,
+        /// Its only value.
+        value: f64,
+        /// How many samples were looked at.
+        samples: usize,
+    },
+
+    /// Fewer training samples than free parameters.
+    #[error(
+        "{file}: {samples} training samples but the model has {parameters} free parameters: \
+         the fit needs more samples than parameters"
+    )]
+    TooFewSamples {
+        /// The data file.
+        file: String,
+        /// Training samples.
+        samples: usize,
+        /// Free parameters of the chosen structure.
+        parameters: usize,
+    },
+
+    /// A weight is negative (weights must be ≥ 0, and not all 0).
+    #[error("{file}:{line}: column {column:?}: weight {value} is negative (weights must be >= 0)")]
+    NegativeWeight {
+        /// The data file.
+        file: String,
+        /// The 1-based line.
+        line: usize,
+        /// The weight column.
+        column: String,
+        /// The weight.
+        value: f64,
+    },
+
+    /// The record id is not an integer.
+    #[error("{file}:{line}: column {column:?}: record id {value} is not an integer")]
+    BadRecordId {
+        /// The data file.
+        file: String,
+        /// The 1-based line.
+        line: usize,
+        /// The record column.
+        column: String,
+        /// The value.
+        value: f64,
+    },
+
+    /// The options ask for something that cannot be done with this data (an unknown validation
+    /// record, all records held out, a bad coverage, …).
+    #[error("{0}")]
+    Invalid(String),
+
+    /// The output falls while the input rises: the model's maps are increasing.
+    #[error(
+        "{file}: the output column {column:?} decreases when the input increases; the model \
+         (increasing shaping, counter-clockwise loops) needs an increasing map: negate the output"
+    )]
+    DecreasingOutput {
+        /// The data file.
+        file: String,
+        /// The output column.
+        column: String,
+    },
+
+    /// The core refused a value (an invalid parameter in a model file, a non-monotone shaping).
+    #[error("model: {0}")]
+    Core(#[from] hyst_core::Error),
+
+    /// A model file could not be read or understood.
+    #[error("{}: {message}", path.display())]
+    ModelFile {
+        /// The model file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+
+    /// No start of the optimiser produced a finite cost.
+    #[error("the fit failed: {0}")]
+    NoConvergence(String),
+
+    /// The user interrupted the fit (Ctrl-C); nothing was written.
+    #[error("interrupted: no model file was written")]
+    Interrupted,
+}

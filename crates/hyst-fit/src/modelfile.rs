@@ -1,0 +1,271 @@
+//! The model file: versioned TOML holding a fitted model (smooth or Prandtl–Ishlinskii), its
+//! structure, parameters with standard errors, family widths, units and column names, fit
+//! metrics and the data's provenance. The format is documented in `docs/formats.md`.
+//!
+//! Numbers are written in the shortest form that parses back to the same `f64`, so a model
+//! read back evaluates bit for bit like the one that was fitted.
+
+use std::path::Path;
+
+use hyst_core::{K2Law, Shaping};
+use serde::{Deserialize, Serialize};
+
+use crate::pi::PiModel;
+use crate::smooth::{ErrorStats, Estimate};
+use crate::widths::FamilyWidths;
+use crate::{Columns, FitError, InitialState, SmoothModel, Structure};
+
+/// The value of the `format` key.
+pub const FORMAT: &str = "hyst-model";
+/// The format version this crate writes and reads.
+pub const VERSION: u32 = 1;
+
+/// Which model the file holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelKind {
+    /// The smooth parametric operator with shaping, `[smooth]`.
+    Smooth,
+    /// The Prandtl–Ishlinskii baseline, `[prandtl-ishlinskii]`.
+    PrandtlIshlinskii,
+}
+
+/// Units of the data columns (free text, e.g. "V", "um").
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub struct Units {
+    /// Input units.
+    pub input: String,
+    /// Output units.
+    pub output: String,
+}
+
+/// Fit metrics.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub struct Metrics {
+    /// Number of free parameters.
+    pub parameters: usize,
+    /// Errors on the training records.
+    pub training: ErrorStats,
+    /// Errors on the validation records.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub validation: Option<ErrorStats>,
+    /// Wall time of the fit (s).
+    pub fit_seconds: f64,
+    /// Time to evaluate the model, ns per sample (measured after the fit).
+    pub ns_per_sample: f64,
+}
+
+/// Where the data came from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub struct Provenance {
+    /// The data file as given on the command line.
+    pub file: String,
+    /// Its size in bytes.
+    pub bytes: u64,
+    /// FNV-1a 64-bit hash of its bytes (hex), to recognise the exact file.
+    pub fnv1a64: String,
+    /// Data rows read.
+    pub rows: usize,
+    /// Number of records.
+    pub records: usize,
+    /// Record ids held out for validation.
+    #[serde(default)]
+    pub validation_records: Vec<i64>,
+    /// The command that made the file.
+    pub command: String,
+    /// hyst version.
+    pub hyst_version: String,
+    /// Creation time, seconds since the Unix epoch.
+    pub created_unix: u64,
+}
+
+/// A model file (see `docs/formats.md`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModelFile {
+    /// Always "hyst-model".
+    pub format: String,
+    /// Format version ([`VERSION`]).
+    pub version: u32,
+    /// Which model.
+    pub kind: ModelKind,
+    /// Column names of the data.
+    pub columns: Columns,
+    /// Units of input and output.
+    pub units: Units,
+    /// The fitted parameters with standard errors.
+    pub parameters: Vec<Estimate>,
+    /// Fit metrics.
+    pub metrics: Metrics,
+    /// The chosen structure (smooth models).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub structure: Option<Structure>,
+    /// The smooth model (kind = "smooth").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smooth: Option<SmoothModel>,
+    /// The Prandtl–Ishlinskii model (kind = "prandtl-ishlinskii").
+    #[serde(
+        default,
+        rename = "prandtl-ishlinskii",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub prandtl_ishlinskii: Option<PiModel>,
+    /// Family widths and the bound (smooth models).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub family: Option<FamilyWidths>,
+    /// Provenance of the data.
+    pub provenance: Provenance,
+}
+
+impl ModelFile {
+    /// Serialises to TOML.
+    ///
+    /// # Errors
+    /// [`FitError::Invalid`] if a value cannot be written (never for fitted models).
+    pub fn to_toml(&self) -> Result<String, FitError> {
+        let body = toml::to_string(self)
+            .map_err(|e| FitError::Invalid(format!("cannot write the model file: {e}")))?;
+        Ok(format!(
+            "# hyst model file, format version {VERSION} (see docs/formats.md)\n{body}"
+        ))
+    }
+
+    /// Writes the file atomically: on any failure (or Ctrl-C before this call) no partial
+    /// file exists.
+    ///
+    /// # Errors
+    /// As [`ModelFile::to_toml`], or the write error (naming the path).
+    pub fn write(&self, path: &Path) -> Result<(), FitError> {
+        let text = self.to_toml()?;
+        hyst_io::write_atomic(path, text.as_bytes())?;
+        Ok(())
+    }
+
+    /// Parses and checks a model file's text (`path` names it in errors).
+    ///
+    /// # Errors
+    /// [`FitError::ModelFile`] for TOML errors, a wrong format or version, a missing model
+    /// section, or parameters the core refuses.
+    pub fn from_toml(text: &str, path: &Path) -> Result<Self, FitError> {
+        let bad = |message: String| FitError::ModelFile {
+            path: path.to_path_buf(),
+            message,
+        };
+        let value: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| bad(format!("not valid TOML: {e}")))?;
+        match value.get("format").and_then(|v| v.as_str()) {
+            Some(FORMAT) => {}
+            _ => {
+                return Err(bad(format!(
+                    "not a hyst model file (no `format = \"{FORMAT}\"`)"
+                )))
+            }
+        }
+        match value.get("version").and_then(|v| v.as_integer()) {
+            Some(v) if v == i64::from(VERSION) => {}
+            Some(v) => {
+                return Err(bad(format!(
+                    "format version {v}; this hyst reads version {VERSION}"
+                )))
+            }
+            None => return Err(bad("no `version`".into())),
+        }
+        let file: ModelFile =
+            toml::from_str(text).map_err(|e| bad(format!("invalid model file: {e}")))?;
+        match file.kind {
+            ModelKind::Smooth => {
+                let m = file
+                    .smooth
+                    .as_ref()
+                    .ok_or_else(|| bad("kind = \"smooth\" but no [smooth] section".into()))?;
+                m.validate().map_err(|e| bad(format!("[smooth]: {e}")))?;
+            }
+            ModelKind::PrandtlIshlinskii => {
+                let m = file.prandtl_ishlinskii.as_ref().ok_or_else(|| {
+                    bad("kind = \"prandtl-ishlinskii\" but no [prandtl-ishlinskii] section".into())
+                })?;
+                m.core()
+                    .map_err(|e| bad(format!("[prandtl-ishlinskii]: {e}")))?;
+            }
+        }
+        Ok(file)
+    }
+
+    /// Reads and checks a model file.
+    ///
+    /// # Errors
+    /// [`FitError::ModelFile`] when it cannot be read or is invalid.
+    pub fn read(path: &Path) -> Result<Self, FitError> {
+        let text = std::fs::read_to_string(path).map_err(|e| FitError::ModelFile {
+            path: path.to_path_buf(),
+            message: format!("cannot read: {e}"),
+        })?;
+        Self::from_toml(&text, path)
+    }
+
+    /// Runs the model (direct) over one record of input samples.
+    ///
+    /// # Errors
+    /// [`FitError::Core`] when the model cannot run the input (a non-finite sample).
+    pub fn run(&self, input: &[f64]) -> Result<Vec<f64>, FitError> {
+        match (&self.smooth, &self.prandtl_ishlinskii) {
+            (Some(m), _) if self.kind == ModelKind::Smooth => Ok(m.run(input)?),
+            (_, Some(p)) => Ok(p.run(input)?),
+            _ => Err(FitError::Invalid("the model file holds no model".into())),
+        }
+    }
+
+    /// Runs the exact compensator over one record of desired outputs: the command that makes
+    /// the model produce them. The compensator starts from the state the model's start rule
+    /// implies for the first desired output.
+    ///
+    /// # Errors
+    /// [`FitError::Core`] for a desired output the model cannot produce (beyond a saturating
+    /// output shaping, say) or a non-finite sample; the message names the sample.
+    pub fn run_inverse(&self, desired: &[f64]) -> Result<Vec<f64>, FitError> {
+        match (&self.smooth, &self.prandtl_ishlinskii) {
+            (Some(m), _) if self.kind == ModelKind::Smooth => {
+                let Some(&y0) = desired.first() else {
+                    return Ok(Vec::new());
+                };
+                let u0 = m.output_shaping.invert(y0)?;
+                let v0 = match m.initial_state {
+                    InitialState::Line => u0,
+                    InitialState::Rising => u0 + m.k1,
+                    InitialState::Falling => u0 - m.k1,
+                };
+                let x0 = m.input_shaping.invert(v0)?;
+                let mut comp = m.compensator(x0)?;
+                desired
+                    .iter()
+                    .enumerate()
+                    .map(|(i, y)| {
+                        comp.try_step(*y).map_err(|e| {
+                            FitError::Invalid(format!("sample {} (desired output {y}): {e}", i + 1))
+                        })
+                    })
+                    .collect()
+            }
+            (_, Some(p)) => Ok(p.run_inverse(desired)?),
+            _ => Err(FitError::Invalid("the model file holds no model".into())),
+        }
+    }
+
+    /// k2 at the operator input 0 and its range over the operator input interval [lo, hi]
+    /// (a convenience for reports).
+    #[must_use]
+    pub fn k2_range(&self, lo: f64, hi: f64) -> Option<(f64, f64)> {
+        self.smooth.as_ref().map(|m| m.k2.range(lo, hi))
+    }
+}
+
+/// FNV-1a 64-bit hash (provenance of the data file).
+#[must_use]
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}

@@ -1,0 +1,459 @@
+//! Fitting the smooth model to a dataset: the least-squares problem (output error over the
+//! training records, each simulated from its own initial state), the multi-start driver, and
+//! the parameter standard errors from the covariance.
+//!
+//! Derivatives: the parameters enter through the operator's memory (the reversal points carry
+//! k1 and k2 along the whole record), which the core keeps in plain `f64`, so forward-mode
+//! duals cannot pass through the core without a second copy of eq. (2). The Jacobian is
+//! therefore forward finite differences on the exact core evaluation; a parameter of ψ_out
+//! reuses the operator output of the base point, so only k1, k2 and ψ_in cost a simulation.
+
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use hyst_core::Shaping;
+use serde::Serialize;
+
+use crate::lm::{
+    Infeasible, LevenbergMarquardt, Observer, Problem, Progress, Solution, Termination,
+};
+use crate::structure::{Group, Layout, Normalisation, Structure};
+use crate::widths::{family_widths, FamilyWidths};
+use crate::{Dataset, FitError, SmoothModel};
+
+/// Options of the fit.
+#[derive(Clone, Copy, Debug)]
+pub struct FitOptions {
+    /// Number of starts refined by the least-squares method (the best of a grid over k1, k2).
+    pub starts: usize,
+    /// The method.
+    pub method: LevenbergMarquardt,
+    /// Coverage for the family widths (fraction of samples inside the envelope), in (0, 1].
+    pub coverage: f64,
+    /// Compute family widths (a few hundred extra simulations).
+    pub widths: bool,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            starts: 3,
+            method: LevenbergMarquardt::default(),
+            coverage: 0.99,
+            widths: true,
+        }
+    }
+}
+
+/// A fitted parameter with its standard error.
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+pub struct Estimate {
+    /// Name ("k1", "out.gain", …).
+    pub name: String,
+    /// Value.
+    pub value: f64,
+    /// Standard error from the covariance σ² (JᵀJ)⁻¹ (NaN when the parameter is not
+    /// identifiable from the data). Assumes independent residuals: correlated measurement
+    /// noise makes it optimistic.
+    pub std_error: f64,
+    /// Units.
+    pub unit: String,
+}
+
+/// Error statistics of a model on a set of records.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize, Default)]
+pub struct ErrorStats {
+    /// Samples used (weight > 0).
+    pub samples: usize,
+    /// Root mean square error (output units).
+    pub rms: f64,
+    /// Largest absolute error (output units).
+    pub max_abs: f64,
+    /// RMS as % of the output span of the whole dataset.
+    pub rms_pct_span: f64,
+    /// Max error as % of the output span.
+    pub max_pct_span: f64,
+}
+
+impl ErrorStats {
+    /// Statistics of `errors` against an output span.
+    #[must_use]
+    pub fn new(errors: &[f64], span: f64) -> Self {
+        if errors.is_empty() {
+            return Self::default();
+        }
+        let n = errors.len();
+        let rms = (errors.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt();
+        let max_abs = errors.iter().fold(0.0_f64, |m, e| m.max(e.abs()));
+        Self {
+            samples: n,
+            rms,
+            max_abs,
+            rms_pct_span: 100.0 * rms / span,
+            max_pct_span: 100.0 * max_abs / span,
+        }
+    }
+}
+
+/// A fitted smooth model with everything the report needs.
+#[derive(Clone, Debug)]
+pub struct SmoothFit {
+    /// The model.
+    pub model: SmoothModel,
+    /// The structure and its parameters.
+    pub layout: Layout,
+    /// θ at the optimum.
+    pub theta: Vec<f64>,
+    /// Parameters with standard errors.
+    pub estimates: Vec<Estimate>,
+    /// Errors on the training records.
+    pub training: ErrorStats,
+    /// Errors on the validation records (`None` without validation records).
+    pub validation: Option<ErrorStats>,
+    /// Family widths and the bound Δa.
+    pub widths: Option<FamilyWidths>,
+    /// Iterations of the best start.
+    pub iterations: usize,
+    /// Why the best start stopped.
+    pub termination: Termination,
+    /// Wall time of the fit (s).
+    pub seconds: f64,
+}
+
+/// The least-squares problem of one structure on one dataset.
+struct SmoothProblem<'a> {
+    layout: &'a Layout,
+    data: &'a Dataset,
+    input_range: (f64, f64),
+    /// √w / output half-span per training sample, in residual order.
+    scale: Vec<f64>,
+    n: usize,
+}
+
+impl<'a> SmoothProblem<'a> {
+    fn new(layout: &'a Layout, data: &'a Dataset) -> Self {
+        let inv = 1.0 / layout.norm.output_half_span;
+        let scale: Vec<f64> = data
+            .training()
+            .flat_map(|r| r.weight.iter().map(move |w| w.sqrt() * inv))
+            .collect();
+        Self {
+            layout,
+            data,
+            input_range: data.input_range(),
+            n: scale.len(),
+            scale,
+        }
+    }
+
+    fn model(&self, theta: &[f64]) -> Result<SmoothModel, Infeasible> {
+        self.layout
+            .model(theta, self.input_range)
+            .map_err(|_| Infeasible)
+    }
+
+    /// Simulates the training records; `z` receives the operator output when given.
+    fn simulate(
+        &self,
+        m: &SmoothModel,
+        y: &mut [f64],
+        mut z: Option<&mut [f64]>,
+    ) -> Result<(), Infeasible> {
+        let mut at = 0;
+        for r in self.data.training() {
+            let end = at + r.len();
+            let zs = z.as_deref_mut().map(|z| &mut z[at..end]);
+            m.simulate(&r.input, zs, &mut y[at..end])
+                .map_err(|_| Infeasible)?;
+            at = end;
+        }
+        Ok(())
+    }
+
+    fn to_residuals(&self, y: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
+        let mut i = 0;
+        for rec in self.data.training() {
+            for obs in &rec.output {
+                let v = (y[i] - obs) * self.scale[i];
+                if !v.is_finite() {
+                    return Err(Infeasible);
+                }
+                r[i] = v;
+                i += 1;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Problem for SmoothProblem<'_> {
+    fn parameters(&self) -> usize {
+        self.layout.len()
+    }
+    fn residual_count(&self) -> usize {
+        self.n
+    }
+    fn residuals(&self, theta: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
+        let m = self.model(theta)?;
+        let mut y = vec![0.0; self.n];
+        self.simulate(&m, &mut y, None)?;
+        self.to_residuals(&y, r)
+    }
+    fn jacobian(&self, theta: &[f64], r: &[f64], jac: &mut [f64]) -> Result<(), Infeasible> {
+        let base = self.model(theta)?;
+        let mut y = vec![0.0; self.n];
+        let mut z = vec![0.0; self.n];
+        self.simulate(&base, &mut y, Some(&mut z))?;
+        let mut rp = vec![0.0; self.n];
+        let mut t = theta.to_vec();
+        for (j, spec) in self.layout.params.iter().enumerate() {
+            let h = f64::EPSILON.sqrt() * theta[j].abs().max(1.0);
+            t[j] = theta[j] + h;
+            let h = t[j] - theta[j];
+            let m = self.model(&t);
+            let ok = match (m, spec.group) {
+                (Ok(m), Group::Output) => {
+                    for (yi, zi) in y.iter_mut().zip(&z) {
+                        *yi = m.output_shaping.apply(*zi);
+                    }
+                    true
+                }
+                (Ok(m), Group::Operator) => self.simulate(&m, &mut y, None).is_ok(),
+                (Err(_), _) => false,
+            };
+            let col = &mut jac[j * self.n..(j + 1) * self.n];
+            if ok && self.to_residuals(&y, &mut rp).is_ok() {
+                for ((c, a), b) in col.iter_mut().zip(&rp).zip(r) {
+                    *c = (a - b) / h;
+                }
+            } else {
+                // Backward difference at the edge of the feasible set.
+                t[j] = theta[j] - h;
+                let m = self.model(&t)?;
+                self.simulate(&m, &mut y, None)?;
+                self.to_residuals(&y, &mut rp)?;
+                for ((c, a), b) in col.iter_mut().zip(&rp).zip(r) {
+                    *c = (b - a) / h;
+                }
+            }
+            t[j] = theta[j];
+        }
+        Ok(())
+    }
+}
+
+/// Tags progress with the start number.
+struct Tagged<'a> {
+    inner: &'a mut dyn Observer,
+    start: usize,
+}
+
+impl Observer for Tagged<'_> {
+    fn observe(&mut self, progress: &Progress) -> ControlFlow<()> {
+        self.inner.observe(&Progress {
+            start: self.start,
+            ..*progress
+        })
+    }
+}
+
+/// The normalisation of a dataset (from all its records, so that validation data uses the
+/// same polynomial domains).
+#[must_use]
+pub fn normalisation(data: &Dataset) -> Normalisation {
+    let (lo, hi) = data.input_range();
+    let (ylo, yhi) = data.output_range();
+    Normalisation {
+        centre: 0.5 * (lo + hi),
+        half_span: (0.5 * (hi - lo)).max(f64::MIN_POSITIVE),
+        output_centre: 0.5 * (ylo + yhi),
+        output_half_span: (0.5 * (yhi - ylo)).max(f64::MIN_POSITIVE),
+    }
+}
+
+/// Fits `structure` to the training records of `data`.
+///
+/// # Errors
+/// Bad data ([`Dataset::check`]), [`FitError::Interrupted`] when the observer stops the fit,
+/// [`FitError::NoConvergence`] when no start gives a finite cost.
+pub fn fit_smooth(
+    data: &Dataset,
+    structure: Structure,
+    options: &FitOptions,
+    observer: &mut dyn Observer,
+) -> Result<SmoothFit, FitError> {
+    let started = Instant::now();
+    if !(options.coverage > 0.0 && options.coverage <= 1.0) {
+        return Err(FitError::Invalid(format!(
+            "coverage {} must be in (0, 1]",
+            options.coverage
+        )));
+    }
+    let layout = Layout::new(structure, normalisation(data));
+    data.check(layout.len())?;
+    let problem = SmoothProblem::new(&layout, data);
+
+    // Starting points: a grid over (k1, k2), each with the least-squares output gain and offset.
+    let mut candidates: Vec<(f64, Vec<f64>)> = Vec::new();
+    for k1 in [0.02_f64, 0.05, 0.1, 0.2, 0.4] {
+        for k2 in [1.0_f64, 3.0, 10.0, 30.0] {
+            let mut theta = layout.start();
+            if let Some(i) = layout.index("k1") {
+                theta[i] = k1.ln();
+            }
+            if let Some(i) = layout.index("k2") {
+                theta[i] = k2.ln();
+            }
+            if let Some(theta) = linear_output_start(&problem, theta) {
+                let mut r = vec![0.0; problem.n];
+                if problem.residuals(&theta, &mut r).is_ok() {
+                    let cost: f64 = r.iter().map(|v| v * v).sum();
+                    if cost.is_finite() {
+                        candidates.push((cost, theta));
+                    }
+                }
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best: Option<Solution> = None;
+    for (start, (_, theta0)) in candidates.iter().take(options.starts.max(1)).enumerate() {
+        let mut tagged = Tagged {
+            inner: &mut *observer,
+            start,
+        };
+        let s = options
+            .method
+            .minimize(&problem, theta0, &mut tagged)
+            .map_err(|_| FitError::Interrupted)?;
+        if best.as_ref().map_or(true, |b| s.cost < b.cost) {
+            best = Some(s);
+        }
+    }
+    let best = best
+        .filter(|b| b.cost.is_finite())
+        .ok_or_else(|| FitError::NoConvergence("no starting point gave a finite cost".into()))?;
+    let model = layout.model(&best.theta, problem.input_range)?;
+
+    // Standard errors: cov θ = s² (JᵀJ)⁻¹, s² = Σ r² / (n − p); value = f(θ).
+    let p = layout.len();
+    let dof = (problem.n - p).max(1) as f64;
+    let s2 = best.cost / dof * layout.norm.output_half_span.powi(2);
+    let inv = crate::lm::spd_inverse(&best.jtj, p);
+    let scale2 = layout.norm.output_half_span.powi(2);
+    let estimates = layout
+        .params
+        .iter()
+        .enumerate()
+        .map(|(j, spec)| {
+            let value = spec.transform.value(best.theta[j]);
+            // NaN (not identifiable) propagates: NaN.max(0.0) would hide it.
+            let var = inv
+                .as_ref()
+                .map_or(f64::NAN, |inv| inv[j * p + j] * s2 / scale2);
+            let var = if var < 0.0 { 0.0 } else { var };
+            Estimate {
+                name: spec.name.clone(),
+                value,
+                std_error: spec.transform.derivative(best.theta[j]).abs() * var.sqrt(),
+                unit: spec.unit.clone(),
+            }
+        })
+        .collect();
+
+    let (training, validation) = error_stats(data, |input| model.run(input).ok())?;
+    let widths = if options.widths {
+        Some(family_widths(data, &model, options.coverage, observer)?)
+    } else {
+        None
+    };
+    Ok(SmoothFit {
+        model,
+        layout,
+        theta: best.theta.clone(),
+        estimates,
+        training,
+        validation,
+        widths,
+        iterations: best.iterations,
+        termination: best.termination,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// Sets the output gain (and offset) of θ by linear least squares on the shaped operator
+/// output (the rest of θ fixed). `None` when the point is infeasible.
+fn linear_output_start(problem: &SmoothProblem<'_>, mut theta: Vec<f64>) -> Option<Vec<f64>> {
+    let layout = problem.layout;
+    let gi = layout.index("out.gain")?;
+    let oi = layout.index("out.offset");
+    theta[gi] = 0.0; // gain 1
+    if let Some(oi) = oi {
+        theta[oi] = 0.0;
+    }
+    let m = problem.model(&theta).ok()?;
+    let mut s = vec![0.0; problem.n];
+    problem.simulate(&m, &mut s, None).ok()?;
+    let (mut sw, mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    let mut i = 0;
+    for rec in problem.data.training() {
+        for (obs, w) in rec.output.iter().zip(&rec.weight) {
+            let x = s[i];
+            sw += w;
+            sx += w * x;
+            sy += w * obs;
+            sxx += w * x * x;
+            sxy += w * x * obs;
+            i += 1;
+        }
+    }
+    let (gain, offset) = if oi.is_some() {
+        let det = sw * sxx - sx * sx;
+        let g = (sw * sxy - sx * sy) / det;
+        (g, (sy - g * sx) / sw)
+    } else {
+        (sxy / sxx, 0.0)
+    };
+    let gain = if gain.is_finite() && gain > 0.0 {
+        gain
+    } else {
+        1e-3 * layout.norm.output_half_span
+    };
+    theta[gi] = gain.ln();
+    if let Some(oi) = oi {
+        theta[oi] = if offset.is_finite() { offset } else { 0.0 };
+    }
+    Some(theta)
+}
+
+/// Training and validation error statistics of any model (`run` maps a record's input to its
+/// output, `None` when the model cannot run it).
+///
+/// # Errors
+/// [`FitError::NoConvergence`] when the model cannot run a record.
+pub fn error_stats(
+    data: &Dataset,
+    run: impl Fn(&[f64]) -> Option<Vec<f64>>,
+) -> Result<(ErrorStats, Option<ErrorStats>), FitError> {
+    let (lo, hi) = data.output_range();
+    let span = (hi - lo).max(f64::MIN_POSITIVE);
+    let mut train = Vec::new();
+    let mut val = Vec::new();
+    for r in &data.records {
+        let y = run(&r.input).ok_or_else(|| {
+            FitError::NoConvergence(format!("the fitted model cannot run record {}", r.id))
+        })?;
+        let errs = if r.validation { &mut val } else { &mut train };
+        for ((m, o), w) in y.iter().zip(&r.output).zip(&r.weight) {
+            if *w > 0.0 {
+                errs.push(m - o);
+            }
+        }
+    }
+    let v = if val.is_empty() {
+        None
+    } else {
+        Some(ErrorStats::new(&val, span))
+    };
+    Ok((ErrorStats::new(&train, span), v))
+}

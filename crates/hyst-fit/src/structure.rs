@@ -1,0 +1,474 @@
+//! The model structure the user chooses (k2 law, shaping functions, offsets, start rule) and its
+//! parameterisation: a vector θ of unconstrained numbers mapped to a [`SmoothModel`].
+//!
+//! Gauge: H(k1, k2) commutes with shifts (H[v + b] = H[v] + b) and with scaling
+//! (H(k1, k2)[s v] = s H(k1/s, k2 s)[v]), so a gain of ψ_in against a gain of ψ_out, and an
+//! offset after ψ_in against an offset before ψ_out, cannot both be identified. The input is
+//! therefore normalised to [−1, 1] (x̂ = (in − centre) / half-span) with a fixed gain, and the
+//! overall gain and offset belong to ψ_out. k1 and k2 are then in these normalised units.
+
+use hyst_core::{Langevin, Polynomial, QuadraticExp, Shape, Shaping, Tanh};
+use serde::{Deserialize, Serialize};
+
+use crate::{model::InitialState, K2Spec, SmoothModel, Warp};
+
+/// A shaping function family for ψ_in or ψ_out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShapeKind {
+    /// Affine (for ψ_in: the fixed normalisation; for ψ_out: gain and offset).
+    #[default]
+    Affine,
+    /// x + p2 x² (monotone on the data range).
+    Poly2,
+    /// x + p2 x² + p3 x³ (monotone on the data range).
+    Poly3,
+    /// tanh(x / σ + c): saturation.
+    Tanh,
+    /// Langevin L(x / σ + c): the classical anhysteretic curve.
+    Langevin,
+    /// Example 2's x − a x² − e^(−(b + c x)).
+    QuadExp,
+}
+
+impl ShapeKind {
+    /// All kinds, with their command-line names.
+    pub const ALL: [(&'static str, ShapeKind); 6] = [
+        ("affine", ShapeKind::Affine),
+        ("poly2", ShapeKind::Poly2),
+        ("poly3", ShapeKind::Poly3),
+        ("tanh", ShapeKind::Tanh),
+        ("langevin", ShapeKind::Langevin),
+        ("quad-exp", ShapeKind::QuadExp),
+    ];
+
+    /// Parses a command-line name.
+    #[must_use]
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.iter().find(|(n, _)| *n == name).map(|(_, k)| *k)
+    }
+
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(_, k)| *k == self)
+            .map_or("?", |(n, _)| n)
+    }
+
+    fn saturating(self) -> bool {
+        matches!(self, ShapeKind::Tanh | ShapeKind::Langevin)
+    }
+}
+
+/// Constant k2 or affine in the operator input (Proposition 4.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum K2Kind {
+    /// k2 constant.
+    #[default]
+    Constant,
+    /// k2 = a + b v.
+    Affine,
+}
+
+/// The model structure chosen by the user.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Structure {
+    /// k2 law.
+    pub k2: K2Kind,
+    /// ψ_in family.
+    pub input_shaping: ShapeKind,
+    /// ψ_out family.
+    pub output_shaping: ShapeKind,
+    /// Fit an offset of the input before ψ_in (`None`: only where it is identifiable, i.e. for
+    /// tanh and Langevin input shaping).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub input_offset: Option<bool>,
+    /// Fit an offset of the output (a sensor offset).
+    pub output_offset: bool,
+    /// How each record starts.
+    pub initial_state: InitialState,
+}
+
+impl Default for Structure {
+    /// k1, constant k2, affine shaping (normalised input, output gain), output offset, records
+    /// starting as after a rise.
+    fn default() -> Self {
+        Self {
+            k2: K2Kind::Constant,
+            input_shaping: ShapeKind::Affine,
+            output_shaping: ShapeKind::Affine,
+            input_offset: None,
+            output_offset: true,
+            initial_state: InitialState::Rising,
+        }
+    }
+}
+
+/// How θ_j maps to the parameter's value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Transform {
+    /// value = θ.
+    Linear,
+    /// value = e^θ (a positive parameter).
+    Log,
+}
+
+impl Transform {
+    /// The value for θ.
+    #[must_use]
+    pub fn value(self, theta: f64) -> f64 {
+        match self {
+            Transform::Linear => theta,
+            Transform::Log => theta.exp(),
+        }
+    }
+    /// θ for a value.
+    #[must_use]
+    pub fn theta(self, value: f64) -> f64 {
+        match self {
+            Transform::Linear => value,
+            Transform::Log => value.max(1e-300).ln(),
+        }
+    }
+    /// d value / dθ.
+    #[must_use]
+    pub fn derivative(self, theta: f64) -> f64 {
+        match self {
+            Transform::Linear => 1.0,
+            Transform::Log => theta.exp(),
+        }
+    }
+}
+
+/// Whether a parameter changes the operator's trajectory or only ψ_out (then the fit reuses
+/// the operator output for its derivative).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Group {
+    /// k1, k2, ψ_in.
+    Operator,
+    /// ψ_out.
+    Output,
+}
+
+/// One free parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamSpec {
+    /// Name as in reports ("k1", "out.gain", …).
+    pub name: String,
+    /// Units, in words.
+    pub unit: String,
+    /// θ ↦ value.
+    pub transform: Transform,
+    /// Operator or output.
+    pub group: Group,
+    /// A neutral starting value.
+    pub start: f64,
+}
+
+/// The normalisation of the input: x̂ = (in − centre) / half_span.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Normalisation {
+    /// Centre of the input range (input units).
+    pub centre: f64,
+    /// Half of the input span (input units), > 0.
+    pub half_span: f64,
+    /// Centre of the output range (output units).
+    pub output_centre: f64,
+    /// Half of the output span (output units), > 0.
+    pub output_half_span: f64,
+}
+
+/// A structure laid out as parameters, for data with a given normalisation.
+#[derive(Clone, Debug)]
+pub struct Layout {
+    /// The structure.
+    pub structure: Structure,
+    /// The normalisation.
+    pub norm: Normalisation,
+    /// The free parameters, in θ order.
+    pub params: Vec<ParamSpec>,
+    input_offset: bool,
+}
+
+/// Margin of the polynomial and quad-exp domains beyond the data (normalised units).
+const DOMAIN_MARGIN: f64 = 0.05;
+
+impl Layout {
+    /// Lays out `structure` for data normalised by `norm`.
+    #[must_use]
+    pub fn new(structure: Structure, norm: Normalisation) -> Self {
+        let mut params = Vec::new();
+        let mut add = |name: &str, unit: &str, transform, group, start| {
+            params.push(ParamSpec {
+                name: name.into(),
+                unit: unit.into(),
+                transform,
+                group,
+                start,
+            });
+        };
+        use Group::{Operator as Op, Output as Out};
+        use Transform::{Linear, Log};
+        add("k1", "operator units", Log, Op, 0.1);
+        match structure.k2 {
+            K2Kind::Constant => add("k2", "1/operator units", Log, Op, 5.0),
+            K2Kind::Affine => {
+                add("k2", "1/operator units", Log, Op, 5.0);
+                add("k2.slope", "1/operator units²", Linear, Op, 0.0);
+            }
+        }
+        match structure.input_shaping {
+            ShapeKind::Affine => {}
+            ShapeKind::Poly2 => add("in.p2", "1", Linear, Op, 0.0),
+            ShapeKind::Poly3 => {
+                add("in.p2", "1", Linear, Op, 0.0);
+                add("in.p3", "1", Linear, Op, 0.0);
+            }
+            ShapeKind::Tanh => add("in.scale", "normalised input", Log, Op, 1.0),
+            ShapeKind::Langevin => add("in.scale", "normalised input", Log, Op, 0.3),
+            ShapeKind::QuadExp => {
+                add("in.a", "1", Log, Op, 0.01);
+                add("in.b", "1", Linear, Op, 6.0);
+                add("in.c", "1", Log, Op, 1.0);
+            }
+        }
+        let input_offset = structure
+            .input_offset
+            .unwrap_or(structure.input_shaping.saturating());
+        if input_offset {
+            add("in.offset", "normalised input", Linear, Op, 0.0);
+        }
+        match structure.output_shaping {
+            ShapeKind::Affine => {}
+            ShapeKind::Poly2 => add("out.q2", "1", Linear, Out, 0.0),
+            ShapeKind::Poly3 => {
+                add("out.q2", "1", Linear, Out, 0.0);
+                add("out.q3", "1", Linear, Out, 0.0);
+            }
+            ShapeKind::Tanh => {
+                add("out.scale", "operator units", Log, Out, 2.0);
+                add("out.centre", "1", Linear, Out, 0.0);
+            }
+            ShapeKind::Langevin => {
+                add("out.scale", "operator units", Log, Out, 0.5);
+                add("out.centre", "1", Linear, Out, 0.0);
+            }
+            ShapeKind::QuadExp => {
+                add("out.a", "1", Log, Out, 0.01);
+                add("out.b", "1", Linear, Out, 6.0);
+                add("out.c", "1", Log, Out, 1.0);
+            }
+        }
+        add("out.gain", "output units", Log, Out, norm.output_half_span);
+        if structure.output_offset {
+            add(
+                "out.offset",
+                "output units",
+                Linear,
+                Out,
+                norm.output_centre,
+            );
+        }
+        Self {
+            structure,
+            norm,
+            params,
+            input_offset,
+        }
+    }
+
+    /// Number of free parameters.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.params.len()
+    }
+
+    /// Whether there are no parameters (never: k1 is always free).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.params.is_empty()
+    }
+
+    /// θ of the neutral starting point.
+    #[must_use]
+    pub fn start(&self) -> Vec<f64> {
+        self.params
+            .iter()
+            .map(|p| p.transform.theta(p.start))
+            .collect()
+    }
+
+    /// Index of a parameter by name.
+    #[must_use]
+    pub fn index(&self, name: &str) -> Option<usize> {
+        self.params.iter().position(|p| p.name == name)
+    }
+
+    /// Parameter values (natural units) for θ.
+    #[must_use]
+    pub fn values(&self, theta: &[f64]) -> Vec<f64> {
+        self.params
+            .iter()
+            .zip(theta)
+            .map(|(p, t)| p.transform.value(*t))
+            .collect()
+    }
+
+    /// The input shaping for θ.
+    ///
+    /// # Errors
+    /// When the values are invalid (non-monotone polynomial, …).
+    pub fn input_warp(&self, theta: &[f64]) -> Result<Warp, hyst_core::Error> {
+        let get = |name: &str| {
+            self.index(name)
+                .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
+        };
+        let offset = if self.input_offset {
+            get("in.offset")
+        } else {
+            0.0
+        };
+        let pre_gain = 1.0 / self.norm.half_span;
+        let pre_offset = -self.norm.centre / self.norm.half_span + offset;
+        let (lo, hi) = (-1.0 - DOMAIN_MARGIN + offset, 1.0 + DOMAIN_MARGIN + offset);
+        let shape = match self.structure.input_shaping {
+            ShapeKind::Affine => Shape::Identity,
+            ShapeKind::Poly2 => {
+                Shape::Polynomial(Polynomial::new([0.0, 1.0, get("in.p2"), 0.0], lo, hi)?)
+            }
+            ShapeKind::Poly3 => Shape::Polynomial(Polynomial::new(
+                [0.0, 1.0, get("in.p2"), get("in.p3")],
+                lo,
+                hi,
+            )?),
+            ShapeKind::Tanh => Shape::Tanh(Tanh::new(1.0, get("in.scale"))?),
+            ShapeKind::Langevin => Shape::Langevin(Langevin::new(1.0, get("in.scale"))?),
+            ShapeKind::QuadExp => Shape::QuadraticExp(QuadraticExp::new(
+                get("in.a"),
+                get("in.b"),
+                get("in.c"),
+                lo,
+                hi,
+            )?),
+        };
+        Warp::new(pre_gain, pre_offset, shape, 1.0, 0.0)
+    }
+
+    /// The output shaping for θ, given the range of the operator's input (v_lo, v_hi) on the
+    /// data (its domain covers the operator output there, which lies within k1 of it).
+    ///
+    /// # Errors
+    /// When the values are invalid.
+    pub fn output_warp(
+        &self,
+        theta: &[f64],
+        v_range: (f64, f64),
+    ) -> Result<Warp, hyst_core::Error> {
+        let get = |name: &str| {
+            self.index(name)
+                .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
+        };
+        let gain = get("out.gain");
+        let offset = if self.structure.output_offset {
+            get("out.offset")
+        } else {
+            0.0
+        };
+        let half = 0.5 * (v_range.1 - v_range.0);
+        let (lo, hi) = (v_range.0 - 0.25 * half, v_range.1 + 0.25 * half);
+        let (shape, pre_gain, pre_offset) = match self.structure.output_shaping {
+            ShapeKind::Affine => (Shape::Identity, 1.0, 0.0),
+            ShapeKind::Poly2 => (
+                Shape::Polynomial(Polynomial::new([0.0, 1.0, get("out.q2"), 0.0], lo, hi)?),
+                1.0,
+                0.0,
+            ),
+            ShapeKind::Poly3 => (
+                Shape::Polynomial(Polynomial::new(
+                    [0.0, 1.0, get("out.q2"), get("out.q3")],
+                    lo,
+                    hi,
+                )?),
+                1.0,
+                0.0,
+            ),
+            ShapeKind::Tanh => (
+                Shape::Tanh(Tanh::new(1.0, 1.0)?),
+                1.0 / get("out.scale"),
+                get("out.centre"),
+            ),
+            ShapeKind::Langevin => (
+                Shape::Langevin(Langevin::new(1.0, 1.0)?),
+                1.0 / get("out.scale"),
+                get("out.centre"),
+            ),
+            ShapeKind::QuadExp => (
+                Shape::QuadraticExp(QuadraticExp::new(
+                    get("out.a"),
+                    get("out.b"),
+                    get("out.c"),
+                    lo,
+                    hi,
+                )?),
+                1.0,
+                0.0,
+            ),
+        };
+        Warp::new(pre_gain, pre_offset, shape, gain, offset)
+    }
+
+    /// The model for θ, for data whose input spans [in_lo, in_hi].
+    ///
+    /// # Errors
+    /// When θ is outside the feasible set (the fit rejects the step).
+    pub fn model(
+        &self,
+        theta: &[f64],
+        input_range: (f64, f64),
+    ) -> Result<SmoothModel, hyst_core::Error> {
+        let get = |name: &str| {
+            self.index(name)
+                .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
+        };
+        let input_shaping = self.input_warp(theta)?;
+        let v_lo = input_shaping.apply(input_range.0);
+        let v_hi = input_shaping.apply(input_range.1);
+        let k1 = get("k1");
+        let k2 = match self.structure.k2 {
+            K2Kind::Constant => K2Spec::Constant { value: get("k2") },
+            K2Kind::Affine => {
+                let at_zero = get("k2");
+                let slope = get("k2.slope");
+                let a = at_zero + slope * (v_lo - k1);
+                let b = at_zero + slope * (v_hi + k1);
+                let (min, max) = (a.min(b), a.max(b));
+                if min.is_nan() || min <= 0.02 * at_zero {
+                    return Err(hyst_core::Error::InvalidParameter {
+                        name: "k2.slope",
+                        value: slope,
+                        expected: "a k2 law that stays positive on the data",
+                    });
+                }
+                K2Spec::Affine {
+                    at_zero,
+                    slope,
+                    min: 0.5 * min,
+                    max: 2.0 * max,
+                }
+            }
+        };
+        let output_shaping = self.output_warp(theta, (v_lo - k1, v_hi + k1))?;
+        let m = SmoothModel {
+            k1,
+            k2,
+            input_shaping,
+            output_shaping,
+            initial_state: self.structure.initial_state,
+        };
+        m.validate()?;
+        Ok(m)
+    }
+}

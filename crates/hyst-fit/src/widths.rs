@@ -1,0 +1,231 @@
+//! Family widths: the smallest (Δk1, Δk2) for which the family RH(k1, Δk1, k2, Δk2) around a
+//! fitted model reproduces the data (Definition 2.8: at each sample some member gives the
+//! measured output) at a chosen coverage, and the compensation bound Δa that follows
+//! (Propositions 3.2, 3.3 and, for an input-dependent k2, 4.3).
+//!
+//! The envelope of the family at each sample is taken over the 3 × 3 grid of members
+//! (k1 + a Δk1, k2 + b Δk2), a, b ∈ {−1, 0, 1}, each run over the whole record with the fitted
+//! shaping and start rule. Widths are searched along rays of fixed proportion
+//! (Δk1/Δk1_max, Δk2/Δk2_max) ∈ {(1, 0), (1, ½), (1, 1), (½, 1), (0, 1)} by bisection on the
+//! coverage; of the widths that reach the coverage, the one with the smallest Δa is reported.
+
+use std::ops::ControlFlow;
+
+use hyst_core::family::{delta_a_over_k2_range, shaped_bound};
+use hyst_core::{K2Law, Shaping};
+use serde::{Deserialize, Serialize};
+
+use crate::lm::{Observer, Progress};
+use crate::{Dataset, FitError, K2Spec, SmoothModel};
+
+/// The family that reproduces the data, and its bound.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FamilyWidths {
+    /// The coverage asked for (fraction of samples inside the envelope).
+    pub coverage_target: f64,
+    /// Whether some family inside the limits reached it.
+    pub reachable: bool,
+    /// Δk1 (operator units).
+    pub delta_k1: f64,
+    /// Δk2 (1 / operator units), around the fitted k2 (or k2 law).
+    pub delta_k2: f64,
+    /// The coverage reached with these widths.
+    pub coverage: f64,
+    /// Proposition 4.3's extra Δk2* = sup|φ'| k1 for an input-dependent k2 (0 for constant k2).
+    pub delta_k2_law: f64,
+    /// Range of the nominal k2 over the data (equal ends for constant k2).
+    pub k2_range: (f64, f64),
+    /// Δa of Proposition 3.2 for RH(k1, Δk1, k2, Δk2 + Δk2*), the worst over the k2 range
+    /// (operator units); Δb ≤ Δa (Proposition 3.3).
+    pub delta_a: f64,
+    /// The bound in output units: Δa times the Lipschitz constant of ψ_out on the data.
+    pub output_bound: f64,
+    /// `output_bound` as % of the output span.
+    pub output_bound_pct_span: f64,
+}
+
+/// Fraction of samples (weight > 0, all records) inside the envelope of the family.
+fn coverage(data: &Dataset, model: &SmoothModel, d1: f64, d2: f64, nominal: &[Vec<f64>]) -> f64 {
+    let mut inside = 0usize;
+    let mut total = 0usize;
+    let members: Vec<SmoothModel> = [-1.0, 0.0, 1.0]
+        .iter()
+        .flat_map(|a| [-1.0, 0.0, 1.0].iter().map(move |b| (*a, *b)))
+        .filter(|(a, b)| *a != 0.0 || *b != 0.0)
+        .map(|(a, b)| model.member(a * d1, b * d2))
+        .collect();
+    for (r, y0) in data.records.iter().zip(nominal) {
+        let mut lo = y0.clone();
+        let mut hi = y0.clone();
+        for m in &members {
+            let Ok(y) = m.run(&r.input) else {
+                continue;
+            };
+            for ((l, h), v) in lo.iter_mut().zip(hi.iter_mut()).zip(&y) {
+                *l = l.min(*v);
+                *h = h.max(*v);
+            }
+        }
+        for (((o, w), l), h) in r.output.iter().zip(&r.weight).zip(&lo).zip(&hi) {
+            if *w > 0.0 {
+                total += 1;
+                if *o >= *l && *o <= *h {
+                    inside += 1;
+                }
+            }
+        }
+    }
+    if total == 0 {
+        0.0
+    } else {
+        inside as f64 / total as f64
+    }
+}
+
+/// The bound Δa for the family (k1, Δk1, k2 law, Δk2): Proposition 3.2 over the k2 range, with
+/// Proposition 4.3's Δk2* added for an affine law. Returns (Δa, Δk2*, k2 range).
+///
+/// # Errors
+/// When the family leaves k1, k2 > 0 (the core refuses it).
+pub fn bound(
+    model: &SmoothModel,
+    delta_k1: f64,
+    delta_k2: f64,
+    v_range: (f64, f64),
+) -> Result<(f64, f64, (f64, f64)), hyst_core::Error> {
+    let (k2_lo, k2_hi) = model.k2.range(v_range.0, v_range.1);
+    let law = match model.k2 {
+        K2Spec::Constant { .. } => 0.0,
+        K2Spec::Affine { .. } => {
+            hyst_core::family::delta_k2_prop43(&model.k2, model.k1, v_range.0, v_range.1)
+        }
+    };
+    let b = delta_a_over_k2_range(model.k1, delta_k1, k2_lo, k2_hi, delta_k2 + law, 9)?;
+    Ok((b.delta_a, law, (k2_lo, k2_hi)))
+}
+
+/// Searches the smallest family widths that reproduce `coverage` of the samples.
+///
+/// # Errors
+/// [`FitError::Interrupted`] when the observer stops; [`FitError::NoConvergence`] when the
+/// model cannot run the data.
+pub fn family_widths(
+    data: &Dataset,
+    model: &SmoothModel,
+    coverage_target: f64,
+    observer: &mut dyn Observer,
+) -> Result<FamilyWidths, FitError> {
+    let nominal: Vec<Vec<f64>> = data
+        .records
+        .iter()
+        .map(|r| model.run(&r.input))
+        .collect::<Result<_, _>>()?;
+    let (in_lo, in_hi) = data.input_range();
+    let v_range = (
+        model.input_shaping.apply(in_lo),
+        model.input_shaping.apply(in_hi),
+    );
+    let (k2_lo, _) = model.k2.range(v_range.0 - model.k1, v_range.1 + model.k1);
+    let d1_max = 0.98 * model.k1;
+    // Members must keep k2 > 0, and an affine law keeps its lower clamp > 0.
+    let d2_max = match model.k2 {
+        K2Spec::Constant { value } => 0.98 * value,
+        K2Spec::Affine { min, .. } => (0.98 * min).min(0.98 * k2_lo),
+    };
+    // The Δk2 of Proposition 4.3 must also leave room in the bound.
+    let (_, law, _) = bound(model, 0.0, 0.0, v_range)?;
+    let d2_max = (d2_max - law).max(0.0);
+    let (ylo, yhi) = data.output_range();
+    let span = (yhi - ylo).max(f64::MIN_POSITIVE);
+    // The Lipschitz constant of ψ_out over the operator's output range on the data.
+    let lipschitz = shaped_bound(
+        1.0,
+        &model.output_shaping,
+        v_range.0 - model.k1,
+        v_range.1 + model.k1,
+    );
+
+    let rays = [(1.0, 0.0), (1.0, 0.5), (1.0, 1.0), (0.5, 1.0), (0.0, 1.0)];
+    let mut best: Option<(f64, f64, f64, f64)> = None; // (Δa, Δk1, Δk2, coverage)
+    let mut best_coverage = (0.0, 0.0, 0.0);
+    let mut step = 0;
+    let mut tick = |observer: &mut dyn Observer| -> Result<(), FitError> {
+        step += 1;
+        match observer.observe(&Progress {
+            iteration: step,
+            cost: f64::NAN,
+            lambda: f64::NAN,
+            start: usize::MAX,
+        }) {
+            ControlFlow::Continue(()) => Ok(()),
+            ControlFlow::Break(()) => Err(FitError::Interrupted),
+        }
+    };
+    let base = coverage(data, model, 0.0, 0.0, &nominal);
+    if base >= coverage_target {
+        let (delta_a, law, k2_range) = bound(model, 0.0, 0.0, v_range)?;
+        return Ok(FamilyWidths {
+            coverage_target,
+            reachable: true,
+            delta_k1: 0.0,
+            delta_k2: 0.0,
+            coverage: base,
+            delta_k2_law: law,
+            k2_range,
+            delta_a,
+            output_bound: delta_a * lipschitz,
+            output_bound_pct_span: 100.0 * delta_a * lipschitz / span,
+        });
+    }
+    for (c1, c2) in rays {
+        if c2 > 0.0 && d2_max <= 0.0 {
+            continue;
+        }
+        let widths = |t: f64| (t * c1 * d1_max, t * c2 * d2_max);
+        tick(observer)?;
+        let (w1, w2) = widths(1.0);
+        let full = coverage(data, model, w1, w2, &nominal);
+        if full > best_coverage.0 {
+            best_coverage = (full, w1, w2);
+        }
+        if full < coverage_target {
+            continue;
+        }
+        let (mut lo, mut hi, mut hi_cov) = (0.0, 1.0, full);
+        for _ in 0..10 {
+            tick(observer)?;
+            let mid = 0.5 * (lo + hi);
+            let (w1, w2) = widths(mid);
+            let c = coverage(data, model, w1, w2, &nominal);
+            if c >= coverage_target {
+                hi = mid;
+                hi_cov = c;
+            } else {
+                lo = mid;
+            }
+        }
+        let (w1, w2) = widths(hi);
+        if let Ok((delta_a, _, _)) = bound(model, w1, w2, v_range) {
+            if best.map_or(true, |b| delta_a < b.0) {
+                best = Some((delta_a, w1, w2, hi_cov));
+            }
+        }
+    }
+    let (reachable, d1, d2, cov) = match best {
+        Some((_, d1, d2, c)) => (true, d1, d2, c),
+        None => (false, best_coverage.1, best_coverage.2, best_coverage.0),
+    };
+    let (delta_a, law, k2_range) = bound(model, d1, d2, v_range)?;
+    Ok(FamilyWidths {
+        coverage_target,
+        reachable,
+        delta_k1: d1,
+        delta_k2: d2,
+        coverage: cov,
+        delta_k2_law: law,
+        k2_range,
+        delta_a,
+        output_bound: delta_a * lipschitz,
+        output_bound_pct_span: 100.0 * delta_a * lipschitz / span,
+    })
+}

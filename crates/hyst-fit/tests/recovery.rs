@@ -1,0 +1,194 @@
+//! Recovery of known parameters from synthetic data: exact (to 1e-6) without noise, within the
+//! reported standard errors with noise. The truth is a member of the fitted structure.
+
+use hyst_fit::lm::Silent;
+use hyst_fit::smooth::normalisation;
+use hyst_fit::structure::Layout;
+use hyst_fit::{
+    fit_smooth, Dataset, FitError, FitOptions, InitialState, K2Kind, ShapeKind, SmoothModel,
+    Structure,
+};
+
+/// An input that sweeps loops of growing then shrinking amplitude around an offset (volts, say).
+fn input(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| {
+            let t = k as f64 / n as f64;
+            let amp = 0.3 + 1.5 * (std::f64::consts::PI * t).sin();
+            2.0 + amp * (40.0 * t).sin() + 0.2 * (97.0 * t).sin()
+        })
+        .collect()
+}
+
+/// The truth: `values` by parameter name, laid out for the data's normalisation.
+fn truth(
+    structure: Structure,
+    x: &[f64],
+    values: &[(&str, f64)],
+) -> Result<(SmoothModel, Layout), FitError> {
+    let probe = Dataset::single(x, &vec![0.0; x.len()]);
+    let layout = Layout::new(structure, normalisation(&probe));
+    let mut theta = layout.start();
+    for (name, v) in values {
+        let i = layout
+            .index(name)
+            .ok_or_else(|| FitError::Invalid(format!("no parameter {name}")))?;
+        theta[i] = layout.params[i].transform.theta(*v);
+    }
+    let model = layout.model(&theta, probe.input_range())?;
+    Ok((model, layout))
+}
+
+/// A deterministic standard normal sequence (xorshift64* and Box–Muller).
+fn normals(n: usize, mut seed: u64) -> Vec<f64> {
+    let mut uniform = move || {
+        seed ^= seed >> 12;
+        seed ^= seed << 25;
+        seed ^= seed >> 27;
+        ((seed.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    (0..n)
+        .map(|_| {
+            let (a, b) = (uniform(), uniform());
+            (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+        })
+        .collect()
+}
+
+fn check_exact(structure: Structure, values: &[(&str, f64)]) -> Result<(), FitError> {
+    let x = input(3000);
+    let (model, _) = truth(structure, &x, values)?;
+    let y = model.run(&x)?;
+    let data = Dataset::single(&x, &y);
+    let fit = fit_smooth(&data, structure, &FitOptions::default(), &mut Silent)?;
+    for (name, v) in values {
+        let e = fit
+            .estimates
+            .iter()
+            .find(|e| e.name == *name)
+            .ok_or_else(|| FitError::Invalid(format!("no estimate {name}")))?;
+        let tol = 1e-6 * v.abs().max(1e-3);
+        assert!(
+            (e.value - v).abs() <= tol,
+            "{name}: fitted {} vs true {v} ({:?}, {} iterations)",
+            e.value,
+            fit.termination,
+            fit.iterations
+        );
+    }
+    assert!(fit.training.rms_pct_span < 1e-6, "{:?}", fit.training);
+    Ok(())
+}
+
+#[test]
+fn noise_free_default_structure_is_recovered_to_1e_6() -> Result<(), FitError> {
+    check_exact(
+        Structure::default(),
+        &[
+            ("k1", 0.12),
+            ("k2", 7.0),
+            ("out.gain", 20.0),
+            ("out.offset", -95.0),
+        ],
+    )
+}
+
+#[test]
+fn noise_free_affine_k2_and_polynomial_shaping_are_recovered() -> Result<(), FitError> {
+    let structure = Structure {
+        k2: K2Kind::Affine,
+        input_shaping: ShapeKind::Poly2,
+        output_shaping: ShapeKind::Poly3,
+        ..Structure::default()
+    };
+    check_exact(
+        structure,
+        &[
+            ("k1", 0.08),
+            ("k2", 6.0),
+            ("k2.slope", -1.5),
+            ("in.p2", -0.15),
+            ("out.q2", 0.05),
+            ("out.q3", -0.04),
+            ("out.gain", 3.0),
+            ("out.offset", 1.0),
+        ],
+    )
+}
+
+#[test]
+fn noise_free_tanh_output_and_rising_start_are_recovered() -> Result<(), FitError> {
+    let structure = Structure {
+        output_shaping: ShapeKind::Tanh,
+        initial_state: InitialState::Rising,
+        ..Structure::default()
+    };
+    check_exact(
+        structure,
+        &[
+            ("k1", 0.1),
+            ("k2", 12.0),
+            ("out.scale", 0.8),
+            ("out.centre", 0.1),
+            ("out.gain", 1.5),
+            ("out.offset", 0.2),
+        ],
+    )
+}
+
+#[test]
+fn noisy_data_recovers_within_the_reported_standard_errors() -> Result<(), FitError> {
+    let structure = Structure::default();
+    let values = [
+        ("k1", 0.12),
+        ("k2", 7.0),
+        ("out.gain", 20.0),
+        ("out.offset", -95.0),
+    ];
+    let x = input(4000);
+    let (model, _) = truth(structure, &x, &values)?;
+    let mut within = 0;
+    let mut total = 0;
+    for seed in [1_u64, 2, 3, 4, 5] {
+        let noise = normals(x.len(), 0x9e37_79b9_7f4a_7c15 ^ seed);
+        let y: Vec<f64> = model
+            .run(&x)?
+            .iter()
+            .zip(&noise)
+            .map(|(y, n)| y + 0.2 * n)
+            .collect();
+        let fit = fit_smooth(
+            &Dataset::single(&x, &y),
+            structure,
+            &FitOptions::default(),
+            &mut Silent,
+        )?;
+        for (name, v) in values {
+            let e = fit
+                .estimates
+                .iter()
+                .find(|e| e.name == name)
+                .ok_or_else(|| FitError::Invalid(format!("no estimate {name}")))?;
+            assert!(e.std_error.is_finite() && e.std_error > 0.0, "{e:?}");
+            // Every estimate within 4 standard errors; about 68 % within one.
+            assert!(
+                (e.value - v).abs() < 4.0 * e.std_error,
+                "{name}: {} ± {} vs {v}",
+                e.value,
+                e.std_error
+            );
+            total += 1;
+            if (e.value - v).abs() < e.std_error {
+                within += 1;
+            }
+        }
+        // The residual RMS estimates the noise level.
+        assert!((fit.training.rms - 0.2).abs() < 0.02, "{:?}", fit.training);
+    }
+    // 20 estimates: expect ~13.7 within 1 SE; binomial 2.5 % lower tail is about 9.
+    assert!(
+        within >= 9,
+        "only {within} of {total} estimates within one standard error"
+    );
+    Ok(())
+}
