@@ -65,10 +65,9 @@ impl<K: K2Law<f64>, B: hyst_core::Branch> Evaluate for Operator<f64, K, B> {
 pub fn main(args: Args) -> Result<()> {
     let table = Table::read(&args.input)?;
     if let Some(path) = &args.model {
-        bail!(
-            "--model {}: model files are not supported by this build",
-            path.display()
-        );
+        let output = run_model(path, &table, &args)?;
+        output.write_atomic(&args.output)?;
+        return Ok(());
     }
     let (k1, k2) = match (args.k1, args.k2) {
         (Some(k1), Some(k2)) => (k1, k2),
@@ -149,4 +148,29 @@ fn run_order<E: Evaluate, const N: usize>(
     let mut names = vec!["x".to_string(), "y".to_string()];
     names.extend((1..=N).map(|k| format!("y_d{k}")));
     Ok(Table::new(names, columns)?)
+}
+
+/// `hyst run --model FILE`: a fitted model (see docs/formats.md) over one column, as one record.
+/// The column is `--column`, else the model's input column (its output column with `--inverse`:
+/// the desired output). Output header `x,y`.
+fn run_model(path: &std::path::Path, table: &Table, args: &Args) -> Result<Table> {
+    if args.derivatives > 0 {
+        bail!(
+            "--derivatives is not available with --model (the shaped model runs on plain samples)"
+        );
+    }
+    let model = hyst_fit::ModelFile::read(path)?;
+    let name = match &args.column {
+        Some(c) => c.clone(),
+        None if args.inverse => model.columns.output.clone(),
+        None => model.columns.input.clone(),
+    };
+    let x = table.column(&name)?.to_vec();
+    let y = if args.inverse {
+        model.run_inverse(&x)
+    } else {
+        model.run(&x)
+    }
+    .with_context(|| format!("{}: column {name:?}", table.source()))?;
+    Ok(Table::new(vec!["x".into(), "y".into()], vec![x, y])?)
 }
