@@ -6,7 +6,7 @@
 
 use std::hint::black_box;
 
-use hyst_core::{Affine, Hysteresis, InverseHysteresis, Jet, Model, Polynomial, Scalar as _};
+use hyst_core::{Affine, Hysteresis, InverseHysteresis, Jet, Model, Polynomial, Real as _};
 
 /// Samples per workload call.
 pub const SAMPLES: usize = 4096;
@@ -90,7 +90,11 @@ impl Inputs {
                 self.x.iter().map(|&v| m.step(black_box(v))).sum()
             }
             4 => self.exp_args.iter().map(|&a| black_box(a).exp()).sum(),
-            5 => self.w_args.iter().map(|&a| black_box(a).w0()).sum(),
+            5 => self
+                .w_args
+                .iter()
+                .map(|&a| black_box(a).lambert_w0_fukushima())
+                .sum(),
             _ => return None,
         })
     }

@@ -12,6 +12,11 @@ use crate::{error::positive, Error, Jet, Real, Scalar};
 /// How k2 depends on the operator's input. Implement it for any smooth function: write `k2`
 /// generically over [`Scalar`] and the operator gets its time derivatives for free.
 pub trait K2Law<T: Real> {
+    /// True when [`K2Law::k2`] is finite and > 0 for every finite input once
+    /// [`K2Law::validate`] has passed, so the operator may skip its per-sample check. Leave it
+    /// `false` (the default) for laws that can return an invalid k2.
+    const ALWAYS_VALID: bool = false;
+
     /// k2 at the operator input `input` (a plain value or a jet). Must be finite and > 0.
     fn k2<S: Scalar<T>>(&self, input: S) -> S;
 
@@ -56,6 +61,7 @@ fn grid<T: Real>(lo: T, hi: T) -> impl Iterator<Item = T> {
 pub struct ConstantK2<T>(pub T);
 
 impl<T: Real> K2Law<T> for ConstantK2<T> {
+    const ALWAYS_VALID: bool = true;
     #[inline]
     fn k2<S: Scalar<T>>(&self, _input: S) -> S {
         S::cst(self.0)
@@ -104,6 +110,8 @@ impl<T: Real> AffineK2<T> {
 }
 
 impl<T: Real> K2Law<T> for AffineK2<T> {
+    // Clamped to [min, max] with 0 < min ≤ max finite, and the input is finite.
+    const ALWAYS_VALID: bool = true;
     #[inline]
     fn k2<S: Scalar<T>>(&self, input: S) -> S {
         let k = input * self.slope + self.at_zero;

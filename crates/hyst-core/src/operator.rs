@@ -50,31 +50,25 @@ impl Branch for Direct {
     }
     /// Eq. (2): ũ = ṽ − M* + W(k2 M* e^(k2 (M* − ṽ))) / k2.
     ///
-    /// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b), w + ln w = ln a + b gives the
-    /// equivalent ũ = ln(a / w) / k2, which is free of the cancellation between ṽ − M* and w/k2:
-    /// its absolute error is a few ulps of 1/k2, and it is exactly 0 at a reversal point. It is
-    /// used while w is a normal number; for vanishing w the printed form is exact to rounding.
-    /// When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain), so k2 up to 1e12
-    /// (near-backlash) stays finite and accurate.
+    /// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b): while a e^b is finite, eq. (2) as
+    /// printed (its rounding error is a few ulps of max(|ṽ|, M*), below that of the output
+    /// u = β0 + s ũ itself). When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain)
+    /// and, using w + ln w = ln a + b, ũ = (ln a − ln w) / k2, which has no cancellation between
+    /// large terms: k2 up to 1e12 (near-backlash) stays finite and accurate. At a reversal point
+    /// (ṽ = 0) the value is exactly 0.
     #[inline]
     fn transition<T: Real, S: Scalar<T>>(v_tilde: S, m_star: T, k2: S) -> S {
-        let at_reversal = v_tilde.value() == T::zero();
         let a = k2 * m_star;
         let b = k2 * (S::cst(m_star) - v_tilde);
         let x = a * b.exp();
         let u_tilde = if x.value().is_finite() {
-            let w = x.w0();
-            if w.value() > T::min_positive_value().sqrt() {
-                (a / w).ln() / k2
-            } else {
-                v_tilde - m_star + w / k2
-            }
+            v_tilde - m_star + x.w0() / k2
         } else {
             let ln_a = k2.ln() + m_star.ln();
             let w = (ln_a + b).omega();
             (ln_a - w.ln()) / k2
         };
-        if at_reversal {
+        if v_tilde.value() == T::zero() {
             u_tilde.with_value(T::zero())
         } else {
             u_tilde
@@ -88,10 +82,12 @@ impl Branch for Inverse {
     fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T {
         clamp_band(k1 - memory.m(), k1)
     }
-    /// Eq. (4): ṽ = ũ_d + M* (1 − e^(−k2 ũ_d)), with 1 − e^(−z) = −expm1(−z) for accuracy.
+    /// Eq. (4): ṽ = ũ_d + M* (1 − e^(−k2 ũ_d)). (1 − e^(−z) is computed with `exp`, not
+    /// `expm1`: its absolute error, ≤ 2 k1 ε, is below the rounding of the output v itself, and
+    /// `exp` is about 1.5 times faster; it is exactly 0 at a reversal point.)
     #[inline]
     fn transition<T: Real, S: Scalar<T>>(ud_tilde: S, m_star: T, k2: S) -> S {
-        ud_tilde - (-(k2 * ud_tilde)).exp_m1() * m_star
+        ud_tilde + (S::cst(T::one()) - (-(k2 * ud_tilde)).exp()) * m_star
     }
 }
 
@@ -274,35 +270,54 @@ impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
     /// As [`Operator::try_step`].
     #[inline]
     pub fn eval<S: Scalar<T>>(&mut self, x: S) -> Result<S, Error> {
-        let (y, memory) = self.compute(x)?;
-        self.memory = Some(memory);
-        Ok(y)
+        let k2 = self.checked_k2(x)?;
+        let memory = self
+            .memory
+            .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
+        Ok(Self::advance(memory, self.k1, x, k2))
     }
 
     /// The output for `x` and the memory after it, without committing the memory.
     #[inline]
     pub(crate) fn compute<S: Scalar<T>>(&self, x: S) -> Result<(S, Memory<T>), Error> {
-        let v = x.value();
+        let k2 = self.checked_k2(x)?;
+        let mut memory = self
+            .memory
+            .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
+        let y = Self::advance(&mut memory, self.k1, x, k2);
+        Ok((y, memory))
+    }
+
+    /// Everything that can refuse a sample, checked before the memory is touched: a non-finite
+    /// input, and a k2 from the law that is not finite and > 0.
+    #[inline]
+    fn checked_k2<S: Scalar<T>>(&self, x: S) -> Result<S, Error> {
         if !x.all_finite() {
-            return Err(Error::NonFiniteInput { value: v.as_f64() });
-        }
-        let mut memory = match self.memory {
-            Some(m) => m,
-            None => Memory::first_sample(v, x.trend()),
-        };
-        memory.observe(v, x.trend());
-        let k2 = self.law.k2(x);
-        if !(k2.value() > T::zero() && k2.all_finite()) {
-            return Err(Error::InvalidK2 {
-                input: v.as_f64(),
-                k2: k2.value().as_f64(),
+            return Err(Error::NonFiniteInput {
+                value: x.value().as_f64(),
             });
         }
-        let m_star = B::m_star(&memory, self.k1);
+        let k2 = self.law.k2(x);
+        if K::ALWAYS_VALID || (k2.value() > T::zero() && k2.all_finite()) {
+            Ok(k2)
+        } else {
+            Err(Error::InvalidK2 {
+                input: x.value().as_f64(),
+                k2: k2.value().as_f64(),
+            })
+        }
+    }
+
+    /// Definition 2.1's memory update followed by the branch's formula: infallible.
+    #[inline]
+    fn advance<S: Scalar<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> S {
+        let v = x.value();
+        memory.observe(v, x.trend());
+        let m_star = B::m_star(memory, k1);
         let y = memory.untransform(B::transition(memory.transform(x), m_star, k2));
         memory.last_input = v;
         memory.last_output = y.value();
-        Ok((y, memory))
+        y
     }
 
     /// Commits a memory produced by [`Operator::compute`].

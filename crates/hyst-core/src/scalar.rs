@@ -48,7 +48,7 @@ pub trait Scalar<T: Real>:
     /// |x| (for jets, the sign of the value decides).
     #[must_use]
     fn abs(self) -> Self;
-    /// Lambert W0(x) for x ≥ 0.
+    /// Lambert W0(x) for finite x ≥ 0 (use [`lambert::w0`] for +∞).
     #[must_use]
     fn w0(self) -> Self;
     /// Wright omega ω(x) = W0(e^x).
@@ -96,7 +96,7 @@ impl<T: Real> Scalar<T> for T {
     }
     #[inline]
     fn w0(self) -> Self {
-        lambert::w0(self)
+        lambert::w0_finite(self)
     }
     #[inline]
     fn omega(self) -> Self {
