@@ -192,3 +192,51 @@ fn noisy_data_recovers_within_the_reported_standard_errors() -> Result<(), FitEr
     );
     Ok(())
 }
+
+#[test]
+fn model_file_reads_back_exactly() -> Result<(), FitError> {
+    use hyst_fit::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT, VERSION};
+    let structure = Structure {
+        k2: K2Kind::Affine,
+        input_shaping: ShapeKind::Poly3,
+        output_shaping: ShapeKind::Langevin,
+        ..Structure::default()
+    };
+    let x = input(500);
+    let (model, _) = truth(
+        structure,
+        &x,
+        &[
+            ("k1", 0.1 + 1e-17),
+            ("k2", 0.3 + 6.0),
+            ("k2.slope", 0.7),
+            ("in.p2", 0.1),
+            ("in.p3", 0.05),
+        ],
+    )?;
+    let file = hyst_fit::ModelFile {
+        format: FORMAT.into(),
+        version: VERSION,
+        kind: ModelKind::Smooth,
+        columns: hyst_fit::Columns::default(),
+        units: Units::default(),
+        parameters: Vec::new(),
+        metrics: Metrics::default(),
+        structure: Some(structure),
+        smooth: Some(model),
+        prandtl_ishlinskii: None,
+        family: None,
+        provenance: Provenance::default(),
+    };
+    let text = file.to_toml()?;
+    let back = hyst_fit::ModelFile::from_toml(&text, std::path::Path::new("m.toml"))?;
+    assert_eq!(back, file);
+    let a = file.run(&x)?;
+    let b = back.run(&x)?;
+    assert!(a.iter().zip(&b).all(|(p, q)| p.to_bits() == q.to_bits()));
+    // A newer version is refused with a clear message.
+    let newer = text.replace("version = 1", "version = 2");
+    let err = hyst_fit::ModelFile::from_toml(&newer, std::path::Path::new("m.toml"));
+    assert!(matches!(err, Err(FitError::ModelFile { .. })));
+    Ok(())
+}
