@@ -33,3 +33,10 @@ pub use prandtl_ishlinskii::PrandtlIshlinskii;
 pub use real::Real;
 pub use scalar::Scalar;
 pub use shaping::{Affine, Identity, Langevin, Polynomial, QuadraticExp, Shape, Shaping, Tanh};
+
+/// The Rust examples of the project's README and guide, compiled and run as doctests so the
+/// documentation cannot drift from the code.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+#[doc = include_str!("../../../docs/guide.md")]
+pub struct ProjectDocsDoctests;
