@@ -352,11 +352,10 @@ impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
     }
 }
 
-impl<T: Real, K: K2Law<T> + Clone> Operator<T, K, Direct> {
-    /// The inverse operator with the same parameters, whose memory mirrors this one's: from here
-    /// on, `inverse.step(u_d)` fed into `self.step` gives back `u_d` (Proposition 4.1).
-    #[must_use]
-    pub fn inverse(&self) -> Operator<T, K, Inverse> {
+impl<T: Real, K: K2Law<T> + Clone, B: Branch> Operator<T, K, B> {
+    /// The other operator of the pair with the same parameters and this one's memory seen from
+    /// the other side (input and output swapped).
+    fn mirrored<B2: Branch>(&self) -> Operator<T, K, B2> {
         Operator {
             k1: self.k1,
             law: self.law.clone(),
@@ -367,16 +366,19 @@ impl<T: Real, K: K2Law<T> + Clone> Operator<T, K, Direct> {
     }
 }
 
+impl<T: Real, K: K2Law<T> + Clone> Operator<T, K, Direct> {
+    /// The inverse operator with the same parameters, whose memory mirrors this one's: from here
+    /// on, `inverse.step(u_d)` fed into `self.step` gives back `u_d` (Proposition 4.1).
+    #[must_use]
+    pub fn inverse(&self) -> Operator<T, K, Inverse> {
+        self.mirrored()
+    }
+}
+
 impl<T: Real, K: K2Law<T> + Clone> Operator<T, K, Inverse> {
     /// The direct operator with the same parameters, whose memory mirrors this one's.
     #[must_use]
     pub fn direct(&self) -> Operator<T, K, Direct> {
-        Operator {
-            k1: self.k1,
-            law: self.law.clone(),
-            initial: self.initial.map(|m| m.swapped()),
-            memory: self.memory.map(|m| m.swapped()),
-            branch: PhantomData,
-        }
+        self.mirrored()
     }
 }
