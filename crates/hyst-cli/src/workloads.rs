@@ -106,9 +106,12 @@ impl Default for Inputs {
     }
 }
 
+/// The shaped model of the `model` workload.
+type ExampleModel = Model<f64, Polynomial<f64>, hyst_core::ConstantK2<f64>, Affine<f64>>;
+
 /// Example 1's shaped model: ψ_out(H(0.105, 8)[ψ_in(in)]) with ψ_in(in) = in − 0.098 in² and
 /// ψ_out(out) = 2.02 out.
-fn example_model() -> Option<Model<f64, Polynomial<f64>, hyst_core::ConstantK2<f64>, Affine<f64>>> {
+fn example_model() -> Option<ExampleModel> {
     let psi_in = Polynomial::new([0.0, 1.0, -0.098, 0.0], -5.0, 5.0).ok()?;
     let psi_out = Affine::new(2.02, 0.0).ok()?;
     Model::new(psi_in, Hysteresis::new(0.105, 8.0).ok()?, psi_out).ok()
