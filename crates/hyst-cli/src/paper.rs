@@ -96,7 +96,7 @@ fn forc_series(points: &[(f64, f64, i64)], label: &str, color: usize, dashed: bo
 
 /// Fig. 3: first-order reversal curves, truth vs model, linear and nonlinear shaping.
 fn fig3(dir: &Path) -> Result<Vec<PathBuf>> {
-    let mut lin_truth = example1::linear_truth();
+    let mut lin_truth = example1::linear_truth()?;
     let mut lin_model = hyst_sim::Smooth {
         model: example1::linear_model()?,
     };

@@ -5,11 +5,13 @@
 
 use hyst_core::family::{delta_a, delta_a_over_k2_range, delta_k2_prop43};
 use hyst_core::{
-    Affine, AffineK2, Compensator, Error, Hysteresis, Identity, K2Law, Model, Polynomial,
-    QuadraticExp, Shaping,
+    Affine, AffineK2, Compensator, Error, Hysteresis, Identity, Model, Polynomial, QuadraticExp,
+    Shaping,
 };
 
-use crate::{simulate_compensated, Backlash, Drifting, StateSpace, Trace, TrueHysteresis};
+use crate::{
+    simulate_compensated, Backlash, Drifting, SimError, StateSpace, Trace, TrueHysteresis,
+};
 
 /// Example 1's nominal models: linear shaping out = 1.4 H(0.14, 8)[0.2 in], and nonlinear
 /// shaping out = 2.02 H(0.105, φ)[in − 0.098 in²], φ = 9 − 2 v clamped to [5, 12] (φ of the
@@ -69,7 +71,10 @@ pub mod example1 {
     /// The synthetic truth for the linear case: a member of RH(0.14, 0.1, 8, 5) with the same
     /// linear shaping whose k̄1 and k̄2 drift with the sample index (slowly, over the whole
     /// range of the family).
-    pub fn linear_truth() -> impl TrueHysteresis {
+    ///
+    /// # Errors
+    /// Never in practice (the family's parameters are constants).
+    pub fn linear_truth() -> Result<impl TrueHysteresis, SimError> {
         Drifting::new(
             Affine {
                 gain: 0.2,
@@ -89,8 +94,8 @@ pub mod example1 {
     ///
     /// # Errors
     /// Never in practice.
-    pub fn nonlinear_truth() -> Result<impl TrueHysteresis, Error> {
-        Ok(Drifting::with_law(
+    pub fn nonlinear_truth() -> Result<impl TrueHysteresis, SimError> {
+        Drifting::with_law(
             psi_in()?,
             Affine {
                 gain: 2.02,
@@ -100,7 +105,7 @@ pub mod example1 {
             phi()?,
             0.5,
             |k: usize, v: f64| ((k as f64 * 1.7e-3).sin(), (2.0 * v + 0.5).sin()),
-        ))
+        )
     }
 
     /// First-order reversal curves of a hysteresis: the input history of
@@ -142,7 +147,7 @@ pub mod example1 {
     ///
     /// # Errors
     /// From the models (never in practice).
-    pub fn compensation() -> Result<Compensation, Error> {
+    pub fn compensation() -> Result<Compensation, SimError> {
         let model = nonlinear_model()?;
         let mut inverse = model.inverse();
         let mut truth = nonlinear_truth()?;
@@ -212,6 +217,9 @@ pub mod example2 {
         fn reset(&mut self) {
             self.d.reset();
         }
+        fn pass(&mut self, x: f64) {
+            self.d.pass(x);
+        }
     }
 
     /// Runs Example 2 for `seconds` with sample time `dt`. The truth is a member of
@@ -221,17 +229,10 @@ pub mod example2 {
     ///
     /// # Errors
     /// From the compensator (a flux outside ψ's range).
-    pub fn run(seconds: f64, dt: f64) -> Result<Results, Error> {
+    pub fn run(seconds: f64, dt: f64) -> Result<Results, SimError> {
         let psi = QuadraticExp::<f64>::example2()?;
         let model = Model::new(Identity, Hysteresis::new(0.06, 5.0)?, psi)?;
-        let plant =
-            StateSpace::from_transfer_function(&[1.0 / R], &[L / R, 1.0]).map_err(|_| {
-                Error::InvalidParameter {
-                    name: "plant",
-                    value: L,
-                    expected: "valid",
-                }
-            })?;
+        let plant = StateSpace::from_transfer_function(&[1.0 / R], &[L / R, 1.0])?;
         // Desired flux v(t) = 1 − A(t) cos(ω t), A from 0.3 to 0.95, plus a minor loop term.
         let omega = 2.0 * std::f64::consts::PI * 0.5;
         let v_of = move |t: f64| {
@@ -259,7 +260,7 @@ pub mod example2 {
                         1.0 - 2.0 * (i.abs() / 2.0).min(1.0),
                     )
                 },
-            ),
+            )?,
             last: 0.0,
         };
         let samples = (seconds / dt) as usize;
@@ -279,6 +280,9 @@ pub mod example2 {
             }
             fn reset(&mut self) {
                 self.inner.reset();
+            }
+            fn pass(&mut self, x: f64) {
+                self.inner.pass(x);
             }
         }
         let mut rec = Recorder {
@@ -332,17 +336,11 @@ pub mod example3 {
     ///
     /// # Errors
     /// From the compensator (never in practice).
-    pub fn run(seconds: f64, dt: f64) -> Result<Results, Error> {
+    pub fn run(seconds: f64, dt: f64) -> Result<Results, SimError> {
         let model = Model::new(Identity, Hysteresis::new(0.2, 8.0)?, Identity)?;
         let mut comp = Compensator::from_model(&model, 1.0, [0.9, 1.0])?;
-        let plant = StateSpace::from_transfer_function(&[1.0], &[1.0, 0.9, 1.0]).map_err(|_| {
-            Error::InvalidParameter {
-                name: "plant",
-                value: 0.0,
-                expected: "valid",
-            }
-        })?;
-        let mut truth = Backlash::new(0.4);
+        let plant = StateSpace::from_transfer_function(&[1.0], &[1.0, 0.9, 1.0])?;
+        let mut truth = Backlash::new(0.4)?;
         let samples = (seconds / dt) as usize;
         let mut u_new = |t: f64, s: &[f64]| {
             let (v, v1) = (
@@ -362,13 +360,13 @@ pub mod example3 {
         )?;
         // Uncompensated: F = r directly.
         let mut x = vec![0.0, 0.0];
-        let mut b = Backlash::new(0.4);
+        let mut b = Backlash::new(0.4)?;
         let mut unc = Vec::with_capacity(samples);
         for k in 0..samples {
             let t = k as f64 * dt;
             unc.push(b.step(x[0]));
             let mut f = |s: f64, xs: &[f64]| plant.derivative(xs, r(t + s));
-            x = crate::rk4_step(&mut f, 0.0, &x, dt);
+            x = crate::rk4_step(&mut f, 0.0, &x, dt)?;
         }
         let compensation_error = trace
             .output
@@ -405,46 +403,44 @@ pub fn paper_bounds() -> Result<Vec<(&'static str, f64)>, Error> {
     ])
 }
 
-/// Keeps the `K2Law` import used for readers of this module's signatures.
-#[doc(hidden)]
-pub fn _k2(law: &AffineK2<f64>, x: f64) -> f64 {
-    law.k2(x)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn example2_stays_within_its_bound() -> Result<(), Error> {
+    fn example2_stays_within_its_bound() -> Result<(), SimError> {
         let r = example2::run(6.0, 1e-3)?;
         let worst = r
             .compensation_error
             .iter()
             .fold(0.0_f64, |m, e| m.max(e.abs()));
         assert!(worst <= r.bound, "{worst} > {}", r.bound);
-        assert!(worst > 0.2 * r.bound, "trivially small error {worst}");
+        // Measured 0.0262 of 0.0302.
+        assert!(worst > 0.8 * r.bound, "trivially small error {worst}");
         Ok(())
     }
 
     #[test]
-    fn example3_compensation_beats_no_compensation() -> Result<(), Error> {
+    fn example3_compensation_beats_no_compensation() -> Result<(), SimError> {
         let r = example3::run(30.0, 1e-3)?;
         let worst = r
             .compensation_error
             .iter()
             .skip(5000)
             .fold(0.0_f64, |m, e| m.max(e.abs()));
-        assert!(worst < 0.2, "{worst}");
+        // Measured 0.135 (the backlash corners that H(0.2, 8) rounds off).
+        assert!(worst < 0.15, "{worst}");
         Ok(())
     }
 
     #[test]
-    fn example1_compensation_within_bound() -> Result<(), Error> {
+    fn example1_compensation_within_bound() -> Result<(), SimError> {
         let c = example1::compensation()?;
         let worst = c.error.iter().fold(0.0_f64, |m, e| m.max(e.abs()));
         assert!((c.dk2_prop43 - 0.21).abs() < 1e-12);
         assert!(worst <= c.bound, "{worst} > {}", c.bound);
+        // Measured 0.0102 of 0.0270: the truth does use its family's width.
+        assert!(worst > 0.3 * c.bound, "trivially small error {worst}");
         Ok(())
     }
 }
