@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Context, Result};
 use hyst_fit::lm::{Observer, Progress};
 use hyst_fit::modelfile::{fnv1a64, Metrics, ModelKind, Provenance, Units};
-use hyst_fit::pi::{fit_pi, PiFit};
+use hyst_fit::pi::{fit_pi_with, PiFit, PiOutputKind};
 use hyst_fit::smooth::ErrorStats;
 use hyst_fit::{
     fit_smooth, DataOptions, Dataset, FitOptions, InitialState, K2Kind, ModelFile, ShapeKind,
@@ -35,6 +35,27 @@ pub enum Kind {
     Smooth,
     /// The Prandtl–Ishlinskii baseline.
     Pi,
+}
+
+/// Output polynomials of `--pi-output`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PiOutputArg {
+    /// No output polynomial: y = PI[x].
+    None,
+    /// y = P(PI[x]), P quadratic and increasing on the data.
+    Poly2,
+    /// y = P(PI[x]), P cubic and increasing on the data.
+    Poly3,
+}
+
+impl From<PiOutputArg> for PiOutputKind {
+    fn from(a: PiOutputArg) -> Self {
+        match a {
+            PiOutputArg::None => PiOutputKind::None,
+            PiOutputArg::Poly2 => PiOutputKind::Poly2,
+            PiOutputArg::Poly3 => PiOutputKind::Poly3,
+        }
+    }
 }
 
 /// k2 laws of `--k2`.
@@ -107,6 +128,9 @@ pub struct Args {
     /// Number of play operators of the Prandtl–Ishlinskii model.
     #[arg(long, default_value_t = 16)]
     pub operators: usize,
+    /// Monotone output polynomial after the Prandtl–Ishlinskii sum (its inverse stays exact).
+    #[arg(long, value_enum, default_value_t = PiOutputArg::None)]
+    pub pi_output: PiOutputArg,
     /// Also fit the other model kind and report both side by side.
     #[arg(long)]
     pub compare: bool,
@@ -312,7 +336,7 @@ pub fn main(args: Args) -> Result<()> {
         bail!(hyst_fit::FitError::Interrupted);
     }
     let pi = if want_pi {
-        Some(fit_pi(&data, args.operators)?)
+        Some(fit_pi_with(&data, args.operators, args.pi_output.into())?)
     } else {
         None
     };
@@ -340,7 +364,10 @@ pub fn main(args: Args) -> Result<()> {
         ns_per_sample: ns_per_sample(&data, |x| f.model.run(x).ok()),
     });
     let pi_summary = pi.as_ref().map(|f| Summary {
-        kind: "prandtl-ishlinskii".into(),
+        kind: match f.model.output {
+            Some(o) => format!("prandtl-ishlinskii + poly{}", o.degree),
+            None => "prandtl-ishlinskii".into(),
+        },
         parameters: f.model.parameter_count(),
         training: f.training,
         validation: f.validation,
@@ -398,7 +425,7 @@ fn smooth_file(
 ) -> ModelFile {
     ModelFile {
         format: hyst_fit::modelfile::FORMAT.into(),
-        version: hyst_fit::modelfile::VERSION,
+        version: hyst_fit::modelfile::MIN_VERSION,
         kind: ModelKind::Smooth,
         columns,
         units,
@@ -425,9 +452,9 @@ fn pi_file(
     units: Units,
     provenance: Provenance,
 ) -> ModelFile {
-    ModelFile {
+    let mut file = ModelFile {
         format: hyst_fit::modelfile::FORMAT.into(),
-        version: hyst_fit::modelfile::VERSION,
+        version: hyst_fit::modelfile::MIN_VERSION,
         kind: ModelKind::PrandtlIshlinskii,
         columns,
         units,
@@ -444,7 +471,11 @@ fn pi_file(
         prandtl_ishlinskii: Some(f.model.clone()),
         family: None,
         provenance,
-    }
+    };
+    // The lowest version that holds the content: version-1 readers keep reading plain PI files
+    // and refuse the ones with an output polynomial.
+    file.version = file.required_version();
+    file
 }
 
 fn unit(u: &str) -> String {
@@ -510,11 +541,18 @@ fn text_report(r: &Report, data: &Dataset) -> String {
             );
         }
         _ => {
+            let pi = m.prandtl_ishlinskii.as_ref();
             s += &format!(
-                "model: Prandtl–Ishlinskii, {} play operators\n",
-                m.prandtl_ishlinskii
-                    .as_ref()
-                    .map_or(0, |p| p.thresholds.len())
+                "model: Prandtl–Ishlinskii, {} play operators{}\n",
+                pi.map_or(0, |p| p.thresholds.len()),
+                match pi.and_then(|p| p.output) {
+                    Some(o) => format!(
+                        ", output polynomial of degree {} (increasing on the PI output range \
+                         [{:.4}, {:.4}]; exact inverse PI⁻¹ ∘ P⁻¹)",
+                        o.degree, o.lo, o.hi
+                    ),
+                    None => String::new(),
+                }
             );
         }
     }

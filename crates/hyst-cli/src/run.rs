@@ -3,7 +3,10 @@
 //! Contract (relied on by tests and other tools):
 //! - INPUT has a header row. The input column is `--column NAME`, else `x`, else the only column.
 //! - With `--derivatives N` INPUT also holds `<name>_d1 … <name>_dN`, the input's time
-//!   derivatives, and OUTPUT gets `y_d1 … y_dN` (Proposition 2.7 and beyond, by jets).
+//!   derivatives, and OUTPUT gets `y_d1 … y_dN` (Proposition 2.7 and beyond, by jets). This
+//!   holds for `--model` too: smooth models carry the jets through ψ_in, H (or H⁻¹) and ψ_out;
+//!   Prandtl–Ishlinskii models give the piecewise derivatives of their plays (a play at the edge
+//!   of its band that the input pushes moves with the input, every other play is stuck).
 //! - OUTPUT has the header `x,y[,y_d1…]`, one row per input row, every value in full `f64`
 //!   precision (parses back to the identical number).
 //! - Errors name the file, line and column; nothing is written on failure (temporary file, then
@@ -56,6 +59,12 @@ pub trait Evaluate {
 }
 
 impl<K: K2Law<f64>, B: hyst_core::Branch> Evaluate for Operator<f64, K, B> {
+    fn evaluate<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error> {
+        self.eval(x)
+    }
+}
+
+impl Evaluate for hyst_fit::modelfile::Evaluator {
     fn evaluate<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error> {
         self.eval(x)
     }
@@ -152,25 +161,24 @@ fn run_order<E: Evaluate, const N: usize>(
 
 /// `hyst run --model FILE`: a fitted model (see docs/formats.md) over one column, as one record.
 /// The column is `--column`, else the model's input column (its output column with `--inverse`:
-/// the desired output). Output header `x,y`.
+/// the desired output). Output header `x,y[,y_d1…]`, derivatives as for `--k1/--k2`.
 fn run_model(path: &std::path::Path, table: &Table, args: &Args) -> Result<Table> {
-    if args.derivatives > 0 {
-        bail!(
-            "--derivatives is not available with --model (the shaped model runs on plain samples)"
-        );
-    }
     let model = hyst_fit::ModelFile::read(path)?;
     let name = match &args.column {
         Some(c) => c.clone(),
         None if args.inverse => model.columns.output.clone(),
         None => model.columns.input.clone(),
     };
-    let x = table.column(&name)?.to_vec();
-    let y = if args.inverse {
-        model.run_inverse(&x)
-    } else {
-        model.run(&x)
-    }
-    .with_context(|| format!("{}: column {name:?}", table.source()))?;
-    Ok(Table::new(vec!["x".into(), "y".into()], vec![x, y])?)
+    let (index, x) = table.pick_column(Some(&name))?;
+    let first = x.first().copied().unwrap_or(0.0);
+    let mut op = model.evaluator(first, args.inverse).with_context(|| {
+        format!(
+            "{}:{}: column {} ({name:?}): value {first}: the model {} cannot start here",
+            table.source(),
+            table.line_of_row(0),
+            index + 1,
+            path.display()
+        )
+    })?;
+    run_table(&mut op, table, Some(&name), args.derivatives)
 }

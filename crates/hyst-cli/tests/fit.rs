@@ -241,3 +241,315 @@ fn decreasing_output_and_bad_split_are_explained() -> R {
     assert!(err.contains("no record 7"), "{err}");
     Ok(())
 }
+
+/// A smooth test signal with its first two time derivatives, as a CSV with the given column.
+fn jet_csv(name: &str, n: usize, lo: f64, hi: f64) -> String {
+    let mut s = format!("{name},{name}_d1,{name}_d2\n");
+    let (mid, amp) = (0.5 * (lo + hi), 0.3 * (hi - lo));
+    for k in 0..n {
+        let t = k as f64 * 1e-3;
+        let a = amp * (1.0 - 0.3 * (0.7 * t).cos());
+        // x = mid + a(t) sin(3t)
+        let (s3, c3) = ((3.0 * t).sin(), (3.0 * t).cos());
+        let da = amp * 0.3 * 0.7 * (0.7 * t).sin();
+        let dda = amp * 0.3 * 0.49 * (0.7 * t).cos();
+        let x = mid + a * s3;
+        let d1 = da * s3 + 3.0 * a * c3;
+        let d2 = dda * s3 + 6.0 * da * c3 - 9.0 * a * s3;
+        s += &format!("{x},{d1},{d2}\n");
+    }
+    s
+}
+
+/// Checks y_d1 (y_d2) against centred differences of y (y_d1) at dt = 1e-3, away from the
+/// input's reversals (where the output's derivatives have a kink in time): all but
+/// `allowed_misses` samples (where a piecewise model switches) must agree.
+fn check_derivatives(csv: &str, input_d1: &[f64], tolerance: f64, allowed_misses: usize) -> R {
+    let y = column(csv, "y")?;
+    let d1 = column(csv, "y_d1")?;
+    let d2 = column(csv, "y_d2")?;
+    let scale1 = d1.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let scale2 = d2.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let mut misses = 0;
+    for k in 2..y.len() - 2 {
+        if (k - 2..k + 2).any(|j| (input_d1[j] > 0.0) != (input_d1[j + 1] > 0.0)) {
+            continue;
+        }
+        let fd1 = (y[k + 1] - y[k - 1]) / 2e-3;
+        let fd2 = (d1[k + 1] - d1[k - 1]) / 2e-3;
+        if (fd1 - d1[k]).abs() > tolerance * scale1 || (fd2 - d2[k]).abs() > tolerance * scale2 {
+            misses += 1;
+        }
+    }
+    assert!(
+        misses <= allowed_misses,
+        "{misses} samples disagree with finite differences"
+    );
+    Ok(())
+}
+
+#[test]
+fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
+    let dir = tempfile::tempdir()?;
+    let model = dir.path().join("pi.toml");
+    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    let fit = |extra: &[&str]| {
+        let mut args = vec![
+            "fit",
+            data.to_str().unwrap_or(""),
+            "--input",
+            "u_actuator_V",
+            "--output",
+            "y_capsensor_um",
+            "-o",
+            model.to_str().unwrap_or(""),
+            "--model-kind",
+            "pi",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        hyst(&args)
+    };
+    let plain = fit(&[]);
+    assert!(plain.status.success(), "{}", text(&plain.stderr));
+    let plain: serde_json::Value = serde_json::from_slice(&plain.stdout)?;
+    assert_eq!(plain["model"]["version"], 1);
+    let out = fit(&["--pi-output", "poly3"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout)?;
+    assert_eq!(report["model"]["version"], 2);
+    assert_eq!(report["model"]["metrics"]["parameters"], 20);
+    let pct = report["model"]["metrics"]["training"]["rms_pct_span"]
+        .as_f64()
+        .ok_or("pct")?;
+    let plain_pct = plain["model"]["metrics"]["training"]["rms_pct_span"]
+        .as_f64()
+        .ok_or("pct")?;
+    assert!(pct < plain_pct - 0.05, "{pct} vs plain PI {plain_pct}");
+    let file = std::fs::read_to_string(&model)?;
+    assert!(file.contains("[prandtl-ishlinskii.output]"), "{file}");
+    assert!(file.contains("degree = 3"), "{file}");
+
+    // hyst run --model reproduces the fitted RMS …
+    let run_out = dir.path().join("run.csv");
+    let m = model.to_str().ok_or("path")?;
+    let out = hyst(&[
+        "run",
+        "--model",
+        m,
+        data.to_str().ok_or("path")?,
+        "-o",
+        run_out.to_str().ok_or("path")?,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let run_csv = std::fs::read_to_string(&run_out)?;
+    assert!(run_csv.starts_with("x,y\n"));
+    let y = column(&run_csv, "y")?;
+    let measured = column(&std::fs::read_to_string(&data)?, "y_capsensor_um")?;
+    let rms = (y
+        .iter()
+        .zip(&measured)
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum::<f64>()
+        / y.len() as f64)
+        .sqrt();
+    let fitted = report["model"]["metrics"]["training"]["rms"]
+        .as_f64()
+        .ok_or("rms")?;
+    assert!((rms - fitted).abs() <= 1e-9 * fitted, "{rms} vs {fitted}");
+
+    // … and its exact compensator gives back the command that produced the output.
+    let command = dir.path().join("command.csv");
+    let out = hyst(&[
+        "run",
+        "--model",
+        m,
+        "--inverse",
+        "--column",
+        "y",
+        run_out.to_str().ok_or("path")?,
+        "-o",
+        command.to_str().ok_or("path")?,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let u = column(&std::fs::read_to_string(&command)?, "y")?;
+    let original = column(&run_csv, "x")?;
+    let worst = u
+        .iter()
+        .zip(&original)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "compensator misses the command by {worst}");
+
+    // Derivatives through the PI model with its polynomial (piecewise, value-exact), direct and
+    // inverse.
+    let jets = dir.path().join("jets.csv");
+    std::fs::write(&jets, jet_csv("u_actuator_V", 4000, 0.0, 75.0))?;
+    let out_jets = dir.path().join("out-jets.csv");
+    let out = hyst(&[
+        "run",
+        "--model",
+        m,
+        "--derivatives",
+        "2",
+        jets.to_str().ok_or("path")?,
+        "-o",
+        out_jets.to_str().ok_or("path")?,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let direct = std::fs::read_to_string(&out_jets)?;
+    assert!(direct.starts_with("x,y,y_d1,y_d2\n"));
+    // Each of the 16 plays engages once after each of the 4 reversals, which upsets at most 3
+    // centred differences.
+    let input_d1 = column(&std::fs::read_to_string(&jets)?, "u_actuator_V_d1")?;
+    check_derivatives(&direct, &input_d1, 1e-3, 3 * 16 * 4)?;
+    let y = column(&direct, "y")?;
+    let d1 = column(&direct, "y_d1")?;
+    let d2 = column(&direct, "y_d2")?;
+    let mut back = String::from("y,y_d1,y_d2\n");
+    for ((a, b), c) in y.iter().zip(&d1).zip(&d2) {
+        back += &format!("{a},{b},{c}\n");
+    }
+    let desired = dir.path().join("desired.csv");
+    std::fs::write(&desired, back)?;
+    let inv_out = dir.path().join("inv-jets.csv");
+    let out = hyst(&[
+        "run",
+        "--model",
+        m,
+        "--inverse",
+        "--column",
+        "y",
+        "--derivatives",
+        "2",
+        desired.to_str().ok_or("path")?,
+        "-o",
+        inv_out.to_str().ok_or("path")?,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let inverse = std::fs::read_to_string(&inv_out)?;
+    let input = std::fs::read_to_string(&jets)?;
+    let (x, xd1) = (
+        column(&input, "u_actuator_V")?,
+        column(&input, "u_actuator_V_d1")?,
+    );
+    let (u, ud1) = (column(&inverse, "y")?, column(&inverse, "y_d1")?);
+    let scale = xd1.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let mut misses = 0;
+    for k in 0..x.len() {
+        assert!((u[k] - x[k]).abs() < 1e-9, "{k}: {} vs {}", u[k], x[k]);
+        if (ud1[k] - xd1[k]).abs() > 1e-9 * scale {
+            misses += 1;
+        }
+    }
+    assert_eq!(
+        misses, 0,
+        "the compensator's derivative misses the command's"
+    );
+
+    // A missing derivative column is named with the option.
+    let out = hyst(&[
+        "run",
+        "--model",
+        m,
+        "--derivatives",
+        "3",
+        jets.to_str().ok_or("path")?,
+        "-o",
+        out_jets.to_str().ok_or("path")?,
+    ]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("--derivatives 3") && err.contains("u_actuator_V_d3"),
+        "{err}"
+    );
+    Ok(())
+}
+
+#[test]
+fn smooth_model_derivatives_through_run_model() -> R {
+    let dir = tempfile::tempdir()?;
+    let model = dir.path().join("smooth.toml");
+    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    let out = hyst(&[
+        "fit",
+        data.to_str().ok_or("path")?,
+        "--input",
+        "u_actuator_V",
+        "--output",
+        "y_capsensor_um",
+        "--output-shaping",
+        "poly2",
+        "-o",
+        model.to_str().ok_or("path")?,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let m = model.to_str().ok_or("path")?;
+    let jets = dir.path().join("jets.csv");
+    std::fs::write(&jets, jet_csv("u_actuator_V", 4000, 0.0, 75.0))?;
+    let out_jets = dir.path().join("out.csv");
+    let out = hyst(&[
+        "run",
+        "--model",
+        m,
+        "--derivatives",
+        "2",
+        jets.to_str().ok_or("path")?,
+        "-o",
+        out_jets.to_str().ok_or("path")?,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let direct = std::fs::read_to_string(&out_jets)?;
+    assert!(direct.starts_with("x,y,y_d1,y_d2\n"));
+    // Smooth away from the reversals: every sample agrees.
+    let input_d1 = column(&std::fs::read_to_string(&jets)?, "u_actuator_V_d1")?;
+    check_derivatives(&direct, &input_d1, 1e-3, 0)?;
+    // The compensator's derivatives give back the command's.
+    let y = column(&direct, "y")?;
+    let d1 = column(&direct, "y_d1")?;
+    let d2 = column(&direct, "y_d2")?;
+    let mut back = String::from("y,y_d1,y_d2\n");
+    for ((a, b), c) in y.iter().zip(&d1).zip(&d2) {
+        back += &format!("{a},{b},{c}\n");
+    }
+    let desired = dir.path().join("desired.csv");
+    std::fs::write(&desired, back)?;
+    let inv_out = dir.path().join("inv.csv");
+    let out = hyst(&[
+        "run",
+        "--model",
+        m,
+        "--inverse",
+        "--column",
+        "y",
+        "--derivatives",
+        "2",
+        desired.to_str().ok_or("path")?,
+        "-o",
+        inv_out.to_str().ok_or("path")?,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let inverse = std::fs::read_to_string(&inv_out)?;
+    let input = std::fs::read_to_string(&jets)?;
+    let (xd1, xd2) = (
+        column(&input, "u_actuator_V_d1")?,
+        column(&input, "u_actuator_V_d2")?,
+    );
+    let (ud1, ud2) = (column(&inverse, "y_d1")?, column(&inverse, "y_d2")?);
+    for k in 0..xd1.len() {
+        assert!(
+            (ud1[k] - xd1[k]).abs() < 1e-6 * (1.0 + xd1[k].abs()),
+            "{k}: {} vs {}",
+            ud1[k],
+            xd1[k]
+        );
+        assert!(
+            (ud2[k] - xd2[k]).abs() < 1e-5 * (1.0 + xd2[k].abs()),
+            "{k}: {} vs {}",
+            ud2[k],
+            xd2[k]
+        );
+    }
+    Ok(())
+}

@@ -7,18 +7,53 @@
 
 use std::path::Path;
 
-use hyst_core::{K2Law, Shaping};
+use hyst_core::{Error, K2Law, Scalar, Shaping};
 use serde::{Deserialize, Serialize};
 
-use crate::pi::PiModel;
+use crate::model::{CoreInverse, CoreModel};
+use crate::pi::{PiInverse, PiModel, PiOperator};
 use crate::smooth::{ErrorStats, Estimate};
 use crate::widths::FamilyWidths;
 use crate::{Columns, FitError, InitialState, SmoothModel, Structure};
 
 /// The value of the `format` key.
 pub const FORMAT: &str = "hyst-model";
-/// The format version this crate writes and reads.
-pub const VERSION: u32 = 1;
+/// The newest format version this crate reads and writes. Version 2 adds the optional
+/// `[prandtl-ishlinskii.output]` polynomial; a file is written with the lowest version that
+/// holds its content ([`ModelFile::required_version`]), so files without it stay readable by
+/// version-1 readers, and version-1 readers refuse the files they would misread.
+pub const VERSION: u32 = 2;
+/// The oldest format version this crate reads.
+pub const MIN_VERSION: u32 = 1;
+
+/// A model file's model, ready to run sample by sample on plain numbers or jets (see
+/// [`ModelFile::evaluator`]).
+#[derive(Clone, Debug)]
+pub enum Evaluator {
+    /// The smooth model, direct.
+    Smooth(Box<CoreModel>),
+    /// The smooth model's exact compensator.
+    SmoothInverse(Box<CoreInverse>),
+    /// The Prandtl–Ishlinskii model (with its optional output polynomial), direct.
+    Pi(Box<PiOperator>),
+    /// Its exact compensator.
+    PiInverse(Box<PiInverse>),
+}
+
+impl Evaluator {
+    /// One sample: the model output (or command), with time derivatives when `x` is a jet.
+    ///
+    /// # Errors
+    /// The core's error for this sample (the state is then unchanged).
+    pub fn eval<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error> {
+        match self {
+            Evaluator::Smooth(m) => m.eval(x),
+            Evaluator::SmoothInverse(m) => m.eval(x),
+            Evaluator::Pi(m) => m.eval(x),
+            Evaluator::PiInverse(m) => m.eval(x),
+        }
+    }
+}
 
 /// Which model the file holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -162,16 +197,23 @@ impl ModelFile {
             }
         }
         match value.get("version").and_then(|v| v.as_integer()) {
-            Some(v) if v == i64::from(VERSION) => {}
+            Some(v) if (i64::from(MIN_VERSION)..=i64::from(VERSION)).contains(&v) => {}
             Some(v) => {
                 return Err(bad(format!(
-                    "format version {v}; this hyst reads version {VERSION}"
+                    "format version {v}; this hyst reads versions {MIN_VERSION} to {VERSION}"
                 )))
             }
             None => return Err(bad("no `version`".into())),
         }
         let file: ModelFile =
             toml::from_str(text).map_err(|e| bad(format!("invalid model file: {e}")))?;
+        if file.version < file.required_version() {
+            return Err(bad(format!(
+                "version = {} but [prandtl-ishlinskii.output] needs format version {}",
+                file.version,
+                file.required_version()
+            )));
+        }
         match file.kind {
             ModelKind::Smooth => {
                 let m = file
@@ -184,11 +226,51 @@ impl ModelFile {
                 let m = file.prandtl_ishlinskii.as_ref().ok_or_else(|| {
                     bad("kind = \"prandtl-ishlinskii\" but no [prandtl-ishlinskii] section".into())
                 })?;
-                m.core()
+                m.operator()
                     .map_err(|e| bad(format!("[prandtl-ishlinskii]: {e}")))?;
             }
         }
         Ok(file)
+    }
+
+    /// The lowest format version that holds this file's content: 2 with a PI output
+    /// polynomial, else 1. `hyst fit` writes this version.
+    #[must_use]
+    pub fn required_version(&self) -> u32 {
+        match &self.prandtl_ishlinskii {
+            Some(p) if p.output.is_some() => 2,
+            _ => MIN_VERSION,
+        }
+    }
+
+    /// The model ready to run one record sample by sample, on plain numbers or jets. Direct:
+    /// `first` is the record's first input (the smooth model's start rule uses it). Inverse
+    /// (the exact compensator): `first` is the first desired output, and the compensator starts
+    /// from the state the model's start rule implies for it. PI models start with the plays at
+    /// rest at the first sample.
+    ///
+    /// # Errors
+    /// [`FitError::Core`] for parameters the core refuses or a first desired output the model
+    /// cannot produce.
+    pub fn evaluator(&self, first: f64, inverse: bool) -> Result<Evaluator, FitError> {
+        match (&self.smooth, &self.prandtl_ishlinskii) {
+            (Some(m), _) if self.kind == ModelKind::Smooth => {
+                if !inverse {
+                    return Ok(Evaluator::Smooth(Box::new(m.core(first)?)));
+                }
+                let u0 = m.output_shaping.invert(first)?;
+                let v0 = match m.initial_state {
+                    InitialState::Line => u0,
+                    InitialState::Rising => u0 + m.k1,
+                    InitialState::Falling => u0 - m.k1,
+                };
+                let x0 = m.input_shaping.invert(v0)?;
+                Ok(Evaluator::SmoothInverse(Box::new(m.compensator(x0)?)))
+            }
+            (_, Some(p)) if inverse => Ok(Evaluator::PiInverse(Box::new(p.inverse_operator()?))),
+            (_, Some(p)) => Ok(Evaluator::Pi(Box::new(p.operator()?))),
+            _ => Err(FitError::Invalid("the model file holds no model".into())),
+        }
     }
 
     /// Reads and checks a model file.
@@ -223,32 +305,19 @@ impl ModelFile {
     /// [`FitError::Core`] for a desired output the model cannot produce (beyond a saturating
     /// output shaping, say) or a non-finite sample; the message names the sample.
     pub fn run_inverse(&self, desired: &[f64]) -> Result<Vec<f64>, FitError> {
-        match (&self.smooth, &self.prandtl_ishlinskii) {
-            (Some(m), _) if self.kind == ModelKind::Smooth => {
-                let Some(&y0) = desired.first() else {
-                    return Ok(Vec::new());
-                };
-                let u0 = m.output_shaping.invert(y0)?;
-                let v0 = match m.initial_state {
-                    InitialState::Line => u0,
-                    InitialState::Rising => u0 + m.k1,
-                    InitialState::Falling => u0 - m.k1,
-                };
-                let x0 = m.input_shaping.invert(v0)?;
-                let mut comp = m.compensator(x0)?;
-                desired
-                    .iter()
-                    .enumerate()
-                    .map(|(i, y)| {
-                        comp.try_step(*y).map_err(|e| {
-                            FitError::Invalid(format!("sample {} (desired output {y}): {e}", i + 1))
-                        })
-                    })
-                    .collect()
-            }
-            (_, Some(p)) => Ok(p.run_inverse(desired)?),
-            _ => Err(FitError::Invalid("the model file holds no model".into())),
-        }
+        let Some(&y0) = desired.first() else {
+            return Ok(Vec::new());
+        };
+        let mut comp = self.evaluator(y0, true)?;
+        desired
+            .iter()
+            .enumerate()
+            .map(|(i, y)| {
+                comp.eval(*y).map_err(|e| {
+                    FitError::Invalid(format!("sample {} (desired output {y}): {e}", i + 1))
+                })
+            })
+            .collect()
     }
 
     /// k2 at the operator input 0 and its range over the operator input interval [lo, hi]

@@ -2,10 +2,18 @@
 //! evenly over half the input span, fitted by weighted non-negative least squares
 //! (w0 ≥ ε > 0, w_i ≥ 0, c free), which keeps the operator monotone and its analytic inverse
 //! valid (see `hyst_core::prandtl_ishlinskii`).
+//!
+//! Optionally the sum is followed by a monotone output polynomial P of degree 2 or 3:
+//! y = P(PI[x]), whose inverse PI⁻¹ ∘ P⁻¹ is still exact. The PI output is linear in the
+//! weights, so the fit alternates two exact sub-problems: the polynomial by weighted linear least
+//! squares given the PI output (kept increasing on the data), and the weights by non-negative
+//! least squares on the Gauss–Newton linearisation around the current polynomial (with a
+//! backtracking step, which keeps the weights feasible because the constraint set is convex).
 
 use std::time::Instant;
 
-use hyst_core::{Error, PrandtlIshlinskii};
+use hyst_core::prandtl_ishlinskii::{InverseShapedPrandtlIshlinskii, ShapedPrandtlIshlinskii};
+use hyst_core::{Error, Polynomial, PrandtlIshlinskii, Scalar, Shaping};
 use serde::{Deserialize, Serialize};
 
 use crate::lm::{cholesky_solve, spd_inverse};
@@ -18,6 +26,73 @@ pub const MAX_OPERATORS: usize = 128;
 /// The core operator type used for the baseline.
 pub type CorePi = PrandtlIshlinskii<f64, MAX_OPERATORS>;
 
+/// Which output polynomial follows the Prandtl–Ishlinskii sum (`hyst fit --pi-output`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PiOutputKind {
+    /// None: y = PI[x].
+    #[default]
+    None,
+    /// y = P(PI[x]) with P quadratic, increasing on the data.
+    Poly2,
+    /// y = P(PI[x]) with P cubic, increasing on the data.
+    Poly3,
+}
+
+impl PiOutputKind {
+    /// The polynomial degree (1 for none: the PI's own affine output).
+    #[must_use]
+    pub fn degree(self) -> usize {
+        match self {
+            PiOutputKind::None => 1,
+            PiOutputKind::Poly2 => 2,
+            PiOutputKind::Poly3 => 3,
+        }
+    }
+}
+
+/// The output polynomial of a Prandtl–Ishlinskii model (model files, `[prandtl-ishlinskii.output]`):
+/// P(s) = c0 + c1 s + c2 s² + c3 s³ on [lo, hi] (the PI output range over the training data),
+/// where it is strictly increasing; outside it continues along its tangents.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PiOutput {
+    /// 2 or 3; coefficients above the degree are 0.
+    pub degree: u8,
+    /// c0..c3 (output units per PI-output unit to the power k).
+    pub coefficients: [f64; 4],
+    /// Lower end of the domain (PI-output units).
+    pub lo: f64,
+    /// Upper end of the domain.
+    pub hi: f64,
+}
+
+impl PiOutput {
+    /// The core polynomial, checked (degree 2 or 3, higher coefficients 0, strictly increasing
+    /// on [lo, hi]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the degree or the coefficient; the core's
+    /// [`Polynomial::new`] errors.
+    pub fn polynomial(&self) -> Result<Polynomial<f64>, Error> {
+        if !(2..=3).contains(&self.degree) {
+            return Err(Error::InvalidParameter {
+                name: "output polynomial degree",
+                value: f64::from(self.degree),
+                expected: "2 or 3",
+            });
+        }
+        for (k, c) in self.coefficients.iter().enumerate() {
+            if k > usize::from(self.degree) && *c != 0.0 {
+                return Err(Error::InvalidParameter {
+                    name: "output polynomial coefficient above the degree",
+                    value: *c,
+                    expected: "0",
+                });
+            }
+        }
+        Polynomial::new(self.coefficients, self.lo, self.hi)
+    }
+}
+
 /// A Prandtl–Ishlinskii model as plain data (model files).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PiModel {
@@ -29,10 +104,63 @@ pub struct PiModel {
     pub weights: Vec<f64>,
     /// Output offset c (output units).
     pub offset: f64,
+    /// The optional output polynomial P: y = P(PI[x]) (model file format version 2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output: Option<PiOutput>,
+}
+
+/// The core type of a PI model with an output polynomial.
+pub type CoreShapedPi = ShapedPrandtlIshlinskii<f64, MAX_OPERATORS>;
+/// Its exact inverse.
+pub type CoreShapedPiInverse = InverseShapedPrandtlIshlinskii<f64, MAX_OPERATORS>;
+
+/// A runnable PI model (direct), with or without the output polynomial.
+#[derive(Clone, Copy, Debug)]
+pub enum PiOperator {
+    /// y = PI[x].
+    Plain(CorePi),
+    /// y = P(PI[x]).
+    Shaped(CoreShapedPi),
+}
+
+impl PiOperator {
+    /// One sample, plain or a jet (see `hyst_core::PrandtlIshlinskii::eval`).
+    ///
+    /// # Errors
+    /// A non-finite input (the state is then unchanged).
+    pub fn eval<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error> {
+        match self {
+            PiOperator::Plain(p) => p.eval(x),
+            PiOperator::Shaped(p) => p.eval(x),
+        }
+    }
+}
+
+/// A runnable PI compensator (desired output → command), with or without the polynomial.
+#[derive(Clone, Copy, Debug)]
+pub enum PiInverse {
+    /// x = PI⁻¹[y].
+    Plain(CorePi),
+    /// x = PI⁻¹[P⁻¹(y)].
+    Shaped(CoreShapedPiInverse),
+}
+
+impl PiInverse {
+    /// One sample, plain or a jet.
+    ///
+    /// # Errors
+    /// A non-finite desired output (the state is then unchanged).
+    pub fn eval<S: Scalar<f64>>(&mut self, y: S) -> Result<S, Error> {
+        match self {
+            PiInverse::Plain(p) => p.eval(y),
+            PiInverse::Shaped(p) => p.eval(y),
+        }
+    }
 }
 
 impl PiModel {
-    /// The core operator (no history: the plays start at rest at the first sample).
+    /// The core PI sum (no history: the plays start at rest at the first sample), without the
+    /// output polynomial.
     ///
     /// # Errors
     /// Invalid parameters (the core's checks), more than [`MAX_OPERATORS`] plays.
@@ -45,29 +173,54 @@ impl PiModel {
         )
     }
 
+    /// The whole model, checked: the PI sum and, when present, the output polynomial.
+    ///
+    /// # Errors
+    /// As [`PiModel::core`] and [`PiOutput::polynomial`].
+    pub fn operator(&self) -> Result<PiOperator, Error> {
+        let pi = self.core()?;
+        match &self.output {
+            None => Ok(PiOperator::Plain(pi)),
+            Some(o) => Ok(PiOperator::Shaped(CoreShapedPi::new(pi, o.polynomial()?)?)),
+        }
+    }
+
+    /// The exact compensator (plays at rest at the first sample).
+    ///
+    /// # Errors
+    /// As [`PiModel::operator`].
+    pub fn inverse_operator(&self) -> Result<PiInverse, Error> {
+        Ok(match self.operator()? {
+            PiOperator::Plain(p) => PiInverse::Plain(p.inverse()?),
+            PiOperator::Shaped(p) => PiInverse::Shaped(p.inverse()?),
+        })
+    }
+
     /// Runs the model over one record.
     ///
     /// # Errors
-    /// As [`PiModel::core`], or a non-finite input.
+    /// As [`PiModel::operator`], or a non-finite input.
     pub fn run(&self, input: &[f64]) -> Result<Vec<f64>, Error> {
-        let mut op = self.core()?;
-        input.iter().map(|x| op.try_step(*x)).collect()
+        let mut op = self.operator()?;
+        input.iter().map(|x| op.eval(*x)).collect()
     }
 
     /// Runs the compensator (desired output → command) over one record; the plays start at
     /// rest at the first command.
     ///
     /// # Errors
-    /// As [`PiModel::core`], or a non-finite desired output.
+    /// As [`PiModel::operator`], or a non-finite desired output.
     pub fn run_inverse(&self, desired: &[f64]) -> Result<Vec<f64>, Error> {
-        let mut op = self.core()?.inverse()?;
-        desired.iter().map(|y| op.try_step(*y)).collect()
+        let mut op = self.inverse_operator()?;
+        desired.iter().map(|y| op.eval(*y)).collect()
     }
 
-    /// Number of free parameters (w0, the weights, the offset).
+    /// Number of free parameters: w0, the weights and the offset; with an output polynomial of
+    /// degree d, d − 1 more (its c0 and c1 duplicate the PI's offset and scale, which are then
+    /// fixed by normalising the PI output to the data's output range).
     #[must_use]
     pub fn parameter_count(&self) -> usize {
-        self.weights.len() + 2
+        self.weights.len() + 2 + self.output.map_or(0, |o| usize::from(o.degree) - 1)
     }
 }
 
@@ -103,18 +256,32 @@ fn plays(input: &[f64], r: &[f64]) -> Vec<Vec<f64>> {
     cols
 }
 
-/// Fits a Prandtl–Ishlinskii model with `operators` plays to the training records.
+/// Fits a Prandtl–Ishlinskii model with `operators` plays (no output polynomial) to the
+/// training records.
+///
+/// # Errors
+/// As [`fit_pi_with`].
+pub fn fit_pi(data: &Dataset, operators: usize) -> Result<PiFit, FitError> {
+    fit_pi_with(data, operators, PiOutputKind::None)
+}
+
+/// Fits a Prandtl–Ishlinskii model with `operators` plays and the chosen output polynomial to
+/// the training records (see the module docs for the method).
 ///
 /// # Errors
 /// Bad data ([`Dataset::check`]), an operator count outside 1..=[`MAX_OPERATORS`].
-pub fn fit_pi(data: &Dataset, operators: usize) -> Result<PiFit, FitError> {
+pub fn fit_pi_with(
+    data: &Dataset,
+    operators: usize,
+    output: PiOutputKind,
+) -> Result<PiFit, FitError> {
     let started = Instant::now();
     if operators == 0 || operators > MAX_OPERATORS {
         return Err(FitError::Invalid(format!(
             "--operators {operators}: choose 1 to {MAX_OPERATORS} play operators"
         )));
     }
-    data.check(operators + 2)?;
+    data.check(operators + 1 + output.degree())?;
     let (lo, hi) = data.input_range();
     let span = hi - lo;
     let r: Vec<f64> = (1..=operators)
@@ -169,11 +336,24 @@ pub fn fit_pi(data: &Dataset, operators: usize) -> Result<PiFit, FitError> {
     let mut w = nnls(&gram, &shifted, m);
     w[0] += eps;
     let offset = ymean - w.iter().zip(&mean).map(|(a, b)| a * b).sum::<f64>();
+    if output != PiOutputKind::None {
+        let design = Design::new(&columns, m);
+        let (model, estimates) = fit_output(&design, &r, &w, offset, output.degree(), n_of(data))?;
+        let (training, validation) = error_stats(data, |x| model.run(x).ok())?;
+        return Ok(PiFit {
+            model,
+            estimates,
+            training,
+            validation,
+            seconds: started.elapsed().as_secs_f64(),
+        });
+    }
     let model = PiModel {
         identity_weight: w[0],
         thresholds: r,
         weights: w[1..].to_vec(),
         offset,
+        output: None,
     };
     // Standard errors on the free set (weights away from 0), offset from the centred model.
     let cost = (syy - 2.0 * w.iter().zip(&rhs).map(|(a, b)| a * b).sum::<f64>()
@@ -228,6 +408,410 @@ pub fn fit_pi(data: &Dataset, operators: usize) -> Result<PiFit, FitError> {
         validation,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+fn n_of(data: &Dataset) -> usize {
+    data.training_samples()
+}
+
+/// The training samples as a dense design: row i holds (x, p_1, …, p_n) of sample i.
+struct Design {
+    a: Vec<f64>,
+    y: Vec<f64>,
+    wt: Vec<f64>,
+    m: usize,
+}
+
+impl Design {
+    fn new(columns: &[(Vec<Vec<f64>>, &crate::Record)], m: usize) -> Self {
+        let mut d = Design {
+            a: Vec::new(),
+            y: Vec::new(),
+            wt: Vec::new(),
+            m,
+        };
+        for (cols, rec) in columns {
+            for i in 0..rec.output.len() {
+                for c in cols.iter().take(m) {
+                    d.a.push(c[i]);
+                }
+                d.y.push(rec.output[i]);
+                d.wt.push(rec.weight[i]);
+            }
+        }
+        d
+    }
+
+    fn rows(&self) -> impl Iterator<Item = (&[f64], f64, f64)> {
+        self.a
+            .chunks_exact(self.m)
+            .zip(&self.y)
+            .zip(&self.wt)
+            .map(|((a, y), w)| (a, *y, *w))
+    }
+
+    /// The PI output β + Σ a_j w_j of every sample.
+    fn pi_output(&self, w: &[f64], beta: f64) -> Vec<f64> {
+        self.a
+            .chunks_exact(self.m)
+            .map(|row| beta + row.iter().zip(w).map(|(a, b)| a * b).sum::<f64>())
+            .collect()
+    }
+
+    /// Weighted sum of squared output errors of y = P(s) (P with its tangent extension).
+    fn cost(&self, s: &[f64], p: &Polynomial<f64>) -> f64 {
+        s.iter()
+            .zip(&self.y)
+            .zip(&self.wt)
+            .map(|((s, y), w)| {
+                let e = y - p.apply(*s);
+                w * e * e
+            })
+            .sum()
+    }
+
+    /// Range of s over the samples with weight > 0.
+    fn range(&self, s: &[f64]) -> (f64, f64) {
+        s.iter()
+            .zip(&self.wt)
+            .filter(|(_, w)| **w > 0.0)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (v, _)| {
+                (a.min(*v), b.max(*v))
+            })
+    }
+}
+
+/// Coefficients of t ↦ P(α t + γ) for P(s) = Σ c_k s^k.
+fn compose_affine(c: &[f64; 4], alpha: f64, gamma: f64) -> [f64; 4] {
+    const BINOM: [[f64; 4]; 4] = [
+        [1.0, 0.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0, 0.0],
+        [1.0, 2.0, 1.0, 0.0],
+        [1.0, 3.0, 3.0, 1.0],
+    ];
+    let mut out = [0.0; 4];
+    for k in 0..4 {
+        for j in 0..=k {
+            out[j] += c[k] * BINOM[k][j] * alpha.powi(j as i32) * gamma.powi((k - j) as i32);
+        }
+    }
+    out
+}
+
+/// The smallest slope of P on [lo, hi] (P' is a quadratic: ends and vertex).
+fn min_slope(c: &[f64; 4], lo: f64, hi: f64) -> f64 {
+    let d = |x: f64| c[1] + x * (2.0 * c[2] + 3.0 * c[3] * x);
+    let mut m = d(lo).min(d(hi));
+    if c[3] != 0.0 {
+        let v = -c[2] / (3.0 * c[3]);
+        if v > lo && v < hi {
+            m = m.min(d(v));
+        }
+    }
+    m
+}
+
+/// P as a core polynomial on [lo, hi] when it is increasing there with a margin (its smallest
+/// slope at least 1e-6 of its mean slope, so the inverse stays well conditioned).
+fn feasible(c: &[f64; 4], lo: f64, hi: f64) -> Option<Polynomial<f64>> {
+    let p = Polynomial::new(*c, lo, hi).ok()?;
+    let mean = (p.eval(hi) - p.eval(lo)) / (hi - lo);
+    (mean > 0.0 && min_slope(c, lo, hi) >= 1e-6 * mean).then_some(p)
+}
+
+/// Weighted least-squares polynomial of the given degree through (s, y), in monomials of s.
+fn poly_ls(d: &Design, s: &[f64], degree: usize) -> Option<[f64; 4]> {
+    let k = degree + 1;
+    let mut g = vec![0.0; k * k];
+    let mut b = vec![0.0; k];
+    for ((sv, y), w) in s.iter().zip(&d.y).zip(&d.wt) {
+        let mut pw = [1.0; 4];
+        for j in 1..k {
+            pw[j] = pw[j - 1] * sv;
+        }
+        for i in 0..k {
+            b[i] += w * pw[i] * y;
+            for j in 0..k {
+                g[i * k + j] += w * pw[i] * pw[j];
+            }
+        }
+    }
+    let sol = cholesky_solve(&g, &b, k)?;
+    let mut c = [0.0; 4];
+    c[..k].copy_from_slice(&sol);
+    Some(c)
+}
+
+/// The polynomial step: the least-squares polynomial if it is increasing on [lo, hi], else the
+/// best point on the segment from a feasible anchor towards it (the cost is a convex quadratic
+/// minimised at the end of the segment and the feasible set is convex, so that point is the
+/// largest feasible step, found by bisection).
+fn poly_step(
+    d: &Design,
+    s: &[f64],
+    degree: usize,
+    anchor: &[f64; 4],
+    lo: f64,
+    hi: f64,
+) -> Option<([f64; 4], Polynomial<f64>)> {
+    let target = poly_ls(d, s, degree)?;
+    if let Some(p) = feasible(&target, lo, hi) {
+        return Some((target, p));
+    }
+    let anchor = if feasible(anchor, lo, hi).is_some() {
+        *anchor
+    } else {
+        poly_ls(d, s, 1)?
+    };
+    let mut best = (anchor, feasible(&anchor, lo, hi)?);
+    let (mut a, mut b) = (0.0_f64, 1.0_f64);
+    for _ in 0..50 {
+        let t = 0.5 * (a + b);
+        let c: [f64; 4] = std::array::from_fn(|i| anchor[i] + t * (target[i] - anchor[i]));
+        match feasible(&c, lo, hi) {
+            Some(p) => {
+                best = (c, p);
+                a = t;
+            }
+            None => b = t,
+        }
+    }
+    Some(best)
+}
+
+/// The state of the alternating fit: PI weights (w0 first) and offset β normalised so that the
+/// PI output spans [−1, 1] on the training data, and P in monomials of that output.
+#[derive(Clone)]
+struct State {
+    w: Vec<f64>,
+    beta: f64,
+    c: [f64; 4],
+    poly: Polynomial<f64>,
+    s: Vec<f64>,
+    cost: f64,
+}
+
+/// Rescales (w, β) so that the PI output spans [−1, 1]; returns the map s_new = a s_old + b.
+fn normalise(d: &Design, w: &mut [f64], beta: &mut f64) -> Option<(f64, f64)> {
+    let s = d.pi_output(w, *beta);
+    let (lo, hi) = d.range(&s);
+    if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let a = 2.0 / (hi - lo);
+    let b = -(hi + lo) / (hi - lo);
+    for v in w.iter_mut() {
+        *v *= a;
+    }
+    *beta = a * *beta + b;
+    Some((a, b))
+}
+
+/// The Gauss–Newton weight step around the current polynomial: NNLS (w0 ≥ ε, w_i ≥ 0, β free)
+/// on the linearisation y ≈ P(s_k) + P'(s_k)(s − s_k). Returns the proposed (w, β) and the
+/// reduced Gram matrix (for standard errors).
+fn weight_step(d: &Design, st: &State) -> Option<(Vec<f64>, f64, Vec<f64>, f64)> {
+    let m = d.m;
+    let mut sff = 0.0;
+    let mut sft = 0.0;
+    let mut sfb = vec![0.0; m];
+    let mut g = vec![0.0; m * m];
+    let mut rhs = vec![0.0; m];
+    for ((row, y, wt), s) in d.rows().zip(&st.s) {
+        let slope = st.poly.slope(*s);
+        let t = y - st.poly.apply(*s) + slope * s;
+        let f2 = wt * slope * slope;
+        sff += f2;
+        sft += wt * slope * t;
+        for a in 0..m {
+            sfb[a] += f2 * row[a];
+            rhs[a] += wt * slope * row[a] * t;
+            for b in a..m {
+                g[a * m + b] += f2 * row[a] * row[b];
+            }
+        }
+    }
+    if sff.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    for a in 0..m {
+        for b in a..m {
+            g[a * m + b] -= sfb[a] * sfb[b] / sff;
+            g[b * m + a] = g[a * m + b];
+        }
+        rhs[a] -= sfb[a] * sft / sff;
+    }
+    let eps = 1e-6 * st.w[0].abs().max(1e-300);
+    let shifted: Vec<f64> = (0..m).map(|a| rhs[a] - g[a * m] * eps).collect();
+    let mut w = nnls(&g, &shifted, m);
+    w[0] += eps;
+    let beta = (sft - w.iter().zip(&sfb).map(|(a, b)| a * b).sum::<f64>()) / sff;
+    Some((w, beta, g, sff))
+}
+
+/// Alternating fit of y = P(PI[x]) from the plain PI fit (w, offset); returns the model and its
+/// estimates (standard errors conditional on the other block: weights given P, P given the
+/// weights).
+fn fit_output(
+    d: &Design,
+    thresholds: &[f64],
+    w_plain: &[f64],
+    offset: f64,
+    degree: usize,
+    n: usize,
+) -> Result<(PiModel, Vec<Estimate>), FitError> {
+    let no_fit = || FitError::NoConvergence("the PI output polynomial could not be fitted".into());
+    let mut w = w_plain.to_vec();
+    let mut beta = offset;
+    // Start: P maps the normalised PI output back to the plain fit (same cost).
+    let (a, b) = normalise(d, &mut w, &mut beta).ok_or_else(no_fit)?;
+    let start = compose_affine(&[0.0, 1.0, 0.0, 0.0], 1.0 / a, -b / a);
+    let s = d.pi_output(&w, beta);
+    let (lo, hi) = d.range(&s);
+    let (c, poly) = poly_step(d, &s, degree, &start, lo, hi).ok_or_else(no_fit)?;
+    let cost = d.cost(&s, &poly);
+    let mut st = State {
+        w,
+        beta,
+        c,
+        poly,
+        s,
+        cost,
+    };
+    for _round in 0..200 {
+        let Some((wn, bn, _, _)) = weight_step(d, &st) else {
+            break;
+        };
+        // Backtracking on the segment (feasible: the constraints are convex).
+        let mut t = 1.0;
+        let mut moved = None;
+        for _ in 0..30 {
+            let w: Vec<f64> = st.w.iter().zip(&wn).map(|(a, b)| a + t * (b - a)).collect();
+            let beta = st.beta + t * (bn - st.beta);
+            let s = d.pi_output(&w, beta);
+            if d.cost(&s, &st.poly) < st.cost {
+                moved = Some((w, beta));
+                break;
+            }
+            t *= 0.5;
+        }
+        let Some((mut w, mut beta)) = moved else {
+            break;
+        };
+        let Some((a, b)) = normalise(d, &mut w, &mut beta) else {
+            break;
+        };
+        let anchor = compose_affine(&st.c, 1.0 / a, -b / a);
+        let s = d.pi_output(&w, beta);
+        let (lo, hi) = d.range(&s);
+        let Some((c, poly)) = poly_step(d, &s, degree, &anchor, lo, hi) else {
+            break;
+        };
+        let cost = d.cost(&s, &poly);
+        if cost.partial_cmp(&st.cost) != Some(std::cmp::Ordering::Less) {
+            break;
+        }
+        let done = st.cost - cost <= 1e-10 * st.cost;
+        st = State {
+            w,
+            beta,
+            c,
+            poly,
+            s,
+            cost,
+        };
+        if done {
+            break;
+        }
+    }
+    // The domain of P: the PI output range over the training samples.
+    let pi = PiModel {
+        identity_weight: st.w[0],
+        thresholds: thresholds.to_vec(),
+        weights: st.w[1..].to_vec(),
+        offset: st.beta,
+        output: None,
+    };
+    let (lo, hi) = d.range(&st.s);
+    let model = PiModel {
+        output: Some(PiOutput {
+            degree: u8::try_from(degree).unwrap_or(3),
+            coefficients: st.c,
+            lo,
+            hi,
+        }),
+        ..pi
+    };
+    model
+        .operator()
+        .map_err(|e| FitError::NoConvergence(format!("the fitted PI output polynomial: {e}")))?;
+    // Conditional standard errors.
+    let m = d.m;
+    let p = model.parameter_count();
+    let s2 = st.cost / (n.saturating_sub(p).max(1)) as f64;
+    let (g, sff) = weight_step(d, &st)
+        .map(|(_, _, g, sff)| (g, sff))
+        .ok_or_else(no_fit)?;
+    let free: Vec<usize> = (0..m).filter(|&j| j == 0 || st.w[j] > 0.0).collect();
+    let k = free.len();
+    let sub: Vec<f64> = free
+        .iter()
+        .flat_map(|&a| free.iter().map(move |&b| (a, b)))
+        .map(|(a, b)| g[a * m + b])
+        .collect();
+    let inv = spd_inverse(&sub, k);
+    let se = |j: usize| -> f64 {
+        match (free.iter().position(|&f| f == j), &inv) {
+            (Some(q), Some(inv)) => (inv[q * k + q] * s2).max(0.0).sqrt(),
+            (Some(_), None) => f64::NAN,
+            (None, _) => 0.0,
+        }
+    };
+    let unit = "PI output (normalised to [-1, 1]) per input unit";
+    let mut estimates = vec![
+        Estimate {
+            name: "w0".into(),
+            value: st.w[0],
+            std_error: se(0),
+            unit: unit.into(),
+        },
+        Estimate {
+            name: "offset".into(),
+            value: st.beta,
+            std_error: (s2 / sff).sqrt(),
+            unit: "PI output (normalised)".into(),
+        },
+    ];
+    for j in 1..m {
+        estimates.push(Estimate {
+            name: format!("w{j} (r = {:.4})", thresholds[j - 1]),
+            value: st.w[j],
+            std_error: se(j),
+            unit: unit.into(),
+        });
+    }
+    let kp = degree + 1;
+    let mut gp = vec![0.0; kp * kp];
+    for (sv, w) in st.s.iter().zip(&d.wt) {
+        let pw: [f64; 4] = [1.0, *sv, sv * sv, sv * sv * sv];
+        for i in 0..kp {
+            for j in 0..kp {
+                gp[i * kp + j] += w * pw[i] * pw[j];
+            }
+        }
+    }
+    let pinv = spd_inverse(&gp, kp);
+    for i in 0..kp {
+        estimates.push(Estimate {
+            name: format!("P.c{i}"),
+            value: st.c[i],
+            std_error: pinv
+                .as_ref()
+                .map_or(f64::NAN, |v| (v[i * kp + i] * s2).max(0.0).sqrt()),
+            unit: "output units".into(),
+        });
+    }
+    Ok((model, estimates))
 }
 
 /// Lawson–Hanson non-negative least squares on the normal equations: minimises
@@ -325,6 +909,7 @@ mod tests {
             thresholds: r,
             weights: vec![0.5, 0.0, 0.3, 0.1],
             offset: -2.0,
+            output: None,
         };
         let y = truth.run(&x)?;
         let fit = fit_pi(&Dataset::single(&x, &y), 4)?;
@@ -338,6 +923,130 @@ mod tests {
         }
         assert!((fit.model.offset + 2.0).abs() < 1e-8);
         assert!(fit.training.rms < 1e-8);
+        Ok(())
+    }
+
+    fn sweep(n: usize) -> Vec<f64> {
+        (0..n)
+            .map(|k| {
+                let t = k as f64 * 0.01;
+                (0.2 + 0.03 * t).min(1.0) * (2.0 * t).sin() + 0.1 * (5.3 * t).cos()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn compose_affine_is_substitution() {
+        let c = [0.3, -1.2, 0.7, 0.25];
+        let q = compose_affine(&c, 1.7, -0.4);
+        for x in [-2.0, -0.3, 0.0, 1.1] {
+            let p = |c: &[f64; 4], s: f64| c[0] + s * (c[1] + s * (c[2] + s * c[3]));
+            assert!((p(&q, x) - p(&c, 1.7 * x - 0.4)).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn recovers_a_pi_model_with_an_output_polynomial() -> Result<(), FitError> {
+        let x = sweep(4000);
+        let (lo, hi) = x
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(*v), b.max(*v))
+            });
+        let r: Vec<f64> = (1..=4).map(|i| (hi - lo) * i as f64 / 10.0).collect();
+        let plain = PiModel {
+            identity_weight: 0.8,
+            thresholds: r,
+            weights: vec![0.5, 0.0, 0.3, 0.1],
+            offset: 0.1,
+            output: None,
+        };
+        let s = plain.run(&x)?;
+        let (slo, shi) = s
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(*v), b.max(*v))
+            });
+        // A clearly curved, increasing cubic on the PI output range.
+        let truth = PiModel {
+            output: Some(PiOutput {
+                degree: 3,
+                coefficients: [1.0, 2.0, 0.6, 0.4],
+                lo: slo,
+                hi: shi,
+            }),
+            ..plain.clone()
+        };
+        truth.operator()?;
+        let y = truth.run(&x)?;
+        let data = Dataset::single(&x, &y);
+        // Without the polynomial the PI baseline cannot follow the curvature …
+        let base = fit_pi(&data, 4)?;
+        assert!(base.training.rms_pct_span > 0.5, "{:?}", base.training);
+        // … with it, the model is recovered up to the PI's normalisation.
+        let fit = fit_pi_with(&data, 4, PiOutputKind::Poly3)?;
+        assert!(fit.training.rms_pct_span < 1e-6, "{:?}", fit.training);
+        assert_eq!(fit.model.parameter_count(), 4 + 2 + 2);
+        // The PI weights are the truth's up to one scale factor (normalisation).
+        let scale = fit.model.identity_weight / 0.8;
+        for (a, b) in fit.model.weights.iter().zip(&truth.weights) {
+            assert!((a - scale * b).abs() < 1e-6 * scale, "{:?}", fit.model);
+        }
+        // The fitted P is increasing on its domain and the model runs on new input identically
+        // to the truth.
+        let fresh = sweep(5000);
+        let a = fit.model.run(&fresh[1000..])?;
+        let b = truth.run(&fresh[1000..])?;
+        let worst = a
+            .iter()
+            .zip(&b)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-6, "{worst}");
+        // A quadratic cannot represent the cubic exactly, but improves on the plain PI.
+        let quad = fit_pi_with(&data, 4, PiOutputKind::Poly2)?;
+        assert!(
+            quad.training.rms < base.training.rms,
+            "{:?} vs {:?}",
+            quad.training,
+            base.training
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn output_polynomial_inverse_is_exact() -> Result<(), FitError> {
+        let model = PiModel {
+            identity_weight: 0.3,
+            thresholds: vec![0.1, 0.2, 0.4],
+            weights: vec![0.5, 0.2, 0.1],
+            offset: -0.2,
+            output: Some(PiOutput {
+                degree: 2,
+                coefficients: [0.5, 1.0, 0.3, 0.0],
+                lo: -1.0,
+                hi: 1.0,
+            }),
+        };
+        let desired: Vec<f64> = sweep(3000).iter().map(|v| 1.3 * v + 0.2).collect();
+        let command = model.run_inverse(&desired)?;
+        let back = model.run(&command)?;
+        for (k, (a, b)) in back.iter().zip(&desired).enumerate() {
+            assert!((a - b).abs() < 1e-12, "{k}: {a} vs {b}");
+        }
+        // A bad degree or a non-monotone polynomial is refused, naming it.
+        let mut bad = model.clone();
+        if let Some(o) = bad.output.as_mut() {
+            o.degree = 4;
+        }
+        assert!(bad
+            .operator()
+            .is_err_and(|e| e.to_string().contains("degree")));
+        if let Some(o) = bad.output.as_mut() {
+            o.degree = 2;
+            o.coefficients = [0.0, 1.0, -0.8, 0.0];
+        }
+        assert!(bad.operator().is_err());
         Ok(())
     }
 }

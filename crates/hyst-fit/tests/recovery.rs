@@ -234,9 +234,67 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
     let a = file.run(&x)?;
     let b = back.run(&x)?;
     assert!(a.iter().zip(&b).all(|(p, q)| p.to_bits() == q.to_bits()));
-    // A newer version is refused with a clear message.
-    let newer = text.replace("version = 1", "version = 2");
+    // A newer version is refused with a clear message; version 1 (no PI output polynomial)
+    // still reads.
+    assert!(text.contains(&format!("version = {VERSION}")));
+    let newer = text.replace(
+        &format!("version = {VERSION}"),
+        &format!("version = {}", VERSION + 1),
+    );
     let err = hyst_fit::ModelFile::from_toml(&newer, std::path::Path::new("m.toml"));
-    assert!(matches!(err, Err(FitError::ModelFile { .. })));
+    assert!(
+        matches!(&err, Err(FitError::ModelFile { message, .. }) if message.contains("versions 1 to 2")),
+        "{err:?}"
+    );
+    assert_eq!(file.required_version(), 1);
+    let older = text.replace(&format!("version = {VERSION}"), "version = 1");
+    let back = hyst_fit::ModelFile::from_toml(&older, std::path::Path::new("m.toml"))?;
+    assert_eq!(back.version, 1);
+    Ok(())
+}
+
+#[test]
+fn pi_model_file_with_output_polynomial_reads_back_exactly() -> Result<(), FitError> {
+    use hyst_fit::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT};
+    use hyst_fit::pi::{fit_pi_with, PiOutputKind};
+    let x = input(3000);
+    let y: Vec<f64> = x.iter().map(|v| (1.5 * v).tanh() + 0.05 * v).collect();
+    let fit = fit_pi_with(&Dataset::single(&x, &y), 8, PiOutputKind::Poly3)?;
+    let mut file = hyst_fit::ModelFile {
+        format: FORMAT.into(),
+        version: 1,
+        kind: ModelKind::PrandtlIshlinskii,
+        columns: hyst_fit::Columns::default(),
+        units: Units::default(),
+        parameters: fit.estimates.clone(),
+        metrics: Metrics::default(),
+        structure: None,
+        smooth: None,
+        prandtl_ishlinskii: Some(fit.model.clone()),
+        family: None,
+        provenance: Provenance::default(),
+    };
+    assert_eq!(file.required_version(), 2);
+    // Written as version 1 it would be misread by a version-1 reader: refused, naming why.
+    let wrong = file.to_toml()?;
+    let err = hyst_fit::ModelFile::from_toml(&wrong, std::path::Path::new("m.toml"));
+    assert!(
+        matches!(&err, Err(FitError::ModelFile { message, .. }) if message.contains("[prandtl-ishlinskii.output]")),
+        "{err:?}"
+    );
+    file.version = file.required_version();
+    let text = file.to_toml()?;
+    assert!(text.contains("[prandtl-ishlinskii.output]"), "{text}");
+    let back = hyst_fit::ModelFile::from_toml(&text, std::path::Path::new("m.toml"))?;
+    assert_eq!(back, file);
+    let a = file.run(&x)?;
+    let b = back.run(&x)?;
+    assert!(a.iter().zip(&b).all(|(p, q)| p.to_bits() == q.to_bits()));
+    // The compensator read back is exact.
+    let command = back.run_inverse(&y)?;
+    let again = back.run(&command)?;
+    for (k, (p, q)) in again.iter().zip(&y).enumerate() {
+        assert!((p - q).abs() < 1e-12, "{k}: {p} vs {q}");
+    }
     Ok(())
 }
