@@ -219,14 +219,14 @@ pub fn main(args: Args) -> Result<()> {
                 thin(t2, &e2.compensation_error, 5000),
             ))
             .bound(&format!("bound Δa = ±{b2:.4}"), b2)
-            .legend(Legend::LowerRight),
+            .legend(Legend::Below),
             Panel::new(
                 "Example 2: force error",
                 "time t (s)",
                 "force error F − K v² (N)",
             )
             .series(Series::line("force error", thin(t2, &e2.force_error, 5000)))
-            .legend(Legend::LowerRight),
+            .legend(Legend::Below),
         ])
         .save(dir, "fig5_example2")?,
     );
@@ -251,13 +251,13 @@ pub fn main(args: Args) -> Result<()> {
                     "x2, uncompensated (F = r)",
                     thin(t3, &e3.uncompensated, 4000),
                 ))
-                .legend(Legend::LowerLeft),
+                .legend(Legend::Below),
             Panel::new("Example 3: compensation error", "time t (s)", "x2 − v (m)")
                 .series(Series::line(
                     "error",
                     thin(t3, &e3.compensation_error, 4000),
                 ))
-                .legend(Legend::LowerRight),
+                .legend(Legend::Below),
         ])
         .save(dir, "fig6_example3")?,
     );

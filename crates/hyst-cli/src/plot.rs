@@ -129,6 +129,9 @@ pub enum Legend {
     LowerLeft,
     /// Bottom right corner.
     LowerRight,
+    /// In a strip below the panel, outside the plot area: covers no data, for panels whose
+    /// data fill every corner.
+    Below,
     /// No legend.
     Hidden,
 }
@@ -335,9 +338,79 @@ impl Figure {
     }
 }
 
-fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, Shift>) -> Result<()> {
+/// Height in pixels of the legend strip of [`Legend::Below`].
+const LEGEND_STRIP: u32 = 34;
+
+/// One legend entry drawn by hand (for [`Legend::Below`]).
+struct Entry<'a> {
+    label: &'a str,
+    color: RGBColor,
+    style: Style,
+}
+
+/// Draws `entries` in one centred row in `area` (a strip below the chart).
+fn draw_strip<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entry]) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
+    let font: TextStyle = ("sans-serif", 16).into();
+    let (width, height) = area.dim_in_pixel();
+    let swatch = 26_i32;
+    let gap = 22_i32;
+    let mut widths = Vec::with_capacity(entries.len());
+    for e in entries {
+        let (w, _) = area.estimate_text_size(e.label, &font).map_err(err)?;
+        widths.push(w as i32);
+    }
+    let total: i32 = widths.iter().map(|w| swatch + 6 + w).sum::<i32>()
+        + gap * (entries.len() as i32 - 1).max(0);
+    let mut x = ((width as i32 - total) / 2).max(4);
+    let y = height as i32 / 2;
+    for (e, w) in entries.iter().zip(&widths) {
+        match e.style {
+            Style::Line => area
+                .draw(&PathElement::new(
+                    vec![(x, y), (x + swatch - 4, y)],
+                    e.color.stroke_width(3),
+                ))
+                .map_err(err)?,
+            Style::Dashed => {
+                area.draw(&PathElement::new(
+                    vec![(x, y), (x + 9, y)],
+                    e.color.stroke_width(2),
+                ))
+                .map_err(err)?;
+                area.draw(&PathElement::new(
+                    vec![(x + 14, y), (x + swatch - 4, y)],
+                    e.color.stroke_width(2),
+                ))
+                .map_err(err)?;
+            }
+            Style::Points => area
+                .draw(&Circle::new((x + 11, y), 4, e.color.filled()))
+                .map_err(err)?,
+        }
+        area.draw(&Text::new(
+            e.label.to_string(),
+            (x + swatch + 2, y - 9),
+            font.clone(),
+        ))
+        .map_err(err)?;
+        x += swatch + 6 + w + gap;
+    }
+    Ok(())
+}
+
+fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>) -> Result<()> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
     let ((x0, x1), (y0, y1)) = panel.data_range();
+    let (area, strip) = if panel.legend == Legend::Below {
+        let height = whole.dim_in_pixel().1;
+        let (top, bottom) = whole.split_vertically(height.saturating_sub(LEGEND_STRIP));
+        (top, Some(bottom))
+    } else {
+        (whole.clone(), None)
+    };
+    let mut entries: Vec<Entry> = Vec::new();
+    let area = &area;
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, ("sans-serif", 22))
         .margin(12)
@@ -391,6 +464,11 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, Shift>) 
         };
         if !s.label.is_empty() {
             any_label = true;
+            entries.push(Entry {
+                label: s.label.as_str(),
+                color,
+                style: s.style,
+            });
             let anno = anno.label(s.label.as_str());
             if s.style == Style::Points {
                 anno.legend(move |(x, y)| {
@@ -418,6 +496,11 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, Shift>) 
         if !h.label.is_empty() && !seen.contains(&h.label.as_str()) {
             seen.push(h.label.as_str());
             any_label = true;
+            entries.push(Entry {
+                label: h.label.as_str(),
+                color,
+                style: Style::Dashed,
+            });
             anno.label(h.label.as_str()).legend(move |(x, y)| {
                 EmptyElement::at((x, y))
                     + PathElement::new(vec![(0, 0), (8, 0)], color.stroke_width(2))
@@ -430,8 +513,11 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, Shift>) 
         Legend::UpperRight => Some(SeriesLabelPosition::UpperRight),
         Legend::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
         Legend::LowerRight => Some(SeriesLabelPosition::LowerRight),
-        Legend::Hidden => None,
+        Legend::Below | Legend::Hidden => None,
     };
+    if let (Some(strip), true) = (&strip, any_label) {
+        draw_strip(strip, &entries)?;
+    }
     if let (Some(position), true) = (position, any_label) {
         chart
             .configure_series_labels()
@@ -463,6 +549,10 @@ mod tests {
             Panel::new("dots", "x (1)", "y (1)")
                 .series(Series::scatter("pts", pts))
                 .legend(Legend::LowerLeft),
+            Panel::new("strip", "x (1)", "y (1)")
+                .series(Series::dashed("legend below", vec![(0.0, 0.0), (1.0, 1.0)]))
+                .bound("bound", 0.5)
+                .legend(Legend::Below),
         ]);
         let files = fig.save(&dir, "t")?;
         for f in &files {
@@ -471,6 +561,7 @@ mod tests {
         }
         let svg = std::fs::read_to_string(&files[1])?;
         assert!(svg.contains("time t (s)"));
+        assert!(svg.contains("legend below"));
         std::fs::remove_dir_all(&dir)?;
         Ok(())
     }
