@@ -29,7 +29,9 @@ pub use k2law::{AffineK2, ConstantK2, K2Law};
 pub use memory::{Direction, Memory};
 pub use model::{InverseModel, Model};
 pub use operator::{Branch, Direct, Hysteresis, Inverse, InverseHysteresis, Operator};
-pub use prandtl_ishlinskii::PrandtlIshlinskii;
+pub use prandtl_ishlinskii::{
+    InverseShapedPrandtlIshlinskii, PrandtlIshlinskii, ShapedPrandtlIshlinskii,
+};
 pub use real::Real;
 pub use scalar::Scalar;
 pub use shaping::{Affine, Identity, Langevin, Polynomial, QuadraticExp, Shape, Shaping, Tanh};
