@@ -399,6 +399,31 @@ fn draw_strip<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entr
     Ok(())
 }
 
+/// A tick label: rounded to a millionth of the axis span, so values that are zero up to rounding
+/// print as "0" (never "-0.0"), in the shortest form that reads back to the rounded value.
+fn tick_label(v: f64, span: f64) -> String {
+    let quantum = if span.is_finite() && span > 0.0 {
+        10f64.powf((span * 1e-6).log10().floor())
+    } else {
+        1e-12
+    };
+    let r = (v / quantum).round() * quantum;
+    let r = if r == 0.0 { 0.0 } else { r };
+    // Trim the binary noise of the rounding (0.30000000000000004 -> 0.3).
+    let digits = (-quantum.log10()).ceil().clamp(0.0, 15.0) as usize;
+    let text = format!("{r:.digits$}");
+    let text = if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    };
+    if text == "-0" {
+        "0".to_string()
+    } else {
+        text
+    }
+}
+
 fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>) -> Result<()> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
     let ((x0, x1), (y0, y1)) = panel.data_range();
@@ -428,6 +453,8 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>)
         .bold_line_style(RGBColor(205, 205, 205))
         .x_labels(7)
         .y_labels(7)
+        .x_label_formatter(&|v| tick_label(*v, x1 - x0))
+        .y_label_formatter(&|v| tick_label(*v, y1 - y0))
         .draw()
         .map_err(err)?;
 
@@ -534,6 +561,15 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>)
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn tick_labels_are_short_and_never_negative_zero() {
+        assert_eq!(super::tick_label(-1e-18, 0.3), "0");
+        assert_eq!(super::tick_label(0.1 + 0.2, 1.0), "0.3");
+        assert_eq!(super::tick_label(-0.05, 0.3), "-0.05");
+        assert_eq!(super::tick_label(20.0, 60.0), "20");
+        assert_eq!(super::tick_label(2.5e-5, 1e-4), "0.000025");
+    }
+
     use super::*;
 
     #[test]
