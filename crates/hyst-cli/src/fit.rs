@@ -185,6 +185,10 @@ pub struct Args {
     /// Draw plots into this directory (fit-io.png/svg, fit-residuals.png/svg).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
+    /// The time column for the residual plot (default: a column named t, t_s, time or time_s if
+    /// there is one; otherwise residuals are drawn against the data row).
+    #[arg(long, value_name = "COL")]
+    pub time: Option<String>,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -300,6 +304,11 @@ pub fn main(args: Args) -> Result<()> {
         validate_every: args.validate_every,
     };
     let data = Dataset::from_table(&table, &options)?;
+    // Checked before the fit, so a bad --time costs nothing and writes nothing.
+    let time = match &args.plot {
+        Some(_) => time_column(&table, args.time.as_deref())?,
+        None => None,
+    };
     let structure = Structure {
         k2: match args.k2 {
             K2Arg::Constant => K2Kind::Constant,
@@ -389,13 +398,14 @@ pub fn main(args: Args) -> Result<()> {
     if INTERRUPTED.load(Ordering::SeqCst) {
         bail!(hyst_fit::FitError::Interrupted);
     }
+    // Plots first: if they cannot be written, the command fails before the model file exists.
+    let mut plots = Vec::new();
+    if let Some(dir) = &args.plot {
+        plots = draw(dir, &data, &args, time, smooth.as_ref(), pi.as_ref())?;
+    }
     file.write(&args.model_out)?;
 
     let (lo, hi) = data.output_range();
-    let mut plots = Vec::new();
-    if let Some(dir) = &args.plot {
-        plots = draw(dir, &data, &args, smooth.as_ref(), pi.as_ref())?;
-    }
     let comparison = if args.compare {
         smooth_summary.into_iter().chain(pi_summary).collect()
     } else {
@@ -654,10 +664,28 @@ type Points = Vec<(f64, f64)>;
 /// A model run over one record.
 type RunFn<'a> = Box<dyn Fn(&[f64]) -> Option<Vec<f64>> + 'a>;
 
+/// The time axis of the residual plot: `--time COL`, else a column with a conventional time name.
+fn time_column<'t>(
+    table: &'t Table,
+    name: Option<&'t str>,
+) -> Result<Option<(&'t str, &'t [f64])>> {
+    if let Some(name) = name {
+        let column = table.column(name).context("--time")?;
+        return Ok(Some((name, column)));
+    }
+    for candidate in ["t", "t_s", "time", "time_s"] {
+        if let Ok(column) = table.column(candidate) {
+            return Ok(Some((candidate, column)));
+        }
+    }
+    Ok(None)
+}
+
 fn draw(
     dir: &Path,
     data: &Dataset,
     args: &Args,
+    time: Option<(&str, &[f64])>,
     smooth: Option<&SmoothFit>,
     pi: Option<&PiFit>,
 ) -> Result<Vec<PathBuf>> {
@@ -694,18 +722,30 @@ fn draw(
             let y = run(&r.input).context("the fitted model cannot run the data")?;
             for (((x, m), o), row) in r.input.iter().zip(&y).zip(&r.output).zip(&r.rows) {
                 io.push((*x, *m));
-                res.push(((*row + 1) as f64, m - o));
+                let at = match time {
+                    Some((_, t)) => t.get(*row).copied().unwrap_or(f64::NAN),
+                    None => (*row + 1) as f64,
+                };
+                res.push((at, m - o));
             }
         }
         models.push(((*name).to_string(), io, res));
     }
     let mut io_panel = Panel::new("Data and model in the input-output plane", &xl, &yl)
         .series(Series::scatter("measured", thin(measured, 20_000)).color(0));
-    let mut res_panel = Panel::new(
-        "Residuals (model − measured) over the samples",
-        "sample (data row)",
-        &format!("residual{}", unit_paren(&args.output_unit)),
-    );
+    let (res_title, res_x) = match time {
+        Some((name, _)) => ("Residuals (model − measured) over time", name.to_string()),
+        None => (
+            "Residuals (model − measured) over the samples",
+            "sample (data row)".to_string(),
+        ),
+    };
+    let output_unit = if args.output_unit.is_empty() {
+        format!(" (units of {})", args.output)
+    } else {
+        unit_paren(&args.output_unit)
+    };
+    let mut res_panel = Panel::new(res_title, &res_x, &format!("residual{output_unit}"));
     for (i, (name, io, res)) in models.into_iter().enumerate() {
         let color = i + 1;
         io_panel = io_panel.series(

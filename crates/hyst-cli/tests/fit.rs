@@ -553,3 +553,56 @@ fn smooth_model_derivatives_through_run_model() -> R {
     }
     Ok(())
 }
+
+#[test]
+fn plots_are_written_and_a_bad_time_column_is_named() -> R {
+    let dir = tempfile::tempdir()?;
+    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    let model = dir.path().join("m.toml");
+    let plots = dir.path().join("plots");
+    let args = |time: Option<&str>| {
+        let mut a = vec![
+            "fit".to_string(),
+            data.to_string_lossy().into_owned(),
+            "--input".into(),
+            "u_actuator_V".into(),
+            "--output".into(),
+            "y_capsensor_um".into(),
+            "-o".into(),
+            model.to_string_lossy().into_owned(),
+            "--plot".into(),
+            plots.to_string_lossy().into_owned(),
+        ];
+        if let Some(t) = time {
+            a.push("--time".into());
+            a.push(t.into());
+        }
+        a
+    };
+    let bad = args(Some("seconds"));
+    let out = hyst(&bad.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("--time") && err.contains("\"seconds\""),
+        "{err}"
+    );
+    assert!(!model.exists(), "no model file after a failed fit");
+    let good = args(None); // t_s is found by its name
+    let out = hyst(&good.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    for f in [
+        "fit-io.png",
+        "fit-io.svg",
+        "fit-residuals.png",
+        "fit-residuals.svg",
+    ] {
+        assert!(plots.join(f).metadata()?.len() > 1000, "{f}");
+    }
+    let svg = std::fs::read_to_string(plots.join("fit-residuals.svg"))?;
+    assert!(
+        svg.contains("t_s"),
+        "residuals are drawn over the time column"
+    );
+    Ok(())
+}
