@@ -208,6 +208,7 @@ impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
 
     /// The current memory, `None` before the first sample (without an initial state).
     #[must_use]
+    #[doc(alias = "state")]
     pub fn memory(&self) -> Option<Memory<T>> {
         self.memory
     }
@@ -216,6 +217,7 @@ impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
     ///
     /// # Errors
     /// As [`Memory::validate`]; on error the operator is unchanged.
+    #[doc(alias = "restore")]
     pub fn set_memory(&mut self, memory: Memory<T>) -> Result<(), Error> {
         memory.validate(self.k1)?;
         self.memory = Some(memory);
