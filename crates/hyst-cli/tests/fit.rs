@@ -33,6 +33,43 @@ fn column(csv: &str, name: &str) -> Result<Vec<f64>, Box<dyn std::error::Error>>
         .collect::<Result<_, _>>()?)
 }
 
+/// Feeds a direct run's output (y, y_d1, y_d2) back through `hyst run --model MODEL --inverse
+/// --derivatives 2` and returns the compensator's CSV.
+fn invert_with_derivatives(
+    dir: &Path,
+    model: &str,
+    direct: &str,
+    name: &str,
+) -> Result<String, Box<dyn std::error::Error>> {
+    let y = column(direct, "y")?;
+    let d1 = column(direct, "y_d1")?;
+    let d2 = column(direct, "y_d2")?;
+    let mut back = String::from("y,y_d1,y_d2\n");
+    for ((a, b), c) in y.iter().zip(&d1).zip(&d2) {
+        back += &format!("{a},{b},{c}\n");
+    }
+    let desired = dir.join(format!("desired-{name}.csv"));
+    std::fs::write(&desired, back)?;
+    let inv_out = dir.join(format!("{name}.csv"));
+    let out = hyst(&[
+        "run",
+        "--model",
+        model,
+        "--inverse",
+        "--column",
+        "y",
+        "--derivatives",
+        "2",
+        desired.to_str().ok_or("path")?,
+        "-o",
+        inv_out.to_str().ok_or("path")?,
+    ]);
+    if !out.status.success() {
+        return Err(text(&out.stderr).into());
+    }
+    Ok(std::fs::read_to_string(&inv_out)?)
+}
+
 #[test]
 fn piezo_fit_is_accurate_and_run_reads_the_model_back() -> R {
     let dir = tempfile::tempdir()?;
@@ -403,31 +440,7 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
     // centred differences.
     let input_d1 = column(&std::fs::read_to_string(&jets)?, "u_actuator_V_d1")?;
     check_derivatives(&direct, &input_d1, 1e-3, 3 * 16 * 4)?;
-    let y = column(&direct, "y")?;
-    let d1 = column(&direct, "y_d1")?;
-    let d2 = column(&direct, "y_d2")?;
-    let mut back = String::from("y,y_d1,y_d2\n");
-    for ((a, b), c) in y.iter().zip(&d1).zip(&d2) {
-        back += &format!("{a},{b},{c}\n");
-    }
-    let desired = dir.path().join("desired.csv");
-    std::fs::write(&desired, back)?;
-    let inv_out = dir.path().join("inv-jets.csv");
-    let out = hyst(&[
-        "run",
-        "--model",
-        m,
-        "--inverse",
-        "--column",
-        "y",
-        "--derivatives",
-        "2",
-        desired.to_str().ok_or("path")?,
-        "-o",
-        inv_out.to_str().ok_or("path")?,
-    ]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let inverse = std::fs::read_to_string(&inv_out)?;
+    let inverse = invert_with_derivatives(dir.path(), m, &direct, "pi-inverse")?;
     let input = std::fs::read_to_string(&jets)?;
     let (x, xd1) = (
         column(&input, "u_actuator_V")?,
@@ -506,31 +519,7 @@ fn smooth_model_derivatives_through_run_model() -> R {
     let input_d1 = column(&std::fs::read_to_string(&jets)?, "u_actuator_V_d1")?;
     check_derivatives(&direct, &input_d1, 1e-3, 0)?;
     // The compensator's derivatives give back the command's.
-    let y = column(&direct, "y")?;
-    let d1 = column(&direct, "y_d1")?;
-    let d2 = column(&direct, "y_d2")?;
-    let mut back = String::from("y,y_d1,y_d2\n");
-    for ((a, b), c) in y.iter().zip(&d1).zip(&d2) {
-        back += &format!("{a},{b},{c}\n");
-    }
-    let desired = dir.path().join("desired.csv");
-    std::fs::write(&desired, back)?;
-    let inv_out = dir.path().join("inv.csv");
-    let out = hyst(&[
-        "run",
-        "--model",
-        m,
-        "--inverse",
-        "--column",
-        "y",
-        "--derivatives",
-        "2",
-        desired.to_str().ok_or("path")?,
-        "-o",
-        inv_out.to_str().ok_or("path")?,
-    ]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let inverse = std::fs::read_to_string(&inv_out)?;
+    let inverse = invert_with_derivatives(dir.path(), m, &direct, "smooth-inverse")?;
     let input = std::fs::read_to_string(&jets)?;
     let (xd1, xd2) = (
         column(&input, "u_actuator_V_d1")?,
