@@ -453,6 +453,18 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
         upper: &mut [T],
         grid: usize,
     ) -> Result<(), Error> {
+        self.envelope_of(&crate::Identity, input, lower, upper, grid)
+    }
+
+    /// [`Family::envelope`] of the operator input ψ_in(input): the one loop over the members.
+    fn envelope_of<I: Shaping<T>>(
+        &self,
+        input_shaping: &I,
+        input: &[T],
+        lower: &mut [T],
+        upper: &mut [T],
+        grid: usize,
+    ) -> Result<(), Error> {
         if input.len() != lower.len() || input.len() != upper.len() {
             return Err(Error::LengthMismatch {
                 input: input.len(),
@@ -467,7 +479,7 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
             for j in 0..grid {
                 let mut member = self.member(pos(i), pos(j))?;
                 for ((x, lo), hi) in input.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
-                    match member.try_step(*x) {
+                    match member.try_step(input_shaping.apply(*x)) {
                         Ok(y) => {
                             *lo = lo.min(y);
                             *hi = hi.max(y);
@@ -510,27 +522,7 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
                 output: output.len(),
             });
         }
-        if lower.len() != input.len() || upper.len() != input.len() {
-            return Err(Error::LengthMismatch {
-                input: input.len(),
-                output: lower.len().min(upper.len()),
-            });
-        }
-        lower.iter_mut().for_each(|x| *x = T::infinity());
-        upper.iter_mut().for_each(|x| *x = T::neg_infinity());
-        let grid = grid.max(2);
-        let pos = |i: usize| T::lit(-1.0 + 2.0 * i as f64 / (grid - 1) as f64);
-        for i in 0..grid {
-            for j in 0..grid {
-                let mut member = self.member(pos(i), pos(j))?;
-                for ((x, lo), hi) in input.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
-                    if let Ok(y) = member.try_step(input_shaping.apply(*x)) {
-                        *lo = lo.min(y);
-                        *hi = hi.max(y);
-                    }
-                }
-            }
-        }
+        self.envelope_of(input_shaping, input, lower, upper, grid)?;
         let mut inside = 0usize;
         let mut counted = 0usize;
         let mut worst = T::zero();
