@@ -548,6 +548,19 @@ pub struct Drifting<I, O, F, K = ConstantK2<f64>> {
     last_params: (f64, f64),
 }
 
+/// `value` if it is finite and ≥ 0, else an error naming it.
+fn non_negative(name: &'static str, value: f64) -> Result<f64, SimError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(SimError::InvalidParameter {
+            name,
+            value,
+            expected: "finite and ≥ 0",
+        })
+    }
+}
+
 fn check_width(name: &'static str, value: f64, nominal: f64) -> Result<(), SimError> {
     if value.is_finite() && value >= 0.0 && value < nominal {
         Ok(())
@@ -614,13 +627,7 @@ where
     ) -> Result<Self, SimError> {
         let _ = Hysteresis::<f64, ConstantK2<f64>>::new(k1.0, 1.0)?;
         check_width("Δk1", k1.1, k1.0)?;
-        if !(dk2.is_finite() && dk2 >= 0.0) {
-            return Err(SimError::InvalidParameter {
-                name: "Δk2",
-                value: dk2,
-                expected: "finite and ≥ 0",
-            });
-        }
+        non_negative("Δk2", dk2)?;
         Ok(Self {
             input,
             output,
@@ -702,13 +709,7 @@ impl Backlash {
     /// # Errors
     /// [`SimError::InvalidParameter`] when the width is not finite and ≥ 0.
     pub fn new(width: f64) -> Result<Self, SimError> {
-        if !(width.is_finite() && width >= 0.0) {
-            return Err(SimError::InvalidParameter {
-                name: "backlash width",
-                value: width,
-                expected: "finite and ≥ 0",
-            });
-        }
+        non_negative("backlash width", width)?;
         Ok(Self {
             half_width: 0.5 * width,
             state: None,
