@@ -135,28 +135,20 @@ impl<T: Real> Memory<T> {
     /// derivative when it has one); a change of direction makes the last sample the reversal point.
     #[inline]
     pub fn observe(&mut self, x: T, trend: Option<bool>) {
-        // The common case costs one comparison: still moving the current way (or standing).
-        let turned = match self.direction {
-            Direction::Rising => x < self.last_input,
-            Direction::Falling => x > self.last_input,
+        let direction = if x > self.last_input {
+            Some(Direction::Rising)
+        } else if x < self.last_input {
+            Some(Direction::Falling)
+        } else {
+            trend.map(Direction::from_rising)
         };
-        if turned {
-            self.reverse();
-        } else if x == self.last_input {
-            if let Some(rising) = trend {
-                if rising != (self.direction == Direction::Rising) {
-                    self.reverse();
-                }
+        if let Some(d) = direction {
+            if d != self.direction {
+                self.reversal_input = self.last_input;
+                self.reversal_output = self.last_output;
+                self.direction = d;
             }
         }
-    }
-
-    /// A change of direction: the last sample becomes the reversal point.
-    #[inline]
-    fn reverse(&mut self) {
-        self.reversal_input = self.last_input;
-        self.reversal_output = self.last_output;
-        self.direction = self.direction.reversed();
     }
 
     /// The first sample of an operator with no history: a reversal point on the line
