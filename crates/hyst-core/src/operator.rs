@@ -17,11 +17,12 @@ pub trait Branch: sealed::Sealed + Copy + core::fmt::Debug {
     /// "direct" or "inverse".
     const NAME: &'static str;
     /// M* from the memory: M(α, β) + k1 for the direct operator, −M(α, β) + k1 for the inverse
-    /// (eq. 4; Proposition 2.7 uses the same, see `docs/errata.md`). Clamped to [0, 2 k1], the
-    /// range it has on every consistent state, so rounding can never leave the band.
+    /// (eq. 4; Proposition 2.7 uses the same, see `docs/errata.md`). On every consistent state it
+    /// lies in [0, 2 k1].
     fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T;
-    /// The transformed output from the transformed input: eq. (2) or eq. (4).
-    fn transition<T: Real, S: Scalar<T>>(x_tilde: S, m_star: T, k2: S) -> S;
+    /// The operator's output β for the input α = `x`: eq. (2) or eq. (4) between the
+    /// transformation T of Definition 2.1 (α̃ = s (α − α0)) and its inverse (β = β0 + s β̃).
+    fn output<T: Real, S: Scalar<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S;
 }
 
 /// Marker for the direct operator u = H(k1, k2)[v] of eq. (2).
@@ -48,46 +49,58 @@ impl Branch for Direct {
     fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T {
         clamp_band(memory.m() + k1, k1)
     }
-    /// Eq. (2): ũ = ṽ − M* + W(k2 M* e^(k2 (M* − ṽ))) / k2.
-    ///
-    /// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b): while a e^b is finite, eq. (2) as
-    /// printed (its rounding error is a few ulps of max(|ṽ|, M*), below that of the output
-    /// u = β0 + s ũ itself). When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain)
-    /// and, using w + ln w = ln a + b, ũ = (ln a − ln w) / k2, which has no cancellation between
-    /// large terms: k2 up to 1e12 (near-backlash) stays finite and accurate. At a reversal point
-    /// (ṽ = 0) the value is exactly 0.
+    /// Eq. (2) between the transformation of Definition 2.1 and its inverse.
     #[inline]
-    fn transition<T: Real, S: Scalar<T>>(v_tilde: S, m_star: T, k2: S) -> S {
-        let a = k2 * m_star;
-        let b = k2 * (S::cst(m_star) - v_tilde);
-        let x = a * b.exp();
-        let u_tilde = if x.value().is_finite() {
-            v_tilde - m_star + x.w0() / k2
-        } else {
-            let ln_a = k2.ln() + m_star.ln();
-            let w = (ln_a + b).omega();
-            (ln_a - w.ln()) / k2
-        };
-        if v_tilde.value() == T::zero() {
-            u_tilde.with_value(T::zero())
-        } else {
-            u_tilde
-        }
+    fn output<T: Real, S: Scalar<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
+        memory.untransform(direct_transition(memory.transform(x), m_star, k2))
+    }
+}
+
+/// Eq. (2): ũ = ṽ − M* + W(k2 M* e^(k2 (M* − ṽ))) / k2.
+///
+/// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b): while a e^b is finite, eq. (2) as
+/// printed (its rounding error is a few ulps of max(|ṽ|, M*), below that of the output
+/// u = β0 + s ũ itself). When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain)
+/// and, using w + ln w = ln a + b, ũ = (ln a − ln w) / k2, which has no cancellation between
+/// large terms: k2 up to 1e12 (near-backlash) stays finite and accurate. At a reversal point
+/// (ṽ = 0) the value is exactly 0.
+#[inline]
+fn direct_transition<T: Real, S: Scalar<T>>(v_tilde: S, m_star: T, k2: S) -> S {
+    let a = k2 * m_star;
+    let b = k2 * (S::cst(m_star) - v_tilde);
+    let x = a * b.exp();
+    let u_tilde = if x.value().is_finite() {
+        v_tilde - m_star + x.w0() / k2
+    } else {
+        let ln_a = k2.ln() + m_star.ln();
+        let w = (ln_a + b).omega();
+        (ln_a - w.ln()) / k2
+    };
+    if v_tilde.value() == T::zero() {
+        u_tilde.with_value(T::zero())
+    } else {
+        u_tilde
     }
 }
 
 impl Branch for Inverse {
     const NAME: &'static str = "inverse";
+    /// Not clamped: eq. (4) stays well defined for any M*, and the memory only leaves the band by
+    /// rounding (a state from outside is checked by `set_memory`).
     #[inline]
     fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T {
-        clamp_band(k1 - memory.m(), k1)
+        k1 - memory.m()
     }
-    /// Eq. (4): ṽ = ũ_d + M* (1 − e^(−k2 ũ_d)). (1 − e^(−z) is computed with `exp`, not
-    /// `expm1`: its absolute error, ≤ 2 k1 ε, is below the rounding of the output v itself, and
-    /// `exp` is about 1.5 times faster; it is exactly 0 at a reversal point.)
+    /// Eq. (4), ṽ = ũ_d + M* (1 − e^(−k2 ũ_d)), with Definition 2.1's transformation folded in:
+    /// v = (β0 + s ũ_d) + s M* (1 − e^(−k2 ũ_d)), so only two numbers wait for the exponential.
+    /// Exactly β0 at a reversal point (ũ_d = 0). 1 − e^(−z) is computed with `exp`, not `expm1`:
+    /// its absolute error, ≤ 2 k1 ε, is below the rounding of v itself, and `exp` is faster.
     #[inline]
-    fn transition<T: Real, S: Scalar<T>>(ud_tilde: S, m_star: T, k2: S) -> S {
-        ud_tilde + (S::cst(T::one()) - (-(k2 * ud_tilde)).exp()) * m_star
+    fn output<T: Real, S: Scalar<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
+        let s = memory.direction.sign::<T>();
+        let ud_tilde = memory.transform(x);
+        let along_input = ud_tilde * s + memory.reversal_output;
+        along_input + (S::cst(T::one()) - (-(k2 * ud_tilde)).exp()) * (m_star * s)
     }
 }
 
@@ -233,14 +246,14 @@ impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
     ///
     /// # Errors
     /// [`Error::NonFiniteInput`] or [`Error::InvalidK2`]; the memory is then unchanged.
-    #[inline]
+    #[inline(always)]
     pub fn try_step(&mut self, x: T) -> Result<T, Error> {
         self.eval(x)
     }
 
     /// One sample; a non-finite input (or an invalid k2 from a custom law) holds the last output
     /// and leaves the memory untouched. Before any valid sample, it returns the input as is.
-    #[inline]
+    #[inline(always)]
     pub fn step(&mut self, x: T) -> T {
         match self.eval(x) {
             Ok(y) => y,
@@ -270,7 +283,7 @@ impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
     ///
     /// # Errors
     /// As [`Operator::try_step`].
-    #[inline]
+    #[inline(always)]
     pub fn eval<S: Scalar<T>>(&mut self, x: S) -> Result<S, Error> {
         let k2 = self.checked_k2(x)?;
         let memory = self
@@ -292,7 +305,7 @@ impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
 
     /// Everything that can refuse a sample, checked before the memory is touched: a non-finite
     /// input, and a k2 from the law that is not finite and > 0.
-    #[inline]
+    #[inline(always)]
     fn checked_k2<S: Scalar<T>>(&self, x: S) -> Result<S, Error> {
         if !x.all_finite() {
             return Err(Error::NonFiniteInput {
@@ -311,12 +324,12 @@ impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
     }
 
     /// Definition 2.1's memory update followed by the branch's formula: infallible.
-    #[inline]
+    #[inline(always)]
     fn advance<S: Scalar<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> S {
         let v = x.value();
         memory.observe(v, x.trend());
         let m_star = B::m_star(memory, k1);
-        let y = memory.untransform(B::transition(memory.transform(x), m_star, k2));
+        let y = B::output(memory, x, m_star, k2);
         memory.last_input = v;
         memory.last_output = y.value();
         y
