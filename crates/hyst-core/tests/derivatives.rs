@@ -63,6 +63,18 @@ fn on_branch<K: K2Law<f64> + Clone, B: Branch>(
     op
 }
 
+/// The operator's derivatives 1..4 at t = 0 for the input through x0 heading s: by jets, and by
+/// finite differences of the plain operator.
+fn jet_and_fd<K: K2Law<f64>, B: Branch>(
+    op: &Operator<f64, K, B>,
+    x0: f64,
+    s: f64,
+) -> ([f64; 4], [f64; 4]) {
+    let jet = op.peek(input_jet(x0, s)).unwrap().derivatives();
+    let fd = finite_differences(|t| op.peek(input(x0, s, t)).unwrap(), 2e-3);
+    (jet, fd)
+}
+
 fn assert_close(what: &str, jet: [f64; 4], fd: [f64; 4], orders: usize) {
     for k in 0..orders {
         let tol = if k < 2 { 1e-7 } else { 1e-4 } * jet[k].abs().max(1.0);
@@ -97,10 +109,9 @@ fn inverse_jets_match_finite_differences_and_corrected_eq_8() {
                 back,
                 offset * k1,
             );
-            let jet = op.peek(input_jet(x0, s)).unwrap();
-            let fd = finite_differences(|t| op.peek(input(x0, s, t)).unwrap(), 2e-3);
+            let (jet, fd) = jet_and_fd(&op, x0, s);
             let what = format!("inverse {direction:?} k1 {k1} k2 {k2}");
-            assert_close(&what, jet.derivatives(), fd, 4);
+            assert_close(&what, jet, fd, 4);
 
             // The corrected eq. (7)–(8) of NOTES.md, with M* = −M + k1 and the direction s.
             let m = op.memory().unwrap();
@@ -110,13 +121,12 @@ fn inverse_jets_match_finite_differences_and_corrected_eq_8() {
             let [ud1, ud2, _, _] = input_jet(x0, s).derivatives();
             let v1 = (1.0 + k2 * m_star * e) * ud1;
             let v2 = (1.0 + k2 * m_star * e) * ud2 - s * m_star * k2 * k2 * e * ud1 * ud1;
-            let d = jet.derivatives();
             assert!(
-                (d[0] - v1).abs() <= 1e-13 * v1.abs().max(1.0),
+                (jet[0] - v1).abs() <= 1e-13 * v1.abs().max(1.0),
                 "{what}: eq. 7"
             );
             assert!(
-                (d[1] - v2).abs() <= 1e-12 * v2.abs().max(1.0),
+                (jet[1] - v2).abs() <= 1e-12 * v2.abs().max(1.0),
                 "{what}: eq. 8"
             );
         }
@@ -161,14 +171,8 @@ fn direct_jets_match_finite_differences() {
                 back,
                 offset * k1,
             );
-            let jet = op.peek(input_jet(x0, s)).unwrap();
-            let fd = finite_differences(|t| op.peek(input(x0, s, t)).unwrap(), 2e-3);
-            assert_close(
-                &format!("direct {direction:?} k1 {k1} k2 {k2}"),
-                jet.derivatives(),
-                fd,
-                4,
-            );
+            let (jet, fd) = jet_and_fd(&op, x0, s);
+            assert_close(&format!("direct {direction:?} k1 {k1} k2 {k2}"), jet, fd, 4);
         }
     }
 }
@@ -193,17 +197,9 @@ fn jets_with_input_dependent_k2_match_finite_differences() {
             0.1,
             0.02,
         );
-        for (name, jet, fd) in [
-            (
-                "direct",
-                direct.peek(input_jet(x0, s)).unwrap().derivatives(),
-                finite_differences(|t| direct.peek(input(x0, s, t)).unwrap(), 2e-3),
-            ),
-            (
-                "inverse",
-                inverse.peek(input_jet(x0, s)).unwrap().derivatives(),
-                finite_differences(|t| inverse.peek(input(x0, s, t)).unwrap(), 2e-3),
-            ),
+        for (name, (jet, fd)) in [
+            ("direct", jet_and_fd(&direct, x0, s)),
+            ("inverse", jet_and_fd(&inverse, x0, s)),
         ] {
             assert_close(&format!("{name} φ {direction:?}"), jet, fd, 4);
         }
