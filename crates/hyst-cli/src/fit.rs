@@ -20,7 +20,7 @@ use hyst_fit::modelfile::{fnv1a64, Metrics, ModelKind, Provenance, Units};
 use hyst_fit::pi::{fit_pi_with, PiFit, PiOutputKind};
 use hyst_fit::smooth::ErrorStats;
 use hyst_fit::{
-    fit_smooth, DataOptions, Dataset, FitOptions, InitialState, K2Kind, ModelFile, ShapeKind,
+    fit_smooth, DataOptions, Dataset, FitOptions, InitialState, K2Kind, ModelFile, ShapingKind,
     SmoothFit, Structure,
 };
 use hyst_io::Table;
@@ -84,15 +84,15 @@ pub enum ShapeArg {
     QuadExp,
 }
 
-impl From<ShapeArg> for ShapeKind {
+impl From<ShapeArg> for ShapingKind {
     fn from(s: ShapeArg) -> Self {
         match s {
-            ShapeArg::Affine => ShapeKind::Affine,
-            ShapeArg::Poly2 => ShapeKind::Poly2,
-            ShapeArg::Poly3 => ShapeKind::Poly3,
-            ShapeArg::Tanh => ShapeKind::Tanh,
-            ShapeArg::Langevin => ShapeKind::Langevin,
-            ShapeArg::QuadExp => ShapeKind::QuadExp,
+            ShapeArg::Affine => ShapingKind::Affine,
+            ShapeArg::Poly2 => ShapingKind::Poly2,
+            ShapeArg::Poly3 => ShapingKind::Poly3,
+            ShapeArg::Tanh => ShapingKind::Tanh,
+            ShapeArg::Langevin => ShapingKind::Langevin,
+            ShapeArg::QuadExp => ShapingKind::QuadExp,
         }
     }
 }

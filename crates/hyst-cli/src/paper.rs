@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use hyst_core::family::delta_a;
-use hyst_core::{Hysteresis, InverseHysteresis};
+use hyst_core::{Hysteresis, InverseHysteresis, Operator};
 use hyst_sim::examples::{example1, example2, example3};
 
 use crate::plot::{Figure, Legend, Panel, Series};

@@ -15,7 +15,7 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use hyst_core::{Error, Hysteresis, InverseHysteresis, Jet, K2Law, Operator, Scalar};
+use hyst_core::{Hysteresis, InverseHysteresis, Jet, Operator};
 use hyst_io::Table;
 
 /// The most time derivatives `--derivatives` accepts.
@@ -49,27 +49,6 @@ pub struct Args {
     pub output: PathBuf,
 }
 
-/// Something that maps input samples (plain or jets) to output samples, causally, with memory.
-pub trait Evaluate {
-    /// One sample.
-    ///
-    /// # Errors
-    /// The core's error for this sample (the memory is then unchanged).
-    fn evaluate<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error>;
-}
-
-impl<K: K2Law<f64>, B: hyst_core::Branch> Evaluate for Operator<f64, K, B> {
-    fn evaluate<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error> {
-        self.eval(x)
-    }
-}
-
-impl Evaluate for hyst_fit::modelfile::Evaluator {
-    fn evaluate<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error> {
-        self.eval(x)
-    }
-}
-
 /// Runs `hyst run`.
 pub fn main(args: Args) -> Result<()> {
     let table = Table::read(&args.input)?;
@@ -98,7 +77,7 @@ pub fn main(args: Args) -> Result<()> {
 ///
 /// # Errors
 /// A missing column, or a sample the operator refuses, named by file, line and column.
-pub fn run_table<E: Evaluate>(
+pub fn run_table<E: Operator<f64>>(
     op: &mut E,
     table: &Table,
     column: Option<&str>,
@@ -116,7 +95,7 @@ pub fn run_table<E: Evaluate>(
     with_order!(1 2 3 4 5 6 7 8)
 }
 
-fn run_order<E: Evaluate, const N: usize>(
+fn run_order<E: Operator<f64>, const N: usize>(
     op: &mut E,
     table: &Table,
     column: Option<&str>,
@@ -139,7 +118,7 @@ fn run_order<E: Evaluate, const N: usize>(
             d[k] = c.get(row).copied().unwrap_or(0.0);
         }
         let y = op
-            .evaluate(Jet::<f64, N>::from_derivatives(x, d))
+            .try_step(Jet::<f64, N>::from_derivatives(x, d))
             .with_context(|| {
                 format!(
                     "{}:{}: column {} ({name:?}): value {x}",

@@ -6,7 +6,9 @@
 
 use std::hint::black_box;
 
-use hyst_core::{Affine, Hysteresis, InverseHysteresis, Jet, Model, Polynomial, Real as _};
+use hyst_core::{
+    Affine, Hysteresis, InverseHysteresis, Jet, Model, Operator, Polynomial, Real as _,
+};
 
 /// Samples per workload call.
 pub const SAMPLES: usize = 4096;
@@ -82,7 +84,7 @@ impl Inputs {
                 let mut h = InverseHysteresis::new(0.14, 8.0).ok()?;
                 self.jets
                     .iter()
-                    .map(|&v| h.step_jet(black_box(v)).map_or(0.0, |y| y.derivatives()[1]))
+                    .map(|&v| h.try_step(black_box(v)).map_or(0.0, |y| y.derivatives()[1]))
                     .sum()
             }
             3 => {

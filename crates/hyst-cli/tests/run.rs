@@ -6,6 +6,8 @@
 use std::path::Path;
 use std::process::Command;
 
+use hyst_core::Operator;
+
 fn hyst() -> Command {
     Command::new(env!("CARGO_BIN_EXE_hyst"))
 }

@@ -14,7 +14,9 @@
 //!
 //! No allocation, no panics, `f32` or `f64`, `no_std`; one [`Compensator::step`] per sample.
 
-use crate::{ConstantK2, Error, Identity, InverseModel, Jet, K2Law, Model, Real, Shaping};
+use crate::{
+    ConstantK2, Error, Identity, InverseModel, Jet, K2Law, Model, Operator, Real, Shaping,
+};
 
 /// The Lemma 5.1 compensator for a plant of order `N` (N = n ≥ 0; the paper's Example 2 has
 /// N = 1, Example 3 has N = 2).
@@ -129,10 +131,11 @@ where
         self.last_command
     }
 
-    /// The jet (v, v̇, …, v⁽ⁿ⁾) of the state `v` with v⁽ⁿ⁾ = `u_new`.
+    /// The jet (v, v̇, …, v⁽ⁿ⁾) of the state `v` with v⁽ⁿ⁾ = `u_new`. For n = 0 there is no
+    /// integrator: v = u_new itself.
     fn jet_of(v: &[T; N], u_new: T) -> Jet<T, N> {
         let value = if N == 0 {
-            T::zero()
+            u_new
         } else {
             v.first().copied().unwrap_or_else(T::zero)
         };
@@ -163,7 +166,7 @@ where
             let mut term = T::one();
             for j in 0..(N - k) {
                 sum = sum + v.get(k + j).copied().unwrap_or_else(T::zero) * term;
-                term = term * dt / T::lit((j + 1) as f64);
+                term = term * dt / T::from_f64((j + 1) as f64);
             }
             sum + u_new * term
         })
@@ -184,7 +187,7 @@ where
             });
         }
         let jet = Self::jet_of(&self.v, u_new);
-        let x = self.inverse.eval(jet)?;
+        let x = self.inverse.try_step(jet)?;
         let u = self.law(&x);
         self.last_command = u;
         self.last_reference = jet.value();
@@ -215,13 +218,13 @@ where
         const SCAN: usize = 16;
         let mut lo = from;
         for i in 1..=SCAN {
-            let hi = from + (to - from) * T::lit(i as f64 / SCAN as f64);
+            let hi = from + (to - from) * T::from_f64(i as f64 / SCAN as f64);
             let r = rate(hi);
             if r * r0 < T::zero() {
                 let mut a = lo;
                 let mut b = hi;
                 for _ in 0..64 {
-                    let mid = (a + b) / T::lit(2.0);
+                    let mid = (a + b) / T::from_f64(2.0);
                     if mid <= a || mid >= b {
                         break;
                     }
@@ -251,11 +254,11 @@ where
                     let at = Self::jet_of(&state, u_new);
                     // Evaluate at the extremum without its derivatives, so the direction rule
                     // sees a continuation of the current run.
-                    let _ = inverse.eval(Jet::<T, N>::constant(at.value()));
+                    let _ = inverse.try_step(Jet::<T, N>::constant(at.value()));
                     if tau <= from {
                         break;
                     }
-                    from = tau + (until - tau) * T::lit(1e-9);
+                    from = tau + (until - tau) * T::from_f64(1e-9);
                 }
                 None => break,
             }
@@ -293,7 +296,7 @@ where
         let v = Self::advanced(&self.v, u_new, tau);
         let mut inverse = self.inverse.clone();
         Self::pass_turning_points(&mut inverse, &self.v, u_new, tau);
-        let x = inverse.eval(Self::jet_of(&v, u_new))?;
+        let x = inverse.try_step(Self::jet_of(&v, u_new))?;
         Ok(self.law(&x))
     }
 
@@ -304,7 +307,7 @@ where
     /// # Errors
     /// As [`Compensator::try_step`].
     pub fn track(&mut self, reference: Jet<T, N>) -> Result<T, Error> {
-        let x = self.inverse.eval(reference)?;
+        let x = self.inverse.try_step(reference)?;
         let u = self.law(&x);
         let d = reference.derivatives();
         self.v = core::array::from_fn(|k| {

@@ -18,14 +18,14 @@
 
 use crate::{
     error::{finite, positive},
-    ConstantK2, Error, Hysteresis, InverseHysteresis, Jet, K2Law, Real, Scalar, Shaping,
+    ConstantK2, Error, Hysteresis, InverseHysteresis, Jet, K2Law, Operator, Real, Sample, Shaping,
 };
 
 /// Eq. (14): the worst-case error Δx(ũd) = k̄1 − k1 + 2 (k1 e^(−k2 ũd) − k̄1 e^(−k̄2 ũd)) between
 /// H⁻¹(k̄1, k̄2) and H⁻¹(k1, k2) at the transformed input ũd ≥ 0 (output units of H⁻¹).
 #[must_use]
 pub fn delta_x<T: Real>(k1: T, k1_bar: T, k2: T, k2_bar: T, ud: T) -> T {
-    let two = T::lit(2.0);
+    let two = T::from_f64(2.0);
     k1_bar - k1 + two * (k1 * (-k2 * ud).exp() - k1_bar * (-k2_bar * ud).exp())
 }
 
@@ -85,6 +85,11 @@ pub struct Bound<T> {
 /// ```
 pub fn delta_a<T: Real>(k1: T, dk1: T, k2: T, dk2: T) -> Result<Bound<T>, Error> {
     check_family(k1, dk1, k2, dk2)?;
+    Ok(corner_bound(k1, dk1, k2, dk2))
+}
+
+/// Δa and the corner values for parameters [`check_family`] has accepted.
+fn corner_bound<T: Real>(k1: T, dk1: T, k2: T, dk2: T) -> Bound<T> {
     let params = [
         (k1 - dk1, k2 - dk2),
         (k1 - dk1, k2 + dk2),
@@ -104,12 +109,12 @@ pub fn delta_a<T: Real>(k1: T, dk1: T, k2: T, dk2: T) -> Result<Bound<T>, Error>
         // The end points ũd = 0 and ũd → ∞ have |value| = |k̄1 − k1|.
         worst = worst.max(value.abs()).max((*k1b - k1).abs());
     }
-    Ok(Bound {
+    Bound {
         delta_a: worst,
         corners,
         corner_points: points,
         corner_params: params,
-    })
+    }
 }
 
 /// Δa by brute force: the largest |Δx(ũd)| of eq. (14) over a grid of `n` × `n` parameter
@@ -123,8 +128,8 @@ pub fn delta_a_scan<T: Real>(k1: T, dk1: T, k2: T, dk2: T, n: usize, m: usize) -
     check_family(k1, dk1, k2, dk2)?;
     let n = n.max(2);
     let m = m.max(2);
-    let frac = |i: usize, count: usize| T::lit(i as f64 / (count - 1) as f64);
-    let x_max = T::lit(50.0) / (k2 - dk2);
+    let frac = |i: usize, count: usize| T::from_f64(i as f64 / (count - 1) as f64);
+    let x_max = T::from_f64(50.0) / (k2 - dk2);
     let mut worst = T::zero();
     for i in 0..n {
         let k1b = k1 - dk1 + (dk1 + dk1) * frac(i, n);
@@ -215,7 +220,7 @@ pub fn delta_a_over_k2_range<T: Real>(
     };
     let points = points.max(2);
     for i in 0..points {
-        let k2 = k2_lo + (k2_hi - k2_lo) * T::lit(i as f64 / (points - 1) as f64);
+        let k2 = k2_lo + (k2_hi - k2_lo) * T::from_f64(i as f64 / (points - 1) as f64);
         let d = delta_a(k1, dk1, k2, dk2)?.delta_a;
         if d > best.delta_a {
             best.delta_a = d;
@@ -249,7 +254,7 @@ pub struct ShiftedK2<K, T> {
 
 impl<T: Real, K: K2Law<T>> K2Law<T> for ShiftedK2<K, T> {
     #[inline]
-    fn k2<S: Scalar<T>>(&self, input: S) -> S {
+    fn k2<S: Sample<T>>(&self, input: S) -> S {
         self.law.k2(input) + self.shift
     }
     fn validate(&self) -> Result<(), Error> {
@@ -271,9 +276,9 @@ impl<T: Real, K: K2Law<T>> K2Law<T> for ShiftedK2<K, T> {
 ///
 /// # Examples
 /// ```
-/// use hyst_core::family::Family;
+/// use hyst_core::{family::Family, Operator};
 /// let family = Family::new(0.06_f64, 0.005, 5.0, 2.5)?; // Example 2
-/// assert!((family.bound()?.delta_a - 0.0302).abs() < 5e-5);
+/// assert!((family.bound().delta_a - 0.0302).abs() < 5e-5);
 /// let mut corner = family.member(-1.0, 1.0)?; // H(0.055, 7.5)
 /// assert!((corner.k1() - 0.055).abs() < 1e-15);
 /// let _ = corner.step(0.3);
@@ -308,12 +313,12 @@ impl<T: Real> Family<T, ConstantK2<T>> {
         self.law.0
     }
 
-    /// Δa and the corner values of Proposition 3.2 (also the bound on Δb, Proposition 3.3).
-    ///
-    /// # Errors
-    /// Never for a family built by [`Family::new`].
-    pub fn bound(&self) -> Result<Bound<T>, Error> {
-        delta_a(self.k1, self.dk1, self.law.0, self.dk2)
+    /// Δa and the corner values of Proposition 3.2 (also the bound on Δb, Proposition 3.3),
+    /// in the output units of H⁻¹. [`Family::new`] has checked the parameters, so this cannot
+    /// fail.
+    #[must_use]
+    pub fn bound(&self) -> Bound<T> {
+        corner_bound(self.k1, self.dk1, self.law.0, self.dk2)
     }
 }
 
@@ -409,7 +414,8 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
     /// The nominal member H(k1, k2) (no shift).
     ///
     /// # Errors
-    /// Never for a valid family.
+    /// As [`Family::member`]: the law's own validation, which the family's constructor has
+    /// already passed.
     pub fn nominal(&self) -> Result<Hysteresis<T, ShiftedK2<K, T>>, Error> {
         self.member(T::zero(), T::zero())
     }
@@ -437,15 +443,21 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
         delta_a_over_k2_range(self.k1, self.dk1, k2_lo, k2_hi, self.dk2 + extra, points)
     }
 
+    /// The positions (a, b) ∈ [−1, 1]² of a `grid` × `grid` lattice of members, corners
+    /// included (`grid` ≥ 2; smaller values use 2), row by row: a = −1 first.
+    pub fn lattice(grid: usize) -> impl Iterator<Item = (T, T)> {
+        let grid = grid.max(2);
+        let pos = move |i: usize| T::from_f64(-1.0 + 2.0 * i as f64 / (grid - 1) as f64);
+        (0..grid).flat_map(move |i| (0..grid).map(move |j| (pos(i), pos(j))))
+    }
+
     /// The envelope Υ(RH)[v] of the family along the input signal `input` (Section 3): for each
-    /// sample, the smallest and the largest output over a `grid` × `grid` lattice of members
-    /// (corners included; `grid` ≥ 2), all started without history. Writes into `lower` and
-    /// `upper` (same length as `input`); no allocation.
+    /// sample, the smallest and the largest output over the `grid` × `grid` [`Family::lattice`]
+    /// of members, all started without history. Writes into `lower` and `upper` (same length as
+    /// `input`); no allocation.
     ///
     /// # Errors
-    /// [`Error::LengthMismatch`] for slices of different lengths; a member's
-    /// [`Error::InvalidK2`] (a law that goes non-positive once shifted by −Δk2). Non-finite
-    /// input samples give non-finite envelope samples.
+    /// As [`Family::envelope_with`].
     pub fn envelope(
         &self,
         input: &[T],
@@ -453,17 +465,25 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
         upper: &mut [T],
         grid: usize,
     ) -> Result<(), Error> {
-        self.envelope_of(&crate::Identity, input, lower, upper, grid)
+        self.envelope_with(input, lower, upper, grid, Ok)
     }
 
-    /// [`Family::envelope`] of the operator input ψ_in(input): the one loop over the members.
-    fn envelope_of<I: Shaping<T>>(
+    /// The envelope of any operators built around the family's members: `build` turns each
+    /// member H(k1 + a Δk1, k2 + b Δk2) of the lattice into the operator that is run over
+    /// `input` (a shaped model with its initial state, say), and `lower` / `upper` receive the
+    /// smallest and largest output at each sample. The one loop over the members of a family.
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] for slices of different lengths; the first error of `build`, or
+    /// of a member other than [`Error::NonFiniteInput`] (an invalid k2 from a law that goes
+    /// non-positive once shifted by −Δk2). Non-finite input samples give NaN envelope samples.
+    pub fn envelope_with<O: Operator<T>>(
         &self,
-        input_shaping: &I,
         input: &[T],
         lower: &mut [T],
         upper: &mut [T],
         grid: usize,
+        mut build: impl FnMut(Hysteresis<T, ShiftedK2<K, T>>) -> Result<O, Error>,
     ) -> Result<(), Error> {
         if input.len() != lower.len() || input.len() != upper.len() {
             return Err(Error::LengthMismatch {
@@ -473,69 +493,68 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
         }
         lower.iter_mut().for_each(|x| *x = T::infinity());
         upper.iter_mut().for_each(|x| *x = T::neg_infinity());
-        let grid = grid.max(2);
-        let pos = |i: usize| T::lit(-1.0 + 2.0 * i as f64 / (grid - 1) as f64);
-        for i in 0..grid {
-            for j in 0..grid {
-                let mut member = self.member(pos(i), pos(j))?;
-                for ((x, lo), hi) in input.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
-                    match member.try_step(input_shaping.apply(*x)) {
-                        Ok(y) => {
-                            *lo = lo.min(y);
-                            *hi = hi.max(y);
-                        }
-                        Err(Error::NonFiniteInput { .. }) => {
-                            *lo = T::nan();
-                            *hi = T::nan();
-                        }
-                        Err(e) => return Err(e),
+        for (a, b) in Self::lattice(grid) {
+            let mut member = build(self.member(a, b)?)?;
+            for ((x, lo), hi) in input.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
+                match member.try_step(*x) {
+                    Ok(y) => {
+                        *lo = lo.min(y);
+                        *hi = hi.max(y);
                     }
+                    Err(Error::NonFiniteInput { .. }) => {
+                        *lo = T::nan();
+                        *hi = T::nan();
+                    }
+                    Err(e) => return Err(e),
                 }
             }
         }
         Ok(())
     }
+}
 
-    /// Checks that measured data is reproducible by the family, through shaping functions:
-    /// output ≈ ψ_out(H[ψ_in(input)]). The envelope is computed on ψ_in(input) and mapped
-    /// through ψ_out (increasing, so it maps lower to lower). A sample is inside when
-    /// lower − `tolerance` ≤ output ≤ upper + `tolerance`. `lower` and `upper` are scratch
-    /// buffers of the input's length (they hold the shaped envelope afterwards).
-    ///
-    /// # Errors
-    /// As [`Family::envelope`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn reproducibility<I: Shaping<T>, O: Shaping<T>>(
-        &self,
-        input_shaping: &I,
-        output_shaping: &O,
-        input: &[T],
+/// How well measured data is reproduced by a family (Definition 2.8: at each sample some member
+/// gives the measured output), from the family's envelope ([`Family::envelope_with`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reproducibility<T> {
+    /// Fraction of the compared samples inside the envelope, within the tolerance (0 when none
+    /// was compared).
+    pub fraction_inside: T,
+    /// The number of compared samples inside the envelope.
+    pub inside: usize,
+    /// The largest distance of a sample outside the envelope (0 when all are inside), in
+    /// output units.
+    pub worst_excursion: T,
+    /// The index of that sample.
+    pub worst_index: usize,
+    /// The number of samples compared: finite output and envelope, and weight > 0 when weights
+    /// are given.
+    pub samples: usize,
+}
+
+impl<T: Real> Reproducibility<T> {
+    /// Compares measured `output` with the envelope [`lower`, `upper`] sample by sample: a
+    /// sample is inside when lower − `tolerance` ≤ output ≤ upper + `tolerance`. Samples whose
+    /// weight is ≤ 0 (when `weights` is given) or that are not finite are not compared. Slices
+    /// of different lengths are compared over the shortest.
+    #[must_use]
+    pub fn compare(
         output: &[T],
+        weights: Option<&[T]>,
+        lower: &[T],
+        upper: &[T],
         tolerance: T,
-        lower: &mut [T],
-        upper: &mut [T],
-        grid: usize,
-    ) -> Result<Reproducibility<T>, Error> {
-        if input.len() != output.len() {
-            return Err(Error::LengthMismatch {
-                input: input.len(),
-                output: output.len(),
-            });
-        }
-        self.envelope_of(input_shaping, input, lower, upper, grid)?;
+    ) -> Self {
         let mut inside = 0usize;
         let mut counted = 0usize;
         let mut worst = T::zero();
         let mut worst_index = 0usize;
-        for (k, ((y, lo), hi)) in output
-            .iter()
-            .zip(lower.iter_mut())
-            .zip(upper.iter_mut())
-            .enumerate()
-        {
-            *lo = output_shaping.apply(*lo);
-            *hi = output_shaping.apply(*hi);
-            if !(y.is_finite() && lo.is_finite() && hi.is_finite()) {
+        for (k, ((y, lo), hi)) in output.iter().zip(lower).zip(upper).enumerate() {
+            let weighted = match weights {
+                Some(w) => w.get(k).is_some_and(|w| *w > T::zero()),
+                None => true,
+            };
+            if !(weighted && y.is_finite() && lo.is_finite() && hi.is_finite()) {
                 continue;
             }
             counted += 1;
@@ -548,31 +567,18 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
                 worst_index = k;
             }
         }
-        Ok(Reproducibility {
+        Self {
             fraction_inside: if counted == 0 {
                 T::zero()
             } else {
-                T::lit(inside as f64 / counted as f64)
+                T::from_f64(inside as f64 / counted as f64)
             },
+            inside,
             worst_excursion: worst,
             worst_index,
             samples: counted,
-        })
+        }
     }
-}
-
-/// How well measured data is reproduced by a family (see [`Family::reproducibility`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Reproducibility<T> {
-    /// Fraction of the (finite) samples inside the envelope, within the tolerance.
-    pub fraction_inside: T,
-    /// The largest distance of a sample outside the envelope (0 when all are inside), in
-    /// output units.
-    pub worst_excursion: T,
-    /// The index of that sample.
-    pub worst_index: usize,
-    /// The number of samples compared (finite output and envelope).
-    pub samples: usize,
 }
 
 /// The slope of a jet-capable law, for callers without [`K2Law::max_slope`] overrides: dφ/dv at
@@ -678,30 +684,18 @@ mod tests {
         }
         let mut nominal = fam.nominal()?;
         let out: [f64; 64] = core::array::from_fn(|k| nominal.step(input[k]));
-        let r = fam.reproducibility(
-            &crate::Identity,
-            &crate::Identity,
-            &input,
-            &out,
-            0.0,
-            &mut lo,
-            &mut hi,
-            3,
-        )?;
+        fam.envelope(&input, &mut lo, &mut hi, 3)?;
+        let r = Reproducibility::compare(&out, None, &lo, &hi, 0.0);
         assert_eq!(r.fraction_inside, 1.0);
+        assert_eq!((r.inside, r.samples), (64, 64));
         assert_eq!(r.worst_excursion, 0.0);
         let shifted: [f64; 64] = core::array::from_fn(|k| out[k] + 0.5);
-        let r = fam.reproducibility(
-            &crate::Identity,
-            &crate::Identity,
-            &input,
-            &shifted,
-            0.0,
-            &mut lo,
-            &mut hi,
-            3,
-        )?;
+        let r = Reproducibility::compare(&shifted, None, &lo, &hi, 0.0);
         assert!(r.fraction_inside < 0.1 && r.worst_excursion > 0.3);
+        // Weights: only samples with weight > 0 are compared.
+        let weights: [f64; 64] = core::array::from_fn(|k| if k < 10 { 1.0 } else { 0.0 });
+        let r = Reproducibility::compare(&out, Some(&weights), &lo, &hi, 0.0);
+        assert_eq!((r.inside, r.samples), (10, 10));
         Ok(())
     }
 }

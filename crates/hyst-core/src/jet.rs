@@ -18,7 +18,7 @@ use crate::Real;
 /// # Examples
 /// The jet of t ↦ sin-like input: value 1, rate 2, acceleration −3, through `exp`:
 /// ```
-/// use hyst_core::{Jet, Scalar};
+/// use hyst_core::{Jet, Sample};
 /// let x = Jet::<f64, 2>::from_derivatives(1.0, [2.0, -3.0]);
 /// let y = x.exp(); // d/dt e^x = x' e^x, d²/dt² e^x = (x'' + x'^2) e^x
 /// let e = 1.0_f64.exp();
@@ -65,7 +65,7 @@ impl<T: Real, const N: usize> Jet<T, N> {
         let mut d = derivatives;
         let mut factorial = T::one();
         for (k, c) in d.iter_mut().enumerate() {
-            factorial = factorial * T::lit((k + 1) as f64);
+            factorial = factorial * T::from_f64((k + 1) as f64);
             *c = *c / factorial;
         }
         Self { v: value, d }
@@ -93,7 +93,7 @@ impl<T: Real, const N: usize> Jet<T, N> {
         let mut d = self.d;
         let mut factorial = T::one();
         for (k, c) in d.iter_mut().enumerate() {
-            factorial = factorial * T::lit((k + 1) as f64);
+            factorial = factorial * T::from_f64((k + 1) as f64);
             *c = *c * factorial;
         }
         d
@@ -154,9 +154,9 @@ impl<T: Real, const N: usize> Jet<T, N> {
         for k in 1..=N {
             let mut s = T::zero();
             for j in 1..=k {
-                s = s + T::lit(j as f64) * self.c(j) * e.c(k - j);
+                s = s + T::from_f64(j as f64) * self.c(j) * e.c(k - j);
             }
-            e.set(k, s / T::lit(k as f64));
+            e.set(k, s / T::from_f64(k as f64));
         }
         e
     }
@@ -168,9 +168,9 @@ impl<T: Real, const N: usize> Jet<T, N> {
         for k in 1..=N {
             let mut s = T::zero();
             for j in 1..k {
-                s = s + T::lit(j as f64) * l.c(j) * self.c(k - j);
+                s = s + T::from_f64(j as f64) * l.c(j) * self.c(k - j);
             }
-            l.set(k, (self.c(k) - s / T::lit(k as f64)) / self.v);
+            l.set(k, (self.c(k) - s / T::from_f64(k as f64)) / self.v);
         }
         l
     }

@@ -7,10 +7,10 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{error::positive, Error, Jet, Real, Scalar};
+use crate::{error::positive, Error, Jet, Real, Sample};
 
 /// How k2 depends on the operator's input. Implement it for any smooth function: write `k2`
-/// generically over [`Scalar`] and the operator gets its time derivatives for free.
+/// generically over [`Sample`] and the operator gets its time derivatives for free.
 pub trait K2Law<T: Real> {
     /// True when [`K2Law::k2`] is finite and > 0 for every finite input once
     /// [`K2Law::validate`] has passed, so the operator may skip its per-sample check. Leave it
@@ -18,7 +18,7 @@ pub trait K2Law<T: Real> {
     const ALWAYS_VALID: bool = false;
 
     /// k2 at the operator input `input` (a plain value or a jet). Must be finite and > 0.
-    fn k2<S: Scalar<T>>(&self, input: S) -> S;
+    fn k2<S: Sample<T>>(&self, input: S) -> S;
 
     /// Checks the law's own parameters (called when an operator is built).
     ///
@@ -51,7 +51,7 @@ pub trait K2Law<T: Real> {
 
 fn grid<T: Real>(lo: T, hi: T) -> impl Iterator<Item = T> {
     const POINTS: usize = 1025;
-    (0..POINTS).map(move |i| lo + (hi - lo) * T::lit(i as f64 / (POINTS - 1) as f64))
+    (0..POINTS).map(move |i| lo + (hi - lo) * T::from_f64(i as f64 / (POINTS - 1) as f64))
 }
 
 /// A constant k2 (Definition 2.2): the rate of the smooth transition towards the asymptotes,
@@ -63,8 +63,8 @@ pub struct ConstantK2<T>(pub T);
 impl<T: Real> K2Law<T> for ConstantK2<T> {
     const ALWAYS_VALID: bool = true;
     #[inline]
-    fn k2<S: Scalar<T>>(&self, _input: S) -> S {
-        S::cst(self.0)
+    fn k2<S: Sample<T>>(&self, _input: S) -> S {
+        S::constant(self.0)
     }
     fn validate(&self) -> Result<(), Error> {
         positive("k2", self.0).map(|_| ())
@@ -113,13 +113,13 @@ impl<T: Real> K2Law<T> for AffineK2<T> {
     // Clamped to [min, max] with 0 < min ≤ max finite, and the input is finite.
     const ALWAYS_VALID: bool = true;
     #[inline]
-    fn k2<S: Scalar<T>>(&self, input: S) -> S {
+    fn k2<S: Sample<T>>(&self, input: S) -> S {
         let k = input * self.slope + self.at_zero;
         let v = k.value();
         if v < self.min {
-            S::cst(self.min)
+            S::constant(self.min)
         } else if v > self.max {
-            S::cst(self.max)
+            S::constant(self.max)
         } else {
             k
         }
@@ -145,5 +145,62 @@ impl<T: Real> K2Law<T> for AffineK2<T> {
     }
     fn max_slope(&self, _lo: T, _hi: T) -> T {
         self.slope.abs()
+    }
+}
+
+/// Any of the built-in k2 laws, chosen at run time (model files, fitting). Serialized with a
+/// `law` tag: `{ law = "constant", value = … }` or
+/// `{ law = "affine", at_zero = …, slope = …, min = …, max = … }`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "law", rename_all = "kebab-case"))]
+pub enum AnyK2Law<T> {
+    /// A constant k2 ([`ConstantK2`]), 1 / (input units), finite and > 0.
+    Constant {
+        /// k2.
+        value: T,
+    },
+    /// An affine k2 = φ(v), clamped ([`AffineK2`]).
+    Affine(AffineK2<T>),
+}
+
+impl<T: Real> AnyK2Law<T> {
+    /// k2 at the operator input 0: the constant, or φ(0) (1 / input units).
+    #[must_use]
+    pub fn at_zero(&self) -> T {
+        match self {
+            AnyK2Law::Constant { value } => *value,
+            AnyK2Law::Affine(law) => law.at_zero,
+        }
+    }
+}
+
+impl<T: Real> K2Law<T> for AnyK2Law<T> {
+    // Both built-in laws give a finite k2 > 0 for every finite input once validated.
+    const ALWAYS_VALID: bool = true;
+    #[inline]
+    fn k2<S: Sample<T>>(&self, input: S) -> S {
+        match self {
+            AnyK2Law::Constant { value } => S::constant(*value),
+            AnyK2Law::Affine(law) => law.k2(input),
+        }
+    }
+    fn validate(&self) -> Result<(), Error> {
+        match self {
+            AnyK2Law::Constant { value } => ConstantK2(*value).validate(),
+            AnyK2Law::Affine(law) => law.validate(),
+        }
+    }
+    fn range(&self, lo: T, hi: T) -> (T, T) {
+        match self {
+            AnyK2Law::Constant { value } => (*value, *value),
+            AnyK2Law::Affine(law) => law.range(lo, hi),
+        }
+    }
+    fn max_slope(&self, lo: T, hi: T) -> T {
+        match self {
+            AnyK2Law::Constant { .. } => T::zero(),
+            AnyK2Law::Affine(law) => law.max_slope(lo, hi),
+        }
     }
 }

@@ -50,8 +50,8 @@ const SERIES_MAX: f64 = 1e-4;
 #[must_use]
 #[inline]
 pub(crate) fn w0_finite<T: Real>(x: T) -> T {
-    if x >= T::zero() && x < T::lit(SERIES_MAX) {
-        let c = |v: f64| T::lit(v);
+    if x >= T::zero() && x < T::from_f64(SERIES_MAX) {
+        let c = |v: f64| T::from_f64(v);
         x * (T::one() - x * (T::one() - x * (c(1.5) - x * (c(8.0 / 3.0) - x * c(125.0 / 24.0)))))
     } else {
         x.lambert_w0_fukushima()
@@ -97,8 +97,8 @@ fn fsc_step<T: Real>(w: T, y: T) -> T {
     let one = T::one();
     let r = y - w - w.ln();
     let q = one + w;
-    let t = one + T::lit(2.0 / 3.0) * r / q;
-    let num = t - r / (T::lit(2.0) * q * q);
+    let t = one + T::from_f64(2.0 / 3.0) * r / q;
+    let num = t - r / (T::from_f64(2.0) * q * q);
     let den = t - r / (q * q);
     w * (one + (r / q) * (num / den))
 }

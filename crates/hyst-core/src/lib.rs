@@ -16,25 +16,33 @@ pub mod lambert;
 pub mod memory;
 pub mod model;
 pub mod operator;
+pub mod parametric;
+pub mod play;
 pub mod prandtl_ishlinskii;
 pub mod real;
-pub mod scalar;
+pub mod sample;
 pub mod shaping;
 
 pub use compensator::Compensator;
 pub use error::Error;
-pub use family::{Bound, Family, Reproducibility, ShiftedK2};
+pub use family::{Bound, Family, RangeBound, Reproducibility, ShiftedK2};
 pub use jet::Jet;
-pub use k2law::{AffineK2, ConstantK2, K2Law};
+pub use k2law::{AffineK2, AnyK2Law, ConstantK2, K2Law};
 pub use memory::{Direction, Memory};
 pub use model::{InverseModel, Model};
-pub use operator::{Branch, Direct, Hysteresis, Inverse, InverseHysteresis, Operator};
+pub use operator::Operator;
+pub use parametric::{
+    Direct, Formula, Hysteresis, Inverse, InverseHysteresis, ParametricHysteresis,
+};
+pub use play::Play;
 pub use prandtl_ishlinskii::{
-    InverseShapedPrandtlIshlinskii, PrandtlIshlinskii, ShapedPrandtlIshlinskii,
+    InverseShapedPrandtlIshlinskii, PlayMemory, PrandtlIshlinskii, ShapedPrandtlIshlinskii,
 };
 pub use real::Real;
-pub use scalar::Scalar;
-pub use shaping::{Affine, Identity, Langevin, Polynomial, QuadraticExp, Shape, Shaping, Tanh};
+pub use sample::Sample;
+pub use shaping::{
+    Affine, AnyShaping, Identity, Langevin, Polynomial, QuadraticExp, Shaping, Tanh,
+};
 
 /// The Rust examples of the project's README and guide, compiled and run as doctests so the
 /// documentation cannot drift from the code.

@@ -9,7 +9,7 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{Error, Real, Scalar};
+use crate::{Error, Real, Sample};
 
 /// The mode of the operator (Fig. 2): rising input (α̇ ≥ 0) or falling input (α̇ < 0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -106,7 +106,7 @@ impl<T: Real> Memory<T> {
     /// # Errors
     /// As [`Memory::at_rest`].
     pub fn validate(&self, k1: T) -> Result<(), Error> {
-        let tol = k1 * T::lit(1e-9);
+        let tol = k1 * T::from_f64(1e-9);
         for (name, value) in [
             ("reversal_input", self.reversal_input),
             ("reversal_output", self.reversal_output),
@@ -134,7 +134,7 @@ impl<T: Real> Memory<T> {
     /// direction (a zero step defers to `trend`, the sign of the input's first non-zero
     /// derivative when it has one); a change of direction makes the last sample the reversal point.
     #[inline]
-    pub fn observe(&mut self, x: T, trend: Option<bool>) {
+    pub(crate) fn observe(&mut self, x: T, trend: Option<bool>) {
         let direction = if x > self.last_input {
             Some(Direction::Rising)
         } else if x < self.last_input {
@@ -166,13 +166,13 @@ impl<T: Real> Memory<T> {
 
     /// The transformed input α̃ = s (α − α0) of Definition 2.1.
     #[inline]
-    pub fn transform<S: Scalar<T>>(&self, alpha: S) -> S {
+    pub fn transform<S: Sample<T>>(&self, alpha: S) -> S {
         (alpha - self.reversal_input) * self.direction.sign::<T>()
     }
 
     /// The output from its transformed value: β = β0 + s β̃ (Definition 2.1 solved for β).
     #[inline]
-    pub fn untransform<S: Scalar<T>>(&self, beta_tilde: S) -> S {
+    pub fn untransform<S: Sample<T>>(&self, beta_tilde: S) -> S {
         beta_tilde * self.direction.sign::<T>() + self.reversal_output
     }
 

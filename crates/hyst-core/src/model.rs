@@ -5,7 +5,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::{
-    ConstantK2, Error, Hysteresis, Identity, InverseHysteresis, Jet, K2Law, Real, Scalar, Shaping,
+    ConstantK2, Error, Hysteresis, Identity, InverseHysteresis, K2Law, Memory, Operator, Real,
+    Sample, Shaping,
 };
 
 /// A shaped hysteresis model: input shaping `I`, the direct operator with k2 law `K`, output
@@ -14,7 +15,7 @@ use crate::{
 /// # Examples
 /// Example 1 of the paper with linear shaping, out = 1.4 · H(0.14, 8)[0.2 · in]:
 /// ```
-/// use hyst_core::{Affine, Hysteresis, Model};
+/// use hyst_core::{Affine, Hysteresis, Model, Operator};
 /// let mut model = Model::new(
 ///     Affine::new(0.2_f64, 0.0)?,
 ///     Hysteresis::new(0.14, 8.0)?,
@@ -76,54 +77,37 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Model<T, I, K, O> {
     pub fn operator(&self) -> &Hysteresis<T, K> {
         &self.operator
     }
-    /// The direct operator, mutable (to restore a memory, say).
-    pub fn operator_mut(&mut self) -> &mut Hysteresis<T, K> {
-        &mut self.operator
-    }
+}
+
+impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Model<T, I, K, O> {
+    /// The memory of the operator H (Definition 2.1, on the operator's input and output).
+    type Memory = Option<Memory<T>>;
 
     /// One sample (plain or jet): ψ_out(H[ψ_in(x)]).
     ///
     /// # Errors
-    /// As [`crate::Operator::try_step`]; the memory is then unchanged.
+    /// As [`Hysteresis`]'s [`Operator::try_step`]; the memory is then unchanged.
     #[inline]
-    pub fn eval<S: Scalar<T>>(&mut self, x: S) -> Result<S, Error> {
+    fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
         let v = self.input.apply(x);
-        let u = self.operator.eval(v)?;
+        let u = self.operator.try_step(v)?;
         Ok(self.output.apply(u))
     }
 
-    /// One sample.
-    ///
-    /// # Errors
-    /// As [`Model::eval`].
-    #[inline]
-    pub fn try_step(&mut self, x: T) -> Result<T, Error> {
-        self.eval(x)
+    fn last_output(&self) -> Option<T> {
+        self.operator.last_output().map(|u| self.output.apply(u))
     }
 
-    /// One sample; non-finite input holds the last output (the input itself before any output).
-    #[inline]
-    pub fn step(&mut self, x: T) -> T {
-        match self.eval(x) {
-            Ok(y) => y,
-            Err(_) => self
-                .operator
-                .memory()
-                .map_or(x, |m| self.output.apply(m.last_output)),
-        }
-    }
-
-    /// One sample of a jet: output and its first `N` time derivatives.
-    ///
-    /// # Errors
-    /// As [`Model::eval`].
-    pub fn step_jet<const N: usize>(&mut self, x: Jet<T, N>) -> Result<Jet<T, N>, Error> {
-        self.eval(x)
-    }
-
-    /// Forgets the history of the operator.
-    pub fn reset(&mut self) {
+    fn reset(&mut self) {
         self.operator.reset();
+    }
+
+    fn memory(&self) -> Option<Memory<T>> {
+        self.operator.memory()
+    }
+
+    fn set_memory(&mut self, memory: Option<Memory<T>>) -> Result<(), Error> {
+        self.operator.set_memory(memory)
     }
 }
 
@@ -146,57 +130,43 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> InverseModel<T, I, K, O
     pub fn operator(&self) -> &InverseHysteresis<T, K> {
         &self.operator
     }
-    /// The inverse operator, mutable.
-    pub fn operator_mut(&mut self) -> &mut InverseHysteresis<T, K> {
-        &mut self.operator
-    }
+}
+
+impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for InverseModel<T, I, K, O> {
+    /// The memory of the inverse operator H⁻¹ (on its input u_d and output v).
+    type Memory = Option<Memory<T>>;
 
     /// One sample (plain or jet): ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y)]). With a jet of the desired output it
     /// gives the command and its time derivatives.
     ///
     /// # Errors
     /// [`Error::OutOfRange`] when y (or the operator's output) has no preimage under a saturating
-    /// shaping function, or as [`crate::Operator::try_step`]. The memory is then unchanged.
-    pub fn eval<S: Scalar<T>>(&mut self, y: S) -> Result<S, Error> {
-        let ud = self.output.invert_scalar(y)?;
+    /// shaping function, or as [`InverseHysteresis`]'s [`Operator::try_step`]. The memory is
+    /// then unchanged.
+    fn try_step<S: Sample<T>>(&mut self, y: S) -> Result<S, Error> {
+        let ud = self.output.invert_sample(y)?;
         let (v, memory) = self.operator.compute(ud)?;
-        let x = self.input.invert_scalar(v)?;
+        let x = self.input.invert_sample(v)?;
         self.operator.commit(memory);
         Ok(x)
     }
 
-    /// One sample.
-    ///
-    /// # Errors
-    /// As [`InverseModel::eval`].
-    #[inline]
-    pub fn try_step(&mut self, y: T) -> Result<T, Error> {
-        self.eval(y)
+    /// The last command (ψ_in⁻¹ of the operator's last output).
+    fn last_output(&self) -> Option<T> {
+        self.operator
+            .last_output()
+            .and_then(|v| self.input.invert(v).ok())
     }
 
-    /// One sample; a desired output that cannot be produced (non-finite, or beyond a saturating
-    /// shaping function) holds the last command.
-    pub fn step(&mut self, y: T) -> T {
-        match self.eval(y) {
-            Ok(x) => x,
-            Err(_) => self
-                .operator
-                .memory()
-                .and_then(|m| self.input.invert(m.last_output).ok())
-                .unwrap_or(y),
-        }
-    }
-
-    /// One sample of a jet.
-    ///
-    /// # Errors
-    /// As [`InverseModel::eval`].
-    pub fn step_jet<const N: usize>(&mut self, y: Jet<T, N>) -> Result<Jet<T, N>, Error> {
-        self.eval(y)
-    }
-
-    /// Forgets the history of the operator.
-    pub fn reset(&mut self) {
+    fn reset(&mut self) {
         self.operator.reset();
+    }
+
+    fn memory(&self) -> Option<Memory<T>> {
+        self.operator.memory()
+    }
+
+    fn set_memory(&mut self, memory: Option<Memory<T>>) -> Result<(), Error> {
+        self.operator.set_memory(memory)
     }
 }

@@ -1,352 +1,106 @@
-//! The direct (Definition 2.2, eq. 2) and inverse (Definition 2.5, eq. 4) parametric hysteresis
-//! operators, as one generic type with two branches.
+//! The one stepping interface of the project: a causal operator with memory that maps an input
+//! signal to an output signal, sample by sample.
+//!
+//! Every hysteresis operator of the paper is of this kind (Section 2: the output at time t
+//! depends on the input up to t through the memory of Definition 2.1), and so is everything
+//! built from them. [`Operator`] is implemented by
+//!
+//! - the direct and inverse parametric operators [`Hysteresis`](crate::Hysteresis) (eq. 2) and
+//!   [`InverseHysteresis`](crate::InverseHysteresis) (eq. 4), and every
+//!   [`ParametricHysteresis`](crate::ParametricHysteresis) with an input-dependent k2;
+//! - the shaped model [`Model`](crate::Model) (Section 4.3) and its exact compensator
+//!   [`InverseModel`](crate::InverseModel);
+//! - the [`Play`](crate::Play) operator (backlash), the
+//!   [`PrandtlIshlinskii`](crate::PrandtlIshlinskii) sum of plays, its shaped form and inverse;
+//!
+//! and, outside the core, by the simulated "true" hysteresis of `hyst-sim` and the fitted-model
+//! evaluator of `hyst-fit`. The simulator, the fitting code and the `hyst` tool step operators
+//! only through this trait; rustdoc's "Implementors" list below is the complete list.
+//!
+//! A sample is a plain number or a [`Jet`] (a value and its first N time derivatives): the same
+//! [`Operator::try_step`] gives the output's derivatives when it is given the input's.
 
-use core::marker::PhantomData;
+use crate::{Error, Real, Sample};
 
-#[cfg(feature = "serde")]
-use serde::{Deserialize, Serialize};
-
-use crate::{error::positive, ConstantK2, Direction, Error, Jet, K2Law, Memory, Real, Scalar};
-
-mod sealed {
-    pub trait Sealed {}
-}
-
-/// Which operator of the pair: [`Direct`] (eq. 2) or [`Inverse`] (eq. 4).
-pub trait Branch: sealed::Sealed + Copy + core::fmt::Debug {
-    /// "direct" or "inverse".
-    const NAME: &'static str;
-    /// M* from the memory: M(α, β) + k1 for the direct operator, −M(α, β) + k1 for the inverse
-    /// (eq. 4; Proposition 2.7 uses the same, see `docs/errata.md`). On every consistent state it
-    /// lies in [0, 2 k1].
-    fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T;
-    /// The operator's output β for the input α = `x`: eq. (2) or eq. (4) between the
-    /// transformation T of Definition 2.1 (α̃ = s (α − α0)) and its inverse (β = β0 + s β̃).
-    fn output<T: Real, S: Scalar<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S;
-}
-
-/// Marker for the direct operator u = H(k1, k2)[v] of eq. (2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-pub struct Direct;
-
-/// Marker for the inverse operator v = H⁻¹(k1, k2)[u_d] of eq. (4).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-pub struct Inverse;
-
-impl sealed::Sealed for Direct {}
-impl sealed::Sealed for Inverse {}
-
-#[inline]
-fn clamp_band<T: Real>(m: T, k1: T) -> T {
-    m.max(T::zero()).min(k1 + k1)
-}
-
-impl Branch for Direct {
-    const NAME: &'static str = "direct";
-    #[inline]
-    fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T {
-        clamp_band(memory.m() + k1, k1)
-    }
-    /// Eq. (2) between the transformation of Definition 2.1 and its inverse.
-    #[inline]
-    fn output<T: Real, S: Scalar<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
-        memory.untransform(direct_transition(memory.transform(x), m_star, k2))
-    }
-}
-
-/// Eq. (2): ũ = ṽ − M* + W(k2 M* e^(k2 (M* − ṽ))) / k2.
+/// A causal operator with memory: one output sample per input sample, plain or [`Jet`].
 ///
-/// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b): while a e^b is finite, eq. (2) as
-/// printed (its rounding error is a few ulps of max(|ṽ|, M*), below that of the output
-/// u = β0 + s ũ itself). When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain)
-/// and, using w + ln w = ln a + b, ũ = (ln a − ln w) / k2, which has no cancellation between
-/// large terms: k2 up to 1e12 (near-backlash) stays finite and accurate. At a reversal point
-/// (ṽ = 0) the value is exactly 0.
-#[inline]
-fn direct_transition<T: Real, S: Scalar<T>>(v_tilde: S, m_star: T, k2: S) -> S {
-    let a = k2 * m_star;
-    let b = k2 * (S::cst(m_star) - v_tilde);
-    let x = a * b.exp();
-    let u_tilde = if x.value().is_finite() {
-        v_tilde - m_star + x.w0() / k2
-    } else {
-        let ln_a = k2.ln() + m_star.ln();
-        let w = (ln_a + b).omega();
-        (ln_a - w.ln()) / k2
-    };
-    if v_tilde.value() == T::zero() {
-        u_tilde.with_value(T::zero())
-    } else {
-        u_tilde
-    }
-}
-
-impl Branch for Inverse {
-    const NAME: &'static str = "inverse";
-    /// Not clamped: eq. (4) stays well defined for any M*, and the memory only leaves the band by
-    /// rounding (a state from outside is checked by `set_memory`).
-    #[inline]
-    fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T {
-        k1 - memory.m()
-    }
-    /// Eq. (4), ṽ = ũ_d + M* (1 − e^(−k2 ũ_d)), with Definition 2.1's transformation folded in:
-    /// v = (β0 + s ũ_d) + s M* (1 − e^(−k2 ũ_d)), so only two numbers wait for the exponential.
-    /// Exactly β0 at a reversal point (ũ_d = 0). 1 − e^(−z) is computed with `exp`, not `expm1`:
-    /// its absolute error, ≤ 2 k1 ε, is below the rounding of v itself, and `exp` is faster.
-    #[inline]
-    fn output<T: Real, S: Scalar<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
-        let s = memory.direction.sign::<T>();
-        let ud_tilde = memory.transform(x);
-        let along_input = ud_tilde * s + memory.reversal_output;
-        along_input + (S::cst(T::one()) - (-(k2 * ud_tilde)).exp()) * (m_star * s)
-    }
-}
-
-/// A parametric hysteresis operator with its memory: parameters k1 (half-width of the loop, in
-/// output units, > 0) and k2 (rate of the transition, 1/input units, > 0, or a law k2 = φ(input)),
-/// the memory of Definition 2.1, and the branch `B` ([`Direct`] or [`Inverse`]).
+/// Implementors provide [`Operator::try_step`] (every evaluation goes through it),
+/// [`Operator::last_output`], [`Operator::reset`] and the memory accessors; the block and
+/// holding methods are provided.
 ///
-/// Use the aliases [`Hysteresis`] and [`InverseHysteresis`]. The value is small and `Copy` (when
-/// the k2 law is), never allocates and never panics.
-///
-/// Non-finite input: [`Operator::try_step`] returns [`Error::NonFiniteInput`] and leaves the
-/// memory untouched; [`Operator::step`] then holds the last output (or returns the input as is
-/// when there is no history yet). The memory never holds a NaN.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-pub struct Operator<T, K, B> {
-    k1: T,
-    law: K,
-    initial: Option<Memory<T>>,
-    memory: Option<Memory<T>>,
-    branch: PhantomData<B>,
-}
-
-/// The direct parametric hysteresis operator u = H(k1, k2)[v] (Definition 2.2, eq. 2).
+/// The contract every implementation keeps:
+/// - [`Operator::try_step`] either returns the output and commits the memory, or returns an
+///   error (a non-finite sample, an input outside a shaping function's range, …) and leaves the
+///   memory exactly as it was. It never panics.
+/// - [`Operator::memory`] followed later by [`Operator::set_memory`] resumes exactly where the
+///   operator stood (a controller that restarts).
 ///
 /// # Examples
+/// Any operator runs through the same generic code:
 /// ```
-/// use hyst_core::Hysteresis;
-/// let mut h = Hysteresis::new(0.14_f64, 8.0)?;
-/// assert_eq!(h.step(0.0), 0.0); // the first sample is a reversal point on u = v
-/// let up = h.step(1.0);
-/// assert!(up < 1.0 && up > 1.0 - 0.14); // rising: below the line, above the asymptote v − k1
-/// # Ok::<(), hyst_core::Error>(())
-/// ```
-pub type Hysteresis<T, K = ConstantK2<T>> = Operator<T, K, Direct>;
-
-/// The inverse parametric hysteresis operator v = H⁻¹(k1, k2)[u_d] (Definition 2.5, eq. 4),
-/// the exact left and right inverse of [`Hysteresis`] with the same parameters and initial
-/// state (Proposition 4.1).
-///
-/// # Examples
-/// ```
-/// use hyst_core::{Hysteresis, InverseHysteresis};
-/// let mut h = Hysteresis::new(0.2_f64, 8.0)?;
-/// let mut hinv = InverseHysteresis::new(0.2_f64, 8.0)?;
-/// for k in 0..100 {
-///     let ud = (k as f64 * 0.1).sin();
-///     let v = hinv.step(ud);
-///     assert!((h.step(v) - ud).abs() < 1e-12);
+/// use hyst_core::{Hysteresis, Operator, Play};
+/// fn run<O: Operator<f64>>(op: &mut O, input: &[f64]) -> Vec<f64> {
+///     input.iter().map(|x| op.step(*x)).collect()
+/// }
+/// let input = [0.0, 1.0, 0.5, -1.0];
+/// let smooth = run(&mut Hysteresis::new(0.2, 1e9)?, &input);
+/// let hard = run(&mut Play::new(0.2)?, &input);
+/// for (s, h) in smooth.iter().zip(&hard) {
+///     assert!((s - h).abs() < 1e-7); // k2 → ∞ is a backlash of half-width k1
 /// }
 /// # Ok::<(), hyst_core::Error>(())
 /// ```
-pub type InverseHysteresis<T, K = ConstantK2<T>> = Operator<T, K, Inverse>;
+pub trait Operator<T: Real> {
+    /// What [`Operator::memory`] saves and [`Operator::set_memory`] restores: the operator's
+    /// whole history-dependent state (for the parametric operator, the memory of
+    /// Definition 2.1, `None` before the first sample).
+    type Memory: Clone + core::fmt::Debug + PartialEq;
 
-impl<T: Real, B: Branch> Operator<T, ConstantK2<T>, B> {
-    /// An operator with constant k2, no history (its first sample becomes a reversal point on
-    /// the line output = input).
+    /// One sample, plain or a [`Jet`]: the output, with its time derivatives when the input
+    /// carries them (Proposition 2.7 and beyond).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming `k1` or `k2` unless both are finite and > 0.
-    pub fn new(k1: T, k2: T) -> Result<Self, Error> {
-        Self::with_k2_law(k1, ConstantK2(k2))
-    }
+    /// [`Error::NonFiniteInput`] for a non-finite value or derivative, and the operator's own
+    /// refusals (an invalid k2 from a custom law, a value outside a shaping function's range).
+    /// The memory is then unchanged.
+    fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error>;
 
-    /// k2 (constant).
-    #[must_use]
-    pub fn k2(&self) -> T {
-        self.law.0
-    }
-}
+    /// The output of the last accepted sample; `None` before the first.
+    fn last_output(&self) -> Option<T>;
 
-impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
-    /// An operator whose k2 follows `law` (Section 4.3), no history.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] for k1 not finite and > 0, or from the law's own check.
-    pub fn with_k2_law(k1: T, law: K) -> Result<Self, Error> {
-        positive("k1", k1)?;
-        law.validate()?;
-        Ok(Self {
-            k1,
-            law,
-            initial: None,
-            memory: None,
-            branch: PhantomData,
-        })
-    }
+    /// Forgets the history: back to the initial state the operator was built with.
+    fn reset(&mut self);
 
-    /// Starts the operator at rest at (input, output), heading in `direction`: that point is the
-    /// reversal point (α0, β0). [`Operator::reset`] returns here.
-    ///
-    /// # Errors
-    /// [`Error::StateOutsideBand`] unless |output − input| ≤ k1 (outside that band the paper's
-    /// operator is not defined); [`Error::InvalidParameter`] for non-finite values.
-    pub fn with_initial_state(
-        mut self,
-        input: T,
-        output: T,
-        direction: Direction,
-    ) -> Result<Self, Error> {
-        let m = Memory::at_rest(input, output, direction, self.k1)?;
-        self.initial = Some(m);
-        self.memory = Some(m);
-        Ok(self)
-    }
-
-    /// k1, the half-width of the loop (the asymptotes are output = input ∓ k1).
-    #[must_use]
-    pub fn k1(&self) -> T {
-        self.k1
-    }
-
-    /// The k2 law.
-    #[must_use]
-    pub fn k2_law(&self) -> &K {
-        &self.law
-    }
-
-    /// The current memory, `None` before the first sample (without an initial state).
-    #[must_use]
+    /// The current memory (save it to resume later).
     #[doc(alias = "state")]
-    pub fn memory(&self) -> Option<Memory<T>> {
-        self.memory
-    }
+    fn memory(&self) -> Self::Memory;
 
-    /// Restores a saved memory (for example after a controller restart).
+    /// Restores a memory saved by [`Operator::memory`] (from this operator or one with the same
+    /// parameters).
     ///
     /// # Errors
-    /// As [`Memory::validate`]; on error the operator is unchanged.
+    /// [`Error::InvalidParameter`] or [`Error::StateOutsideBand`] for a memory the operator
+    /// cannot be in (non-finite values, a point outside the band |output − input| ≤ k1); the
+    /// operator is then unchanged.
     #[doc(alias = "restore")]
-    pub fn set_memory(&mut self, memory: Memory<T>) -> Result<(), Error> {
-        memory.validate(self.k1)?;
-        self.memory = Some(memory);
-        Ok(())
-    }
+    fn set_memory(&mut self, memory: Self::Memory) -> Result<(), Error>;
 
-    /// Forgets the history: back to the initial state, or to "no history" if none was given.
-    pub fn reset(&mut self) {
-        self.memory = self.initial;
-    }
-
-    /// One sample of a plain value.
-    ///
-    /// # Errors
-    /// [`Error::NonFiniteInput`] or [`Error::InvalidK2`]; the memory is then unchanged.
-    #[inline(always)]
-    pub fn try_step(&mut self, x: T) -> Result<T, Error> {
-        self.eval(x)
-    }
-
-    /// One sample; a non-finite input (or an invalid k2 from a custom law) holds the last output
-    /// and leaves the memory untouched. Before any valid sample, it returns the input as is.
-    #[inline(always)]
-    pub fn step(&mut self, x: T) -> T {
-        match self.eval(x) {
+    /// One plain sample that never fails: a sample [`Operator::try_step`] refuses holds the last
+    /// output (or returns the input as is before any output) and leaves the memory untouched.
+    #[inline]
+    fn step(&mut self, x: T) -> T {
+        match self.try_step(x) {
             Ok(y) => y,
-            Err(_) => self.memory.map_or(x, |m| m.last_output),
+            Err(_) => self.last_output().unwrap_or(x),
         }
     }
 
-    /// One sample of a jet: the input's value and its first `N` time derivatives in, the
-    /// output's value and first `N` time derivatives out (Proposition 2.7 and beyond).
-    ///
-    /// # Errors
-    /// As [`Operator::try_step`] (a non-finite derivative counts as non-finite input).
-    #[inline]
-    pub fn step_jet<const N: usize>(&mut self, x: Jet<T, N>) -> Result<Jet<T, N>, Error> {
-        self.eval(x)
-    }
-
-    /// The output the operator would give for `x`, without changing its memory.
-    ///
-    /// # Errors
-    /// As [`Operator::try_step`].
-    pub fn peek<S: Scalar<T>>(&self, x: S) -> Result<S, Error> {
-        self.compute(x).map(|(y, _)| y)
-    }
-
-    /// The common path of every evaluation: plain values and jets alike.
-    ///
-    /// # Errors
-    /// As [`Operator::try_step`].
-    #[inline(always)]
-    pub fn eval<S: Scalar<T>>(&mut self, x: S) -> Result<S, Error> {
-        let k2 = self.checked_k2(x)?;
-        let memory = self
-            .memory
-            .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
-        Ok(Self::advance(memory, self.k1, x, k2))
-    }
-
-    /// The output for `x` and the memory after it, without committing the memory.
-    #[inline]
-    pub(crate) fn compute<S: Scalar<T>>(&self, x: S) -> Result<(S, Memory<T>), Error> {
-        let k2 = self.checked_k2(x)?;
-        let mut memory = self
-            .memory
-            .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
-        let y = Self::advance(&mut memory, self.k1, x, k2);
-        Ok((y, memory))
-    }
-
-    /// Everything that can refuse a sample, checked before the memory is touched: a non-finite
-    /// input, and a k2 from the law that is not finite and > 0.
-    #[inline(always)]
-    fn checked_k2<S: Scalar<T>>(&self, x: S) -> Result<S, Error> {
-        if !x.all_finite() {
-            return Err(Error::NonFiniteInput {
-                value: x.value().as_f64(),
-            });
-        }
-        let k2 = self.law.k2(x);
-        if K::ALWAYS_VALID || (k2.value() > T::zero() && k2.all_finite()) {
-            Ok(k2)
-        } else {
-            Err(Error::InvalidK2 {
-                input: x.value().as_f64(),
-                k2: k2.value().as_f64(),
-            })
-        }
-    }
-
-    /// Definition 2.1's memory update followed by the branch's formula: infallible.
-    #[inline(always)]
-    fn advance<S: Scalar<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> S {
-        let v = x.value();
-        memory.observe(v, x.trend());
-        let m_star = B::m_star(memory, k1);
-        let y = B::output(memory, x, m_star, k2);
-        memory.last_input = v;
-        memory.last_output = y.value();
-        y
-    }
-
-    /// Commits a memory produced by [`Operator::compute`].
-    #[inline]
-    pub(crate) fn commit(&mut self, memory: Memory<T>) {
-        self.memory = Some(memory);
-    }
-
-    /// Processes a block of samples into `output` (same length), without allocating. Each sample
-    /// behaves as [`Operator::step`].
+    /// Processes a block of samples into `output` (same length) without allocating; each
+    /// sample behaves as [`Operator::step`].
     ///
     /// # Errors
     /// [`Error::LengthMismatch`] when the slices differ in length (nothing is processed).
-    pub fn process(&mut self, input: &[T], output: &mut [T]) -> Result<(), Error> {
+    fn process(&mut self, input: &[T], output: &mut [T]) -> Result<(), Error> {
         if input.len() != output.len() {
             return Err(Error::LengthMismatch {
                 input: input.len(),
@@ -359,41 +113,11 @@ impl<T: Real, K: K2Law<T>, B: Branch> Operator<T, K, B> {
         Ok(())
     }
 
-    /// Processes a block of samples in place: each input sample is replaced by the output.
-    pub fn process_in_place(&mut self, samples: &mut [T]) {
+    /// Processes a block of samples in place: each input sample is replaced by its output (as
+    /// [`Operator::step`]).
+    fn process_in_place(&mut self, samples: &mut [T]) {
         for x in samples.iter_mut() {
             *x = self.step(*x);
         }
-    }
-}
-
-impl<T: Real, K: K2Law<T> + Clone, B: Branch> Operator<T, K, B> {
-    /// The other operator of the pair with the same parameters and this one's memory seen from
-    /// the other side (input and output swapped).
-    fn mirrored<B2: Branch>(&self) -> Operator<T, K, B2> {
-        Operator {
-            k1: self.k1,
-            law: self.law.clone(),
-            initial: self.initial.map(|m| m.swapped()),
-            memory: self.memory.map(|m| m.swapped()),
-            branch: PhantomData,
-        }
-    }
-}
-
-impl<T: Real, K: K2Law<T> + Clone> Operator<T, K, Direct> {
-    /// The inverse operator with the same parameters, whose memory mirrors this one's: from here
-    /// on, `inverse.step(u_d)` fed into `self.step` gives back `u_d` (Proposition 4.1).
-    #[must_use]
-    pub fn inverse(&self) -> Operator<T, K, Inverse> {
-        self.mirrored()
-    }
-}
-
-impl<T: Real, K: K2Law<T> + Clone> Operator<T, K, Inverse> {
-    /// The direct operator with the same parameters, whose memory mirrors this one's.
-    #[must_use]
-    pub fn direct(&self) -> Operator<T, K, Direct> {
-        self.mirrored()
     }
 }

@@ -27,13 +27,13 @@
 //! derivative of the input points outwards) moves with the input, every other play is stuck, so
 //! every derivative of the output is (w0 + Σ_{moving} w_i) times the input's.
 
-use crate::{Error, Polynomial, Real, Scalar, Shaping};
+use crate::{play, Error, Operator, Polynomial, Real, Sample, Shaping};
 
 /// A Prandtl–Ishlinskii operator with up to `N` play operators (see the module docs).
 ///
 /// # Examples
 /// ```
-/// use hyst_core::PrandtlIshlinskii;
+/// use hyst_core::{Operator, PrandtlIshlinskii};
 /// let mut pi = PrandtlIshlinskii::<f64, 8>::new(0.5, &[0.1, 0.2, 0.4], &[0.3, 0.2, 0.1], 0.0)?;
 /// let mut inv = pi.inverse()?;
 /// for k in 0..200 {
@@ -204,11 +204,6 @@ impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
         Ok(())
     }
 
-    /// Forgets the history.
-    pub fn reset(&mut self) {
-        self.last_output = None;
-    }
-
     fn output(&self, z: T) -> T {
         let mut y = self.output_offset + self.identity_weight * z;
         for (w, p) in self.weights.iter().zip(&self.plays).take(self.len) {
@@ -217,14 +212,9 @@ impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
         y
     }
 
-    /// One sample.
-    ///
-    /// # Errors
-    /// [`Error::NonFiniteInput`]; the state is then unchanged.
-    pub fn try_step(&mut self, x: T) -> Result<T, Error> {
-        if !x.is_finite() {
-            return Err(Error::NonFiniteInput { value: x.as_f64() });
-        }
+    /// The plays and the output for a finite input x (the value path of
+    /// [`Operator::try_step`]).
+    fn advance(&mut self, x: T) -> T {
         let z = x - self.input_offset;
         if self.last_output.is_none() {
             for p in self.plays.iter_mut().take(self.len) {
@@ -232,19 +222,11 @@ impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
             }
         }
         for (p, r) in self.plays.iter_mut().zip(&self.thresholds).take(self.len) {
-            *p = (z - *r).max((z + *r).min(*p));
+            *p = play::update(*p, z, *r);
         }
         let y = self.output(z);
         self.last_output = Some(y);
-        Ok(y)
-    }
-
-    /// One sample; a non-finite input holds the last output (the input itself before any).
-    pub fn step(&mut self, x: T) -> T {
-        match self.try_step(x) {
-            Ok(y) => y,
-            Err(_) => self.last_output.unwrap_or(x),
-        }
+        y
     }
 
     /// The inverse operator (the compensator), with its plays set so that from here on
@@ -313,35 +295,8 @@ impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
         rest / self.identity_weight + self.input_offset
     }
 
-    /// Processes a block of samples in place (each as [`PrandtlIshlinskii::step`]).
-    pub fn process_in_place(&mut self, samples: &mut [T]) {
-        for x in samples.iter_mut() {
-            *x = self.step(*x);
-        }
-    }
-
-    /// One sample, plain or a jet (value and time derivatives). The value is
-    /// [`PrandtlIshlinskii::try_step`]'s; every derivative is the input's times the current
-    /// slope w0 + Σ w_i over the moving plays: a play moves when it sits on the edge of its band
-    /// (p = z ∓ r) and the input's lowest-order non-zero derivative pushes it (rising on the
-    /// upper edge z − r, falling on the lower edge z + r); otherwise it is stuck and contributes
-    /// nothing. This is exact wherever the play states do not switch between samples' instants.
-    ///
-    /// # Errors
-    /// [`Error::NonFiniteInput`] for a non-finite value or derivative; the state is then
-    /// unchanged.
-    pub fn eval<S: Scalar<T>>(&mut self, x: S) -> Result<S, Error> {
-        let v = x.value();
-        if !x.all_finite() {
-            return Err(Error::NonFiniteInput { value: v.as_f64() });
-        }
-        let y = self.try_step(v)?;
-        let slope = self.slope(v - self.input_offset, x.trend());
-        Ok((x - v) * slope + y)
-    }
-
     /// The slope of the output for an input at z (after the offset) moving in direction `trend`
-    /// (see [`PrandtlIshlinskii::eval`]); w0 when the input does not move.
+    /// (see [`Operator::try_step`]); w0 when the input does not move.
     fn slope(&self, z: T, trend: Option<bool>) -> T {
         let mut slope = self.identity_weight;
         let Some(rising) = trend else {
@@ -354,12 +309,73 @@ impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
             .zip(&self.weights)
             .take(self.len)
         {
-            let edge = if rising { z - *r } else { z + *r };
-            if *p == edge {
+            if play::is_pushed(*p, z, *r, Some(rising)) {
                 slope = slope + *w;
             }
         }
         slope
+    }
+}
+
+/// The history of a Prandtl–Ishlinskii operator: the play outputs (after the input offset) and
+/// the last output, `None` before the first sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlayMemory<T, const N: usize> {
+    /// The play outputs p_1..p_N (only the first `len()` are in use).
+    pub plays: [T; N],
+    /// The last output; `None` before the first sample (the plays are then unused).
+    pub last_output: Option<T>,
+}
+
+impl<T: Real, const N: usize> Operator<T> for PrandtlIshlinskii<T, N> {
+    type Memory = PlayMemory<T, N>;
+
+    /// One sample, plain or a jet. Every derivative is the input's times the current slope
+    /// w0 + Σ w_i over the plays that move ([`play::is_pushed`]: a play on the edge of its band
+    /// that the input's lowest-order non-zero derivative pushes); a stuck play contributes
+    /// nothing. This is exact wherever the play states do not switch between samples' instants.
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteInput`] for a non-finite value or derivative; the state is then
+    /// unchanged.
+    fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
+        let v = x.value();
+        if !x.all_finite() {
+            return Err(Error::NonFiniteInput { value: v.as_f64() });
+        }
+        let y = self.advance(v);
+        let slope = self.slope(v - self.input_offset, x.trend());
+        Ok((x - v) * slope + y)
+    }
+
+    fn last_output(&self) -> Option<T> {
+        self.last_output
+    }
+
+    /// Forgets the history (the next sample puts every play at rest).
+    fn reset(&mut self) {
+        self.last_output = None;
+    }
+
+    fn memory(&self) -> PlayMemory<T, N> {
+        PlayMemory {
+            plays: self.plays,
+            last_output: self.last_output,
+        }
+    }
+
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a non-finite play output or last output.
+    fn set_memory(&mut self, memory: PlayMemory<T, N>) -> Result<(), Error> {
+        for p in memory.plays.iter().take(self.len) {
+            crate::error::finite("play output", *p)?;
+        }
+        if let Some(y) = memory.last_output {
+            crate::error::finite("last output", y)?;
+        }
+        self.plays = memory.plays;
+        self.last_output = memory.last_output;
+        Ok(())
     }
 }
 
@@ -368,7 +384,9 @@ impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
 ///
 /// # Examples
 /// ```
-/// use hyst_core::{prandtl_ishlinskii::ShapedPrandtlIshlinskii, Polynomial, PrandtlIshlinskii};
+/// use hyst_core::{
+///     prandtl_ishlinskii::ShapedPrandtlIshlinskii, Operator, Polynomial, PrandtlIshlinskii,
+/// };
 /// let pi = PrandtlIshlinskii::<f64, 4>::new(0.5, &[0.1, 0.3], &[0.4, 0.2], 0.0)?;
 /// let p = Polynomial::new([0.0, 1.0, 0.2, 0.05], -2.0, 2.0)?;
 /// let mut model = ShapedPrandtlIshlinskii::new(pi, p)?;
@@ -417,37 +435,6 @@ impl<T: Real, const N: usize> ShapedPrandtlIshlinskii<T, N> {
         self.pi.start_at(x)
     }
 
-    /// Forgets the history.
-    pub fn reset(&mut self) {
-        self.pi.reset();
-    }
-
-    /// One sample, plain or a jet: P(PI[x]) with the derivatives of
-    /// [`PrandtlIshlinskii::eval`] carried through P.
-    ///
-    /// # Errors
-    /// [`Error::NonFiniteInput`]; the state is then unchanged.
-    pub fn eval<S: Scalar<T>>(&mut self, x: S) -> Result<S, Error> {
-        let s = self.pi.eval(x)?;
-        Ok(self.output.apply(s))
-    }
-
-    /// One sample.
-    ///
-    /// # Errors
-    /// [`Error::NonFiniteInput`]; the state is then unchanged.
-    pub fn try_step(&mut self, x: T) -> Result<T, Error> {
-        self.eval(x)
-    }
-
-    /// One sample; a non-finite input holds the last output (the input itself before any).
-    pub fn step(&mut self, x: T) -> T {
-        match self.try_step(x) {
-            Ok(y) => y,
-            Err(_) => self.pi.last_output.map_or(x, |s| self.output.apply(s)),
-        }
-    }
-
     /// The exact inverse PI⁻¹ ∘ P⁻¹ (the compensator), continuing from this state so that from
     /// here on `self.step(inverse.step(y))` = y.
     ///
@@ -458,6 +445,36 @@ impl<T: Real, const N: usize> ShapedPrandtlIshlinskii<T, N> {
             output: self.output,
             pi_inverse: self.pi.inverse()?,
         })
+    }
+}
+
+impl<T: Real, const N: usize> Operator<T> for ShapedPrandtlIshlinskii<T, N> {
+    type Memory = PlayMemory<T, N>;
+
+    /// One sample, plain or a jet: P(PI[x]) with the derivatives of the PI sum carried
+    /// through P.
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteInput`]; the state is then unchanged.
+    fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
+        let s = self.pi.try_step(x)?;
+        Ok(self.output.apply(s))
+    }
+
+    fn last_output(&self) -> Option<T> {
+        self.pi.last_output.map(|s| self.output.apply(s))
+    }
+
+    fn reset(&mut self) {
+        self.pi.reset();
+    }
+
+    fn memory(&self) -> PlayMemory<T, N> {
+        self.pi.memory()
+    }
+
+    fn set_memory(&mut self, memory: PlayMemory<T, N>) -> Result<(), Error> {
+        self.pi.set_memory(memory)
     }
 }
 
@@ -481,41 +498,6 @@ impl<T: Real, const N: usize> InverseShapedPrandtlIshlinskii<T, N> {
         &self.output
     }
 
-    /// Forgets the history.
-    pub fn reset(&mut self) {
-        self.pi_inverse.reset();
-    }
-
-    /// One sample, plain or a jet: the command for the desired output y (and its derivatives).
-    ///
-    /// # Errors
-    /// [`Error::NonFiniteInput`] for a non-finite y; the state is then unchanged.
-    pub fn eval<S: Scalar<T>>(&mut self, y: S) -> Result<S, Error> {
-        if !y.all_finite() {
-            return Err(Error::NonFiniteInput {
-                value: y.value().as_f64(),
-            });
-        }
-        let s = self.output.invert_scalar(y)?;
-        self.pi_inverse.eval(s)
-    }
-
-    /// One sample.
-    ///
-    /// # Errors
-    /// As [`InverseShapedPrandtlIshlinskii::eval`].
-    pub fn try_step(&mut self, y: T) -> Result<T, Error> {
-        self.eval(y)
-    }
-
-    /// One sample; a non-finite desired output holds the last command (y itself before any).
-    pub fn step(&mut self, y: T) -> T {
-        match self.try_step(y) {
-            Ok(x) => x,
-            Err(_) => self.pi_inverse.last_output.unwrap_or(y),
-        }
-    }
-
     /// The direct model P ∘ PI, continuing from this state.
     ///
     /// # Errors
@@ -525,6 +507,41 @@ impl<T: Real, const N: usize> InverseShapedPrandtlIshlinskii<T, N> {
             pi: self.pi_inverse.inverse()?,
             output: self.output,
         })
+    }
+}
+
+impl<T: Real, const N: usize> Operator<T> for InverseShapedPrandtlIshlinskii<T, N> {
+    type Memory = PlayMemory<T, N>;
+
+    /// One sample, plain or a jet: the command for the desired output y (and its derivatives).
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteInput`] for a non-finite y; the state is then unchanged.
+    fn try_step<S: Sample<T>>(&mut self, y: S) -> Result<S, Error> {
+        if !y.all_finite() {
+            return Err(Error::NonFiniteInput {
+                value: y.value().as_f64(),
+            });
+        }
+        let s = self.output.invert_sample(y)?;
+        self.pi_inverse.try_step(s)
+    }
+
+    fn last_output(&self) -> Option<T> {
+        self.pi_inverse.last_output
+    }
+
+    fn reset(&mut self) {
+        self.pi_inverse.reset();
+    }
+
+    /// The memory of the inverse PI sum.
+    fn memory(&self) -> PlayMemory<T, N> {
+        self.pi_inverse.memory()
+    }
+
+    fn set_memory(&mut self, memory: PlayMemory<T, N>) -> Result<(), Error> {
+        self.pi_inverse.set_memory(memory)
     }
 }
 
@@ -634,20 +651,20 @@ mod tests {
         use crate::Jet;
         let mut pi = PrandtlIshlinskii::<f64, 2>::new(0.5, &[0.1, 0.3], &[1.0, 2.0], 0.0)?;
         // At rest: every play stuck, slope w0.
-        let y = pi.eval(Jet::<f64, 2>::from_derivatives(0.0, [1.0, 3.0]))?;
+        let y = pi.try_step(Jet::<f64, 2>::from_derivatives(0.0, [1.0, 3.0]))?;
         assert_eq!(y.derivatives(), [0.5, 1.5]);
         // 0.2 above the start: the first play (r = 0.1) is dragged, the second is not.
-        let y = pi.eval(Jet::<f64, 2>::from_derivatives(0.2, [1.0, 3.0]))?;
+        let y = pi.try_step(Jet::<f64, 2>::from_derivatives(0.2, [1.0, 3.0]))?;
         assert_eq!(y.value(), 0.5 * 0.2 + 1.0 * 0.1);
         assert_eq!(y.derivatives(), [1.5, 4.5]);
         // Both dragged.
-        let y = pi.eval(Jet::<f64, 2>::from_derivatives(0.5, [2.0, 0.0]))?;
+        let y = pi.try_step(Jet::<f64, 2>::from_derivatives(0.5, [2.0, 0.0]))?;
         assert_eq!(y.derivatives(), [7.0, 0.0]);
         // Same place, now falling: every play leaves its upper edge, slope w0.
-        let y = pi.eval(Jet::<f64, 2>::from_derivatives(0.5, [-2.0, 0.0]))?;
+        let y = pi.try_step(Jet::<f64, 2>::from_derivatives(0.5, [-2.0, 0.0]))?;
         assert_eq!(y.derivatives(), [-1.0, 0.0]);
         // First derivative 0, second > 0: rising by the second derivative.
-        let y = pi.eval(Jet::<f64, 2>::from_derivatives(0.5, [0.0, 1.0]))?;
+        let y = pi.try_step(Jet::<f64, 2>::from_derivatives(0.5, [0.0, 1.0]))?;
         assert_eq!(y.derivatives(), [0.0, 3.5]);
         // The value equals the plain step; the derivative matches a finite difference of a
         // smooth input away from switching instants.
@@ -657,7 +674,7 @@ mod tests {
         let mut mismatches = 0;
         for k in 0..400 {
             let t = k as f64 * 0.01;
-            let jet = a.eval(Jet::<f64, 1>::from_derivatives(t.sin(), [t.cos()]))?;
+            let jet = a.try_step(Jet::<f64, 1>::from_derivatives(t.sin(), [t.cos()]))?;
             let mut c = b;
             let y0 = b.try_step(t.sin())?;
             assert_eq!(jet.value(), y0);
@@ -673,7 +690,7 @@ mod tests {
             "{mismatches} samples disagree with finite differences"
         );
         assert!(pi
-            .eval(Jet::<f64, 1>::from_derivatives(0.0, [f64::NAN]))
+            .try_step(Jet::<f64, 1>::from_derivatives(0.0, [f64::NAN]))
             .is_err());
         Ok(())
     }

@@ -4,14 +4,16 @@ use core::fmt::{Debug, Display};
 
 /// A real floating-point type: implemented for `f32` and `f64`.
 ///
-/// All maths goes through [`num_traits::Float`] backed by `libm`, so the same code runs with and
-/// without the standard library. The extra items here are the constants and the Lambert W
+/// All maths goes through [`num_traits::Float`]: without the `std` feature its functions are
+/// `libm`'s, with `std` they are the platform's (the standard library's `exp`, `ln`, …), so
+/// results may differ in the last bit between the two builds. The Lambert W starting
+/// approximation is always the `lambert_w` crate's. The extra items here are the constants and the Lambert W
 /// approximation the operator needs at each precision.
 pub trait Real:
     num_traits::Float + num_traits::FloatConst + Debug + Display + Default + Send + Sync + 'static
 {
     /// Converts an `f64` literal to this type (rounding to nearest for `f32`).
-    fn lit(x: f64) -> Self;
+    fn from_f64(x: f64) -> Self;
     /// Converts this value to `f64` (exact for both implementations).
     fn as_f64(self) -> f64;
     /// Principal branch of the Lambert W function for `x ≥ 0`, by Fukushima's minimax method
@@ -24,7 +26,7 @@ pub trait Real:
 
 impl Real for f64 {
     #[inline]
-    fn lit(x: f64) -> Self {
+    fn from_f64(x: f64) -> Self {
         x
     }
     #[inline]
@@ -40,7 +42,7 @@ impl Real for f64 {
 
 impl Real for f32 {
     #[inline]
-    fn lit(x: f64) -> Self {
+    fn from_f64(x: f64) -> Self {
         x as f32
     }
     #[inline]

@@ -12,12 +12,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::{
     error::{finite, positive},
-    Error, Jet, Real, Scalar,
+    Error, Jet, Real, Sample,
 };
 
 /// A smooth, strictly increasing shaping function ψ with its inverse.
 ///
-/// Implementors provide the formula [`Shaping::eval`] (generic over [`Scalar`], so it works on
+/// Implementors provide the formula [`Shaping::eval`] (generic over [`Sample`], so it works on
 /// jets) and its domain; the provided methods add the tangent extension, the inverse (closed form
 /// where the implementor gives one, otherwise safeguarded Newton) and the inverse on jets.
 pub trait Shaping<T: Real> {
@@ -25,7 +25,7 @@ pub trait Shaping<T: Real> {
     fn name(&self) -> &'static str;
 
     /// ψ(x) by its formula (valid on [`Shaping::domain`]).
-    fn eval<S: Scalar<T>>(&self, x: S) -> S;
+    fn eval<S: Sample<T>>(&self, x: S) -> S;
 
     /// The interval on which the formula holds and is strictly increasing (ends may be infinite).
     fn domain(&self) -> (T, T) {
@@ -59,7 +59,7 @@ pub trait Shaping<T: Real> {
     }
 
     /// ψ(x) on the whole line: the formula on the domain, the tangent beyond its ends.
-    fn apply<S: Scalar<T>>(&self, x: S) -> S {
+    fn apply<S: Sample<T>>(&self, x: S) -> S {
         let (lo, hi) = self.domain();
         let v = x.value();
         if v < lo {
@@ -109,10 +109,10 @@ pub trait Shaping<T: Real> {
     ///
     /// # Errors
     /// As [`Shaping::invert`].
-    fn invert_scalar<S: Scalar<T>>(&self, y: S) -> Result<S, Error> {
+    fn invert_sample<S: Sample<T>>(&self, y: S) -> Result<S, Error> {
         let x0 = self.invert(y.value())?;
         let slope = self.slope(x0);
-        let mut x = S::cst(x0);
+        let mut x = S::constant(x0);
         for _ in 0..S::ORDER {
             x = (x - (self.apply(x) - y) / slope).with_value(x0);
         }
@@ -124,7 +124,7 @@ pub trait Shaping<T: Real> {
     fn lipschitz(&self, lo: T, hi: T) -> T {
         const POINTS: usize = 2049;
         (0..POINTS)
-            .map(|i| self.slope(lo + (hi - lo) * T::lit(i as f64 / (POINTS - 1) as f64)))
+            .map(|i| self.slope(lo + (hi - lo) * T::from_f64(i as f64 / (POINTS - 1) as f64)))
             .fold(T::zero(), T::max)
     }
 }
@@ -158,7 +158,7 @@ pub fn solve_increasing<T: Real>(
     };
     // Finite bracket [a, b] with f(a) ≤ y ≤ f(b), expanding geometrically into infinite ends.
     let start = if lo.is_finite() && hi.is_finite() {
-        (lo + hi) / T::lit(2.0)
+        (lo + hi) / T::from_f64(2.0)
     } else if lo.is_finite() {
         lo
     } else if hi.is_finite() {
@@ -211,7 +211,7 @@ pub fn solve_increasing<T: Real>(
         let next = if newton > a && newton < b && newton.is_finite() {
             newton
         } else {
-            a + (b - a) / T::lit(2.0)
+            a + (b - a) / T::from_f64(2.0)
         };
         if (next - x).abs() <= T::epsilon() * x.abs()
             || b - a <= T::epsilon() * a.abs().max(b.abs())
@@ -233,17 +233,17 @@ impl<T: Real> Shaping<T> for Identity {
         "identity"
     }
     #[inline]
-    fn eval<S: Scalar<T>>(&self, x: S) -> S {
+    fn eval<S: Sample<T>>(&self, x: S) -> S {
         x
     }
     fn invert_in_domain(&self, y: T) -> Result<T, Error> {
         Ok(y)
     }
     #[inline]
-    fn apply<S: Scalar<T>>(&self, x: S) -> S {
+    fn apply<S: Sample<T>>(&self, x: S) -> S {
         x
     }
-    fn invert_scalar<S: Scalar<T>>(&self, y: S) -> Result<S, Error> {
+    fn invert_sample<S: Sample<T>>(&self, y: S) -> Result<S, Error> {
         Ok(y)
     }
 }
@@ -276,7 +276,7 @@ impl<T: Real> Shaping<T> for Affine<T> {
         "affine"
     }
     #[inline]
-    fn eval<S: Scalar<T>>(&self, x: S) -> S {
+    fn eval<S: Sample<T>>(&self, x: S) -> S {
         x * self.gain + self.offset
     }
     fn invert_in_domain(&self, y: T) -> Result<T, Error> {
@@ -323,7 +323,7 @@ impl<T: Real> Polynomial<T> {
 
     fn derivative(&self, x: T) -> T {
         let [_, c1, c2, c3] = self.coefficients;
-        c1 + x * (T::lit(2.0) * c2 + x * T::lit(3.0) * c3)
+        c1 + x * (T::from_f64(2.0) * c2 + x * T::from_f64(3.0) * c3)
     }
 }
 
@@ -332,7 +332,7 @@ impl<T: Real> Shaping<T> for Polynomial<T> {
         "polynomial"
     }
     #[inline]
-    fn eval<S: Scalar<T>>(&self, x: S) -> S {
+    fn eval<S: Sample<T>>(&self, x: S) -> S {
         let [c0, c1, c2, c3] = self.coefficients;
         ((x * c3 + c2) * x + c1) * x + c0
     }
@@ -380,7 +380,7 @@ impl<T: Real> Shaping<T> for Polynomial<T> {
             }
         }
         if c3 > T::zero() {
-            let vertex = -c2 / (T::lit(3.0) * c3);
+            let vertex = -c2 / (T::from_f64(3.0) * c3);
             if vertex > self.lo && vertex < self.hi && self.derivative(vertex) <= T::zero() {
                 return Err(not_monotone(vertex));
             }
@@ -413,9 +413,9 @@ impl<T: Real> Tanh<T> {
 }
 
 /// tanh written through exp(−2|x|), so jets never overflow.
-fn tanh_scalar<T: Real, S: Scalar<T>>(x: S) -> S {
+fn tanh_scalar<T: Real, S: Sample<T>>(x: S) -> S {
     let ax = x.abs();
-    let m = ax * T::lit(-2.0);
+    let m = ax * T::from_f64(-2.0);
     let t = -m.exp_m1() / (m.exp() + T::one());
     if x.value() < T::zero() {
         -t
@@ -428,7 +428,7 @@ impl<T: Real> Shaping<T> for Tanh<T> {
     fn name(&self) -> &'static str {
         "tanh"
     }
-    fn eval<S: Scalar<T>>(&self, x: S) -> S {
+    fn eval<S: Sample<T>>(&self, x: S) -> S {
         tanh_scalar(x / self.scale) * self.gain
     }
     fn invert_in_domain(&self, y: T) -> Result<T, Error> {
@@ -442,7 +442,7 @@ impl<T: Real> Shaping<T> for Tanh<T> {
             });
         }
         // atanh t = ½ ln((1 + t)/(1 − t)) = ½ ln1p(2t / (1 − t))
-        Ok(self.scale * T::lit(0.5) * (T::lit(2.0) * t / (T::one() - t)).ln_1p())
+        Ok(self.scale * T::from_f64(0.5) * (T::from_f64(2.0) * t / (T::one() - t)).ln_1p())
     }
     fn validate(&self) -> Result<(), Error> {
         positive("tanh gain", self.gain)?;
@@ -485,20 +485,20 @@ const LANGEVIN_SERIES: [f64; 20] = [
 
 /// The Langevin function L(x) = coth x − 1/x on plain values or jets: its series for |x| < 1
 /// (no cancellation near 0), coth through exp(−2|x|) beyond.
-pub fn langevin_scalar<T: Real, S: Scalar<T>>(x: S) -> S {
+pub fn langevin_scalar<T: Real, S: Sample<T>>(x: S) -> S {
     let v = x.value();
     if v.abs() < T::one() {
         let x2 = x * x;
-        let mut acc = S::cst(T::zero());
+        let mut acc = S::constant(T::zero());
         for c in LANGEVIN_SERIES.iter().rev() {
-            acc = acc * x2 + T::lit(*c);
+            acc = acc * x2 + T::from_f64(*c);
         }
         acc * x
     } else {
-        let m = x.abs() * T::lit(-2.0);
+        let m = x.abs() * T::from_f64(-2.0);
         let coth = (m.exp() + T::one()) / (-m.exp_m1());
         let coth = if v < T::zero() { -coth } else { coth };
-        coth - S::cst(T::one()) / x
+        coth - S::constant(T::one()) / x
     }
 }
 
@@ -544,7 +544,7 @@ impl<T: Real> Shaping<T> for Langevin<T> {
     fn name(&self) -> &'static str {
         "langevin"
     }
-    fn eval<S: Scalar<T>>(&self, x: S) -> S {
+    fn eval<S: Sample<T>>(&self, x: S) -> S {
         langevin_scalar(x / self.scale) * self.gain
     }
     fn invert_in_domain(&self, y: T) -> Result<T, Error> {
@@ -570,7 +570,7 @@ impl<T: Real> Shaping<T> for Langevin<T> {
     }
     fn lipschitz(&self, lo: T, hi: T) -> T {
         if lo <= T::zero() && hi >= T::zero() {
-            self.gain / (T::lit(3.0) * self.scale)
+            self.gain / (T::from_f64(3.0) * self.scale)
         } else {
             self.slope(if lo > T::zero() { lo } else { hi })
         }
@@ -612,11 +612,11 @@ impl<T: Real> QuadraticExp<T> {
     /// Never in practice (the constants are valid); kept fallible for uniformity.
     pub fn example2() -> Result<Self, Error> {
         Self::new(
-            T::lit(0.088),
-            T::lit(9.6),
-            T::lit(6.6),
-            T::lit(-1.0),
-            T::lit(5.0),
+            T::from_f64(0.088),
+            T::from_f64(9.6),
+            T::from_f64(6.6),
+            T::from_f64(-1.0),
+            T::from_f64(5.0),
         )
     }
 }
@@ -625,7 +625,7 @@ impl<T: Real> Shaping<T> for QuadraticExp<T> {
     fn name(&self) -> &'static str {
         "quadratic-exp"
     }
-    fn eval<S: Scalar<T>>(&self, x: S) -> S {
+    fn eval<S: Sample<T>>(&self, x: S) -> S {
         x - x * x * self.a - (-(x * self.c + self.b)).exp()
     }
     fn domain(&self) -> (T, T) {
@@ -671,7 +671,7 @@ impl<T: Real> Shaping<T> for QuadraticExp<T> {
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
-pub enum Shape<T> {
+pub enum AnyShaping<T> {
     /// [`Identity`].
     #[default]
     Identity,
@@ -690,24 +690,24 @@ pub enum Shape<T> {
 macro_rules! dispatch {
     ($self:ident, $s:ident => $e:expr) => {
         match $self {
-            Shape::Identity => {
+            AnyShaping::Identity => {
                 let $s = &Identity;
                 $e
             }
-            Shape::Affine($s) => $e,
-            Shape::Polynomial($s) => $e,
-            Shape::Tanh($s) => $e,
-            Shape::Langevin($s) => $e,
-            Shape::QuadraticExp($s) => $e,
+            AnyShaping::Affine($s) => $e,
+            AnyShaping::Polynomial($s) => $e,
+            AnyShaping::Tanh($s) => $e,
+            AnyShaping::Langevin($s) => $e,
+            AnyShaping::QuadraticExp($s) => $e,
         }
     };
 }
 
-impl<T: Real> Shaping<T> for Shape<T> {
+impl<T: Real> Shaping<T> for AnyShaping<T> {
     fn name(&self) -> &'static str {
         dispatch!(self, s => Shaping::<T>::name(s))
     }
-    fn eval<S: Scalar<T>>(&self, x: S) -> S {
+    fn eval<S: Sample<T>>(&self, x: S) -> S {
         dispatch!(self, s => s.eval(x))
     }
     fn domain(&self) -> (T, T) {
@@ -719,7 +719,7 @@ impl<T: Real> Shaping<T> for Shape<T> {
     fn validate(&self) -> Result<(), Error> {
         dispatch!(self, s => Shaping::<T>::validate(s))
     }
-    fn apply<S: Scalar<T>>(&self, x: S) -> S {
+    fn apply<S: Sample<T>>(&self, x: S) -> S {
         dispatch!(self, s => s.apply(x))
     }
     fn lipschitz(&self, lo: T, hi: T) -> T {
@@ -760,7 +760,7 @@ mod tests {
             &[-9.0, -1.0, -0.2, 0.0, 0.5, 0.69, 0.71, 3.0, 9.0],
         );
         round_trip(&QuadraticExp::example2()?, &XS);
-        round_trip(&Shape::Tanh(Tanh::new(1.0, 1.0)?), &[-2.0, 0.0, 2.0]);
+        round_trip(&AnyShaping::Tanh(Tanh::new(1.0, 1.0)?), &[-2.0, 0.0, 2.0]);
         Ok(())
     }
 
@@ -812,7 +812,7 @@ mod tests {
         let s = QuadraticExp::example2()?;
         let x = Jet::<f64, 3>::from_derivatives(0.3, [0.7, -0.2, 1.1]);
         let y = s.apply(x);
-        let back = s.invert_scalar(y)?;
+        let back = s.invert_sample(y)?;
         for (a, b) in x.derivatives().iter().zip(back.derivatives().iter()) {
             assert!((a - b).abs() < 1e-12, "{a} {b}");
         }

@@ -3,6 +3,7 @@
 //! (play operator) of half-width k1.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
+use hyst_core::Operator;
 use hyst_core::{Hysteresis, InverseHysteresis};
 
 /// The play operator: the output stays put until the input drags it along at distance k1.

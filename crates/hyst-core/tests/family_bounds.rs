@@ -4,6 +4,7 @@
 //! eqs. (12)–(13).
 
 use hyst_core::family::{delta_a, Family};
+use hyst_core::Operator;
 use hyst_core::{Error, Hysteresis, InverseHysteresis};
 
 /// xorshift64*: a small deterministic generator, so failures are reproducible.

@@ -4,6 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use hyst_core::lambert::omega;
+use hyst_core::Operator;
 use hyst_core::{Direction, Hysteresis, InverseHysteresis};
 use proptest::prelude::*;
 

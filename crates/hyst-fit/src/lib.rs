@@ -17,19 +17,21 @@
 
 pub mod data;
 pub mod error;
+pub mod evaluator;
 pub mod lm;
 pub mod model;
 pub mod modelfile;
 pub mod pi;
+pub mod scaled_shaping;
 pub mod smooth;
 pub mod structure;
-pub mod warp;
 pub mod widths;
 
 pub use data::{Columns, DataOptions, Dataset, Record};
 pub use error::FitError;
+pub use evaluator::Evaluator;
 pub use model::{InitialState, K2Spec, SmoothModel};
 pub use modelfile::ModelFile;
+pub use scaled_shaping::ScaledShaping;
 pub use smooth::{fit_smooth, ErrorStats, Estimate, FitOptions, SmoothFit};
-pub use structure::{K2Kind, ShapeKind, Structure};
-pub use warp::Warp;
+pub use structure::{K2Kind, ShapingKind, Structure};

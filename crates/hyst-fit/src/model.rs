@@ -2,11 +2,12 @@
 //! from the core's types, run over records, and turned into the core's exact compensator.
 
 use hyst_core::{
-    AffineK2, ConstantK2, Direction, Error, Hysteresis, InverseModel, K2Law, Model, Scalar, Shaping,
+    AffineK2, ConstantK2, Direction, Error, Hysteresis, InverseModel, K2Law, Model, Operator,
+    Sample, Shaping,
 };
 use serde::{Deserialize, Serialize};
 
-use crate::Warp;
+use crate::ScaledShaping;
 
 /// The k2 law of a fitted model: constant (Definition 2.2) or affine in the operator input
 /// (Proposition 4.3), in 1 / (operator input units).
@@ -65,9 +66,9 @@ impl K2Spec {
 
 impl K2Law<f64> for K2Spec {
     #[inline]
-    fn k2<S: Scalar<f64>>(&self, input: S) -> S {
+    fn k2<S: Sample<f64>>(&self, input: S) -> S {
         match *self {
-            K2Spec::Constant { value } => S::cst(value),
+            K2Spec::Constant { value } => S::constant(value),
             K2Spec::Affine {
                 at_zero,
                 slope,
@@ -149,17 +150,17 @@ pub struct SmoothModel {
     /// The k2 law (1 / operator units).
     pub k2: K2Spec,
     /// Input shaping ψ_in: from input units to operator units.
-    pub input_shaping: Warp,
+    pub input_shaping: ScaledShaping,
     /// Output shaping ψ_out: from operator units to output units.
-    pub output_shaping: Warp,
+    pub output_shaping: ScaledShaping,
     /// How each record starts.
     pub initial_state: InitialState,
 }
 
 /// The core model type a [`SmoothModel`] becomes.
-pub type CoreModel = Model<f64, Warp, K2Spec, Warp>;
+pub type CoreModel = Model<f64, ScaledShaping, K2Spec, ScaledShaping>;
 /// Its exact compensator.
-pub type CoreInverse = InverseModel<f64, Warp, K2Spec, Warp>;
+pub type CoreInverse = InverseModel<f64, ScaledShaping, K2Spec, ScaledShaping>;
 
 impl SmoothModel {
     /// Checks every parameter through the core's constructors.

@@ -7,11 +7,11 @@
 
 use std::path::Path;
 
-use hyst_core::{Error, K2Law, Scalar, Shaping};
+use hyst_core::{K2Law, Operator, Shaping};
 use serde::{Deserialize, Serialize};
 
-use crate::model::{CoreInverse, CoreModel};
-use crate::pi::{PiInverse, PiModel, PiOperator};
+use crate::evaluator::Evaluator;
+use crate::pi::PiModel;
 use crate::smooth::{ErrorStats, Estimate};
 use crate::widths::FamilyWidths;
 use crate::{Columns, FitError, InitialState, SmoothModel, Structure};
@@ -25,35 +25,6 @@ pub const FORMAT: &str = "hyst-model";
 pub const VERSION: u32 = 2;
 /// The oldest format version this crate reads.
 pub const MIN_VERSION: u32 = 1;
-
-/// A model file's model, ready to run sample by sample on plain numbers or jets (see
-/// [`ModelFile::evaluator`]).
-#[derive(Clone, Debug)]
-pub enum Evaluator {
-    /// The smooth model, direct.
-    Smooth(Box<CoreModel>),
-    /// The smooth model's exact compensator.
-    SmoothInverse(Box<CoreInverse>),
-    /// The Prandtl–Ishlinskii model (with its optional output polynomial), direct.
-    Pi(Box<PiOperator>),
-    /// Its exact compensator.
-    PiInverse(Box<PiInverse>),
-}
-
-impl Evaluator {
-    /// One sample: the model output (or command), with time derivatives when `x` is a jet.
-    ///
-    /// # Errors
-    /// The core's error for this sample (the state is then unchanged).
-    pub fn eval<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error> {
-        match self {
-            Evaluator::Smooth(m) => m.eval(x),
-            Evaluator::SmoothInverse(m) => m.eval(x),
-            Evaluator::Pi(m) => m.eval(x),
-            Evaluator::PiInverse(m) => m.eval(x),
-        }
-    }
-}
 
 /// Which model the file holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -267,8 +238,8 @@ impl ModelFile {
                 let x0 = m.input_shaping.invert(v0)?;
                 Ok(Evaluator::SmoothInverse(Box::new(m.compensator(x0)?)))
             }
-            (_, Some(p)) if inverse => Ok(Evaluator::PiInverse(Box::new(p.inverse_operator()?))),
-            (_, Some(p)) => Ok(Evaluator::Pi(Box::new(p.operator()?))),
+            (_, Some(p)) if inverse => Ok(p.inverse_operator()?),
+            (_, Some(p)) => Ok(p.operator()?),
             _ => Err(FitError::Invalid("the model file holds no model".into())),
         }
     }
@@ -313,7 +284,7 @@ impl ModelFile {
             .iter()
             .enumerate()
             .map(|(i, y)| {
-                comp.eval(*y).map_err(|e| {
+                comp.try_step(*y).map_err(|e| {
                     FitError::Invalid(format!("sample {} (desired output {y}): {e}", i + 1))
                 })
             })

@@ -12,8 +12,9 @@
 
 use std::time::Instant;
 
-use hyst_core::prandtl_ishlinskii::{InverseShapedPrandtlIshlinskii, ShapedPrandtlIshlinskii};
-use hyst_core::{Error, Polynomial, PrandtlIshlinskii, Scalar, Shaping};
+use hyst_core::{Error, Operator, Polynomial, Shaping};
+
+use crate::evaluator::{CorePi, CoreShapedPi, Evaluator};
 use serde::{Deserialize, Serialize};
 
 use crate::lm::{cholesky_solve, spd_inverse};
@@ -22,9 +23,6 @@ use crate::{Dataset, FitError};
 
 /// The largest number of play operators (the core type's capacity).
 pub const MAX_OPERATORS: usize = 128;
-
-/// The core operator type used for the baseline.
-pub type CorePi = PrandtlIshlinskii<f64, MAX_OPERATORS>;
 
 /// Which output polynomial follows the Prandtl–Ishlinskii sum (`hyst fit --pi-output`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -109,55 +107,6 @@ pub struct PiModel {
     pub output: Option<PiOutput>,
 }
 
-/// The core type of a PI model with an output polynomial.
-pub type CoreShapedPi = ShapedPrandtlIshlinskii<f64, MAX_OPERATORS>;
-/// Its exact inverse.
-pub type CoreShapedPiInverse = InverseShapedPrandtlIshlinskii<f64, MAX_OPERATORS>;
-
-/// A runnable PI model (direct), with or without the output polynomial.
-#[derive(Clone, Copy, Debug)]
-pub enum PiOperator {
-    /// y = PI[x].
-    Plain(CorePi),
-    /// y = P(PI[x]).
-    Shaped(CoreShapedPi),
-}
-
-impl PiOperator {
-    /// One sample, plain or a jet (see `hyst_core::PrandtlIshlinskii::eval`).
-    ///
-    /// # Errors
-    /// A non-finite input (the state is then unchanged).
-    pub fn eval<S: Scalar<f64>>(&mut self, x: S) -> Result<S, Error> {
-        match self {
-            PiOperator::Plain(p) => p.eval(x),
-            PiOperator::Shaped(p) => p.eval(x),
-        }
-    }
-}
-
-/// A runnable PI compensator (desired output → command), with or without the polynomial.
-#[derive(Clone, Copy, Debug)]
-pub enum PiInverse {
-    /// x = PI⁻¹[y].
-    Plain(CorePi),
-    /// x = PI⁻¹[P⁻¹(y)].
-    Shaped(CoreShapedPiInverse),
-}
-
-impl PiInverse {
-    /// One sample, plain or a jet.
-    ///
-    /// # Errors
-    /// A non-finite desired output (the state is then unchanged).
-    pub fn eval<S: Scalar<f64>>(&mut self, y: S) -> Result<S, Error> {
-        match self {
-            PiInverse::Plain(p) => p.eval(y),
-            PiInverse::Shaped(p) => p.eval(y),
-        }
-    }
-}
-
 impl PiModel {
     /// The core PI sum (no history: the plays start at rest at the first sample), without the
     /// output polynomial.
@@ -173,15 +122,19 @@ impl PiModel {
         )
     }
 
-    /// The whole model, checked: the PI sum and, when present, the output polynomial.
+    /// The whole model, checked, ready to run: the PI sum and, when present, the output
+    /// polynomial (no history: the plays start at rest at the first sample).
     ///
     /// # Errors
     /// As [`PiModel::core`] and [`PiOutput::polynomial`].
-    pub fn operator(&self) -> Result<PiOperator, Error> {
+    pub fn operator(&self) -> Result<Evaluator, Error> {
         let pi = self.core()?;
         match &self.output {
-            None => Ok(PiOperator::Plain(pi)),
-            Some(o) => Ok(PiOperator::Shaped(CoreShapedPi::new(pi, o.polynomial()?)?)),
+            None => Ok(Evaluator::Pi(Box::new(pi))),
+            Some(o) => Ok(Evaluator::ShapedPi(Box::new(CoreShapedPi::new(
+                pi,
+                o.polynomial()?,
+            )?))),
         }
     }
 
@@ -189,11 +142,14 @@ impl PiModel {
     ///
     /// # Errors
     /// As [`PiModel::operator`].
-    pub fn inverse_operator(&self) -> Result<PiInverse, Error> {
-        Ok(match self.operator()? {
-            PiOperator::Plain(p) => PiInverse::Plain(p.inverse()?),
-            PiOperator::Shaped(p) => PiInverse::Shaped(p.inverse()?),
-        })
+    pub fn inverse_operator(&self) -> Result<Evaluator, Error> {
+        let pi = self.core()?;
+        match &self.output {
+            None => Ok(Evaluator::Pi(Box::new(pi.inverse()?))),
+            Some(o) => Ok(Evaluator::ShapedPiInverse(Box::new(
+                CoreShapedPi::new(pi, o.polynomial()?)?.inverse()?,
+            ))),
+        }
     }
 
     /// Runs the model over one record.
@@ -202,7 +158,7 @@ impl PiModel {
     /// As [`PiModel::operator`], or a non-finite input.
     pub fn run(&self, input: &[f64]) -> Result<Vec<f64>, Error> {
         let mut op = self.operator()?;
-        input.iter().map(|x| op.eval(*x)).collect()
+        input.iter().map(|x| op.try_step(*x)).collect()
     }
 
     /// Runs the compensator (desired output → command) over one record; the plays start at
@@ -212,7 +168,7 @@ impl PiModel {
     /// As [`PiModel::operator`], or a non-finite desired output.
     pub fn run_inverse(&self, desired: &[f64]) -> Result<Vec<f64>, Error> {
         let mut op = self.inverse_operator()?;
-        desired.iter().map(|y| op.eval(*y)).collect()
+        desired.iter().map(|y| op.try_step(*y)).collect()
     }
 
     /// Number of free parameters: w0, the weights and the offset; with an output polynomial of

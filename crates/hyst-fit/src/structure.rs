@@ -7,15 +7,15 @@
 //! therefore normalised to [−1, 1] (x̂ = (in − centre) / half-span) with a fixed gain, and the
 //! overall gain and offset belong to ψ_out. k1 and k2 are then in these normalised units.
 
-use hyst_core::{Langevin, Polynomial, QuadraticExp, Shape, Shaping, Tanh};
+use hyst_core::{AnyShaping, Langevin, Polynomial, QuadraticExp, Shaping, Tanh};
 use serde::{Deserialize, Serialize};
 
-use crate::{model::InitialState, K2Spec, SmoothModel, Warp};
+use crate::{model::InitialState, K2Spec, ScaledShaping, SmoothModel};
 
 /// A shaping function family for ψ_in or ψ_out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum ShapeKind {
+pub enum ShapingKind {
     /// Affine (for ψ_in: the fixed normalisation; for ψ_out: gain and offset).
     #[default]
     Affine,
@@ -31,15 +31,15 @@ pub enum ShapeKind {
     QuadExp,
 }
 
-impl ShapeKind {
+impl ShapingKind {
     /// All kinds, with their command-line names.
-    pub const ALL: [(&'static str, ShapeKind); 6] = [
-        ("affine", ShapeKind::Affine),
-        ("poly2", ShapeKind::Poly2),
-        ("poly3", ShapeKind::Poly3),
-        ("tanh", ShapeKind::Tanh),
-        ("langevin", ShapeKind::Langevin),
-        ("quad-exp", ShapeKind::QuadExp),
+    pub const ALL: [(&'static str, ShapingKind); 6] = [
+        ("affine", ShapingKind::Affine),
+        ("poly2", ShapingKind::Poly2),
+        ("poly3", ShapingKind::Poly3),
+        ("tanh", ShapingKind::Tanh),
+        ("langevin", ShapingKind::Langevin),
+        ("quad-exp", ShapingKind::QuadExp),
     ];
 
     /// Parses a command-line name.
@@ -58,7 +58,7 @@ impl ShapeKind {
     }
 
     fn saturating(self) -> bool {
-        matches!(self, ShapeKind::Tanh | ShapeKind::Langevin)
+        matches!(self, ShapingKind::Tanh | ShapingKind::Langevin)
     }
 }
 
@@ -79,9 +79,9 @@ pub struct Structure {
     /// k2 law.
     pub k2: K2Kind,
     /// ψ_in family.
-    pub input_shaping: ShapeKind,
+    pub input_shaping: ShapingKind,
     /// ψ_out family.
-    pub output_shaping: ShapeKind,
+    pub output_shaping: ShapingKind,
     /// Fit an offset of the input before ψ_in (`None`: only where it is identifiable, i.e. for
     /// tanh and Langevin input shaping).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -98,8 +98,8 @@ impl Default for Structure {
     fn default() -> Self {
         Self {
             k2: K2Kind::Constant,
-            input_shaping: ShapeKind::Affine,
-            output_shaping: ShapeKind::Affine,
+            input_shaping: ShapingKind::Affine,
+            output_shaping: ShapingKind::Affine,
             input_offset: None,
             output_offset: true,
             initial_state: InitialState::Rising,
@@ -221,15 +221,15 @@ impl Layout {
             }
         }
         match structure.input_shaping {
-            ShapeKind::Affine => {}
-            ShapeKind::Poly2 => add("in.p2", "1", Linear, Op, 0.0),
-            ShapeKind::Poly3 => {
+            ShapingKind::Affine => {}
+            ShapingKind::Poly2 => add("in.p2", "1", Linear, Op, 0.0),
+            ShapingKind::Poly3 => {
                 add("in.p2", "1", Linear, Op, 0.0);
                 add("in.p3", "1", Linear, Op, 0.0);
             }
-            ShapeKind::Tanh => add("in.scale", "normalised input", Log, Op, 1.0),
-            ShapeKind::Langevin => add("in.scale", "normalised input", Log, Op, 0.3),
-            ShapeKind::QuadExp => {
+            ShapingKind::Tanh => add("in.scale", "normalised input", Log, Op, 1.0),
+            ShapingKind::Langevin => add("in.scale", "normalised input", Log, Op, 0.3),
+            ShapingKind::QuadExp => {
                 add("in.a", "1", Log, Op, 0.01);
                 add("in.b", "1", Linear, Op, 6.0);
                 add("in.c", "1", Log, Op, 1.0);
@@ -242,21 +242,21 @@ impl Layout {
             add("in.offset", "normalised input", Linear, Op, 0.0);
         }
         match structure.output_shaping {
-            ShapeKind::Affine => {}
-            ShapeKind::Poly2 => add("out.q2", "1", Linear, Out, 0.0),
-            ShapeKind::Poly3 => {
+            ShapingKind::Affine => {}
+            ShapingKind::Poly2 => add("out.q2", "1", Linear, Out, 0.0),
+            ShapingKind::Poly3 => {
                 add("out.q2", "1", Linear, Out, 0.0);
                 add("out.q3", "1", Linear, Out, 0.0);
             }
-            ShapeKind::Tanh => {
+            ShapingKind::Tanh => {
                 add("out.scale", "operator units", Log, Out, 2.0);
                 add("out.centre", "1", Linear, Out, 0.0);
             }
-            ShapeKind::Langevin => {
+            ShapingKind::Langevin => {
                 add("out.scale", "operator units", Log, Out, 0.5);
                 add("out.centre", "1", Linear, Out, 0.0);
             }
-            ShapeKind::QuadExp => {
+            ShapingKind::QuadExp => {
                 add("out.a", "1", Log, Out, 0.01);
                 add("out.b", "1", Linear, Out, 6.0);
                 add("out.c", "1", Log, Out, 1.0);
@@ -321,7 +321,7 @@ impl Layout {
     ///
     /// # Errors
     /// When the values are invalid (non-monotone polynomial, …).
-    pub fn input_warp(&self, theta: &[f64]) -> Result<Warp, hyst_core::Error> {
+    pub fn input_shaping(&self, theta: &[f64]) -> Result<ScaledShaping, hyst_core::Error> {
         let get = |name: &str| {
             self.index(name)
                 .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
@@ -335,18 +335,18 @@ impl Layout {
         let pre_offset = -self.norm.centre / self.norm.half_span + offset;
         let (lo, hi) = (-1.0 - DOMAIN_MARGIN + offset, 1.0 + DOMAIN_MARGIN + offset);
         let shape = match self.structure.input_shaping {
-            ShapeKind::Affine => Shape::Identity,
-            ShapeKind::Poly2 => {
-                Shape::Polynomial(Polynomial::new([0.0, 1.0, get("in.p2"), 0.0], lo, hi)?)
+            ShapingKind::Affine => AnyShaping::Identity,
+            ShapingKind::Poly2 => {
+                AnyShaping::Polynomial(Polynomial::new([0.0, 1.0, get("in.p2"), 0.0], lo, hi)?)
             }
-            ShapeKind::Poly3 => Shape::Polynomial(Polynomial::new(
+            ShapingKind::Poly3 => AnyShaping::Polynomial(Polynomial::new(
                 [0.0, 1.0, get("in.p2"), get("in.p3")],
                 lo,
                 hi,
             )?),
-            ShapeKind::Tanh => Shape::Tanh(Tanh::new(1.0, get("in.scale"))?),
-            ShapeKind::Langevin => Shape::Langevin(Langevin::new(1.0, get("in.scale"))?),
-            ShapeKind::QuadExp => Shape::QuadraticExp(QuadraticExp::new(
+            ShapingKind::Tanh => AnyShaping::Tanh(Tanh::new(1.0, get("in.scale"))?),
+            ShapingKind::Langevin => AnyShaping::Langevin(Langevin::new(1.0, get("in.scale"))?),
+            ShapingKind::QuadExp => AnyShaping::QuadraticExp(QuadraticExp::new(
                 get("in.a"),
                 get("in.b"),
                 get("in.c"),
@@ -354,7 +354,7 @@ impl Layout {
                 hi,
             )?),
         };
-        Warp::new(pre_gain, pre_offset, shape, 1.0, 0.0)
+        ScaledShaping::new(pre_gain, pre_offset, shape, 1.0, 0.0)
     }
 
     /// The output shaping for θ, given the range of the operator's input (v_lo, v_hi) on the
@@ -362,11 +362,11 @@ impl Layout {
     ///
     /// # Errors
     /// When the values are invalid.
-    pub fn output_warp(
+    pub fn output_shaping(
         &self,
         theta: &[f64],
         v_range: (f64, f64),
-    ) -> Result<Warp, hyst_core::Error> {
+    ) -> Result<ScaledShaping, hyst_core::Error> {
         let get = |name: &str| {
             self.index(name)
                 .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
@@ -380,14 +380,14 @@ impl Layout {
         let half = 0.5 * (v_range.1 - v_range.0);
         let (lo, hi) = (v_range.0 - 0.25 * half, v_range.1 + 0.25 * half);
         let (shape, pre_gain, pre_offset) = match self.structure.output_shaping {
-            ShapeKind::Affine => (Shape::Identity, 1.0, 0.0),
-            ShapeKind::Poly2 => (
-                Shape::Polynomial(Polynomial::new([0.0, 1.0, get("out.q2"), 0.0], lo, hi)?),
+            ShapingKind::Affine => (AnyShaping::Identity, 1.0, 0.0),
+            ShapingKind::Poly2 => (
+                AnyShaping::Polynomial(Polynomial::new([0.0, 1.0, get("out.q2"), 0.0], lo, hi)?),
                 1.0,
                 0.0,
             ),
-            ShapeKind::Poly3 => (
-                Shape::Polynomial(Polynomial::new(
+            ShapingKind::Poly3 => (
+                AnyShaping::Polynomial(Polynomial::new(
                     [0.0, 1.0, get("out.q2"), get("out.q3")],
                     lo,
                     hi,
@@ -395,18 +395,18 @@ impl Layout {
                 1.0,
                 0.0,
             ),
-            ShapeKind::Tanh => (
-                Shape::Tanh(Tanh::new(1.0, 1.0)?),
+            ShapingKind::Tanh => (
+                AnyShaping::Tanh(Tanh::new(1.0, 1.0)?),
                 1.0 / get("out.scale"),
                 get("out.centre"),
             ),
-            ShapeKind::Langevin => (
-                Shape::Langevin(Langevin::new(1.0, 1.0)?),
+            ShapingKind::Langevin => (
+                AnyShaping::Langevin(Langevin::new(1.0, 1.0)?),
                 1.0 / get("out.scale"),
                 get("out.centre"),
             ),
-            ShapeKind::QuadExp => (
-                Shape::QuadraticExp(QuadraticExp::new(
+            ShapingKind::QuadExp => (
+                AnyShaping::QuadraticExp(QuadraticExp::new(
                     get("out.a"),
                     get("out.b"),
                     get("out.c"),
@@ -417,7 +417,7 @@ impl Layout {
                 0.0,
             ),
         };
-        Warp::new(pre_gain, pre_offset, shape, gain, offset)
+        ScaledShaping::new(pre_gain, pre_offset, shape, gain, offset)
     }
 
     /// The model for θ, for data whose input spans [in_lo, in_hi].
@@ -433,7 +433,7 @@ impl Layout {
             self.index(name)
                 .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
         };
-        let input_shaping = self.input_warp(theta)?;
+        let input_shaping = self.input_shaping(theta)?;
         let v_lo = input_shaping.apply(input_range.0);
         let v_hi = input_shaping.apply(input_range.1);
         let k1 = get("k1");
@@ -460,7 +460,7 @@ impl Layout {
                 }
             }
         };
-        let output_shaping = self.output_warp(theta, (v_lo - k1, v_hi + k1))?;
+        let output_shaping = self.output_shaping(theta, (v_lo - k1, v_hi + k1))?;
         let m = SmoothModel {
             k1,
             k2,

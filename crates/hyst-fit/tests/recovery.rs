@@ -5,7 +5,7 @@ use hyst_fit::lm::Silent;
 use hyst_fit::smooth::normalisation;
 use hyst_fit::structure::Layout;
 use hyst_fit::{
-    fit_smooth, Dataset, FitError, FitOptions, InitialState, K2Kind, ShapeKind, SmoothModel,
+    fit_smooth, Dataset, FitError, FitOptions, InitialState, K2Kind, ShapingKind, SmoothModel,
     Structure,
 };
 
@@ -97,8 +97,8 @@ fn noise_free_default_structure_is_recovered_to_1e_6() -> Result<(), FitError> {
 fn noise_free_affine_k2_and_polynomial_shaping_are_recovered() -> Result<(), FitError> {
     let structure = Structure {
         k2: K2Kind::Affine,
-        input_shaping: ShapeKind::Poly2,
-        output_shaping: ShapeKind::Poly3,
+        input_shaping: ShapingKind::Poly2,
+        output_shaping: ShapingKind::Poly3,
         ..Structure::default()
     };
     check_exact(
@@ -119,7 +119,7 @@ fn noise_free_affine_k2_and_polynomial_shaping_are_recovered() -> Result<(), Fit
 #[test]
 fn noise_free_tanh_output_and_rising_start_are_recovered() -> Result<(), FitError> {
     let structure = Structure {
-        output_shaping: ShapeKind::Tanh,
+        output_shaping: ShapingKind::Tanh,
         initial_state: InitialState::Rising,
         ..Structure::default()
     };
@@ -198,8 +198,8 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
     use hyst_fit::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT, VERSION};
     let structure = Structure {
         k2: K2Kind::Affine,
-        input_shaping: ShapeKind::Poly3,
-        output_shaping: ShapeKind::Langevin,
+        input_shaping: ShapingKind::Poly3,
+        output_shaping: ShapingKind::Langevin,
         ..Structure::default()
     };
     let x = input(500);

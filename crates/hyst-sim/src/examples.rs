@@ -5,8 +5,8 @@
 
 use hyst_core::family::{delta_a, delta_a_over_k2_range, delta_k2_prop43};
 use hyst_core::{
-    Affine, AffineK2, Compensator, Error, Hysteresis, Identity, Model, Polynomial, QuadraticExp,
-    Shaping,
+    Affine, AffineK2, Compensator, Error, Hysteresis, Identity, Model, Operator, Polynomial,
+    QuadraticExp, Shaping,
 };
 
 use crate::{

@@ -8,7 +8,7 @@
 //! parameter and the value; nothing here panics on user input.
 
 use hyst_core::{
-    Compensator, ConstantK2, Direction, Error, Hysteresis, K2Law, Memory, Model, Shaping,
+    Compensator, ConstantK2, Direction, Error, Hysteresis, K2Law, Memory, Model, Operator, Shaping,
 };
 
 pub mod examples;
@@ -666,7 +666,7 @@ where
             let clamp = |inp: f64, out: f64| out.max(inp - k1).min(inp + k1);
             m.reversal_output = clamp(m.reversal_input, m.reversal_output);
             m.last_output = clamp(m.last_input, m.last_output);
-            let _ = op.set_memory(m);
+            let _ = op.set_memory(Some(m));
         }
         let u = op.step(v);
         self.memory = op.memory();

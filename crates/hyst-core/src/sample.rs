@@ -8,9 +8,9 @@ use crate::{lambert, Jet, Real};
 /// [`Jet`] of one (value and time derivatives).
 ///
 /// The direct operator (eq. 2), the inverse (eq. 4), the shaping functions and the k2 laws are
-/// written once, generically over `Scalar`; evaluating them on a jet gives the time derivatives of
+/// written once, generically over `Sample`; evaluating them on a jet gives the time derivatives of
 /// the result (Proposition 2.7 and beyond) with no second copy of any formula.
-pub trait Scalar<T: Real>:
+pub trait Sample<T: Real>:
     Copy
     + Add<Output = Self>
     + Sub<Output = Self>
@@ -25,7 +25,7 @@ pub trait Scalar<T: Real>:
     /// How many time derivatives the type carries (0 for plain numbers).
     const ORDER: usize;
     /// A constant (all derivatives zero).
-    fn cst(x: T) -> Self;
+    fn constant(x: T) -> Self;
     /// The value (order 0).
     fn value(&self) -> T;
     /// The same derivatives with another value.
@@ -56,10 +56,10 @@ pub trait Scalar<T: Real>:
     fn omega(self) -> Self;
 }
 
-impl<T: Real> Scalar<T> for T {
+impl<T: Real> Sample<T> for T {
     const ORDER: usize = 0;
     #[inline]
-    fn cst(x: T) -> Self {
+    fn constant(x: T) -> Self {
         x
     }
     #[inline]
@@ -104,10 +104,10 @@ impl<T: Real> Scalar<T> for T {
     }
 }
 
-impl<T: Real, const N: usize> Scalar<T> for Jet<T, N> {
+impl<T: Real, const N: usize> Sample<T> for Jet<T, N> {
     const ORDER: usize = N;
     #[inline]
-    fn cst(x: T) -> Self {
+    fn constant(x: T) -> Self {
         Jet::constant(x)
     }
     #[inline]
@@ -156,7 +156,7 @@ impl<T: Real, const N: usize> Scalar<T> for Jet<T, N> {
     fn omega(self) -> Self {
         let w_value = lambert::omega(self.value());
         if w_value <= T::one() {
-            return Scalar::w0(Jet::exp(self)).with_value(w_value);
+            return Sample::w0(Jet::exp(self)).with_value(w_value);
         }
         let mut w = Jet::constant(w_value);
         let mut correct = 0;
@@ -177,7 +177,7 @@ mod tests {
     #[test]
     fn lambert_jets_match_closed_form_derivatives() {
         for &x0 in &[0.0_f64, 1e-3, 0.5, 1.0, 3.0, 50.0, 1e6] {
-            let j = Scalar::w0(Jet::<f64, 3>::variable(x0));
+            let j = Sample::w0(Jet::<f64, 3>::variable(x0));
             let w = j.value();
             let d = j.derivatives();
             // W' = 1 / (e^W (1 + W)), W'' = −W'^2 (2 + W) / (1 + W), (valid at 0 too)
@@ -187,7 +187,7 @@ mod tests {
             assert!((d[1] - w2).abs() <= 1e-13 * w2.abs().max(1e-300), "x {x0}");
         }
         for &y0 in &[-30.0_f64, -1.0, 0.0, 2.0, 40.0, 800.0, 1e9] {
-            let j = Scalar::omega(Jet::<f64, 3>::variable(y0));
+            let j = Sample::omega(Jet::<f64, 3>::variable(y0));
             let w = j.value();
             let d = j.derivatives();
             let w1 = w / (1.0 + w);

@@ -2,46 +2,46 @@
 //! carry the input/output offsets and the scale of measured data:
 //! ψ(x) = post_gain · shape(pre_gain · x + pre_offset) + post_offset.
 
-use hyst_core::{Error, Scalar, Shape, Shaping};
+use hyst_core::{AnyShaping, Error, Sample, Shaping};
 use serde::{Deserialize, Serialize};
 
 /// ψ(x) = `post_gain` · shape(`pre_gain` · x + `pre_offset`) + `post_offset`, strictly
 /// increasing when both gains are > 0 and the shape is valid. Serialized in model files.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Warp {
+pub struct ScaledShaping {
     /// Scale applied to x before the shape (1 / units of x), > 0.
     pub pre_gain: f64,
     /// Offset added after that scale (dimensionless shape units).
     pub pre_offset: f64,
     /// The core shaping function.
-    pub shape: Shape<f64>,
+    pub shape: AnyShaping<f64>,
     /// Scale of the shape's value (units of ψ), > 0.
     pub post_gain: f64,
     /// Offset of ψ (units of ψ).
     pub post_offset: f64,
 }
 
-impl Warp {
-    /// The identity warp.
+impl ScaledShaping {
+    /// The identity.
     #[must_use]
     pub fn identity() -> Self {
         Self {
             pre_gain: 1.0,
             pre_offset: 0.0,
-            shape: Shape::Identity,
+            shape: AnyShaping::Identity,
             post_gain: 1.0,
             post_offset: 0.0,
         }
     }
 
-    /// Builds and validates a warp.
+    /// Builds and validates a scaled shaping function.
     ///
     /// # Errors
     /// As [`Shaping::validate`].
     pub fn new(
         pre_gain: f64,
         pre_offset: f64,
-        shape: Shape<f64>,
+        shape: AnyShaping<f64>,
         post_gain: f64,
         post_offset: f64,
     ) -> Result<Self, Error> {
@@ -74,11 +74,11 @@ fn check(name: &'static str, value: f64, positive: bool) -> Result<(), Error> {
     }
 }
 
-impl Shaping<f64> for Warp {
+impl Shaping<f64> for ScaledShaping {
     fn name(&self) -> &'static str {
         self.shape.name()
     }
-    fn eval<S: Scalar<f64>>(&self, x: S) -> S {
+    fn eval<S: Sample<f64>>(&self, x: S) -> S {
         self.shape.eval(x * self.pre_gain + self.pre_offset) * self.post_gain + self.post_offset
     }
     fn domain(&self) -> (f64, f64) {
@@ -88,7 +88,7 @@ impl Shaping<f64> for Warp {
             (hi - self.pre_offset) / self.pre_gain,
         )
     }
-    fn apply<S: Scalar<f64>>(&self, x: S) -> S {
+    fn apply<S: Sample<f64>>(&self, x: S) -> S {
         self.shape.apply(x * self.pre_gain + self.pre_offset) * self.post_gain + self.post_offset
     }
     fn invert_in_domain(&self, y: f64) -> Result<f64, Error> {

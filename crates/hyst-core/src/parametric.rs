@@ -1,0 +1,363 @@
+//! The direct (Definition 2.2, eq. 2) and inverse (Definition 2.5, eq. 4) parametric hysteresis
+//! operators, as one generic type [`ParametricHysteresis`] whose [`Formula`] is eq. (2) or
+//! eq. (4).
+
+use core::marker::PhantomData;
+
+#[cfg(feature = "serde")]
+use serde::{Deserialize, Serialize};
+
+use crate::{error::positive, ConstantK2, Direction, Error, K2Law, Memory, Operator, Real, Sample};
+
+mod sealed {
+    pub trait Sealed {}
+}
+
+/// Which formula of the pair the operator evaluates: [`Direct`] (eq. 2) or [`Inverse`] (eq. 4).
+pub trait Formula: sealed::Sealed + Copy + core::fmt::Debug {
+    /// "direct" or "inverse".
+    const NAME: &'static str;
+    /// M* from the memory: M(α, β) + k1 for the direct operator, −M(α, β) + k1 for the inverse
+    /// (eq. 4; Proposition 2.7 uses the same, see `docs/errata.md`). On every consistent state it
+    /// lies in [0, 2 k1].
+    fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T;
+    /// The operator's output β for the input α = `x`: eq. (2) or eq. (4) between the
+    /// transformation T of Definition 2.1 (α̃ = s (α − α0)) and its inverse (β = β0 + s β̃).
+    fn output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S;
+}
+
+/// Marker for the direct operator u = H(k1, k2)[v] of eq. (2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Direct;
+
+/// Marker for the inverse operator v = H⁻¹(k1, k2)[u_d] of eq. (4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Inverse;
+
+impl sealed::Sealed for Direct {}
+impl sealed::Sealed for Inverse {}
+
+#[inline]
+fn clamp_band<T: Real>(m: T, k1: T) -> T {
+    m.max(T::zero()).min(k1 + k1)
+}
+
+impl Formula for Direct {
+    const NAME: &'static str = "direct";
+    #[inline]
+    fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T {
+        clamp_band(memory.m() + k1, k1)
+    }
+    /// Eq. (2) between the transformation of Definition 2.1 and its inverse.
+    #[inline]
+    fn output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
+        memory.untransform(direct_transition(memory.transform(x), m_star, k2))
+    }
+}
+
+/// Eq. (2): ũ = ṽ − M* + W(k2 M* e^(k2 (M* − ṽ))) / k2.
+///
+/// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b): while a e^b is finite, eq. (2) as
+/// printed (its rounding error is a few ulps of max(|ṽ|, M*), below that of the output
+/// u = β0 + s ũ itself). When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain)
+/// and, using w + ln w = ln a + b, ũ = (ln a − ln w) / k2, which has no cancellation between
+/// large terms: k2 up to 1e12 (near-backlash) stays finite and accurate. At a reversal point
+/// (ṽ = 0) the value is exactly 0.
+#[inline]
+fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
+    let a = k2 * m_star;
+    let b = k2 * (S::constant(m_star) - v_tilde);
+    let x = a * b.exp();
+    let u_tilde = if x.value().is_finite() {
+        v_tilde - m_star + x.w0() / k2
+    } else {
+        let ln_a = k2.ln() + m_star.ln();
+        let w = (ln_a + b).omega();
+        (ln_a - w.ln()) / k2
+    };
+    if v_tilde.value() == T::zero() {
+        u_tilde.with_value(T::zero())
+    } else {
+        u_tilde
+    }
+}
+
+impl Formula for Inverse {
+    const NAME: &'static str = "inverse";
+    /// Not clamped: eq. (4) stays well defined for any M*, and the memory only leaves the band by
+    /// rounding (a state from outside is checked by `set_memory`).
+    #[inline]
+    fn m_star<T: Real>(memory: &Memory<T>, k1: T) -> T {
+        k1 - memory.m()
+    }
+    /// Eq. (4), ṽ = ũ_d + M* (1 − e^(−k2 ũ_d)), with Definition 2.1's transformation folded in:
+    /// v = (β0 + s ũ_d) + s M* (1 − e^(−k2 ũ_d)), so only two numbers wait for the exponential.
+    /// Exactly β0 at a reversal point (ũ_d = 0). 1 − e^(−z) is computed with `exp`, not `expm1`:
+    /// its absolute error, ≤ 2 k1 ε, is below the rounding of v itself, and `exp` is faster.
+    #[inline]
+    fn output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
+        let s = memory.direction.sign::<T>();
+        let ud_tilde = memory.transform(x);
+        let along_input = ud_tilde * s + memory.reversal_output;
+        along_input + (S::constant(T::one()) - (-(k2 * ud_tilde)).exp()) * (m_star * s)
+    }
+}
+
+/// A parametric hysteresis operator with its memory: parameters k1 (half-width of the loop, in
+/// output units, > 0) and k2 (rate of the transition, 1/input units, > 0, or a law k2 = φ(input)),
+/// the memory of Definition 2.1, and the formula `F` ([`Direct`], eq. 2, or [`Inverse`], eq. 4).
+///
+/// Use the aliases [`Hysteresis`] and [`InverseHysteresis`]. The value is small and `Copy` (when
+/// the k2 law is), never allocates and never panics.
+///
+/// Non-finite input: [`Operator::try_step`] returns [`Error::NonFiniteInput`] and leaves the
+/// memory untouched; [`Operator::step`] then holds the last output (or returns the input as is
+/// when there is no history yet). The memory never holds a NaN.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct ParametricHysteresis<T, K, F> {
+    k1: T,
+    law: K,
+    initial: Option<Memory<T>>,
+    memory: Option<Memory<T>>,
+    formula: PhantomData<F>,
+}
+
+/// The direct parametric hysteresis operator u = H(k1, k2)[v] (Definition 2.2, eq. 2).
+///
+/// # Examples
+/// ```
+/// use hyst_core::{Hysteresis, Operator};
+/// let mut h = Hysteresis::new(0.14_f64, 8.0)?;
+/// assert_eq!(h.step(0.0), 0.0); // the first sample is a reversal point on u = v
+/// let up = h.step(1.0);
+/// assert!(up < 1.0 && up > 1.0 - 0.14); // rising: below the line, above the asymptote v − k1
+/// # Ok::<(), hyst_core::Error>(())
+/// ```
+pub type Hysteresis<T, K = ConstantK2<T>> = ParametricHysteresis<T, K, Direct>;
+
+/// The inverse parametric hysteresis operator v = H⁻¹(k1, k2)[u_d] (Definition 2.5, eq. 4),
+/// the exact left and right inverse of [`Hysteresis`] with the same parameters and initial
+/// state (Proposition 4.1).
+///
+/// # Examples
+/// ```
+/// use hyst_core::{Hysteresis, InverseHysteresis, Operator};
+/// let mut h = Hysteresis::new(0.2_f64, 8.0)?;
+/// let mut hinv = InverseHysteresis::new(0.2_f64, 8.0)?;
+/// for k in 0..100 {
+///     let ud = (k as f64 * 0.1).sin();
+///     let v = hinv.step(ud);
+///     assert!((h.step(v) - ud).abs() < 1e-12);
+/// }
+/// # Ok::<(), hyst_core::Error>(())
+/// ```
+pub type InverseHysteresis<T, K = ConstantK2<T>> = ParametricHysteresis<T, K, Inverse>;
+
+impl<T: Real, F: Formula> ParametricHysteresis<T, ConstantK2<T>, F> {
+    /// An operator with constant k2, no history (its first sample becomes a reversal point on
+    /// the line output = input).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `k1` or `k2` unless both are finite and > 0.
+    pub fn new(k1: T, k2: T) -> Result<Self, Error> {
+        Self::with_k2_law(k1, ConstantK2(k2))
+    }
+
+    /// k2 (constant).
+    #[must_use]
+    pub fn k2(&self) -> T {
+        self.law.0
+    }
+}
+
+impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
+    /// An operator whose k2 follows `law` (Section 4.3), no history.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for k1 not finite and > 0, or from the law's own check.
+    pub fn with_k2_law(k1: T, law: K) -> Result<Self, Error> {
+        positive("k1", k1)?;
+        law.validate()?;
+        Ok(Self {
+            k1,
+            law,
+            initial: None,
+            memory: None,
+            formula: PhantomData,
+        })
+    }
+
+    /// Starts the operator at rest at (input, output), heading in `direction`: that point is the
+    /// reversal point (α0, β0). [`Operator::reset`] returns here.
+    ///
+    /// # Errors
+    /// [`Error::StateOutsideBand`] unless |output − input| ≤ k1 (outside that band the paper's
+    /// operator is not defined); [`Error::InvalidParameter`] for non-finite values.
+    pub fn with_initial_state(
+        mut self,
+        input: T,
+        output: T,
+        direction: Direction,
+    ) -> Result<Self, Error> {
+        let m = Memory::at_rest(input, output, direction, self.k1)?;
+        self.initial = Some(m);
+        self.memory = Some(m);
+        Ok(self)
+    }
+
+    /// k1, the half-width of the loop (the asymptotes are output = input ∓ k1).
+    #[must_use]
+    pub fn k1(&self) -> T {
+        self.k1
+    }
+
+    /// The k2 law.
+    #[must_use]
+    pub fn k2_law(&self) -> &K {
+        &self.law
+    }
+
+    /// The output the operator would give for `x`, without changing its memory.
+    ///
+    /// # Errors
+    /// As [`Operator::try_step`].
+    pub fn peek<S: Sample<T>>(&self, x: S) -> Result<S, Error> {
+        self.compute(x).map(|(y, _)| y)
+    }
+
+    /// The output for `x` and the memory after it, without committing the memory.
+    #[inline]
+    pub(crate) fn compute<S: Sample<T>>(&self, x: S) -> Result<(S, Memory<T>), Error> {
+        let k2 = self.checked_k2(x)?;
+        let mut memory = self
+            .memory
+            .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
+        let y = Self::advance(&mut memory, self.k1, x, k2);
+        Ok((y, memory))
+    }
+
+    /// Everything that can refuse a sample, checked before the memory is touched: a non-finite
+    /// input, and a k2 from the law that is not finite and > 0.
+    #[inline(always)]
+    fn checked_k2<S: Sample<T>>(&self, x: S) -> Result<S, Error> {
+        if !x.all_finite() {
+            return Err(Error::NonFiniteInput {
+                value: x.value().as_f64(),
+            });
+        }
+        let k2 = self.law.k2(x);
+        if K::ALWAYS_VALID || (k2.value() > T::zero() && k2.all_finite()) {
+            Ok(k2)
+        } else {
+            Err(Error::InvalidK2 {
+                input: x.value().as_f64(),
+                k2: k2.value().as_f64(),
+            })
+        }
+    }
+
+    /// Definition 2.1's memory update followed by the formula: infallible.
+    #[inline(always)]
+    fn advance<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> S {
+        let v = x.value();
+        memory.observe(v, x.trend());
+        let m_star = F::m_star(memory, k1);
+        let y = F::output(memory, x, m_star, k2);
+        memory.last_input = v;
+        memory.last_output = y.value();
+        y
+    }
+
+    /// Commits a memory produced by [`ParametricHysteresis::compute`].
+    #[inline]
+    pub(crate) fn commit(&mut self, memory: Memory<T>) {
+        self.memory = Some(memory);
+    }
+}
+
+impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K, F> {
+    /// The memory of Definition 2.1, `None` before the first sample (without an initial state).
+    type Memory = Option<Memory<T>>;
+
+    /// One sample, plain or a jet: Definition 2.1's memory update, then eq. (2) or eq. (4).
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteInput`] or [`Error::InvalidK2`]; the memory is then unchanged.
+    #[inline(always)]
+    fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
+        let k2 = self.checked_k2(x)?;
+        let memory = self
+            .memory
+            .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
+        Ok(Self::advance(memory, self.k1, x, k2))
+    }
+
+    #[inline(always)]
+    fn step(&mut self, x: T) -> T {
+        match self.try_step(x) {
+            Ok(y) => y,
+            Err(_) => self.memory.map_or(x, |m| m.last_output),
+        }
+    }
+
+    #[inline]
+    fn last_output(&self) -> Option<T> {
+        self.memory.map(|m| m.last_output)
+    }
+
+    /// Back to the initial state, or to "no history" if none was given.
+    fn reset(&mut self) {
+        self.memory = self.initial;
+    }
+
+    fn memory(&self) -> Option<Memory<T>> {
+        self.memory
+    }
+
+    /// Restores a saved memory (`None`: no history, the next sample starts on the line
+    /// output = input).
+    ///
+    /// # Errors
+    /// As [`Memory::validate`]; on error the operator is unchanged.
+    fn set_memory(&mut self, memory: Option<Memory<T>>) -> Result<(), Error> {
+        if let Some(m) = &memory {
+            m.validate(self.k1)?;
+        }
+        self.memory = memory;
+        Ok(())
+    }
+}
+
+impl<T: Real, K: K2Law<T> + Clone, F: Formula> ParametricHysteresis<T, K, F> {
+    /// The other operator of the pair with the same parameters and this one's memory seen from
+    /// the other side (input and output swapped).
+    fn mirrored<F2: Formula>(&self) -> ParametricHysteresis<T, K, F2> {
+        ParametricHysteresis {
+            k1: self.k1,
+            law: self.law.clone(),
+            initial: self.initial.map(|m| m.swapped()),
+            memory: self.memory.map(|m| m.swapped()),
+            formula: PhantomData,
+        }
+    }
+}
+
+impl<T: Real, K: K2Law<T> + Clone> ParametricHysteresis<T, K, Direct> {
+    /// The inverse operator with the same parameters, whose memory mirrors this one's: from here
+    /// on, `inverse.step(u_d)` fed into `self.step` gives back `u_d` (Proposition 4.1).
+    #[must_use]
+    pub fn inverse(&self) -> ParametricHysteresis<T, K, Inverse> {
+        self.mirrored()
+    }
+}
+
+impl<T: Real, K: K2Law<T> + Clone> ParametricHysteresis<T, K, Inverse> {
+    /// The direct operator with the same parameters, whose memory mirrors this one's.
+    #[must_use]
+    pub fn direct(&self) -> ParametricHysteresis<T, K, Direct> {
+        self.mirrored()
+    }
+}
