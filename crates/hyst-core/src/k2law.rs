@@ -150,9 +150,11 @@ impl<T: Real> K2Law<T> for AffineK2<T> {
 
 /// Any of the built-in k2 laws, chosen at run time (model files, fitting). Serialized with a
 /// `law` tag: `{ law = "constant", value = … }` or
-/// `{ law = "affine", at_zero = …, slope = …, min = …, max = … }`.
+/// `{ law = "affine", at_zero = …, slope = …, min = …, max = … }`. (Reading a tagged enum needs
+/// an allocator, so `Deserialize` comes with the `std` feature; `Serialize` with `serde` alone.)
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+#[cfg_attr(all(feature = "serde", feature = "std"), derive(Deserialize))]
 #[cfg_attr(feature = "serde", serde(tag = "law", rename_all = "kebab-case"))]
 pub enum AnyK2Law<T> {
     /// A constant k2 ([`ConstantK2`]), 1 / (input units), finite and > 0.
