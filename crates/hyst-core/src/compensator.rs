@@ -24,11 +24,19 @@ use crate::{
 /// # Examples
 /// Example 3's compensator, F = Ḧ⁻¹ + 0.9 Ḣ⁻¹ + H⁻¹ for m ẍ = F − 0.9 ẋ − x:
 /// ```
-/// use hyst_core::{compensator::Compensator, Hysteresis, Identity, Model};
+/// use hyst_core::{compensator::Compensator, Hysteresis, Identity, Model, Operator};
 /// let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
 /// let mut comp = Compensator::from_model(&model, 1.0, [0.9, 1.0])?;
-/// let force = comp.step(0.5, 1e-3); // u_new = v̈ = 0.5 for one 1 ms sample
-/// assert!(force.is_finite());
+/// // Start at rest at v = 0: F = H⁻¹ + 0.9 Ḣ⁻¹ + Ḧ⁻¹ = 0 + 0 + (dH⁻¹/dv) v̈. On the line
+/// // (first sample) dH⁻¹/dv = 1 + k1 k2 = 2.6 (eq. 4 at ũd = 0), so u_new = v̈ = 0.5 gives 1.3.
+/// let force = comp.step(0.5, 1e-3);
+/// assert!((force - 1.3).abs() < 1e-12);
+/// // After 1 ms of v̈ = 0.5: v = 0.25e-6, v̇ = 0.5e-3, exactly (the integrators are exact).
+/// let [v, v_dot] = comp.state();
+/// assert!((v - 0.25e-6).abs() < 1e-18 && (v_dot - 0.5e-3).abs() < 1e-15);
+/// // The compensated plant output is v: the model driven by the target x gives v back.
+/// let mut plant = model;
+/// assert!((plant.step(comp.last_target().value()) - comp.last_reference()).abs() < 1e-15);
 /// # Ok::<(), hyst_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -360,6 +368,22 @@ mod tests {
             let r = (k as f64 * 0.2).sin();
             let u = c.track(Jet::constant(r))?;
             assert!((u - inv.step(r) / 2.0).abs() < 1e-15);
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn order_zero_is_the_static_inverse_of_u_new() -> Result<(), Error> {
+        // n = 0: no integrator, v = u_new, u = H⁻¹[v] / b, through step() as well as track().
+        let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+        let mut c = Compensator::from_model(&model, 2.0, [])?;
+        let mut inv = model.inverse();
+        for k in 0..50 {
+            let r = 0.7 * (k as f64 * 0.2).sin() + 0.1;
+            let u = c.try_step(r, 1e-3)?;
+            let expected = inv.step(r) / 2.0;
+            assert!((u - expected).abs() < 1e-15, "{k}: {u} vs {expected}");
+            assert_eq!(c.last_reference(), r);
         }
         Ok(())
     }

@@ -18,7 +18,7 @@
 
 use crate::{
     error::{finite, positive},
-    ConstantK2, Error, Hysteresis, InverseHysteresis, Jet, K2Law, Operator, Real, Sample, Shaping,
+    ConstantK2, Error, Hysteresis, InverseHysteresis, K2Law, Operator, Real, Sample, Shaping,
 };
 
 /// Eq. (14): the worst-case error Δx(ũd) = k̄1 − k1 + 2 (k1 e^(−k2 ũd) − k̄1 e^(−k̄2 ũd)) between
@@ -581,16 +581,6 @@ impl<T: Real> Reproducibility<T> {
     }
 }
 
-/// The slope of a jet-capable law, for callers without [`K2Law::max_slope`] overrides: dφ/dv at
-/// `input` (1 / input units²).
-pub fn law_slope<T: Real, K: K2Law<T>>(law: &K, input: T) -> T {
-    law.k2(Jet::<T, 1>::variable(input))
-        .derivatives()
-        .first()
-        .copied()
-        .unwrap_or_else(T::zero)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -665,7 +655,7 @@ mod tests {
         let phi = AffineK2::new(9.0_f64, -2.0, 5.0, 12.0)?;
         let d = delta_k2_prop43(&phi, 0.105, -1.5, 2.0);
         assert!(close(d, 0.21, 1e-12));
-        assert!(close(law_slope(&phi, 0.0), -2.0, 1e-12));
+        assert!(close(phi.max_slope(-1.0, 1.0), 2.0, 1e-12));
         Ok(())
     }
 

@@ -181,29 +181,6 @@ impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
         self.output_offset
     }
 
-    /// The play outputs p_1..p_n, `None` before the first sample.
-    #[must_use]
-    pub fn play_states(&self) -> Option<&[T]> {
-        self.last_output
-            .map(|_| self.plays.get(..self.len).unwrap_or(&[]))
-    }
-
-    /// Starts every play at rest at input `x` (as after a long stay at x).
-    ///
-    /// # Errors
-    /// [`Error::NonFiniteInput`] for a non-finite x.
-    pub fn start_at(&mut self, x: T) -> Result<(), Error> {
-        if !x.is_finite() {
-            return Err(Error::NonFiniteInput { value: x.as_f64() });
-        }
-        let z = x - self.input_offset;
-        for p in self.plays.iter_mut().take(self.len) {
-            *p = z;
-        }
-        self.last_output = Some(self.output(z));
-        Ok(())
-    }
-
     fn output(&self, z: T) -> T {
         let mut y = self.output_offset + self.identity_weight * z;
         for (w, p) in self.weights.iter().zip(&self.plays).take(self.len) {
@@ -425,14 +402,6 @@ impl<T: Real, const N: usize> ShapedPrandtlIshlinskii<T, N> {
     #[must_use]
     pub fn output(&self) -> &Polynomial<T> {
         &self.output
-    }
-
-    /// Starts every play at rest at input `x`.
-    ///
-    /// # Errors
-    /// [`Error::NonFiniteInput`] for a non-finite x.
-    pub fn start_at(&mut self, x: T) -> Result<(), Error> {
-        self.pi.start_at(x)
     }
 
     /// The exact inverse PI⁻¹ ∘ P⁻¹ (the compensator), continuing from this state so that from

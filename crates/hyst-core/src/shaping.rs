@@ -609,7 +609,7 @@ impl<T: Real> QuadraticExp<T> {
     /// Example 2's ψ(v) = v − 0.088 v² − e^(−(9.6 + 6.6 v)) on [−1, 5].
     ///
     /// # Errors
-    /// Never in practice (the constants are valid); kept fallible for uniformity.
+    /// As [`QuadraticExp::new`]; these constants pass its checks (a unit test pins that).
     pub fn example2() -> Result<Self, Error> {
         Self::new(
             T::from_f64(0.088),
@@ -780,18 +780,36 @@ mod tests {
     }
 
     #[test]
-    fn saturating_shapes_report_their_range() {
-        let t = Tanh::new(2.0, 1.0).unwrap_or(Tanh {
-            gain: 1.0,
-            scale: 1.0,
-        });
-        assert!(matches!(t.invert(2.0), Err(Error::OutOfRange { .. })));
-        assert!(t.invert(f64::NAN).is_err());
-        let l = Langevin {
-            gain: 1.0,
-            scale: 1.0,
-        };
-        assert!(matches!(l.invert(-1.0), Err(Error::OutOfRange { .. })));
+    fn saturating_shapes_report_their_range() -> Result<(), Error> {
+        let t = Tanh::new(2.0, 1.0)?;
+        assert_eq!(
+            t.invert(2.0),
+            Err(Error::OutOfRange {
+                name: "tanh",
+                value: 2.0,
+                min: -2.0,
+                max: 2.0
+            })
+        );
+        assert!(matches!(
+            t.invert(f64::NAN),
+            Err(Error::NonFiniteInput { .. })
+        ));
+        // Just inside the range the inverse exists and round-trips.
+        let x = t.invert(1.999)?;
+        assert!((t.apply(x) - 1.999).abs() < 1e-12, "{x}");
+        let l = Langevin::new(1.0, 1.0)?;
+        assert_eq!(
+            l.invert(-1.0),
+            Err(Error::OutOfRange {
+                name: "langevin",
+                value: -1.0,
+                min: -1.0,
+                max: 1.0
+            })
+        );
+        assert!(Tanh::new(0.0, 1.0).is_err() && Langevin::new(1.0, f64::NAN).is_err());
+        Ok(())
     }
 
     #[test]
