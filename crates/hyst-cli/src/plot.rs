@@ -8,7 +8,6 @@
 //!     .bound("bound Δb = ±0.03", 0.03);
 //! let written = Figure::row(vec![panel]).save(Path::new("out"), "fig5")?; // fig5.png, fig5.svg
 //! ```
-#![allow(dead_code)] // a shared API: not every helper is used by every command
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -132,11 +131,10 @@ pub enum Legend {
     /// In a strip below the panel, outside the plot area: covers no data, for panels whose
     /// data fill every corner.
     Below,
-    /// No legend.
-    Hidden,
 }
 
-/// One chart: a title, labelled axes, series, horizontal lines and a legend.
+/// One chart: a title, labelled axes, series, horizontal lines and a legend. The axes span the
+/// data (x exactly, y padded by 6 % and including the horizontal lines).
 #[derive(Clone, Debug)]
 pub struct Panel {
     /// Title above the chart.
@@ -149,10 +147,6 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Horizontal lines.
     pub hlines: Vec<HLine>,
-    /// Fixed x range; `None` fits the data.
-    pub x_range: Option<(f64, f64)>,
-    /// Fixed y range; `None` fits the data (and the horizontal lines).
-    pub y_range: Option<(f64, f64)>,
     /// Legend position.
     pub legend: Legend,
 }
@@ -166,8 +160,6 @@ impl Panel {
             y_label: y_label.to_string(),
             series: Vec::new(),
             hlines: Vec::new(),
-            x_range: None,
-            y_range: None,
             legend: Legend::UpperRight,
         }
     }
@@ -197,19 +189,7 @@ impl Panel {
     pub fn bound(self, label: &str, bound: f64) -> Self {
         self.hline(label, bound).hline(label, -bound)
     }
-    /// Fixes the x range.
-    #[must_use]
-    pub fn x_range(mut self, lo: f64, hi: f64) -> Self {
-        self.x_range = Some((lo, hi));
-        self
-    }
-    /// Fixes the y range.
-    #[must_use]
-    pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
-        self.y_range = Some((lo, hi));
-        self
-    }
-    /// Moves (or hides) the legend.
+    /// Moves the legend.
     #[must_use]
     pub fn legend(mut self, legend: Legend) -> Self {
         self.legend = legend;
@@ -231,9 +211,7 @@ impl Panel {
         for h in self.hlines.iter().filter(|h| h.y.is_finite()) {
             y = (y.0.min(h.y), y.1.max(h.y));
         }
-        let x = self.x_range.unwrap_or_else(|| pad(x, 0.0));
-        let y = self.y_range.unwrap_or_else(|| pad(y, 0.06));
-        (x, y)
+        (pad(x, 0.0), pad(y, 0.06))
     }
 }
 
@@ -250,50 +228,30 @@ fn pad((lo, hi): (f64, f64), fraction: f64) -> (f64, f64) {
     (lo - fraction * span, hi + fraction * span)
 }
 
-/// A figure: panels laid out in a grid of `columns` columns.
+/// Size of one panel in pixels (width, height).
+const PANEL_SIZE: (u32, u32) = (720, 540);
+
+/// A figure: panels side by side in one row, [`PANEL_SIZE`] pixels each.
 #[derive(Clone, Debug)]
 pub struct Figure {
-    /// The panels, row by row.
+    /// The panels, left to right.
     pub panels: Vec<Panel>,
-    /// Panels per row (≥ 1).
-    pub columns: usize,
-    /// Size of one panel in pixels (width, height).
-    pub panel_size: (u32, u32),
 }
 
 impl Figure {
-    /// Panels side by side in one row, 720 × 540 pixels each.
+    /// Panels side by side in one row.
     pub fn row(panels: Vec<Panel>) -> Self {
-        let columns = panels.len().max(1);
-        Self {
-            panels,
-            columns,
-            panel_size: (720, 540),
-        }
-    }
-    /// Panels in a grid with `columns` columns.
-    #[must_use]
-    pub fn grid(panels: Vec<Panel>, columns: usize) -> Self {
-        Self {
-            panels,
-            columns: columns.max(1),
-            panel_size: (720, 540),
-        }
-    }
-    /// Sets the size of one panel in pixels.
-    #[must_use]
-    pub fn panel_size(mut self, width: u32, height: u32) -> Self {
-        self.panel_size = (width.max(200), height.max(150));
-        self
+        Self { panels }
     }
 
+    /// Number of panels, at least 1 (an empty figure is one blank panel wide).
+    fn columns(&self) -> usize {
+        self.panels.len().max(1)
+    }
+
+    /// Size of the whole figure in pixels.
     fn size(&self) -> (u32, u32) {
-        let rows = self.panels.len().div_ceil(self.columns).max(1);
-        let cols = self.columns.min(self.panels.len()).max(1);
-        (
-            self.panel_size.0 * cols as u32,
-            self.panel_size.1 * rows as u32,
-        )
+        (PANEL_SIZE.0 * self.columns() as u32, PANEL_SIZE.1)
     }
 
     /// Writes `dir/stem.png` and `dir/stem.svg` (creating `dir`), returning both paths.
@@ -328,9 +286,7 @@ impl Figure {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
         root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-        let rows = self.panels.len().div_ceil(self.columns).max(1);
-        let cols = self.columns.min(self.panels.len()).max(1);
-        let areas = root.split_evenly((rows, cols));
+        let areas = root.split_evenly((1, self.columns()));
         for (panel, area) in self.panels.iter().zip(areas.iter()) {
             draw_panel(panel, area)?;
         }
@@ -540,7 +496,7 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>)
         Legend::UpperRight => Some(SeriesLabelPosition::UpperRight),
         Legend::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
         Legend::LowerRight => Some(SeriesLabelPosition::LowerRight),
-        Legend::Below | Legend::Hidden => None,
+        Legend::Below => None,
     };
     if let (Some(strip), true) = (&strip, any_label) {
         draw_strip(strip, &entries)?;
