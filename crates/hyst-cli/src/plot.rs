@@ -1,6 +1,7 @@
 //! Shared plotting helpers: figures of one or more panels, each with line, dashed and scatter
 //! series, axis labels (with units), a legend and optional horizontal lines (error bounds),
-//! written as PNG and SVG with the embedded DejaVu Sans font (no system font library).
+//! written (atomically) as PNG and SVG with the embedded DejaVu Sans font (no system font
+//! library).
 //!
 //! ```ignore
 //! let panel = Panel::new("Compensation error", "time t (s)", "error (normalised flux)")
@@ -13,6 +14,9 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use anyhow::{anyhow, Context, Result};
+use image::codecs::png::PngEncoder;
+use image::{ColorType, ImageEncoder};
+use plotters::backend::RGBPixel;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle, RGBColor};
@@ -254,33 +258,44 @@ impl Figure {
         (PANEL_SIZE.0 * self.columns() as u32, PANEL_SIZE.1)
     }
 
-    /// Writes `dir/stem.png` and `dir/stem.svg` (creating `dir`), returning both paths.
+    /// Writes `dir/stem.png` and `dir/stem.svg` (creating `dir`), each atomically with
+    /// [`hyst_io::write_atomic`], returning both paths.
     ///
     /// # Errors
-    /// When the directory cannot be created or a file cannot be written.
+    /// When the directory cannot be created or a file cannot be drawn or written.
     pub fn save(&self, dir: &Path, stem: &str) -> Result<Vec<PathBuf>> {
         ensure_font()?;
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create directory {}", dir.display()))?;
         let png = dir.join(format!("{stem}.png"));
         let svg = dir.join(format!("{stem}.svg"));
-        let size = self.size();
+        let (width, height) = self.size();
+
+        let mut rgb = vec![0; 3 * width as usize * height as usize];
         {
-            let root = BitMapBackend::new(&png, size).into_drawing_area();
-            self.draw(&root)
-                .with_context(|| format!("cannot draw {}", png.display()))?;
-            root.present()
+            let root = BitMapBackend::<RGBPixel>::with_buffer_and_format(&mut rgb, (width, height))
                 .map_err(|e| anyhow!("{e}"))
-                .with_context(|| format!("cannot write {}", png.display()))?;
+                .and_then(|backend| {
+                    let root = backend.into_drawing_area();
+                    self.draw(&root)?;
+                    root.present().map_err(|e| anyhow!("{e}"))
+                });
+            root.with_context(|| format!("cannot draw {}", png.display()))?;
         }
+        let mut encoded = Vec::new();
+        PngEncoder::new(&mut encoded)
+            .write_image(&rgb, width, height, ColorType::Rgb8)
+            .with_context(|| format!("cannot encode {}", png.display()))?;
+        hyst_io::write_atomic(&png, &encoded)?;
+
+        let mut text = String::new();
         {
-            let root = SVGBackend::new(&svg, size).into_drawing_area();
+            let root = SVGBackend::with_string(&mut text, (width, height)).into_drawing_area();
             self.draw(&root)
+                .and_then(|()| root.present().map_err(|e| anyhow!("{e}")))
                 .with_context(|| format!("cannot draw {}", svg.display()))?;
-            root.present()
-                .map_err(|e| anyhow!("{e}"))
-                .with_context(|| format!("cannot write {}", svg.display()))?;
         }
+        hyst_io::write_atomic(&svg, text.as_bytes())?;
         Ok(vec![png, svg])
     }
 
@@ -551,9 +566,24 @@ mod tests {
             let len = std::fs::metadata(f)?.len();
             assert!(len > 1000, "{} has {len} bytes", f.display());
         }
+        let png = std::fs::read(&files[0])?;
+        assert_eq!(png[..8], *b"\x89PNG\r\n\x1a\n");
+        // IHDR: width and height of three 720 x 540 panels in a row.
+        assert_eq!(png[16..24], [0, 0, 0x08, 0x70, 0, 0, 0x02, 0x1c]);
         let svg = std::fs::read_to_string(&files[1])?;
+        assert!(
+            svg.starts_with("<svg width=\"2160\" height=\"540\""),
+            "{}",
+            &svg[..80]
+        );
+        assert!(svg.trim_end().ends_with("</svg>"));
         assert!(svg.contains("time t (s)"));
         assert!(svg.contains("legend below"));
+        let mut names: Vec<_> = std::fs::read_dir(&dir)?
+            .map(|e| e.map(|e| e.file_name()))
+            .collect::<std::io::Result<_>>()?;
+        names.sort();
+        assert_eq!(names, ["t.png", "t.svg"], "temporary files left behind");
         std::fs::remove_dir_all(&dir)?;
         Ok(())
     }
