@@ -359,8 +359,7 @@ pub fn main(args: Args) -> Result<()> {
         "seconds": start.elapsed().as_secs_f64(),
     });
     let path = dir.join("summary.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&summary)?)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    hyst_io::write_atomic(&path, serde_json::to_string_pretty(&summary)?.as_bytes())?;
     println!(
         "wrote {} figures and {} in {:.1} s",
         figures.len(),

@@ -1,6 +1,7 @@
 //! Shared plotting helpers: figures of one or more panels, each with line, dashed and scatter
 //! series, axis labels (with units), a legend and optional horizontal lines (error bounds),
-//! written as PNG and SVG with the embedded DejaVu Sans font (no system font library).
+//! written (atomically) as PNG and SVG with the embedded DejaVu Sans font (no system font
+//! library).
 //!
 //! ```ignore
 //! let panel = Panel::new("Compensation error", "time t (s)", "error (normalised flux)")
@@ -8,12 +9,14 @@
 //!     .bound("bound Δb = ±0.03", 0.03);
 //! let written = Figure::row(vec![panel]).save(Path::new("out"), "fig5")?; // fig5.png, fig5.svg
 //! ```
-#![allow(dead_code)] // a shared API: not every helper is used by every command
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use anyhow::{anyhow, Context, Result};
+use image::codecs::png::PngEncoder;
+use image::{ColorType, ImageEncoder};
+use plotters::backend::RGBPixel;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle, RGBColor};
@@ -132,11 +135,10 @@ pub enum Legend {
     /// In a strip below the panel, outside the plot area: covers no data, for panels whose
     /// data fill every corner.
     Below,
-    /// No legend.
-    Hidden,
 }
 
-/// One chart: a title, labelled axes, series, horizontal lines and a legend.
+/// One chart: a title, labelled axes, series, horizontal lines and a legend. The axes span the
+/// data (x exactly, y padded by 6 % and including the horizontal lines).
 #[derive(Clone, Debug)]
 pub struct Panel {
     /// Title above the chart.
@@ -149,10 +151,6 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Horizontal lines.
     pub hlines: Vec<HLine>,
-    /// Fixed x range; `None` fits the data.
-    pub x_range: Option<(f64, f64)>,
-    /// Fixed y range; `None` fits the data (and the horizontal lines).
-    pub y_range: Option<(f64, f64)>,
     /// Legend position.
     pub legend: Legend,
 }
@@ -166,8 +164,6 @@ impl Panel {
             y_label: y_label.to_string(),
             series: Vec::new(),
             hlines: Vec::new(),
-            x_range: None,
-            y_range: None,
             legend: Legend::UpperRight,
         }
     }
@@ -197,19 +193,7 @@ impl Panel {
     pub fn bound(self, label: &str, bound: f64) -> Self {
         self.hline(label, bound).hline(label, -bound)
     }
-    /// Fixes the x range.
-    #[must_use]
-    pub fn x_range(mut self, lo: f64, hi: f64) -> Self {
-        self.x_range = Some((lo, hi));
-        self
-    }
-    /// Fixes the y range.
-    #[must_use]
-    pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
-        self.y_range = Some((lo, hi));
-        self
-    }
-    /// Moves (or hides) the legend.
+    /// Moves the legend.
     #[must_use]
     pub fn legend(mut self, legend: Legend) -> Self {
         self.legend = legend;
@@ -231,9 +215,7 @@ impl Panel {
         for h in self.hlines.iter().filter(|h| h.y.is_finite()) {
             y = (y.0.min(h.y), y.1.max(h.y));
         }
-        let x = self.x_range.unwrap_or_else(|| pad(x, 0.0));
-        let y = self.y_range.unwrap_or_else(|| pad(y, 0.06));
-        (x, y)
+        (pad(x, 0.0), pad(y, 0.06))
     }
 }
 
@@ -250,87 +232,76 @@ fn pad((lo, hi): (f64, f64), fraction: f64) -> (f64, f64) {
     (lo - fraction * span, hi + fraction * span)
 }
 
-/// A figure: panels laid out in a grid of `columns` columns.
+/// Size of one panel in pixels (width, height).
+const PANEL_SIZE: (u32, u32) = (720, 540);
+
+/// A figure: panels side by side in one row, [`PANEL_SIZE`] pixels each.
 #[derive(Clone, Debug)]
 pub struct Figure {
-    /// The panels, row by row.
+    /// The panels, left to right.
     pub panels: Vec<Panel>,
-    /// Panels per row (≥ 1).
-    pub columns: usize,
-    /// Size of one panel in pixels (width, height).
-    pub panel_size: (u32, u32),
 }
 
 impl Figure {
-    /// Panels side by side in one row, 720 × 540 pixels each.
+    /// Panels side by side in one row.
     pub fn row(panels: Vec<Panel>) -> Self {
-        let columns = panels.len().max(1);
-        Self {
-            panels,
-            columns,
-            panel_size: (720, 540),
-        }
-    }
-    /// Panels in a grid with `columns` columns.
-    #[must_use]
-    pub fn grid(panels: Vec<Panel>, columns: usize) -> Self {
-        Self {
-            panels,
-            columns: columns.max(1),
-            panel_size: (720, 540),
-        }
-    }
-    /// Sets the size of one panel in pixels.
-    #[must_use]
-    pub fn panel_size(mut self, width: u32, height: u32) -> Self {
-        self.panel_size = (width.max(200), height.max(150));
-        self
+        Self { panels }
     }
 
+    /// Number of panels, at least 1 (an empty figure is one blank panel wide).
+    fn columns(&self) -> usize {
+        self.panels.len().max(1)
+    }
+
+    /// Size of the whole figure in pixels.
     fn size(&self) -> (u32, u32) {
-        let rows = self.panels.len().div_ceil(self.columns).max(1);
-        let cols = self.columns.min(self.panels.len()).max(1);
-        (
-            self.panel_size.0 * cols as u32,
-            self.panel_size.1 * rows as u32,
-        )
+        (PANEL_SIZE.0 * self.columns() as u32, PANEL_SIZE.1)
     }
 
-    /// Writes `dir/stem.png` and `dir/stem.svg` (creating `dir`), returning both paths.
+    /// Writes `dir/stem.png` and `dir/stem.svg` (creating `dir`), each atomically with
+    /// [`hyst_io::write_atomic`], returning both paths.
     ///
     /// # Errors
-    /// When the directory cannot be created or a file cannot be written.
+    /// When the directory cannot be created or a file cannot be drawn or written.
     pub fn save(&self, dir: &Path, stem: &str) -> Result<Vec<PathBuf>> {
         ensure_font()?;
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create directory {}", dir.display()))?;
         let png = dir.join(format!("{stem}.png"));
         let svg = dir.join(format!("{stem}.svg"));
-        let size = self.size();
+        let (width, height) = self.size();
+
+        let mut rgb = vec![0; 3 * width as usize * height as usize];
         {
-            let root = BitMapBackend::new(&png, size).into_drawing_area();
-            self.draw(&root)
-                .with_context(|| format!("cannot draw {}", png.display()))?;
-            root.present()
+            let root = BitMapBackend::<RGBPixel>::with_buffer_and_format(&mut rgb, (width, height))
                 .map_err(|e| anyhow!("{e}"))
-                .with_context(|| format!("cannot write {}", png.display()))?;
+                .and_then(|backend| {
+                    let root = backend.into_drawing_area();
+                    self.draw(&root)?;
+                    root.present().map_err(|e| anyhow!("{e}"))
+                });
+            root.with_context(|| format!("cannot draw {}", png.display()))?;
         }
+        let mut encoded = Vec::new();
+        PngEncoder::new(&mut encoded)
+            .write_image(&rgb, width, height, ColorType::Rgb8)
+            .with_context(|| format!("cannot encode {}", png.display()))?;
+        hyst_io::write_atomic(&png, &encoded)?;
+
+        let mut text = String::new();
         {
-            let root = SVGBackend::new(&svg, size).into_drawing_area();
+            let root = SVGBackend::with_string(&mut text, (width, height)).into_drawing_area();
             self.draw(&root)
+                .and_then(|()| root.present().map_err(|e| anyhow!("{e}")))
                 .with_context(|| format!("cannot draw {}", svg.display()))?;
-            root.present()
-                .map_err(|e| anyhow!("{e}"))
-                .with_context(|| format!("cannot write {}", svg.display()))?;
         }
+        hyst_io::write_atomic(&svg, text.as_bytes())?;
         Ok(vec![png, svg])
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
         root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-        let rows = self.panels.len().div_ceil(self.columns).max(1);
-        let cols = self.columns.min(self.panels.len()).max(1);
-        let areas = root.split_evenly((rows, cols));
+        let areas = root.split_evenly((1, self.columns()));
         for (panel, area) in self.panels.iter().zip(areas.iter()) {
             draw_panel(panel, area)?;
         }
@@ -540,7 +511,7 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>)
         Legend::UpperRight => Some(SeriesLabelPosition::UpperRight),
         Legend::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
         Legend::LowerRight => Some(SeriesLabelPosition::LowerRight),
-        Legend::Below | Legend::Hidden => None,
+        Legend::Below => None,
     };
     if let (Some(strip), true) = (&strip, any_label) {
         draw_strip(strip, &entries)?;
@@ -595,9 +566,24 @@ mod tests {
             let len = std::fs::metadata(f)?.len();
             assert!(len > 1000, "{} has {len} bytes", f.display());
         }
+        let png = std::fs::read(&files[0])?;
+        assert_eq!(png[..8], *b"\x89PNG\r\n\x1a\n");
+        // IHDR: width and height of three 720 x 540 panels in a row.
+        assert_eq!(png[16..24], [0, 0, 0x08, 0x70, 0, 0, 0x02, 0x1c]);
         let svg = std::fs::read_to_string(&files[1])?;
+        assert!(
+            svg.starts_with("<svg width=\"2160\" height=\"540\""),
+            "{}",
+            &svg[..80]
+        );
+        assert!(svg.trim_end().ends_with("</svg>"));
         assert!(svg.contains("time t (s)"));
         assert!(svg.contains("legend below"));
+        let mut names: Vec<_> = std::fs::read_dir(&dir)?
+            .map(|e| e.map(|e| e.file_name()))
+            .collect::<std::io::Result<_>>()?;
+        names.sort();
+        assert_eq!(names, ["t.png", "t.svg"], "temporary files left behind");
         std::fs::remove_dir_all(&dir)?;
         Ok(())
     }

@@ -1,53 +1,35 @@
-//! Atomic file replacement: write a temporary file next to the destination,
-//! fsync it, then rename it over the destination.
+//! Atomic file replacement on [`tempfile`]: write a temporary file next to the
+//! destination, fsync it, then rename it over the destination.
 
-use std::fs::{self, File, OpenOptions};
+use std::fs::{self, File};
 use std::io::{self, BufWriter, Write};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::path::Path;
 
 use crate::IoError;
 
 /// Writes `bytes` to `path` atomically.
 ///
-/// The bytes go to a hidden temporary file (`.NAME.PID.N.tmp`) in the same
-/// directory as `path`, which is flushed and fsynced and then renamed over
-/// `path`; afterwards the directory is fsynced (best effort). Readers therefore
-/// see either the complete old file or the complete new one, never a mix.
+/// The bytes go to a hidden temporary file (`.NAME.XXXXXX.tmp`, six random
+/// characters) in the same directory as `path`, which is flushed and fsynced
+/// and then renamed over `path`; afterwards the directory is fsynced (best
+/// effort). Readers therefore see either the complete old file or the complete
+/// new one, never a mix.
 ///
 /// If `path` already exists, the new file gets its permissions; otherwise it
-/// gets the usual permissions of a newly created file. If `path` is a symbolic
-/// link, the link itself is replaced by a regular file.
+/// gets the usual permissions of a newly created file (`0o666` less the umask
+/// on Unix). If `path` is a symbolic link, the link itself is replaced by a
+/// regular file.
 ///
 /// # Errors
 ///
 /// [`IoError::IsDirectory`] if `path` is a directory, and [`IoError::Write`]
 /// (naming the step that failed and the OS error) if the temporary file cannot
-/// be created, written, synced or renamed. On any error the destination is
-/// untouched and no temporary file remains.
+/// be created, written, synced or renamed. On any error (and on a panic while
+/// writing) the destination is untouched and no temporary file remains. A
+/// process killed while writing (e.g. by an unhandled Ctrl-C) may leave the
+/// temporary file behind, but never a partial destination.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     write_atomic_with(path, |w| w.write_all(bytes))
-}
-
-/// Counter that makes temporary names unique within this process.
-static COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// A temporary file that is removed when dropped, unless it was renamed.
-struct TempGuard {
-    /// Where the temporary file lives.
-    path: PathBuf,
-    /// Set once the file has been renamed into place.
-    persisted: bool,
-}
-
-impl Drop for TempGuard {
-    fn drop(&mut self) {
-        if !self.persisted {
-            // Nothing sensible to do if this fails; the error that got us here
-            // is the one worth reporting.
-            let _ = fs::remove_file(&self.path);
-        }
-    }
 }
 
 /// Builds a [`IoError::Write`] for `path`.
@@ -74,7 +56,7 @@ where
                 path: path.to_path_buf(),
             })
         }
-        Ok(meta) => Some(meta),
+        Ok(meta) => Some(meta.permissions()),
         Err(_) => None,
     };
     let file_name = path.file_name().ok_or_else(|| IoError::Write {
@@ -87,66 +69,54 @@ where
         _ => Path::new("."),
     };
 
-    let (file, mut guard) = create_temp(dir, &file_name.to_string_lossy()).map_err(write_error(
+    let mut prefix = std::ffi::OsString::from(".");
+    prefix.push(file_name);
+    prefix.push(".");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    // tempfile creates 0o600 files; ask for what `File::create` gives instead.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    // Removed on drop (error or panic below) unless persisted.
+    let temp = builder.tempfile_in(dir).map_err(write_error(
         path,
         format!("create a temporary file in {:?}", dir.display().to_string()),
     ))?;
 
+    // Through the plain `File`: tempfile's own `Write` would append the
+    // temporary path to every error message.
+    let file = temp.as_file();
     {
-        let mut writer = BufWriter::new(&file);
+        let mut writer = BufWriter::new(file);
         fill(&mut writer)
             .and_then(|()| writer.flush())
             .map_err(write_error(path, "write the temporary file"))?;
     }
-    if let Some(meta) = existing {
-        file.set_permissions(meta.permissions())
-            .map_err(write_error(
-                path,
-                "give the temporary file the old file's permissions",
-            ))?;
+    if let Some(permissions) = existing {
+        // After creation, so that the umask does not narrow them.
+        file.set_permissions(permissions).map_err(write_error(
+            path,
+            "give the temporary file the old file's permissions",
+        ))?;
     }
     file.sync_all()
         .map_err(write_error(path, "sync the temporary file to disk"))?;
-    drop(file);
 
-    fs::rename(&guard.path, path).map_err(write_error(
-        path,
-        format!(
+    temp.persist(path).map_err(|e| {
+        let action = format!(
             "rename the temporary file {:?} over it",
-            guard.path.display().to_string()
-        ),
-    ))?;
-    guard.persisted = true;
+            e.file.path().display().to_string()
+        );
+        // Dropping `e.file` removes the temporary file.
+        write_error(path, action)(e.error)
+    })?;
 
     sync_dir(dir);
     Ok(())
 }
 
-/// Creates a new, empty, uniquely named temporary file in `dir`.
-fn create_temp(dir: &Path, name: &str) -> io::Result<(File, TempGuard)> {
-    let pid = std::process::id();
-    let mut attempts = 0;
-    loop {
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let path = dir.join(format!(".{name}.{pid}.{n}.tmp"));
-        match OpenOptions::new().write(true).create_new(true).open(&path) {
-            Ok(file) => {
-                let guard = TempGuard {
-                    path,
-                    persisted: false,
-                };
-                return Ok((file, guard));
-            }
-            // A stale file from an earlier process with the same id; try the next name.
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists && attempts < 1000 => {
-                attempts += 1;
-            }
-            Err(e) => return Err(e),
-        }
-    }
-}
-
-/// Makes the rename durable by syncing the directory (Unix only).
+/// Makes the rename durable by syncing the directory (Unix only); tempfile's
+/// `persist` only renames.
 ///
 /// Best effort: by the time this runs the destination has already been replaced,
 /// so failing here would misreport the outcome.
@@ -207,10 +177,25 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("run.sh");
         fs::write(&path, b"old").unwrap();
-        fs::set_permissions(&path, fs::Permissions::from_mode(0o750)).unwrap();
+        // Group and other write bits, which a usual umask (0o022) would strip.
+        fs::set_permissions(&path, fs::Permissions::from_mode(0o646)).unwrap();
         write_atomic(&path, b"new").unwrap();
         let mode = fs::metadata(&path).unwrap().permissions().mode();
-        assert_eq!(mode & 0o777, 0o750);
+        assert_eq!(mode & 0o777, 0o646);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_new_file_gets_the_permissions_file_create_gives() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("new.csv");
+        write_atomic(&path, b"x\n").unwrap();
+        let reference = dir.path().join("reference");
+        File::create(&reference).unwrap();
+        let mode = |p: &Path| fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        // Not tempfile's private 0o600 (unless the umask itself is 0o177).
+        assert_eq!(mode(&path), mode(&reference));
     }
 
     #[test]
@@ -231,15 +216,15 @@ mod tests {
         let err = write_atomic(&path, b"x").unwrap_err();
         assert!(matches!(err, IoError::Write { .. }), "{err:?}");
         let msg = err.to_string();
-        let dir_shown = format!("{:?}", path.parent().unwrap().display().to_string());
+        let parent = path.parent().unwrap().display().to_string();
         let os = io::Error::from_raw_os_error(2).to_string();
-        assert_eq!(
-            msg,
-            format!(
-                "{}: cannot create a temporary file in {dir_shown}: {os}",
-                path.display()
-            )
+        // tempfile appends the temporary path it tried.
+        let start = format!(
+            "{}: cannot create a temporary file in {parent:?}: {os} at path \"{parent}/.out.csv.",
+            path.display()
         );
+        assert!(msg.starts_with(&start), "{msg}");
+        assert!(msg.ends_with(".tmp\""), "{msg}");
         assert!(msg.contains("No such file or directory"), "{msg}");
         assert_eq!(entries(dir.path()), Vec::<String>::new());
     }
@@ -265,12 +250,23 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("data.csv");
         fs::write(&path, b"x\n1\n").unwrap();
+        let mut seen_while_writing = Vec::new();
         let err = write_atomic_with(&path, |w| {
             w.write_all(b"x\n2\n")?;
             w.flush()?;
+            seen_while_writing = entries(dir.path());
+            assert_eq!(fs::read(&path).unwrap(), b"x\n1\n");
             Err(io::Error::other("disk on fire"))
         })
         .unwrap_err();
+        // The temporary file lived next to the target, under a hidden name.
+        assert_eq!(seen_while_writing.len(), 2, "{seen_while_writing:?}");
+        let temp = &seen_while_writing[0];
+        assert!(
+            temp.starts_with(".data.csv.") && temp.ends_with(".tmp"),
+            "{temp}"
+        );
+        assert_eq!(temp.len(), ".data.csv.".len() + 6 + ".tmp".len(), "{temp}");
         assert_eq!(
             err.to_string(),
             format!(
@@ -280,6 +276,33 @@ mod tests {
         );
         assert_eq!(fs::read(&path).unwrap(), b"x\n1\n");
         assert_eq!(entries(dir.path()), ["data.csv"]);
+    }
+
+    #[test]
+    fn failed_rename_leaves_no_temp_and_keeps_what_is_at_the_target() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("data.csv");
+        fs::write(&path, b"old").unwrap();
+        // While the file is being written, something replaces the target by a
+        // non-empty directory, so the final rename fails.
+        let err = write_atomic_with(&path, |w| {
+            w.write_all(b"new")?;
+            fs::remove_file(&path)?;
+            fs::create_dir(&path)?;
+            fs::write(path.join("keep.txt"), b"keep")
+        })
+        .unwrap_err();
+        let msg = err.to_string();
+        let start = format!(
+            "{}: cannot rename the temporary file \"{}/.data.csv.",
+            path.display(),
+            dir.path().display()
+        );
+        assert!(msg.starts_with(&start), "{msg}");
+        assert!(msg.contains(".tmp\" over it: "), "{msg}");
+        assert_eq!(entries(dir.path()), ["data.csv"]);
+        assert_eq!(entries(&path), ["keep.txt"]);
+        assert_eq!(fs::read(path.join("keep.txt")).unwrap(), b"keep");
     }
 
     #[test]

@@ -12,8 +12,7 @@ use std::path::PathBuf;
 /// `data.csv:17: column 2 ("y"): cannot parse "1.2.3" as a number`.
 ///
 /// Tables built in memory with [`Table::new`](crate::Table::new) use the source
-/// name `<memory>` unless renamed with
-/// [`Table::with_source`](crate::Table::with_source).
+/// name `<memory>`.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum IoError {

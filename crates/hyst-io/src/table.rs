@@ -2,7 +2,7 @@
 
 use std::collections::HashMap;
 use std::fs;
-use std::io::{self, Read, Write};
+use std::io::{self, Write};
 use std::path::Path;
 
 use crate::atomic::write_atomic_with;
@@ -15,8 +15,7 @@ const MEMORY_SOURCE: &str = "<memory>";
 /// written to a CSV file with a header row.
 ///
 /// Every value is finite and every name is non-empty and unique; the
-/// constructors ([`Table::read`], [`Table::from_reader`], [`Table::new`])
-/// enforce this. Each row remembers the line of the source file it came from,
+/// constructors ([`Table::read`], [`Table::new`]) enforce this. Each row remembers the line of the source file it came from,
 /// so later checks (for example by the fitting code) can point at the exact
 /// line of bad data.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,8 +42,15 @@ impl Table {
     ///
     /// # Errors
     ///
-    /// [`IoError::Read`] or [`IoError::IsDirectory`] if the file cannot be
-    /// read, and every error of [`Table::from_reader`].
+    /// - [`IoError::Read`] or [`IoError::IsDirectory`] if the file cannot be read;
+    /// - [`IoError::Empty`] if there are no lines besides blank lines and comments;
+    /// - [`IoError::NoHeader`] if the first row contains only numbers;
+    /// - [`IoError::EmptyName`] / [`IoError::DuplicateName`] for bad header cells;
+    /// - [`IoError::CellCount`] if a row does not have one cell per column;
+    /// - [`IoError::Parse`] / [`IoError::NonFinite`] / [`IoError::InvalidUtf8`]
+    ///   for bad cells;
+    /// - [`IoError::Csv`] if the CSV parser itself fails;
+    /// - [`IoError::NoData`] if there is a header but no data rows.
     pub fn read(path: &Path) -> Result<Table, IoError> {
         let file = path.display().to_string();
         if path.is_dir() {
@@ -59,33 +65,11 @@ impl Table {
         parse(&bytes, &file)
     }
 
-    /// Reads a CSV table from any reader, with the same rules as [`Table::read`];
-    /// `source` is the name used in error messages (e.g. `"<stdin>"`).
-    ///
-    /// # Errors
-    ///
-    /// - [`IoError::Read`] if reading fails;
-    /// - [`IoError::Empty`] if there are no lines besides blank lines and comments;
-    /// - [`IoError::NoHeader`] if the first row contains only numbers;
-    /// - [`IoError::EmptyName`] / [`IoError::DuplicateName`] for bad header cells;
-    /// - [`IoError::CellCount`] if a row does not have one cell per column;
-    /// - [`IoError::Parse`] / [`IoError::NonFinite`] / [`IoError::InvalidUtf8`]
-    ///   for bad cells;
-    /// - [`IoError::NoData`] if there is a header but no data rows.
-    pub fn from_reader<R: Read>(mut reader: R, source: &str) -> Result<Table, IoError> {
-        let mut bytes = Vec::new();
-        reader.read_to_end(&mut bytes).map_err(|e| IoError::Read {
-            file: source.to_string(),
-            source: e,
-        })?;
-        parse(&bytes, source)
-    }
-
     /// Builds a table from column names and columns.
     ///
-    /// The table's [`source`](Table::source) is `<memory>` (change it with
-    /// [`Table::with_source`]), and row `i` gets line `i + 2`, the line it has
-    /// when the table is written with [`Table::write_atomic`].
+    /// The table's [`source`](Table::source) is `<memory>`, and row `i` gets
+    /// line `i + 2`, the line it has when the table is written with
+    /// [`Table::write_atomic`].
     ///
     /// # Errors
     ///
@@ -170,21 +154,9 @@ impl Table {
         })
     }
 
-    /// Returns the table with its source name (used in error messages) replaced.
-    #[must_use]
-    pub fn with_source(mut self, source: impl Into<String>) -> Table {
-        self.source = source.into();
-        self
-    }
-
     /// The column names, in file order.
     pub fn names(&self) -> &[String] {
         &self.names
-    }
-
-    /// All columns, in the order of [`Table::names`].
-    pub fn columns(&self) -> &[Vec<f64>] {
-        &self.columns
     }
 
     /// The number of rows (not counting the header).
@@ -276,13 +248,8 @@ impl Table {
         write_atomic_with(path, |w| self.write_csv(w))
     }
 
-    /// Writes the table as CSV to any writer (not atomic; see
-    /// [`Table::write_atomic`] for files).
-    ///
-    /// # Errors
-    ///
-    /// Whatever the writer returns.
-    pub fn write_csv<W: Write>(&self, w: &mut W) -> io::Result<()> {
+    /// Writes the table as CSV (the format of [`Table::write_atomic`]) to `w`.
+    fn write_csv<W: Write>(&self, w: &mut W) -> io::Result<()> {
         for (i, name) in self.names.iter().enumerate() {
             if i > 0 {
                 w.write_all(b",")?;
@@ -557,7 +524,7 @@ mod tests {
 
     /// Parses `text` as a file called `data.csv`.
     fn read_str(text: &str) -> Result<Table, IoError> {
-        Table::from_reader(text.as_bytes(), "data.csv")
+        parse(text.as_bytes(), "data.csv")
     }
 
     /// The message of the error from parsing `text`.
@@ -591,7 +558,7 @@ mod tests {
         assert!(!t.is_empty());
         assert_eq!(t.column("x").unwrap(), [1.0, 3.0]);
         assert_eq!(t.column("y").unwrap(), [2.0, 4.5]);
-        assert_eq!(t.columns(), [vec![1.0, 3.0], vec![2.0, 4.5]]);
+        assert_eq!(t.columns, [vec![1.0, 3.0], vec![2.0, 4.5]]);
         assert_eq!(t.column_index("y"), Some(1));
         assert_eq!(t.column_index("Y"), None);
         assert_eq!((t.line_of_row(0), t.line_of_row(1)), (2, 3));
@@ -617,14 +584,14 @@ mod tests {
     fn accepts_quoted_cells() {
         let t = read_str("\"x, in V\",\"y \"\"raw\"\"\"\n\"1\", 2\n").unwrap();
         assert_eq!(t.names(), ["x, in V", "y \"raw\""]);
-        assert_eq!(t.columns(), [vec![1.0], vec![2.0]]);
+        assert_eq!(t.columns, [vec![1.0], vec![2.0]]);
     }
 
     #[test]
     fn crlf_line_endings_with_exact_line_numbers() {
         let t = read_str("x,y\r\n1,2\r\n\r\n# note\r\n3,4\r\n").unwrap();
         assert_eq!(t.names(), ["x", "y"]);
-        assert_eq!(t.columns(), [vec![1.0, 3.0], vec![2.0, 4.0]]);
+        assert_eq!(t.columns, [vec![1.0, 3.0], vec![2.0, 4.0]]);
         assert_eq!((t.line_of_row(0), t.line_of_row(1)), (2, 5));
         assert_eq!(
             err_str("x,y\r\n1,2\r\n\r\n# note\r\n3,oops\r\n"),
@@ -647,7 +614,7 @@ mod tests {
         let text = "# hysteresis test rig\n\n# units: V\nx,y\n\n1,2\n# pause\n   \n\t\n3,4\n\n";
         let t = read_str(text).unwrap();
         assert_eq!(t.names(), ["x", "y"]);
-        assert_eq!(t.columns(), [vec![1.0, 3.0], vec![2.0, 4.0]]);
+        assert_eq!(t.columns, [vec![1.0, 3.0], vec![2.0, 4.0]]);
         assert_eq!((t.line_of_row(0), t.line_of_row(1)), (6, 10));
         assert_eq!(
             err_str("# c\n\nx,y\n# c\n\n1,2\n\n# c\n5,1.2.3\n"),
@@ -824,28 +791,16 @@ mod tests {
 
     #[test]
     fn invalid_utf8_is_an_error() {
-        let err = Table::from_reader(&b"x,y\n1,\xff2\n"[..], "data.csv").unwrap_err();
+        let err = parse(b"x,y\n1,\xff2\n", "data.csv").unwrap_err();
         assert_eq!(
             err.to_string(),
             "data.csv:2: column 2 (\"y\"): invalid UTF-8 in \"\u{fffd}2\""
         );
-        let err = Table::from_reader(&b"x,\xffy\n1,2\n"[..], "data.csv").unwrap_err();
+        let err = parse(b"x,\xffy\n1,2\n", "data.csv").unwrap_err();
         assert_eq!(
             err.to_string(),
             "data.csv:1: column 2 (\"\"): invalid UTF-8 in \"\u{fffd}y\""
         );
-    }
-
-    #[test]
-    fn from_reader_reports_read_errors() {
-        struct Broken;
-        impl Read for Broken {
-            fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
-                Err(io::Error::other("cable unplugged"))
-            }
-        }
-        let err = Table::from_reader(Broken, "<stdin>").unwrap_err();
-        assert_eq!(err.to_string(), "<stdin>: cannot read: cable unplugged");
     }
 
     #[test]
@@ -964,11 +919,9 @@ mod tests {
         assert_eq!(t.source(), "<memory>");
         assert_eq!(t.len(), 2);
         assert_eq!((t.line_of_row(0), t.line_of_row(1)), (2, 3));
-        let t = t.with_source("fit result");
-        assert_eq!(t.source(), "fit result");
         assert_eq!(
             t.column("z").unwrap_err().to_string(),
-            r#"fit result: no column named "z"; the available columns are "x", "y""#
+            r#"<memory>: no column named "z"; the available columns are "x", "y""#
         );
         let empty = Table::new(strings(&["x"]), vec![vec![]]).unwrap();
         assert!(empty.is_empty());
@@ -1168,7 +1121,7 @@ mod tests {
         assert_eq!(back.names(), t.names());
         assert_eq!(back.len(), values.len());
         for (col, expected) in [(0, &values), (1, &negated)] {
-            let got = &back.columns()[col];
+            let got = &back.columns[col];
             let got_bits: Vec<u64> = got.iter().map(|v| v.to_bits()).collect();
             let want_bits: Vec<u64> = expected.iter().map(|v| v.to_bits()).collect();
             assert_eq!(got_bits, want_bits);
