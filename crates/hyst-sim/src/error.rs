@@ -103,3 +103,30 @@ pub(crate) fn check_finite(name: &'static str, values: &[f64]) -> Result<(), Sim
         None => Ok(()),
     }
 }
+
+/// `Ok` when `value` is finite, else [`SimError::InvalidParameter`] naming the parameter.
+pub(crate) fn finite(name: &'static str, value: f64) -> Result<(), SimError> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(SimError::InvalidParameter {
+            name,
+            value,
+            expected: "finite",
+        })
+    }
+}
+
+/// `Ok` when `value` is finite and > 0, else [`SimError::InvalidParameter`] naming the
+/// parameter.
+pub(crate) fn positive(name: &'static str, value: f64) -> Result<(), SimError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(SimError::InvalidParameter {
+            name,
+            value,
+            expected: "finite and > 0",
+        })
+    }
+}

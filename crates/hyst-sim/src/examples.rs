@@ -1,7 +1,7 @@
 //! The paper's examples as simulations (Section 6). The paper's "true" hysteresis of Examples 1
 //! and 2 is not published; these use documented synthetic truths: family members whose
-//! parameters drift inside the family the paper states (see `docs/paper.md`). Example 3's truth
-//! is the hard backlash of the paper.
+//! parameters drift inside the family the paper states ([`crate::Drifting`], see
+//! `docs/paper.md`). Example 3's truth is the hard backlash of the paper ([`Play`]).
 
 use hyst_core::family::{delta_a, delta_a_over_k2_range, delta_k2_prop43};
 use hyst_core::{
@@ -14,19 +14,19 @@ use crate::{simulate_compensated, Drifting, SimError, StateSpace, Trace};
 /// Example 1's nominal models: linear shaping out = 1.4 H(0.14, 8)[0.2 in], and nonlinear
 /// shaping out = 2.02 H(0.105, φ)[in − 0.098 in²], φ = 9 − 2 v clamped to [5, 12] (φ of the
 /// operator input, the core's convention; the paper writes φ(in), which differs by the
-/// quadratic term only).
+/// quadratic term only). Input `in` and output `out` are dimensionless.
 pub mod example1 {
     use super::*;
 
-    /// The linear-shaping model type.
+    /// The linear-shaping model type: out = ψ_out(H(k1, k2)[ψ_in(in)]) with affine ψ.
     pub type LinearModel = Model<f64, Affine<f64>, hyst_core::ConstantK2<f64>, Affine<f64>>;
-    /// The nonlinear-shaping model type.
+    /// The nonlinear-shaping model type: polynomial ψ_in, k2 = φ(v), affine ψ_out.
     pub type NonlinearModel = Model<f64, Polynomial<f64>, AffineK2<f64>, Affine<f64>>;
 
     /// Input range of Example 1 (in units of `in`): φ(v) ∈ [5, 12] needs v ∈ [−1.5, 2].
     pub const INPUT_RANGE: (f64, f64) = (-1.4, 1.9);
 
-    /// The linear-shaping model.
+    /// The linear-shaping model out = 1.4 H(0.14, 8)[0.2 in].
     ///
     /// # Errors
     /// Never in practice.
@@ -38,7 +38,7 @@ pub mod example1 {
         )
     }
 
-    /// φ(v) = 9 − 2 v on [5, 12].
+    /// φ(v) = 9 − 2 v clamped to [5, 12] (k2 as a function of the operator input v).
     ///
     /// # Errors
     /// Never in practice.
@@ -54,7 +54,7 @@ pub mod example1 {
         Polynomial::new([0.0, 1.0, -0.098, 0.0], -3.0, 5.0)
     }
 
-    /// The nonlinear-shaping model.
+    /// The nonlinear-shaping model out = 2.02 H(0.105, φ)[ψ_in(in)].
     ///
     /// # Errors
     /// Never in practice.
@@ -125,17 +125,18 @@ pub mod example1 {
     pub struct Compensation {
         /// Time (s).
         pub t: Vec<f64>,
-        /// The desired output.
+        /// The desired output (out units).
         pub desired: Vec<f64>,
-        /// The command from the compensator.
+        /// The command from the compensator (in units).
         pub command: Vec<f64>,
-        /// truth(command) − desired.
+        /// truth(command) − desired (out units).
         pub error: Vec<f64>,
-        /// The bound 2.02 · Δa (Δk2 = 0.5 + Proposition 4.3's 0.21, k2 over [5, 12]).
+        /// The bound 2.02 · Δa (out units; Δk2 = 0.5 + Proposition 4.3's 0.21, k2 over
+        /// [5, 12]).
         pub bound: f64,
-        /// Δa before the output shaping.
+        /// Δa before the output shaping (units of the operator output).
         pub delta_a: f64,
-        /// Proposition 4.3's Δk2* = sup|φ'| k1.
+        /// Proposition 4.3's Δk2* = sup|φ'| k1 (units of k2: inverse operator-input units).
         pub dk2_prop43: f64,
     }
 
@@ -174,7 +175,8 @@ pub mod example1 {
     }
 }
 
-/// Example 2: the RL reluctance actuator L İ = −R I + U, Φ = Hyst(I), F = K Φ².
+/// Example 2: the RL reluctance actuator L İ = −R I + U, Φ = Hyst(I), F = K Φ² (current I in
+/// A, voltage U in V, flux Φ normalised, dimensionless; the operator H maps A to A).
 pub mod example2 {
     use super::*;
 
@@ -190,19 +192,19 @@ pub mod example2 {
     pub struct Results {
         /// The simulated trace (x1 = I, output = Φ).
         pub trace: Trace,
-        /// The truth's operator output h = H̄\[I\] (before ψ).
+        /// The truth's operator output h = H̄\[I\] (before ψ; A).
         pub h: Vec<f64>,
-        /// Compensation error h − ψ⁻¹(v) at the operator level (Δb of eq. 15).
+        /// Compensation error h − ψ⁻¹(v) at the operator level (Δb of eq. 15; A).
         pub compensation_error: Vec<f64>,
         /// Force error K Φ² − K v² (N).
         pub force_error: Vec<f64>,
         /// Force K Φ² (N).
         pub force: Vec<f64>,
-        /// Δa of RH(0.06, 0.005, 5, 2.5).
+        /// Δa of RH(0.06, 0.005, 5, 2.5) (A), the bound on `compensation_error`.
         pub bound: f64,
     }
 
-    /// Runs Example 2 for `seconds` with sample time `dt`. The truth is a member of
+    /// Runs Example 2 for `seconds` with sample time `dt` (s). The truth is a member of
     /// RH(0.06, 0.005, 5, 2.5) with ψ: k̄2 is high (7.5) near zero current and low (2.5) from
     /// |I| = 2 on ("bigger values for k2 give a better match closer to zero magnetisation"),
     /// k̄1 drifts over [0.055, 0.065] with a 7 s period.
@@ -278,7 +280,7 @@ pub mod example3 {
     pub struct Results {
         /// The trace (x1 = mass position, output = x2 after the backlash, reference = v).
         pub trace: Trace,
-        /// Without compensation: x2 when the same r drives the plant directly (F = r).
+        /// Without compensation: x2 when the same r drives the plant directly (F = r; m).
         pub uncompensated: Vec<f64>,
         /// x2 − v (m).
         pub compensation_error: Vec<f64>,
@@ -341,7 +343,8 @@ pub mod example3 {
     }
 }
 
-/// The bounds of the paper's examples (NOTES.md): (name, value).
+/// The bounds Δa of the paper's examples (NOTES.md): (name, value in the units of that example's
+/// operator output, after the output shaping for `example1_linear_shaped`).
 ///
 /// # Errors
 /// Never in practice.

@@ -2,7 +2,7 @@
 //! uses between samples) and an adaptive Dormand–Prince 5(4) integration
 //! ([`integrate_adaptive`], the reference solution for fixed-step runs).
 
-use crate::error::check_finite;
+use crate::error::{check_finite, finite, positive};
 use crate::SimError;
 
 fn axpy(x: &[f64], h: f64, d: &[f64]) -> Vec<f64> {
@@ -103,15 +103,11 @@ pub fn integrate_adaptive(
             11.0 / 84.0,
         ],
     ];
-    const B5: [f64; 7] = [
-        35.0 / 384.0,
-        0.0,
-        500.0 / 1113.0,
-        125.0 / 192.0,
-        -2187.0 / 6784.0,
-        11.0 / 84.0,
-        0.0,
-    ];
+    // The fifth-order weights are the last stage's row (first same as last).
+    const B5: [f64; 7] = {
+        let w = A[6];
+        [w[0], w[1], w[2], w[3], w[4], w[5], 0.0]
+    };
     const B4: [f64; 7] = [
         5179.0 / 57600.0,
         0.0,
@@ -121,22 +117,9 @@ pub fn integrate_adaptive(
         187.0 / 2100.0,
         1.0 / 40.0,
     ];
-    for (name, value) in [("t0", t0), ("t1", t1)] {
-        if !value.is_finite() {
-            return Err(SimError::InvalidParameter {
-                name,
-                value,
-                expected: "finite",
-            });
-        }
-    }
-    if !(tol.is_finite() && tol > 0.0) {
-        return Err(SimError::InvalidParameter {
-            name: "tol",
-            value: tol,
-            expected: "finite and > 0",
-        });
-    }
+    finite("t0", t0)?;
+    finite("t1", t1)?;
+    positive("tol", tol)?;
     check_finite("x0", x0)?;
     let n = x0.len();
     let mut stats = AdaptiveStats::default();

@@ -5,7 +5,8 @@ use crate::error::check_finite;
 use crate::SimError;
 
 /// A linear time-invariant single-input single-output plant ẋ = A x + B u, y = C x + D u
-/// (state x ∈ ℝⁿ; u and y in the units of the plant's input and output). Eq. (18)'s
+/// (state x ∈ ℝⁿ; u and y in the units of the plant's input and output; time in s, so ẋ is
+/// in state units per s and A in 1/s). Eq. (18)'s
 /// b / (a_n sⁿ + … + a_1 s + 1) is built with [`StateSpace::from_transfer_function`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct StateSpace {
@@ -123,8 +124,8 @@ impl StateSpace {
         self.b.len()
     }
 
-    /// ẋ = A x + B u for the state `x` (n entries; missing entries count as 0, extra ones are
-    /// ignored) and the input `u`.
+    /// ẋ = A x + B u (state units per s) for the state `x` (n entries; missing entries count
+    /// as 0, extra ones are ignored) and the input `u`.
     #[must_use]
     pub fn derivative(&self, x: &[f64], u: f64) -> Vec<f64> {
         self.a
@@ -134,13 +135,14 @@ impl StateSpace {
             .collect()
     }
 
-    /// y = C x + D u (as [`StateSpace::derivative`] for the length of `x`).
+    /// y = C x + D u, in the plant's output units (as [`StateSpace::derivative`] for the
+    /// length of `x`).
     #[must_use]
     pub fn output(&self, x: &[f64], u: f64) -> f64 {
         self.c.iter().zip(x).map(|(c, x)| c * x).sum::<f64>() + self.d * u
     }
 
-    /// The steady state for a constant input u: the solution of A x = −B u (Gaussian elimination
+    /// The steady state x (n entries) for a constant input u: the solution of A x = −B u (Gaussian elimination
     /// with partial pivoting), `None` when A is singular (a pure integrator, say).
     #[must_use]
     pub fn equilibrium(&self, u: f64) -> Option<Vec<f64>> {

@@ -13,6 +13,7 @@
 
 use hyst_core::{ConstantK2, Error, Family, K2Law, Memory, Operator, Sample, Shaping};
 
+use crate::error::{finite, positive};
 use crate::SimError;
 
 /// The memory of a [`Drifting`] truth ([`Operator::memory`]): the operator's memory and the
@@ -201,15 +202,8 @@ impl Preisach {
     /// # Errors
     /// [`SimError::InvalidParameter`] when lo or hi is not finite or lo ≥ hi.
     pub fn new(lo: f64, hi: f64, n: usize, mu: impl Fn(f64, f64) -> f64) -> Result<Self, SimError> {
-        for (name, value) in [("Preisach lo", lo), ("Preisach hi", hi)] {
-            if !value.is_finite() {
-                return Err(SimError::InvalidParameter {
-                    name,
-                    value,
-                    expected: "finite",
-                });
-            }
-        }
+        finite("Preisach lo", lo)?;
+        finite("Preisach hi", hi)?;
         if lo >= hi {
             return Err(SimError::InvalidParameter {
                 name: "Preisach hi",
@@ -247,19 +241,9 @@ impl Preisach {
     /// # Errors
     /// [`SimError::InvalidParameter`] when range, sh or si is not finite and > 0.
     pub fn gaussian(range: f64, n: usize, hc: f64, sh: f64, si: f64) -> Result<Self, SimError> {
-        for (name, value) in [
-            ("Preisach range", range),
-            ("Preisach sh", sh),
-            ("Preisach si", si),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(SimError::InvalidParameter {
-                    name,
-                    value,
-                    expected: "finite and > 0",
-                });
-            }
-        }
+        positive("Preisach range", range)?;
+        positive("Preisach sh", sh)?;
+        positive("Preisach si", si)?;
         Self::new(-range, range, n, move |a, b| {
             let c = 0.5 * (a - b);
             let i = 0.5 * (a + b);
