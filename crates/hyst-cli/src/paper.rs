@@ -97,13 +97,9 @@ fn forc_series(points: &[(f64, f64, i64)], label: &str, color: usize, dashed: bo
 /// Fig. 3: first-order reversal curves, truth vs model, linear and nonlinear shaping.
 fn fig3(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut lin_truth = example1::linear_truth()?;
-    let mut lin_model = hyst_sim::Smooth {
-        model: example1::linear_model()?,
-    };
+    let mut lin_model = example1::linear_model()?;
     let mut nl_truth = example1::nonlinear_truth()?;
-    let mut nl_model = hyst_sim::Smooth {
-        model: example1::nonlinear_model()?,
-    };
+    let mut nl_model = example1::nonlinear_model()?;
     let curves = 8;
     let mut left = Panel::new(
         "Linear shaping: 1.4·H(0.14, 8)[0.2·in]",

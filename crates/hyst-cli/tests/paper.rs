@@ -1,5 +1,6 @@
 //! `hyst paper` end to end: every figure is written, the summary has the required keys, the
-//! bounds match NOTES.md and Example 2's compensation error stays within its bound.
+//! bounds match NOTES.md, Example 2's compensation error stays within its bound and Example 3's is
+//! the measured one.
 
 use std::process::Command;
 
@@ -35,7 +36,10 @@ fn paper_writes_figures_and_summary() {
     let e2 = num("/example2/max_compensation_error");
     assert!(e2 > 0.0 && e2 <= num("/example2/bound"), "{e2}");
     assert!(num("/example2/max_force_n") > 0.0 && num("/example2/max_force_error_n") >= 0.0);
-    assert!(num("/example3/max_compensation_error").is_finite());
+    // Example 3 after 10 s: measured 0.1354 m, the backlash corners H(0.2, 8) rounds off (the
+    // uncompensated output lags by the play's half-width, 0.2 m).
+    let e3 = num("/example3/max_compensation_error");
+    assert!((0.13..0.14).contains(&e3), "{e3}");
     let figures = v["figures"].as_array().cloned().unwrap_or_default();
     assert_eq!(figures.len(), 10);
     for f in figures {

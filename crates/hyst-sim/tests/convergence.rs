@@ -4,7 +4,7 @@
 //! must fall at RK4's fourth order: about 16-fold per halving of the step.
 
 use hyst_core::{Compensator, Hysteresis, Identity, Model};
-use hyst_sim::{simulate_compensated, SimError, Smooth, StateSpace};
+use hyst_sim::{simulate_compensated, SimError, StateSpace};
 
 /// A new input that makes v reverse at several amplitudes within 20 s.
 fn u_new(t: f64) -> f64 {
@@ -19,7 +19,8 @@ fn errors<const N: usize>(a: [f64; N], dt: f64) -> Result<(f64, f64), SimError> 
     let mut den: Vec<f64> = a.iter().rev().copied().collect();
     den.push(1.0);
     let plant = StateSpace::from_transfer_function(&[1.0], &den)?;
-    let mut truth = Smooth { model };
+    // The exact model as the truth.
+    let mut truth = model;
     let mut input = |t: f64, _v: &[f64]| u_new(t);
     let samples = (20.0 / dt).round() as usize;
     let trace = simulate_compensated(
