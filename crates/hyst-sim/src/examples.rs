@@ -343,28 +343,6 @@ pub mod example3 {
     }
 }
 
-/// The bounds Δa of the paper's examples (NOTES.md): (name, value in the units of that example's
-/// operator output, after the output shaping for `example1_linear_shaped`).
-///
-/// # Errors
-/// Never in practice.
-pub fn paper_bounds() -> Result<Vec<(&'static str, f64)>, Error> {
-    let ex1 = delta_a(0.14, 0.1, 8.0, 5.0)?.delta_a;
-    Ok(vec![
-        ("example1_linear", ex1),
-        ("example1_linear_shaped", 1.4 * ex1),
-        (
-            "example1_nonlinear_k2_5",
-            delta_a(0.105, 0.005, 5.0, 1.235)?.delta_a,
-        ),
-        (
-            "example1_nonlinear_k2_12",
-            delta_a(0.105, 0.005, 12.0, 1.235)?.delta_a,
-        ),
-        ("example2", delta_a(0.06, 0.005, 5.0, 2.5)?.delta_a),
-    ])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
