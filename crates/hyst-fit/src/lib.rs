@@ -30,7 +30,7 @@ pub mod widths;
 pub use data::{Columns, DataOptions, Dataset, Record};
 pub use error::FitError;
 pub use evaluator::Evaluator;
-pub use model::{InitialState, K2Spec, SmoothModel};
+pub use model::{InitialState, SmoothModel};
 pub use modelfile::ModelFile;
 pub use scaled_shaping::ScaledShaping;
 pub use smooth::{fit_smooth, ErrorStats, Estimate, FitOptions, SmoothFit};

@@ -7,10 +7,12 @@
 //! therefore normalised to [−1, 1] (x̂ = (in − centre) / half-span) with a fixed gain, and the
 //! overall gain and offset belong to ψ_out. k1 and k2 are then in these normalised units.
 
-use hyst_core::{AnyShaping, Langevin, Polynomial, QuadraticExp, Shaping, Tanh};
+use hyst_core::{
+    AffineK2, AnyK2Law, AnyShaping, Langevin, Polynomial, QuadraticExp, Shaping, Tanh,
+};
 use serde::{Deserialize, Serialize};
 
-use crate::{model::InitialState, K2Spec, ScaledShaping, SmoothModel};
+use crate::{model::InitialState, ScaledShaping, SmoothModel};
 
 /// A shaping function family for ψ_in or ψ_out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -438,7 +440,7 @@ impl Layout {
         let v_hi = input_shaping.apply(input_range.1);
         let k1 = get("k1");
         let k2 = match self.structure.k2 {
-            K2Kind::Constant => K2Spec::Constant { value: get("k2") },
+            K2Kind::Constant => AnyK2Law::Constant { value: get("k2") },
             K2Kind::Affine => {
                 let at_zero = get("k2");
                 let slope = get("k2.slope");
@@ -452,12 +454,12 @@ impl Layout {
                         expected: "a k2 law that stays positive on the data",
                     });
                 }
-                K2Spec::Affine {
+                AnyK2Law::Affine(AffineK2 {
                     at_zero,
                     slope,
                     min: 0.5 * min,
                     max: 2.0 * max,
-                }
+                })
             }
         };
         let output_shaping = self.output_shaping(theta, (v_lo - k1, v_hi + k1))?;
