@@ -17,7 +17,8 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Context, Result};
 use hyst_fit::lm::{Observer, Progress};
 use hyst_fit::modelfile::{fnv1a64, Metrics, ModelKind, Provenance, Units};
-use hyst_fit::pi::{fit_pi_with, PiFit, PiOutputKind};
+use hyst_fit::pi::PiOutputKind;
+use hyst_fit::pi_fit::{fit_pi_with, PiFit};
 use hyst_fit::smooth::ErrorStats;
 use hyst_fit::{
     fit_smooth, DataOptions, Dataset, FitOptions, InitialState, K2Kind, ModelFile, ShapingKind,
@@ -345,7 +346,14 @@ pub fn main(args: Args) -> Result<()> {
         bail!(hyst_fit::FitError::Interrupted);
     }
     let pi = if want_pi {
-        Some(fit_pi_with(&data, args.operators, args.pi_output.into())?)
+        let fit = fit_pi_with(&data, args.operators, args.pi_output.into());
+        // The library names its parameter; the user knows it as the flag.
+        Some(fit.map_err(|e| match e {
+            e @ hyst_fit::FitError::InvalidSetting {
+                name: "operators", ..
+            } => anyhow::Error::new(e).context("--operators"),
+            e => e.into(),
+        })?)
     } else {
         None
     };

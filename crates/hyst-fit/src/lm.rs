@@ -9,6 +9,8 @@
 
 use std::ops::ControlFlow;
 
+use crate::linalg::cholesky_solve;
+
 /// A point the problem cannot evaluate (parameters outside their bounds).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Infeasible;
@@ -308,69 +310,6 @@ fn normal_equations(jac: &[f64], r: &[f64], n: usize, p: usize, jtj: &mut [f64],
     }
 }
 
-/// Cholesky factor L (row-major, lower) of a symmetric positive definite p × p matrix.
-pub(crate) fn cholesky(a: &[f64], p: usize) -> Option<Vec<f64>> {
-    let mut l = vec![0.0; p * p];
-    for i in 0..p {
-        for j in 0..=i {
-            let mut s = a[i * p + j];
-            for k in 0..j {
-                s -= l[i * p + k] * l[j * p + k];
-            }
-            if i == j {
-                if s.is_nan() || s <= 0.0 || !s.is_finite() {
-                    return None;
-                }
-                l[i * p + i] = s.sqrt();
-            } else {
-                l[i * p + j] = s / l[j * p + j];
-            }
-        }
-    }
-    Some(l)
-}
-
-/// Solves A x = b for symmetric positive definite A.
-pub(crate) fn cholesky_solve(a: &[f64], b: &[f64], p: usize) -> Option<Vec<f64>> {
-    let l = cholesky(a, p)?;
-    let mut y = b.to_vec();
-    for i in 0..p {
-        for k in 0..i {
-            y[i] -= l[i * p + k] * y[k];
-        }
-        y[i] /= l[i * p + i];
-    }
-    for i in (0..p).rev() {
-        for k in i + 1..p {
-            y[i] -= l[k * p + i] * y[k];
-        }
-        y[i] /= l[i * p + i];
-    }
-    Some(y)
-}
-
-/// The inverse of a symmetric positive definite matrix (row-major), `None` when singular.
-pub(crate) fn spd_inverse(a: &[f64], p: usize) -> Option<Vec<f64>> {
-    // Equilibrate so that the check does not depend on the units of the parameters.
-    let d: Vec<f64> = (0..p).map(|i| a[i * p + i].max(1e-300).sqrt()).collect();
-    let mut s = vec![0.0; p * p];
-    for i in 0..p {
-        for j in 0..p {
-            s[i * p + j] = a[i * p + j] / (d[i] * d[j]);
-        }
-    }
-    let mut inv = vec![0.0; p * p];
-    for j in 0..p {
-        let mut e = vec![0.0; p];
-        e[j] = 1.0;
-        let col = cholesky_solve(&s, &e, p)?;
-        for i in 0..p {
-            inv[i * p + j] = col[i] / (d[i] * d[j]);
-        }
-    }
-    Some(inv)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -412,15 +351,5 @@ mod tests {
         assert!((s.theta[0] - 2.5).abs() < 1e-10, "{:?}", s.theta);
         assert!((s.theta[1] + 1.3).abs() < 1e-10, "{:?}", s.theta);
         Ok(())
-    }
-
-    #[test]
-    fn inverse_of_spd() {
-        let a = [4.0, 1.0, 1.0, 3.0];
-        let inv = spd_inverse(&a, 2).unwrap_or_default();
-        let det = 11.0;
-        assert!((inv[0] - 3.0 / det).abs() < 1e-15);
-        assert!((inv[1] + 1.0 / det).abs() < 1e-15);
-        assert!(spd_inverse(&[1.0, 1.0, 1.0, 1.0], 2).is_none());
     }
 }

@@ -339,7 +339,7 @@ pub fn fit_smooth(
     let p = layout.len();
     let dof = (problem.n - p).max(1) as f64;
     let s2 = best.cost / dof * layout.norm.output_half_span.powi(2);
-    let inv = crate::lm::spd_inverse(&best.jtj, p);
+    let inv = crate::linalg::spd_inverse(&best.jtj, p);
     let scale2 = layout.norm.output_half_span.powi(2);
     let estimates = layout
         .params
