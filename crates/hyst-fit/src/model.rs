@@ -8,20 +8,20 @@ use serde::{Deserialize, Serialize};
 
 use crate::ScaledShaping;
 
-/// Where each record starts (Definition 2.1 needs a first reversal point).
+/// Where each record starts (Definition 2.1 needs a first reversal point). The default,
+/// [`InitialState::Rising`], suits a device switched on and driven up to its first value, and a
+/// loop or FORC record that starts from positive saturation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum InitialState {
-    /// No history: the first sample is a reversal point on the line output = input of the
-    /// operator (the anhysteretic curve).
-    Line,
-    /// As after a long rise: on the lower asymptote, output = input − k1, heading up. The
-    /// default: a device switched on and driven up to its first value, a loop or FORC record
-    /// that starts from positive saturation.
+    /// As after a long rise: on the lower asymptote output = input − k1, heading up.
     #[default]
     Rising,
-    /// As after a long fall: on the upper asymptote, output = input + k1, heading down.
+    /// As after a long fall: on the upper asymptote output = input + k1, heading down.
     Falling,
+    /// No history: the first sample is a reversal point on the anhysteretic line output = input.
+    Line,
 }
 
 /// v + d rounded towards v until |(v + d) − v| ≤ |d| holds in floating point (the band check

@@ -12,15 +12,16 @@ use crate::evaluator::{CorePi, CoreShapedPi, Evaluator};
 /// The largest number of play operators (the core type's capacity).
 pub const MAX_OPERATORS: usize = 128;
 
-/// Which output polynomial follows the Prandtl–Ishlinskii sum (`hyst fit --pi-output`).
+/// Which output polynomial follows the Prandtl–Ishlinskii sum (`none`, `poly2`, `poly3`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum PiOutputKind {
-    /// None: y = PI[x].
+    /// No output polynomial: y = PI[x].
     #[default]
     None,
-    /// y = P(PI[x]) with P quadratic, increasing on the data.
+    /// y = P(PI[x]), P quadratic and increasing on the data.
     Poly2,
-    /// y = P(PI[x]) with P cubic, increasing on the data.
+    /// y = P(PI[x]), P cubic and increasing on the data.
     Poly3,
 }
 

@@ -14,20 +14,22 @@ use serde::{Deserialize, Serialize};
 
 use crate::{model::InitialState, ScaledShaping, SmoothModel};
 
-/// A shaping function family for ψ_in or ψ_out.
+/// A shaping function family for ψ_in or ψ_out. Its kebab-case name (`affine`, `poly2`, `poly3`,
+/// `tanh`, `langevin`, `quad-exp`) is the model file's and the command line's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum ShapingKind {
-    /// Affine (for ψ_in: the fixed normalisation; for ψ_out: gain and offset).
+    /// Affine (ψ_in: the fixed normalisation of the input; ψ_out: gain and offset).
     #[default]
     Affine,
-    /// x + p2 x² (monotone on the data range).
+    /// Quadratic polynomial x + p2 x², monotone on the data.
     Poly2,
-    /// x + p2 x² + p3 x³ (monotone on the data range).
+    /// Cubic polynomial x + p2 x² + p3 x³, monotone on the data.
     Poly3,
     /// tanh(x / σ + c): saturation.
     Tanh,
-    /// Langevin L(x / σ + c): the classical anhysteretic curve.
+    /// Langevin function L(x / σ + c): the classical anhysteretic curve.
     Langevin,
     /// Example 2's x − a x² − e^(−(b + c x)).
     QuadExp,
@@ -64,14 +66,15 @@ impl ShapingKind {
     }
 }
 
-/// Constant k2 or affine in the operator input (Proposition 4.3).
+/// The k2 law to fit: constant, or affine in the operator input (Proposition 4.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum K2Kind {
     /// k2 constant.
     #[default]
     Constant,
-    /// k2 = a + b v.
+    /// k2 = a + b v, affine in the operator input v (Proposition 4.3).
     Affine,
 }
 
