@@ -73,8 +73,8 @@ pub enum FitError {
     #[error("{0}")]
     Invalid(String),
 
-    /// A setting of a method is out of its range (a tolerance or iteration limit of the
-    /// least-squares method, the number of play operators, …).
+    /// A setting or argument of a method is out of its range (a tolerance or iteration limit of
+    /// the least-squares method, its starting point, the number of play operators, …).
     #[error("{name} = {value}: expected {expected}")]
     InvalidSetting {
         /// The setting, as the library names it.

@@ -322,10 +322,7 @@ pub fn fit_smooth(
             inner: &mut *observer,
             start,
         };
-        let s = options
-            .method
-            .minimize(&problem, theta0, &mut tagged)
-            .map_err(|_| FitError::Interrupted)?;
+        let s = options.method.minimize(&problem, theta0, &mut tagged)?;
         if best.as_ref().map_or(true, |b| s.cost < b.cost) {
             best = Some(s);
         }
