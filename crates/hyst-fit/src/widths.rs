@@ -231,3 +231,96 @@ pub fn family_widths(
         output_bound_pct_span: 100.0 * delta_a * lipschitz / span,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::lm::Silent;
+    use crate::{InitialState, ScaledShaping};
+    use hyst_core::AnyShaping;
+
+    fn model() -> SmoothModel {
+        let identity = AnyShaping::Identity;
+        SmoothModel {
+            k1: 0.1,
+            k2: AnyK2Law::Constant { value: 5.0 },
+            input_shaping: ScaledShaping::new(0.5, 0.1, identity, 1.0, 0.0).unwrap(),
+            output_shaping: ScaledShaping::new(1.0, 0.0, identity, 2.0, 0.3).unwrap(),
+            initial_state: InitialState::Falling,
+        }
+    }
+
+    fn input() -> Vec<f64> {
+        (0..2000)
+            .map(|k| {
+                let t = k as f64 * 0.01;
+                (0.4 + 0.1 * t) * (1.3 * t).sin() + 0.2 * (3.1 * t).cos()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn data_of_a_corner_member_is_covered_and_the_nominal_alone_is_not() {
+        let m = model();
+        // The member (k1 + Δk1, k2 − Δk2), started by the same rule on its own asymptote.
+        let (d1, d2) = (0.03, 1.5);
+        let truth = SmoothModel {
+            k1: m.k1 + d1,
+            k2: AnyK2Law::Constant { value: 5.0 - d2 },
+            ..m
+        };
+        let x = input();
+        let data = Dataset::single(&x, &truth.run(&x).unwrap());
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        assert_eq!(coverage(&data, &m, d1, d2, &mut lo, &mut hi).unwrap(), 1.0);
+        let nominal = coverage(&data, &m, 0.0, 0.0, &mut lo, &mut hi).unwrap();
+        assert!(nominal < 0.05, "{nominal}");
+        // Half the widths leave part of the data outside.
+        let half = coverage(&data, &m, d1 / 2.0, d2 / 2.0, &mut lo, &mut hi).unwrap();
+        assert!(half > nominal && half < 0.9, "{half}");
+        // An invalid family is an error, not a coverage.
+        assert!(coverage(&data, &m, m.k1, 0.0, &mut lo, &mut hi).is_err());
+    }
+
+    #[test]
+    fn samples_of_weight_zero_are_not_counted() {
+        let m = model();
+        let x = input();
+        let mut y = m.run(&x).unwrap();
+        // Spoil the second half, then give it weight 0: the nominal covers everything counted.
+        y[1000..].iter_mut().for_each(|v| *v += 1.0);
+        let mut data = Dataset::single(&x, &y);
+        data.records[0].weight[1000..].fill(0.0);
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        assert_eq!(
+            coverage(&data, &m, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
+            1.0
+        );
+        data.records[0].weight[1000..].fill(1.0);
+        assert_eq!(
+            coverage(&data, &m, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
+            0.5
+        );
+    }
+
+    #[test]
+    fn widths_reach_the_data_of_a_member_and_bound_it() {
+        let m = model();
+        let truth = SmoothModel {
+            k1: m.k1 + 0.02,
+            k2: AnyK2Law::Constant { value: 4.0 },
+            ..m
+        };
+        let x = input();
+        let data = Dataset::single(&x, &truth.run(&x).unwrap());
+        let w = family_widths(&data, &m, 0.99, &mut Silent).unwrap();
+        assert!(w.reachable && w.coverage >= 0.99, "{w:?}");
+        assert!(w.delta_k1 > 0.0 && w.delta_k1 < 0.98 * m.k1, "{w:?}");
+        assert_eq!((w.delta_k2_law, w.k2_range), (0.0, (5.0, 5.0)));
+        let b = hyst_core::family::delta_a(m.k1, w.delta_k1, 5.0, w.delta_k2).unwrap();
+        assert_eq!(w.delta_a, b.delta_a);
+        // ψ_out has gain 2: the bound in output units doubles.
+        assert!((w.output_bound - 2.0 * w.delta_a).abs() < 1e-12, "{w:?}");
+    }
+}
