@@ -141,7 +141,7 @@ impl SmoothModel {
     }
 
     /// Runs the model over one record: `operator_out` receives H's output (before ψ_out) when
-    /// given, `output` the model output. Same arithmetic as [`hyst_core::Model::eval`].
+    /// given, `output` the model output. Same arithmetic as stepping [`SmoothModel::core`].
     ///
     /// # Errors
     /// Invalid parameters, or a non-finite value on the way (the fit treats it as infeasible).
