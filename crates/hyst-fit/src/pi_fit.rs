@@ -160,27 +160,14 @@ pub fn fit_pi_with(
             .sum::<f64>())
     .max(0.0);
     let n = data.training_samples();
-    let free: Vec<usize> = (0..m).filter(|&j| j == 0 || w[j] > 0.0).collect();
-    let k = free.len();
-    let s2 = cost / (n.saturating_sub(k + 1).max(1)) as f64;
-    let sub: Vec<f64> = free
-        .iter()
-        .flat_map(|&a| free.iter().map(move |&b| (a, b)))
-        .map(|(a, b)| gram[a * m + b])
-        .collect();
-    let inv = spd_inverse(&sub, k);
-    let se = |j: usize| -> f64 {
-        match (free.iter().position(|&f| f == j), &inv) {
-            (Some(p), Some(inv)) => (inv[p * k + p] * s2).max(0.0).sqrt(),
-            (Some(_), None) => f64::NAN,
-            (None, _) => 0.0,
-        }
-    };
+    let free = free_set(&w);
+    let s2 = cost / (n.saturating_sub(free.len() + 1).max(1)) as f64;
+    let se = std_errors(&gram, m, &free, s2);
     let mut estimates = vec![
         Estimate {
             name: "w0".into(),
             value: w[0],
-            std_error: se(0),
+            std_error: se[0],
             unit: "output/input".into(),
         },
         Estimate {
@@ -194,7 +181,7 @@ pub fn fit_pi_with(
         estimates.push(Estimate {
             name: format!("w{j} (r = {:.4})", model.thresholds[j - 1]),
             value: w[j],
-            std_error: se(j),
+            std_error: se[j],
             unit: "output/input".into(),
         });
     }
@@ -550,27 +537,13 @@ fn fit_output(
     let (g, sff) = weight_step(d, &st)
         .map(|(_, _, g, sff)| (g, sff))
         .ok_or_else(no_fit)?;
-    let free: Vec<usize> = (0..m).filter(|&j| j == 0 || st.w[j] > 0.0).collect();
-    let k = free.len();
-    let sub: Vec<f64> = free
-        .iter()
-        .flat_map(|&a| free.iter().map(move |&b| (a, b)))
-        .map(|(a, b)| g[a * m + b])
-        .collect();
-    let inv = spd_inverse(&sub, k);
-    let se = |j: usize| -> f64 {
-        match (free.iter().position(|&f| f == j), &inv) {
-            (Some(q), Some(inv)) => (inv[q * k + q] * s2).max(0.0).sqrt(),
-            (Some(_), None) => f64::NAN,
-            (None, _) => 0.0,
-        }
-    };
+    let se = std_errors(&g, m, &free_set(&st.w), s2);
     let unit = "PI output (normalised to [-1, 1]) per input unit";
     let mut estimates = vec![
         Estimate {
             name: "w0".into(),
             value: st.w[0],
-            std_error: se(0),
+            std_error: se[0],
             unit: unit.into(),
         },
         Estimate {
@@ -584,7 +557,7 @@ fn fit_output(
         estimates.push(Estimate {
             name: format!("w{j} (r = {:.4})", thresholds[j - 1]),
             value: st.w[j],
-            std_error: se(j),
+            std_error: se[j],
             unit: unit.into(),
         });
     }
@@ -610,6 +583,31 @@ fn fit_output(
         });
     }
     Ok((model, estimates))
+}
+
+/// The free set of the weights (w0 first): w0 and every weight away from its bound 0.
+fn free_set(w: &[f64]) -> Vec<usize> {
+    (0..w.len()).filter(|&j| j == 0 || w[j] > 0.0).collect()
+}
+
+/// Standard errors √(s² (G_F⁻¹)_jj) of the m weights from the m × m Gram matrix `g` restricted
+/// to the free set F (the unconstrained covariance there): 0 for a weight at its bound, NaN
+/// when G_F is singular.
+fn std_errors(g: &[f64], m: usize, free: &[usize], s2: f64) -> Vec<f64> {
+    let k = free.len();
+    let sub: Vec<f64> = free
+        .iter()
+        .flat_map(|&a| free.iter().map(move |&b| (a, b)))
+        .map(|(a, b)| g[a * m + b])
+        .collect();
+    let inv = spd_inverse(&sub, k);
+    (0..m)
+        .map(|j| match (free.iter().position(|&f| f == j), &inv) {
+            (Some(p), Some(inv)) => (inv[p * k + p] * s2).max(0.0).sqrt(),
+            (Some(_), None) => f64::NAN,
+            (None, _) => 0.0,
+        })
+        .collect()
 }
 
 /// Lawson–Hanson non-negative least squares on the normal equations: minimises
@@ -694,13 +692,7 @@ mod tests {
                 (0.2 + 0.03 * t).min(1.0) * (2.0 * t).sin()
             })
             .collect();
-        // Same thresholds as the fit will use for 4 operators on this input range.
-        let (lo, hi) = x
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(*v), b.max(*v))
-            });
-        let r: Vec<f64> = (1..=4).map(|i| (hi - lo) * i as f64 / 10.0).collect();
+        let r = four_thresholds(&x);
         let truth = PiModel {
             identity_weight: 0.8,
             thresholds: r,
@@ -721,6 +713,20 @@ mod tests {
         assert!((fit.model.offset + 2.0).abs() < 1e-8);
         assert!(fit.training.rms < 1e-8);
         Ok(())
+    }
+
+    /// (min, max) of `v`.
+    fn range(v: &[f64]) -> (f64, f64) {
+        v.iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(*v), b.max(*v))
+            })
+    }
+
+    /// The thresholds the fit uses for 4 operators on the range of `x`.
+    fn four_thresholds(x: &[f64]) -> Vec<f64> {
+        let (lo, hi) = range(x);
+        (1..=4).map(|i| (hi - lo) * i as f64 / 10.0).collect()
     }
 
     fn sweep(n: usize) -> Vec<f64> {
@@ -745,12 +751,7 @@ mod tests {
     #[test]
     fn recovers_a_pi_model_with_an_output_polynomial() -> Result<(), FitError> {
         let x = sweep(4000);
-        let (lo, hi) = x
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(*v), b.max(*v))
-            });
-        let r: Vec<f64> = (1..=4).map(|i| (hi - lo) * i as f64 / 10.0).collect();
+        let r = four_thresholds(&x);
         let plain = PiModel {
             identity_weight: 0.8,
             thresholds: r,
@@ -759,11 +760,7 @@ mod tests {
             output: None,
         };
         let s = plain.run(&x)?;
-        let (slo, shi) = s
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(*v), b.max(*v))
-            });
+        let (slo, shi) = range(&s);
         // A clearly curved, increasing cubic on the PI output range.
         let truth = PiModel {
             output: Some(PiOutput {
