@@ -17,7 +17,8 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Context, Result};
 use hyst_fit::lm::{Observer, Progress};
 use hyst_fit::modelfile::{fnv1a64, Metrics, ModelKind, Provenance, Units};
-use hyst_fit::pi::{fit_pi_with, PiFit, PiOutputKind};
+use hyst_fit::pi::PiOutputKind;
+use hyst_fit::pi_fit::{fit_pi_with, PiFit};
 use hyst_fit::smooth::ErrorStats;
 use hyst_fit::{
     fit_smooth, DataOptions, Dataset, FitOptions, InitialState, K2Kind, ModelFile, ShapingKind,
@@ -27,86 +28,6 @@ use hyst_io::Table;
 use serde::Serialize;
 
 use crate::plot::{Figure, Panel, Series};
-
-/// Model kinds of `--model-kind`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// The smooth parametric operator with shaping functions.
-    Smooth,
-    /// The Prandtl–Ishlinskii baseline.
-    Pi,
-}
-
-/// Output polynomials of `--pi-output`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PiOutputArg {
-    /// No output polynomial: y = PI[x].
-    None,
-    /// y = P(PI[x]), P quadratic and increasing on the data.
-    Poly2,
-    /// y = P(PI[x]), P cubic and increasing on the data.
-    Poly3,
-}
-
-impl From<PiOutputArg> for PiOutputKind {
-    fn from(a: PiOutputArg) -> Self {
-        match a {
-            PiOutputArg::None => PiOutputKind::None,
-            PiOutputArg::Poly2 => PiOutputKind::Poly2,
-            PiOutputArg::Poly3 => PiOutputKind::Poly3,
-        }
-    }
-}
-
-/// k2 laws of `--k2`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum K2Arg {
-    /// k2 constant.
-    Constant,
-    /// k2 = a + b v (Proposition 4.3).
-    Affine,
-}
-
-/// Shaping families of `--input-shaping` / `--output-shaping`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ShapeArg {
-    /// Affine.
-    Affine,
-    /// Quadratic polynomial, monotone on the data.
-    Poly2,
-    /// Cubic polynomial, monotone on the data.
-    Poly3,
-    /// tanh (saturation).
-    Tanh,
-    /// Langevin function.
-    Langevin,
-    /// Example 2's x − a x² − e^(−(b + c x)).
-    QuadExp,
-}
-
-impl From<ShapeArg> for ShapingKind {
-    fn from(s: ShapeArg) -> Self {
-        match s {
-            ShapeArg::Affine => ShapingKind::Affine,
-            ShapeArg::Poly2 => ShapingKind::Poly2,
-            ShapeArg::Poly3 => ShapingKind::Poly3,
-            ShapeArg::Tanh => ShapingKind::Tanh,
-            ShapeArg::Langevin => ShapingKind::Langevin,
-            ShapeArg::QuadExp => ShapingKind::QuadExp,
-        }
-    }
-}
-
-/// Start rules of `--initial-state`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StartArg {
-    /// As after a long rise (lower asymptote).
-    Rising,
-    /// As after a long fall (upper asymptote).
-    Falling,
-    /// No history: on the anhysteretic line.
-    Line,
-}
 
 /// Arguments of `hyst fit`.
 #[derive(clap::Args, Debug)]
@@ -123,26 +44,26 @@ pub struct Args {
     #[arg(short = 'o', long = "model-out", value_name = "MODEL")]
     pub model_out: PathBuf,
     /// Which model to fit.
-    #[arg(long, value_enum, default_value_t = Kind::Smooth)]
-    pub model_kind: Kind,
+    #[arg(long, value_enum, default_value_t = ModelKind::Smooth)]
+    pub model_kind: ModelKind,
     /// Number of play operators of the Prandtl–Ishlinskii model.
     #[arg(long, default_value_t = 16)]
     pub operators: usize,
     /// Monotone output polynomial after the Prandtl–Ishlinskii sum (its inverse stays exact).
-    #[arg(long, value_enum, default_value_t = PiOutputArg::None)]
-    pub pi_output: PiOutputArg,
+    #[arg(long, value_enum, default_value_t = PiOutputKind::None)]
+    pub pi_output: PiOutputKind,
     /// Also fit the other model kind and report both side by side.
     #[arg(long)]
     pub compare: bool,
     /// k2 law.
-    #[arg(long, value_enum, default_value_t = K2Arg::Constant)]
-    pub k2: K2Arg,
+    #[arg(long, value_enum, default_value_t = K2Kind::Constant)]
+    pub k2: K2Kind,
     /// Input shaping ψ_in.
-    #[arg(long, value_enum, default_value_t = ShapeArg::Affine)]
-    pub input_shaping: ShapeArg,
+    #[arg(long, value_enum, default_value_t = ShapingKind::Affine)]
+    pub input_shaping: ShapingKind,
     /// Output shaping ψ_out.
-    #[arg(long, value_enum, default_value_t = ShapeArg::Affine)]
-    pub output_shaping: ShapeArg,
+    #[arg(long, value_enum, default_value_t = ShapingKind::Affine)]
+    pub output_shaping: ShapingKind,
     /// Fit an input offset (default: only for tanh and Langevin input shaping).
     #[arg(long)]
     pub input_offset: bool,
@@ -150,8 +71,8 @@ pub struct Args {
     #[arg(long)]
     pub no_output_offset: bool,
     /// How each record starts.
-    #[arg(long, value_enum, default_value_t = StartArg::Rising)]
-    pub initial_state: StartArg,
+    #[arg(long, value_enum, default_value_t = InitialState::Rising)]
+    pub initial_state: InitialState,
     /// Record column (default: `loop`, `curve_index` or `record` if present).
     #[arg(long)]
     pub record: Option<String>,
@@ -310,27 +231,20 @@ pub fn main(args: Args) -> Result<()> {
         None => None,
     };
     let structure = Structure {
-        k2: match args.k2 {
-            K2Arg::Constant => K2Kind::Constant,
-            K2Arg::Affine => K2Kind::Affine,
-        },
-        input_shaping: args.input_shaping.into(),
-        output_shaping: args.output_shaping.into(),
+        k2: args.k2,
+        input_shaping: args.input_shaping,
+        output_shaping: args.output_shaping,
         input_offset: if args.input_offset { Some(true) } else { None },
         output_offset: !args.no_output_offset,
-        initial_state: match args.initial_state {
-            StartArg::Rising => InitialState::Rising,
-            StartArg::Falling => InitialState::Falling,
-            StartArg::Line => InitialState::Line,
-        },
+        initial_state: args.initial_state,
     };
     let fit_options = FitOptions {
         starts: args.starts,
         coverage: args.coverage,
         ..FitOptions::default()
     };
-    let want_smooth = args.model_kind == Kind::Smooth || args.compare;
-    let want_pi = args.model_kind == Kind::Pi || args.compare;
+    let want_smooth = args.model_kind == ModelKind::Smooth || args.compare;
+    let want_pi = args.model_kind == ModelKind::PrandtlIshlinskii || args.compare;
     let smooth = if want_smooth {
         let mut observer = ProgressObserver {
             started: Instant::now(),
@@ -345,7 +259,14 @@ pub fn main(args: Args) -> Result<()> {
         bail!(hyst_fit::FitError::Interrupted);
     }
     let pi = if want_pi {
-        Some(fit_pi_with(&data, args.operators, args.pi_output.into())?)
+        let fit = fit_pi_with(&data, args.operators, args.pi_output);
+        // The library names its parameter; the user knows it as the flag.
+        Some(fit.map_err(|e| match e {
+            e @ hyst_fit::FitError::InvalidSetting {
+                name: "operators", ..
+            } => anyhow::Error::new(e).context("--operators"),
+            e => e.into(),
+        })?)
     } else {
         None
     };
@@ -389,10 +310,12 @@ pub fn main(args: Args) -> Result<()> {
         output: args.output_unit.clone(),
     };
     let file = match (args.model_kind, &smooth, &pi) {
-        (Kind::Smooth, Some(f), _) => {
+        (ModelKind::Smooth, Some(f), _) => {
             smooth_file(f, smooth_summary.as_ref(), columns, units, provenance)
         }
-        (Kind::Pi, _, Some(f)) => pi_file(f, pi_summary.as_ref(), columns, units, provenance),
+        (ModelKind::PrandtlIshlinskii, _, Some(f)) => {
+            pi_file(f, pi_summary.as_ref(), columns, units, provenance)
+        }
         _ => bail!("internal: the requested model was not fitted"),
     };
     if INTERRUPTED.load(Ordering::SeqCst) {

@@ -250,6 +250,21 @@ fn constant_input_is_refused() -> R {
 }
 
 #[test]
+fn operator_count_out_of_range_names_the_flag() -> R {
+    for n in ["0", "129"] {
+        let err = fails(
+            &format!("x,y\n{}", good_rows(50)),
+            &["--model-kind", "pi", "--operators", n],
+        )?;
+        assert!(
+            err.contains(&format!("--operators: operators = {n}: expected 1 to 128")),
+            "{err}"
+        );
+    }
+    Ok(())
+}
+
+#[test]
 fn fewer_samples_than_parameters_is_refused() -> R {
     let err = fails(&format!("x,y\n{}", good_rows(3)), &[])?;
     assert!(

@@ -73,6 +73,18 @@ pub enum FitError {
     #[error("{0}")]
     Invalid(String),
 
+    /// A setting or argument of a method is out of its range (a tolerance or iteration limit of
+    /// the least-squares method, its starting point, the number of play operators, …).
+    #[error("{name} = {value}: expected {expected}")]
+    InvalidSetting {
+        /// The setting, as the library names it.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// The range it must lie in.
+        expected: String,
+    },
+
     /// The output falls while the input rises: the model's maps are increasing.
     #[error(
         "{file}: the output column {column:?} decreases when the input increases; the model \

@@ -5,11 +5,22 @@
 //!   weights, a train/validation split by record.
 //! - [`Structure`]: the model structure (k2 constant or affine, shaping functions, offsets, the
 //!   start rule), laid out as free parameters by [`structure::Layout`].
-//! - [`lm`]: the least-squares problem, method (bounded Levenberg–Marquardt) and observers.
+//! - [`SmoothModel`]: the fitted model ψ_out(H(k1, k2)[ψ_in(in)]) with its k2 law (the core's
+//!   [`hyst_core::AnyK2Law`]), [`ScaledShaping`] and start rule ([`InitialState`]).
+//! - [`lm`]: the least-squares problem, method (bounded Levenberg–Marquardt, settings checked
+//!   when set) and observers.
 //! - [`fit_smooth`]: multi-start fit with standard errors; [`widths`]: the family widths
-//!   (Definition 2.8) that reproduce the data and the bound Δa (Proposition 3.2).
-//! - [`pi`]: the Prandtl–Ishlinskii baseline, fitted by non-negative least squares.
+//!   (Definition 2.8, the core's [`hyst_core::Family`]) that reproduce the data and the bound
+//!   Δa (Proposition 3.2).
+//! - [`pi`]: the Prandtl–Ishlinskii baseline model; [`pi_fit`]: its fit by non-negative least
+//!   squares (with an optional monotone output polynomial).
+//! - [`Evaluator`]: any fitted model (or its compensator) behind the core's
+//!   [`hyst_core::Operator`].
 //! - [`ModelFile`]: the versioned TOML model file (see `docs/formats.md`).
+//!
+//! The optional feature `clap` derives `clap::ValueEnum` for the choices a command line offers
+//! ([`ShapingKind`], [`K2Kind`], [`InitialState`], [`pi::PiOutputKind`],
+//! [`modelfile::ModelKind`]).
 
 #![forbid(unsafe_code)]
 // Dense numerical kernels read best with explicit indices.
@@ -18,10 +29,12 @@
 pub mod data;
 pub mod error;
 pub mod evaluator;
+mod linalg;
 pub mod lm;
 pub mod model;
 pub mod modelfile;
 pub mod pi;
+pub mod pi_fit;
 pub mod scaled_shaping;
 pub mod smooth;
 pub mod structure;
@@ -30,7 +43,7 @@ pub mod widths;
 pub use data::{Columns, DataOptions, Dataset, Record};
 pub use error::FitError;
 pub use evaluator::Evaluator;
-pub use model::{InitialState, K2Spec, SmoothModel};
+pub use model::{InitialState, SmoothModel};
 pub use modelfile::ModelFile;
 pub use scaled_shaping::ScaledShaping;
 pub use smooth::{fit_smooth, ErrorStats, Estimate, FitOptions, SmoothFit};

@@ -9,6 +9,9 @@
 
 use std::ops::ControlFlow;
 
+use crate::linalg::cholesky_solve;
+use crate::FitError;
+
 /// A point the problem cannot evaluate (parameters outside their bounds).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Infeasible;
@@ -93,25 +96,27 @@ pub struct Solution {
     pub termination: Termination,
 }
 
-/// The observer asked to stop.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Cancelled;
-
 /// Levenberg–Marquardt with Marquardt's diagonal scaling (invariant to the units of each
-/// parameter) and Nielsen's damping update.
-#[derive(Clone, Copy, Debug)]
+/// parameter) and Nielsen's damping update. The settings are checked when set, so a method
+/// that exists is a valid one:
+///
+/// ```
+/// use hyst_fit::lm::LevenbergMarquardt;
+/// let method = LevenbergMarquardt::new().with_max_iterations(50)?.with_xtol(1e-10)?;
+/// assert_eq!((method.max_iterations(), method.xtol()), (50, 1e-10));
+/// assert!(LevenbergMarquardt::new().with_ftol(f64::NAN).is_err());
+/// # Ok::<(), hyst_fit::FitError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LevenbergMarquardt {
-    /// Iteration limit.
-    pub max_iterations: usize,
-    /// Stop when ‖δ‖ ≤ `xtol` (‖θ‖ + `xtol`).
-    pub xtol: f64,
-    /// Stop when the relative cost decrease of an accepted step is below `ftol` (twice running).
-    pub ftol: f64,
-    /// Stop when max |Jᵀr| ≤ `gtol` · (cost + tiny).
-    pub gtol: f64,
+    max_iterations: usize,
+    xtol: f64,
+    ftol: f64,
+    gtol: f64,
 }
 
 impl Default for LevenbergMarquardt {
+    /// 200 iterations, `xtol` 1e-12, `ftol` 1e-14, `gtol` 1e-300.
     fn default() -> Self {
         Self {
             max_iterations: 200,
@@ -122,24 +127,135 @@ impl Default for LevenbergMarquardt {
     }
 }
 
+/// `value` unless it is outside [0, `below`) (or not a number), then the error naming `name`.
+fn tolerance(name: &'static str, value: f64, below: f64) -> Result<f64, FitError> {
+    if value >= 0.0 && value < below {
+        Ok(value)
+    } else {
+        Err(FitError::InvalidSetting {
+            name,
+            value,
+            expected: if below == 1.0 {
+                "a relative tolerance in [0, 1) (0 disables the test)".into()
+            } else {
+                "a finite number >= 0 (0 disables the test)".into()
+            },
+        })
+    }
+}
+
 impl LevenbergMarquardt {
-    /// Minimises Σ r² from `theta0`.
+    /// The default settings ([`LevenbergMarquardt::default`]).
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The same method with at most `max_iterations` iterations (≥ 1).
     ///
     /// # Errors
-    /// [`Cancelled`] when the observer breaks; `Ok` with [`Termination::Stalled`] and the start
-    /// when the start itself is infeasible is not possible: an infeasible start returns `Ok`
-    /// with an infinite cost.
+    /// [`FitError::InvalidSetting`] naming `max_iterations` for 0.
+    pub fn with_max_iterations(self, max_iterations: usize) -> Result<Self, FitError> {
+        if max_iterations == 0 {
+            return Err(FitError::InvalidSetting {
+                name: "max_iterations",
+                value: 0.0,
+                expected: "at least 1 iteration".into(),
+            });
+        }
+        Ok(Self {
+            max_iterations,
+            ..self
+        })
+    }
+
+    /// The same method stopping when an accepted step δ is small: ‖δ‖ ≤ `xtol` (‖θ‖ + `xtol`),
+    /// relative, in [0, 1).
+    ///
+    /// # Errors
+    /// [`FitError::InvalidSetting`] naming `xtol` for a value outside [0, 1) or NaN.
+    pub fn with_xtol(self, xtol: f64) -> Result<Self, FitError> {
+        Ok(Self {
+            xtol: tolerance("xtol", xtol, 1.0)?,
+            ..self
+        })
+    }
+
+    /// The same method stopping when the relative cost decrease of an accepted step is below
+    /// `ftol` twice running, in [0, 1).
+    ///
+    /// # Errors
+    /// [`FitError::InvalidSetting`] naming `ftol` for a value outside [0, 1) or NaN.
+    pub fn with_ftol(self, ftol: f64) -> Result<Self, FitError> {
+        Ok(Self {
+            ftol: tolerance("ftol", ftol, 1.0)?,
+            ..self
+        })
+    }
+
+    /// The same method stopping when the gradient is small against the cost:
+    /// max |Jᵀr| ≤ `gtol` · (Σ r² + 1e-300), finite and ≥ 0.
+    ///
+    /// # Errors
+    /// [`FitError::InvalidSetting`] naming `gtol` for a negative, infinite or NaN value.
+    pub fn with_gtol(self, gtol: f64) -> Result<Self, FitError> {
+        Ok(Self {
+            gtol: tolerance("gtol", gtol, f64::INFINITY)?,
+            ..self
+        })
+    }
+
+    /// The iteration limit.
+    #[must_use]
+    pub fn max_iterations(&self) -> usize {
+        self.max_iterations
+    }
+
+    /// The relative step tolerance (see [`LevenbergMarquardt::with_xtol`]).
+    #[must_use]
+    pub fn xtol(&self) -> f64 {
+        self.xtol
+    }
+
+    /// The relative cost-decrease tolerance (see [`LevenbergMarquardt::with_ftol`]).
+    #[must_use]
+    pub fn ftol(&self) -> f64 {
+        self.ftol
+    }
+
+    /// The gradient tolerance (see [`LevenbergMarquardt::with_gtol`]).
+    #[must_use]
+    pub fn gtol(&self) -> f64 {
+        self.gtol
+    }
+
+    /// Minimises Σ r² from `theta0`, never leaving the feasible set: steps to infeasible points
+    /// are rejected and the damping increased. Stopping is not an error:
+    /// [`Solution::termination`] says why it stopped. A start that is infeasible or gives a
+    /// non-finite cost returns at once with an infinite cost and [`Termination::Stalled`].
+    ///
+    /// # Errors
+    /// [`FitError::Interrupted`] when the observer returns `ControlFlow::Break`;
+    /// [`FitError::InvalidSetting`] naming `theta0` when its length is not the problem's
+    /// number of parameters.
     pub fn minimize<P: Problem + ?Sized>(
         &self,
         problem: &P,
         theta0: &[f64],
         observer: &mut dyn Observer,
-    ) -> Result<Solution, Cancelled> {
+    ) -> Result<Solution, FitError> {
         let p = problem.parameters();
         let n = problem.residual_count();
+        if theta0.len() != p {
+            return Err(FitError::InvalidSetting {
+                name: "theta0",
+                value: theta0.len() as f64,
+                expected: format!("{p} starting values, one per parameter"),
+            });
+        }
         let mut theta = theta0.to_vec();
         let mut r = vec![0.0; n];
-        if problem.residuals(&theta, &mut r).is_err() {
+        if problem.residuals(&theta, &mut r).is_err() || !sum_sq(&r).is_finite() {
             return Ok(Solution {
                 theta,
                 cost: f64::INFINITY,
@@ -170,7 +286,7 @@ impl LevenbergMarquardt {
             })
             .is_break()
         {
-            return Err(Cancelled);
+            return Err(FitError::Interrupted);
         }
         'outer: for it in 1..=self.max_iterations {
             iterations = it;
@@ -242,7 +358,7 @@ impl LevenbergMarquardt {
                         })
                         .is_break()
                     {
-                        return Err(Cancelled);
+                        return Err(FitError::Interrupted);
                     }
                     if step <= self.xtol * (size + self.xtol) {
                         termination = Termination::SmallStep;
@@ -308,69 +424,6 @@ fn normal_equations(jac: &[f64], r: &[f64], n: usize, p: usize, jtj: &mut [f64],
     }
 }
 
-/// Cholesky factor L (row-major, lower) of a symmetric positive definite p × p matrix.
-pub(crate) fn cholesky(a: &[f64], p: usize) -> Option<Vec<f64>> {
-    let mut l = vec![0.0; p * p];
-    for i in 0..p {
-        for j in 0..=i {
-            let mut s = a[i * p + j];
-            for k in 0..j {
-                s -= l[i * p + k] * l[j * p + k];
-            }
-            if i == j {
-                if s.is_nan() || s <= 0.0 || !s.is_finite() {
-                    return None;
-                }
-                l[i * p + i] = s.sqrt();
-            } else {
-                l[i * p + j] = s / l[j * p + j];
-            }
-        }
-    }
-    Some(l)
-}
-
-/// Solves A x = b for symmetric positive definite A.
-pub(crate) fn cholesky_solve(a: &[f64], b: &[f64], p: usize) -> Option<Vec<f64>> {
-    let l = cholesky(a, p)?;
-    let mut y = b.to_vec();
-    for i in 0..p {
-        for k in 0..i {
-            y[i] -= l[i * p + k] * y[k];
-        }
-        y[i] /= l[i * p + i];
-    }
-    for i in (0..p).rev() {
-        for k in i + 1..p {
-            y[i] -= l[k * p + i] * y[k];
-        }
-        y[i] /= l[i * p + i];
-    }
-    Some(y)
-}
-
-/// The inverse of a symmetric positive definite matrix (row-major), `None` when singular.
-pub(crate) fn spd_inverse(a: &[f64], p: usize) -> Option<Vec<f64>> {
-    // Equilibrate so that the check does not depend on the units of the parameters.
-    let d: Vec<f64> = (0..p).map(|i| a[i * p + i].max(1e-300).sqrt()).collect();
-    let mut s = vec![0.0; p * p];
-    for i in 0..p {
-        for j in 0..p {
-            s[i * p + j] = a[i * p + j] / (d[i] * d[j]);
-        }
-    }
-    let mut inv = vec![0.0; p * p];
-    for j in 0..p {
-        let mut e = vec![0.0; p];
-        e[j] = 1.0;
-        let col = cholesky_solve(&s, &e, p)?;
-        for i in 0..p {
-            inv[i * p + j] = col[i] / (d[i] * d[j]);
-        }
-    }
-    Some(inv)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -405,7 +458,7 @@ mod tests {
     }
 
     #[test]
-    fn recovers_an_exponential() -> Result<(), Cancelled> {
+    fn recovers_an_exponential() -> Result<(), FitError> {
         let x: Vec<f64> = (0..20).map(|i| i as f64 * 0.1).collect();
         let y = x.iter().map(|v| 2.5 * (-1.3 * v).exp()).collect();
         let s = LevenbergMarquardt::default().minimize(&Exp { x, y }, &[1.0, 0.0], &mut Silent)?;
@@ -414,13 +467,238 @@ mod tests {
         Ok(())
     }
 
+    /// Rosenbrock's valley as least squares: r = (10 (θ1 − θ0²), 1 − θ0), minimum 0 at (1, 1).
+    struct Rosenbrock;
+    impl Problem for Rosenbrock {
+        fn parameters(&self) -> usize {
+            2
+        }
+        fn residual_count(&self) -> usize {
+            2
+        }
+        fn residuals(&self, t: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
+            r[0] = 10.0 * (t[1] - t[0] * t[0]);
+            r[1] = 1.0 - t[0];
+            Ok(())
+        }
+        fn jacobian(&self, t: &[f64], _r: &[f64], j: &mut [f64]) -> Result<(), Infeasible> {
+            // Column-major: column 0 is ∂r/∂θ0, column 1 is ∂r/∂θ1.
+            j.copy_from_slice(&[-20.0 * t[0], -1.0, 10.0, 0.0]);
+            Ok(())
+        }
+    }
+
     #[test]
-    fn inverse_of_spd() {
-        let a = [4.0, 1.0, 1.0, 3.0];
-        let inv = spd_inverse(&a, 2).unwrap_or_default();
-        let det = 11.0;
-        assert!((inv[0] - 3.0 / det).abs() < 1e-15);
-        assert!((inv[1] + 1.0 / det).abs() < 1e-15);
-        assert!(spd_inverse(&[1.0, 1.0, 1.0, 1.0], 2).is_none());
+    fn solves_rosenbrock_to_1e_10() -> Result<(), FitError> {
+        let s = LevenbergMarquardt::new().minimize(&Rosenbrock, &[-1.2, 1.0], &mut Silent)?;
+        assert!((s.theta[0] - 1.0).abs() < 1e-10, "{s:?}");
+        assert!((s.theta[1] - 1.0).abs() < 1e-10, "{s:?}");
+        assert!(s.cost < 1e-20, "{s:?}");
+        assert!(s.iterations > 5 && s.iterations < 200, "{s:?}");
+        assert_ne!(s.termination, Termination::MaxIterations);
+        Ok(())
+    }
+
+    /// The straight line y ≈ a + b x: a linear least-squares problem.
+    struct Line {
+        x: Vec<f64>,
+        y: Vec<f64>,
+    }
+    impl Problem for Line {
+        fn parameters(&self) -> usize {
+            2
+        }
+        fn residual_count(&self) -> usize {
+            self.x.len()
+        }
+        fn residuals(&self, t: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
+            for ((r, x), y) in r.iter_mut().zip(&self.x).zip(&self.y) {
+                *r = t[0] + t[1] * x - y;
+            }
+            Ok(())
+        }
+        fn jacobian(&self, _t: &[f64], _r: &[f64], j: &mut [f64]) -> Result<(), Infeasible> {
+            let n = self.x.len();
+            j[..n].fill(1.0);
+            j[n..].copy_from_slice(&self.x);
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn linear_least_squares_match_the_closed_form() -> Result<(), FitError> {
+        let x: Vec<f64> = (0..30).map(|i| f64::from(i) * 0.25 - 2.0).collect();
+        // A line plus a deterministic misfit, so the residuals at the optimum are not 0.
+        let y: Vec<f64> = x
+            .iter()
+            .enumerate()
+            .map(|(i, v)| 0.7 - 1.9 * v + 0.3 * (f64::from(i as u8) * 1.7).sin())
+            .collect();
+        let n = x.len() as f64;
+        let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+        let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
+        let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
+        let slope = sxy / sxx;
+        let intercept = my - slope * mx;
+        let cost: f64 = x
+            .iter()
+            .zip(&y)
+            .map(|(a, b)| (intercept + slope * a - b).powi(2))
+            .sum();
+        let s = LevenbergMarquardt::new().minimize(
+            &Line { x: x.clone(), y },
+            &[0.0, 0.0],
+            &mut Silent,
+        )?;
+        assert!(
+            (s.theta[0] - intercept).abs() < 1e-12,
+            "{s:?} vs {intercept}"
+        );
+        assert!((s.theta[1] - slope).abs() < 1e-12, "{s:?} vs {slope}");
+        assert!((s.cost - cost).abs() < 1e-12 * cost, "{} vs {cost}", s.cost);
+        // JᵀJ at the solution: [[n, Σx], [Σx, Σx²]].
+        let sx: f64 = x.iter().sum();
+        let sx2: f64 = x.iter().map(|v| v * v).sum();
+        for (got, want) in s.jtj.iter().zip([n, sx, sx, sx2]) {
+            assert!(
+                (got - want).abs() < 1e-12 * want.abs().max(1.0),
+                "{:?}",
+                s.jtj
+            );
+        }
+        Ok(())
+    }
+
+    /// r = θ − 2, but every θ > 1 is infeasible: the constrained minimum is the boundary θ = 1.
+    struct Fenced;
+    impl Problem for Fenced {
+        fn parameters(&self) -> usize {
+            1
+        }
+        fn residual_count(&self) -> usize {
+            1
+        }
+        fn residuals(&self, t: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
+            if t[0] > 1.0 {
+                return Err(Infeasible);
+            }
+            r[0] = t[0] - 2.0;
+            Ok(())
+        }
+        fn jacobian(&self, _t: &[f64], _r: &[f64], j: &mut [f64]) -> Result<(), Infeasible> {
+            j[0] = 1.0;
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn stops_at_the_boundary_of_the_feasible_set() -> Result<(), FitError> {
+        // An observer that checks every accepted point is feasible.
+        struct Feasible(usize);
+        impl Observer for Feasible {
+            fn observe(&mut self, p: &Progress) -> ControlFlow<()> {
+                self.0 += 1;
+                assert!(
+                    p.cost >= 1.0,
+                    "cost {} below the constrained minimum",
+                    p.cost
+                );
+                ControlFlow::Continue(())
+            }
+        }
+        let mut seen = Feasible(0);
+        let s = LevenbergMarquardt::new().minimize(&Fenced, &[-3.0], &mut seen)?;
+        assert!(s.theta[0] <= 1.0, "{s:?}");
+        assert!(1.0 - s.theta[0] < 1e-9, "{s:?}");
+        assert!((s.cost - 1.0).abs() < 1e-8, "{s:?}");
+        assert!(seen.0 > 2, "{} observations", seen.0);
+        assert_ne!(s.termination, Termination::MaxIterations, "{s:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn an_observer_break_cancels() {
+        struct StopAt(usize, Vec<usize>);
+        impl Observer for StopAt {
+            fn observe(&mut self, p: &Progress) -> ControlFlow<()> {
+                self.1.push(p.iteration);
+                if p.iteration >= self.0 {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            }
+        }
+        let mut stop = StopAt(3, Vec::new());
+        let r = LevenbergMarquardt::new().minimize(&Rosenbrock, &[-1.2, 1.0], &mut stop);
+        assert!(matches!(r, Err(FitError::Interrupted)), "{r:?}");
+        assert_eq!(stop.1.first(), Some(&0));
+        assert_eq!(stop.1.last(), Some(&3));
+        // Breaking at the start point stops before any iteration.
+        let mut stop = StopAt(0, Vec::new());
+        let r = LevenbergMarquardt::new().minimize(&Rosenbrock, &[-1.2, 1.0], &mut stop);
+        assert!(matches!(r, Err(FitError::Interrupted)), "{r:?}");
+        assert_eq!(stop.1, [0]);
+    }
+
+    #[test]
+    fn the_iteration_limit_is_honoured() -> Result<(), FitError> {
+        let method = LevenbergMarquardt::new().with_max_iterations(2)?;
+        let s = method.minimize(&Rosenbrock, &[-1.2, 1.0], &mut Silent)?;
+        assert_eq!(
+            (s.iterations, s.termination),
+            (2, Termination::MaxIterations)
+        );
+        assert!(s.cost > 1e-3, "{s:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn invalid_settings_are_refused_by_name() {
+        let m = LevenbergMarquardt::new();
+        let refused = |r: Result<LevenbergMarquardt, FitError>, field: &str, shown: &str| {
+            let e = r.err().map(|e| e.to_string()).unwrap_or_default();
+            assert!(
+                e.starts_with(&format!("{field} = {shown}: expected")),
+                "{e}"
+            );
+        };
+        refused(m.with_max_iterations(0), "max_iterations", "0");
+        for (bad, shown) in [(f64::NAN, "NaN"), (-1e-9, "-0.000000001"), (1.0, "1")] {
+            refused(m.with_xtol(bad), "xtol", shown);
+            refused(m.with_ftol(bad), "ftol", shown);
+        }
+        refused(m.with_gtol(f64::INFINITY), "gtol", "inf");
+        refused(m.with_gtol(-1.0), "gtol", "-1");
+        refused(m.with_gtol(f64::NAN), "gtol", "NaN");
+        // Valid values are kept, 0 included (it disables the test).
+        let ok = m
+            .with_max_iterations(7)
+            .and_then(|m| m.with_xtol(0.0))
+            .and_then(|m| m.with_ftol(1e-6))
+            .and_then(|m| m.with_gtol(5.0));
+        assert!(
+            matches!(ok, Ok(m) if (m.max_iterations(), m.xtol(), m.ftol(), m.gtol()) == (7, 0.0, 1e-6, 5.0)),
+            "{ok:?}"
+        );
+    }
+
+    #[test]
+    fn bad_starts_are_reported_not_run() -> Result<(), FitError> {
+        let m = LevenbergMarquardt::new();
+        // An infeasible start: no iteration, infinite cost.
+        let s = m.minimize(&Fenced, &[1.5], &mut Silent)?;
+        assert_eq!((s.iterations, s.termination), (0, Termination::Stalled));
+        assert_eq!((s.cost, s.theta[0]), (f64::INFINITY, 1.5));
+        // A start whose cost is not finite: the same.
+        let s = m.minimize(&Rosenbrock, &[f64::NAN, 1.0], &mut Silent)?;
+        assert_eq!((s.iterations, s.cost), (0, f64::INFINITY));
+        // A start of the wrong length is refused, naming it.
+        let e = m.minimize(&Rosenbrock, &[1.0], &mut Silent).err();
+        assert!(
+            matches!(e, Some(FitError::InvalidSetting { name: "theta0", value, .. }) if value == 1.0),
+            "{e:?}"
+        );
+        Ok(())
     }
 }

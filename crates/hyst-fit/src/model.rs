@@ -2,125 +2,26 @@
 //! from the core's types, run over records, and turned into the core's exact compensator.
 
 use hyst_core::{
-    AffineK2, ConstantK2, Direction, Error, Hysteresis, InverseModel, K2Law, Model, Operator,
-    Sample, Shaping,
+    AnyK2Law, Direction, Error, Hysteresis, InverseModel, K2Law, Model, Operator, Shaping,
 };
 use serde::{Deserialize, Serialize};
 
 use crate::ScaledShaping;
 
-/// The k2 law of a fitted model: constant (Definition 2.2) or affine in the operator input
-/// (Proposition 4.3), in 1 / (operator input units).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "law", rename_all = "kebab-case")]
-pub enum K2Spec {
-    /// k2 constant.
-    Constant {
-        /// k2 > 0.
-        value: f64,
-    },
-    /// k2 = φ(v) = at_zero + slope · v, clamped to [min, max] (see [`AffineK2`]).
-    Affine {
-        /// φ(0).
-        at_zero: f64,
-        /// dφ/dv.
-        slope: f64,
-        /// Lower clamp (> 0).
-        min: f64,
-        /// Upper clamp.
-        max: f64,
-    },
-}
-
-impl K2Spec {
-    /// The same law with k2 shifted by `delta` (a member of the family RH(k1, Δk1, k2, Δk2)).
-    #[must_use]
-    pub fn shifted(&self, delta: f64) -> Self {
-        match *self {
-            K2Spec::Constant { value } => K2Spec::Constant {
-                value: value + delta,
-            },
-            K2Spec::Affine {
-                at_zero,
-                slope,
-                min,
-                max,
-            } => K2Spec::Affine {
-                at_zero: at_zero + delta,
-                slope,
-                min: min + delta,
-                max: max + delta,
-            },
-        }
-    }
-
-    /// k2 at the operator input 0 (the constant, or φ(0)).
-    #[must_use]
-    pub fn nominal(&self) -> f64 {
-        match *self {
-            K2Spec::Constant { value } => value,
-            K2Spec::Affine { at_zero, .. } => at_zero,
-        }
-    }
-}
-
-impl K2Law<f64> for K2Spec {
-    #[inline]
-    fn k2<S: Sample<f64>>(&self, input: S) -> S {
-        match *self {
-            K2Spec::Constant { value } => S::constant(value),
-            K2Spec::Affine {
-                at_zero,
-                slope,
-                min,
-                max,
-            } => AffineK2 {
-                at_zero,
-                slope,
-                min,
-                max,
-            }
-            .k2(input),
-        }
-    }
-    fn validate(&self) -> Result<(), Error> {
-        match *self {
-            K2Spec::Constant { value } => ConstantK2(value).validate(),
-            K2Spec::Affine {
-                at_zero,
-                slope,
-                min,
-                max,
-            } => AffineK2::new(at_zero, slope, min, max).map(|_| ()),
-        }
-    }
-    fn range(&self, lo: f64, hi: f64) -> (f64, f64) {
-        let a = self.k2(lo);
-        let b = self.k2(hi);
-        (a.min(b), a.max(b))
-    }
-    fn max_slope(&self, _lo: f64, _hi: f64) -> f64 {
-        match *self {
-            K2Spec::Constant { .. } => 0.0,
-            K2Spec::Affine { slope, .. } => slope.abs(),
-        }
-    }
-}
-
-/// Where each record starts (Definition 2.1 needs a first reversal point).
+/// Where each record starts (Definition 2.1 needs a first reversal point). The default,
+/// [`InitialState::Rising`], suits a device switched on and driven up to its first value, and a
+/// loop or FORC record that starts from positive saturation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum InitialState {
-    /// No history: the first sample is a reversal point on the line output = input of the
-    /// operator (the anhysteretic curve).
-    Line,
-    /// As after a long rise: on the lower asymptote, output = input − k1, heading up. The
-    /// default: a device switched on and driven up to its first value, a loop or FORC record
-    /// that starts from positive saturation.
+    /// As after a long rise: on the lower asymptote output = input − k1, heading up.
     #[default]
     Rising,
-    /// As after a long fall: on the upper asymptote, output = input + k1, heading down.
+    /// As after a long fall: on the upper asymptote output = input + k1, heading down.
     Falling,
+    /// No history: the first sample is a reversal point on the anhysteretic line output = input.
+    Line,
 }
 
 /// v + d rounded towards v until |(v + d) − v| ≤ |d| holds in floating point (the band check
@@ -148,7 +49,7 @@ pub struct SmoothModel {
     /// Hysteresis half-width k1 (operator units: those of ψ_in's value), > 0.
     pub k1: f64,
     /// The k2 law (1 / operator units).
-    pub k2: K2Spec,
+    pub k2: AnyK2Law<f64>,
     /// Input shaping ψ_in: from input units to operator units.
     pub input_shaping: ScaledShaping,
     /// Output shaping ψ_out: from operator units to output units.
@@ -158,9 +59,9 @@ pub struct SmoothModel {
 }
 
 /// The core model type a [`SmoothModel`] becomes.
-pub type CoreModel = Model<f64, ScaledShaping, K2Spec, ScaledShaping>;
+pub type CoreModel = Model<f64, ScaledShaping, AnyK2Law<f64>, ScaledShaping>;
 /// Its exact compensator.
-pub type CoreInverse = InverseModel<f64, ScaledShaping, K2Spec, ScaledShaping>;
+pub type CoreInverse = InverseModel<f64, ScaledShaping, AnyK2Law<f64>, ScaledShaping>;
 
 impl SmoothModel {
     /// Checks every parameter through the core's constructors.
@@ -171,32 +72,61 @@ impl SmoothModel {
         self.core(0.0).map(|_| ())
     }
 
-    /// The core operator for a record whose first input sample is `first_input`.
+    /// The core operator H(k1, k2) for a record whose first input sample is `first_input`,
+    /// started by the model's start rule.
     ///
     /// # Errors
-    /// Invalid parameters.
-    pub fn operator(&self, first_input: f64) -> Result<Hysteresis<f64, K2Spec>, Error> {
-        let h = Hysteresis::with_k2_law(self.k1, self.k2)?;
+    /// [`Error::InvalidParameter`] for an invalid k1 or k2 law (the core's checks), or for a
+    /// `first_input` whose start point is not finite.
+    pub fn operator(&self, first_input: f64) -> Result<Hysteresis<f64, AnyK2Law<f64>>, Error> {
+        self.start(Hysteresis::with_k2_law(self.k1, self.k2)?, first_input)
+    }
+
+    /// `operator` started by the model's start rule ([`SmoothModel::initial_state`]) for a
+    /// record whose first input sample is `first_input`: on the line, or on the asymptote of
+    /// `operator`'s own k1.
+    fn start<K: K2Law<f64>>(
+        &self,
+        operator: Hysteresis<f64, K>,
+        first_input: f64,
+    ) -> Result<Hysteresis<f64, K>, Error> {
         let v0 = self.input_shaping.apply(first_input);
+        let k1 = operator.k1();
         match self.initial_state {
-            InitialState::Line => Ok(h),
+            InitialState::Line => Ok(operator),
             InitialState::Rising => {
-                h.with_initial_state(v0, on_asymptote(v0, -self.k1), Direction::Rising)
+                operator.with_initial_state(v0, on_asymptote(v0, -k1), Direction::Rising)
             }
             InitialState::Falling => {
-                h.with_initial_state(v0, on_asymptote(v0, self.k1), Direction::Falling)
+                operator.with_initial_state(v0, on_asymptote(v0, k1), Direction::Falling)
             }
         }
     }
 
-    /// The core model for a record starting at `first_input` (use it to run the model).
+    /// The core model ψ_out(H[ψ_in(·)]) for a record starting at `first_input` (use it to run
+    /// the model).
     ///
     /// # Errors
-    /// Invalid parameters.
+    /// As [`SmoothModel::operator`], and the shaping functions' own validation errors.
     pub fn core(&self, first_input: f64) -> Result<CoreModel, Error> {
+        self.shaped(Hysteresis::with_k2_law(self.k1, self.k2)?, first_input)
+    }
+
+    /// Any operator with no history (a member of a family around this model, say) inside this
+    /// model's shaping, ψ_out(operator[ψ_in(·)]), started by this model's start rule for a
+    /// record whose first input sample is `first_input` (on the asymptotes of the operator's
+    /// own k1).
+    ///
+    /// # Errors
+    /// As [`SmoothModel::core`].
+    pub fn shaped<K: K2Law<f64>>(
+        &self,
+        operator: Hysteresis<f64, K>,
+        first_input: f64,
+    ) -> Result<Model<f64, ScaledShaping, K, ScaledShaping>, Error> {
         Model::new(
             self.input_shaping,
-            self.operator(first_input)?,
+            self.start(operator, first_input)?,
             self.output_shaping,
         )
     }
@@ -211,7 +141,7 @@ impl SmoothModel {
     }
 
     /// Runs the model over one record: `operator_out` receives H's output (before ψ_out) when
-    /// given, `output` the model output. Same arithmetic as [`hyst_core::Model::eval`].
+    /// given, `output` the model output. Same arithmetic as stepping [`SmoothModel::core`].
     ///
     /// # Errors
     /// Invalid parameters, or a non-finite value on the way (the fit treats it as infeasible).
@@ -246,15 +176,5 @@ impl SmoothModel {
         let mut out = vec![0.0; input.len()];
         self.simulate(input, None, &mut out)?;
         Ok(out)
-    }
-
-    /// The same model with k1 and k2 moved by (d1, d2): a member of the family.
-    #[must_use]
-    pub fn member(&self, d1: f64, d2: f64) -> Self {
-        Self {
-            k1: self.k1 + d1,
-            k2: self.k2.shifted(d2),
-            ..*self
-        }
     }
 }

@@ -26,13 +26,16 @@ pub const VERSION: u32 = 2;
 /// The oldest format version this crate reads.
 pub const MIN_VERSION: u32 = 1;
 
-/// Which model the file holds.
+/// Which model the file holds: `smooth` (section `[smooth]`) or `prandtl-ishlinskii` (section
+/// `[prandtl-ishlinskii]`; `pi` on the command line).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum ModelKind {
-    /// The smooth parametric operator with shaping, `[smooth]`.
+    /// The smooth parametric operator with shaping functions.
     Smooth,
-    /// The Prandtl–Ishlinskii baseline, `[prandtl-ishlinskii]`.
+    /// The Prandtl–Ishlinskii baseline.
+    #[cfg_attr(feature = "clap", value(name = "pi"))]
     PrandtlIshlinskii,
 }
 

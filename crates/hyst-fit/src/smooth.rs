@@ -322,10 +322,7 @@ pub fn fit_smooth(
             inner: &mut *observer,
             start,
         };
-        let s = options
-            .method
-            .minimize(&problem, theta0, &mut tagged)
-            .map_err(|_| FitError::Interrupted)?;
+        let s = options.method.minimize(&problem, theta0, &mut tagged)?;
         if best.as_ref().map_or(true, |b| s.cost < b.cost) {
             best = Some(s);
         }
@@ -339,7 +336,7 @@ pub fn fit_smooth(
     let p = layout.len();
     let dof = (problem.n - p).max(1) as f64;
     let s2 = best.cost / dof * layout.norm.output_half_span.powi(2);
-    let inv = crate::lm::spd_inverse(&best.jtj, p);
+    let inv = crate::linalg::spd_inverse(&best.jtj, p);
     let scale2 = layout.norm.output_half_span.powi(2);
     let estimates = layout
         .params

@@ -7,25 +7,29 @@
 //! therefore normalised to [−1, 1] (x̂ = (in − centre) / half-span) with a fixed gain, and the
 //! overall gain and offset belong to ψ_out. k1 and k2 are then in these normalised units.
 
-use hyst_core::{AnyShaping, Langevin, Polynomial, QuadraticExp, Shaping, Tanh};
+use hyst_core::{
+    AffineK2, AnyK2Law, AnyShaping, Langevin, Polynomial, QuadraticExp, Shaping, Tanh,
+};
 use serde::{Deserialize, Serialize};
 
-use crate::{model::InitialState, K2Spec, ScaledShaping, SmoothModel};
+use crate::{model::InitialState, ScaledShaping, SmoothModel};
 
-/// A shaping function family for ψ_in or ψ_out.
+/// A shaping function family for ψ_in or ψ_out. Its kebab-case name (`affine`, `poly2`, `poly3`,
+/// `tanh`, `langevin`, `quad-exp`) is the model file's and the command line's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum ShapingKind {
-    /// Affine (for ψ_in: the fixed normalisation; for ψ_out: gain and offset).
+    /// Affine (ψ_in: the fixed normalisation of the input; ψ_out: gain and offset).
     #[default]
     Affine,
-    /// x + p2 x² (monotone on the data range).
+    /// Quadratic polynomial x + p2 x², monotone on the data.
     Poly2,
-    /// x + p2 x² + p3 x³ (monotone on the data range).
+    /// Cubic polynomial x + p2 x² + p3 x³, monotone on the data.
     Poly3,
     /// tanh(x / σ + c): saturation.
     Tanh,
-    /// Langevin L(x / σ + c): the classical anhysteretic curve.
+    /// Langevin function L(x / σ + c): the classical anhysteretic curve.
     Langevin,
     /// Example 2's x − a x² − e^(−(b + c x)).
     QuadExp,
@@ -62,14 +66,15 @@ impl ShapingKind {
     }
 }
 
-/// Constant k2 or affine in the operator input (Proposition 4.3).
+/// The k2 law to fit: constant, or affine in the operator input (Proposition 4.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum K2Kind {
     /// k2 constant.
     #[default]
     Constant,
-    /// k2 = a + b v.
+    /// k2 = a + b v, affine in the operator input v (Proposition 4.3).
     Affine,
 }
 
@@ -438,7 +443,7 @@ impl Layout {
         let v_hi = input_shaping.apply(input_range.1);
         let k1 = get("k1");
         let k2 = match self.structure.k2 {
-            K2Kind::Constant => K2Spec::Constant { value: get("k2") },
+            K2Kind::Constant => AnyK2Law::Constant { value: get("k2") },
             K2Kind::Affine => {
                 let at_zero = get("k2");
                 let slope = get("k2.slope");
@@ -452,12 +457,12 @@ impl Layout {
                         expected: "a k2 law that stays positive on the data",
                     });
                 }
-                K2Spec::Affine {
+                AnyK2Law::Affine(AffineK2 {
                     at_zero,
                     slope,
                     min: 0.5 * min,
                     max: 2.0 * max,
-                }
+                })
             }
         };
         let output_shaping = self.output_shaping(theta, (v_lo - k1, v_hi + k1))?;

@@ -3,20 +3,21 @@
 //! measured output) at a chosen coverage, and the compensation bound Δa that follows
 //! (Propositions 3.2, 3.3 and, for an input-dependent k2, 4.3).
 //!
-//! The envelope of the family at each sample is taken over the 3 × 3 grid of members
-//! (k1 + a Δk1, k2 + b Δk2), a, b ∈ {−1, 0, 1}, each run over the whole record with the fitted
-//! shaping and start rule. Widths are searched along rays of fixed proportion
+//! The envelope of the family at each sample is taken over the 3 × 3 lattice of members
+//! (k1 + a Δk1, k2 + b Δk2), a, b ∈ {−1, 0, 1} (the core's [`Family`]; for a k2 law φ the
+//! members use φ(v) + b Δk2), each run over the whole record with the fitted shaping and start
+//! rule, and compared with the data by the core's [`Reproducibility`]. Widths are searched along rays of fixed proportion
 //! (Δk1/Δk1_max, Δk2/Δk2_max) ∈ {(1, 0), (1, ½), (1, 1), (½, 1), (0, 1)} by bisection on the
 //! coverage; of the widths that reach the coverage, the one with the smallest Δa is reported.
 
 use std::ops::ControlFlow;
 
 use hyst_core::family::{delta_a_over_k2_range, shaped_bound};
-use hyst_core::{K2Law, Shaping};
+use hyst_core::{AnyK2Law, Family, K2Law, Reproducibility, Shaping};
 use serde::{Deserialize, Serialize};
 
 use crate::lm::{Observer, Progress};
-use crate::{Dataset, FitError, K2Spec, SmoothModel};
+use crate::{Dataset, FitError, SmoothModel};
 
 /// The family that reproduces the data, and its bound.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -44,42 +45,46 @@ pub struct FamilyWidths {
     pub output_bound_pct_span: f64,
 }
 
-/// Fraction of samples (weight > 0, all records) inside the envelope of the family.
-fn coverage(data: &Dataset, model: &SmoothModel, d1: f64, d2: f64, nominal: &[Vec<f64>]) -> f64 {
+/// Fraction of samples (weight > 0, all records) inside the envelope of the family
+/// RH(k1, `d1`, k2 law, `d2`) around `model`: at each sample the smallest and largest output of
+/// the [`Family::lattice`] of 3 × 3 members, each run over the whole record inside the fitted
+/// shaping with the record's start rule ([`SmoothModel::shaped`]). `lower` and `upper` are
+/// scratch buffers, reused across records and calls.
+///
+/// # Errors
+/// The core's error when the family is invalid (`d1` ≥ k1, a negative or non-finite width) or a
+/// member cannot run a record.
+fn coverage(
+    data: &Dataset,
+    model: &SmoothModel,
+    d1: f64,
+    d2: f64,
+    lower: &mut Vec<f64>,
+    upper: &mut Vec<f64>,
+) -> Result<f64, hyst_core::Error> {
+    let family = Family::with_k2_law(model.k1, d1, model.k2, d2)?;
     let mut inside = 0usize;
-    let mut total = 0usize;
-    let members: Vec<SmoothModel> = [-1.0, 0.0, 1.0]
-        .iter()
-        .flat_map(|a| [-1.0, 0.0, 1.0].iter().map(move |b| (*a, *b)))
-        .filter(|(a, b)| *a != 0.0 || *b != 0.0)
-        .map(|(a, b)| model.member(a * d1, b * d2))
-        .collect();
-    for (r, y0) in data.records.iter().zip(nominal) {
-        let mut lo = y0.clone();
-        let mut hi = y0.clone();
-        for m in &members {
-            let Ok(y) = m.run(&r.input) else {
-                continue;
-            };
-            for ((l, h), v) in lo.iter_mut().zip(hi.iter_mut()).zip(&y) {
-                *l = l.min(*v);
-                *h = h.max(*v);
-            }
-        }
-        for (((o, w), l), h) in r.output.iter().zip(&r.weight).zip(&lo).zip(&hi) {
-            if *w > 0.0 {
-                total += 1;
-                if *o >= *l && *o <= *h {
-                    inside += 1;
-                }
-            }
-        }
+    let mut samples = 0usize;
+    for r in &data.records {
+        let Some(&first) = r.input.first() else {
+            continue;
+        };
+        let n = r.input.len();
+        lower.resize(n, 0.0);
+        upper.resize(n, 0.0);
+        let (lower, upper) = (&mut lower[..n], &mut upper[..n]);
+        family.envelope_with(&r.input, lower, upper, 3, |member| {
+            model.shaped(member, first)
+        })?;
+        let r = Reproducibility::compare(&r.output, Some(&r.weight), lower, upper, 0.0);
+        inside += r.inside;
+        samples += r.samples;
     }
-    if total == 0 {
+    Ok(if samples == 0 {
         0.0
     } else {
-        inside as f64 / total as f64
-    }
+        inside as f64 / samples as f64
+    })
 }
 
 /// The bound Δa for the family (k1, Δk1, k2 law, Δk2): Proposition 3.2 over the k2 range, with
@@ -95,8 +100,8 @@ pub fn bound(
 ) -> Result<(f64, f64, (f64, f64)), hyst_core::Error> {
     let (k2_lo, k2_hi) = model.k2.range(v_range.0, v_range.1);
     let law = match model.k2 {
-        K2Spec::Constant { .. } => 0.0,
-        K2Spec::Affine { .. } => {
+        AnyK2Law::Constant { .. } => 0.0,
+        AnyK2Law::Affine(_) => {
             hyst_core::family::delta_k2_prop43(&model.k2, model.k1, v_range.0, v_range.1)
         }
     };
@@ -107,19 +112,14 @@ pub fn bound(
 /// Searches the smallest family widths that reproduce `coverage` of the samples.
 ///
 /// # Errors
-/// [`FitError::Interrupted`] when the observer stops; [`FitError::NoConvergence`] when the
-/// model cannot run the data.
+/// [`FitError::Interrupted`] when the observer stops; [`FitError::Core`] when the model or a
+/// member of the family cannot run the data.
 pub fn family_widths(
     data: &Dataset,
     model: &SmoothModel,
     coverage_target: f64,
     observer: &mut dyn Observer,
 ) -> Result<FamilyWidths, FitError> {
-    let nominal: Vec<Vec<f64>> = data
-        .records
-        .iter()
-        .map(|r| model.run(&r.input))
-        .collect::<Result<_, _>>()?;
     let (in_lo, in_hi) = data.input_range();
     let v_range = (
         model.input_shaping.apply(in_lo),
@@ -129,8 +129,8 @@ pub fn family_widths(
     let d1_max = 0.98 * model.k1;
     // Members must keep k2 > 0, and an affine law keeps its lower clamp > 0.
     let d2_max = match model.k2 {
-        K2Spec::Constant { value } => 0.98 * value,
-        K2Spec::Affine { min, .. } => (0.98 * min).min(0.98 * k2_lo),
+        AnyK2Law::Constant { value } => 0.98 * value,
+        AnyK2Law::Affine(law) => (0.98 * law.min).min(0.98 * k2_lo),
     };
     // The Δk2 of Proposition 4.3 must also leave room in the bound.
     let (_, law, _) = bound(model, 0.0, 0.0, v_range)?;
@@ -161,7 +161,9 @@ pub fn family_widths(
             ControlFlow::Break(()) => Err(FitError::Interrupted),
         }
     };
-    let base = coverage(data, model, 0.0, 0.0, &nominal);
+    let (mut lower, mut upper) = (Vec::new(), Vec::new());
+    let mut cover = |d1: f64, d2: f64| coverage(data, model, d1, d2, &mut lower, &mut upper);
+    let base = cover(0.0, 0.0)?;
     if base >= coverage_target {
         let (delta_a, law, k2_range) = bound(model, 0.0, 0.0, v_range)?;
         return Ok(FamilyWidths {
@@ -184,7 +186,7 @@ pub fn family_widths(
         let widths = |t: f64| (t * c1 * d1_max, t * c2 * d2_max);
         tick(observer)?;
         let (w1, w2) = widths(1.0);
-        let full = coverage(data, model, w1, w2, &nominal);
+        let full = cover(w1, w2)?;
         if full > best_coverage.0 {
             best_coverage = (full, w1, w2);
         }
@@ -196,7 +198,7 @@ pub fn family_widths(
             tick(observer)?;
             let mid = 0.5 * (lo + hi);
             let (w1, w2) = widths(mid);
-            let c = coverage(data, model, w1, w2, &nominal);
+            let c = cover(w1, w2)?;
             if c >= coverage_target {
                 hi = mid;
                 hi_cov = c;
@@ -228,4 +230,97 @@ pub fn family_widths(
         output_bound: delta_a * lipschitz,
         output_bound_pct_span: 100.0 * delta_a * lipschitz / span,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::lm::Silent;
+    use crate::{InitialState, ScaledShaping};
+    use hyst_core::AnyShaping;
+
+    fn model() -> SmoothModel {
+        let identity = AnyShaping::Identity;
+        SmoothModel {
+            k1: 0.1,
+            k2: AnyK2Law::Constant { value: 5.0 },
+            input_shaping: ScaledShaping::new(0.5, 0.1, identity, 1.0, 0.0).unwrap(),
+            output_shaping: ScaledShaping::new(1.0, 0.0, identity, 2.0, 0.3).unwrap(),
+            initial_state: InitialState::Falling,
+        }
+    }
+
+    fn input() -> Vec<f64> {
+        (0..2000)
+            .map(|k| {
+                let t = k as f64 * 0.01;
+                (0.4 + 0.1 * t) * (1.3 * t).sin() + 0.2 * (3.1 * t).cos()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn data_of_a_corner_member_is_covered_and_the_nominal_alone_is_not() {
+        let m = model();
+        // The member (k1 + Δk1, k2 − Δk2), started by the same rule on its own asymptote.
+        let (d1, d2) = (0.03, 1.5);
+        let truth = SmoothModel {
+            k1: m.k1 + d1,
+            k2: AnyK2Law::Constant { value: 5.0 - d2 },
+            ..m
+        };
+        let x = input();
+        let data = Dataset::single(&x, &truth.run(&x).unwrap());
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        assert_eq!(coverage(&data, &m, d1, d2, &mut lo, &mut hi).unwrap(), 1.0);
+        let nominal = coverage(&data, &m, 0.0, 0.0, &mut lo, &mut hi).unwrap();
+        assert!(nominal < 0.05, "{nominal}");
+        // Half the widths leave part of the data outside.
+        let half = coverage(&data, &m, d1 / 2.0, d2 / 2.0, &mut lo, &mut hi).unwrap();
+        assert!(half > nominal && half < 0.9, "{half}");
+        // An invalid family is an error, not a coverage.
+        assert!(coverage(&data, &m, m.k1, 0.0, &mut lo, &mut hi).is_err());
+    }
+
+    #[test]
+    fn samples_of_weight_zero_are_not_counted() {
+        let m = model();
+        let x = input();
+        let mut y = m.run(&x).unwrap();
+        // Spoil the second half, then give it weight 0: the nominal covers everything counted.
+        y[1000..].iter_mut().for_each(|v| *v += 1.0);
+        let mut data = Dataset::single(&x, &y);
+        data.records[0].weight[1000..].fill(0.0);
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        assert_eq!(
+            coverage(&data, &m, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
+            1.0
+        );
+        data.records[0].weight[1000..].fill(1.0);
+        assert_eq!(
+            coverage(&data, &m, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
+            0.5
+        );
+    }
+
+    #[test]
+    fn widths_reach_the_data_of_a_member_and_bound_it() {
+        let m = model();
+        let truth = SmoothModel {
+            k1: m.k1 + 0.02,
+            k2: AnyK2Law::Constant { value: 4.0 },
+            ..m
+        };
+        let x = input();
+        let data = Dataset::single(&x, &truth.run(&x).unwrap());
+        let w = family_widths(&data, &m, 0.99, &mut Silent).unwrap();
+        assert!(w.reachable && w.coverage >= 0.99, "{w:?}");
+        assert!(w.delta_k1 > 0.0 && w.delta_k1 < 0.98 * m.k1, "{w:?}");
+        assert_eq!((w.delta_k2_law, w.k2_range), (0.0, (5.0, 5.0)));
+        let b = hyst_core::family::delta_a(m.k1, w.delta_k1, 5.0, w.delta_k2).unwrap();
+        assert_eq!(w.delta_a, b.delta_a);
+        // ψ_out has gain 2: the bound in output units doubles.
+        assert!((w.output_bound - 2.0 * w.delta_a).abs() < 1e-12, "{w:?}");
+    }
 }

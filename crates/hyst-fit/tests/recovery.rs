@@ -256,7 +256,8 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
 #[test]
 fn pi_model_file_with_output_polynomial_reads_back_exactly() -> Result<(), FitError> {
     use hyst_fit::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT};
-    use hyst_fit::pi::{fit_pi_with, PiOutputKind};
+    use hyst_fit::pi::PiOutputKind;
+    use hyst_fit::pi_fit::fit_pi_with;
     let x = input(3000);
     let y: Vec<f64> = x.iter().map(|v| (1.5 * v).tanh() + 0.05 * v).collect();
     let fit = fit_pi_with(&Dataset::single(&x, &y), 8, PiOutputKind::Poly3)?;
