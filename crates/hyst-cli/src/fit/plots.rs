@@ -1,0 +1,134 @@
+//! The plots of `hyst fit`: data and model in the input-output plane, residuals over time.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use hyst_fit::pi_fit::PiFit;
+use hyst_fit::{Dataset, SmoothFit};
+use hyst_io::Table;
+
+use super::Args;
+use crate::plot::{Figure, Panel, Series};
+
+/// Keeps at most `max` points, evenly spaced.
+fn thin(points: Vec<(f64, f64)>, max: usize) -> Vec<(f64, f64)> {
+    if points.len() <= max {
+        return points;
+    }
+    let step = points.len().div_ceil(max);
+    points.into_iter().step_by(step).collect()
+}
+
+/// Points of a plot series.
+type Points = Vec<(f64, f64)>;
+/// A model run over one record.
+type RunFn<'a> = Box<dyn Fn(&[f64]) -> Option<Vec<f64>> + 'a>;
+
+/// The time axis of the residual plot: `--time COL`, else a column with a conventional time name.
+pub(super) fn time_column<'t>(
+    table: &'t Table,
+    name: Option<&'t str>,
+) -> Result<Option<(&'t str, &'t [f64])>> {
+    if let Some(name) = name {
+        let column = table.column(name).context("--time")?;
+        return Ok(Some((name, column)));
+    }
+    for candidate in ["t", "t_s", "time", "time_s"] {
+        if let Ok(column) = table.column(candidate) {
+            return Ok(Some((candidate, column)));
+        }
+    }
+    Ok(None)
+}
+
+/// Draws `fit-io` and `fit-residuals` (PNG and SVG) into `dir`; returns the files written.
+pub(super) fn draw(
+    dir: &Path,
+    data: &Dataset,
+    args: &Args,
+    time: Option<(&str, &[f64])>,
+    smooth: Option<&SmoothFit>,
+    pi: Option<&PiFit>,
+) -> Result<Vec<PathBuf>> {
+    let xl = format!("{}{}", args.input, unit_paren(&args.input_unit));
+    let yl = format!("{}{}", args.output, unit_paren(&args.output_unit));
+    let mut measured = Vec::new();
+    let mut models: Vec<(String, Points, Points)> = Vec::new();
+    for r in &data.records {
+        for (x, y) in r.input.iter().zip(&r.output) {
+            measured.push((*x, *y));
+        }
+    }
+    let runs: Vec<(&str, RunFn<'_>)> = [
+        smooth.map(|f| {
+            (
+                "smooth model",
+                Box::new(move |x: &[f64]| f.model.run(x).ok()) as RunFn<'_>,
+            )
+        }),
+        pi.map(|f| {
+            (
+                "Prandtl–Ishlinskii",
+                Box::new(move |x: &[f64]| f.model.run(x).ok()) as RunFn<'_>,
+            )
+        }),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    for (name, run) in &runs {
+        let mut io = Vec::new();
+        let mut res = Vec::new();
+        for r in &data.records {
+            let y = run(&r.input).context("the fitted model cannot run the data")?;
+            for (((x, m), o), row) in r.input.iter().zip(&y).zip(&r.output).zip(&r.rows) {
+                io.push((*x, *m));
+                let at = match time {
+                    Some((_, t)) => t.get(*row).copied().unwrap_or(f64::NAN),
+                    None => (*row + 1) as f64,
+                };
+                res.push((at, m - o));
+            }
+        }
+        models.push(((*name).to_string(), io, res));
+    }
+    let mut io_panel = Panel::new("Data and model in the input-output plane", &xl, &yl)
+        .series(Series::scatter("measured", thin(measured, 20_000)).color(0));
+    let (res_title, res_x) = match time {
+        Some((name, _)) => ("Residuals (model − measured) over time", name.to_string()),
+        None => (
+            "Residuals (model − measured) over the samples",
+            "sample (data row)".to_string(),
+        ),
+    };
+    let output_unit = if args.output_unit.is_empty() {
+        format!(" (units of {})", args.output)
+    } else {
+        unit_paren(&args.output_unit)
+    };
+    let mut res_panel = Panel::new(res_title, &res_x, &format!("residual{output_unit}"));
+    for (i, (name, io, res)) in models.into_iter().enumerate() {
+        let color = i + 1;
+        io_panel = io_panel.series(
+            Series::scatter(&name, thin(io, 20_000))
+                .color(color)
+                .width(1),
+        );
+        res_panel = res_panel.series(
+            Series::scatter(&name, thin(res, 20_000))
+                .color(color)
+                .width(1),
+        );
+    }
+    let mut written = Figure::row(vec![io_panel]).save(dir, "fit-io")?;
+    written.extend(Figure::row(vec![res_panel.hline("0", 0.0)]).save(dir, "fit-residuals")?);
+    Ok(written)
+}
+
+fn unit_paren(u: &str) -> String {
+    if u.is_empty() {
+        String::new()
+    } else {
+        format!(" ({u})")
+    }
+}
