@@ -7,6 +7,25 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+/// Inside an `impl Operator<T> for Outer`: forwards `reset`, `memory` and `set_memory` to the
+/// operator in `self.$field`, whose `Memory` type is `$memory` (a composition's history is its
+/// inner operator's).
+macro_rules! forward_memory {
+    ($field:ident, $memory:ty) => {
+        fn reset(&mut self) {
+            self.$field.reset();
+        }
+
+        fn memory(&self) -> $memory {
+            self.$field.memory()
+        }
+
+        fn set_memory(&mut self, memory: $memory) -> Result<(), Error> {
+            self.$field.set_memory(memory)
+        }
+    };
+}
+
 pub mod compensator;
 pub mod error;
 pub mod family;

@@ -98,17 +98,7 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Model<T
         self.operator.last_output().map(|u| self.output.apply(u))
     }
 
-    fn reset(&mut self) {
-        self.operator.reset();
-    }
-
-    fn memory(&self) -> Option<Memory<T>> {
-        self.operator.memory()
-    }
-
-    fn set_memory(&mut self, memory: Option<Memory<T>>) -> Result<(), Error> {
-        self.operator.set_memory(memory)
-    }
+    forward_memory!(operator, Option<Memory<T>>);
 }
 
 impl<T: Real, I: Shaping<T> + Clone, K: K2Law<T> + Clone, O: Shaping<T> + Clone> Model<T, I, K, O> {
@@ -158,15 +148,5 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Inverse
             .and_then(|v| self.input.invert(v).ok())
     }
 
-    fn reset(&mut self) {
-        self.operator.reset();
-    }
-
-    fn memory(&self) -> Option<Memory<T>> {
-        self.operator.memory()
-    }
-
-    fn set_memory(&mut self, memory: Option<Memory<T>>) -> Result<(), Error> {
-        self.operator.set_memory(memory)
-    }
+    forward_memory!(operator, Option<Memory<T>>);
 }

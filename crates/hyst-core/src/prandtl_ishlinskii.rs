@@ -434,17 +434,7 @@ impl<T: Real, const N: usize> Operator<T> for ShapedPrandtlIshlinskii<T, N> {
         self.pi.last_output.map(|s| self.output.apply(s))
     }
 
-    fn reset(&mut self) {
-        self.pi.reset();
-    }
-
-    fn memory(&self) -> PlayMemory<T, N> {
-        self.pi.memory()
-    }
-
-    fn set_memory(&mut self, memory: PlayMemory<T, N>) -> Result<(), Error> {
-        self.pi.set_memory(memory)
-    }
+    forward_memory!(pi, PlayMemory<T, N>);
 }
 
 /// The inverse of [`ShapedPrandtlIshlinskii`]: x = PI⁻¹[P⁻¹(y)], with the analytic PI inverse.
@@ -500,18 +490,7 @@ impl<T: Real, const N: usize> Operator<T> for InverseShapedPrandtlIshlinskii<T, 
         self.pi_inverse.last_output
     }
 
-    fn reset(&mut self) {
-        self.pi_inverse.reset();
-    }
-
-    /// The memory of the inverse PI sum.
-    fn memory(&self) -> PlayMemory<T, N> {
-        self.pi_inverse.memory()
-    }
-
-    fn set_memory(&mut self, memory: PlayMemory<T, N>) -> Result<(), Error> {
-        self.pi_inverse.set_memory(memory)
-    }
+    forward_memory!(pi_inverse, PlayMemory<T, N>);
 }
 
 #[cfg(test)]
