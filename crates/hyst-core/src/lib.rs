@@ -40,6 +40,7 @@ pub mod play;
 pub mod prandtl_ishlinskii;
 pub mod real;
 pub mod sample;
+pub mod scaled_shaping;
 pub mod shaping;
 
 pub use compensator::Compensator;
@@ -59,6 +60,7 @@ pub use prandtl_ishlinskii::{
 };
 pub use real::Real;
 pub use sample::Sample;
+pub use scaled_shaping::ScaledShaping;
 pub use shaping::{
     Affine, AnyShaping, Identity, Langevin, Polynomial, QuadraticExp, Shaping, Tanh,
 };

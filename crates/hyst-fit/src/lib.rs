@@ -6,7 +6,7 @@
 //! - [`Structure`]: the model structure (k2 constant or affine, shaping functions, offsets, the
 //!   start rule), laid out as free parameters by [`structure::Layout`].
 //! - [`SmoothModel`]: the fitted model ψ_out(H(k1, k2)[ψ_in(in)]) with its k2 law (the core's
-//!   [`hyst_core::AnyK2Law`]), [`ScaledShaping`] and start rule ([`InitialState`]).
+//!   [`hyst_core::AnyK2Law`]), [`hyst_core::ScaledShaping`] and start rule ([`InitialState`]).
 //! - [`lm`]: the least-squares problem, method (bounded Levenberg–Marquardt, settings checked
 //!   when set) and observers.
 //! - [`fit_smooth`]: multi-start fit with standard errors; [`widths`]: the family widths
@@ -35,7 +35,6 @@ pub mod model;
 pub mod modelfile;
 pub mod pi;
 pub mod pi_fit;
-pub mod scaled_shaping;
 pub mod smooth;
 pub mod structure;
 pub mod widths;
@@ -45,6 +44,5 @@ pub use error::FitError;
 pub use evaluator::Evaluator;
 pub use model::{InitialState, SmoothModel};
 pub use modelfile::ModelFile;
-pub use scaled_shaping::ScaledShaping;
 pub use smooth::{fit_smooth, ErrorStats, Estimate, FitOptions, SmoothFit};
 pub use structure::{K2Kind, ShapingKind, Structure};

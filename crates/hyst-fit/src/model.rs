@@ -6,7 +6,7 @@ use hyst_core::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::ScaledShaping;
+use hyst_core::ScaledShaping;
 
 /// Where each record starts (Definition 2.1 needs a first reversal point). The default,
 /// [`InitialState::Rising`], suits a device switched on and driven up to its first value, and a
@@ -51,17 +51,17 @@ pub struct SmoothModel {
     /// The k2 law (1 / operator units).
     pub k2: AnyK2Law<f64>,
     /// Input shaping ψ_in: from input units to operator units.
-    pub input_shaping: ScaledShaping,
+    pub input_shaping: ScaledShaping<f64>,
     /// Output shaping ψ_out: from operator units to output units.
-    pub output_shaping: ScaledShaping,
+    pub output_shaping: ScaledShaping<f64>,
     /// How each record starts.
     pub initial_state: InitialState,
 }
 
 /// The core model type a [`SmoothModel`] becomes.
-pub type CoreModel = Model<f64, ScaledShaping, AnyK2Law<f64>, ScaledShaping>;
+pub type CoreModel = Model<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
 /// Its exact compensator.
-pub type CoreInverse = InverseModel<f64, ScaledShaping, AnyK2Law<f64>, ScaledShaping>;
+pub type CoreInverse = InverseModel<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
 
 impl SmoothModel {
     /// Checks every parameter through the core's constructors.
@@ -123,7 +123,7 @@ impl SmoothModel {
         &self,
         operator: Hysteresis<f64, K>,
         first_input: f64,
-    ) -> Result<Model<f64, ScaledShaping, K, ScaledShaping>, Error> {
+    ) -> Result<Model<f64, ScaledShaping<f64>, K, ScaledShaping<f64>>, Error> {
         Model::new(
             self.input_shaping,
             self.start(operator, first_input)?,

@@ -12,7 +12,8 @@ use hyst_core::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::{model::InitialState, ScaledShaping, SmoothModel};
+use crate::{model::InitialState, SmoothModel};
+use hyst_core::ScaledShaping;
 
 /// A shaping function family for ψ_in or ψ_out. Its kebab-case name (`affine`, `poly2`, `poly3`,
 /// `tanh`, `langevin`, `quad-exp`) is the model file's and the command line's.
@@ -326,7 +327,7 @@ impl Layout {
     ///
     /// # Errors
     /// When the values are invalid (non-monotone polynomial, …).
-    pub fn input_shaping(&self, theta: &[f64]) -> Result<ScaledShaping, hyst_core::Error> {
+    pub fn input_shaping(&self, theta: &[f64]) -> Result<ScaledShaping<f64>, hyst_core::Error> {
         let get = |name: &str| {
             self.index(name)
                 .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
@@ -371,7 +372,7 @@ impl Layout {
         &self,
         theta: &[f64],
         v_range: (f64, f64),
-    ) -> Result<ScaledShaping, hyst_core::Error> {
+    ) -> Result<ScaledShaping<f64>, hyst_core::Error> {
         let get = |name: &str| {
             self.index(name)
                 .map_or(0.0, |i| self.params[i].transform.value(theta[i]))

@@ -237,8 +237,9 @@ mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
     use crate::lm::Silent;
-    use crate::{InitialState, ScaledShaping};
+    use crate::InitialState;
     use hyst_core::AnyShaping;
+    use hyst_core::ScaledShaping;
 
     fn model() -> SmoothModel {
         let identity = AnyShaping::Identity;

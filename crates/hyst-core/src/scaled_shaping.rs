@@ -2,35 +2,41 @@
 //! carry the input/output offsets and the scale of measured data:
 //! ψ(x) = post_gain · shape(pre_gain · x + pre_offset) + post_offset.
 
-use hyst_core::{AnyShaping, Error, Sample, Shaping};
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
+use crate::error::{finite, positive};
+use crate::{AnyShaping, Error, Real, Sample, Shaping};
+
 /// ψ(x) = `post_gain` · shape(`pre_gain` · x + `pre_offset`) + `post_offset`, strictly
-/// increasing when both gains are > 0 and the shape is valid. Serialized in model files.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ScaledShaping {
+/// increasing when both gains are > 0 and the shape is valid (Section 4.3's shaping functions
+/// with the scale and offsets of measured data; the form of a fitted model's ψ_in and ψ_out,
+/// serialized in model files).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct ScaledShaping<T> {
     /// Scale applied to x before the shape (1 / units of x), > 0.
-    pub pre_gain: f64,
+    pub pre_gain: T,
     /// Offset added after that scale (dimensionless shape units).
-    pub pre_offset: f64,
+    pub pre_offset: T,
     /// The core shaping function.
-    pub shape: AnyShaping<f64>,
+    pub shape: AnyShaping<T>,
     /// Scale of the shape's value (units of ψ), > 0.
-    pub post_gain: f64,
+    pub post_gain: T,
     /// Offset of ψ (units of ψ).
-    pub post_offset: f64,
+    pub post_offset: T,
 }
 
-impl ScaledShaping {
+impl<T: Real> ScaledShaping<T> {
     /// The identity.
     #[must_use]
     pub fn identity() -> Self {
         Self {
-            pre_gain: 1.0,
-            pre_offset: 0.0,
+            pre_gain: T::one(),
+            pre_offset: T::zero(),
             shape: AnyShaping::Identity,
-            post_gain: 1.0,
-            post_offset: 0.0,
+            post_gain: T::one(),
+            post_offset: T::zero(),
         }
     }
 
@@ -39,11 +45,11 @@ impl ScaledShaping {
     /// # Errors
     /// As [`Shaping::validate`].
     pub fn new(
-        pre_gain: f64,
-        pre_offset: f64,
-        shape: AnyShaping<f64>,
-        post_gain: f64,
-        post_offset: f64,
+        pre_gain: T,
+        pre_offset: T,
+        shape: AnyShaping<T>,
+        post_gain: T,
+        post_offset: T,
     ) -> Result<Self, Error> {
         let w = Self {
             pre_gain,
@@ -57,61 +63,49 @@ impl ScaledShaping {
     }
 
     /// The shape's argument for x.
-    fn inner(&self, x: f64) -> f64 {
+    fn inner(&self, x: T) -> T {
         self.pre_gain * x + self.pre_offset
     }
 }
 
-fn check(name: &'static str, value: f64, positive: bool) -> Result<(), Error> {
-    if value.is_finite() && (!positive || value > 0.0) {
-        Ok(())
-    } else {
-        Err(Error::InvalidParameter {
-            name,
-            value,
-            expected: if positive { "finite and > 0" } else { "finite" },
-        })
-    }
-}
-
-impl Shaping<f64> for ScaledShaping {
+impl<T: Real> Shaping<T> for ScaledShaping<T> {
     fn name(&self) -> &'static str {
         self.shape.name()
     }
-    fn eval<S: Sample<f64>>(&self, x: S) -> S {
+    fn eval<S: Sample<T>>(&self, x: S) -> S {
         self.shape.eval(x * self.pre_gain + self.pre_offset) * self.post_gain + self.post_offset
     }
-    fn domain(&self) -> (f64, f64) {
+    fn domain(&self) -> (T, T) {
         let (lo, hi) = self.shape.domain();
         (
             (lo - self.pre_offset) / self.pre_gain,
             (hi - self.pre_offset) / self.pre_gain,
         )
     }
-    fn apply<S: Sample<f64>>(&self, x: S) -> S {
+    fn apply<S: Sample<T>>(&self, x: S) -> S {
         self.shape.apply(x * self.pre_gain + self.pre_offset) * self.post_gain + self.post_offset
     }
-    fn invert_in_domain(&self, y: f64) -> Result<f64, Error> {
+    fn invert_in_domain(&self, y: T) -> Result<T, Error> {
         let z = self
             .shape
             .invert_in_domain((y - self.post_offset) / self.post_gain)?;
         Ok((z - self.pre_offset) / self.pre_gain)
     }
-    fn invert(&self, y: f64) -> Result<f64, Error> {
+    fn invert(&self, y: T) -> Result<T, Error> {
         if !y.is_finite() {
-            return Err(Error::NonFiniteInput { value: y });
+            return Err(Error::NonFiniteInput { value: y.as_f64() });
         }
         let z = self.shape.invert((y - self.post_offset) / self.post_gain)?;
         Ok((z - self.pre_offset) / self.pre_gain)
     }
     fn validate(&self) -> Result<(), Error> {
-        check("pre_gain", self.pre_gain, true)?;
-        check("pre_offset", self.pre_offset, false)?;
-        check("post_gain", self.post_gain, true)?;
-        check("post_offset", self.post_offset, false)?;
+        positive("pre_gain", self.pre_gain)?;
+        finite("pre_offset", self.pre_offset)?;
+        positive("post_gain", self.post_gain)?;
+        finite("post_offset", self.post_offset)?;
         self.shape.validate()
     }
-    fn lipschitz(&self, lo: f64, hi: f64) -> f64 {
+    fn lipschitz(&self, lo: T, hi: T) -> T {
         self.post_gain * self.pre_gain * self.shape.lipschitz(self.inner(lo), self.inner(hi))
     }
 }
