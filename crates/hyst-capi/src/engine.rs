@@ -1,0 +1,461 @@
+//! The generic work behind the C functions, written once for `f32` and `f64`: every call goes
+//! through the core's [`Operator`] trait; the C wrappers only check pointers and convert.
+
+use core::ptr;
+
+use hyst_core::{
+    AffineK2, AnyK2Law, AnyShaping, Compensator, Direction, Error, Hysteresis, InverseHysteresis,
+    InverseModel, Jet, Langevin, Memory, Model, Operator, Polynomial, QuadraticExp, Real,
+    ScaledShaping, Tanh,
+};
+
+use crate::status::{self, HYST_ERR_LENGTH, HYST_ERR_NULL_POINTER, HYST_OK};
+
+/// The highest time-derivative order of the `_step_derivatives` functions and the highest plant
+/// order n of the compensator.
+pub const HYST_MAX_ORDER: usize = 4;
+
+/// The parametric operator, direct (eq. 2) or inverse (eq. 4).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Pair<T: Real> {
+    Direct(Hysteresis<T>),
+    Inverse(InverseHysteresis<T>),
+}
+
+/// The shaped model ψ_out ∘ H ∘ ψ_in, or its exact inverse.
+pub(crate) type Shaping<T> = ScaledShaping<T>;
+/// A shaped model with run-time shaping functions and k2 law.
+pub(crate) type ShapedModel<T> = Model<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
+/// Its exact compensator.
+pub(crate) type ShapedInverse<T> = InverseModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
+
+/// The Lemma 5.1 compensator of a shaped model for a plant of order `N`.
+pub(crate) type ShapedCompensator<T, const N: usize> =
+    Compensator<T, N, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
+
+/// The shaped model, direct or inverse.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Shaped<T: Real> {
+    Direct(ShapedModel<T>),
+    Inverse(ShapedInverse<T>),
+}
+
+/// The Lemma 5.1 compensator for plant orders n = 0 … 4.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Comp<T: Real> {
+    N0(ShapedCompensator<T, 0>),
+    N1(ShapedCompensator<T, 1>),
+    N2(ShapedCompensator<T, 2>),
+    N3(ShapedCompensator<T, 3>),
+    N4(ShapedCompensator<T, 4>),
+}
+
+/// Runs `$body` with `$op` bound to whichever operator a two-variant enum holds.
+macro_rules! either {
+    ($value:expr, $ty:ident, $op:ident => $body:expr) => {
+        match $value {
+            $ty::Direct($op) => $body,
+            $ty::Inverse($op) => $body,
+        }
+    };
+}
+
+/// Runs `$body` with `$c` bound to the compensator of whichever order `Comp` holds.
+macro_rules! each_order {
+    ($value:expr, $c:ident => $body:expr) => {
+        match $value {
+            Comp::N0($c) => $body,
+            Comp::N1($c) => $body,
+            Comp::N2($c) => $body,
+            Comp::N3($c) => $body,
+            Comp::N4($c) => $body,
+        }
+    };
+}
+
+impl<T: Real> Pair<T> {
+    pub(crate) fn with<R>(&mut self, f: impl FnOnce(&mut dyn Dyn<T>) -> R) -> R {
+        either!(self, Pair, op => f(op))
+    }
+}
+
+impl<T: Real> Shaped<T> {
+    pub(crate) fn with<R>(&mut self, f: impl FnOnce(&mut dyn Dyn<T>) -> R) -> R {
+        either!(self, Shaped, op => f(op))
+    }
+}
+
+/// The object-safe part of [`Operator`] that the C functions need: plain samples, jets of
+/// order 1 … 4, memory. (`Operator::try_step` is generic, so it cannot be called through `dyn`.)
+pub(crate) trait Dyn<T: Real> {
+    fn step(&mut self, x: T) -> Result<T, (Error, T)>;
+    fn jet(&mut self, x: &[T], y: &mut [T]) -> Result<(), Error>;
+    fn memory(&self) -> Option<Memory<T>>;
+    fn set_memory(&mut self, memory: Option<Memory<T>>) -> Result<(), Error>;
+    fn reset(&mut self);
+}
+
+impl<T: Real, O: Operator<T, Memory = Option<Memory<T>>>> Dyn<T> for O {
+    fn step(&mut self, x: T) -> Result<T, (Error, T)> {
+        match self.try_step(x) {
+            Ok(y) => Ok(y),
+            Err(e) => Err((e, self.last_output().unwrap_or(x))),
+        }
+    }
+    fn jet(&mut self, x: &[T], y: &mut [T]) -> Result<(), Error> {
+        jet_step(self, x, y)
+    }
+    fn memory(&self) -> Option<Memory<T>> {
+        Operator::memory(self)
+    }
+    fn set_memory(&mut self, memory: Option<Memory<T>>) -> Result<(), Error> {
+        Operator::set_memory(self, memory)
+    }
+    fn reset(&mut self) {
+        Operator::reset(self);
+    }
+}
+
+/// One jet sample of order `x.len() − 1` (1 … 4) through `op`: `x` = [value, d1, …],
+/// `y` receives the same for the output.
+fn jet_step<T: Real, O: Operator<T> + ?Sized>(
+    op: &mut O,
+    x: &[T],
+    y: &mut [T],
+) -> Result<(), Error> {
+    fn run<T: Real, O: Operator<T> + ?Sized, const N: usize>(
+        op: &mut O,
+        x: &[T],
+        y: &mut [T],
+    ) -> Result<(), Error> {
+        let value = x.first().copied().unwrap_or_else(T::zero);
+        let d: [T; N] = core::array::from_fn(|k| x.get(k + 1).copied().unwrap_or_else(T::zero));
+        let out = op.try_step(Jet::<T, N>::from_derivatives(value, d))?;
+        if let Some(v) = y.first_mut() {
+            *v = out.value();
+        }
+        for (slot, d) in y.iter_mut().skip(1).zip(out.derivatives()) {
+            *slot = d;
+        }
+        Ok(())
+    }
+    match x.len() {
+        1 => run::<T, O, 0>(op, x, y),
+        2 => run::<T, O, 1>(op, x, y),
+        3 => run::<T, O, 2>(op, x, y),
+        4 => run::<T, O, 3>(op, x, y),
+        5 => run::<T, O, 4>(op, x, y),
+        _ => Err(Error::LengthMismatch {
+            input: x.len(),
+            output: y.len(),
+        }),
+    }
+}
+
+/// `hyst_*_step`: one plain sample; a refused sample writes the held output and returns its
+/// status.
+///
+/// # Safety
+/// `y` is NULL or valid for one write.
+pub(crate) unsafe fn step<T: Real>(op: &mut dyn Dyn<T>, x: T, y: *mut T) -> i32 {
+    if y.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    let (value, status) = match op.step(x) {
+        Ok(v) => (v, HYST_OK),
+        Err((e, held)) => (held, status::of(&e)),
+    };
+    // SAFETY: non-NULL (checked) and valid for a write (caller's contract).
+    unsafe { ptr::write(y, value) };
+    status
+}
+
+/// `hyst_*_step_derivatives`: `x` and `y` hold order + 1 values each.
+///
+/// # Safety
+/// `x` and `y` are NULL or valid for `order + 1` reads / writes.
+pub(crate) unsafe fn step_derivatives<T: Real>(
+    op: &mut dyn Dyn<T>,
+    x: *const T,
+    y: *mut T,
+    order: usize,
+) -> i32 {
+    if x.is_null() || y.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    if order > HYST_MAX_ORDER {
+        return HYST_ERR_LENGTH;
+    }
+    let mut input = [T::zero(); HYST_MAX_ORDER + 1];
+    for (k, slot) in input.iter_mut().enumerate().take(order + 1) {
+        // SAFETY: k ≤ order, within the caller's array.
+        *slot = unsafe { ptr::read(x.add(k)) };
+    }
+    let mut output = [T::zero(); HYST_MAX_ORDER + 1];
+    let (Some(xs), Some(ys)) = (input.get(..=order), output.get_mut(..=order)) else {
+        return HYST_ERR_LENGTH;
+    };
+    if let Err(e) = op.jet(xs, ys) {
+        return status::of(&e);
+    }
+    for (k, v) in ys.iter().enumerate() {
+        // SAFETY: k ≤ order, within the caller's array.
+        unsafe { ptr::write(y.add(k), *v) };
+    }
+    HYST_OK
+}
+
+/// `hyst_*_process`: every sample as [`step`]; returns the first refused sample's status.
+///
+/// # Safety
+/// When `n > 0`, `x` and `y` are NULL or valid for `n` reads / writes (they may be the same
+/// array).
+pub(crate) unsafe fn process<T: Real>(
+    op: &mut dyn Dyn<T>,
+    x: *const T,
+    y: *mut T,
+    n: usize,
+) -> i32 {
+    if n == 0 {
+        return HYST_OK;
+    }
+    if x.is_null() || y.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    let mut first = HYST_OK;
+    for i in 0..n {
+        // SAFETY: i < n, within the caller's arrays; read before write, so x == y is fine.
+        let xi = unsafe { ptr::read(x.add(i)) };
+        let (value, status) = match op.step(xi) {
+            Ok(v) => (v, HYST_OK),
+            Err((e, held)) => (held, status::of(&e)),
+        };
+        if first == HYST_OK {
+            first = status;
+        }
+        // SAFETY: as above.
+        unsafe { ptr::write(y.add(i), value) };
+    }
+    first
+}
+
+/// The memory of Definition 2.1 as the C struct's fields.
+pub(crate) struct MemoryFields<T> {
+    pub reversal_input: T,
+    pub reversal_output: T,
+    pub last_input: T,
+    pub last_output: T,
+    pub direction: i32,
+    pub has_history: i32,
+}
+
+impl<T: Real> MemoryFields<T> {
+    pub(crate) fn of(memory: Option<Memory<T>>) -> Self {
+        match memory {
+            Some(m) => Self {
+                reversal_input: m.reversal_input,
+                reversal_output: m.reversal_output,
+                last_input: m.last_input,
+                last_output: m.last_output,
+                direction: if m.direction == Direction::Rising {
+                    1
+                } else {
+                    -1
+                },
+                has_history: 1,
+            },
+            None => Self {
+                reversal_input: T::zero(),
+                reversal_output: T::zero(),
+                last_input: T::zero(),
+                last_output: T::zero(),
+                direction: 1,
+                has_history: 0,
+            },
+        }
+    }
+
+    pub(crate) fn to_core(&self) -> Result<Option<Memory<T>>, Error> {
+        if self.has_history == 0 {
+            return Ok(None);
+        }
+        Ok(Some(Memory {
+            reversal_input: self.reversal_input,
+            reversal_output: self.reversal_output,
+            direction: direction(self.direction)?,
+            last_input: self.last_input,
+            last_output: self.last_output,
+        }))
+    }
+}
+
+/// +1 → rising, −1 → falling.
+pub(crate) fn direction(d: i32) -> Result<Direction, Error> {
+    match d {
+        1 => Ok(Direction::Rising),
+        -1 => Ok(Direction::Falling),
+        _ => Err(Error::InvalidParameter {
+            name: "direction",
+            value: f64::from(d),
+            expected: "+1 (rising) or -1 (falling)",
+        }),
+    }
+}
+
+/// Shaping kinds of `hyst_shaping.kind`.
+pub(crate) fn shaping<T: Real>(
+    kind: i32,
+    p: [T; 6],
+    pre_gain: T,
+    pre_offset: T,
+    post_gain: T,
+    post_offset: T,
+) -> Result<Shaping<T>, Error> {
+    let [p0, p1, p2, p3, p4, p5] = p;
+    let shape = match kind {
+        0 => AnyShaping::Identity,
+        1 => AnyShaping::Affine(hyst_core::Affine::new(p0, p1)?),
+        2 => AnyShaping::Polynomial(Polynomial::new([p0, p1, p2, p3], p4, p5)?),
+        3 => AnyShaping::Tanh(Tanh::new(p0, p1)?),
+        4 => AnyShaping::Langevin(Langevin::new(p0, p1)?),
+        5 => AnyShaping::QuadraticExp(QuadraticExp::new(p0, p1, p2, p3, p4)?),
+        _ => {
+            return Err(Error::InvalidParameter {
+                name: "shaping kind",
+                value: f64::from(kind),
+                expected: "one of HYST_SHAPING_IDENTITY … HYST_SHAPING_QUADRATIC_EXP (0 … 5)",
+            })
+        }
+    };
+    ScaledShaping::new(pre_gain, pre_offset, shape, post_gain, post_offset)
+}
+
+/// k2 laws of `hyst_k2_law.kind`.
+pub(crate) fn k2_law<T: Real>(
+    kind: i32,
+    value: T,
+    slope: T,
+    min: T,
+    max: T,
+) -> Result<AnyK2Law<T>, Error> {
+    use hyst_core::K2Law;
+    let law = match kind {
+        0 => AnyK2Law::Constant { value },
+        1 => AnyK2Law::Affine(AffineK2::new(value, slope, min, max)?),
+        _ => {
+            return Err(Error::InvalidParameter {
+                name: "k2 law kind",
+                value: f64::from(kind),
+                expected: "HYST_K2_CONSTANT (0) or HYST_K2_AFFINE (1)",
+            })
+        }
+    };
+    law.validate()?;
+    Ok(law)
+}
+
+/// The shaped model from its parts.
+pub(crate) fn shaped_model<T: Real>(
+    k1: T,
+    law: AnyK2Law<T>,
+    input: Shaping<T>,
+    output: Shaping<T>,
+) -> Result<ShapedModel<T>, Error> {
+    Model::new(input, Hysteresis::with_k2_law(k1, law)?, output)
+}
+
+/// The plain operator.
+pub(crate) fn pair<T: Real>(k1: T, k2: T, inverse: bool) -> Result<Pair<T>, Error> {
+    Ok(if inverse {
+        Pair::Inverse(InverseHysteresis::new(k1, k2)?)
+    } else {
+        Pair::Direct(Hysteresis::new(k1, k2)?)
+    })
+}
+
+/// Checks the compensator's plant coefficients and builds it for the order `a.len()`.
+pub(crate) fn compensator<T: Real>(
+    model: &ShapedModel<T>,
+    b: T,
+    a: &[T],
+    state: Option<&[T]>,
+) -> Result<Comp<T>, Error> {
+    fn make<T: Real, const N: usize>(
+        model: &ShapedModel<T>,
+        b: T,
+        a: &[T],
+        state: Option<&[T]>,
+    ) -> Result<ShapedCompensator<T, N>, Error> {
+        let coefficients: [T; N] =
+            core::array::from_fn(|k| a.get(k).copied().unwrap_or_else(T::zero));
+        let c = Compensator::from_model(model, b, coefficients)?;
+        match state {
+            Some(v) => c.with_state(core::array::from_fn(|k| {
+                v.get(k).copied().unwrap_or_else(T::zero)
+            })),
+            None => Ok(c),
+        }
+    }
+    Ok(match a.len() {
+        0 => Comp::N0(make(model, b, a, state)?),
+        1 => Comp::N1(make(model, b, a, state)?),
+        2 => Comp::N2(make(model, b, a, state)?),
+        3 => Comp::N3(make(model, b, a, state)?),
+        4 => Comp::N4(make(model, b, a, state)?),
+        n => {
+            return Err(Error::LengthMismatch {
+                input: n,
+                output: HYST_MAX_ORDER,
+            })
+        }
+    })
+}
+
+impl<T: Real> Comp<T> {
+    /// The plant order n.
+    pub(crate) fn order(&self) -> usize {
+        match self {
+            Comp::N0(_) => 0,
+            Comp::N1(_) => 1,
+            Comp::N2(_) => 2,
+            Comp::N3(_) => 3,
+            Comp::N4(_) => 4,
+        }
+    }
+
+    /// One sample of Lemma 5.1: the command for v⁽ⁿ⁾ = `u_new` held over `dt` seconds; a refused
+    /// sample gives the held command.
+    pub(crate) fn step(&mut self, u_new: T, dt: T) -> Result<T, (Error, T)> {
+        each_order!(self, c => c.try_step(u_new, dt).map_err(|e| (e, c.last_command())))
+    }
+
+    /// Reference-trajectory mode: `reference` = [v, v̇, …, v⁽ⁿ⁾].
+    pub(crate) fn track(&mut self, reference: &[T]) -> Result<T, Error> {
+        fn jet<T: Real, const N: usize>(r: &[T]) -> Jet<T, N> {
+            let value = r.first().copied().unwrap_or_else(T::zero);
+            Jet::from_derivatives(
+                value,
+                core::array::from_fn(|k| r.get(k + 1).copied().unwrap_or_else(T::zero)),
+            )
+        }
+        each_order!(self, c => c.track(jet(reference)))
+    }
+
+    /// The integrator chain (v, v̇, …, v⁽ⁿ⁻¹⁾) into `out` (n values).
+    pub(crate) fn state(&self, out: &mut [T]) {
+        each_order!(self, c => {
+            for (slot, v) in out.iter_mut().zip(c.state()) {
+                *slot = v;
+            }
+        })
+    }
+
+    pub(crate) fn reset(&mut self) {
+        each_order!(self, c => c.reset())
+    }
+
+    /// The memory of the compensator's inverse model.
+    pub(crate) fn memory(&self) -> Option<Memory<T>> {
+        each_order!(self, c => Operator::memory(c.inverse_model()))
+    }
+}
