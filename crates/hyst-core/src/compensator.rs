@@ -18,8 +18,11 @@ use crate::{
     ConstantK2, Error, Identity, InverseModel, Jet, K2Law, Model, Operator, Real, Shaping,
 };
 
-/// The Lemma 5.1 compensator for a plant of order `N` (N = n ≥ 0; the paper's Example 2 has
-/// N = 1, Example 3 has N = 2).
+/// The Lemma 5.1 compensator for a plant of order n ≤ `N` (the paper's Example 2 has n = 1,
+/// Example 3 has n = 2). [`Compensator::from_model`] and [`Compensator::new`] take n = N;
+/// [`Compensator::with_order`] takes any n ≤ N chosen at run time, with the same results for
+/// the first n derivatives (jets carry N, the derivatives above n of v are 0), so one type
+/// serves every order up to N (the C API uses N = 4).
 ///
 /// # Examples
 /// Example 3's compensator, F = Ḧ⁻¹ + 0.9 Ḣ⁻¹ + H⁻¹ for m ẍ = F − 0.9 ẋ − x:
@@ -44,6 +47,7 @@ pub struct Compensator<T, const N: usize, I = Identity, K = ConstantK2<T>, O = I
     inverse: InverseModel<T, I, K, O>,
     b: T,
     a: [T; N],
+    order: usize,
     v: [T; N],
     initial_v: [T; N],
     last_command: T,
@@ -71,6 +75,21 @@ where
     /// # Errors
     /// As [`Compensator::from_model`].
     pub fn new(inverse: InverseModel<T, I, K, O>, b: T, a: [T; N]) -> Result<Self, Error> {
+        Self::with_order(inverse, b, &a)
+    }
+
+    /// The compensator of the inverse model `inverse` for a plant of order n = `a.len()` ≤ N,
+    /// `a = [a_1, …, a_n]`, at rest at v = 0.
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] when n > N; otherwise as [`Compensator::from_model`].
+    pub fn with_order(inverse: InverseModel<T, I, K, O>, b: T, a: &[T]) -> Result<Self, Error> {
+        if a.len() > N {
+            return Err(Error::LengthMismatch {
+                input: a.len(),
+                output: N,
+            });
+        }
         crate::error::finite("b", b)?;
         if b == T::zero() {
             return Err(Error::InvalidParameter {
@@ -85,7 +104,8 @@ where
         Ok(Self {
             inverse,
             b,
-            a,
+            a: core::array::from_fn(|k| a.get(k).copied().unwrap_or_else(T::zero)),
+            order: a.len(),
             v: [T::zero(); N],
             initial_v: [T::zero(); N],
             last_command: T::zero(),
@@ -94,21 +114,35 @@ where
         })
     }
 
-    /// Starts the integrator chain at (v, v̇, …, v⁽ⁿ⁻¹⁾) = `state`; [`Compensator::reset`]
-    /// returns here.
+    /// Starts the integrator chain at (v, v̇, …, v⁽ⁿ⁻¹⁾) = the first n values of `state` (the
+    /// rest are ignored); [`Compensator::reset`] returns here.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a non-finite value.
+    /// [`Error::InvalidParameter`] for a non-finite value among the first n.
     pub fn with_state(mut self, state: [T; N]) -> Result<Self, Error> {
-        for x in state.iter() {
+        for x in state.iter().take(self.order) {
             crate::error::finite("integrator state", *x)?;
         }
+        let n = self.order;
+        let state = core::array::from_fn(|k| {
+            if k < n {
+                state.get(k).copied().unwrap_or_else(T::zero)
+            } else {
+                T::zero()
+            }
+        });
         self.v = state;
         self.initial_v = state;
         Ok(self)
     }
 
-    /// The integrator chain (v, v̇, …, v⁽ⁿ⁻¹⁾) at the current time.
+    /// The plant order n (the number of integrators and of coefficients a_i).
+    #[must_use]
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// The integrator chain (v, v̇, …, v⁽ⁿ⁻¹⁾) at the current time (entries from n on are 0).
     #[must_use]
     pub fn state(&self) -> [T; N] {
         self.v
@@ -139,19 +173,21 @@ where
         self.last_command
     }
 
-    /// The jet (v, v̇, …, v⁽ⁿ⁾) of the state `v` with v⁽ⁿ⁾ = `u_new`. For n = 0 there is no
-    /// integrator: v = u_new itself.
-    fn jet_of(v: &[T; N], u_new: T) -> Jet<T, N> {
-        let value = if N == 0 {
+    /// The jet (v, v̇, …, v⁽ⁿ⁾, 0, …) of the state `v` of a chain of `n` integrators with
+    /// v⁽ⁿ⁾ = `u_new`. For n = 0 there is no integrator: v = u_new itself.
+    fn jet_of(n: usize, v: &[T; N], u_new: T) -> Jet<T, N> {
+        let value = if n == 0 {
             u_new
         } else {
             v.first().copied().unwrap_or_else(T::zero)
         };
         let d: [T; N] = core::array::from_fn(|i| {
-            if i + 1 < N {
+            if i + 1 < n {
                 v.get(i + 1).copied().unwrap_or_else(T::zero)
-            } else {
+            } else if i + 1 == n {
                 u_new
+            } else {
+                T::zero()
             }
         });
         Jet::from_derivatives(value, d)
@@ -160,21 +196,25 @@ where
     /// Eq. (19) on a jet x of the plant input target: (1/b)(x + Σ a_i x⁽ⁱ⁾).
     fn law(&self, x: &Jet<T, N>) -> T {
         let mut u = x.value();
-        for (a, d) in self.a.iter().zip(x.derivatives().iter()) {
+        for (a, d) in self.a.iter().zip(x.derivatives().iter()).take(self.order) {
             u = u + *a * *d;
         }
         u / self.b
     }
 
-    /// The integrator chain advanced by `dt` with v⁽ⁿ⁾ = `u_new` held constant (exact).
-    fn advanced(v: &[T; N], u_new: T, dt: T) -> [T; N] {
+    /// The chain of `n` integrators advanced by `dt` with v⁽ⁿ⁾ = `u_new` held constant (exact);
+    /// entries from n on stay 0.
+    fn advanced(n: usize, v: &[T; N], u_new: T, dt: T) -> [T; N] {
         core::array::from_fn(|k| {
-            // v^(k)(t + dt) = Σ_{j=0}^{N−1−k} v^(k+j) dt^j / j! + u_new dt^(N−k) / (N−k)!.
+            if k >= n {
+                return T::zero();
+            }
+            // v^(k)(t + dt) = Σ_{j=0}^{n−1−k} v^(k+j) dt^j / j! + u_new dt^(n−k) / (n−k)!.
             let mut sum = T::zero();
             let mut term = T::one();
-            for j in 0..(N - k) {
+            for j in 0..(n - k) {
                 sum = sum + v.get(k + j).copied().unwrap_or_else(T::zero) * term;
-                term = term * dt / T::from_f64((j + 1) as f64);
+                term = term * dt / T::from_usize(j + 1);
             }
             sum + u_new * term
         })
@@ -194,27 +234,28 @@ where
                 value: bad.as_f64(),
             });
         }
-        let jet = Self::jet_of(&self.v, u_new);
+        let n = self.order;
+        let jet = Self::jet_of(n, &self.v, u_new);
         let x = self.inverse.try_step(jet)?;
         let u = self.law(&x);
         self.last_command = u;
         self.last_reference = jet.value();
         self.last_target = x;
         // A turning point of v inside the sample becomes the reversal point exactly there.
-        Self::pass_turning_points(&mut self.inverse, &self.v, u_new, dt);
-        self.v = Self::advanced(&self.v, u_new, dt);
+        Self::pass_turning_points(n, &mut self.inverse, &self.v, u_new, dt);
+        self.v = Self::advanced(n, &self.v, u_new, dt);
         Ok(u)
     }
 
     /// The first time τ in (from, to] where v̇ has changed sign (v̇ is a polynomial of degree
     /// n − 1 in τ while u_new is held), by a scan of 16 sub-intervals and bisection; the point
     /// returned is the first one, to rounding, on the new side of the extremum.
-    fn turning_point_between(v: &[T; N], u_new: T, from: T, to: T) -> Option<T> {
-        if N < 2 || to.partial_cmp(&from) != Some(core::cmp::Ordering::Greater) {
+    fn turning_point_between(n: usize, v: &[T; N], u_new: T, from: T, to: T) -> Option<T> {
+        if n < 2 || to.partial_cmp(&from) != Some(core::cmp::Ordering::Greater) {
             return None;
         }
         let rate = |tau: T| {
-            Self::advanced(v, u_new, tau)
+            Self::advanced(n, v, u_new, tau)
                 .get(1)
                 .copied()
                 .unwrap_or_else(T::zero)
@@ -226,7 +267,7 @@ where
         const SCAN: usize = 16;
         let mut lo = from;
         for i in 1..=SCAN {
-            let hi = from + (to - from) * T::from_f64(i as f64 / SCAN as f64);
+            let hi = from + (to - from) * (T::from_usize(i) / T::from_usize(SCAN));
             let r = rate(hi);
             if r * r0 < T::zero() {
                 let mut a = lo;
@@ -253,13 +294,19 @@ where
     /// Commits to `inverse` the turning points of v in (0, `until`) (at most 4 per sample), so
     /// that the reversal point of Definition 2.1 is the true extremum of v and not the sample
     /// after it.
-    fn pass_turning_points(inverse: &mut InverseModel<T, I, K, O>, v: &[T; N], u_new: T, until: T) {
+    fn pass_turning_points(
+        n: usize,
+        inverse: &mut InverseModel<T, I, K, O>,
+        v: &[T; N],
+        u_new: T,
+        until: T,
+    ) {
         let mut from = T::zero();
         for _ in 0..4 {
-            match Self::turning_point_between(v, u_new, from, until) {
+            match Self::turning_point_between(n, v, u_new, from, until) {
                 Some(tau) => {
-                    let state = Self::advanced(v, u_new, tau);
-                    let at = Self::jet_of(&state, u_new);
+                    let state = Self::advanced(n, v, u_new, tau);
+                    let at = Self::jet_of(n, &state, u_new);
                     // Evaluate at the extremum without its derivatives, so the direction rule
                     // sees a continuation of the current run.
                     let _ = inverse.try_step(Jet::<T, N>::constant(at.value()));
@@ -286,7 +333,7 @@ where
     /// jumps (Proposition 2.7: second and higher derivatives are discontinuous at reversals).
     #[must_use]
     pub fn turning_point(&self, u_new: T, dt: T) -> Option<T> {
-        Self::turning_point_between(&self.v, u_new, T::zero(), dt)
+        Self::turning_point_between(self.order, &self.v, u_new, T::zero(), dt)
     }
 
     /// The command at t + `tau` (0 ≤ tau ≤ the sample time) if `u_new` is held, without changing
@@ -301,10 +348,11 @@ where
                 value: u_new.as_f64(),
             });
         }
-        let v = Self::advanced(&self.v, u_new, tau);
+        let n = self.order;
+        let v = Self::advanced(n, &self.v, u_new, tau);
         let mut inverse = self.inverse.clone();
-        Self::pass_turning_points(&mut inverse, &self.v, u_new, tau);
-        let x = inverse.try_step(Self::jet_of(&v, u_new))?;
+        Self::pass_turning_points(n, &mut inverse, &self.v, u_new, tau);
+        let x = inverse.try_step(Self::jet_of(n, &v, u_new))?;
         Ok(self.law(&x))
     }
 
@@ -318,8 +366,11 @@ where
         let x = self.inverse.try_step(reference)?;
         let u = self.law(&x);
         let d = reference.derivatives();
+        let n = self.order;
         self.v = core::array::from_fn(|k| {
-            if k == 0 {
+            if k >= n {
+                T::zero()
+            } else if k == 0 {
                 reference.value()
             } else {
                 d.get(k - 1).copied().unwrap_or_else(T::zero)
@@ -369,6 +420,33 @@ mod tests {
             let u = c.track(Jet::constant(r))?;
             assert!((u - inv.step(r) / 2.0).abs() < 1e-15);
         }
+        Ok(())
+    }
+
+    #[test]
+    fn a_run_time_order_equals_the_const_order() -> Result<(), Error> {
+        // Compensator<_, 4> with n = 1 or 2 chosen at run time gives the const-order results bit
+        // for bit (jets of order 4 whose derivatives above n are 0 leave the first n unchanged).
+        let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+        let mut c2 = Compensator::from_model(&model, 1.5, [0.9, 1.0])?.with_state([0.1, 0.0])?;
+        let mut c4 = Compensator::<f64, 4>::with_order(model.inverse(), 1.5, &[0.9, 1.0])?
+            .with_state([0.1, 0.0, 7.0, 7.0])?;
+        let mut c1 = Compensator::from_model(&model, 1.5, [0.9])?;
+        let mut c4_1 = Compensator::<f64, 4>::with_order(model.inverse(), 1.5, &[0.9])?;
+        assert_eq!((c4.order(), c4_1.order()), (2, 1));
+        assert_eq!(c4.state(), [0.1, 0.0, 0.0, 0.0]); // entries from n on are ignored
+        for k in 0..4000 {
+            let u_new = 3.0 * (k as f64 * 0.003).sin() + (k as f64 * 0.021).cos();
+            let (a, b) = (c2.try_step(u_new, 1e-3)?, c4.try_step(u_new, 1e-3)?);
+            assert_eq!(a.to_bits(), b.to_bits(), "n = 2, sample {k}");
+            let (a, b) = (c1.try_step(u_new, 1e-3)?, c4_1.try_step(u_new, 1e-3)?);
+            assert_eq!(a.to_bits(), b.to_bits(), "n = 1, sample {k}");
+        }
+        assert_eq!(&c4.state()[..2], &c2.state()[..]);
+        assert!(matches!(
+            Compensator::<f64, 2>::with_order(model.inverse(), 1.0, &[1.0, 2.0, 3.0]),
+            Err(Error::LengthMismatch { input: 3, output: 2 })
+        ));
         Ok(())
     }
 

@@ -65,7 +65,7 @@ impl<T: Real, const N: usize> Jet<T, N> {
         let mut d = derivatives;
         let mut factorial = T::one();
         for (k, c) in d.iter_mut().enumerate() {
-            factorial = factorial * T::from_f64((k + 1) as f64);
+            factorial = factorial * T::from_usize(k + 1);
             *c = *c / factorial;
         }
         Self { v: value, d }
@@ -93,7 +93,7 @@ impl<T: Real, const N: usize> Jet<T, N> {
         let mut d = self.d;
         let mut factorial = T::one();
         for (k, c) in d.iter_mut().enumerate() {
-            factorial = factorial * T::from_f64((k + 1) as f64);
+            factorial = factorial * T::from_usize(k + 1);
             *c = *c * factorial;
         }
         d
@@ -154,9 +154,9 @@ impl<T: Real, const N: usize> Jet<T, N> {
         for k in 1..=N {
             let mut s = T::zero();
             for j in 1..=k {
-                s = s + T::from_f64(j as f64) * self.c(j) * e.c(k - j);
+                s = s + T::from_usize(j) * self.c(j) * e.c(k - j);
             }
-            e.set(k, s / T::from_f64(k as f64));
+            e.set(k, s / T::from_usize(k));
         }
         e
     }
@@ -168,9 +168,9 @@ impl<T: Real, const N: usize> Jet<T, N> {
         for k in 1..=N {
             let mut s = T::zero();
             for j in 1..k {
-                s = s + T::from_f64(j as f64) * l.c(j) * self.c(k - j);
+                s = s + T::from_usize(j) * l.c(j) * self.c(k - j);
             }
-            l.set(k, (self.c(k) - s / T::from_f64(k as f64)) / self.v);
+            l.set(k, (self.c(k) - s / T::from_usize(k)) / self.v);
         }
         l
     }

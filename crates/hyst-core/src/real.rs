@@ -16,6 +16,9 @@ pub trait Real:
     fn from_f64(x: f64) -> Self;
     /// Converts this value to `f64` (exact for both implementations).
     fn as_f64(self) -> f64;
+    /// Converts a small count (a derivative order, a factorial factor) to this type without
+    /// going through `f64` (an `f32`-only FPU has no double arithmetic); exact below 2^24.
+    fn from_usize(n: usize) -> Self;
     /// Principal branch of the Lambert W function for `x ≥ 0`, by Fukushima's minimax method
     /// (the `lambert_w` crate): 50 bits for `f64`, 24 bits for `f32`.
     fn lambert_w0_fukushima(self) -> Self;
@@ -34,6 +37,10 @@ impl Real for f64 {
         self
     }
     #[inline]
+    fn from_usize(n: usize) -> Self {
+        n as f64
+    }
+    #[inline]
     fn lambert_w0_fukushima(self) -> Self {
         lambert_w::lambert_w0(self)
     }
@@ -48,6 +55,10 @@ impl Real for f32 {
     #[inline]
     fn as_f64(self) -> f64 {
         f64::from(self)
+    }
+    #[inline]
+    fn from_usize(n: usize) -> Self {
+        n as f32
     }
     #[inline]
     fn lambert_w0_fukushima(self) -> Self {
