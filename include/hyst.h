@@ -173,11 +173,18 @@ typedef struct hyst_model_params_f32 {
   struct hyst_shaping_f32 output;
 } hyst_model_params_f32;
 
-// The Lemma 5.1 compensator for a plant b / (a_n sⁿ + … + a_1 s + 1), n ≤ 4, before the
-// hysteresis: an opaque block of 256 bytes, 8-byte aligned, plain data.
+// The Lemma 5.1 compensator of the plain operator H(k1, k2) for a plant
+// b / (a_n sⁿ + … + a_1 s + 1), n ≤ 4, before the hysteresis: an opaque block of 160 bytes,
+// 8-byte aligned, plain data.
 typedef struct hyst_compensator_f32 {
-  uint64_t opaque[32];
+  uint64_t opaque[20];
 } hyst_compensator_f32;
+
+// The Lemma 5.1 compensator of a shaped model (`hyst_model_params_f32`), n ≤ 4: an opaque block of
+// 512 bytes, 8-byte aligned, plain data.
+typedef struct hyst_shaped_compensator_f32 {
+  uint64_t opaque[32];
+} hyst_shaped_compensator_f32;
 
 // The parametric operator H(k1, k2) (eq. 2) or H⁻¹(k1, k2) (eq. 4) with its memory: an opaque
 // block of 128 bytes, 8-byte aligned, plain data (copyable with memcpy).
@@ -267,11 +274,18 @@ typedef struct hyst_model_params {
   struct hyst_shaping output;
 } hyst_model_params;
 
-// The Lemma 5.1 compensator for a plant b / (a_n sⁿ + … + a_1 s + 1), n ≤ 4, before the
-// hysteresis: an opaque block of 512 bytes, 8-byte aligned, plain data.
+// The Lemma 5.1 compensator of the plain operator H(k1, k2) for a plant
+// b / (a_n sⁿ + … + a_1 s + 1), n ≤ 4, before the hysteresis: an opaque block of 320 bytes,
+// 8-byte aligned, plain data.
 typedef struct hyst_compensator {
-  uint64_t opaque[64];
+  uint64_t opaque[40];
 } hyst_compensator;
+
+// The Lemma 5.1 compensator of a shaped model (`hyst_model_params`), n ≤ 4: an opaque block of
+// 512 bytes, 8-byte aligned, plain data.
+typedef struct hyst_shaped_compensator {
+  uint64_t opaque[64];
+} hyst_shaped_compensator;
 
 #ifdef __cplusplus
 extern "C" {
@@ -416,20 +430,21 @@ int32_t hyst_shaped_model_set_memory_f32(struct hyst_shaped_model_f32 *m,
 // `m` is NULL or an initialised `hyst_shaped_model_f32`.
 int32_t hyst_shaped_model_reset_f32(struct hyst_shaped_model_f32 *m);
 
-// Initialises `c` as the Lemma 5.1 compensator of the shaped model `params` for the plant
+// Initialises `c` as the Lemma 5.1 compensator of the plain operator H(k1, k2) for the plant
 // b / (a_n sⁿ + … + a_1 s + 1) before the hysteresis: `a` = [a_1, …, a_n], n ≤ 4 (NULL when
 // n = 0). The integrators v, v̇, …, v⁽ⁿ⁻¹⁾ start at `v0` (n values), or at 0 when `v0` is NULL;
 // `hyst_compensator_reset_f32` returns there.
 //
-// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_LENGTH` (n > 4),
-// `HYST_ERR_INVALID_PARAMETER` (b zero or not finite, a non-finite coefficient or state, bad
-// model parameters) or `HYST_ERR_NOT_MONOTONE`.
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_LENGTH` (n > 4), or
+// `HYST_ERR_INVALID_PARAMETER` (k1, k2 not finite and > 0, b zero or not finite, a non-finite
+// coefficient or start); `c` is then untouched.
 //
 // # Safety
-// `c` is NULL or points to a writable `hyst_compensator_f32`; `params` is NULL or readable; `a` and
-// `v0` are NULL or hold n values.
+// `c` is NULL or points to a writable `hyst_compensator_f32`; `a` and `v0` are NULL or hold n
+// values.
 int32_t hyst_compensator_init_f32(struct hyst_compensator_f32 *c,
-                                  const struct hyst_model_params_f32 *params,
+                                  float k1,
+                                  float k2,
                                   float b,
                                   const float *a,
                                   const float *v0,
@@ -438,8 +453,8 @@ int32_t hyst_compensator_init_f32(struct hyst_compensator_f32 *c,
 // One sample: `*u` = the command u(t) of eq. (19) for the new input v⁽ⁿ⁾ = `u_new`, then the
 // integrators advance by `dt` seconds (exactly, with u_new held). With the exact model the
 // plant's hysteresis output follows v, n integrators behind u_new (eq. 20). A non-finite
-// `u_new` or `dt` (or dt < 0), or a reference beyond a saturating shaping function, returns
-// its status, leaves the state unchanged and writes the last command to `*u`.
+// `u_new` or `dt` (or dt < 0) returns `HYST_ERR_NON_FINITE`, leaves the state unchanged and
+// writes the last command to `*u`.
 //
 // # Safety
 // `c` is NULL or an initialised `hyst_compensator_f32`; `u` is NULL or writable.
@@ -456,8 +471,8 @@ int32_t hyst_compensator_track_f32(struct hyst_compensator_f32 *c,
                                    const float *reference,
                                    float *u);
 
-// Copies the integrators (v, v̇, …, v⁽ⁿ⁻¹⁾) into `v` (n values; nothing when n = 0) and the
-// memory of the inverse model's operator into `*memory` (when not NULL).
+// Copies the integrators (v, v̇, …, v⁽ⁿ⁻¹⁾) into `v` (n values; may be NULL when n = 0) and the
+// memory of the compensator's inverse operator into `*memory` (when not NULL).
 //
 // # Safety
 // `c` is NULL or an initialised `hyst_compensator_f32`; `v` is NULL or holds n values; `memory` is
@@ -466,11 +481,59 @@ int32_t hyst_compensator_get_state_f32(struct hyst_compensator_f32 *c,
                                        float *v,
                                        struct hyst_memory_f32 *memory);
 
-// Back to the initial integrator state, and the inverse model's memory forgotten.
+// Back to the initial integrator state, and the inverse operator's memory forgotten.
 //
 // # Safety
 // `c` is NULL or an initialised `hyst_compensator_f32`.
 int32_t hyst_compensator_reset_f32(struct hyst_compensator_f32 *c);
+
+// Initialises `c` as the Lemma 5.1 compensator of the shaped model `params`, as
+// `hyst_compensator_init_f32` (which it equals for identity shaping and constant k2). Also returns
+// `HYST_ERR_NOT_MONOTONE` for a shaping function that is not increasing.
+//
+// # Safety
+// `c` is NULL or points to a writable `hyst_shaped_compensator_f32`; `params` is NULL or readable;
+// `a` and `v0` are NULL or hold n values.
+int32_t hyst_shaped_compensator_init_f32(struct hyst_shaped_compensator_f32 *c,
+                                         const struct hyst_model_params_f32 *params,
+                                         float b,
+                                         const float *a,
+                                         const float *v0,
+                                         size_t n);
+
+// One sample, as `hyst_compensator_step_f32`; also `HYST_ERR_OUT_OF_RANGE` for a reference beyond a
+// saturating output shaping function.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_shaped_compensator_f32`; `u` is NULL or writable.
+int32_t hyst_shaped_compensator_step_f32(struct hyst_shaped_compensator_f32 *c,
+                                         float u_new,
+                                         float dt,
+                                         float *u);
+
+// Reference-trajectory mode, as `hyst_compensator_track_f32`.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_shaped_compensator_f32`; `reference` is NULL or holds n + 1
+// values; `u` is NULL or writable.
+int32_t hyst_shaped_compensator_track_f32(struct hyst_shaped_compensator_f32 *c,
+                                          const float *reference,
+                                          float *u);
+
+// The integrators and the inverse model's memory, as `hyst_compensator_get_state_f32`.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_shaped_compensator_f32`; `v` is NULL or holds n values;
+// `memory` is NULL or writable.
+int32_t hyst_shaped_compensator_get_state_f32(struct hyst_shaped_compensator_f32 *c,
+                                              float *v,
+                                              struct hyst_memory_f32 *memory);
+
+// Back to the initial integrator state, and the inverse model's memory forgotten.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_shaped_compensator_f32`.
+int32_t hyst_shaped_compensator_reset_f32(struct hyst_shaped_compensator_f32 *c);
 
 // Initialises `op` as the direct operator u = H(k1, k2)[v] (eq. 2), with no history (its first
 // sample is a reversal point on the line u = v).
@@ -608,20 +671,21 @@ int32_t hyst_shaped_model_set_memory(struct hyst_shaped_model *m, const struct h
 // `m` is NULL or an initialised `hyst_shaped_model`.
 int32_t hyst_shaped_model_reset(struct hyst_shaped_model *m);
 
-// Initialises `c` as the Lemma 5.1 compensator of the shaped model `params` for the plant
+// Initialises `c` as the Lemma 5.1 compensator of the plain operator H(k1, k2) for the plant
 // b / (a_n sⁿ + … + a_1 s + 1) before the hysteresis: `a` = [a_1, …, a_n], n ≤ 4 (NULL when
 // n = 0). The integrators v, v̇, …, v⁽ⁿ⁻¹⁾ start at `v0` (n values), or at 0 when `v0` is NULL;
 // `hyst_compensator_reset` returns there.
 //
-// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_LENGTH` (n > 4),
-// `HYST_ERR_INVALID_PARAMETER` (b zero or not finite, a non-finite coefficient or state, bad
-// model parameters) or `HYST_ERR_NOT_MONOTONE`.
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_LENGTH` (n > 4), or
+// `HYST_ERR_INVALID_PARAMETER` (k1, k2 not finite and > 0, b zero or not finite, a non-finite
+// coefficient or start); `c` is then untouched.
 //
 // # Safety
-// `c` is NULL or points to a writable `hyst_compensator`; `params` is NULL or readable; `a` and
-// `v0` are NULL or hold n values.
+// `c` is NULL or points to a writable `hyst_compensator`; `a` and `v0` are NULL or hold n
+// values.
 int32_t hyst_compensator_init(struct hyst_compensator *c,
-                              const struct hyst_model_params *params,
+                              double k1,
+                              double k2,
                               double b,
                               const double *a,
                               const double *v0,
@@ -630,8 +694,8 @@ int32_t hyst_compensator_init(struct hyst_compensator *c,
 // One sample: `*u` = the command u(t) of eq. (19) for the new input v⁽ⁿ⁾ = `u_new`, then the
 // integrators advance by `dt` seconds (exactly, with u_new held). With the exact model the
 // plant's hysteresis output follows v, n integrators behind u_new (eq. 20). A non-finite
-// `u_new` or `dt` (or dt < 0), or a reference beyond a saturating shaping function, returns
-// its status, leaves the state unchanged and writes the last command to `*u`.
+// `u_new` or `dt` (or dt < 0) returns `HYST_ERR_NON_FINITE`, leaves the state unchanged and
+// writes the last command to `*u`.
 //
 // # Safety
 // `c` is NULL or an initialised `hyst_compensator`; `u` is NULL or writable.
@@ -646,8 +710,8 @@ int32_t hyst_compensator_step(struct hyst_compensator *c, double u_new, double d
 // `u` is NULL or writable.
 int32_t hyst_compensator_track(struct hyst_compensator *c, const double *reference, double *u);
 
-// Copies the integrators (v, v̇, …, v⁽ⁿ⁻¹⁾) into `v` (n values; nothing when n = 0) and the
-// memory of the inverse model's operator into `*memory` (when not NULL).
+// Copies the integrators (v, v̇, …, v⁽ⁿ⁻¹⁾) into `v` (n values; may be NULL when n = 0) and the
+// memory of the compensator's inverse operator into `*memory` (when not NULL).
 //
 // # Safety
 // `c` is NULL or an initialised `hyst_compensator`; `v` is NULL or holds n values; `memory` is
@@ -656,11 +720,59 @@ int32_t hyst_compensator_get_state(struct hyst_compensator *c,
                                    double *v,
                                    struct hyst_memory *memory);
 
-// Back to the initial integrator state, and the inverse model's memory forgotten.
+// Back to the initial integrator state, and the inverse operator's memory forgotten.
 //
 // # Safety
 // `c` is NULL or an initialised `hyst_compensator`.
 int32_t hyst_compensator_reset(struct hyst_compensator *c);
+
+// Initialises `c` as the Lemma 5.1 compensator of the shaped model `params`, as
+// `hyst_compensator_init` (which it equals for identity shaping and constant k2). Also returns
+// `HYST_ERR_NOT_MONOTONE` for a shaping function that is not increasing.
+//
+// # Safety
+// `c` is NULL or points to a writable `hyst_shaped_compensator`; `params` is NULL or readable;
+// `a` and `v0` are NULL or hold n values.
+int32_t hyst_shaped_compensator_init(struct hyst_shaped_compensator *c,
+                                     const struct hyst_model_params *params,
+                                     double b,
+                                     const double *a,
+                                     const double *v0,
+                                     size_t n);
+
+// One sample, as `hyst_compensator_step`; also `HYST_ERR_OUT_OF_RANGE` for a reference beyond a
+// saturating output shaping function.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_shaped_compensator`; `u` is NULL or writable.
+int32_t hyst_shaped_compensator_step(struct hyst_shaped_compensator *c,
+                                     double u_new,
+                                     double dt,
+                                     double *u);
+
+// Reference-trajectory mode, as `hyst_compensator_track`.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_shaped_compensator`; `reference` is NULL or holds n + 1
+// values; `u` is NULL or writable.
+int32_t hyst_shaped_compensator_track(struct hyst_shaped_compensator *c,
+                                      const double *reference,
+                                      double *u);
+
+// The integrators and the inverse model's memory, as `hyst_compensator_get_state`.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_shaped_compensator`; `v` is NULL or holds n values;
+// `memory` is NULL or writable.
+int32_t hyst_shaped_compensator_get_state(struct hyst_shaped_compensator *c,
+                                          double *v,
+                                          struct hyst_memory *memory);
+
+// Back to the initial integrator state, and the inverse model's memory forgotten.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_shaped_compensator`.
+int32_t hyst_shaped_compensator_reset(struct hyst_shaped_compensator *c);
 
 // Loads and checks a model file. Returns NULL on failure and writes the reason (naming the
 // file, and the line and key where the file is wrong) into `error` (`error_len` bytes,

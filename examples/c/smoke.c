@@ -5,7 +5,7 @@
  *
  * The firmware part in double and float: the operator pair (hyst_operator_*), the shaped model
  * with a polynomial input shaping and an affine output shaping (hyst_shaped_model_*) and the
- * Lemma 5.1 compensator for a plant of order 2 (hyst_compensator_*); each bad argument (NULL,
+ * Lemma 5.1 compensator for a plant of order 2 (hyst_shaped_compensator_*); each bad argument (NULL,
  * misaligned or uninitialised state, NaN, derivative order 5) and its documented status. With a
  * model file (from `hyst fit`), also the host part (hyst_model_*). Prints one line per failed
  * check and the summary `smoke: N passed, M failed`; exits 1 on any failure.
@@ -531,8 +531,8 @@ static void compensator(void)
     const float b32 = 1.3f, a32[2] = {0.9f, 1.0f}, v032[2] = {0.2f, 0.0f};
     hyst_model_params p = params_f64();
     hyst_model_params_f32 q = params_f32();
-    hyst_compensator c;
-    hyst_compensator_f32 c32;
+    hyst_shaped_compensator c;
+    hyst_shaped_compensator_f32 c32;
     hyst_shaped_model inv, direct;
     hyst_memory mem;
     double worst_u = 0, worst_v = 0, worst_f32 = 0, v[2], u, x[3], jet[3];
@@ -540,13 +540,13 @@ static void compensator(void)
     int k, ok = 1, history = 1;
 
     /* at rest at v = 0.2, then v'' = 0.5: v rises monotonically */
-    EXPECT(hyst_compensator_init(&c, &p, b, a, v0, 2), HYST_OK);
+    EXPECT(hyst_shaped_compensator_init(&c, &p, b, a, v0, 2), HYST_OK);
     EXPECT(hyst_shaped_model_init_inverse(&inv, &p), HYST_OK);
     EXPECT(hyst_shaped_model_init_direct(&direct, &p), HYST_OK);
     for (k = 0; k < 1000; k++) {
         double back;
-        ok &= hyst_compensator_get_state(&c, v, NULL) == HYST_OK;
-        ok &= hyst_compensator_step(&c, 0.5, dt, &u) == HYST_OK;
+        ok &= hyst_shaped_compensator_get_state(&c, v, NULL) == HYST_OK;
+        ok &= hyst_shaped_compensator_step(&c, 0.5, dt, &u) == HYST_OK;
         jet[0] = v[0];
         jet[1] = v[1];
         jet[2] = 0.5;
@@ -558,21 +558,21 @@ static void compensator(void)
     CHECK(ok);
     CHECK(worst_u <= 1e-12);
     CHECK(worst_v <= 1e-12);
-    EXPECT(hyst_compensator_get_state(&c, v, NULL), HYST_OK);
+    EXPECT(hyst_shaped_compensator_get_state(&c, v, NULL), HYST_OK);
     CLOSE(v[0], 0.2 + 0.5 * 0.5 * 1.0 * 1.0, 1e-12); /* exact integrators: v0 + a t^2 / 2 */
     CLOSE(v[1], 0.5 * 1.0, 1e-12);
 
     /* an oscillating v'' (v turns): each command from the compensator's own memory, and the
      * float twin alongside */
-    EXPECT(hyst_compensator_init(&c, &p, b, a, v0, 2), HYST_OK);
-    EXPECT(hyst_compensator_init_f32(&c32, &q, b32, a32, v032, 2), HYST_OK);
+    EXPECT(hyst_shaped_compensator_init(&c, &p, b, a, v0, 2), HYST_OK);
+    EXPECT(hyst_shaped_compensator_init_f32(&c32, &q, b32, a32, v032, 2), HYST_OK);
     worst_u = 0;
     for (k = 0; k < 3000; k++) {
         double u_new = 2.0 * sin(k * 0.004);
-        ok &= hyst_compensator_get_state(&c, v, &mem) == HYST_OK;
+        ok &= hyst_shaped_compensator_get_state(&c, v, &mem) == HYST_OK;
         ok &= hyst_shaped_model_set_memory(&inv, &mem) == HYST_OK;
-        ok &= hyst_compensator_step(&c, u_new, dt, &u) == HYST_OK;
-        ok &= hyst_compensator_step_f32(&c32, (float)u_new, (float)dt, &u32) == HYST_OK;
+        ok &= hyst_shaped_compensator_step(&c, u_new, dt, &u) == HYST_OK;
+        ok &= hyst_shaped_compensator_step_f32(&c32, (float)u_new, (float)dt, &u32) == HYST_OK;
         jet[0] = v[0];
         jet[1] = v[1];
         jet[2] = u_new;
@@ -580,14 +580,14 @@ static void compensator(void)
         worst_u = worse(worst_u, u, (x[0] + a[0] * x[1] + a[1] * x[2]) / b);
         worst_f32 = worse(worst_f32, u32, u);
     }
-    ok &= hyst_compensator_get_state(&c, v, &mem) == HYST_OK;
+    ok &= hyst_shaped_compensator_get_state(&c, v, &mem) == HYST_OK;
     history &= mem.has_history == 1;
     CHECK(ok);
     CHECK(history);
     CHECK(worst_u <= 1e-12);
     CHECK(worst_f32 <= 1e-5);
-    EXPECT(hyst_compensator_get_state_f32(&c32, v32, NULL), HYST_OK);
-    EXPECT(hyst_compensator_get_state(&c, v, NULL), HYST_OK);
+    EXPECT(hyst_shaped_compensator_get_state_f32(&c32, v32, NULL), HYST_OK);
+    EXPECT(hyst_shaped_compensator_get_state(&c, v, NULL), HYST_OK);
     CLOSE(v32[0], v[0], 1e-5);
     CLOSE(v32[1], v[1], 1e-5);
 
@@ -595,62 +595,62 @@ static void compensator(void)
     {
         double reference[3] = {0.3, 0.5, -0.1};
         float reference32[3] = {0.3f, 0.5f, -0.1f};
-        EXPECT(hyst_compensator_get_state(&c, NULL, &mem), HYST_ERR_NULL_POINTER);
-        EXPECT(hyst_compensator_get_state(&c, v, &mem), HYST_OK);
+        EXPECT(hyst_shaped_compensator_get_state(&c, NULL, &mem), HYST_ERR_NULL_POINTER);
+        EXPECT(hyst_shaped_compensator_get_state(&c, v, &mem), HYST_OK);
         EXPECT(hyst_shaped_model_set_memory(&inv, &mem), HYST_OK);
-        EXPECT(hyst_compensator_track(&c, reference, &u), HYST_OK);
-        EXPECT(hyst_compensator_track_f32(&c32, reference32, &u32), HYST_OK);
+        EXPECT(hyst_shaped_compensator_track(&c, reference, &u), HYST_OK);
+        EXPECT(hyst_shaped_compensator_track_f32(&c32, reference32, &u32), HYST_OK);
         EXPECT(hyst_shaped_model_step_derivatives(&inv, reference, x, 2), HYST_OK);
         CLOSE(u, (x[0] + a[0] * x[1] + a[1] * x[2]) / b, 1e-12);
         CLOSE(u32, u, 1e-5);
-        EXPECT(hyst_compensator_get_state(&c, v, NULL), HYST_OK);
+        EXPECT(hyst_shaped_compensator_get_state(&c, v, NULL), HYST_OK);
         CHECK(v[0] == 0.3 && v[1] == 0.5);
     }
 
     /* reset: back to v0, memory forgotten; a refused sample holds the last command (0 after a
      * reset) and changes nothing */
-    EXPECT(hyst_compensator_reset(&c), HYST_OK);
-    EXPECT(hyst_compensator_reset_f32(&c32), HYST_OK);
-    EXPECT(hyst_compensator_get_state(&c, v, &mem), HYST_OK);
+    EXPECT(hyst_shaped_compensator_reset(&c), HYST_OK);
+    EXPECT(hyst_shaped_compensator_reset_f32(&c32), HYST_OK);
+    EXPECT(hyst_shaped_compensator_get_state(&c, v, &mem), HYST_OK);
     CHECK(v[0] == v0[0] && v[1] == v0[1] && mem.has_history == 0);
     u = 42.0;
-    EXPECT(hyst_compensator_step(&c, NAN, dt, &u), HYST_ERR_NON_FINITE);
+    EXPECT(hyst_shaped_compensator_step(&c, NAN, dt, &u), HYST_ERR_NON_FINITE);
     CHECK(u == 0.0);
-    EXPECT(hyst_compensator_step(&c, 1.0, -dt, &u), HYST_ERR_NON_FINITE);
-    EXPECT(hyst_compensator_step(&c, 1.0, INFINITY, &u), HYST_ERR_NON_FINITE);
-    EXPECT(hyst_compensator_step_f32(&c32, NAN, 1e-3f, &u32), HYST_ERR_NON_FINITE);
-    EXPECT(hyst_compensator_get_state(&c, v, &mem), HYST_OK);
+    EXPECT(hyst_shaped_compensator_step(&c, 1.0, -dt, &u), HYST_ERR_NON_FINITE);
+    EXPECT(hyst_shaped_compensator_step(&c, 1.0, INFINITY, &u), HYST_ERR_NON_FINITE);
+    EXPECT(hyst_shaped_compensator_step_f32(&c32, NAN, 1e-3f, &u32), HYST_ERR_NON_FINITE);
+    EXPECT(hyst_shaped_compensator_get_state(&c, v, &mem), HYST_OK);
     CHECK(v[0] == v0[0] && v[1] == v0[1] && mem.has_history == 0);
     {
         double reference[3] = {0.3, NAN, 0.0};
         u = 42.0;
-        EXPECT(hyst_compensator_track(&c, reference, &u), HYST_ERR_NON_FINITE);
+        EXPECT(hyst_shaped_compensator_track(&c, reference, &u), HYST_ERR_NON_FINITE);
         CHECK(u == 42.0);
     }
 
     /* init: bad plants and orders */
-    EXPECT(hyst_compensator_init(&c, &p, 0.0, a, NULL, 2), HYST_ERR_INVALID_PARAMETER);
-    EXPECT(hyst_compensator_init(&c, &p, NAN, a, NULL, 2), HYST_ERR_INVALID_PARAMETER);
+    EXPECT(hyst_shaped_compensator_init(&c, &p, 0.0, a, NULL, 2), HYST_ERR_INVALID_PARAMETER);
+    EXPECT(hyst_shaped_compensator_init(&c, &p, NAN, a, NULL, 2), HYST_ERR_INVALID_PARAMETER);
     {
         double a_nan[2] = {0.9, NAN}, v_inf[2] = {INFINITY, 0.0};
-        EXPECT(hyst_compensator_init(&c, &p, b, a_nan, NULL, 2), HYST_ERR_INVALID_PARAMETER);
-        EXPECT(hyst_compensator_init(&c, &p, b, a, v_inf, 2), HYST_ERR_INVALID_PARAMETER);
+        EXPECT(hyst_shaped_compensator_init(&c, &p, b, a_nan, NULL, 2), HYST_ERR_INVALID_PARAMETER);
+        EXPECT(hyst_shaped_compensator_init(&c, &p, b, a, v_inf, 2), HYST_ERR_INVALID_PARAMETER);
     }
     {
         double a5[5] = {1, 1, 1, 1, 1};
         float a5f[5] = {1, 1, 1, 1, 1};
-        EXPECT(hyst_compensator_init(&c, &p, b, a5, NULL, 5), HYST_ERR_LENGTH);
-        EXPECT(hyst_compensator_init_f32(&c32, &q, b32, a5f, NULL, 5), HYST_ERR_LENGTH);
-        EXPECT(hyst_compensator_init(&c, &p, b, a5, NULL, 4), HYST_OK);
+        EXPECT(hyst_shaped_compensator_init(&c, &p, b, a5, NULL, 5), HYST_ERR_LENGTH);
+        EXPECT(hyst_shaped_compensator_init_f32(&c32, &q, b32, a5f, NULL, 5), HYST_ERR_LENGTH);
+        EXPECT(hyst_shaped_compensator_init(&c, &p, b, a5, NULL, 4), HYST_OK);
     }
-    EXPECT(hyst_compensator_init(&c, &p, b, NULL, NULL, 2), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_init(&c, NULL, b, a, NULL, 2), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_init(&c, &p, b, NULL, NULL, 2), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_init(&c, NULL, b, a, NULL, 2), HYST_ERR_NULL_POINTER);
     /* n = 0: no integrators, u = x / b */
-    EXPECT(hyst_compensator_init(&c, &p, b, NULL, NULL, 0), HYST_OK);
-    EXPECT(hyst_compensator_get_state(&c, NULL, NULL), HYST_OK);
-    EXPECT(hyst_compensator_init(&c, &p, b, a, NULL, 2), HYST_OK);
-    EXPECT(hyst_compensator_get_state(&c, NULL, NULL), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_get_state(&c, v, NULL), HYST_OK);
+    EXPECT(hyst_shaped_compensator_init(&c, &p, b, NULL, NULL, 0), HYST_OK);
+    EXPECT(hyst_shaped_compensator_get_state(&c, NULL, NULL), HYST_OK);
+    EXPECT(hyst_shaped_compensator_init(&c, &p, b, a, NULL, 2), HYST_OK);
+    EXPECT(hyst_shaped_compensator_get_state(&c, NULL, NULL), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_get_state(&c, v, NULL), HYST_OK);
     CHECK(v[0] == 0.0 && v[1] == 0.0); /* v0 NULL: at rest at 0 */
 }
 
@@ -666,8 +666,8 @@ static void bad_arguments(void)
     hyst_operator_f32 op32, zero_op32;
     hyst_shaped_model zero_m;
     hyst_shaped_model_f32 zero_m32;
-    hyst_compensator zero_c;
-    hyst_compensator_f32 zero_c32;
+    hyst_shaped_compensator zero_c;
+    hyst_shaped_compensator_f32 zero_c32;
     hyst_memory mem, before, after;
     hyst_memory_f32 mem32;
     hyst_model_params p = params_f64();
@@ -718,16 +718,16 @@ static void bad_arguments(void)
     EXPECT(hyst_shaped_model_get_memory_f32(NULL, &mem32), HYST_ERR_NULL_POINTER);
     EXPECT(hyst_shaped_model_set_memory_f32(NULL, &mem32), HYST_ERR_NULL_POINTER);
     EXPECT(hyst_shaped_model_reset_f32(NULL), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_init(NULL, &p, 1.0, NULL, NULL, 0), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_step(NULL, 0.1, 1e-3, &y), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_track(NULL, xs, &y), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_get_state(NULL, ys, &mem), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_reset(NULL), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_init_f32(NULL, &q, 1.0f, NULL, NULL, 0), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_step_f32(NULL, 0.1f, 1e-3f, &y32), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_track_f32(NULL, xs32, &y32), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_get_state_f32(NULL, ys32, &mem32), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_reset_f32(NULL), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_init(NULL, &p, 1.0, NULL, NULL, 0), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_step(NULL, 0.1, 1e-3, &y), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_track(NULL, xs, &y), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_get_state(NULL, ys, &mem), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_reset(NULL), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_init_f32(NULL, &q, 1.0f, NULL, NULL, 0), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_step_f32(NULL, 0.1f, 1e-3f, &y32), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_track_f32(NULL, xs32, &y32), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_get_state_f32(NULL, ys32, &mem32), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_reset_f32(NULL), HYST_ERR_NULL_POINTER);
 
     /* NULL data pointers with a valid state; n = 0 needs none */
     EXPECT(hyst_operator_init_direct(&op, 0.2, 8.0), HYST_OK);
@@ -745,7 +745,7 @@ static void bad_arguments(void)
     EXPECT(hyst_operator_get_memory_f32(&op32, NULL), HYST_ERR_NULL_POINTER);
     EXPECT(hyst_shaped_model_init_direct(&zero_m, NULL), HYST_ERR_NULL_POINTER);
     EXPECT(hyst_shaped_model_init_inverse_f32(&zero_m32, NULL), HYST_ERR_NULL_POINTER);
-    EXPECT(hyst_compensator_init_f32(&zero_c32, NULL, 1.0f, NULL, NULL, 0), HYST_ERR_NULL_POINTER);
+    EXPECT(hyst_shaped_compensator_init_f32(&zero_c32, NULL, 1.0f, NULL, NULL, 0), HYST_ERR_NULL_POINTER);
 
     /* uninitialised (zeroed) states: every call says so */
     EXPECT(hyst_operator_step(&zero_op, 0.1, &y), HYST_ERR_NOT_INITIALISED);
@@ -774,14 +774,14 @@ static void bad_arguments(void)
     EXPECT(hyst_shaped_model_get_memory_f32(&zero_m32, &mem32), HYST_ERR_NOT_INITIALISED);
     EXPECT(hyst_shaped_model_set_memory_f32(&zero_m32, &mem32), HYST_ERR_NOT_INITIALISED);
     EXPECT(hyst_shaped_model_reset_f32(&zero_m32), HYST_ERR_NOT_INITIALISED);
-    EXPECT(hyst_compensator_step(&zero_c, 0.1, 1e-3, &y), HYST_ERR_NOT_INITIALISED);
-    EXPECT(hyst_compensator_track(&zero_c, xs, &y), HYST_ERR_NOT_INITIALISED);
-    EXPECT(hyst_compensator_get_state(&zero_c, ys, &mem), HYST_ERR_NOT_INITIALISED);
-    EXPECT(hyst_compensator_reset(&zero_c), HYST_ERR_NOT_INITIALISED);
-    EXPECT(hyst_compensator_step_f32(&zero_c32, 0.1f, 1e-3f, &y32), HYST_ERR_NOT_INITIALISED);
-    EXPECT(hyst_compensator_track_f32(&zero_c32, xs32, &y32), HYST_ERR_NOT_INITIALISED);
-    EXPECT(hyst_compensator_get_state_f32(&zero_c32, ys32, &mem32), HYST_ERR_NOT_INITIALISED);
-    EXPECT(hyst_compensator_reset_f32(&zero_c32), HYST_ERR_NOT_INITIALISED);
+    EXPECT(hyst_shaped_compensator_step(&zero_c, 0.1, 1e-3, &y), HYST_ERR_NOT_INITIALISED);
+    EXPECT(hyst_shaped_compensator_track(&zero_c, xs, &y), HYST_ERR_NOT_INITIALISED);
+    EXPECT(hyst_shaped_compensator_get_state(&zero_c, ys, &mem), HYST_ERR_NOT_INITIALISED);
+    EXPECT(hyst_shaped_compensator_reset(&zero_c), HYST_ERR_NOT_INITIALISED);
+    EXPECT(hyst_shaped_compensator_step_f32(&zero_c32, 0.1f, 1e-3f, &y32), HYST_ERR_NOT_INITIALISED);
+    EXPECT(hyst_shaped_compensator_track_f32(&zero_c32, xs32, &y32), HYST_ERR_NOT_INITIALISED);
+    EXPECT(hyst_shaped_compensator_get_state_f32(&zero_c32, ys32, &mem32), HYST_ERR_NOT_INITIALISED);
+    EXPECT(hyst_shaped_compensator_reset_f32(&zero_c32), HYST_ERR_NOT_INITIALISED);
     /* a float state is not a double state, even in a block of the right size */
     {
         hyst_operator fake;
@@ -794,26 +794,26 @@ static void bad_arguments(void)
     for (k = 1; k <= 4; k += 3) {
         hyst_operator *mop = (hyst_operator *)(void *)(bytes + k);
         hyst_shaped_model *mm = (hyst_shaped_model *)(void *)(bytes + k);
-        hyst_compensator *mc = (hyst_compensator *)(void *)(bytes + k);
+        hyst_shaped_compensator *mc = (hyst_shaped_compensator *)(void *)(bytes + k);
         EXPECT(hyst_operator_init_direct(mop, 0.2, 8.0), HYST_ERR_MISALIGNED);
         EXPECT(hyst_operator_init_inverse(mop, 0.2, 8.0), HYST_ERR_MISALIGNED);
         EXPECT(hyst_operator_step(mop, 0.1, &y), HYST_ERR_MISALIGNED);
         EXPECT(hyst_operator_reset(mop), HYST_ERR_MISALIGNED);
         EXPECT(hyst_shaped_model_init_direct(mm, &p), HYST_ERR_MISALIGNED);
         EXPECT(hyst_shaped_model_step(mm, 0.1, &y), HYST_ERR_MISALIGNED);
-        EXPECT(hyst_compensator_init(mc, &p, 1.0, NULL, NULL, 0), HYST_ERR_MISALIGNED);
-        EXPECT(hyst_compensator_step(mc, 0.1, 1e-3, &y), HYST_ERR_MISALIGNED);
+        EXPECT(hyst_shaped_compensator_init(mc, &p, 1.0, NULL, NULL, 0), HYST_ERR_MISALIGNED);
+        EXPECT(hyst_shaped_compensator_step(mc, 0.1, 1e-3, &y), HYST_ERR_MISALIGNED);
     }
     {
         hyst_operator_f32 *mop = (hyst_operator_f32 *)(void *)(bytes + 1);
         hyst_shaped_model_f32 *mm = (hyst_shaped_model_f32 *)(void *)(bytes + 1);
-        hyst_compensator_f32 *mc = (hyst_compensator_f32 *)(void *)(bytes + 1);
+        hyst_shaped_compensator_f32 *mc = (hyst_shaped_compensator_f32 *)(void *)(bytes + 1);
         EXPECT(hyst_operator_init_direct_f32(mop, 0.2f, 8.0f), HYST_ERR_MISALIGNED);
         EXPECT(hyst_operator_step_f32(mop, 0.1f, &y32), HYST_ERR_MISALIGNED);
         EXPECT(hyst_shaped_model_init_inverse_f32(mm, &q), HYST_ERR_MISALIGNED);
         EXPECT(hyst_shaped_model_step_f32(mm, 0.1f, &y32), HYST_ERR_MISALIGNED);
-        EXPECT(hyst_compensator_init_f32(mc, &q, 1.0f, NULL, NULL, 0), HYST_ERR_MISALIGNED);
-        EXPECT(hyst_compensator_reset_f32(mc), HYST_ERR_MISALIGNED);
+        EXPECT(hyst_shaped_compensator_init_f32(mc, &q, 1.0f, NULL, NULL, 0), HYST_ERR_MISALIGNED);
+        EXPECT(hyst_shaped_compensator_reset_f32(mc), HYST_ERR_MISALIGNED);
     }
     {
         int untouched = 1;

@@ -336,7 +336,7 @@ int drv_run(drv_write_fn write) {
     /* The states: opaque blocks, 8-byte aligned by their uint64_t words. */
     hyst_operator_f32 inverse, direct;
     hyst_shaped_model_f32 shaped;
-    hyst_compensator_f32 comp;
+    hyst_shaped_compensator_f32 comp;
     struct run r;
     const float a[2] = {0.9f, 1.0f}; /* plant 1 / (s^2 + 0.9 s + 1) */
     float v0[2], v[2], worst = 0.0f, drift = 0.0f;
@@ -357,7 +357,7 @@ int drv_run(drv_write_fn write) {
     check(&r, "init inverse", 0, hyst_operator_init_inverse_f32(&inverse, K1, K2));
     check(&r, "init direct", 0, hyst_operator_init_direct_f32(&direct, K1, K2));
     check(&r, "init shaped", 0, hyst_shaped_model_init_direct_f32(&shaped, &MODEL));
-    check(&r, "init compensator", 0, hyst_compensator_init_f32(&comp, &MODEL, 1.0f, a, v0, 2));
+    check(&r, "init compensator", 0, hyst_shaped_compensator_init_f32(&comp, &MODEL, 1.0f, a, v0, 2));
     if (r.errors != 0u) {
         return (int)r.errors;
     }
@@ -379,9 +379,9 @@ int drv_run(drv_write_fn write) {
         }
         check(&r, "shp", i, hyst_shaped_model_step_f32(&shaped, x, &y));
         value(&r, "shp", i, y);
-        check(&r, "cmp", i, hyst_compensator_step_f32(&comp, reference(t_mid, 2), DT, &u));
+        check(&r, "cmp", i, hyst_shaped_compensator_step_f32(&comp, reference(t_mid, 2), DT, &u));
         value(&r, "cmp", i, u);
-        check(&r, "cmp state", i, hyst_compensator_get_state_f32(&comp, v, 0));
+        check(&r, "cmp state", i, hyst_shaped_compensator_get_state_f32(&comp, v, 0));
         err = v[0] - reference((float)(i + 1) * DT, 0);
         if (err < 0.0f) {
             err = -err;

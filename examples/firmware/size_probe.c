@@ -14,19 +14,13 @@ volatile float dac_command, dac_monitor, dac_force;
 int main(void) {
     static hyst_operator_f32 inverse, direct;
     static hyst_compensator_f32 comp;
-    static const hyst_model_params_f32 model = {
-        .k1 = 0.2f,
-        .k2 = {.kind = HYST_K2_CONSTANT, .value = 8.0f},
-        .input = {.kind = HYST_SHAPING_IDENTITY, .pre_gain = 1.0f, .post_gain = 1.0f},
-        .output = {.kind = HYST_SHAPING_IDENTITY, .pre_gain = 1.0f, .post_gain = 1.0f},
-    };
     const float a[2] = {0.9f, 1.0f};
     int32_t status = HYST_OK;
     int tick;
 
     status |= hyst_operator_init_inverse_f32(&inverse, 0.2f, 8.0f);
     status |= hyst_operator_init_direct_f32(&direct, 0.2f, 8.0f);
-    status |= hyst_compensator_init_f32(&comp, &model, 1.0f, a, 0, 2);
+    status |= hyst_compensator_init_f32(&comp, 0.2f, 8.0f, 1.0f, a, 0, 2);
     for (tick = 0; tick < 1000; tick++) {
         float command, monitor, force;
         status |= hyst_operator_step_f32(&inverse, adc_desired, &command);

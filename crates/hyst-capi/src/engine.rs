@@ -4,9 +4,9 @@
 use core::ptr;
 
 use hyst_core::{
-    AffineK2, AnyK2Law, AnyShaping, Compensator, Direction, Error, Hysteresis, InverseHysteresis,
-    InverseModel, Jet, Langevin, Memory, Model, Operator, Polynomial, QuadraticExp, Real,
-    ScaledShaping, Tanh,
+    AffineK2, AnyK2Law, AnyShaping, Compensator, ConstantK2, Direction, Error, Hysteresis,
+    Identity, InverseHysteresis, InverseModel, Jet, Langevin, Memory, Model, Operator, Polynomial,
+    QuadraticExp, Real, ScaledShaping, Tanh,
 };
 
 use crate::status::{self, HYST_ERR_LENGTH, HYST_ERR_NULL_POINTER, HYST_OK};
@@ -29,10 +29,6 @@ pub(crate) type ShapedModel<T> = Model<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
 /// Its exact compensator.
 pub(crate) type ShapedInverse<T> = InverseModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
 
-/// The Lemma 5.1 compensator of a shaped model for a plant of order `N`.
-pub(crate) type ShapedCompensator<T, const N: usize> =
-    Compensator<T, N, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
-
 /// The shaped model, direct or inverse.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Shaped<T: Real> {
@@ -40,15 +36,15 @@ pub(crate) enum Shaped<T: Real> {
     Inverse(ShapedInverse<T>),
 }
 
-/// The Lemma 5.1 compensator for plant orders n = 0 … 4.
+/// The Lemma 5.1 compensator for plant orders n = 0 … 4 chosen at run time (one
+/// monomorphisation for every order: see `Compensator::with_order`).
 #[derive(Clone, Copy, Debug)]
-pub(crate) enum Comp<T: Real> {
-    N0(ShapedCompensator<T, 0>),
-    N1(ShapedCompensator<T, 1>),
-    N2(ShapedCompensator<T, 2>),
-    N3(ShapedCompensator<T, 3>),
-    N4(ShapedCompensator<T, 4>),
-}
+pub(crate) struct Comp<T: Real, I, K, O>(pub(crate) Compensator<T, HYST_MAX_ORDER, I, K, O>);
+
+/// The compensator of the plain operator H(k1, k2): no shaping code is linked with it.
+pub(crate) type PlainComp<T> = Comp<T, Identity, ConstantK2<T>, Identity>;
+/// The compensator of a shaped model.
+pub(crate) type ShapedComp<T> = Comp<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
 
 /// Runs `$body` with `$op` bound to whichever operator a two-variant enum holds.
 macro_rules! either {
@@ -56,19 +52,6 @@ macro_rules! either {
         match $value {
             $ty::Direct($op) => $body,
             $ty::Inverse($op) => $body,
-        }
-    };
-}
-
-/// Runs `$body` with `$c` bound to the compensator of whichever order `Comp` holds.
-macro_rules! each_order {
-    ($value:expr, $c:ident => $body:expr) => {
-        match $value {
-            Comp::N0($c) => $body,
-            Comp::N1($c) => $body,
-            Comp::N2($c) => $body,
-            Comp::N3($c) => $body,
-            Comp::N4($c) => $body,
         }
     };
 }
@@ -373,89 +356,66 @@ pub(crate) fn pair<T: Real>(k1: T, k2: T, inverse: bool) -> Result<Pair<T>, Erro
     })
 }
 
-/// Checks the compensator's plant coefficients and builds it for the order `a.len()`.
-pub(crate) fn compensator<T: Real>(
-    model: &ShapedModel<T>,
+/// Checks the compensator's plant coefficients and builds it for the order n = `a.len()` ≤ 4,
+/// with the integrators at `state` (n values) or at rest.
+pub(crate) fn compensator<T: Real, I, K, O>(
+    inverse: InverseModel<T, I, K, O>,
     b: T,
     a: &[T],
     state: Option<&[T]>,
-) -> Result<Comp<T>, Error> {
-    fn make<T: Real, const N: usize>(
-        model: &ShapedModel<T>,
-        b: T,
-        a: &[T],
-        state: Option<&[T]>,
-    ) -> Result<ShapedCompensator<T, N>, Error> {
-        let coefficients: [T; N] =
-            core::array::from_fn(|k| a.get(k).copied().unwrap_or_else(T::zero));
-        let c = Compensator::from_model(model, b, coefficients)?;
-        match state {
-            Some(v) => c.with_state(core::array::from_fn(|k| {
-                v.get(k).copied().unwrap_or_else(T::zero)
-            })),
-            None => Ok(c),
-        }
-    }
-    Ok(match a.len() {
-        0 => Comp::N0(make(model, b, a, state)?),
-        1 => Comp::N1(make(model, b, a, state)?),
-        2 => Comp::N2(make(model, b, a, state)?),
-        3 => Comp::N3(make(model, b, a, state)?),
-        4 => Comp::N4(make(model, b, a, state)?),
-        n => {
-            return Err(Error::LengthMismatch {
-                input: n,
-                output: HYST_MAX_ORDER,
-            })
-        }
-    })
+) -> Result<Comp<T, I, K, O>, Error>
+where
+    I: hyst_core::Shaping<T> + Clone,
+    K: hyst_core::K2Law<T> + Clone,
+    O: hyst_core::Shaping<T> + Clone,
+{
+    let c = Compensator::with_order(inverse, b, a)?;
+    Ok(Comp(match state {
+        Some(v) => c.with_state(core::array::from_fn(|k| {
+            v.get(k).copied().unwrap_or_else(T::zero)
+        }))?,
+        None => c,
+    }))
 }
 
-impl<T: Real> Comp<T> {
+impl<T: Real, I, K, O> Comp<T, I, K, O>
+where
+    I: hyst_core::Shaping<T> + Clone,
+    K: hyst_core::K2Law<T> + Clone,
+    O: hyst_core::Shaping<T> + Clone,
+{
     /// The plant order n.
     pub(crate) fn order(&self) -> usize {
-        match self {
-            Comp::N0(_) => 0,
-            Comp::N1(_) => 1,
-            Comp::N2(_) => 2,
-            Comp::N3(_) => 3,
-            Comp::N4(_) => 4,
-        }
+        self.0.order()
     }
 
     /// One sample of Lemma 5.1: the command for v⁽ⁿ⁾ = `u_new` held over `dt` seconds; a refused
     /// sample gives the held command.
     pub(crate) fn step(&mut self, u_new: T, dt: T) -> Result<T, (Error, T)> {
-        each_order!(self, c => c.try_step(u_new, dt).map_err(|e| (e, c.last_command())))
+        let c = &mut self.0;
+        c.try_step(u_new, dt).map_err(|e| (e, c.last_command()))
     }
 
-    /// Reference-trajectory mode: `reference` = [v, v̇, …, v⁽ⁿ⁾].
+    /// Reference-trajectory mode: `reference` = [v, v̇, …, v⁽ⁿ⁾] (the rest 0).
     pub(crate) fn track(&mut self, reference: &[T]) -> Result<T, Error> {
-        fn jet<T: Real, const N: usize>(r: &[T]) -> Jet<T, N> {
-            let value = r.first().copied().unwrap_or_else(T::zero);
-            Jet::from_derivatives(
-                value,
-                core::array::from_fn(|k| r.get(k + 1).copied().unwrap_or_else(T::zero)),
-            )
-        }
-        each_order!(self, c => c.track(jet(reference)))
+        let value = reference.first().copied().unwrap_or_else(T::zero);
+        let d = core::array::from_fn(|k| reference.get(k + 1).copied().unwrap_or_else(T::zero));
+        self.0.track(Jet::from_derivatives(value, d))
     }
 
-    /// The integrator chain (v, v̇, …, v⁽ⁿ⁻¹⁾) into `out` (n values).
+    /// The integrator chain (v, v̇, …, v⁽ⁿ⁻¹⁾) into `out`.
     pub(crate) fn state(&self, out: &mut [T]) {
-        each_order!(self, c => {
-            for (slot, v) in out.iter_mut().zip(c.state()) {
-                *slot = v;
-            }
-        })
+        for (slot, v) in out.iter_mut().zip(self.0.state()) {
+            *slot = v;
+        }
     }
 
     pub(crate) fn reset(&mut self) {
-        each_order!(self, c => c.reset())
+        self.0.reset();
     }
 
     /// The memory of the compensator's inverse model.
     pub(crate) fn memory(&self) -> Option<Memory<T>> {
-        each_order!(self, c => Operator::memory(c.inverse_model()))
+        Operator::memory(self.0.inverse_model())
     }
 }

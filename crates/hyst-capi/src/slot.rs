@@ -23,10 +23,12 @@ pub(crate) const fn fits<S, V>() -> bool {
     size_of::<Slot<V>>() <= size_of::<S>() && align_of::<Slot<V>>() <= align_of::<S>()
 }
 
+/// NULL and alignment: the block's own alignment (8 bytes, as documented), which is at least
+/// the value's (`fits`).
 fn check<S, V>(storage: *const S) -> i32 {
     if storage.is_null() {
         HYST_ERR_NULL_POINTER
-    } else if (storage as usize) % align_of::<Slot<V>>() != 0 {
+    } else if (storage as usize) % align_of::<S>().max(align_of::<Slot<V>>()) != 0 {
         HYST_ERR_MISALIGNED
     } else {
         HYST_OK

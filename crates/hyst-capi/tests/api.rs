@@ -240,6 +240,10 @@ fn bad_arguments_give_statuses_and_change_nothing() {
             hyst_operator_init_direct(misaligned, 0.2, 8.0),
             HYST_ERR_MISALIGNED
         );
+        // a float state must be 8-byte aligned too (as documented), not only 4
+        let mut words32 = [0_u64; 9];
+        let at4 = words32.as_mut_ptr().cast::<u8>().add(4).cast::<hyst_operator_f32>();
+        assert_eq!(hyst_operator_init_direct_f32(at4, 0.2, 8.0), HYST_ERR_MISALIGNED);
         // an f32 state is not an f64 state (different tags)
         let mut op32: hyst_operator_f32 = zeroed();
         assert_eq!(hyst_operator_init_direct_f32(&mut op32, 0.2, 8.0), HYST_OK);
@@ -363,72 +367,150 @@ fn compensator_equals_the_core_lemma_5_1() {
     let p = params();
     let a = [0.9, 1.0];
     let v0 = [0.2, 0.0];
-    let mut c: hyst_compensator = zeroed();
+    let mut c: hyst_shaped_compensator = zeroed();
     unsafe {
         assert_eq!(
-            hyst_compensator_init(&mut c, &p, 1.0, a.as_ptr(), v0.as_ptr(), 2),
+            hyst_shaped_compensator_init(&mut c, &p, 1.0, a.as_ptr(), v0.as_ptr(), 2),
             HYST_OK
         )
     };
-    let mut core = Compensator::from_model(&core_model(), 1.0, a)
+    // The C API runs the core's Compensator<_, 4> with n = 2 chosen at run time: bit for bit.
+    let mut core = Compensator::<f64, 4, _, _, _>::with_order(core_model().inverse(), 1.0, &a)
+        .unwrap()
+        .with_state([0.2, 0.0, 0.0, 0.0])
+        .unwrap();
+    // The const-order Compensator<_, 2> agrees to rounding: the shaping's Newton inverse on a
+    // jet takes one step per order, so order 4 may move the last bit.
+    let mut core2 = Compensator::from_model(&core_model(), 1.0, a)
         .unwrap()
         .with_state(v0)
         .unwrap();
     for k in 0..3000 {
         let u_new = (k as f64 * 0.004).sin() * 2.0;
         let mut u = 0.0;
-        unsafe { assert_eq!(hyst_compensator_step(&mut c, u_new, 1e-3, &mut u), HYST_OK) };
+        unsafe {
+            assert_eq!(
+                hyst_shaped_compensator_step(&mut c, u_new, 1e-3, &mut u),
+                HYST_OK
+            )
+        };
         assert_eq!(u.to_bits(), core.step(u_new, 1e-3).to_bits(), "{k}");
+        let u2 = core2.step(u_new, 1e-3);
+        assert!(
+            (u - u2).abs() <= 1e-12 * (1.0 + u2.abs()),
+            "{k}: {u} vs {u2}"
+        );
     }
     let mut v = [0.0; 2];
     unsafe {
         assert_eq!(
-            hyst_compensator_get_state(&mut c, v.as_mut_ptr(), ptr::null_mut()),
+            hyst_shaped_compensator_get_state(&mut c, v.as_mut_ptr(), ptr::null_mut()),
             HYST_OK
         )
     };
-    assert_eq!(v, core.state());
+    assert_eq!(&v[..], &core.state()[..2]);
     // Reference mode, reset, bad input.
     let reference = [0.3, 0.5, -0.1];
     let mut u = 0.0;
     unsafe {
         assert_eq!(
-            hyst_compensator_track(&mut c, reference.as_ptr(), &mut u),
+            hyst_shaped_compensator_track(&mut c, reference.as_ptr(), &mut u),
             HYST_OK
         );
         assert_eq!(
             u.to_bits(),
-            core.track(Jet::from_derivatives(0.3, [0.5, -0.1]))
+            core.track(Jet::from_derivatives(0.3, [0.5, -0.1, 0.0, 0.0]))
                 .unwrap()
                 .to_bits()
         );
-        assert_eq!(hyst_compensator_reset(&mut c), HYST_OK);
+        assert_eq!(hyst_shaped_compensator_reset(&mut c), HYST_OK);
         assert_eq!(
-            hyst_compensator_get_state(&mut c, v.as_mut_ptr(), ptr::null_mut()),
+            hyst_shaped_compensator_get_state(&mut c, v.as_mut_ptr(), ptr::null_mut()),
             HYST_OK
         );
         assert_eq!(v, v0);
         assert_eq!(
-            hyst_compensator_step(&mut c, f64::NAN, 1e-3, &mut u),
+            hyst_shaped_compensator_step(&mut c, f64::NAN, 1e-3, &mut u),
             HYST_ERR_NON_FINITE
         );
         assert_eq!(u, 0.0); // the held command: 0 after a reset
         assert_eq!(
-            hyst_compensator_init(&mut c, &p, 0.0, a.as_ptr(), ptr::null(), 2),
+            hyst_shaped_compensator_init(&mut c, &p, 0.0, a.as_ptr(), ptr::null(), 2),
             HYST_ERR_INVALID_PARAMETER
         );
         assert_eq!(
-            hyst_compensator_init(&mut c, &p, 1.0, a.as_ptr(), ptr::null(), 5),
+            hyst_shaped_compensator_init(&mut c, &p, 1.0, a.as_ptr(), ptr::null(), 5),
             HYST_ERR_LENGTH
         );
         assert_eq!(
-            hyst_compensator_init(&mut c, &p, 1.0, ptr::null(), ptr::null(), 2),
+            hyst_shaped_compensator_init(&mut c, &p, 1.0, ptr::null(), ptr::null(), 2),
             HYST_ERR_NULL_POINTER
         );
         assert_eq!(
-            hyst_compensator_init(&mut c, &p, 1.0, ptr::null(), ptr::null(), 0),
+            hyst_shaped_compensator_init(&mut c, &p, 1.0, ptr::null(), ptr::null(), 0),
             HYST_OK
         );
+    }
+}
+
+#[test]
+fn plain_compensator_equals_the_core_and_the_shaped_one_with_identity_shaping() {
+    let a = [0.9, 1.0];
+    let mut plain: hyst_compensator = zeroed();
+    let mut shaped: hyst_shaped_compensator = zeroed();
+    let mut p: hyst_model_params = zeroed();
+    p.k1 = 0.2;
+    p.k2.value = 8.0;
+    for s in [&mut p.input, &mut p.output] {
+        s.kind = HYST_SHAPING_IDENTITY;
+        s.pre_gain = 1.0;
+        s.post_gain = 1.0;
+    }
+    unsafe {
+        assert_eq!(
+            hyst_compensator_init(&mut plain, 0.2, 8.0, 1.0, a.as_ptr(), ptr::null(), 2),
+            HYST_OK
+        );
+        assert_eq!(
+            hyst_shaped_compensator_init(&mut shaped, &p, 1.0, a.as_ptr(), ptr::null(), 2),
+            HYST_OK
+        );
+        assert_eq!(
+            hyst_compensator_init(&mut plain, 0.0, 8.0, 1.0, a.as_ptr(), ptr::null(), 2),
+            HYST_ERR_INVALID_PARAMETER
+        );
+        assert_eq!(
+            hyst_compensator_init(&mut plain, 0.2, 8.0, 1.0, a.as_ptr(), ptr::null(), 5),
+            HYST_ERR_LENGTH
+        );
+        let mut other: hyst_compensator = zeroed();
+        assert_eq!(
+            hyst_compensator_step(&mut other, 0.0, 1e-3, &mut 0.0),
+            HYST_ERR_NOT_INITIALISED
+        );
+    }
+    let model = Model::new(
+        hyst_core::Identity,
+        Hysteresis::new(0.2, 8.0).unwrap(),
+        hyst_core::Identity,
+    )
+    .unwrap();
+    let mut core = Compensator::from_model(&model, 1.0, a).unwrap();
+    for k in 0..3000 {
+        let u_new = 2.0 * (k as f64 * 0.004).sin();
+        let (mut u, mut w) = (0.0, 0.0);
+        unsafe {
+            assert_eq!(
+                hyst_compensator_step(&mut plain, u_new, 1e-3, &mut u),
+                HYST_OK
+            );
+            assert_eq!(
+                hyst_shaped_compensator_step(&mut shaped, u_new, 1e-3, &mut w),
+                HYST_OK
+            );
+        }
+        assert_eq!(u.to_bits(), core.step(u_new, 1e-3).to_bits(), "{k}");
+        assert_eq!(u.to_bits(), w.to_bits(), "{k}");
     }
 }
 

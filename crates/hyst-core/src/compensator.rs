@@ -445,7 +445,10 @@ mod tests {
         assert_eq!(&c4.state()[..2], &c2.state()[..]);
         assert!(matches!(
             Compensator::<f64, 2>::with_order(model.inverse(), 1.0, &[1.0, 2.0, 3.0]),
-            Err(Error::LengthMismatch { input: 3, output: 2 })
+            Err(Error::LengthMismatch {
+                input: 3,
+                output: 2
+            })
         ));
         Ok(())
     }
