@@ -2,7 +2,8 @@
 //!
 //! - **Firmware part** (always; `no_std`, no allocation): the parametric operator H / H⁻¹
 //!   (`hyst_operator_*`), the shaped model and its exact inverse (`hyst_shaped_model_*`) and the
-//!   Lemma 5.1 compensator for plants of order n ≤ 4 (`hyst_compensator_*`), in `double` and, with
+//!   Lemma 5.1 compensator for plants of order n ≤ 4, of the plain operator
+//!   (`hyst_compensator_*`) or of a shaped model (`hyst_shaped_compensator_*`), in `double` and, with
 //!   the suffix `_f32`, in `float`. Every state lives in caller memory (an opaque, copyable block
 //!   of fixed size); every fallible call returns a status (`HYST_OK` = 0), explained by
 //!   [`hyst_status_message`].
