@@ -242,8 +242,15 @@ fn bad_arguments_give_statuses_and_change_nothing() {
         );
         // a float state must be 8-byte aligned too (as documented), not only 4
         let mut words32 = [0_u64; 9];
-        let at4 = words32.as_mut_ptr().cast::<u8>().add(4).cast::<hyst_operator_f32>();
-        assert_eq!(hyst_operator_init_direct_f32(at4, 0.2, 8.0), HYST_ERR_MISALIGNED);
+        let at4 = words32
+            .as_mut_ptr()
+            .cast::<u8>()
+            .add(4)
+            .cast::<hyst_operator_f32>();
+        assert_eq!(
+            hyst_operator_init_direct_f32(at4, 0.2, 8.0),
+            HYST_ERR_MISALIGNED
+        );
         // an f32 state is not an f64 state (different tags)
         let mut op32: hyst_operator_f32 = zeroed();
         assert_eq!(hyst_operator_init_direct_f32(&mut op32, 0.2, 8.0), HYST_OK);
