@@ -179,15 +179,61 @@ const _: () = assert!(slot::fits::<hyst_shaped_model_f32, Shaped<f32>>());
 const _: () = assert!(slot::fits::<hyst_compensator_f32, PlainComp<f32>>());
 const _: () = assert!(slot::fits::<hyst_shaped_compensator_f32, ShapedComp<f32>>());
 
-fn operator<'a>(op: *mut hyst_operator_f32) -> Result<&'a mut Pair<f32>, i32> {
+fn operator<'a>(op: *mut hyst_operator_f32) -> Result<&'a mut dyn engine::Dyn<f32>, i32> {
     // SAFETY: the caller of the C function passes NULL, an initialised block, or any other
     // readable block of the type's size (whose tag then does not match).
-    unsafe { slot::value_mut(op, TAG_OPERATOR) }
+    unsafe { slot::value_mut::<_, Pair<f32>>(op, TAG_OPERATOR) }.map(Pair::as_dyn)
 }
 
-fn shaped<'a>(m: *mut hyst_shaped_model_f32) -> Result<&'a mut Shaped<f32>, i32> {
+fn shaped<'a>(m: *mut hyst_shaped_model_f32) -> Result<&'a mut dyn engine::Dyn<f32>, i32> {
     // SAFETY: as in `operator`.
-    unsafe { slot::value_mut(m, TAG_SHAPED) }
+    unsafe { slot::value_mut::<_, Shaped<f32>>(m, TAG_SHAPED) }.map(Shaped::as_dyn)
+}
+
+/// `_get_memory` of an operator or a shaped model.
+///
+/// # Safety
+/// `memory` is NULL or writable.
+unsafe fn get_memory(
+    op: Result<&mut dyn engine::Dyn<f32>, i32>,
+    memory: *mut hyst_memory_f32,
+) -> i32 {
+    if memory.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    done(op.map(|o| {
+        let m = hyst_memory_f32::of(MemoryFields::of(o.memory()));
+        // SAFETY: non-NULL (checked), writable (caller's contract).
+        unsafe { memory.write(m) };
+        HYST_OK
+    }))
+}
+
+/// `_set_memory` of an operator or a shaped model.
+///
+/// # Safety
+/// `memory` is NULL or readable.
+unsafe fn set_memory(
+    op: Result<&mut dyn engine::Dyn<f32>, i32>,
+    memory: *const hyst_memory_f32,
+) -> i32 {
+    if memory.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: non-NULL (checked), readable (caller's contract).
+    let fields = unsafe { memory.read() }.fields();
+    done(op.and_then(|o| {
+        status_of(o.set_memory(status_of(fields.to_core())?))?;
+        Ok(HYST_OK)
+    }))
+}
+
+/// `_reset` of an operator or a shaped model.
+fn reset(op: Result<&mut dyn engine::Dyn<f32>, i32>) -> i32 {
+    done(op.map(|o| {
+        o.reset();
+        HYST_OK
+    }))
 }
 
 fn compensator<'a>(c: *mut hyst_compensator_f32) -> Result<&'a mut PlainComp<f32>, i32> {
@@ -286,7 +332,7 @@ pub unsafe extern "C" fn hyst_operator_step_f32(
     y: *mut f32,
 ) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(operator(op).map(|p| p.with(|o| unsafe { engine::step(o, x, y) })))
+    done(operator(op).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// One sample with time derivatives: `x` holds the input and its first `order` time derivatives
@@ -304,7 +350,7 @@ pub unsafe extern "C" fn hyst_operator_step_derivatives_f32(
     order: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
-    done(operator(op).map(|p| p.with(|o| unsafe { engine::step_derivatives(o, x, y, order) })))
+    done(operator(op).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
 }
 
 /// `n` samples from `x` into `y` (which may be the same array), each as `hyst_operator_step_f32`;
@@ -322,7 +368,7 @@ pub unsafe extern "C" fn hyst_operator_process_f32(
     n: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
-    done(operator(op).map(|p| p.with(|o| unsafe { engine::process(o, x, y, n) })))
+    done(operator(op).map(|o| unsafe { engine::process(o, x, y, n) }))
 }
 
 /// Copies the operator's memory into `*memory` (to save it, e.g. across a controller restart).
@@ -334,15 +380,8 @@ pub unsafe extern "C" fn hyst_operator_get_memory_f32(
     op: *mut hyst_operator_f32,
     memory: *mut hyst_memory_f32,
 ) -> i32 {
-    if memory.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    done(operator(op).map(|p| {
-        let m = hyst_memory_f32::of(MemoryFields::of(p.with(|o| o.memory())));
-        // SAFETY: non-NULL (checked), writable (caller's contract).
-        unsafe { memory.write(m) };
-        HYST_OK
-    }))
+    // SAFETY: forwarded contract.
+    unsafe { get_memory(operator(op), memory) }
 }
 
 /// Restores a memory saved by `hyst_operator_get_memory_f32`. `HYST_ERR_STATE_OUTSIDE_BAND` or
@@ -357,16 +396,8 @@ pub unsafe extern "C" fn hyst_operator_set_memory_f32(
     op: *mut hyst_operator_f32,
     memory: *const hyst_memory_f32,
 ) -> i32 {
-    if memory.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    let fields = unsafe { memory.read() }.fields();
-    done(operator(op).and_then(|p| {
-        let m = status_of(fields.to_core())?;
-        status_of(p.with(|o| o.set_memory(m)))?;
-        Ok(HYST_OK)
-    }))
+    // SAFETY: forwarded contract.
+    unsafe { set_memory(operator(op), memory) }
 }
 
 /// Forgets the history: the next sample starts on the line output = input.
@@ -375,10 +406,7 @@ pub unsafe extern "C" fn hyst_operator_set_memory_f32(
 /// `op` is NULL or an initialised `hyst_operator_f32`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_operator_reset_f32(op: *mut hyst_operator_f32) -> i32 {
-    done(operator(op).map(|p| {
-        p.with(|o| o.reset());
-        HYST_OK
-    }))
+    reset(operator(op))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -443,7 +471,7 @@ pub unsafe extern "C" fn hyst_shaped_model_step_f32(
     y: *mut f32,
 ) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(shaped(m).map(|s| s.with(|o| unsafe { engine::step(o, x, y) })))
+    done(shaped(m).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// One sample with time derivatives, as `hyst_operator_step_derivatives_f32` (order ≤ 4).
@@ -459,7 +487,7 @@ pub unsafe extern "C" fn hyst_shaped_model_step_derivatives_f32(
     order: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
-    done(shaped(m).map(|s| s.with(|o| unsafe { engine::step_derivatives(o, x, y, order) })))
+    done(shaped(m).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
 }
 
 /// `n` samples, as `hyst_operator_process_f32`.
@@ -475,7 +503,7 @@ pub unsafe extern "C" fn hyst_shaped_model_process_f32(
     n: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
-    done(shaped(m).map(|s| s.with(|o| unsafe { engine::process(o, x, y, n) })))
+    done(shaped(m).map(|o| unsafe { engine::process(o, x, y, n) }))
 }
 
 /// Copies the memory of the model's operator H (or H⁻¹) into `*memory`.
@@ -487,15 +515,8 @@ pub unsafe extern "C" fn hyst_shaped_model_get_memory_f32(
     m: *mut hyst_shaped_model_f32,
     memory: *mut hyst_memory_f32,
 ) -> i32 {
-    if memory.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    done(shaped(m).map(|s| {
-        let fields = MemoryFields::of(s.with(|o| o.memory()));
-        // SAFETY: non-NULL (checked), writable (caller's contract).
-        unsafe { memory.write(hyst_memory_f32::of(fields)) };
-        HYST_OK
-    }))
+    // SAFETY: forwarded contract.
+    unsafe { get_memory(shaped(m), memory) }
 }
 
 /// Restores the memory of the model's operator, as `hyst_operator_set_memory_f32` (values in the
@@ -508,16 +529,8 @@ pub unsafe extern "C" fn hyst_shaped_model_set_memory_f32(
     m: *mut hyst_shaped_model_f32,
     memory: *const hyst_memory_f32,
 ) -> i32 {
-    if memory.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    let fields = unsafe { memory.read() }.fields();
-    done(shaped(m).and_then(|s| {
-        let mem = status_of(fields.to_core())?;
-        status_of(s.with(|o| o.set_memory(mem)))?;
-        Ok(HYST_OK)
-    }))
+    // SAFETY: forwarded contract.
+    unsafe { set_memory(shaped(m), memory) }
 }
 
 /// Forgets the history.
@@ -526,10 +539,7 @@ pub unsafe extern "C" fn hyst_shaped_model_set_memory_f32(
 /// `m` is NULL or an initialised `hyst_shaped_model_f32`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_shaped_model_reset_f32(m: *mut hyst_shaped_model_f32) -> i32 {
-    done(shaped(m).map(|s| {
-        s.with(|o| o.reset());
-        HYST_OK
-    }))
+    reset(shaped(m))
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -179,15 +179,58 @@ const _: () = assert!(slot::fits::<hyst_shaped_model, Shaped<f64>>());
 const _: () = assert!(slot::fits::<hyst_compensator, PlainComp<f64>>());
 const _: () = assert!(slot::fits::<hyst_shaped_compensator, ShapedComp<f64>>());
 
-fn operator<'a>(op: *mut hyst_operator) -> Result<&'a mut Pair<f64>, i32> {
+fn operator<'a>(op: *mut hyst_operator) -> Result<&'a mut dyn engine::Dyn<f64>, i32> {
     // SAFETY: the caller of the C function passes NULL, an initialised block, or any other
     // readable block of the type's size (whose tag then does not match).
-    unsafe { slot::value_mut(op, TAG_OPERATOR) }
+    unsafe { slot::value_mut::<_, Pair<f64>>(op, TAG_OPERATOR) }.map(Pair::as_dyn)
 }
 
-fn shaped<'a>(m: *mut hyst_shaped_model) -> Result<&'a mut Shaped<f64>, i32> {
+fn shaped<'a>(m: *mut hyst_shaped_model) -> Result<&'a mut dyn engine::Dyn<f64>, i32> {
     // SAFETY: as in `operator`.
-    unsafe { slot::value_mut(m, TAG_SHAPED) }
+    unsafe { slot::value_mut::<_, Shaped<f64>>(m, TAG_SHAPED) }.map(Shaped::as_dyn)
+}
+
+/// `_get_memory` of an operator or a shaped model.
+///
+/// # Safety
+/// `memory` is NULL or writable.
+unsafe fn get_memory(op: Result<&mut dyn engine::Dyn<f64>, i32>, memory: *mut hyst_memory) -> i32 {
+    if memory.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    done(op.map(|o| {
+        let m = hyst_memory::of(MemoryFields::of(o.memory()));
+        // SAFETY: non-NULL (checked), writable (caller's contract).
+        unsafe { memory.write(m) };
+        HYST_OK
+    }))
+}
+
+/// `_set_memory` of an operator or a shaped model.
+///
+/// # Safety
+/// `memory` is NULL or readable.
+unsafe fn set_memory(
+    op: Result<&mut dyn engine::Dyn<f64>, i32>,
+    memory: *const hyst_memory,
+) -> i32 {
+    if memory.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: non-NULL (checked), readable (caller's contract).
+    let fields = unsafe { memory.read() }.fields();
+    done(op.and_then(|o| {
+        status_of(o.set_memory(status_of(fields.to_core())?))?;
+        Ok(HYST_OK)
+    }))
+}
+
+/// `_reset` of an operator or a shaped model.
+fn reset(op: Result<&mut dyn engine::Dyn<f64>, i32>) -> i32 {
+    done(op.map(|o| {
+        o.reset();
+        HYST_OK
+    }))
 }
 
 fn compensator<'a>(c: *mut hyst_compensator) -> Result<&'a mut PlainComp<f64>, i32> {
@@ -280,7 +323,7 @@ pub unsafe extern "C" fn hyst_operator_init_inverse(
 #[no_mangle]
 pub unsafe extern "C" fn hyst_operator_step(op: *mut hyst_operator, x: f64, y: *mut f64) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(operator(op).map(|p| p.with(|o| unsafe { engine::step(o, x, y) })))
+    done(operator(op).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// One sample with time derivatives: `x` holds the input and its first `order` time derivatives
@@ -298,7 +341,7 @@ pub unsafe extern "C" fn hyst_operator_step_derivatives(
     order: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
-    done(operator(op).map(|p| p.with(|o| unsafe { engine::step_derivatives(o, x, y, order) })))
+    done(operator(op).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
 }
 
 /// `n` samples from `x` into `y` (which may be the same array), each as `hyst_operator_step`;
@@ -316,7 +359,7 @@ pub unsafe extern "C" fn hyst_operator_process(
     n: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
-    done(operator(op).map(|p| p.with(|o| unsafe { engine::process(o, x, y, n) })))
+    done(operator(op).map(|o| unsafe { engine::process(o, x, y, n) }))
 }
 
 /// Copies the operator's memory into `*memory` (to save it, e.g. across a controller restart).
@@ -328,15 +371,8 @@ pub unsafe extern "C" fn hyst_operator_get_memory(
     op: *mut hyst_operator,
     memory: *mut hyst_memory,
 ) -> i32 {
-    if memory.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    done(operator(op).map(|p| {
-        let m = hyst_memory::of(MemoryFields::of(p.with(|o| o.memory())));
-        // SAFETY: non-NULL (checked), writable (caller's contract).
-        unsafe { memory.write(m) };
-        HYST_OK
-    }))
+    // SAFETY: forwarded contract.
+    unsafe { get_memory(operator(op), memory) }
 }
 
 /// Restores a memory saved by `hyst_operator_get_memory`. `HYST_ERR_STATE_OUTSIDE_BAND` or
@@ -351,16 +387,8 @@ pub unsafe extern "C" fn hyst_operator_set_memory(
     op: *mut hyst_operator,
     memory: *const hyst_memory,
 ) -> i32 {
-    if memory.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    let fields = unsafe { memory.read() }.fields();
-    done(operator(op).and_then(|p| {
-        let m = status_of(fields.to_core())?;
-        status_of(p.with(|o| o.set_memory(m)))?;
-        Ok(HYST_OK)
-    }))
+    // SAFETY: forwarded contract.
+    unsafe { set_memory(operator(op), memory) }
 }
 
 /// Forgets the history: the next sample starts on the line output = input.
@@ -369,10 +397,7 @@ pub unsafe extern "C" fn hyst_operator_set_memory(
 /// `op` is NULL or an initialised `hyst_operator`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_operator_reset(op: *mut hyst_operator) -> i32 {
-    done(operator(op).map(|p| {
-        p.with(|o| o.reset());
-        HYST_OK
-    }))
+    reset(operator(op))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -437,7 +462,7 @@ pub unsafe extern "C" fn hyst_shaped_model_step(
     y: *mut f64,
 ) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(shaped(m).map(|s| s.with(|o| unsafe { engine::step(o, x, y) })))
+    done(shaped(m).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// One sample with time derivatives, as `hyst_operator_step_derivatives` (order ≤ 4).
@@ -453,7 +478,7 @@ pub unsafe extern "C" fn hyst_shaped_model_step_derivatives(
     order: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
-    done(shaped(m).map(|s| s.with(|o| unsafe { engine::step_derivatives(o, x, y, order) })))
+    done(shaped(m).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
 }
 
 /// `n` samples, as `hyst_operator_process`.
@@ -469,7 +494,7 @@ pub unsafe extern "C" fn hyst_shaped_model_process(
     n: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
-    done(shaped(m).map(|s| s.with(|o| unsafe { engine::process(o, x, y, n) })))
+    done(shaped(m).map(|o| unsafe { engine::process(o, x, y, n) }))
 }
 
 /// Copies the memory of the model's operator H (or H⁻¹) into `*memory`.
@@ -481,15 +506,8 @@ pub unsafe extern "C" fn hyst_shaped_model_get_memory(
     m: *mut hyst_shaped_model,
     memory: *mut hyst_memory,
 ) -> i32 {
-    if memory.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    done(shaped(m).map(|s| {
-        let fields = MemoryFields::of(s.with(|o| o.memory()));
-        // SAFETY: non-NULL (checked), writable (caller's contract).
-        unsafe { memory.write(hyst_memory::of(fields)) };
-        HYST_OK
-    }))
+    // SAFETY: forwarded contract.
+    unsafe { get_memory(shaped(m), memory) }
 }
 
 /// Restores the memory of the model's operator, as `hyst_operator_set_memory` (values in the
@@ -502,16 +520,8 @@ pub unsafe extern "C" fn hyst_shaped_model_set_memory(
     m: *mut hyst_shaped_model,
     memory: *const hyst_memory,
 ) -> i32 {
-    if memory.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    let fields = unsafe { memory.read() }.fields();
-    done(shaped(m).and_then(|s| {
-        let mem = status_of(fields.to_core())?;
-        status_of(s.with(|o| o.set_memory(mem)))?;
-        Ok(HYST_OK)
-    }))
+    // SAFETY: forwarded contract.
+    unsafe { set_memory(shaped(m), memory) }
 }
 
 /// Forgets the history.
@@ -520,10 +530,7 @@ pub unsafe extern "C" fn hyst_shaped_model_set_memory(
 /// `m` is NULL or an initialised `hyst_shaped_model`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_shaped_model_reset(m: *mut hyst_shaped_model) -> i32 {
-    done(shaped(m).map(|s| {
-        s.with(|o| o.reset());
-        HYST_OK
-    }))
+    reset(shaped(m))
 }
 
 // ---------------------------------------------------------------------------------------------

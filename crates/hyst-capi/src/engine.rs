@@ -57,14 +57,16 @@ macro_rules! either {
 }
 
 impl<T: Real> Pair<T> {
-    pub(crate) fn with<R>(&mut self, f: impl FnOnce(&mut dyn Dyn<T>) -> R) -> R {
-        either!(self, Pair, op => f(op))
+    /// The operator behind the object-safe view.
+    pub(crate) fn as_dyn(&mut self) -> &mut dyn Dyn<T> {
+        either!(self, Pair, op => op)
     }
 }
 
 impl<T: Real> Shaped<T> {
-    pub(crate) fn with<R>(&mut self, f: impl FnOnce(&mut dyn Dyn<T>) -> R) -> R {
-        either!(self, Shaped, op => f(op))
+    /// The model behind the object-safe view.
+    pub(crate) fn as_dyn(&mut self) -> &mut dyn Dyn<T> {
+        either!(self, Shaped, op => op)
     }
 }
 
