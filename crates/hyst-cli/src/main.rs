@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 mod bench;
 mod bound;
 mod fit;
+mod fmu;
 mod paper;
 mod plot;
 mod run;
@@ -30,6 +31,8 @@ enum Command {
     Paper(paper::Args),
     /// Identify a model from measured data.
     Fit(fit::Args),
+    /// Export the operator, a fitted model or its compensator as an FMU (FMI 2.0 co-simulation).
+    Fmu(fmu::Args),
     /// Measure the speed of the operators (ns per sample).
     Bench(bench::Args),
 }
@@ -41,6 +44,7 @@ fn main() -> ExitCode {
         Command::Bound(args) => bound::main(args),
         Command::Paper(args) => paper::main(args),
         Command::Fit(args) => fit::main(args),
+        Command::Fmu(args) => fmu::main(args),
         Command::Bench(args) => bench::main(args),
     };
     match result {
