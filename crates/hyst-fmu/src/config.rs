@@ -1,0 +1,257 @@
+//! The FMU's configuration: `resources/fmu.toml` (and `resources/model.toml` for a model), found
+//! through fmi2Instantiate's `fmuResourceLocation` URI.
+//!
+//! ```toml
+//! format = "hyst-fmu"
+//! version = 1
+//! guid = "{...}"      # the same string as modelDescription.xml's guid
+//! kind = "operator"   # or "model" (then resources/model.toml is the model file)
+//! inverse = false     # true: H^-1 (operator) or the model's exact compensator (model)
+//! k1 = 0.2            # kind = "operator" only: the start values of the parameters
+//! k2 = 8.0
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use hyst_core::{Hysteresis, InverseHysteresis};
+use hyst_fit::ModelFile;
+use serde::Deserialize;
+
+/// `format` of fmu.toml.
+pub const FORMAT: &str = "hyst-fmu";
+/// The fmu.toml `version` this FMU reads.
+pub const VERSION: i64 = 1;
+/// The configuration file's name in the resources folder.
+pub const CONFIG_FILE: &str = "fmu.toml";
+/// The model file's name in the resources folder (kind = "model").
+pub const MODEL_FILE: &str = "model.toml";
+
+/// What the FMU runs.
+#[derive(Clone, Debug)]
+pub enum Kind {
+    /// The parametric operator H(k1, k2) (or H⁻¹) with these start values of k1, k2.
+    Operator {
+        /// The start value of k1.
+        k1: f64,
+        /// The start value of k2.
+        k2: f64,
+    },
+    /// A fitted model file, run as `hyst run --model` runs it.
+    Model(Box<ModelFile>),
+}
+
+/// The checked contents of the resources folder.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// The GUID fmi2Instantiate must be given.
+    pub guid: String,
+    /// H⁻¹ / the model's exact compensator instead of the direct operator.
+    pub inverse: bool,
+    /// The operator or the model.
+    pub kind: Kind,
+}
+
+/// fmu.toml as written (checked further by [`Config::read`]).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawConfig {
+    #[allow(dead_code)]
+    format: String,
+    #[allow(dead_code)]
+    version: i64,
+    guid: String,
+    kind: String,
+    #[serde(default)]
+    inverse: bool,
+    k1: Option<f64>,
+    k2: Option<f64>,
+}
+
+impl Config {
+    /// Reads `fmu.toml` (and `model.toml` for kind = "model") from the resources folder `dir`.
+    ///
+    /// # Errors
+    /// A message naming the file, and the key and value where the file is wrong.
+    pub fn read(dir: &Path) -> Result<Self, String> {
+        let path = dir.join(CONFIG_FILE);
+        let name = path.display();
+        let text =
+            std::fs::read_to_string(&path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| format!("{name}: not valid TOML: {e}"))?;
+        match table.get("format") {
+            Some(toml::Value::String(f)) if f == FORMAT => {}
+            Some(v) => return Err(format!("{name}: format = {v}: must be \"{FORMAT}\"")),
+            None => return Err(format!("{name}: no `format = \"{FORMAT}\"`")),
+        }
+        match table.get("version") {
+            Some(toml::Value::Integer(VERSION)) => {}
+            Some(v) => {
+                return Err(format!(
+                    "{name}: version = {v}: this FMU binary reads version {VERSION}"
+                ))
+            }
+            None => return Err(format!("{name}: no `version`")),
+        }
+        let raw: RawConfig =
+            toml::from_str(&text).map_err(|e| format!("{name}: invalid configuration: {e}"))?;
+        if raw.guid.is_empty() {
+            return Err(format!("{name}: guid = \"\": must not be empty"));
+        }
+        let kind = match raw.kind.as_str() {
+            "operator" => {
+                let k1 = raw
+                    .k1
+                    .ok_or_else(|| format!("{name}: kind = \"operator\" needs k1"))?;
+                let k2 = raw
+                    .k2
+                    .ok_or_else(|| format!("{name}: kind = \"operator\" needs k2"))?;
+                // The core's constructor checks the values (its error names the parameter).
+                let check = if raw.inverse {
+                    InverseHysteresis::new(k1, k2).map(|_| ())
+                } else {
+                    Hysteresis::new(k1, k2).map(|_| ())
+                };
+                check.map_err(|e| format!("{name}: k1 = {k1}, k2 = {k2}: {e}"))?;
+                Kind::Operator { k1, k2 }
+            }
+            "model" => {
+                for (key, value) in [("k1", raw.k1), ("k2", raw.k2)] {
+                    if let Some(v) = value {
+                        return Err(format!(
+                            "{name}: {key} = {v}: only kind = \"operator\" has parameters \
+                             (a model's are in {MODEL_FILE})"
+                        ));
+                    }
+                }
+                let model = ModelFile::read(&dir.join(MODEL_FILE))
+                    .map_err(|e| format!("{name}: kind = \"model\": {e}"))?;
+                Kind::Model(Box::new(model))
+            }
+            other => {
+                return Err(format!(
+                    "{name}: kind = \"{other}\": must be \"operator\" or \"model\""
+                ))
+            }
+        };
+        Ok(Self {
+            guid: raw.guid,
+            inverse: raw.inverse,
+            kind,
+        })
+    }
+}
+
+/// The folder named by fmi2Instantiate's `fmuResourceLocation`: a `file` URI (`file:///abs/path`,
+/// `file://localhost/abs/path` or `file:/abs/path`, percent-encoded, with or without a trailing
+/// slash). A plain absolute path (no scheme) is taken as it is, as some masters pass one.
+///
+/// # Errors
+/// A message saying what is wrong with the URI.
+pub fn resource_dir(uri: &str) -> Result<PathBuf, String> {
+    let bad = |why: &str| format!("fmuResourceLocation \"{uri}\": {why}");
+    if uri.starts_with('/') {
+        return Ok(PathBuf::from(uri));
+    }
+    let scheme_end = uri
+        .find(':')
+        .ok_or_else(|| bad("not a file URI (file:///path) nor an absolute path"))?;
+    let (scheme, rest) = uri.split_at(scheme_end);
+    if !scheme.eq_ignore_ascii_case("file") {
+        return Err(bad("only file URIs are supported"));
+    }
+    let rest = rest.strip_prefix(':').unwrap_or(rest);
+    let path = match rest.strip_prefix("//") {
+        Some(authority_and_path) => {
+            let slash = authority_and_path
+                .find('/')
+                .unwrap_or(authority_and_path.len());
+            let (authority, path) = authority_and_path.split_at(slash);
+            if !(authority.is_empty() || authority.eq_ignore_ascii_case("localhost")) {
+                return Err(bad(&format!(
+                    "host \"{authority}\": only local files (no host, or localhost) are supported"
+                )));
+            }
+            path
+        }
+        None => rest,
+    };
+    if !path.starts_with('/') {
+        return Err(bad("the path is not absolute"));
+    }
+    let bytes = percent_decode(path).map_err(|e| bad(&e))?;
+    path_from_bytes(bytes).map_err(|e| bad(&e))
+}
+
+/// Decodes `%XX` escapes.
+fn percent_decode(text: &str) -> Result<Vec<u8>, String> {
+    let mut out = Vec::with_capacity(text.len());
+    let mut bytes = text.bytes();
+    while let Some(b) = bytes.next() {
+        if b != b'%' {
+            out.push(b);
+            continue;
+        }
+        let hex = |d: Option<u8>| d.and_then(|d| char::from(d).to_digit(16));
+        match (hex(bytes.next()), hex(bytes.next())) {
+            // Two hex digits make one byte (< 256).
+            (Some(hi), Some(lo)) => out.push(u8::try_from(hi * 16 + lo).unwrap_or(0)),
+            _ => return Err("a '%' is not followed by two hexadecimal digits".into()),
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(unix)]
+fn path_from_bytes(bytes: Vec<u8>) -> Result<PathBuf, String> {
+    use std::os::unix::ffi::OsStringExt;
+    Ok(PathBuf::from(std::ffi::OsString::from_vec(bytes)))
+}
+
+#[cfg(not(unix))]
+fn path_from_bytes(bytes: Vec<u8>) -> Result<PathBuf, String> {
+    String::from_utf8(bytes)
+        .map(PathBuf::from)
+        .map_err(|_| "the decoded path is not UTF-8".into())
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_uris_in_every_form() {
+        for uri in [
+            "file:///tmp/a b/resources",
+            "file:///tmp/a%20b/resources/",
+            "file:/tmp/a%20b/resources",
+            "file://localhost/tmp/a%20b/resources/",
+            "FILE:///tmp/a%20b/resources",
+            "/tmp/a b/resources/",
+        ] {
+            let dir = resource_dir(uri).unwrap();
+            assert_eq!(
+                dir.join("fmu.toml"),
+                Path::new("/tmp/a b/resources/fmu.toml"),
+                "{uri}"
+            );
+        }
+        assert_eq!(
+            resource_dir("file:///x/%C3%A9t%c3%a9").unwrap(),
+            Path::new("/x/été")
+        );
+        for uri in [
+            "http://host/x",
+            "file://server/share/x",
+            "file:relative/x",
+            "relative/x",
+            "file:///x/%2",
+            "file:///x/%zz",
+            "",
+        ] {
+            assert!(resource_dir(uri).is_err(), "{uri}");
+        }
+    }
+}

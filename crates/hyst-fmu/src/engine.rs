@@ -1,0 +1,113 @@
+//! The committed stepping state of an instance: the parametric operator or the model file's
+//! evaluator, run through `hyst_core::Operator` only (no formula is written here).
+
+use hyst_core::{Error, Hysteresis, InverseHysteresis, Operator};
+use hyst_fit::{Evaluator, ModelFile};
+
+use crate::state::History;
+
+/// What an instance steps once it has one.
+#[derive(Clone, Debug)]
+pub enum Engine {
+    /// H(k1, k2), eq. (2).
+    Direct(Hysteresis<f64>),
+    /// H⁻¹(k1, k2), eq. (4).
+    Inverse(InverseHysteresis<f64>),
+    /// A model file's evaluator, started (as `hyst run --model` starts a record) at `first`.
+    Model {
+        /// The input the evaluator was created with (`ModelFile::evaluator(first, inverse)`).
+        first: f64,
+        /// The evaluator.
+        evaluator: Evaluator,
+    },
+}
+
+/// Forwards one call to the operator the engine holds.
+macro_rules! each {
+    ($self:expr, $op:ident => $e:expr) => {
+        match $self {
+            Engine::Direct($op) => $e,
+            Engine::Inverse($op) => $e,
+            Engine::Model { evaluator: $op, .. } => $e,
+        }
+    };
+}
+
+/// The output `op` would give for the next sample `x`, without committing it: a copy steps.
+fn peek<O: Operator<f64> + Clone>(op: &O, x: f64) -> Result<f64, Error> {
+    op.clone().try_step(x)
+}
+
+impl Engine {
+    /// The parametric operator H(k1, k2) (or H⁻¹), without history.
+    ///
+    /// # Errors
+    /// The core's error for an invalid k1 or k2 (it names the parameter and the value).
+    pub fn operator(k1: f64, k2: f64, inverse: bool) -> Result<Self, Error> {
+        Ok(if inverse {
+            Engine::Inverse(InverseHysteresis::new(k1, k2)?)
+        } else {
+            Engine::Direct(Hysteresis::new(k1, k2)?)
+        })
+    }
+
+    /// The model file's evaluator for a record whose first sample is `first`.
+    ///
+    /// # Errors
+    /// The model cannot start at `first` (a desired output beyond a saturating shaping function,
+    /// a non-finite value).
+    pub fn model(file: &ModelFile, first: f64, inverse: bool) -> Result<Self, String> {
+        let evaluator = file
+            .evaluator(first, inverse)
+            .map_err(|e| format!("the model cannot start at {first}: {e}"))?;
+        Ok(Engine::Model { first, evaluator })
+    }
+
+    /// The output for the committed history followed by `x`; nothing is committed.
+    ///
+    /// # Errors
+    /// The core's refusal of `x` (non-finite, beyond a saturating shaping function).
+    pub fn peek(&self, x: f64) -> Result<f64, Error> {
+        each!(self, op => peek(op, x))
+    }
+
+    /// Steps `x` and commits it; on error nothing changes (the `Operator` contract).
+    ///
+    /// # Errors
+    /// As [`Engine::peek`].
+    pub fn step(&mut self, x: f64) -> Result<f64, Error> {
+        each!(self, op => op.try_step(x))
+    }
+
+    /// The history to save.
+    #[must_use]
+    pub fn history(&self) -> History {
+        match self {
+            Engine::Direct(op) => op.memory().map_or(History::Empty, History::Operator),
+            Engine::Inverse(op) => op.memory().map_or(History::Empty, History::Operator),
+            Engine::Model { first, evaluator } => History::Model {
+                first: *first,
+                memory: evaluator.memory(),
+            },
+        }
+    }
+
+    /// Restores a saved operator or model memory through `Operator::set_memory` (which checks
+    /// it); `History::Empty` leaves the engine as built.
+    ///
+    /// # Errors
+    /// The core's refusal of the memory (non-finite values, a point outside the band), or a
+    /// history of the other kind.
+    pub fn restore(&mut self, history: &History) -> Result<(), String> {
+        let result = match (self, history) {
+            (_, History::Empty) => Ok(()),
+            (Engine::Direct(op), History::Operator(m)) => op.set_memory(Some(*m)),
+            (Engine::Inverse(op), History::Operator(m)) => op.set_memory(Some(*m)),
+            (Engine::Model { evaluator, .. }, History::Model { memory, .. }) => {
+                evaluator.set_memory(memory.clone())
+            }
+            _ => return Err("the saved history is of another kind of FMU".into()),
+        };
+        result.map_err(|e| format!("the saved memory is refused: {e}"))
+    }
+}

@@ -1,0 +1,433 @@
+//! One FMU instance: its mode, variables, committed history and saved states, in safe Rust.
+//! `api` checks the C arguments and the mode, calls these methods and logs their errors.
+//!
+//! Semantics (direct feedthrough, rate independent): after fmi2SetReal(x), y is the operator
+//! applied to the committed input history followed by x, computed on a copy; fmi2DoStep
+//! commits x. The time only matters for fmi2GetRealStatus(fmi2LastSuccessfulTime).
+
+use std::fmt;
+
+use crate::config::{Config, Kind};
+use crate::engine::Engine;
+use crate::fmi2::fmi2FMUstate;
+use crate::logger::Logger;
+use crate::state::{self, FmuState, History, Owner};
+
+/// Value reference of x (input).
+pub const VR_X: u32 = 0;
+/// Value reference of y (output).
+pub const VR_Y: u32 = 1;
+/// Value reference of k1 (parameter, kind = "operator").
+pub const VR_K1: u32 = 2;
+/// Value reference of k2 (parameter, kind = "operator").
+pub const VR_K2: u32 = 3;
+
+/// The mode of an instance (the FMI 2.0 Co-Simulation state machine; this FMU never has a step
+/// in progress, so stepComplete, stepFailed and stepCanceled are one `StepMode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// After fmi2Instantiate or fmi2Reset.
+    Instantiated,
+    /// Between fmi2EnterInitializationMode and fmi2ExitInitializationMode.
+    InitializationMode,
+    /// After fmi2ExitInitializationMode: fmi2DoStep may be called.
+    StepMode,
+    /// After fmi2Terminate.
+    Terminated,
+    /// A panic was caught: only fmi2FreeInstance is allowed.
+    Fatal,
+}
+
+impl fmt::Display for Phase {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Phase::Instantiated => "Instantiated",
+            Phase::InitializationMode => "InitializationMode",
+            Phase::StepMode => "StepMode",
+            Phase::Terminated => "Terminated",
+            Phase::Fatal => "Fatal",
+        })
+    }
+}
+
+/// A variable of this FMU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Variable {
+    X,
+    Y,
+    K1,
+    K2,
+}
+
+impl Variable {
+    fn name(self) -> &'static str {
+        match self {
+            Variable::X => "x",
+            Variable::Y => "y",
+            Variable::K1 => "k1",
+            Variable::K2 => "k2",
+        }
+    }
+}
+
+/// One instance.
+#[derive(Debug)]
+pub struct Instance {
+    config: Config,
+    owner: Owner,
+    /// The master's logger.
+    pub log: Logger,
+    logging_at_instantiation: bool,
+    /// The current mode.
+    pub phase: Phase,
+    x: f64,
+    parameters: Option<(f64, f64)>,
+    /// `None` until fmi2ExitInitializationMode (operator) or the first fmi2DoStep (model).
+    engine: Option<Engine>,
+    time: f64,
+    /// The FMU states handed out (fmi2GetFMUstate, fmi2DeSerializeFMUstate); a handle is the
+    /// address of its box, and only handles found here are accepted.
+    #[allow(clippy::vec_box)]
+    // the box keeps a state's address (its handle) fixed as the Vec grows
+    states: Vec<Box<FmuState>>,
+}
+
+impl Instance {
+    /// A new instance of `config` (in the mode Instantiated, variables at their start values).
+    #[must_use]
+    pub fn new(config: Config, log: Logger) -> Self {
+        let owner = Owner::new(
+            &config.guid,
+            matches!(config.kind, Kind::Model(_)),
+            config.inverse,
+        );
+        let logging_at_instantiation = log.debug;
+        let mut instance = Self {
+            config,
+            owner,
+            log,
+            logging_at_instantiation,
+            phase: Phase::Instantiated,
+            x: 0.0,
+            parameters: None,
+            engine: None,
+            time: 0.0,
+            states: Vec::new(),
+        };
+        instance.reset();
+        instance
+    }
+
+    /// fmi2Reset: back to the state after fmi2Instantiate (parameters at their start values,
+    /// no history). Saved FMU states stay valid.
+    pub fn reset(&mut self) {
+        self.phase = Phase::Instantiated;
+        self.x = 0.0;
+        self.parameters = match self.config.kind {
+            Kind::Operator { k1, k2 } => Some((k1, k2)),
+            Kind::Model(_) => None,
+        };
+        self.engine = None;
+        self.time = 0.0;
+        self.log.debug = self.logging_at_instantiation;
+    }
+
+    fn variable(&self, vr: u32) -> Result<Variable, String> {
+        match (vr, self.parameters.is_some()) {
+            (VR_X, _) => Ok(Variable::X),
+            (VR_Y, _) => Ok(Variable::Y),
+            (VR_K1, true) => Ok(Variable::K1),
+            (VR_K2, true) => Ok(Variable::K2),
+            _ => Err(format!("no Real variable has value reference {vr}")),
+        }
+    }
+
+    /// fmi2SetupExperiment: the start time.
+    ///
+    /// # Errors
+    /// A non-finite start time.
+    pub fn setup_experiment(&mut self, start_time: f64) -> Result<(), String> {
+        if !start_time.is_finite() {
+            return Err(format!("startTime = {start_time}: must be finite"));
+        }
+        self.time = start_time;
+        Ok(())
+    }
+
+    /// fmi2ExitInitializationMode: the operator is built from k1, k2 (a model's evaluator waits
+    /// for the first fmi2DoStep); the mode becomes StepMode.
+    ///
+    /// # Errors
+    /// Invalid k1 or k2 (the core's message names the parameter and the value); the mode stays
+    /// InitializationMode.
+    pub fn exit_initialization(&mut self) -> Result<(), String> {
+        if let Some((k1, k2)) = self.parameters {
+            let engine =
+                Engine::operator(k1, k2, self.config.inverse).map_err(|e| e.to_string())?;
+            self.engine = Some(engine);
+        }
+        self.phase = Phase::StepMode;
+        Ok(())
+    }
+
+    /// fmi2SetReal: all values or none (every value reference and mode is checked first).
+    /// x may be set before and after initialisation, k1 and k2 only before
+    /// fmi2ExitInitializationMode; y never.
+    ///
+    /// # Errors
+    /// An unknown value reference, an output, a parameter after initialisation.
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String> {
+        let mut targets = Vec::with_capacity(vrs.len());
+        for (vr, value) in vrs.iter().zip(values) {
+            let v = self.variable(*vr)?;
+            match v {
+                Variable::X => {}
+                Variable::Y => return Err("y (value reference 1) is an output".into()),
+                Variable::K1 | Variable::K2 => {
+                    if !matches!(self.phase, Phase::Instantiated | Phase::InitializationMode) {
+                        return Err(format!(
+                            "{} = {value}: {} is a fixed parameter and can be set only before \
+                             fmi2ExitInitializationMode (the mode is {})",
+                            v.name(),
+                            v.name(),
+                            self.phase
+                        ));
+                    }
+                }
+            }
+            targets.push((v, *value));
+        }
+        for (v, value) in targets {
+            match (v, &mut self.parameters) {
+                (Variable::X, _) => self.x = value,
+                (Variable::K1, Some((k1, _))) => *k1 = value,
+                (Variable::K2, Some((_, k2))) => *k2 = value,
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// y for the committed history followed by the current x, without committing anything.
+    /// Before the operator is built (initialisation) a fresh operator with the current k1, k2
+    /// is used; before a model's first fmi2DoStep, an evaluator started at x.
+    fn output(&self) -> Result<f64, String> {
+        let refused = |e: &dyn fmt::Display| format!("x = {}: {e}", self.x);
+        match (&self.engine, &self.config.kind, self.parameters) {
+            (Some(engine), _, _) => engine.peek(self.x).map_err(|e| refused(&e)),
+            (None, Kind::Operator { .. }, Some((k1, k2))) => {
+                Engine::operator(k1, k2, self.config.inverse)
+                    .map_err(|e| e.to_string())?
+                    .peek(self.x)
+                    .map_err(|e| refused(&e))
+            }
+            (None, Kind::Model(file), _) => Engine::model(file, self.x, self.config.inverse)
+                .map_err(|e| refused(&e))?
+                .peek(self.x)
+                .map_err(|e| refused(&e)),
+            (None, Kind::Operator { .. }, None) => {
+                Err("internal error: an operator without parameters".into())
+            }
+        }
+    }
+
+    /// fmi2GetReal.
+    ///
+    /// # Errors
+    /// An unknown value reference, or y for a sample the operator refuses (non-finite x, a
+    /// desired output beyond a saturating shaping function, invalid parameters during
+    /// initialisation). Values before the failing one are written.
+    pub fn get_real(&self, vrs: &[u32], values: &mut [f64]) -> Result<(), String> {
+        let mut y = None;
+        for (vr, value) in vrs.iter().zip(values.iter_mut()) {
+            *value = match (self.variable(*vr)?, self.parameters) {
+                (Variable::X, _) => self.x,
+                (Variable::Y, _) => match y {
+                    Some(y) => y,
+                    None => {
+                        let v = self.output().map_err(|e| format!("y: {e}"))?;
+                        y = Some(v);
+                        v
+                    }
+                },
+                (Variable::K1, Some((k1, _))) => k1,
+                (Variable::K2, Some((_, k2))) => k2,
+                (v, None) => return Err(format!("{} does not exist", v.name())),
+            };
+        }
+        Ok(())
+    }
+
+    /// fmi2DoStep: commits the current x (a model's evaluator is created at the first step,
+    /// started at x as `hyst run --model` starts a record). Any step size ≥ 0 is fine.
+    ///
+    /// # Errors
+    /// A negative or non-finite step, or x refused; nothing changes then.
+    pub fn do_step(&mut self, current: f64, step: f64) -> Result<(), String> {
+        if !(current.is_finite() && step.is_finite() && step >= 0.0) {
+            return Err(format!(
+                "currentCommunicationPoint = {current}, communicationStepSize = {step}: \
+                 must be finite and the step >= 0"
+            ));
+        }
+        let refused = |e: &dyn fmt::Display| format!("x = {}: {e}", self.x);
+        match (&mut self.engine, &self.config.kind) {
+            (Some(engine), _) => {
+                engine.step(self.x).map_err(|e| refused(&e))?;
+            }
+            (None, Kind::Model(file)) => {
+                let mut engine =
+                    Engine::model(file, self.x, self.config.inverse).map_err(|e| refused(&e))?;
+                engine.step(self.x).map_err(|e| refused(&e))?;
+                self.engine = Some(engine);
+            }
+            (None, Kind::Operator { .. }) => {
+                return Err("internal error: no operator in step mode".into());
+            }
+        }
+        self.time = current + step;
+        Ok(())
+    }
+
+    /// The end of the last successful communication step (the start time before the first).
+    #[must_use]
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The current state.
+    #[must_use]
+    pub fn snapshot(&self) -> FmuState {
+        FmuState {
+            x: self.x,
+            parameters: self.parameters,
+            time: self.time,
+            history: self.engine.as_ref().map_or(History::Empty, Engine::history),
+        }
+    }
+
+    /// The engine a state needs in step mode (`stepping`) or before it, checked: parameters
+    /// through the core's constructor, the memory through `Operator::set_memory`. A history
+    /// can only be restored in step mode (or Terminated).
+    fn engine_for(&self, state: &FmuState, stepping: bool) -> Result<Option<Engine>, String> {
+        if state.parameters.is_some() != self.parameters.is_some() {
+            return Err("the state is of another kind of FMU".into());
+        }
+        let has_history = state.history != History::Empty;
+        if !stepping {
+            if has_history {
+                return Err(format!(
+                    "a state with a history can be restored only after \
+                     fmi2ExitInitializationMode (the mode is {})",
+                    self.phase
+                ));
+            }
+            return Ok(None);
+        }
+        let mut engine = match (&self.config.kind, state.parameters, &state.history) {
+            (Kind::Operator { .. }, Some((k1, k2)), _) => {
+                Engine::operator(k1, k2, self.config.inverse).map_err(|e| e.to_string())?
+            }
+            (Kind::Model(file), _, History::Model { first, .. }) => {
+                Engine::model(file, *first, self.config.inverse)?
+            }
+            (Kind::Model(_), _, History::Empty) => return Ok(None),
+            _ => return Err("the state is of another kind of FMU".into()),
+        };
+        engine.restore(&state.history)?;
+        Ok(Some(engine))
+    }
+
+    /// Replaces the instance's state by `state` (the mode is kept).
+    ///
+    /// # Errors
+    /// As `engine_for`; the instance is then unchanged.
+    pub fn apply(&mut self, state: &FmuState) -> Result<(), String> {
+        let stepping = matches!(self.phase, Phase::StepMode | Phase::Terminated);
+        let engine = self.engine_for(state, stepping)?;
+        self.engine = engine;
+        self.x = state.x;
+        self.parameters = state.parameters;
+        self.time = state.time;
+        Ok(())
+    }
+
+    fn find_state(&self, handle: fmi2FMUstate) -> Option<usize> {
+        self.states
+            .iter()
+            .position(|s| std::ptr::eq(&**s, handle.cast::<FmuState>().cast_const()))
+    }
+
+    /// Stores `state` in the FMU state `existing` (one of this instance's, or NULL for a new
+    /// one) and returns its handle.
+    ///
+    /// # Errors
+    /// `existing` is neither NULL nor a state of this instance.
+    pub fn store_state(
+        &mut self,
+        existing: fmi2FMUstate,
+        state: FmuState,
+    ) -> Result<fmi2FMUstate, String> {
+        if existing.is_null() {
+            let boxed = Box::new(state);
+            let handle: fmi2FMUstate = std::ptr::from_ref::<FmuState>(&*boxed).cast_mut().cast();
+            self.states.push(boxed);
+            return Ok(handle);
+        }
+        let index = self
+            .find_state(existing)
+            .ok_or_else(|| "*FMUstate is neither NULL nor a state of this instance".to_string())?;
+        if let Some(slot) = self.states.get_mut(index) {
+            **slot = state;
+        }
+        Ok(existing)
+    }
+
+    /// The FMU state `handle` of this instance.
+    ///
+    /// # Errors
+    /// `handle` is not a state of this instance (or was freed).
+    pub fn state(&self, handle: fmi2FMUstate) -> Result<&FmuState, String> {
+        self.find_state(handle)
+            .and_then(|i| self.states.get(i))
+            .map(|s| &**s)
+            .ok_or_else(|| "the FMU state is not one of this instance (or was freed)".into())
+    }
+
+    /// fmi2FreeFMUstate.
+    ///
+    /// # Errors
+    /// As [`Instance::state`].
+    pub fn free_state(&mut self, handle: fmi2FMUstate) -> Result<(), String> {
+        let index = self.find_state(handle).ok_or_else(|| {
+            "the FMU state is not one of this instance (or was freed)".to_string()
+        })?;
+        self.states.remove(index);
+        Ok(())
+    }
+
+    /// The serialised form of `state`, refused when it could not be read back (a non-finite x,
+    /// k1 or k2: such a state can be restored in memory but not serialised).
+    ///
+    /// # Errors
+    /// What [`Instance::deserialize`] would refuse.
+    pub fn serialize(&self, state: &FmuState) -> Result<Vec<u8>, String> {
+        let bytes = state::encode(state, &self.owner);
+        self.deserialize(&bytes)
+            .map_err(|e| format!("the state cannot be serialised: {e}"))?;
+        Ok(bytes)
+    }
+
+    /// Reads a serialised state and checks it completely: the bytes (see `state`), then the
+    /// parameters and memory through the core, as a restore in step mode would.
+    ///
+    /// # Errors
+    /// A message naming what is wrong.
+    pub fn deserialize(&self, bytes: &[u8]) -> Result<FmuState, String> {
+        let state = state::decode(bytes, &self.owner)?;
+        if state.history != History::Empty {
+            self.engine_for(&state, true)?;
+        }
+        Ok(state)
+    }
+}
