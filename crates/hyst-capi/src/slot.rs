@@ -28,7 +28,7 @@ pub(crate) const fn fits<S, V>() -> bool {
 fn check<S, V>(storage: *const S) -> i32 {
     if storage.is_null() {
         HYST_ERR_NULL_POINTER
-    } else if (storage as usize) % align_of::<S>().max(align_of::<Slot<V>>()) != 0 {
+    } else if !(storage as usize).is_multiple_of(align_of::<S>().max(align_of::<Slot<V>>())) {
         HYST_ERR_MISALIGNED
     } else {
         HYST_OK

@@ -20,8 +20,8 @@ use std::io::{Cursor, Write as _};
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
+use crate::source::{Chosen, Source};
 use anyhow::{bail, Context, Result};
-use hyst_core::Hysteresis;
 use hyst_fit::modelfile::ModelKind;
 use hyst_fit::ModelFile;
 use zip::write::SimpleFileOptions;
@@ -50,21 +50,9 @@ const REQUIRED_SYMBOLS: [&str; 6] = [
 /// Arguments of `hyst fmu`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// k1: half-width of the hysteresis loop, in output units (> 0); the start value of the
-    /// FMU's parameter k1.
-    #[arg(long, required_unless_present = "model", allow_negative_numbers = true)]
-    pub k1: Option<f64>,
-    /// k2: rate of the transition to the asymptotes, in 1/input units (> 0); the start value of
-    /// the FMU's parameter k2.
-    #[arg(long, required_unless_present = "model", allow_negative_numbers = true)]
-    pub k2: Option<f64>,
-    /// A fitted model file (TOML, see docs/formats.md) instead of --k1/--k2; it is packed into
-    /// the FMU.
-    #[arg(long, conflicts_with_all = ["k1", "k2"])]
-    pub model: Option<PathBuf>,
-    /// The inverse: the exact compensator (desired output in, command out).
-    #[arg(long)]
-    pub inverse: bool,
+    /// The operator.
+    #[command(flatten)]
+    pub source: Source,
     /// The FMU to write (NAME.fmu; NAME becomes the modelName). Written atomically.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -98,17 +86,9 @@ struct Fmu {
 /// Runs `hyst fmu`.
 pub fn main(args: Args) -> Result<()> {
     let model_name = model_name(&args.output)?;
-    let kind = match &args.model {
-        Some(path) => read_model(path, &args.output)?,
-        None => {
-            let (k1, k2) = match (args.k1, args.k2) {
-                (Some(k1), Some(k2)) => (k1, k2),
-                _ => bail!("give --k1 and --k2 (or --model FILE)"),
-            };
-            // The forward and the inverse operator accept the same parameters.
-            Hysteresis::new(k1, k2).context("--k1/--k2")?;
-            Kind::Operator { k1, k2 }
-        }
+    let kind = match args.source.chosen()? {
+        Chosen::Model(path) => read_model(path, &args.output)?,
+        Chosen::Parameters { k1, k2 } => Kind::Operator { k1, k2 },
     };
     let library = read_library()?;
     let (generated, timestamp) = now()?;
@@ -118,7 +98,7 @@ pub fn main(args: Args) -> Result<()> {
         generated,
         timestamp,
         kind,
-        inverse: args.inverse,
+        inverse: args.source.inverse,
         command: command_line(),
     };
     let bytes = fmu.archive(&library)?;

@@ -11,6 +11,7 @@ mod fmu;
 mod paper;
 mod plot;
 mod run;
+mod source;
 mod workloads;
 
 /// Smooth parametric hysteresis: model, bound, compensate and fit.
@@ -32,6 +33,9 @@ enum Command {
     /// Identify a model from measured data.
     Fit(fit::Args),
     /// Export the operator, a fitted model or its compensator as an FMU (FMI 2.0 co-simulation).
+    ///
+    /// With --k1/--k2, these are the start values of the FMU's parameters k1 and k2 (tunable
+    /// before initialisation); with --model, the model file is packed into the FMU.
     Fmu(fmu::Args),
     /// Measure the speed of the operators (ns per sample).
     Bench(bench::Args),

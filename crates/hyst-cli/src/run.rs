@@ -15,6 +15,8 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
+
+use crate::source::{Chosen, Source};
 use hyst_core::{Hysteresis, InverseHysteresis, Jet, Operator};
 use hyst_io::Table;
 
@@ -24,18 +26,9 @@ pub const MAX_DERIVATIVES: usize = 8;
 /// Arguments of `hyst run`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// k1: half-width of the hysteresis loop, in output units (> 0).
-    #[arg(long, required_unless_present = "model", allow_negative_numbers = true)]
-    pub k1: Option<f64>,
-    /// k2: rate of the transition to the asymptotes, in 1/input units (> 0).
-    #[arg(long, required_unless_present = "model", allow_negative_numbers = true)]
-    pub k2: Option<f64>,
-    /// A fitted model file (TOML, see docs/formats.md) instead of --k1/--k2.
-    #[arg(long, conflicts_with_all = ["k1", "k2"])]
-    pub model: Option<PathBuf>,
-    /// Run the inverse operator H⁻¹ (eq. 4): the compensator, desired output in, command out.
-    #[arg(long)]
-    pub inverse: bool,
+    /// The operator.
+    #[command(flatten)]
+    pub source: Source,
     /// The input column (default: `x`, or the only column).
     #[arg(long)]
     pub column: Option<String>,
@@ -52,21 +45,16 @@ pub struct Args {
 /// Runs `hyst run`.
 pub fn main(args: Args) -> Result<()> {
     let table = Table::read(&args.input)?;
-    if let Some(path) = &args.model {
-        let output = run_model(path, &table, &args)?;
-        output.write_atomic(&args.output)?;
-        return Ok(());
-    }
-    let (k1, k2) = match (args.k1, args.k2) {
-        (Some(k1), Some(k2)) => (k1, k2),
-        _ => bail!("give --k1 and --k2 (or --model FILE)"),
-    };
-    let output = if args.inverse {
-        let mut op = InverseHysteresis::new(k1, k2).context("--k1/--k2")?;
-        run_table(&mut op, &table, args.column.as_deref(), args.derivatives)?
-    } else {
-        let mut op = Hysteresis::new(k1, k2).context("--k1/--k2")?;
-        run_table(&mut op, &table, args.column.as_deref(), args.derivatives)?
+    let output = match args.source.chosen()? {
+        Chosen::Model(path) => run_model(path, &table, &args)?,
+        Chosen::Parameters { k1, k2 } if args.source.inverse => {
+            let mut op = InverseHysteresis::new(k1, k2).context("--k1/--k2")?;
+            run_table(&mut op, &table, args.column.as_deref(), args.derivatives)?
+        }
+        Chosen::Parameters { k1, k2 } => {
+            let mut op = Hysteresis::new(k1, k2).context("--k1/--k2")?;
+            run_table(&mut op, &table, args.column.as_deref(), args.derivatives)?
+        }
     };
     output.write_atomic(&args.output)?;
     Ok(())
@@ -145,19 +133,21 @@ fn run_model(path: &std::path::Path, table: &Table, args: &Args) -> Result<Table
     let model = hyst_fit::ModelFile::read(path)?;
     let name = match &args.column {
         Some(c) => c.clone(),
-        None if args.inverse => model.columns.output.clone(),
+        None if args.source.inverse => model.columns.output.clone(),
         None => model.columns.input.clone(),
     };
     let (index, x) = table.pick_column(Some(&name))?;
     let first = x.first().copied().unwrap_or(0.0);
-    let mut op = model.evaluator(first, args.inverse).with_context(|| {
-        format!(
-            "{}:{}: column {} ({name:?}): value {first}: the model {} cannot start here",
-            table.source(),
-            table.line_of_row(0),
-            index + 1,
-            path.display()
-        )
-    })?;
+    let mut op = model
+        .evaluator(first, args.source.inverse)
+        .with_context(|| {
+            format!(
+                "{}:{}: column {} ({name:?}): value {first}: the model {} cannot start here",
+                table.source(),
+                table.line_of_row(0),
+                index + 1,
+                path.display()
+            )
+        })?;
     run_table(&mut op, table, Some(&name), args.derivatives)
 }

@@ -323,7 +323,7 @@ pub fn fit_smooth(
             start,
         };
         let s = options.method.minimize(&problem, theta0, &mut tagged)?;
-        if best.as_ref().map_or(true, |b| s.cost < b.cost) {
+        if best.as_ref().is_none_or(|b| s.cost < b.cost) {
             best = Some(s);
         }
     }

@@ -208,7 +208,7 @@ pub fn family_widths(
         }
         let (w1, w2) = widths(hi);
         if let Ok((delta_a, _, _)) = bound(model, w1, w2, v_range) {
-            if best.map_or(true, |b| delta_a < b.0) {
+            if best.is_none_or(|b| delta_a < b.0) {
                 best = Some((delta_a, w1, w2, hi_cov));
             }
         }
