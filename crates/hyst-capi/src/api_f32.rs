@@ -271,6 +271,45 @@ unsafe fn read_array(p: *const f32, n: usize) -> Result<[f32; engine::HYST_MAX_O
     Ok(out)
 }
 
+/// `hyst_operator_init_direct_f32` / `_inverse`.
+///
+/// # Safety
+/// `op` is NULL or points to a writable `hyst_operator_f32`.
+unsafe fn init_operator(op: *mut hyst_operator_f32, k1: f32, k2: f32, inverse: bool) -> i32 {
+    match engine::pair(k1, k2, inverse) {
+        // SAFETY: `op` is NULL or a writable block of the type's size; `fits` holds (asserted).
+        Ok(p) => unsafe { slot::write(op, TAG_OPERATOR, p) },
+        Err(e) => status::of(&e),
+    }
+}
+
+/// `hyst_shaped_model_init_direct_f32` / `_inverse`.
+///
+/// # Safety
+/// `m` is NULL or points to a writable `hyst_shaped_model_f32`; `params` is NULL or readable.
+unsafe fn init_shaped(
+    m: *mut hyst_shaped_model_f32,
+    params: *const hyst_model_params_f32,
+    inverse: bool,
+) -> i32 {
+    if params.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: non-NULL (checked), readable (caller's contract).
+    match unsafe { params.read() }.model() {
+        Ok(model) => {
+            let shaped = if inverse {
+                Shaped::Inverse(model.inverse())
+            } else {
+                Shaped::Direct(model)
+            };
+            // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
+            unsafe { slot::write(m, TAG_SHAPED, shaped) }
+        }
+        Err(e) => status::of(&e),
+    }
+}
+
 fn done(result: Result<i32, i32>) -> i32 {
     result.unwrap_or_else(|status| status)
 }
@@ -292,11 +331,8 @@ pub unsafe extern "C" fn hyst_operator_init_direct_f32(
     k1: f32,
     k2: f32,
 ) -> i32 {
-    match engine::pair(k1, k2, false) {
-        // SAFETY: `op` is NULL or a writable block of the type's size; `fits` holds (asserted).
-        Ok(p) => unsafe { slot::write(op, TAG_OPERATOR, p) },
-        Err(e) => status::of(&e),
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_operator(op, k1, k2, false) }
 }
 
 /// Initialises `op` as the inverse operator v = H⁻¹(k1, k2)[u_d] (eq. 4), the exact
@@ -312,11 +348,8 @@ pub unsafe extern "C" fn hyst_operator_init_inverse_f32(
     k1: f32,
     k2: f32,
 ) -> i32 {
-    match engine::pair(k1, k2, true) {
-        // SAFETY: as in `hyst_operator_init_direct_f32`.
-        Ok(p) => unsafe { slot::write(op, TAG_OPERATOR, p) },
-        Err(e) => status::of(&e),
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_operator(op, k1, k2, true) }
 }
 
 /// One sample: `*y` = the output for the input `x`. A non-finite `x` returns
@@ -425,15 +458,8 @@ pub unsafe extern "C" fn hyst_shaped_model_init_direct_f32(
     m: *mut hyst_shaped_model_f32,
     params: *const hyst_model_params_f32,
 ) -> i32 {
-    if params.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    match unsafe { params.read() }.model() {
-        // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(model) => unsafe { slot::write(m, TAG_SHAPED, Shaped::Direct(model)) },
-        Err(e) => status::of(&e),
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_shaped(m, params, false) }
 }
 
 /// Initialises `m` as the exact compensator in = ψ_in⁻¹(H⁻¹(k1, k2)[ψ_out⁻¹(out)]) of the shaped
@@ -448,15 +474,8 @@ pub unsafe extern "C" fn hyst_shaped_model_init_inverse_f32(
     m: *mut hyst_shaped_model_f32,
     params: *const hyst_model_params_f32,
 ) -> i32 {
-    if params.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    match unsafe { params.read() }.model() {
-        // SAFETY: as in `hyst_shaped_model_init_direct_f32`.
-        Ok(model) => unsafe { slot::write(m, TAG_SHAPED, Shaped::Inverse(model.inverse())) },
-        Err(e) => status::of(&e),
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_shaped(m, params, true) }
 }
 
 /// One sample, as `hyst_operator_step_f32`; the inverse also returns `HYST_ERR_OUT_OF_RANGE` for a

@@ -266,6 +266,45 @@ unsafe fn read_array(p: *const f64, n: usize) -> Result<[f64; engine::HYST_MAX_O
     Ok(out)
 }
 
+/// `hyst_operator_init_direct` / `_inverse`.
+///
+/// # Safety
+/// `op` is NULL or points to a writable `hyst_operator`.
+unsafe fn init_operator(op: *mut hyst_operator, k1: f64, k2: f64, inverse: bool) -> i32 {
+    match engine::pair(k1, k2, inverse) {
+        // SAFETY: `op` is NULL or a writable block of the type's size; `fits` holds (asserted).
+        Ok(p) => unsafe { slot::write(op, TAG_OPERATOR, p) },
+        Err(e) => status::of(&e),
+    }
+}
+
+/// `hyst_shaped_model_init_direct` / `_inverse`.
+///
+/// # Safety
+/// `m` is NULL or points to a writable `hyst_shaped_model`; `params` is NULL or readable.
+unsafe fn init_shaped(
+    m: *mut hyst_shaped_model,
+    params: *const hyst_model_params,
+    inverse: bool,
+) -> i32 {
+    if params.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: non-NULL (checked), readable (caller's contract).
+    match unsafe { params.read() }.model() {
+        Ok(model) => {
+            let shaped = if inverse {
+                Shaped::Inverse(model.inverse())
+            } else {
+                Shaped::Direct(model)
+            };
+            // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
+            unsafe { slot::write(m, TAG_SHAPED, shaped) }
+        }
+        Err(e) => status::of(&e),
+    }
+}
+
 fn done(result: Result<i32, i32>) -> i32 {
     result.unwrap_or_else(|status| status)
 }
@@ -287,11 +326,8 @@ pub unsafe extern "C" fn hyst_operator_init_direct(
     k1: f64,
     k2: f64,
 ) -> i32 {
-    match engine::pair(k1, k2, false) {
-        // SAFETY: `op` is NULL or a writable block of the type's size; `fits` holds (asserted).
-        Ok(p) => unsafe { slot::write(op, TAG_OPERATOR, p) },
-        Err(e) => status::of(&e),
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_operator(op, k1, k2, false) }
 }
 
 /// Initialises `op` as the inverse operator v = H⁻¹(k1, k2)[u_d] (eq. 4), the exact
@@ -307,11 +343,8 @@ pub unsafe extern "C" fn hyst_operator_init_inverse(
     k1: f64,
     k2: f64,
 ) -> i32 {
-    match engine::pair(k1, k2, true) {
-        // SAFETY: as in `hyst_operator_init_direct`.
-        Ok(p) => unsafe { slot::write(op, TAG_OPERATOR, p) },
-        Err(e) => status::of(&e),
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_operator(op, k1, k2, true) }
 }
 
 /// One sample: `*y` = the output for the input `x`. A non-finite `x` returns
@@ -416,15 +449,8 @@ pub unsafe extern "C" fn hyst_shaped_model_init_direct(
     m: *mut hyst_shaped_model,
     params: *const hyst_model_params,
 ) -> i32 {
-    if params.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    match unsafe { params.read() }.model() {
-        // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(model) => unsafe { slot::write(m, TAG_SHAPED, Shaped::Direct(model)) },
-        Err(e) => status::of(&e),
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_shaped(m, params, false) }
 }
 
 /// Initialises `m` as the exact compensator in = ψ_in⁻¹(H⁻¹(k1, k2)[ψ_out⁻¹(out)]) of the shaped
@@ -439,15 +465,8 @@ pub unsafe extern "C" fn hyst_shaped_model_init_inverse(
     m: *mut hyst_shaped_model,
     params: *const hyst_model_params,
 ) -> i32 {
-    if params.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    match unsafe { params.read() }.model() {
-        // SAFETY: as in `hyst_shaped_model_init_direct`.
-        Ok(model) => unsafe { slot::write(m, TAG_SHAPED, Shaped::Inverse(model.inverse())) },
-        Err(e) => status::of(&e),
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_shaped(m, params, true) }
 }
 
 /// One sample, as `hyst_operator_step`; the inverse also returns `HYST_ERR_OUT_OF_RANGE` for a
