@@ -17,6 +17,8 @@
 //! - [`Evaluator`]: any fitted model (or its compensator) behind the core's
 //!   [`hyst_core::Operator`].
 //! - [`ModelFile`]: the versioned TOML model file (see `docs/formats.md`).
+//! - [`identify()`]: the whole identification as one call (the fits a [`identify::Request`]
+//!   asks for, the model file, the [`report`]), shared by `hyst fit` and the Python binding.
 //!
 //! The optional feature `clap` derives `clap::ValueEnum` for the choices a command line offers
 //! ([`ShapingKind`], [`K2Kind`], [`InitialState`], [`pi::PiOutputKind`],
@@ -29,12 +31,14 @@
 pub mod data;
 pub mod error;
 pub mod evaluator;
+pub mod identify;
 mod linalg;
 pub mod lm;
 pub mod model;
 pub mod modelfile;
 pub mod pi;
 pub mod pi_fit;
+pub mod report;
 pub mod smooth;
 pub mod structure;
 pub mod widths;
@@ -42,6 +46,7 @@ pub mod widths;
 pub use data::{Columns, DataOptions, Dataset, Record};
 pub use error::FitError;
 pub use evaluator::Evaluator;
+pub use identify::identify;
 pub use model::{InitialState, SmoothModel};
 pub use modelfile::ModelFile;
 pub use smooth::{fit_smooth, ErrorStats, Estimate, FitOptions, SmoothFit};

@@ -10,26 +10,24 @@
 
 mod plots;
 mod progress;
-mod report;
 
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use anyhow::{bail, Result};
-use hyst_fit::modelfile::{fnv1a64, Metrics, ModelKind, Provenance, Units};
+use anyhow::Result;
+use hyst_fit::identify::Request;
+use hyst_fit::modelfile::{fnv1a64, ModelKind, Provenance, Units};
 use hyst_fit::pi::PiOutputKind;
-use hyst_fit::pi_fit::{fit_pi_with, PiFit};
+use hyst_fit::report::text_report;
 use hyst_fit::{
-    fit_smooth, DataOptions, Dataset, FitOptions, InitialState, K2Kind, ModelFile, ShapingKind,
-    SmoothFit, Structure,
+    identify, DataOptions, Dataset, FitOptions, InitialState, K2Kind, ShapingKind, Structure,
 };
 use hyst_io::Table;
 
 use plots::{draw, time_column};
 use progress::{ProgressObserver, INTERRUPTED};
-use report::{text_report, Report, Summary};
 
 /// Arguments of `hyst fit`.
 #[derive(clap::Args, Debug)]
@@ -117,20 +115,6 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Mean evaluation time per sample of `run` over the records (repeated to ≥ 50 ms).
-fn ns_per_sample(data: &Dataset, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> f64 {
-    let samples: usize = data.records.iter().map(|r| r.len()).sum();
-    let started = Instant::now();
-    let mut rounds = 0usize;
-    while rounds == 0 || started.elapsed() < Duration::from_millis(50) {
-        for r in &data.records {
-            std::hint::black_box(run(std::hint::black_box(&r.input)));
-        }
-        rounds += 1;
-    }
-    started.elapsed().as_secs_f64() * 1e9 / (samples * rounds).max(1) as f64
-}
-
 /// Runs `hyst fit`.
 pub fn main(args: Args) -> Result<()> {
     let interrupted = Arc::new(());
@@ -168,170 +152,70 @@ pub fn main(args: Args) -> Result<()> {
         coverage: args.coverage,
         ..FitOptions::default()
     };
-    let want_smooth = args.model_kind == ModelKind::Smooth || args.compare;
-    let want_pi = args.model_kind == ModelKind::PrandtlIshlinskii || args.compare;
-    let smooth = if want_smooth {
-        let mut observer = ProgressObserver {
-            started: Instant::now(),
-            bar: None,
-            starts: args.starts.max(1),
-        };
-        Some(fit_smooth(&data, structure, &fit_options, &mut observer)?)
-    } else {
-        None
+    let request = Request {
+        kind: args.model_kind,
+        compare: args.compare,
+        structure,
+        options: fit_options,
+        operators: args.operators,
+        pi_output: args.pi_output,
+        units: Units {
+            input: args.input_unit.clone(),
+            output: args.output_unit.clone(),
+        },
     };
-    if INTERRUPTED.load(Ordering::SeqCst) {
-        bail!(hyst_fit::FitError::Interrupted);
-    }
-    let pi = if want_pi {
-        let fit = fit_pi_with(&data, args.operators, args.pi_output);
-        // The library names its parameter; the user knows it as the flag.
-        Some(fit.map_err(|e| match e {
-            e @ hyst_fit::FitError::InvalidSetting {
-                name: "operators", ..
-            } => anyhow::Error::new(e).context("--operators"),
-            e => e.into(),
-        })?)
-    } else {
-        None
-    };
-
     let bytes = std::fs::read(&args.data).unwrap_or_default();
     let provenance = Provenance {
         file: args.data.display().to_string(),
         bytes: bytes.len() as u64,
         fnv1a64: format!("{:016x}", fnv1a64(&bytes)),
         rows: table.len(),
-        records: data.records.len(),
-        validation_records: data.validation().map(|r| r.id).collect(),
         command: std::env::args().collect::<Vec<_>>().join(" "),
         hyst_version: env!("CARGO_PKG_VERSION").to_string(),
         created_unix: std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_secs()),
+        ..Provenance::default()
     };
-    let smooth_summary = smooth.as_ref().map(|f| Summary {
-        kind: "smooth".into(),
-        parameters: f.layout.len(),
-        training: f.training,
-        validation: f.validation,
-        fit_seconds: f.seconds,
-        ns_per_sample: ns_per_sample(&data, |x| f.model.run(x).ok()),
-    });
-    let pi_summary = pi.as_ref().map(|f| Summary {
-        kind: match f.model.output {
-            Some(o) => format!("prandtl-ishlinskii + poly{}", o.degree),
-            None => "prandtl-ishlinskii".into(),
-        },
-        parameters: f.model.parameter_count(),
-        training: f.training,
-        validation: f.validation,
-        fit_seconds: f.seconds,
-        ns_per_sample: ns_per_sample(&data, |x| f.model.run(x).ok()),
-    });
-    let columns = data.columns.clone();
-    let units = Units {
-        input: args.input_unit.clone(),
-        output: args.output_unit.clone(),
+    let mut observer = ProgressObserver {
+        started: Instant::now(),
+        bar: None,
+        starts: args.starts.max(1),
     };
-    let file = match (args.model_kind, &smooth, &pi) {
-        (ModelKind::Smooth, Some(f), _) => {
-            smooth_file(f, smooth_summary.as_ref(), columns, units, provenance)
-        }
-        (ModelKind::PrandtlIshlinskii, _, Some(f)) => {
-            pi_file(f, pi_summary.as_ref(), columns, units, provenance)
-        }
-        _ => bail!("internal: the requested model was not fitted"),
-    };
-    if INTERRUPTED.load(Ordering::SeqCst) {
-        bail!(hyst_fit::FitError::Interrupted);
-    }
+    let identified = identify(
+        &data,
+        &request,
+        &mut observer,
+        &|| INTERRUPTED.load(Ordering::SeqCst),
+        provenance,
+    )
+    .map_err(|e| match e {
+        // The library names its parameter; the user knows it as the flag.
+        e @ hyst_fit::FitError::InvalidSetting {
+            name: "operators", ..
+        } => anyhow::Error::new(e).context("--operators"),
+        e => e.into(),
+    })?;
+    drop(observer);
+    let mut report = identified.report;
     // Plots first: if they cannot be written, the command fails before the model file exists.
-    let mut plots = Vec::new();
     if let Some(dir) = &args.plot {
-        plots = draw(dir, &data, &args, time, smooth.as_ref(), pi.as_ref())?;
+        let plots = draw(
+            dir,
+            &data,
+            &args,
+            time,
+            identified.smooth.as_ref(),
+            identified.pi.as_ref(),
+        )?;
+        report.plots = plots.iter().map(|p| p.display().to_string()).collect();
     }
-    file.write(&args.model_out)?;
-
-    let (lo, hi) = data.output_range();
-    let comparison = if args.compare {
-        smooth_summary.into_iter().chain(pi_summary).collect()
-    } else {
-        Vec::new()
-    };
-    let report = Report {
-        model_file: args.model_out.display().to_string(),
-        model: file,
-        output_span: hi - lo,
-        comparison,
-        plots: plots.iter().map(|p| p.display().to_string()).collect(),
-    };
+    report.model.write(&args.model_out)?;
+    report.model_file = args.model_out.display().to_string();
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         print!("{}", text_report(&report));
     }
     Ok(())
-}
-
-fn smooth_file(
-    f: &SmoothFit,
-    summary: Option<&Summary>,
-    columns: hyst_fit::Columns,
-    units: Units,
-    provenance: Provenance,
-) -> ModelFile {
-    ModelFile {
-        format: hyst_fit::modelfile::FORMAT.into(),
-        version: hyst_fit::modelfile::MIN_VERSION,
-        kind: ModelKind::Smooth,
-        columns,
-        units,
-        parameters: f.estimates.clone(),
-        metrics: Metrics {
-            parameters: f.layout.len(),
-            training: f.training,
-            validation: f.validation,
-            fit_seconds: f.seconds,
-            ns_per_sample: summary.map_or(f64::NAN, |s| s.ns_per_sample),
-        },
-        structure: Some(f.layout.structure),
-        smooth: Some(f.model),
-        prandtl_ishlinskii: None,
-        family: f.widths,
-        provenance,
-    }
-}
-
-fn pi_file(
-    f: &PiFit,
-    summary: Option<&Summary>,
-    columns: hyst_fit::Columns,
-    units: Units,
-    provenance: Provenance,
-) -> ModelFile {
-    let mut file = ModelFile {
-        format: hyst_fit::modelfile::FORMAT.into(),
-        version: hyst_fit::modelfile::MIN_VERSION,
-        kind: ModelKind::PrandtlIshlinskii,
-        columns,
-        units,
-        parameters: f.estimates.clone(),
-        metrics: Metrics {
-            parameters: f.model.parameter_count(),
-            training: f.training,
-            validation: f.validation,
-            fit_seconds: f.seconds,
-            ns_per_sample: summary.map_or(f64::NAN, |s| s.ns_per_sample),
-        },
-        structure: None,
-        smooth: None,
-        prandtl_ishlinskii: Some(f.model.clone()),
-        family: None,
-        provenance,
-    };
-    // The lowest version that holds the content: version-1 readers keep reading plain PI files
-    // and refuse the ones with an output polynomial.
-    file.version = file.required_version();
-    file
 }

@@ -1,8 +1,9 @@
-//! The report of `hyst fit`: the summaries, the JSON report and its text form.
+//! The report of an identification (`hyst fit`, Python's `FitResult.report()`): the summaries,
+//! the JSON report and its text form.
 
-use hyst_fit::modelfile::ModelKind;
-use hyst_fit::smooth::ErrorStats;
-use hyst_fit::{InitialState, K2Kind, ModelFile};
+use crate::modelfile::ModelKind;
+use crate::smooth::ErrorStats;
+use crate::{InitialState, K2Kind, ModelFile};
 use serde::Serialize;
 
 /// One model kind's summary, for the side-by-side comparison.
@@ -23,7 +24,7 @@ pub struct Summary {
 }
 
 /// The report (`--json` prints it).
-#[derive(Serialize, Debug)]
+#[derive(Serialize, Debug, Clone)]
 pub struct Report {
     /// The model file written.
     pub model_file: String,
@@ -52,7 +53,9 @@ fn stats_line(label: &str, s: &ErrorStats, u: &str) -> String {
     )
 }
 
-pub(super) fn text_report(r: &Report) -> String {
+/// The report as text, the way `hyst fit` prints it.
+#[must_use]
+pub fn text_report(r: &Report) -> String {
     let m = &r.model;
     let u = unit(&m.units.output);
     let mut s = String::new();

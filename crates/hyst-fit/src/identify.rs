@@ -1,0 +1,230 @@
+//! Identification as one call: fit the requested model kind (and, for a comparison, the other),
+//! measure how fast the result runs, and assemble the model file and the report. `hyst fit` and
+//! the Python binding's `hyst.fit` both go through [`identify`], so they fit the same way and
+//! print the same words.
+
+use std::time::{Duration, Instant};
+
+use crate::lm::Observer;
+use crate::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT, MIN_VERSION};
+use crate::pi::PiOutputKind;
+use crate::pi_fit::{fit_pi_with, PiFit};
+use crate::report::{Report, Summary};
+use crate::smooth::{fit_smooth, FitOptions, SmoothFit};
+use crate::{Dataset, FitError, ModelFile, Structure};
+
+/// What to identify: the model kind with its structure, and the fit's options.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// The model kind written to the model file.
+    pub kind: ModelKind,
+    /// Also fit the other kind and report both side by side.
+    pub compare: bool,
+    /// The smooth model's structure.
+    pub structure: Structure,
+    /// The smooth fit's options (starts, coverage of the family widths, …).
+    pub options: FitOptions,
+    /// Play operators of the Prandtl–Ishlinskii model (1 ..= [`crate::pi::MAX_OPERATORS`]).
+    pub operators: usize,
+    /// The Prandtl–Ishlinskii model's output polynomial.
+    pub pi_output: PiOutputKind,
+    /// Units of the input and output columns (for the model file and the report).
+    pub units: Units,
+}
+
+impl Default for Request {
+    fn default() -> Self {
+        Self {
+            kind: ModelKind::Smooth,
+            compare: false,
+            structure: Structure::default(),
+            options: FitOptions::default(),
+            operators: 16,
+            pi_output: PiOutputKind::None,
+            units: Units::default(),
+        }
+    }
+}
+
+/// The result of [`identify`]: the fits made, the model file and the report.
+#[derive(Debug)]
+pub struct Identified {
+    /// The smooth fit (when the kind is smooth, or with `compare`).
+    pub smooth: Option<SmoothFit>,
+    /// The Prandtl–Ishlinskii fit (when that is the kind, or with `compare`).
+    pub pi: Option<PiFit>,
+    /// The report, holding the model file of the requested kind (`report.model`).
+    pub report: Report,
+}
+
+/// Mean evaluation time per sample of `run` over the records (repeated to ≥ 50 ms), in ns.
+fn ns_per_sample(data: &Dataset, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> f64 {
+    let samples: usize = data.records.iter().map(|r| r.len()).sum();
+    let started = Instant::now();
+    let mut rounds = 0usize;
+    while rounds == 0 || started.elapsed() < Duration::from_millis(50) {
+        for r in &data.records {
+            std::hint::black_box(run(std::hint::black_box(&r.input)));
+        }
+        rounds += 1;
+    }
+    started.elapsed().as_secs_f64() * 1e9 / (samples * rounds).max(1) as f64
+}
+
+/// Fits `data` as `request` asks and assembles the model file and report.
+///
+/// `observer` sees the smooth fit's progress and may stop it; `interrupted` is asked between
+/// the steps (a stop gives [`FitError::Interrupted`]). `provenance` goes into the model file
+/// as given, except `records` and `validation_records`, which come from `data`. The report's
+/// `model_file` and `plots` are left empty for the caller to fill in.
+///
+/// # Errors
+/// The fits' errors (bad data, invalid settings, [`FitError::Interrupted`]); for the
+/// Prandtl–Ishlinskii fit, an invalid `operators` names the setting `operators`.
+pub fn identify(
+    data: &Dataset,
+    request: &Request,
+    observer: &mut dyn Observer,
+    interrupted: &dyn Fn() -> bool,
+    mut provenance: Provenance,
+) -> Result<Identified, FitError> {
+    let want_smooth = request.kind == ModelKind::Smooth || request.compare;
+    let want_pi = request.kind == ModelKind::PrandtlIshlinskii || request.compare;
+    let smooth = if want_smooth {
+        Some(fit_smooth(
+            data,
+            request.structure,
+            &request.options,
+            observer,
+        )?)
+    } else {
+        None
+    };
+    if interrupted() {
+        return Err(FitError::Interrupted);
+    }
+    let pi = if want_pi {
+        Some(fit_pi_with(data, request.operators, request.pi_output)?)
+    } else {
+        None
+    };
+    provenance.records = data.records.len();
+    provenance.validation_records = data.validation().map(|r| r.id).collect();
+
+    let smooth_summary = smooth.as_ref().map(|f| Summary {
+        kind: "smooth".into(),
+        parameters: f.layout.len(),
+        training: f.training,
+        validation: f.validation,
+        fit_seconds: f.seconds,
+        ns_per_sample: ns_per_sample(data, |x| f.model.run(x).ok()),
+    });
+    let pi_summary = pi.as_ref().map(|f| Summary {
+        kind: match f.model.output {
+            Some(o) => format!("prandtl-ishlinskii + poly{}", o.degree),
+            None => "prandtl-ishlinskii".into(),
+        },
+        parameters: f.model.parameter_count(),
+        training: f.training,
+        validation: f.validation,
+        fit_seconds: f.seconds,
+        ns_per_sample: ns_per_sample(data, |x| f.model.run(x).ok()),
+    });
+    let columns = data.columns.clone();
+    let units = request.units.clone();
+    let model = match (request.kind, &smooth, &pi) {
+        (ModelKind::Smooth, Some(f), _) => {
+            smooth_file(f, smooth_summary.as_ref(), columns, units, provenance)
+        }
+        (ModelKind::PrandtlIshlinskii, _, Some(f)) => {
+            pi_file(f, pi_summary.as_ref(), columns, units, provenance)
+        }
+        _ => {
+            return Err(FitError::Invalid(
+                "internal: the requested model was not fitted".into(),
+            ))
+        }
+    };
+    if interrupted() {
+        return Err(FitError::Interrupted);
+    }
+    let (lo, hi) = data.output_range();
+    let comparison = if request.compare {
+        smooth_summary.into_iter().chain(pi_summary).collect()
+    } else {
+        Vec::new()
+    };
+    Ok(Identified {
+        smooth,
+        pi,
+        report: Report {
+            model_file: String::new(),
+            model,
+            output_span: hi - lo,
+            comparison,
+            plots: Vec::new(),
+        },
+    })
+}
+
+fn smooth_file(
+    f: &SmoothFit,
+    summary: Option<&Summary>,
+    columns: crate::Columns,
+    units: Units,
+    provenance: Provenance,
+) -> ModelFile {
+    ModelFile {
+        format: FORMAT.into(),
+        version: MIN_VERSION,
+        kind: ModelKind::Smooth,
+        columns,
+        units,
+        parameters: f.estimates.clone(),
+        metrics: Metrics {
+            parameters: f.layout.len(),
+            training: f.training,
+            validation: f.validation,
+            fit_seconds: f.seconds,
+            ns_per_sample: summary.map_or(f64::NAN, |s| s.ns_per_sample),
+        },
+        structure: Some(f.layout.structure),
+        smooth: Some(f.model),
+        prandtl_ishlinskii: None,
+        family: f.widths,
+        provenance,
+    }
+}
+
+fn pi_file(
+    f: &PiFit,
+    summary: Option<&Summary>,
+    columns: crate::Columns,
+    units: Units,
+    provenance: Provenance,
+) -> ModelFile {
+    let mut file = ModelFile {
+        format: FORMAT.into(),
+        version: MIN_VERSION,
+        kind: ModelKind::PrandtlIshlinskii,
+        columns,
+        units,
+        parameters: f.estimates.clone(),
+        metrics: Metrics {
+            parameters: f.model.parameter_count(),
+            training: f.training,
+            validation: f.validation,
+            fit_seconds: f.seconds,
+            ns_per_sample: summary.map_or(f64::NAN, |s| s.ns_per_sample),
+        },
+        structure: None,
+        smooth: None,
+        prandtl_ishlinskii: Some(f.model.clone()),
+        family: None,
+        provenance,
+    };
+    // The lowest version that holds the content: version-1 readers keep reading plain PI files
+    // and refuse the ones with an output polynomial.
+    file.version = file.required_version();
+    file
+}
