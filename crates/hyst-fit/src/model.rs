@@ -140,6 +140,23 @@ impl SmoothModel {
         Ok(self.core(first_input)?.inverse())
     }
 
+    /// The exact compensator for a record whose first *desired output* is `first_desired`,
+    /// started where the model's start rule puts the model that produces it: the command x0
+    /// with ψ_out(H[ψ_in(x0)]) = `first_desired` on the start rule's asymptote (or line).
+    ///
+    /// # Errors
+    /// A desired output beyond a saturating output shaping's range, or invalid parameters.
+    pub fn compensator_from_desired(&self, first_desired: f64) -> Result<CoreInverse, Error> {
+        let u0 = self.output_shaping.invert(first_desired)?;
+        let v0 = match self.initial_state {
+            InitialState::Line => u0,
+            InitialState::Rising => u0 + self.k1,
+            InitialState::Falling => u0 - self.k1,
+        };
+        let x0 = self.input_shaping.invert(v0)?;
+        self.compensator(x0)
+    }
+
     /// Runs the model over one record: `operator_out` receives H's output (before ψ_out) when
     /// given, `output` the model output. Same arithmetic as stepping [`SmoothModel::core`].
     ///

@@ -7,14 +7,14 @@
 
 use std::path::Path;
 
-use hyst_core::{K2Law, Operator, Shaping};
+use hyst_core::{K2Law, Operator};
 use serde::{Deserialize, Serialize};
 
 use crate::evaluator::Evaluator;
 use crate::pi::PiModel;
 use crate::smooth::{ErrorStats, Estimate};
 use crate::widths::FamilyWidths;
-use crate::{Columns, FitError, InitialState, SmoothModel, Structure};
+use crate::{Columns, FitError, SmoothModel, Structure};
 
 /// The value of the `format` key.
 pub const FORMAT: &str = "hyst-model";
@@ -232,14 +232,9 @@ impl ModelFile {
                 if !inverse {
                     return Ok(Evaluator::Smooth(Box::new(m.core(first)?)));
                 }
-                let u0 = m.output_shaping.invert(first)?;
-                let v0 = match m.initial_state {
-                    InitialState::Line => u0,
-                    InitialState::Rising => u0 + m.k1,
-                    InitialState::Falling => u0 - m.k1,
-                };
-                let x0 = m.input_shaping.invert(v0)?;
-                Ok(Evaluator::SmoothInverse(Box::new(m.compensator(x0)?)))
+                Ok(Evaluator::SmoothInverse(Box::new(
+                    m.compensator_from_desired(first)?,
+                )))
             }
             (_, Some(p)) if inverse => Ok(p.inverse_operator()?),
             (_, Some(p)) => Ok(p.operator()?),

@@ -4,10 +4,10 @@
 use crate::modelfile::ModelKind;
 use crate::smooth::ErrorStats;
 use crate::{InitialState, K2Kind, ModelFile};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One model kind's summary, for the side-by-side comparison.
-#[derive(Serialize, Debug, Clone)]
+#[derive(Serialize, Deserialize, Debug, Clone)]
 pub struct Summary {
     /// "smooth" or "prandtl-ishlinskii".
     pub kind: String,
@@ -194,7 +194,9 @@ pub fn text_report(r: &Report) -> String {
             );
         }
     }
-    s += &format!("\nwrote {}\n", r.model_file);
+    if !r.model_file.is_empty() {
+        s += &format!("\nwrote {}\n", r.model_file);
+    }
     for p in &r.plots {
         s += &format!("wrote {p}\n");
     }

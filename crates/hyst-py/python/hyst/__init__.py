@@ -1,0 +1,41 @@
+"""hyst: the smooth parametric hysteresis operator, its exact inverse, families with their
+guaranteed error bound, Lemma 5.1 compensation and identification from measured data, with
+numpy arrays in and out.
+
+The operator is the paper's eq. (2), u = H(k1, k2)[v], with the memory of Definition 2.1;
+its inverse is eq. (4). Everything runs in the Rust core (the same code as the ``hyst``
+command line, the C API and the FMU), so results are bit-identical across them.
+
+>>> import numpy as np, hyst
+>>> h = hyst.Hysteresis(0.2, 8.0)
+>>> y = h.process(np.sin(np.linspace(0, 6.3, 100)))
+>>> command = hyst.InverseHysteresis(0.2, 8.0).process(y)   # gives the input back
+
+See docs/python.md for the guide.
+"""
+
+from ._hyst import (
+    Compensator,
+    Family,
+    FitResult,
+    Hysteresis,
+    InverseHysteresis,
+    Memory,
+    Model,
+    __version__,
+    fit,
+    load_model,
+)
+
+__all__ = [
+    "Compensator",
+    "Family",
+    "FitResult",
+    "Hysteresis",
+    "InverseHysteresis",
+    "Memory",
+    "Model",
+    "__version__",
+    "fit",
+    "load_model",
+]

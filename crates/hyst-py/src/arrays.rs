@@ -1,0 +1,287 @@
+//! numpy in and out: any 1-D array-like becomes a read-only view (float32 and float64 arrays
+//! as they are, without a copy when contiguous; anything else through `numpy.asarray(x,
+//! dtype=float64)`), and an operator runs over it into a `Vec` that becomes the result array
+//! without a copy. A call either processes every sample or, at the first sample the operator
+//! refuses, restores the memory it started with and reports that sample.
+
+use hyst_core::{Error, Jet, Operator, Real};
+use numpy::ndarray::{ArrayView1, ArrayView2};
+use numpy::{
+    Element, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::value_error;
+
+/// The most time derivatives a `derivatives=` array may carry (as `hyst run --derivatives`).
+pub const MAX_DERIVATIVES: usize = 8;
+
+/// A 1-D array of samples, read in place.
+pub enum Samples<'py> {
+    /// float64 samples.
+    F64(PyReadonlyArray1<'py, f64>),
+    /// float32 samples (results stay float32).
+    F32(PyReadonlyArray1<'py, f32>),
+}
+
+fn readonly<'py, T: Element>(
+    a: &Bound<'py, PyArray1<T>>,
+    name: &str,
+) -> PyResult<PyReadonlyArray1<'py, T>> {
+    a.try_readonly()
+        .map_err(|e| value_error(format!("{name}: the array cannot be read: {e}")))
+}
+
+/// `numpy.asarray(x, dtype=float64)`, with the argument's name in the error.
+fn as_float64<'py>(x: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    let py = x.py();
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", "float64")?;
+    py.import("numpy")?
+        .call_method("asarray", (x,), Some(&kwargs))
+        .map_err(|e| {
+            value_error(format!(
+                "{name}: cannot be read as an array of numbers: {e}"
+            ))
+        })
+}
+
+fn shape_of(a: &Bound<'_, PyAny>) -> String {
+    a.getattr("shape")
+        .and_then(|s| s.repr())
+        .map_or_else(|_| "?".into(), |s| s.to_string())
+}
+
+/// Reads `x` as a 1-D array of samples. `name` names the argument in errors.
+///
+/// # Errors
+/// `ValueError` when `x` is not a 1-D array of numbers (the message gives its shape).
+pub fn samples<'py>(x: &Bound<'py, PyAny>, name: &str) -> PyResult<Samples<'py>> {
+    if let Ok(a) = x.cast::<PyArray1<f64>>() {
+        return readonly(a, name).map(Samples::F64);
+    }
+    if let Ok(a) = x.cast::<PyArray1<f32>>() {
+        return readonly(a, name).map(Samples::F32);
+    }
+    let a = as_float64(x, name)?;
+    match a.cast::<PyArray1<f64>>() {
+        Ok(a) => readonly(a, name).map(Samples::F64),
+        Err(_) => Err(value_error(format!(
+            "{name}: expected a 1-D array of samples, got shape {}",
+            shape_of(&a)
+        ))),
+    }
+}
+
+/// Reads `d` as the time derivatives of `n` samples: shape (n, N) with 1 ≤ N ≤
+/// [`MAX_DERIVATIVES`] (a 1-D array of length n is the first derivative alone). Returns the
+/// array (float64) and whether it was 1-D.
+///
+/// # Errors
+/// `ValueError` for another shape.
+pub fn derivatives<'py>(
+    d: &Bound<'py, PyAny>,
+    n: usize,
+) -> PyResult<(PyReadonlyArray2<'py, f64>, bool)> {
+    let a = as_float64(d, "derivatives")?;
+    let one_d = a.cast::<PyArray1<f64>>().is_ok();
+    let a = if one_d {
+        a.call_method1("reshape", ((n as isize, 1_isize),))
+            .map_err(|_| {
+                value_error(format!(
+                    "derivatives: shape {} does not match the {n} samples of x",
+                    shape_of(&a)
+                ))
+            })?
+    } else {
+        a
+    };
+    let Ok(arr) = a.cast::<PyArray2<f64>>() else {
+        return Err(value_error(format!(
+            "derivatives: expected shape (n, N) with N time derivatives per sample, got shape {}",
+            shape_of(&a)
+        )));
+    };
+    let shape = arr.shape();
+    let (rows, cols) = (shape.first().copied(), shape.get(1).copied());
+    if rows != Some(n) {
+        return Err(value_error(format!(
+            "derivatives: {} rows but x has {n} samples",
+            rows.unwrap_or(0)
+        )));
+    }
+    if !(1..=MAX_DERIVATIVES).contains(&cols.unwrap_or(0)) {
+        return Err(value_error(format!(
+            "derivatives: {} columns; give 1 to {MAX_DERIVATIVES} time derivatives per sample",
+            cols.unwrap_or(0)
+        )));
+    }
+    let ro = arr
+        .try_readonly()
+        .map_err(|e| value_error(format!("derivatives: the array cannot be read: {e}")))?;
+    Ok((ro, one_d))
+}
+
+/// A sample an operator refused: its index in the array, its value and the core's reason.
+#[derive(Debug)]
+pub struct Refused {
+    /// Index in the array (from 0).
+    pub index: usize,
+    /// The sample.
+    pub value: f64,
+    /// Why.
+    pub error: Error,
+}
+
+impl Refused {
+    /// `ValueError("{name}[{index}] = {value}: {reason}")`.
+    #[must_use]
+    pub fn into_err(self, name: &str) -> PyErr {
+        value_error(format!(
+            "{name}[{}] = {}: {}",
+            self.index, self.value, self.error
+        ))
+    }
+}
+
+fn fill<T: Real, X: Real, O: Operator<T>>(
+    op: &mut O,
+    xs: impl Iterator<Item = X>,
+    out: &mut Vec<X>,
+) -> Result<(), Refused> {
+    for (index, x) in xs.enumerate() {
+        match op.try_step(T::from_f64(x.as_f64())) {
+            Ok(y) => out.push(X::from_f64(y.as_f64())),
+            Err(error) => {
+                return Err(Refused {
+                    index,
+                    value: x.as_f64(),
+                    error,
+                })
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Runs `op` (arithmetic in `T`) over the samples `x` (stored as `X`): the outputs, stored as
+/// `X`. At a refused sample the memory is restored to what it was before the call.
+///
+/// # Errors
+/// The first refused sample.
+pub fn run<T: Real, X: Real, O: Operator<T>>(
+    op: &mut O,
+    x: ArrayView1<'_, X>,
+) -> Result<Vec<X>, Refused> {
+    let saved = op.memory();
+    let mut out = Vec::with_capacity(x.len());
+    let done = match x.as_slice() {
+        Some(s) => fill(op, s.iter().copied(), &mut out),
+        None => fill(op, x.iter().copied(), &mut out),
+    };
+    match done {
+        Ok(()) => Ok(out),
+        Err(e) => {
+            // The memory saved a moment ago is valid for this operator.
+            let _ = op.set_memory(saved);
+            Err(e)
+        }
+    }
+}
+
+fn run_order<T: Real, X: Real, O: Operator<T>, const N: usize>(
+    op: &mut O,
+    x: ArrayView1<'_, X>,
+    d: ArrayView2<'_, f64>,
+) -> Result<(Vec<X>, Vec<X>), Refused> {
+    let saved = op.memory();
+    let mut y = Vec::with_capacity(x.len());
+    let mut dy = Vec::with_capacity(x.len() * N);
+    for (index, (xi, row)) in x.iter().zip(d.rows()).enumerate() {
+        let mut di = [T::zero(); N];
+        for (slot, v) in di.iter_mut().zip(row.iter()) {
+            *slot = T::from_f64(*v);
+        }
+        let jet = Jet::<T, N>::from_derivatives(T::from_f64(xi.as_f64()), di);
+        match op.try_step(jet) {
+            Ok(out) => {
+                y.push(X::from_f64(out.value().as_f64()));
+                dy.extend(out.derivatives().iter().map(|v| X::from_f64(v.as_f64())));
+            }
+            Err(error) => {
+                let _ = op.set_memory(saved);
+                return Err(Refused {
+                    index,
+                    value: xi.as_f64(),
+                    error,
+                });
+            }
+        }
+    }
+    Ok((y, dy))
+}
+
+/// Runs `op` over the jets (x, d): outputs and their time derivatives (row-major, N per
+/// sample), by the core's Taylor arithmetic (Proposition 2.7 and beyond). `d` has been checked
+/// by [`derivatives`] (1 ≤ N ≤ [`MAX_DERIVATIVES`] columns, one row per sample).
+///
+/// # Errors
+/// The first refused sample (the memory is then restored).
+pub fn run_jets<T: Real, X: Real, O: Operator<T>>(
+    op: &mut O,
+    x: ArrayView1<'_, X>,
+    d: ArrayView2<'_, f64>,
+) -> Result<(Vec<X>, Vec<X>), Refused> {
+    macro_rules! orders {
+        ($($n:literal)*) => {
+            match d.ncols() {
+                $($n => run_order::<T, X, O, $n>(op, x, d),)*
+                // derivatives() admits 1 ..= MAX_DERIVATIVES columns only.
+                _ => Ok((Vec::new(), Vec::new())),
+            }
+        };
+    }
+    orders!(1 2 3 4 5 6 7 8)
+}
+
+/// A result vector as a numpy array (the array takes the `Vec`; no copy).
+pub fn to_numpy<'py, X: Element>(py: Python<'py>, v: Vec<X>) -> Bound<'py, PyAny> {
+    PyArray1::from_vec(py, v).into_any()
+}
+
+/// Derivatives (row-major, `cols` per sample) as an (n, cols) array, or 1-D when the input
+/// derivatives were 1-D.
+///
+/// # Errors
+/// Only if numpy refuses the reshape of a contiguous array of the right size.
+pub fn derivatives_to_numpy<'py, X: Element>(
+    py: Python<'py>,
+    v: Vec<X>,
+    cols: usize,
+    one_d: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let a = PyArray1::from_vec(py, v);
+    if one_d {
+        return Ok(a.into_any());
+    }
+    let rows = a.len() / cols.max(1);
+    Ok(a.reshape([rows, cols])?.into_any())
+}
+
+/// `(y, dy)` as a Python tuple of arrays (dy shaped as [`derivatives_to_numpy`] does).
+///
+/// # Errors
+/// As [`derivatives_to_numpy`].
+pub fn pair<'py, X: Element>(
+    py: Python<'py>,
+    y: Vec<X>,
+    dy: Vec<X>,
+    cols: usize,
+    one_d: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let y = to_numpy(py, y);
+    let dy = derivatives_to_numpy(py, dy, cols, one_d)?;
+    Ok(pyo3::types::PyTuple::new(py, [y, dy])?.into_any())
+}

@@ -1,0 +1,272 @@
+//! `hyst.Compensator`: feed-forward compensation of a plant whose linear dynamics come before
+//! the hysteresis (Lemma 5.1, eqs. 18–20).
+
+use hyst_core::compensator::Compensator as CoreCompensator;
+use hyst_core::{AnyK2Law, Hysteresis as CoreHysteresis, Model as CoreModel, ScaledShaping};
+use hyst_fit::model::CoreInverse;
+use hyst_fit::modelfile::ModelKind;
+use numpy::ndarray::ArrayView1;
+use pyo3::prelude::*;
+
+use crate::arrays::{samples, to_numpy, Samples};
+use crate::errors::{core, value_error};
+use crate::model::Model;
+use crate::operator::{Hysteresis, InverseHysteresis};
+
+/// The most plant order n the compensator takes.
+pub const MAX_ORDER: usize = 8;
+
+type Shaping = ScaledShaping<f64>;
+type Small = CoreCompensator<f64, 2, Shaping, AnyK2Law<f64>, Shaping>;
+type Large = CoreCompensator<f64, MAX_ORDER, Shaping, AnyK2Law<f64>, Shaping>;
+
+/// The core compensator: jets of 2 derivatives for n ≤ 2 (the paper's examples), of 8 above.
+#[derive(Clone, Debug)]
+enum Inner {
+    Small(Box<Small>),
+    Large(Box<Large>),
+}
+
+macro_rules! each {
+    ($inner:expr, $c:ident => $e:expr) => {
+        match $inner {
+            Inner::Small($c) => $e,
+            Inner::Large($c) => $e,
+        }
+    };
+}
+
+/// The Lemma 5.1 compensator for the plant x1(s)/u(s) = b / (a_n sⁿ + … + a_1 s + 1) (eq. 18)
+/// followed by the hysteresis `model` (a smooth `Model`, or `Hysteresis(k1, k2)`).
+///
+/// `Compensator(model, b, a, state=None)`: `b` ≠ 0 is the plant gain, `a = [a_1, …, a_n]` the
+/// denominator coefficients (n ≤ 8; n = 0 is a static plant), `state` the integrators' start
+/// (v, v̇, …, v⁽ⁿ⁻¹⁾) (default 0). Each `step(u_new, dt)` takes the new input u_new = v⁽ⁿ⁾
+/// (the n-th derivative of the desired output v), evaluates the exact inverse model on the jet
+/// (v, …, v⁽ⁿ⁾) and returns the plant command of eq. (19), u = (1/b)(x + a_1 ẋ + … + a_n x⁽ⁿ⁾);
+/// then it integrates u_new over `dt` (s, ≥ 0). With the exact model the plant output follows v
+/// (eq. 20 with Δ = 0); with a hysteresis reproduced by a family, within the family's Δa.
+#[pyclass(module = "hyst")]
+pub struct Compensator {
+    inner: Inner,
+    b: f64,
+    a: Vec<f64>,
+}
+
+fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverse> {
+    if let Ok(m) = model.cast::<Model>() {
+        let m = m.borrow();
+        let smooth = match (m.file.kind, &m.file.smooth) {
+            (ModelKind::Smooth, Some(s)) => *s,
+            _ => {
+                return Err(value_error(format!(
+                    "model: {} is a Prandtl-Ishlinskii model; Lemma 5.1 needs the smooth \
+                     model's derivatives (fit with model_kind=\"smooth\")",
+                    m.source
+                )))
+            }
+        };
+        return smooth
+            .compensator_from_desired(v0)
+            .map_err(|e| core(format!("state: v = {v0} is not reachable by the model"), e));
+    }
+    let (k1, k2) = if let Ok(h) = model.cast::<Hysteresis>() {
+        let h = h.borrow();
+        (h.engine.k1(), h.engine.k2())
+    } else if let Ok(h) = model.cast::<InverseHysteresis>() {
+        let h = h.borrow();
+        (h.engine.k1(), h.engine.k2())
+    } else {
+        return Err(value_error(format!(
+            "model: expected a hyst.Model, hyst.Hysteresis or hyst.InverseHysteresis, got {}",
+            model
+                .get_type()
+                .name()
+                .map_or_else(|_| "?".into(), |n| n.to_string())
+        )));
+    };
+    let operator = CoreHysteresis::with_k2_law(k1, AnyK2Law::Constant { value: k2 })
+        .map_err(|e| core("model", e))?;
+    CoreModel::new(Shaping::identity(), operator, Shaping::identity())
+        .map(|m| m.inverse())
+        .map_err(|e| core("model", e))
+}
+
+#[pymethods]
+impl Compensator {
+    #[new]
+    #[pyo3(signature = (model, b, a, state=None))]
+    fn new(
+        model: &Bound<'_, PyAny>,
+        b: f64,
+        a: Vec<f64>,
+        state: Option<Vec<f64>>,
+    ) -> PyResult<Self> {
+        if a.len() > MAX_ORDER {
+            return Err(value_error(format!(
+                "a has {} coefficients: the plant order n = len(a) must be at most {MAX_ORDER}",
+                a.len()
+            )));
+        }
+        if let Some(s) = &state {
+            if s.len() != a.len() {
+                return Err(value_error(format!(
+                    "state has {} values: give n = len(a) = {} (v, v', ...)",
+                    s.len(),
+                    a.len()
+                )));
+            }
+        }
+        let v0 = state
+            .as_ref()
+            .and_then(|s| s.first().copied())
+            .unwrap_or(0.0);
+        let inverse = inverse_of(model, v0)?;
+        let context = |e| core(format!("Compensator(b={b}, a={a:?})"), e);
+        let mut inner = if a.len() <= 2 {
+            Inner::Small(Box::new(
+                Small::with_order(inverse, b, &a).map_err(context)?,
+            ))
+        } else {
+            Inner::Large(Box::new(
+                Large::with_order(inverse, b, &a).map_err(context)?,
+            ))
+        };
+        if let Some(s) = &state {
+            let check = |e| core(format!("state = {s:?}"), e);
+            inner = match inner {
+                Inner::Small(c) => {
+                    let mut st = [0.0; 2];
+                    for (slot, v) in st.iter_mut().zip(s) {
+                        *slot = *v;
+                    }
+                    Inner::Small(Box::new(c.with_state(st).map_err(check)?))
+                }
+                Inner::Large(c) => {
+                    let mut st = [0.0; MAX_ORDER];
+                    for (slot, v) in st.iter_mut().zip(s) {
+                        *slot = *v;
+                    }
+                    Inner::Large(Box::new(c.with_state(st).map_err(check)?))
+                }
+            };
+        }
+        Ok(Self { inner, b, a })
+    }
+
+    /// One sample: the plant command u for the new input u_new = v⁽ⁿ⁾ (held over the next
+    /// `dt` seconds, dt ≥ 0). Raises ValueError for a non-finite value or a reference the
+    /// model cannot produce (the compensator is then unchanged).
+    fn step(&mut self, u_new: f64, dt: f64) -> PyResult<f64> {
+        each!(&mut self.inner, c => c.try_step(u_new, dt))
+            .map_err(|e| core(format!("u_new = {u_new}, dt = {dt}"), e))
+    }
+
+    /// `step` over every sample of `u_new` (a 1-D array-like, float32 stays float32) with the
+    /// fixed step `dt`: the commands. At a refused sample raises ValueError naming its index,
+    /// and the compensator is as it was before the call.
+    fn process<'py>(
+        &mut self,
+        py: Python<'py>,
+        u_new: &Bound<'py, PyAny>,
+        dt: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        fn go<X: hyst_core::Real>(
+            inner: &mut Inner,
+            xs: ArrayView1<'_, X>,
+            dt: f64,
+        ) -> Result<Vec<X>, (usize, f64, hyst_core::Error)> {
+            let saved = inner.clone();
+            let mut out = Vec::with_capacity(xs.len());
+            for (i, x) in xs.iter().enumerate() {
+                match each!(&mut *inner, c => c.try_step(x.as_f64(), dt)) {
+                    Ok(u) => out.push(X::from_f64(u)),
+                    Err(e) => {
+                        *inner = saved;
+                        return Err((i, x.as_f64(), e));
+                    }
+                }
+            }
+            Ok(out)
+        }
+        let refused = |(i, v, e): (usize, f64, hyst_core::Error)| {
+            core(format!("u_new[{i}] = {v}, dt = {dt}"), e)
+        };
+        let inner = &mut self.inner;
+        match samples(u_new, "u_new")? {
+            Samples::F64(a) => {
+                let view = a.as_array();
+                let out = py.detach(|| go(inner, view, dt)).map_err(refused)?;
+                Ok(to_numpy(py, out))
+            }
+            Samples::F32(a) => {
+                let view = a.as_array();
+                let out = py.detach(|| go(inner, view, dt)).map_err(refused)?;
+                Ok(to_numpy(py, out))
+            }
+        }
+    }
+
+    /// Back to the start state (the integrators' `state`, the inverse model's history).
+    fn reset(&mut self) {
+        each!(&mut self.inner, c => c.reset());
+    }
+
+    /// The plant order n = len(a).
+    #[getter]
+    fn order(&self) -> usize {
+        self.a.len()
+    }
+
+    /// The plant gain b.
+    #[getter]
+    fn b(&self) -> f64 {
+        self.b
+    }
+
+    /// The denominator coefficients [a_1, …, a_n].
+    #[getter]
+    fn a(&self) -> Vec<f64> {
+        self.a.clone()
+    }
+
+    /// The integrators' state (v, v̇, …, v⁽ⁿ⁻¹⁾) now.
+    #[getter]
+    fn state(&self) -> Vec<f64> {
+        let n = self.a.len();
+        match &self.inner {
+            Inner::Small(c) => c.state().iter().take(n).copied().collect(),
+            Inner::Large(c) => c.state().iter().take(n).copied().collect(),
+        }
+    }
+
+    /// The reference v of the last step: the plant output the command aims at.
+    #[getter]
+    fn reference(&self) -> f64 {
+        each!(&self.inner, c => c.last_reference())
+    }
+
+    /// The target x = H⁻¹-model[v] of the last step: the plant input (x1) that gives v.
+    #[getter]
+    fn target(&self) -> f64 {
+        match &self.inner {
+            Inner::Small(c) => c.last_target().value(),
+            Inner::Large(c) => c.last_target().value(),
+        }
+    }
+
+    /// The command of the last step.
+    #[getter]
+    fn command(&self) -> f64 {
+        each!(&self.inner, c => c.last_command())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Compensator(order={}, b={:?}, a={:?})",
+            self.a.len(),
+            self.b,
+            self.a
+        )
+    }
+}

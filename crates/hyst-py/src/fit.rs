@@ -1,0 +1,441 @@
+//! `hyst.fit(u, y, **options)` and `hyst.FitResult`: the identification of `hyst fit`
+//! (`hyst_fit::identify`) on arrays, with the same options, numbers and report.
+
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use clap::ValueEnum;
+use hyst_fit::identify::Request;
+use hyst_fit::lm::{Observer, Progress};
+use hyst_fit::modelfile::{fnv1a64, ModelKind, Provenance, Units};
+use hyst_fit::pi::PiOutputKind;
+use hyst_fit::report::{text_report, Report, Summary};
+use hyst_fit::{
+    identify, DataOptions, Dataset, FitError, FitOptions, InitialState, K2Kind, ModelFile,
+    ShapingKind, Structure,
+};
+use hyst_io::Table;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{samples, Samples};
+use crate::errors::{self, value_error};
+use crate::model::{to_python, Model};
+
+/// A command-line choice by its command-line name (`ShapingKind`, `K2Kind`, …).
+fn choice<E: ValueEnum>(option: &str, value: &str) -> PyResult<E> {
+    E::from_str(value, true).map_err(|_| {
+        let names: Vec<String> = E::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value())
+            .map(|p| p.get_name().to_string())
+            .collect();
+        value_error(format!(
+            "{option} = {value:?}: invalid value; possible values: {}",
+            names.join(", ")
+        ))
+    })
+}
+
+/// A 1-D array-like as float64 values (copied: the fit keeps its own columns).
+fn column(x: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
+    Ok(match samples(x, name)? {
+        Samples::F64(a) => a.as_array().iter().copied().collect(),
+        Samples::F32(a) => a.as_array().iter().map(|v| f64::from(*v)).collect(),
+    })
+}
+
+/// Lets Ctrl-C (KeyboardInterrupt) stop a fit that runs without the GIL: every 50 ms the
+/// observer asks Python for pending signals and stops the least squares if one raised.
+struct Signals {
+    last: Instant,
+    raised: Option<PyErr>,
+}
+
+impl Observer for Signals {
+    fn observe(&mut self, _progress: &Progress) -> ControlFlow<()> {
+        if self.raised.is_some() {
+            return ControlFlow::Break(());
+        }
+        if self.last.elapsed() < Duration::from_millis(50) {
+            return ControlFlow::Continue(());
+        }
+        self.last = Instant::now();
+        match Python::attach(|py| py.check_signals()) {
+            Ok(()) => ControlFlow::Continue(()),
+            Err(e) => {
+                self.raised = Some(e);
+                ControlFlow::Break(())
+            }
+        }
+    }
+}
+
+/// Identifies a hysteresis model from the input samples `u` and the measured output `y`
+/// (1-D arrays of the same length), as `hyst fit` does, and returns a `FitResult`.
+///
+/// The options mirror `hyst fit`'s flags, with the same names and values (docs/fitting.md):
+/// `output_shaping`, `input_shaping` ("affine", "poly2", "poly3", "tanh", "langevin",
+/// "quad-exp"), `k2` ("constant", "affine"), `model_kind` ("smooth", "pi"), `starts`,
+/// `segment` (or `segments`: cut every record into segments of that many samples), `record`
+/// (an array of record ids, one per sample: each record starts from its own initial state),
+/// `weight` (an array of weights ≥ 0), `validate` (record ids held out), `validate_every`,
+/// `coverage`, `operators`, `pi_output`, `compare`, `input_offset`, `output_offset`,
+/// `initial_state` ("rising", "falling", "line"), `input_name`, `output_name`, `input_unit`,
+/// `output_unit`. Raises ValueError with the CLI's words for bad options or data; Ctrl-C
+/// stops the fit with KeyboardInterrupt. The GIL is released while it runs.
+#[pyfunction]
+#[pyo3(signature = (
+    u, y, *,
+    output_shaping = "affine", input_shaping = "affine", k2 = "constant",
+    model_kind = "smooth", starts = 3, segment = None, segments = None, record = None,
+    weight = None, validate = None, validate_every = None, coverage = 0.99, operators = 16,
+    pi_output = "none", compare = false, input_offset = None, output_offset = true,
+    initial_state = "rising", input_name = "u", output_name = "y", input_unit = "",
+    output_unit = ""
+))]
+#[allow(clippy::too_many_arguments)]
+pub fn fit(
+    py: Python<'_>,
+    u: &Bound<'_, PyAny>,
+    y: &Bound<'_, PyAny>,
+    output_shaping: &str,
+    input_shaping: &str,
+    k2: &str,
+    model_kind: &str,
+    starts: usize,
+    segment: Option<usize>,
+    segments: Option<usize>,
+    record: Option<&Bound<'_, PyAny>>,
+    weight: Option<&Bound<'_, PyAny>>,
+    validate: Option<Vec<i64>>,
+    validate_every: Option<usize>,
+    coverage: f64,
+    operators: usize,
+    pi_output: &str,
+    compare: bool,
+    input_offset: Option<bool>,
+    output_offset: bool,
+    initial_state: &str,
+    input_name: &str,
+    output_name: &str,
+    input_unit: &str,
+    output_unit: &str,
+) -> PyResult<FitResult> {
+    if starts == 0 {
+        return Err(value_error("starts = 0: expected at least 1 start"));
+    }
+    let segment = match (segment, segments) {
+        (Some(a), Some(b)) if a != b => {
+            return Err(value_error(format!(
+                "segment = {a} and segments = {b}: give one (they are the same option)"
+            )))
+        }
+        (a, b) => a.or(b),
+    };
+    let structure = Structure {
+        k2: choice::<K2Kind>("k2", k2)?,
+        input_shaping: choice::<ShapingKind>("input_shaping", input_shaping)?,
+        output_shaping: choice::<ShapingKind>("output_shaping", output_shaping)?,
+        input_offset,
+        output_offset,
+        initial_state: choice::<InitialState>("initial_state", initial_state)?,
+    };
+    let request = Request {
+        kind: choice::<ModelKind>("model_kind", model_kind)?,
+        compare,
+        structure,
+        options: FitOptions {
+            starts,
+            coverage,
+            ..FitOptions::default()
+        },
+        operators,
+        pi_output: choice::<PiOutputKind>("pi_output", pi_output)?,
+        units: Units {
+            input: input_unit.into(),
+            output: output_unit.into(),
+        },
+    };
+
+    let u = column(u, "u")?;
+    let y = column(y, "y")?;
+    let mut names = vec![input_name.to_string(), output_name.to_string()];
+    if names[0] == names[1] {
+        return Err(value_error(format!(
+            "input_name and output_name are both {input_name:?}: name the columns apart"
+        )));
+    }
+    let mut columns = vec![u, y];
+    let record_name = "record".to_string();
+    let weight_name = "weight".to_string();
+    for (values, name, array) in [
+        (record, &record_name, "record"),
+        (weight, &weight_name, "weight"),
+    ] {
+        if let Some(v) = values.filter(|v| !v.is_none()) {
+            if names.contains(name) {
+                return Err(value_error(format!(
+                    "{array}: the column name {name:?} is taken by u or y; rename them"
+                )));
+            }
+            names.push(name.clone());
+            columns.push(column(v, array)?);
+        }
+    }
+    let n = columns[0].len();
+    for (name, c) in ["u", "y", "record", "weight"].iter().zip(&columns).skip(1) {
+        if c.len() != n {
+            return Err(value_error(format!(
+                "{name} has {} samples but u has {n}",
+                c.len()
+            )));
+        }
+    }
+    let has_record = names.contains(&record_name);
+    let has_weight = names.contains(&weight_name);
+    // The bytes of the data, for the model file's provenance.
+    let mut bytes = Vec::with_capacity(16 * n);
+    for c in &columns {
+        for v in c {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    let table = Table::new(names, columns).map_err(|e| errors::fit(e.into()))?;
+    let options = DataOptions {
+        input: input_name.into(),
+        output: output_name.into(),
+        record: has_record.then(|| record_name.clone()),
+        no_record: !has_record,
+        weight: has_weight.then(|| weight_name.clone()),
+        segment,
+        validate: validate.unwrap_or_default(),
+        validate_every,
+    };
+    let provenance = Provenance {
+        file: "<arrays>".into(),
+        bytes: bytes.len() as u64,
+        fnv1a64: format!("{:016x}", fnv1a64(&bytes)),
+        rows: n,
+        command: "hyst.fit (Python)".into(),
+        hyst_version: env!("CARGO_PKG_VERSION").to_string(),
+        created_unix: std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs()),
+        ..Provenance::default()
+    };
+    let (result, raised) = py.detach(|| {
+        let data = match Dataset::from_table(&table, &options) {
+            Ok(d) => d,
+            Err(e) => return (Err(e), None),
+        };
+        let mut observer = Signals {
+            last: Instant::now(),
+            raised: None,
+        };
+        let result = identify(&data, &request, &mut observer, &|| false, provenance);
+        (result, observer.raised)
+    });
+    if let Some(e) = raised {
+        return Err(e);
+    }
+    let identified = result.map_err(|e| match e {
+        FitError::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
+        e => errors::fit(e),
+    })?;
+    FitResult::new(py, identified.report)
+}
+
+/// The result of `hyst.fit`: the model, its parameters with standard errors, the errors of the
+/// fit, the family that reproduces the data with its bound, and the report `hyst fit` prints.
+#[pyclass(module = "hyst")]
+pub struct FitResult {
+    report: Report,
+    model: Py<Model>,
+}
+
+impl FitResult {
+    fn new(py: Python<'_>, report: Report) -> PyResult<Self> {
+        let model = Py::new(py, Model::new(report.model.clone(), false, "<fit>".into()))?;
+        Ok(Self { report, model })
+    }
+
+    fn file(&self) -> &ModelFile {
+        &self.report.model
+    }
+}
+
+#[pymethods]
+impl FitResult {
+    /// The fitted model (a `Model`, as `hyst.load_model` gives): `.process`, `.inverse()`,
+    /// `.save(path)`.
+    #[getter]
+    fn model(&self, py: Python<'_>) -> Py<Model> {
+        self.model.clone_ref(py)
+    }
+
+    /// The parameters by name ("k1", "k2", "out.gain", "out.offset", …). k1 and k2 are in
+    /// normalised input units (the input range maps to [−1, 1]); see `units`.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for e in &self.file().parameters {
+            d.set_item(&e.name, e.value)?;
+        }
+        Ok(d)
+    }
+
+    /// The standard errors by name, from σ² (JᵀJ)⁻¹ (NaN where the data do not identify a
+    /// parameter; they assume independent residuals).
+    #[getter]
+    fn stderr<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for e in &self.file().parameters {
+            d.set_item(&e.name, e.std_error)?;
+        }
+        Ok(d)
+    }
+
+    /// The parameters' units by name.
+    #[getter]
+    fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for e in &self.file().parameters {
+            d.set_item(&e.name, &e.unit)?;
+        }
+        Ok(d)
+    }
+
+    /// RMS error on the training records (output units).
+    #[getter]
+    fn rms(&self) -> f64 {
+        self.file().metrics.training.rms
+    }
+
+    /// RMS error as % of the output span.
+    #[getter]
+    fn rms_percent(&self) -> f64 {
+        self.file().metrics.training.rms_pct_span
+    }
+
+    /// Largest absolute error on the training records (output units).
+    #[getter]
+    fn max_abs(&self) -> f64 {
+        self.file().metrics.training.max_abs
+    }
+
+    /// The error statistics on the validation records (a dict), or None without them.
+    #[getter]
+    fn validation<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        self.file()
+            .metrics
+            .validation
+            .as_ref()
+            .map(|v| to_python(py, v))
+            .transpose()
+    }
+
+    /// The family RH(k1, Δk1, k2, Δk2) that reproduces the data at the coverage asked
+    /// (Definition 2.8), with its bound, as a dict (delta_k1, delta_k2, coverage, delta_a,
+    /// output_bound, …); None when no family within Δk1 < k1, Δk2 < k2 reaches the coverage
+    /// (or for a Prandtl–Ishlinskii model).
+    #[getter]
+    fn family<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        match &self.file().family {
+            Some(w) if w.reachable => Ok(Some(to_python(py, w)?)),
+            _ => Ok(None),
+        }
+    }
+
+    /// Δa of that family (Proposition 3.2, operator units), None when the family is not
+    /// reached.
+    #[getter]
+    fn delta_a(&self) -> Option<f64> {
+        self.file()
+            .family
+            .filter(|w| w.reachable)
+            .map(|w| w.delta_a)
+    }
+
+    /// The compensation error bound at the output (Δa through ψ_out's slope; output units),
+    /// None when the family is not reached.
+    #[getter]
+    fn output_bound(&self) -> Option<f64> {
+        self.file()
+            .family
+            .filter(|w| w.reachable)
+            .map(|w| w.output_bound)
+    }
+
+    /// Wall time of the fit (s).
+    #[getter]
+    fn seconds(&self) -> f64 {
+        self.file().metrics.fit_seconds
+    }
+
+    /// With `compare=True`: both model kinds' summaries (list of dicts); else empty.
+    #[getter]
+    fn comparison<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.report.comparison)
+    }
+
+    /// The report as `hyst fit` prints it.
+    fn report(&self) -> String {
+        text_report(&self.report)
+    }
+
+    /// The report as JSON, with the keys of `hyst fit --json`.
+    fn to_json(&self) -> PyResult<String> {
+        serde_json::to_string_pretty(&self.report).map_err(value_error)
+    }
+
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (String, f64, String))> {
+        let me = slf.borrow();
+        let restore = slf
+            .py()
+            .import("hyst._hyst")?
+            .getattr("_fit_result_from_json")?;
+        let toml = me.file().to_toml().map_err(errors::fit)?;
+        let comparison = serde_json::to_string(&me.report.comparison).map_err(value_error)?;
+        Ok((restore, (toml, me.report.output_span, comparison)))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "FitResult(kind={:?}, rms={:?}, rms_percent={:.4}, delta_a={})",
+            match self.file().kind {
+                ModelKind::Smooth => "smooth",
+                ModelKind::PrandtlIshlinskii => "prandtl-ishlinskii",
+            },
+            self.rms(),
+            self.rms_percent(),
+            self.delta_a().map_or("None".into(), |d| format!("{d:?}"))
+        )
+    }
+}
+
+/// Rebuilds a `FitResult` from what pickling stores: the model file's TOML, the output span
+/// and the comparison (JSON).
+#[pyfunction(name = "_fit_result_from_json")]
+pub fn fit_result_from_json(
+    py: Python<'_>,
+    toml: &str,
+    output_span: f64,
+    comparison: &str,
+) -> PyResult<FitResult> {
+    let model = ModelFile::from_toml(toml, Path::new("<pickle>")).map_err(errors::fit)?;
+    let comparison: Vec<Summary> = serde_json::from_str(comparison).map_err(value_error)?;
+    FitResult::new(
+        py,
+        Report {
+            model_file: String::new(),
+            model,
+            output_span,
+            comparison,
+            plots: Vec::new(),
+        },
+    )
+}

@@ -1,0 +1,49 @@
+//! `hyst._hyst`: the Python extension module behind the package `hyst` (PyO3 + rust-numpy,
+//! built by maturin as an abi3 wheel for CPython ≥ 3.9).
+//!
+//! One Python class per concept of the paper, each a thin layer over the Rust type that
+//! implements it:
+//!
+//! | Python | Rust |
+//! |---|---|
+//! | `Hysteresis`, `InverseHysteresis`, `Memory` ([`operator`]) | `hyst_core::Hysteresis`, `InverseHysteresis`, `Memory` (eqs. 2, 4, Definition 2.1) |
+//! | `load_model`, `Model` ([`model`]) | `hyst_fit::ModelFile` + `Evaluator` (the model file of `hyst fit`) |
+//! | `fit`, `FitResult` ([`fit`]) | `hyst_fit::identify` (what `hyst fit` runs) |
+//! | `Family` ([`family`]) | `hyst_core::Family` (Definition 2.8, Proposition 3.2) |
+//! | `Compensator` ([`compensator`]) | `hyst_core::compensator::Compensator` (Lemma 5.1) |
+//!
+//! Arrays ([`arrays`]): any 1-D array-like in; float32 stays float32 and float64 stays float64;
+//! contiguous input is read in place; results are numpy arrays that own a Rust `Vec` (no copy);
+//! the GIL is released while samples are processed. Errors ([`errors`]) are `ValueError` (or
+//! `OSError` for files) with the CLI's words; nothing here panics on user input (the workspace
+//! denies `unwrap`, `expect` and `panic!`), and PyO3 would turn a panic into an exception
+//! rather than abort the interpreter.
+
+use pyo3::prelude::*;
+
+pub mod arrays;
+pub mod compensator;
+pub mod errors;
+pub mod family;
+pub mod fit;
+pub mod model;
+pub mod operator;
+
+/// The extension module `hyst._hyst`.
+#[pymodule]
+fn _hyst(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<operator::Hysteresis>()?;
+    m.add_class::<operator::InverseHysteresis>()?;
+    m.add_class::<operator::Memory>()?;
+    m.add_class::<model::Model>()?;
+    m.add_class::<fit::FitResult>()?;
+    m.add_class::<family::Family>()?;
+    m.add_class::<compensator::Compensator>()?;
+    m.add_function(wrap_pyfunction!(model::load_model, m)?)?;
+    m.add_function(wrap_pyfunction!(model::model_from_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit_result_from_json, m)?)?;
+    m.add_function(wrap_pyfunction!(operator::bench_core, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,298 @@
+//! `hyst.load_model` and `hyst.Model`: the model file of `hyst fit` (docs/formats.md), run
+//! sample by sample with the same code as `hyst run --model`, so the results are bit-identical.
+
+use std::path::{Path, PathBuf};
+
+use hyst_fit::modelfile::ModelKind;
+use hyst_fit::{Evaluator, ModelFile};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{derivatives, pair, run, run_jets, samples, to_numpy, Samples};
+use crate::errors::{self, value_error};
+
+/// A value as a Python object through JSON (dicts, lists, floats, strings; NaN becomes None).
+///
+/// # Errors
+/// Only if the value cannot be written as JSON.
+pub fn to_python<'py>(
+    py: Python<'py>,
+    value: &impl serde::Serialize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(value).map_err(value_error)?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+/// A fitted model (smooth or Prandtl–Ishlinskii) from a model file, direct or as its exact
+/// compensator.
+///
+/// `process(x)` runs it over a record: the first sample starts it by the model's start rule,
+/// exactly as `hyst run --model FILE` does (bit-identical results). `inverse()` gives the
+/// compensator (desired output in, command out; `hyst run --model FILE --inverse`).
+#[pyclass(module = "hyst")]
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub(crate) file: ModelFile,
+    pub(crate) inverse: bool,
+    /// Where it came from, for messages ("<fit>" for a fit's result).
+    pub(crate) source: String,
+    evaluator: Option<Evaluator>,
+}
+
+impl Model {
+    /// A model from a model file's content.
+    #[must_use]
+    pub fn new(file: ModelFile, inverse: bool, source: String) -> Self {
+        Self {
+            file,
+            inverse,
+            source,
+            evaluator: None,
+        }
+    }
+
+    /// The evaluator, started at `first` if there is none yet; `true` when it was started now.
+    fn started(&mut self, first: f64) -> PyResult<(&mut Evaluator, bool)> {
+        let fresh = self.evaluator.is_none();
+        let evaluator = match self.evaluator.take() {
+            Some(e) => e,
+            None => self.file.evaluator(first, self.inverse).map_err(|e| {
+                value_error(format!(
+                    "x[0] = {first}: the model {} cannot start here: {e}",
+                    self.source
+                ))
+            })?,
+        };
+        Ok((self.evaluator.insert(evaluator), fresh))
+    }
+}
+
+fn first_of(xs: &Samples<'_>) -> Option<f64> {
+    match xs {
+        Samples::F64(a) => a.as_array().first().copied(),
+        Samples::F32(a) => a.as_array().first().map(|v| f64::from(*v)),
+    }
+}
+
+#[pymethods]
+impl Model {
+    /// Runs the model over the samples `x` (any 1-D array-like; float32 stays float32) and
+    /// returns its outputs; with `derivatives` of shape (n, N), returns `(y, dy)` with the
+    /// outputs' time derivatives (as `hyst run --model FILE --derivatives N`). The first sample
+    /// ever (or after `reset()`) starts the model by its start rule; later calls continue.
+    ///
+    /// Raises ValueError at the first sample the model refuses (NaN, infinity, a desired
+    /// output beyond a saturating shaping's range), naming its index; the model is then as it
+    /// was before the call.
+    #[pyo3(signature = (x, derivatives=None))]
+    fn process<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        derivatives: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let xs = samples(x, "x")?;
+        let Some(first) = first_of(&xs) else {
+            return match xs {
+                Samples::F64(_) => Ok(to_numpy(py, Vec::<f64>::new())),
+                Samples::F32(_) => Ok(to_numpy(py, Vec::<f32>::new())),
+            };
+        };
+        let (op, fresh) = self.started(first)?;
+        let d = match derivatives.filter(|d| !d.is_none()) {
+            Some(d) => {
+                let n = match &xs {
+                    Samples::F64(a) => a.len()?,
+                    Samples::F32(a) => a.len()?,
+                };
+                Some(self::derivatives(d, n)?)
+            }
+            None => None,
+        };
+        let result = match (&xs, &d) {
+            (Samples::F64(a), None) => {
+                let view = a.as_array();
+                py.detach(|| run(op, view)).map(|y| Ok(to_numpy(py, y)))
+            }
+            (Samples::F32(a), None) => {
+                let view = a.as_array();
+                py.detach(|| run(op, view)).map(|y| Ok(to_numpy(py, y)))
+            }
+            (Samples::F64(a), Some((d, one_d))) => {
+                let (view, dv) = (a.as_array(), d.as_array());
+                py.detach(|| run_jets(op, view, dv))
+                    .map(|(y, dy)| pair(py, y, dy, dv.ncols(), *one_d))
+            }
+            (Samples::F32(a), Some((d, one_d))) => {
+                let (view, dv) = (a.as_array(), d.as_array());
+                py.detach(|| run_jets(op, view, dv))
+                    .map(|(y, dy)| pair(py, y, dy, dv.ncols(), *one_d))
+            }
+        };
+        match result {
+            Ok(out) => out,
+            Err(refused) => {
+                if fresh {
+                    self.evaluator = None;
+                }
+                Err(refused.into_err("x"))
+            }
+        }
+    }
+
+    /// One sample (starts the model by its start rule if it has no history yet).
+    fn step(&mut self, x: f64) -> PyResult<f64> {
+        use hyst_core::Operator;
+        let (op, fresh) = self.started(x)?;
+        match op.try_step(x) {
+            Ok(y) => Ok(y),
+            Err(e) => {
+                if fresh {
+                    self.evaluator = None;
+                }
+                Err(errors::core(format!("x = {x}"), e))
+            }
+        }
+    }
+
+    /// Forgets the history: the next sample starts the model by its start rule again.
+    fn reset(&mut self) {
+        self.evaluator = None;
+    }
+
+    /// The model's exact compensator ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y_d)]) (eq. 4 inside the shaping;
+    /// PI⁻¹ for a Prandtl–Ishlinskii model): desired output in, command out. No history.
+    fn inverse(&self) -> Self {
+        Self::new(self.file.clone(), true, self.source.clone())
+    }
+
+    /// The direct model ψ_out(H[ψ_in(x)]), with no history.
+    fn direct(&self) -> Self {
+        Self::new(self.file.clone(), false, self.source.clone())
+    }
+
+    /// Whether this is the compensator (from `inverse()`).
+    #[getter]
+    fn is_inverse(&self) -> bool {
+        self.inverse
+    }
+
+    /// "smooth" or "prandtl-ishlinskii".
+    #[getter]
+    fn kind(&self) -> &'static str {
+        match self.file.kind {
+            ModelKind::Smooth => "smooth",
+            ModelKind::PrandtlIshlinskii => "prandtl-ishlinskii",
+        }
+    }
+
+    /// The fitted parameters by name ("k1", "k2", "out.gain", …), in the units of `units`.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for e in &self.file.parameters {
+            d.set_item(&e.name, e.value)?;
+        }
+        Ok(d)
+    }
+
+    /// The parameters' standard errors by name (NaN where the data do not identify one).
+    #[getter]
+    fn stderr<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for e in &self.file.parameters {
+            d.set_item(&e.name, e.std_error)?;
+        }
+        Ok(d)
+    }
+
+    /// The parameters' units by name.
+    #[getter]
+    fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for e in &self.file.parameters {
+            d.set_item(&e.name, &e.unit)?;
+        }
+        Ok(d)
+    }
+
+    /// The data columns the model was fitted on, with their units: {"input", "output",
+    /// "input_unit", "output_unit", …}.
+    #[getter]
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let d = to_python(py, &self.file.columns)?;
+        d.set_item("input_unit", &self.file.units.input)?;
+        d.set_item("output_unit", &self.file.units.output)?;
+        Ok(d)
+    }
+
+    /// The fit's error statistics ({"training": {...}, "validation": {...} or None, …}).
+    #[getter]
+    fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.file.metrics)
+    }
+
+    /// The family RH(k1, Δk1, k2, Δk2) that reproduces the data (Definition 2.8) with its
+    /// bound, as a dict; None when the model has none or the family does not reach the
+    /// coverage asked.
+    #[getter]
+    fn family<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        match &self.file.family {
+            Some(w) if w.reachable => Ok(Some(to_python(py, w)?)),
+            _ => Ok(None),
+        }
+    }
+
+    /// Δa of the family (Proposition 3.2; operator units), None when there is no reached
+    /// family.
+    #[getter]
+    fn delta_a(&self) -> Option<f64> {
+        self.file.family.filter(|w| w.reachable).map(|w| w.delta_a)
+    }
+
+    /// The model file's text (TOML, docs/formats.md).
+    fn to_toml(&self) -> PyResult<String> {
+        self.file.to_toml().map_err(errors::fit)
+    }
+
+    /// Writes the model file to `path` (atomically: a failed write leaves no partial file and
+    /// an existing file untouched). Raises OSError when it cannot be written.
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        self.file.write(&path).map_err(errors::fit)
+    }
+
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (String, bool, String))> {
+        let me = slf.borrow();
+        let restore = slf.py().import("hyst._hyst")?.getattr("_model_from_toml")?;
+        Ok((restore, (me.to_toml()?, me.inverse, me.source.clone())))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Model(kind={:?}, source={:?}{})",
+            self.kind(),
+            self.source,
+            if self.inverse { ", inverse" } else { "" }
+        )
+    }
+}
+
+/// `hyst.load_model(path)`: reads and checks a model file written by `hyst fit` (or
+/// `Model.save`). Raises OSError when the file cannot be read, ValueError when it is not a
+/// valid model file (the message names the file and the problem).
+#[pyfunction]
+pub fn load_model(path: PathBuf) -> PyResult<Model> {
+    let text = std::fs::read_to_string(&path).map_err(|e| errors::io(&path, "read", &e))?;
+    let file = ModelFile::from_toml(&text, &path).map_err(errors::fit)?;
+    Ok(Model::new(file, false, path.display().to_string()))
+}
+
+/// Rebuilds a model from its TOML text (what pickling a `Model` stores).
+#[pyfunction(name = "_model_from_toml")]
+#[pyo3(signature = (text, inverse=false, source="<toml>".to_string()))]
+pub fn model_from_toml(text: &str, inverse: bool, source: String) -> PyResult<Model> {
+    let file = ModelFile::from_toml(text, Path::new(&source)).map_err(errors::fit)?;
+    Ok(Model::new(file, inverse, source))
+}
