@@ -37,6 +37,17 @@ fn readonly<'py, T: Element>(
 /// `numpy.asarray(x, dtype=float64)`, with the argument's name in the error.
 fn as_float64<'py>(x: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyAny>> {
     let py = x.py();
+    // numpy would drop the imaginary part with only a warning.
+    let kind: Option<String> = x
+        .getattr("dtype")
+        .and_then(|d| d.getattr("kind"))
+        .and_then(|k| k.extract())
+        .ok();
+    if kind.as_deref() == Some("c") {
+        return Err(value_error(format!(
+            "{name}: complex samples; pass the real part (x.real) if that is what is meant"
+        )));
+    }
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", "float64")?;
     py.import("numpy")?
@@ -146,24 +157,34 @@ impl Refused {
     }
 }
 
+/// Steps `op` over `xs` into `out`. A refused sample is recorded (the first one) and gives a
+/// placeholder; the caller then discards the output. Written as one `extend` over a mapped
+/// iterator so that, for a slice, the vector is filled without zeroing it first and without a
+/// capacity check per sample (`TrustedLen`): measured 0.5–0.8 ns per sample faster than
+/// zero-filling: 1.01–1.05 times the core's own loop instead of 1.17 (examples/python/bench.py).
 fn fill<T: Real, X: Real, O: Operator<T>>(
     op: &mut O,
     xs: impl Iterator<Item = X>,
     out: &mut Vec<X>,
 ) -> Result<(), Refused> {
-    for (index, x) in xs.enumerate() {
-        match op.try_step(T::from_f64(x.as_f64())) {
-            Ok(y) => out.push(X::from_f64(y.as_f64())),
-            Err(error) => {
-                return Err(Refused {
-                    index,
-                    value: x.as_f64(),
-                    error,
-                })
-            }
-        }
-    }
-    Ok(())
+    let mut refused: Option<Refused> = None;
+    out.extend(
+        xs.enumerate()
+            .map(|(index, x)| match op.try_step(T::from_f64(x.as_f64())) {
+                Ok(y) => X::from_f64(y.as_f64()),
+                Err(error) => {
+                    if refused.is_none() {
+                        refused = Some(Refused {
+                            index,
+                            value: x.as_f64(),
+                            error,
+                        });
+                    }
+                    X::zero()
+                }
+            }),
+    );
+    refused.map_or(Ok(()), Err)
 }
 
 /// Runs `op` (arithmetic in `T`) over the samples `x` (stored as `X`): the outputs, stored as

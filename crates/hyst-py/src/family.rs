@@ -90,7 +90,9 @@ impl Family {
                 "member({a}, {b}): the position must lie in [-1, 1] x [-1, 1]"
             )));
         }
-        let (k1, k2) = self.inner.member_params(a, b);
+        // The member's k1 and the shift of k2 from the nominal k2 (eq. 9).
+        let (k1, shift) = self.inner.member_params(a, b);
+        let k2 = self.inner.k2() + shift;
         Ok(Hysteresis {
             engine: Engine::new(k1, k2, Precision::from_dtype(dtype)?)?,
         })

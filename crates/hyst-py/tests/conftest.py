@@ -1,0 +1,64 @@
+"""Shared fixtures of the Python binding's tests: the repository, the `hyst` CLI built from
+the same sources (for bit-for-bit comparisons) and the bundled piezo record."""
+
+import csv
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[3]
+PIEZO = ROOT / "data" / "piezo-sine" / "piezo_sine_1hz.csv"
+
+
+@pytest.fixture(scope="session")
+def root() -> Path:
+    return ROOT
+
+
+@pytest.fixture(scope="session")
+def hyst_bin() -> Path:
+    """The CLI of this checkout: $HYST_BIN, else target/release/hyst (scripts/test-python
+    builds it). A missing binary is an error, not a skip."""
+    path = Path(os.environ.get("HYST_BIN", ROOT / "target" / "release" / "hyst"))
+    if not path.exists():
+        pytest.fail(f"{path}: the hyst CLI is missing; run `cargo build --release -p hyst-cli`")
+    return path
+
+
+@pytest.fixture(scope="session")
+def cli(hyst_bin):
+    """Runs the CLI and returns its completed process (check=True)."""
+
+    def run(*args, **kwargs):
+        return subprocess.run(
+            [str(hyst_bin), *map(str, args)], check=True, capture_output=True, text=True, **kwargs
+        )
+
+    return run
+
+
+@pytest.fixture(scope="session")
+def piezo():
+    """(u, y) of the bundled piezo record, parsed from the CSV text as the CLI parses it."""
+    with open(PIEZO, newline="") as f:
+        rows = list(csv.DictReader(f))
+    u = np.array([float(r["u_actuator_V"]) for r in rows])
+    y = np.array([float(r["y_capsensor_um"]) for r in rows])
+    return u, y
+
+
+@pytest.fixture(scope="session")
+def piezo_path() -> Path:
+    return PIEZO
+
+
+def read_csv(path):
+    """A CSV written by `hyst run` as {column: array}."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    names = rows[0]
+    data = np.array([[float(v) for v in r] for r in rows[1:]])
+    return {n: data[:, i] for i, n in enumerate(names)}

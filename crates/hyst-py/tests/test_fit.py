@@ -1,0 +1,105 @@
+"""hyst.fit: the identification of `hyst fit` on arrays, with the same numbers and words."""
+
+import json
+import pickle
+
+import numpy as np
+import pytest
+
+import hyst
+
+
+def test_same_model_as_the_cli(cli, piezo, piezo_path, tmp_path):
+    u, y = piezo
+    out = tmp_path / "cli.toml"
+    report = json.loads(
+        cli("fit", piezo_path, "--input", "u_actuator_V", "--output", "y_capsensor_um",
+            "-o", out, "--output-shaping", "poly2", "--json").stdout
+    )
+    r = hyst.fit(u, y, output_shaping="poly2", input_name="u_actuator_V", output_name="y_capsensor_um")
+    cli_params = {p["name"]: p["value"] for p in report["model"]["parameters"]}
+    assert r.params == cli_params
+    assert r.stderr == {p["name"]: p["std_error"] for p in report["model"]["parameters"]}
+    assert r.rms == report["model"]["metrics"]["training"]["rms"]
+    assert r.rms_percent == report["model"]["metrics"]["training"]["rms_pct_span"]
+    assert r.delta_a == report["model"]["family"]["delta_a"]
+    # The JSON report has the keys of `hyst fit --json`.
+    mine = json.loads(r.to_json())
+    assert set(mine) == set(report) and set(mine["model"]) == set(report["model"])
+    # The model runs as the CLI's model file does.
+    assert np.array_equal(r.model.process(u), hyst.load_model(out).process(u))
+    text = r.report()
+    assert "k1" in text and "Δa" in text and "training (8027 samples)" in text
+
+
+def test_options_mirror_the_cli(piezo):
+    u, y = piezo
+    u, y = u[:3000], y[:3000]
+    pi = hyst.fit(u, y, model_kind="pi", operators=8, pi_output="poly2")
+    assert pi.model.kind == "prandtl-ishlinskii" and pi.delta_a is None and pi.family is None
+    both = hyst.fit(u, y, compare=True)
+    assert [c["kind"] for c in both.comparison] == ["smooth", "prandtl-ishlinskii"]
+    seg = hyst.fit(u, y, segment=1000, initial_state="line", validate=[2])
+    assert seg.validation is not None and seg.validation["samples"] == 1000
+    assert hyst.fit(u, y, segments=1000, initial_state="line", validate=[2]).params == seg.params
+    rec = np.repeat([0, 1, 2], 1000)
+    by_record = hyst.fit(u, y, record=rec, initial_state="line", validate_every=3)
+    assert by_record.params == seg.params
+    w = np.ones_like(u)
+    w[::2] = 0.0
+    weighted = hyst.fit(u, y, weight=w)
+    assert weighted.model.metrics["training"]["samples"] == 1500
+    aff = hyst.fit(u, y, k2="affine", input_unit="V", output_unit="um")
+    assert "k2.slope" in aff.params and aff.model.columns["output_unit"] == "um"
+
+
+def test_unreached_family_gives_none():
+    rng = np.random.default_rng(3)
+    u = np.sin(np.linspace(0, 40, 4000))
+    y = hyst.Hysteresis(0.2, 6.0).process(u) + 0.002 * rng.standard_normal(u.size)
+    y[rng.choice(u.size, 200, replace=False)] += 5.0  # 5 % far outliers: 99 % cannot be covered
+    r = hyst.fit(u, y, coverage=0.99)
+    assert r.family is None and r.delta_a is None and r.output_bound is None
+    assert "NOT reachable" in r.report()
+
+
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        ({"output_shaping": "cubic"}, r"output_shaping = \"cubic\": invalid value; possible values: affine, poly2"),
+        ({"k2": "linear"}, "possible values: constant, affine"),
+        ({"model_kind": "preisach"}, "possible values: smooth, pi"),
+        ({"starts": 0}, "starts = 0"),
+        ({"coverage": 1.5}, "coverage"),
+        ({"segment": 1}, "segment"),
+        ({"validate": [99]}, "no record 99"),
+        ({"model_kind": "pi", "operators": 0}, "operators"),
+        ({"segment": 100, "segments": 200}, "segment"),
+    ],
+)
+def test_bad_options(piezo, kwargs, words):
+    u, y = piezo
+    with pytest.raises(ValueError, match=words):
+        hyst.fit(u[:2000], y[:2000], **kwargs)
+
+
+def test_bad_data():
+    u = np.linspace(0, 1, 100)
+    with pytest.raises(ValueError, match="y has 99 samples but u has 100"):
+        hyst.fit(u, u[:99])
+    with pytest.raises(ValueError, match="not a finite number"):
+        hyst.fit(u, np.where(u > 0.5, np.nan, u))
+    with pytest.raises(ValueError, match="does not vary|constant"):
+        hyst.fit(np.ones(100), u)
+    with pytest.raises(ValueError, match="1-D"):
+        hyst.fit(np.ones((10, 10)), np.ones((10, 10)))
+    with pytest.raises(ValueError, match="negative"):
+        hyst.fit(u, u, weight=-np.ones(100))
+
+
+def test_pickle_fit_result(piezo):
+    u, y = piezo
+    r = hyst.fit(u[:2000], y[:2000])
+    again = pickle.loads(pickle.dumps(r))
+    assert again.params == r.params and again.report() == r.report()
+    assert "FitResult(kind=\"smooth\"" in repr(r)

@@ -1,0 +1,66 @@
+"""Whatever is passed, the interpreter never aborts and no Rust panic reaches Python: bad
+arguments raise ValueError / TypeError / OSError with a message."""
+
+import numpy as np
+import pytest
+
+import hyst
+
+
+def no_panic(fn, *args, **kwargs):
+    """Calls fn; returns its result or the exception, failing on a Rust panic."""
+    try:
+        return fn(*args, **kwargs)
+    except BaseException as e:  # noqa: BLE001 - a PanicException derives from BaseException
+        assert type(e).__name__ != "PanicException", f"panic crossed into Python: {e}"
+        assert isinstance(e, (ValueError, TypeError, OSError, OverflowError)), repr(e)
+        assert str(e), "an exception without a message"
+        return e
+
+
+ODD = [
+    None, "text", b"bytes", 1 + 2j, [1, "a"], [[1, 2], [3]], np.array([1 + 1j, 2]),
+    np.array(["x", "y"]), np.array([1.0, np.inf]), np.array([np.nan]), np.zeros((0, 3)),
+    np.float64(3.0), 7, object(), np.array([1e308, -1e308, 1e308]), np.array([5e-324, -5e-324]),
+    np.arange(10, dtype=np.int8), np.array([True, False, True]), np.ones(5, dtype=np.float16),
+]
+
+
+@pytest.mark.parametrize("x", ODD, ids=range(len(ODD)))
+def test_operators_survive_odd_input(x):
+    for op in (hyst.Hysteresis(0.2, 8.0), hyst.InverseHysteresis(0.2, 8.0),
+               hyst.Hysteresis(0.2, 8.0, dtype="float32"), hyst.Hysteresis(1e-300, 1e300)):
+        no_panic(op.process, x)
+        no_panic(op.process, x, derivatives=x)
+        no_panic(op.step, x)
+        no_panic(setattr, op, "memory", x)
+        f = hyst.Family(0.2, 0.1, 8.0, 1.0)
+        no_panic(f.envelope, x)
+        no_panic(hyst.Compensator(op, 1.0, [0.1]).process, x, 1e-3)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [(np.nan, 1), (1, np.nan), (1e308, 1e308), (5e-324, 1.0), (1.0, 5e-324), ("a", 1), (None, 1), (-0.0, 1)],
+)
+def test_constructors_survive_odd_parameters(args):
+    for cls in (hyst.Hysteresis, hyst.InverseHysteresis):
+        no_panic(cls, *args)
+        no_panic(cls, *args, dtype="float32")
+    no_panic(hyst.Family, *args, *args)
+    no_panic(hyst.Memory, *args)
+
+
+def test_fit_survives_odd_data():
+    u = np.linspace(-1, 1, 50)
+    for y in (np.zeros(50), u * 1e300, u * 1e-300, np.where(u > 0, 1e308, -1e308), -u):
+        no_panic(hyst.fit, u, y)
+    no_panic(hyst.fit, u, u, record=np.full(50, 0.5))
+    no_panic(hyst.fit, u, u, segment=-1)
+    no_panic(hyst.fit, u, u, starts=-3)
+    no_panic(hyst.fit, [], [])
+    no_panic(hyst.fit, u, u, input_name="y", output_name="y")
+    no_panic(hyst.fit, u, u, input_name="", output_name="y")
+    no_panic(hyst.load_model, "\0")
+    no_panic(hyst.Compensator, hyst.Hysteresis(0.2, 8.0), np.nan, [1.0])
+    no_panic(hyst.Compensator, hyst.Hysteresis(0.2, 8.0), 1.0, [np.inf])

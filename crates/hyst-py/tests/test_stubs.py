@@ -1,0 +1,48 @@
+"""The type stubs (_hyst.pyi) describe what the extension module has: every public class,
+function and method is in both, so editors and type checkers see the real API."""
+
+import ast
+from pathlib import Path
+
+import hyst
+from hyst import _hyst
+
+STUB = Path(hyst.__file__).with_name("_hyst.pyi")
+
+
+def stub_names():
+    tree = ast.parse(STUB.read_text())
+    classes, functions = {}, set()
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef):
+            classes[node.name] = {n.name for n in node.body if isinstance(n, ast.FunctionDef)}
+        elif isinstance(node, ast.FunctionDef):
+            functions.add(node.name)
+    # Methods the stub puts on the shared base class.
+    base = classes.pop("_Operator", set())
+    for name in ("Hysteresis", "InverseHysteresis"):
+        classes[name] |= base
+    return classes, functions
+
+
+def public(obj):
+    return {n for n in dir(obj) if not n.startswith("_")}
+
+
+def test_stub_matches_module():
+    classes, functions = stub_names()
+    module_classes = {n for n in public(_hyst) if isinstance(getattr(_hyst, n), type)}
+    module_functions = public(_hyst) - module_classes
+    assert set(classes) == module_classes
+    assert functions - {"_bench_core", "_model_from_toml", "_fit_result_from_json"} == module_functions
+    for name, methods in classes.items():
+        members = public(getattr(_hyst, name))
+        assert methods - {"__init__"} == members, name
+    assert set(hyst.__all__) == module_classes | module_functions | {"__version__"}
+
+
+def test_py_typed_and_docstrings():
+    assert STUB.with_name("py.typed").exists()
+    for name in public(_hyst):
+        obj = getattr(_hyst, name)
+        assert obj.__doc__, f"{name} has no docstring"

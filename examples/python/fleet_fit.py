@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""Fit many actuator records in parallel on Dask: one model file per record and a summary CSV.
+
+    # measured records, one CSV per actuator:
+    python examples/python/fleet_fit.py records/*.csv --input u --output y --out models/
+    # synthetic actuators with known parameters (a check of the whole chain):
+    python examples/python/fleet_fit.py --synthetic 64 --out models/
+    # on a running cluster instead of a LocalCluster on this machine:
+    python examples/python/fleet_fit.py records/*.csv --input u --output y --scheduler tcp://host:8786
+
+Each task runs `hyst.fit` on one record on a worker (the fit releases the GIL; one thread per
+worker process is right). Records travel to the workers as arrays and models come back as
+model-file text, so the workers need no shared file system. Any extra `--option value` pairs
+after `--` are passed to `hyst.fit` (e.g. `-- --output_shaping poly2 --k2 affine`).
+
+Synthetic actuators: y = gain * H(k1, k2)[u] + offset + noise, u spanning [-1, 1] exactly (so the
+fit's normalised input units are the truth's units) and starting without history (the fit's
+`initial_state="line"`). The summary then holds each true value and its z-score
+(estimate - truth) / standard error.
+"""
+
+import argparse
+import csv
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+PARAMS = ["k1", "k2", "out.gain", "out.offset"]
+
+
+def synthetic_truth(seed):
+    """The known parameters of synthetic actuator `seed`."""
+    rng = np.random.default_rng(seed)
+    return {
+        "k1": float(rng.uniform(0.05, 0.3)),
+        "k2": float(rng.uniform(3.0, 12.0)),
+        "out.gain": float(rng.uniform(5.0, 20.0)),
+        "out.offset": float(rng.uniform(-5.0, 5.0)),
+    }
+
+
+def synthetic_record(seed, samples, noise):
+    """(u, y, truth) of synthetic actuator `seed`: a decaying sine with minor loops through the
+    truth operator, plus white noise of `noise` output units."""
+    import hyst
+
+    truth = synthetic_truth(seed)
+    rng = np.random.default_rng(seed + 1_000_003)
+    t = np.linspace(0.0, 1.0, samples)
+    u = np.sin(2 * np.pi * 3 * t) * (1.0 - 0.7 * t) + 0.25 * np.sin(2 * np.pi * 17 * t + seed)
+    u = 2.0 * (u - u.min()) / (u.max() - u.min()) - 1.0
+    h = hyst.Hysteresis(truth["k1"], truth["k2"])
+    y = truth["out.gain"] * h.process(u) + truth["out.offset"] + noise * rng.standard_normal(samples)
+    return u, y, truth
+
+
+def fit_one(name, u, y, options):
+    """Runs on a worker: fits one record, returns the summary row and the model file text."""
+    import hyst
+
+    try:
+        r = hyst.fit(u, y, **options)
+    except ValueError as e:  # a record the model cannot represent: reported, not fatal
+        return {"record": name, "error": str(e)}, None
+    row = {"record": name, "rms": r.rms, "rms_percent": r.rms_percent, "delta_a": r.delta_a}
+    for p, v in r.params.items():
+        row[p] = v
+        row[p + ".stderr"] = r.stderr[p]
+    return row, r.model.to_toml()
+
+
+def fit_synthetic(seed, samples, noise, options):
+    """Runs on a worker: makes synthetic actuator `seed` there (nothing to ship) and fits it."""
+    u, y, truth = synthetic_record(seed, samples, noise)
+    row, toml = fit_one(f"synthetic-{seed:04d}", u, y, options)
+    for p, v in truth.items():
+        row[p + ".true"] = v
+        if p in row and row.get(p + ".stderr"):
+            row[p + ".z"] = (row[p] - v) / row[p + ".stderr"]
+    return row, toml
+
+
+def parse_extra(pairs):
+    """`--name value` pairs for hyst.fit; values read as JSON when they parse (numbers, true)."""
+    options = {}
+    it = iter(pairs)
+    for key in it:
+        if not key.startswith("--"):
+            raise SystemExit(f"fleet_fit: expected --option value after --, got {key!r}")
+        value = next(it, None)
+        if value is None:
+            raise SystemExit(f"fleet_fit: {key} needs a value")
+        try:
+            options[key[2:].replace("-", "_")] = json.loads(value)
+        except json.JSONDecodeError:
+            options[key[2:].replace("-", "_")] = value
+    return options
+
+
+def main(argv=None):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    extra = []
+    if "--" in argv:
+        i = argv.index("--")
+        argv, extra = argv[:i], argv[i + 1 :]
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("records", nargs="*", type=Path, help="CSV files, one record each")
+    p.add_argument("--input", help="input column of the CSV files")
+    p.add_argument("--output", help="output column of the CSV files")
+    p.add_argument("--synthetic", type=int, metavar="N", help="fit N synthetic actuators instead")
+    p.add_argument("--samples", type=int, default=4000, help="samples per synthetic record")
+    p.add_argument("--noise", type=float, default=0.01, help="noise of synthetic records (output units)")
+    p.add_argument("--out", type=Path, required=True, help="directory for the model files and summary.csv")
+    p.add_argument("--scheduler", help="address of a Dask scheduler (default: a LocalCluster)")
+    p.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes")
+    args = p.parse_args(argv)
+    options = parse_extra(extra)
+    if bool(args.records) == bool(args.synthetic):
+        p.error("give CSV records or --synthetic N (one of them)")
+    if args.records and not (args.input and args.output):
+        p.error("CSV records need --input and --output")
+
+    from dask.distributed import Client, LocalCluster
+
+    cluster = None
+    if args.scheduler:
+        client = Client(args.scheduler)
+    else:
+        cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True, dashboard_address=None)
+        client = Client(cluster)
+    try:
+        if args.synthetic:
+            options.setdefault("initial_state", "line")
+            futures = [
+                client.submit(fit_synthetic, seed, args.samples, args.noise, options, pure=False)
+                for seed in range(args.synthetic)
+            ]
+        else:
+            futures = []
+            for path in args.records:
+                with open(path, newline="") as f:
+                    rows = list(csv.DictReader(f))
+                for col in (args.input, args.output):
+                    if rows and col not in rows[0]:
+                        raise SystemExit(f"{path}: no column {col!r} (columns: {', '.join(rows[0])})")
+                u = np.array([float(r[args.input]) for r in rows])
+                y = np.array([float(r[args.output]) for r in rows])
+                futures.append(client.submit(fit_one, path.stem, u, y, options, pure=False))
+        results = client.gather(futures)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for row, toml in results:
+        if toml is not None:
+            (args.out / f"{row['record']}.toml").write_text(toml)
+        rows.append(row)
+    columns = []
+    for row in rows:
+        columns += [c for c in row if c not in columns]
+    summary = args.out / "summary.csv"
+    with open(summary, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns)
+        w.writeheader()
+        w.writerows(rows)
+    failed = [r for r in rows if "error" in r]
+    print(f"fitted {len(rows) - len(failed)} of {len(rows)} records; wrote {summary}")
+    for r in failed:
+        print(f"  {r['record']}: {r['error']}", file=sys.stderr)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
