@@ -8,7 +8,7 @@ use hyst_fit::modelfile::ModelKind;
 use numpy::ndarray::ArrayView1;
 use pyo3::prelude::*;
 
-use crate::arrays::{samples, to_numpy, Samples};
+use crate::arrays::{samples, signals, to_numpy, Refused, Samples, Stop, CHUNK};
 use crate::errors::{core, value_error};
 use crate::model::Model;
 use crate::operator::{Hysteresis, InverseHysteresis};
@@ -175,22 +175,40 @@ impl Compensator {
             inner: &mut Inner,
             xs: ArrayView1<'_, X>,
             dt: f64,
-        ) -> Result<Vec<X>, (usize, f64, hyst_core::Error)> {
+        ) -> Result<Vec<X>, Stop> {
             let saved = inner.clone();
             let mut out = Vec::with_capacity(xs.len());
-            for (i, x) in xs.iter().enumerate() {
-                match each!(&mut *inner, c => c.try_step(x.as_f64(), dt)) {
+            for (index, x) in xs.iter().enumerate() {
+                let step = if index > 0 && index % CHUNK == 0 {
+                    signals()
+                } else {
+                    Ok(())
+                }
+                .and_then(|()| {
+                    each!(&mut *inner, c => c.try_step(x.as_f64(), dt)).map_err(|error| {
+                        Stop::Refused(Refused {
+                            index,
+                            value: x.as_f64(),
+                            error,
+                        })
+                    })
+                });
+                match step {
                     Ok(u) => out.push(X::from_f64(u)),
                     Err(e) => {
                         *inner = saved;
-                        return Err((i, x.as_f64(), e));
+                        return Err(e);
                     }
                 }
             }
             Ok(out)
         }
-        let refused = |(i, v, e): (usize, f64, hyst_core::Error)| {
-            core(format!("u_new[{i}] = {v}, dt = {dt}"), e)
+        let refused = |stop: Stop| match stop {
+            Stop::Refused(r) => core(
+                format!("u_new[{}] = {}, dt = {dt}", r.index, r.value),
+                r.error,
+            ),
+            Stop::Interrupted(e) => e,
         };
         let inner = &mut self.inner;
         match samples(u_new, "u_new")? {

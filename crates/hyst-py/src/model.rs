@@ -8,7 +8,9 @@ use hyst_fit::{Evaluator, ModelFile};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{derivatives, pair, run, run_jets, samples, to_numpy, Samples};
+use crate::arrays::{
+    derivatives, pair, result_array, run_into, run_jets, samples, to_numpy, Samples,
+};
 use crate::errors::{self, value_error};
 
 /// A value as a Python object through JSON (dicts, lists, floats, strings; NaN becomes None).
@@ -111,12 +113,14 @@ impl Model {
         };
         let result = match (&xs, &d) {
             (Samples::F64(a), None) => {
-                let view = a.as_array();
-                py.detach(|| run(op, view)).map(|y| Ok(to_numpy(py, y)))
+                let (out, mut o) = result_array::<f64>(py, None, a.len()?, "float64")?;
+                let (view, dest) = (a.as_array(), o.as_slice_mut().map_err(value_error)?);
+                py.detach(|| run_into(op, view, dest)).map(|()| Ok(out))
             }
             (Samples::F32(a), None) => {
-                let view = a.as_array();
-                py.detach(|| run(op, view)).map(|y| Ok(to_numpy(py, y)))
+                let (out, mut o) = result_array::<f32>(py, None, a.len()?, "float32")?;
+                let (view, dest) = (a.as_array(), o.as_slice_mut().map_err(value_error)?);
+                py.detach(|| run_into(op, view, dest)).map(|()| Ok(out))
             }
             (Samples::F64(a), Some((d, one_d))) => {
                 let (view, dv) = (a.as_array(), d.as_array());

@@ -10,7 +10,7 @@ use hyst_core::{
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyType};
 
-use crate::arrays::{derivatives, pair, run, run_jets, samples, to_numpy, Samples};
+use crate::arrays::{derivatives, pair, result_array, run_into, run_jets, samples, Samples};
 use crate::errors::{core, value_error};
 
 /// The arithmetic of an operator: float64 (default) or float32 (as on a microcontroller's FPU;
@@ -166,22 +166,32 @@ impl<F: Formula + Send + Sync> Engine<F> {
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         d: Option<&Bound<'py, PyAny>>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let xs = samples(x, "x")?;
         let Some(d) = d.filter(|d| !d.is_none()) else {
             return match xs {
                 Samples::F64(a) => {
-                    let view = a.as_array();
-                    let out = py.detach(|| each!(self, op => run(op, view)));
-                    Ok(to_numpy(py, out.map_err(|e| e.into_err("x"))?))
+                    let (out, mut o) = result_array::<f64>(py, out, a.len()?, "float64")?;
+                    let (view, dest) = (a.as_array(), o.as_slice_mut().map_err(value_error)?);
+                    py.detach(|| each!(self, op => run_into(op, view, dest)))
+                        .map_err(|e| e.into_err("x"))?;
+                    Ok(out)
                 }
                 Samples::F32(a) => {
-                    let view = a.as_array();
-                    let out = py.detach(|| each!(self, op => run(op, view)));
-                    Ok(to_numpy(py, out.map_err(|e| e.into_err("x"))?))
+                    let (out, mut o) = result_array::<f32>(py, out, a.len()?, "float32")?;
+                    let (view, dest) = (a.as_array(), o.as_slice_mut().map_err(value_error)?);
+                    py.detach(|| each!(self, op => run_into(op, view, dest)))
+                        .map_err(|e| e.into_err("x"))?;
+                    Ok(out)
                 }
             };
         };
+        if out.is_some_and(|o| !o.is_none()) {
+            return Err(value_error(
+                "out: not with derivatives (the result is a pair of arrays)",
+            ));
+        }
         let n = match &xs {
             Samples::F64(a) => a.len()?,
             Samples::F32(a) => a.len()?,
@@ -429,16 +439,21 @@ macro_rules! operator_class {
             /// of the same shape: the outputs' time derivatives by Taylor arithmetic
             /// (Proposition 2.7 and beyond), as `hyst run --derivatives`.
             ///
+            /// With `out` (a 1-D array of the result's dtype and x's length), the outputs are
+            /// written into it and it is returned: no allocation, for block-by-block loops.
+            ///
             /// Raises ValueError at the first sample the operator refuses (NaN or infinity),
-            /// naming its index; the memory is then as it was before the call.
-            #[pyo3(signature = (x, derivatives=None))]
+            /// naming its index; the memory is then as it was before the call (and `out` holds
+            /// partial results). Ctrl-C stops a long call with KeyboardInterrupt, likewise.
+            #[pyo3(signature = (x, derivatives=None, *, out=None))]
             fn process<'py>(
                 &mut self,
                 py: Python<'py>,
                 x: &Bound<'py, PyAny>,
                 derivatives: Option<&Bound<'py, PyAny>>,
+                out: Option<&Bound<'py, PyAny>>,
             ) -> PyResult<Bound<'py, PyAny>> {
-                self.engine.process(py, x, derivatives)
+                self.engine.process(py, x, derivatives, out)
             }
 
             /// One sample: returns the output as a float. Raises ValueError for NaN or

@@ -64,7 +64,7 @@ def test_bench_runs():
     assert p.returncode == 0, p.stderr
     r = json.loads(p.stdout)
     assert set(r) == {"inverse", "direct", "inverse_f32"}
-    assert all(v["ratio"] > 0 and v["step_call_ns"] > 0 for v in r.values())
+    assert all(v["ratio"] > 0 and v["ratio_out"] > 0 and v["step_call_ns"] > 0 for v in r.values())
 
 
 def test_docs_first_example_runs():

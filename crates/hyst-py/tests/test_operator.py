@@ -187,3 +187,50 @@ def test_bit_identical_to_cli_with_derivatives(cli, tmp_path):
 def test_repr():
     assert repr(hyst.Hysteresis(0.2, 8.0)) == "Hysteresis(k1=0.2, k2=8.0)"
     assert "InverseHysteresis" in repr(hyst.InverseHysteresis(0.2, 8.0))
+
+
+def test_ctrl_c_stops_a_long_run():
+    """SIGINT during a long process() raises KeyboardInterrupt at the next chunk of 2^20 samples
+    and leaves the memory as it was (a finished run would have moved it)."""
+    import os
+    import signal
+    import threading
+
+    x = np.sin(np.linspace(0.0, 2e4, 20_000_000))
+    h = hyst.Hysteresis(0.2, 8.0)
+    h.process([0.0, 0.3])
+    saved = h.memory
+    timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            h.process(x)
+    finally:
+        timer.cancel()
+    assert h.memory == saved
+
+
+def test_out_array():
+    x = signal(1000)
+    ref = hyst.Hysteresis(0.2, 8.0).process(x)
+    buf = np.empty_like(x)
+    h = hyst.Hysteresis(0.2, 8.0)
+    got = h.process(x, out=buf)
+    assert got is buf and np.array_equal(buf, ref)
+    b32 = np.empty(1000, dtype=np.float32)
+    hyst.Hysteresis(0.2, 8.0).process(x.astype(np.float32), out=b32)
+    assert np.array_equal(b32, hyst.Hysteresis(0.2, 8.0).process(x.astype(np.float32)))
+    with pytest.raises(ValueError, match="float64"):
+        h.process(x, out=np.empty(1000, dtype=np.float32))
+    with pytest.raises(ValueError, match="999 elements"):
+        h.process(x, out=np.empty(999))
+    with pytest.raises(ValueError, match="derivatives"):
+        h.process(x, derivatives=x, out=buf)
+    ro = np.empty_like(x)
+    ro.flags.writeable = False
+    with pytest.raises(ValueError, match="written"):
+        h.process(x, out=ro)
+    saved = h.memory
+    with pytest.raises(ValueError, match=r"x\[1\]"):
+        h.process([0.1, np.nan], out=np.empty(2))
+    assert h.memory == saved
