@@ -16,13 +16,15 @@ import json
 import sys
 import time
 
+from typing import Any, Dict, List, Optional
+
 import numpy as np
 
 import hyst
 from hyst import _hyst
 
 
-def best(fn, repeats):
+def best(fn: Any, repeats: int) -> float:
     t = float("inf")
     for _ in range(repeats):
         start = time.perf_counter()
@@ -31,7 +33,7 @@ def best(fn, repeats):
     return t
 
 
-def main(argv=None):
+def main(argv: Optional[List[str]] = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--samples", type=int, default=1_000_000)
     p.add_argument("--repeats", type=int, default=7)
@@ -40,7 +42,7 @@ def main(argv=None):
     n = args.samples
     t = np.linspace(0.0, 200.0, n)
     x = 1.5 * np.sin(t) * np.cos(0.37 * t) + 0.3 * np.sin(7.1 * t)
-    results = {}
+    results: Dict[str, Dict[str, float]] = {}
     for name, cls, inverse, dtype in [
         ("inverse", hyst.InverseHysteresis, True, "float64"),
         ("direct", hyst.Hysteresis, False, "float64"),
@@ -49,14 +51,14 @@ def main(argv=None):
         xs = x.astype(dtype)
         op = cls(0.2, 8.0, dtype=dtype)
 
-        def run():
+        def run() -> None:
             op.reset()
             op.process(xs)
 
         python_ns = best(run, args.repeats) * 1e9 / n
         buf = np.empty_like(xs)
 
-        def run_out():
+        def run_out() -> None:
             op.reset()
             op.process(xs, out=buf)
 
@@ -65,7 +67,7 @@ def main(argv=None):
         step_samples = xs[: min(n, 200_000)].tolist()
         step = op.step
 
-        def steps():
+        def steps() -> None:
             for v in step_samples:
                 step(v)
 

@@ -25,12 +25,14 @@ import json
 import sys
 from pathlib import Path
 
+from typing import Any, Dict, List, Optional, Tuple
+
 import numpy as np
 
 PARAMS = ["k1", "k2", "out.gain", "out.offset"]
 
 
-def synthetic_truth(seed):
+def synthetic_truth(seed: int) -> Dict[str, float]:
     """The known parameters of synthetic actuator `seed`."""
     rng = np.random.default_rng(seed)
     return {
@@ -41,7 +43,7 @@ def synthetic_truth(seed):
     }
 
 
-def synthetic_record(seed, samples, noise):
+def synthetic_record(seed: int, samples: int, noise: float) -> Tuple[Any, Any, Dict[str, float]]:
     """(u, y, truth) of synthetic actuator `seed`: a decaying sine with minor loops through the
     truth operator, plus white noise of `noise` output units."""
     import hyst
@@ -56,7 +58,7 @@ def synthetic_record(seed, samples, noise):
     return u, y, truth
 
 
-def fit_one(name, u, y, options):
+def fit_one(name: str, u: Any, y: Any, options: Dict[str, Any]) -> Tuple[Dict[str, Any], Optional[str]]:
     """Runs on a worker: fits one record, returns the summary row and the model file text."""
     import hyst
 
@@ -64,14 +66,14 @@ def fit_one(name, u, y, options):
         r = hyst.fit(u, y, **options)
     except ValueError as e:  # a record the model cannot represent: reported, not fatal
         return {"record": name, "error": str(e)}, None
-    row = {"record": name, "rms": r.rms, "rms_percent": r.rms_percent, "delta_a": r.delta_a}
+    row: Dict[str, Any] = {"record": name, "rms": r.rms, "rms_percent": r.rms_percent, "delta_a": r.delta_a}
     for p, v in r.params.items():
         row[p] = v
         row[p + ".stderr"] = r.stderr[p]
     return row, r.model.to_toml()
 
 
-def fit_synthetic(seed, samples, noise, options):
+def fit_synthetic(seed: int, samples: int, noise: float, options: Dict[str, Any]) -> Tuple[Dict[str, Any], Optional[str]]:
     """Runs on a worker: makes synthetic actuator `seed` there (nothing to ship) and fits it."""
     u, y, truth = synthetic_record(seed, samples, noise)
     row, toml = fit_one(f"synthetic-{seed:04d}", u, y, options)
@@ -82,9 +84,9 @@ def fit_synthetic(seed, samples, noise, options):
     return row, toml
 
 
-def parse_extra(pairs):
+def parse_extra(pairs: List[str]) -> Dict[str, Any]:
     """`--name value` pairs for hyst.fit; values read as JSON when they parse (numbers, true)."""
-    options = {}
+    options: Dict[str, Any] = {}
     it = iter(pairs)
     for key in it:
         if not key.startswith("--"):
@@ -99,7 +101,7 @@ def parse_extra(pairs):
     return options
 
 
-def main(argv=None):
+def main(argv: Optional[List[str]] = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     extra = []
     if "--" in argv:

@@ -15,6 +15,8 @@ import csv
 import sys
 from pathlib import Path
 
+from typing import List, Optional
+
 import numpy as np
 
 import hyst
@@ -22,7 +24,7 @@ import hyst
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def main(argv=None):
+def main(argv: Optional[List[str]] = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--data", type=Path, default=ROOT / "data" / "piezo-sine" / "piezo_sine_1hz.csv")
     p.add_argument("--input", default="u_actuator_V", help="input column (V)")

@@ -46,3 +46,30 @@ def test_py_typed_and_docstrings():
     for name in public(_hyst):
         obj = getattr(_hyst, name)
         assert obj.__doc__, f"{name} has no docstring"
+
+
+def test_examples_type_check_against_the_stubs():
+    """mypy --strict on the examples: the stubs describe the API the examples use."""
+    import subprocess
+    import sys
+
+    from conftest import ROOT
+
+    examples = ROOT / "examples" / "python"
+    for files, extra in [
+        ([examples / "piezo_compensation.py", examples / "bench.py"], []),
+        # dask.distributed has no annotations on Client and LocalCluster.
+        ([examples / "fleet_fit.py"], ["--allow-untyped-calls"]),
+    ]:
+        p = subprocess.run(
+            [sys.executable, "-m", "mypy", "--strict", "--no-incremental", *extra, *map(str, files)],
+            capture_output=True, text=True,
+        )
+        assert p.returncode == 0, p.stdout + p.stderr
+
+
+def test_package_docstring_runs():
+    import doctest
+
+    failures, tried = doctest.testmod(hyst)
+    assert tried >= 3 and failures == 0
