@@ -14,7 +14,6 @@ mod report;
 
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Result};
@@ -133,11 +132,6 @@ fn ns_per_sample(data: &Dataset, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> f6
 
 /// Runs `hyst fit`.
 pub fn main(args: Args) -> Result<()> {
-    let interrupted = Arc::new(());
-    let _ = ctrlc::set_handler(move || {
-        let _keep = &interrupted;
-        INTERRUPTED.store(true, Ordering::SeqCst);
-    });
     let table = Table::read(&args.data)?;
     let options = DataOptions {
         input: args.input.clone(),
