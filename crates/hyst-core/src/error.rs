@@ -177,7 +177,7 @@ pub(crate) fn positive_normal<T: crate::Real>(name: &'static str, value: T) -> R
         Err(Error::InvalidParameter {
             name,
             value: value.as_f64(),
-            expected: "finite, > 0 and a normal float (>= 2.2e-308 for f64, >= 1.2e-38 for f32; \
+            expected: "finite and > 0, a normal float (>= 2.2e-308 for f64, >= 1.2e-38 for f32; \
                        subnormal values lose precision)",
         })
     }

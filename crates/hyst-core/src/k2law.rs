@@ -74,7 +74,7 @@ impl<T: Real> K2Law<T> for ConstantK2<T> {
     fn k2<S: Sample<T>>(&self, _input: S) -> S {
         S::constant(self.0)
     }
-    /// k2 must be finite, > 0 and a normal float (a subnormal k2 loses precision).
+    /// k2 must be finite and > 0, a normal float (a subnormal k2 loses precision).
     fn validate(&self) -> Result<(), Error> {
         positive_normal("k2", self.0).map(|_| ())
     }
