@@ -278,7 +278,8 @@ fn extreme_inputs_give_finite_outputs_or_an_error_naming_file_and_line() {
     assert_eq!(
         stderr(&o),
         "error: max.csv:4: column 1 (\"x\"): value -1.7976931348623157e308: input sample \
-         -1.7976931348623157e308 gives the output -inf: beyond the float range\n"
+         -1.7976931348623157e308: the output or one of its time derivatives is beyond the float \
+         range (-inf)\n"
     );
     assert_eq!(entries(d), ["big.csv", "max.csv"]);
     // new(1e300, 1e300): a near-backlash far beyond the float range of k2 M*, finite.

@@ -28,7 +28,8 @@ pub enum Error {
     NonFiniteOutput {
         /// The input sample.
         input: f64,
-        /// The output the operator computed (±∞ or NaN).
+        /// The output the operator computed (±∞ or NaN; NaN when the value is finite and a
+        /// time derivative of a jet is not).
         output: f64,
     },
     /// An initial state lies outside the band |output − input| ≤ k1 where the operator is defined.
@@ -93,7 +94,8 @@ impl fmt::Display for Error {
             }
             Error::NonFiniteOutput { input, output } => write!(
                 f,
-                "input sample {} gives the output {}: beyond the float range",
+                "input sample {}: the output or one of its time derivatives is beyond the \
+                 float range ({})",
                 Num(input),
                 Num(output)
             ),

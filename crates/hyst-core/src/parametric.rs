@@ -66,23 +66,38 @@ impl Formula for Direct {
     /// u = v + s (M − e) with e = ṽ − ũ ∈ [0, min(M*, ṽ)] the root of
     /// e = M* (1 − e^(−k2 (ṽ − e))) (eq. 4 solved for eq. 2's ũ), by safeguarded Newton.
     fn output_wide<T: Real>(memory: &Memory<T>, x: T, m_star: T, k2: T) -> T {
-        let v_tilde = memory.transform(x);
-        let e = direct_gap(v_tilde, m_star, k2);
+        let e = direct_gap(half_transform(memory, x), m_star, k2);
         x + (memory.m() - e) * memory.direction.sign::<T>()
     }
 }
 
-/// The root e ∈ [0, min(M*, ṽ)] of g(e) = e − M* (1 − e^(−k2 (ṽ − e))) (g is increasing, g(0) ≤ 0,
-/// g(min(M*, ṽ)) ≥ 0): Newton steps kept inside the bracket, bisection when a step leaves it.
-/// Every intermediate value is finite or +∞ (ṽ and k2 (ṽ − e) may overflow; e^(−∞) = 0), never
-/// NaN for finite M*, k2 ≥ 0 and ṽ ≥ 0.
-fn direct_gap<T: Real>(v_tilde: T, m_star: T, k2: T) -> T {
+/// ṽ / 2 = s (α/2 − α0/2): half the transformed input of Definition 2.1, finite for all finite
+/// α and α0 (ṽ itself overflows when α and α0 are far apart with opposite signs).
+#[inline]
+fn half_transform<T: Real>(memory: &Memory<T>, alpha: T) -> T {
+    let half = T::from_f64(0.5);
+    (alpha * half - memory.reversal_input * half) * memory.direction.sign::<T>()
+}
+
+/// e^(−k2 z) for z = 2 `z_half`, without forming z (which may overflow while k2 z is moderate).
+#[inline]
+fn decay<T: Real>(k2: T, z_half: T) -> T {
+    let two = T::one() + T::one();
+    (-((k2 * z_half) * two)).exp()
+}
+
+/// The root e ∈ [0, min(M*, ṽ)] of g(e) = e − M* (1 − e^(−k2 (ṽ − e))), given ṽ / 2 (g is
+/// increasing, g(0) ≤ 0, g(min(M*, ṽ)) ≥ 0): Newton steps kept inside the bracket, bisection
+/// when a step leaves it. Every intermediate value is finite or +∞ (e^(−∞) = 0), never NaN for
+/// finite M*, k2 > 0 and ṽ ≥ 0.
+fn direct_gap<T: Real>(v_half: T, m_star: T, k2: T) -> T {
     let zero = T::zero();
+    let half = T::from_f64(0.5);
     let mut lo = zero;
-    let mut hi = m_star.min(v_tilde).max(zero);
+    let mut hi = m_star.min(v_half + v_half).max(zero);
     let mut e = hi;
     for _ in 0..200 {
-        let t = (-(k2 * (v_tilde - e))).exp();
+        let t = decay(k2, v_half - e * half);
         let g = e - m_star * (T::one() - t);
         if g > zero {
             hi = e;
@@ -158,8 +173,7 @@ impl Formula for Inverse {
     /// overflowing ũ_d only makes the exponential 0.
     fn output_wide<T: Real>(memory: &Memory<T>, x: T, m_star: T, k2: T) -> T {
         let s = memory.direction.sign::<T>();
-        let ud_tilde = memory.transform(x);
-        let gap = memory.m() + m_star * (T::one() - (-(k2 * ud_tilde)).exp());
+        let gap = memory.m() + m_star * (T::one() - decay(k2, half_transform(memory, x)));
         x + gap * s
     }
 }
@@ -443,9 +457,16 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
             .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
         memory.observe(x.value(), x.trend());
         let m_star = F::m_star(&memory, self.k1);
+        let fast = F::output(&memory, x, m_star, k2);
+        let output = if S::ORDER > 0 && fast.value().is_finite() {
+            // The value is fine; a time derivative overflowed.
+            T::nan()
+        } else {
+            F::output_wide(&memory, x.value(), m_star, k2.value())
+        };
         Error::NonFiniteOutput {
             input: x.value().as_f64(),
-            output: F::output_wide(&memory, x.value(), m_star, k2.value()).as_f64(),
+            output: output.as_f64(),
         }
     }
 
@@ -474,14 +495,25 @@ impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K
     #[inline(always)]
     fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
         let k2 = self.checked_k2(x)?;
-        // The first sample (a reversal point on the line output = input) always succeeds.
-        let memory = self
-            .memory
-            .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
-        match Self::advance(memory, self.k1, x, k2) {
-            Some(y) => Ok(y),
-            None => Err(self.overflow(x, k2)),
-        }
+        let result = if S::ORDER == 0 {
+            // The first plain sample (a reversal point on the line output = input) always
+            // succeeds, so the memory can be created in place.
+            let memory = self
+                .memory
+                .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
+            Self::advance(memory, self.k1, x, k2)
+        } else {
+            // A jet's derivatives can overflow even on the first sample.
+            let mut memory = self
+                .memory
+                .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
+            let y = Self::advance(&mut memory, self.k1, x, k2);
+            if y.is_some() {
+                self.memory = Some(memory);
+            }
+            y
+        };
+        result.ok_or_else(|| self.overflow(x, k2))
     }
 
     #[inline(always)]

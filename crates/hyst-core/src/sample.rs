@@ -124,8 +124,10 @@ impl<T: Real, const N: usize> Sample<T> for Jet<T, N> {
             .find(|c| **c != T::zero())
             .map(|c| *c > T::zero())
     }
+    /// The stored Taylor coefficients and the derivatives they stand for (coefficient × k!,
+    /// which can overflow where the coefficient does not).
     fn all_finite(&self) -> bool {
-        self.is_finite()
+        self.is_finite() && self.derivatives().iter().all(|d| d.is_finite())
     }
     fn exp(self) -> Self {
         Jet::exp(self)

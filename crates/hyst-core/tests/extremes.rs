@@ -84,7 +84,8 @@ fn an_output_beyond_the_float_range_is_an_error_that_leaves_the_memory_alone() {
     assert_eq!(m.memory(), before);
     assert_eq!(
         err.to_string(),
-        "input sample 10000000000 gives the output inf: beyond the float range"
+        "input sample 10000000000: the output or one of its time derivatives is beyond the float \
+         range (inf)"
     );
 }
 
