@@ -105,6 +105,26 @@ fn dash_streams_to_stdout_and_links_and_devices_are_written_through() {
         .file_type()
         .is_symlink());
     assert_eq!(fs::read_to_string(d.join("target.csv")).unwrap(), text);
+    // /dev/stdout (a link to /proc/self/fd/1, here a pipe) is written through, not replaced.
+    let o = run(
+        &[
+            "run",
+            "--k1",
+            "0.2",
+            "--k2",
+            "8",
+            "f.csv",
+            "-o",
+            "/dev/stdout",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8(o.stdout).unwrap(), text);
+    assert!(fs::symlink_metadata("/dev/stdout")
+        .unwrap()
+        .file_type()
+        .is_symlink());
     // A device is written, not replaced by a regular file; also through a link to it.
     std::os::unix::fs::symlink("/dev/null", d.join("null")).unwrap();
     for out in ["/dev/null", "null"] {

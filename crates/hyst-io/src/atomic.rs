@@ -114,15 +114,24 @@ where
             .and_then(|()| writer.flush())
             .map_err(write_error(path, "write to standard output"));
     }
-    let mut target = path.to_path_buf();
-    if fs::symlink_metadata(&target).is_ok_and(|m| m.file_type().is_symlink()) {
-        target = resolve_link(&target).map_err(write_error(path, "follow the symbolic link"))?;
+    // `metadata` follows symbolic links, the kernel's "magic" ones too (/dev/stdout ->
+    // /proc/self/fd/1 -> a pipe), so a device or FIFO is recognised through any link.
+    let followed = fs::metadata(path);
+    if let Ok(meta) = &followed {
+        if meta.is_dir() {
+            return Err(IoError::IsDirectory {
+                path: path.to_path_buf(),
+            });
+        }
+        if !meta.is_file() {
+            return write_device(path, path, fill);
+        }
     }
-    match fs::metadata(&target) {
-        Ok(meta) if meta.is_dir() => Err(IoError::IsDirectory {
-            path: path.to_path_buf(),
-        }),
-        Ok(meta) if !meta.is_file() => write_device(path, &target, fill),
+    let mut target = path.to_path_buf();
+    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        target = resolve_link(path).map_err(write_error(path, "follow the symbolic link"))?;
+    }
+    match followed {
         Ok(meta) => write_replacing(path, &target, Some(meta.permissions()), fill),
         Err(_) => write_replacing(path, &target, None, fill),
     }
