@@ -148,13 +148,15 @@ fn main() -> ExitCode {
         let seconds = started.elapsed().as_secs_f64();
         println!(
             "{name}: {} samples in {seconds:.1} s ({:.1} ns/sample), {} parameter sets ({} refused \
-             by the constructor), worst |H(H^-1(x)) - x| = {:.2} eps * s, {} samples refused \
-             (output beyond the float range), {} broken invariants (non-finite outputs included)",
+             by the constructor), worst |H(H^-1(x)) - x| = {:.2} eps * s * sqrt(1 + reversals) \
+             ({:.2} eps * s without the reversal factor), {} samples refused (output beyond the \
+             float range), {} broken invariants (non-finite outputs included)",
             t.report.samples,
             seconds * 1e9 / t.report.samples.max(1) as f64,
             t.episodes,
             t.refused_parameters,
             t.report.worst_identity,
+            t.report.worst_raw,
             t.report.refused,
             t.broken
         );
