@@ -339,7 +339,7 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         let mut memory = self
             .memory
             .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
-        match Self::advance(&mut memory, self.k1, x, k2) {
+        match Self::advance_local(&mut memory, self.k1, x, k2) {
             Some(y) => Ok((y, memory)),
             None => Err(self.overflow(x, k2)),
         }
@@ -402,21 +402,30 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
     }
 
     /// [`ParametricHysteresis::advance`] on a copy of the memory, committed only on success:
-    /// for jets (whose derivatives may overflow) and for inputs beyond `T::MAX` / 4.
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    /// for plain inputs beyond `T::MAX` / 4.
     #[inline]
     fn advance_checked<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Option<S> {
-        let v = x.value();
         let mut next = *memory;
-        next.observe(v, x.trend());
-        let m_star = F::m_star(&next, k1);
-        let mut y = F::output(&next, x, m_star, k2);
-        if !((y.value() - v).abs() <= k1) || !y.all_finite() {
-            y = Self::repair(&next, k1, v, y, m_star, k2.value())?;
-        }
-        next.last_input = v;
-        next.last_output = y.value();
+        let y = Self::advance_local(&mut next, k1, x, k2)?;
         *memory = next;
+        Some(y)
+    }
+
+    /// [`ParametricHysteresis::advance`] with every check, on a memory the caller discards when
+    /// this returns `None` (a copy): for jets, whose derivatives may overflow, and for inputs
+    /// beyond `T::MAX` / 4.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    #[inline]
+    fn advance_local<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Option<S> {
+        let v = x.value();
+        memory.observe(v, x.trend());
+        let m_star = F::m_star(memory, k1);
+        let mut y = F::output(memory, x, m_star, k2);
+        if !((y.value() - v).abs() <= k1) || !y.all_finite() {
+            y = Self::repair(memory, k1, v, y, m_star, k2.value())?;
+        }
+        memory.last_input = v;
+        memory.last_output = y.value();
         Some(y)
     }
 
@@ -503,13 +512,27 @@ impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K
                 .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
             Self::advance(memory, self.k1, x, k2)
         } else {
-            // A jet's derivatives can overflow even on the first sample.
-            let mut memory = self
+            // A jet's derivatives can overflow, even on the first sample: in place, undoing what
+            // `observe` changed on failure (cheaper than a copy).
+            let fresh = self.memory.is_none();
+            let memory = self
                 .memory
-                .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
-            let y = Self::advance(&mut memory, self.k1, x, k2);
-            if y.is_some() {
-                self.memory = Some(memory);
+                .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
+            let before = (
+                memory.reversal_input,
+                memory.reversal_output,
+                memory.direction,
+            );
+            let y = Self::advance_local(memory, self.k1, x, k2);
+            if y.is_none() {
+                (
+                    memory.reversal_input,
+                    memory.reversal_output,
+                    memory.direction,
+                ) = before;
+                if fresh {
+                    self.memory = None;
+                }
             }
             y
         };
@@ -518,17 +541,10 @@ impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K
 
     #[inline(always)]
     fn step(&mut self, x: T) -> T {
-        // As `try_step`, without building the error.
-        let k2 = self.law.k2(x);
-        if x.is_finite() && (K::ALWAYS_VALID || (k2 > T::zero() && k2.is_finite())) {
-            let memory = self
-                .memory
-                .get_or_insert_with(|| Memory::first_sample(x, None));
-            if let Some(y) = Self::advance(memory, self.k1, x, k2) {
-                return y;
-            }
+        match self.try_step(x) {
+            Ok(y) => y,
+            Err(_) => self.memory.map_or(x, |m| m.last_output),
         }
-        self.memory.map_or(x, |m| m.last_output)
     }
 
     #[inline]
