@@ -81,6 +81,10 @@
 // An internal error was caught at the boundary (host part; a bug: please report it).
 #define HYST_ERR_INTERNAL 12
 
+// A finite input gives an output beyond the float range (e.g. the output shaping overflows);
+// the state is unchanged and the last output is written.
+#define HYST_ERR_OVERFLOW 13
+
 // A fitted model loaded from a model file, with the state of its direct run and of its
 // compensator run (opaque; create with `hyst_model_load`, release with `hyst_model_free`).
 typedef struct hyst_model hyst_model;

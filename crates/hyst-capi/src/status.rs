@@ -31,6 +31,9 @@ pub const HYST_ERR_MISALIGNED: i32 = 10;
 pub const HYST_ERR_MODEL_FILE: i32 = 11;
 /// An internal error was caught at the boundary (host part; a bug: please report it).
 pub const HYST_ERR_INTERNAL: i32 = 12;
+/// A finite input gives an output beyond the float range (e.g. the output shaping overflows);
+/// the state is unchanged and the last output is written.
+pub const HYST_ERR_OVERFLOW: i32 = 13;
 
 /// The status of a core error.
 pub(crate) fn of(error: &Error) -> i32 {
@@ -42,6 +45,7 @@ pub(crate) fn of(error: &Error) -> i32 {
         Error::OutOfRange { .. } => HYST_ERR_OUT_OF_RANGE,
         Error::InvalidK2 { .. } => HYST_ERR_INVALID_K2,
         Error::LengthMismatch { .. } => HYST_ERR_LENGTH,
+        Error::NonFiniteOutput { .. } => HYST_ERR_OVERFLOW,
         _ => HYST_ERR_INTERNAL,
     }
 }
@@ -68,6 +72,9 @@ pub extern "C" fn hyst_status_message(status: i32) -> *const c_char {
         HYST_ERR_MISALIGNED => c"the state pointer is not aligned to 8 bytes",
         HYST_ERR_MODEL_FILE => c"the model file cannot be read or is invalid",
         HYST_ERR_INTERNAL => c"internal error caught at the C boundary",
+        HYST_ERR_OVERFLOW => {
+            c"a finite input gives an output beyond the float range; the state is unchanged"
+        }
         _ => c"unknown status",
     };
     message.as_ptr()

@@ -600,6 +600,19 @@ fn host_model_runs_like_the_evaluator_in_one_block_or_many() {
             hyst_model_process(ptr::null_mut(), 0, bad.as_ptr(), out.as_mut_ptr(), 3),
             HYST_ERR_NULL_POINTER
         );
+        // A finite input whose output overflows the output shaping (gain about 3): refused,
+        // no longer HYST_OK with y = inf.
+        let huge = [0.5, 1e308];
+        let mut out = [0.0; 2];
+        assert_eq!(
+            hyst_model_process(m, 0, huge.as_ptr(), out.as_mut_ptr(), 2),
+            HYST_ERR_OVERFLOW
+        );
+        assert!(out[0].is_finite());
+        assert!(!CStr::from_ptr(hyst_status_message(HYST_ERR_OVERFLOW))
+            .to_str()
+            .unwrap()
+            .is_empty());
         hyst_model_free(m);
         hyst_model_free(ptr::null_mut());
     }

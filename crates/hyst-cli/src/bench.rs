@@ -17,10 +17,15 @@ pub struct Args {
     /// plus the goal ratios) instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// Seconds of measurement per workload.
-    #[arg(long, default_value_t = 0.5)]
+    /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
+    /// takes this plus about 0.1 s of calibration). The time is shared by the six workloads,
+    /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
+    #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
 }
+
+/// Target duration of one batch, in seconds.
+const BATCH_SECONDS: f64 = 0.005;
 
 /// ns per sample of one batch of `calls` calls of workload `index`.
 fn batch_ns(inputs: &Inputs, index: usize, calls: usize) -> f64 {
@@ -45,21 +50,34 @@ pub fn main(args: Args) -> Result<()> {
             bail!("benchmark workload {name:?} gave a non-finite checksum");
         }
     }
-    // Calibrate calls per batch to ~10 ms, then interleave rounds of all workloads.
+    // Calibrate calls per batch to ~5 ms: double the calls until a batch takes ≥ 1 ms, then
+    // scale (a single cold call is no guide: it can be much slower or, rounded, faster).
     let calls: Vec<usize> = (0..NAMES.len())
         .map(|i| {
-            let t = Instant::now();
-            let _ = inputs.run(i);
-            let one = t.elapsed().max(Duration::from_micros(1));
-            ((0.01 / one.as_secs_f64()) as usize).clamp(1, 10_000)
+            let mut calls = 1usize;
+            loop {
+                let t = Instant::now();
+                for _ in 0..calls {
+                    std::hint::black_box(inputs.run(i));
+                }
+                let took = t.elapsed();
+                if took >= Duration::from_millis(1) || calls >= 1 << 20 {
+                    let per_call = took.as_secs_f64() / calls as f64;
+                    break ((BATCH_SECONDS / per_call.max(1e-9)) as usize).clamp(1, 1 << 20);
+                }
+                calls *= 2;
+            }
         })
         .collect();
-    let rounds = ((args.seconds / 0.01) as usize).clamp(5, 6000);
-    let mut samples = vec![Vec::with_capacity(rounds); NAMES.len()];
-    for _ in 0..rounds {
+    let budget = Duration::from_secs_f64(args.seconds);
+    let started = Instant::now();
+    let mut samples = vec![Vec::new(); NAMES.len()];
+    let mut rounds = 0usize;
+    while rounds < 5 || started.elapsed() < budget {
         for (i, s) in samples.iter_mut().enumerate() {
             s.push(batch_ns(&inputs, i, calls[i]));
         }
+        rounds += 1;
     }
     // The fastest batch of each workload: the one least disturbed by other processes (on a
     // shared machine, slower batches measure the neighbours, not the code).

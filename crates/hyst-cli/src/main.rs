@@ -11,6 +11,7 @@ mod fmu;
 mod paper;
 mod plot;
 mod run;
+mod signals;
 mod source;
 mod workloads;
 
@@ -43,19 +44,72 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let result = match cli.command {
+    if let Err(e) = signals::install() {
+        eprintln!("error: {}", message(&e));
+        return ExitCode::FAILURE;
+    }
+    let result = distinct_files(&cli.command).and_then(|()| match cli.command {
         Command::Run(args) => run::main(args),
         Command::Bound(args) => bound::main(args),
         Command::Paper(args) => paper::main(args),
         Command::Fit(args) => fit::main(args),
         Command::Fmu(args) => fmu::main(args),
         Command::Bench(args) => bench::main(args),
-    };
+    });
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if is_interrupted(&e) => {
+            eprintln!("error: {}", message(&e));
+            ExitCode::from(signals::EXIT_INTERRUPTED)
+        }
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", message(&e));
             ExitCode::FAILURE
         }
     }
+}
+
+/// Refuses, before anything is read or written, an output that is one of the command's inputs
+/// (the same file by device and inode: the same path, a symbolic or a hard link).
+fn distinct_files(command: &Command) -> anyhow::Result<()> {
+    match command {
+        Command::Run(args) => {
+            hyst_io::check_distinct(&args.input, &args.output)?;
+            if let Some(model) = &args.source.model {
+                hyst_io::check_distinct(model, &args.output)?;
+            }
+        }
+        Command::Fit(args) => hyst_io::check_distinct(&args.data, &args.model_out)?,
+        // `hyst fmu` checks its model file itself.
+        Command::Fmu(_) | Command::Bound(_) | Command::Paper(_) | Command::Bench(_) => {}
+    }
+    Ok(())
+}
+
+/// Whether the command stopped because of Ctrl-C (exit status 130, not 1).
+fn is_interrupted(e: &anyhow::Error) -> bool {
+    e.chain().any(|cause| {
+        matches!(
+            cause.downcast_ref::<hyst_fit::FitError>(),
+            Some(hyst_fit::FitError::Interrupted)
+        )
+    })
+}
+
+/// The error and its causes on one line, `outer: inner: …`, leaving out a cause whose text the
+/// line already contains (an error that prints its source, as the I/O errors do, would otherwise
+/// repeat the OS message: "…(os error 2): …(os error 2)").
+fn message(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.contains(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line
 }

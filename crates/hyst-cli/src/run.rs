@@ -10,14 +10,15 @@
 //! - OUTPUT has the header `x,y[,y_d1…]`, one row per input row, every value in full `f64`
 //!   precision (parses back to the identical number).
 //! - Errors name the file, line and column; nothing is written on failure (temporary file, then
-//!   rename).
+//!   rename), and an OUTPUT that is INPUT (or the model file) is refused before anything is read.
+//!   `-o -` streams to standard output.
 
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 
 use crate::source::{Chosen, Source};
-use hyst_core::{Hysteresis, InverseHysteresis, Jet, Operator};
+use hyst_core::{Hysteresis, InverseHysteresis, Jet, Operator, Sample};
 use hyst_io::Table;
 
 /// The most time derivatives `--derivatives` accepts.
@@ -37,7 +38,8 @@ pub struct Args {
     pub derivatives: u8,
     /// Input CSV file.
     pub input: PathBuf,
-    /// Output CSV file (written atomically).
+    /// Output CSV file: written atomically (temporary file, then rename); `-` is standard
+    /// output; a symbolic link or a device (/dev/null) is written through. Must not be INPUT.
     #[arg(short, long)]
     pub output: PathBuf,
 }
@@ -109,12 +111,25 @@ fn run_order<E: Operator<f64>, const N: usize>(
             .try_step(Jet::<f64, N>::from_derivatives(x, d))
             .with_context(|| {
                 format!(
-                    "{}:{}: column {} ({name:?}): value {x}",
+                    "{}:{}: column {} ({name:?}): value {}",
                     table.source(),
                     table.line_of_row(row),
-                    index + 1
+                    index + 1,
+                    Num(x)
                 )
             })?;
+        if !y.all_finite() {
+            // The core refuses overflowing outputs; a model's own parts (a Prandtl–Ishlinskii
+            // output polynomial) are checked here, so the error names the input line.
+            bail!(
+                "{}:{}: column {} ({name:?}): value {} gives the output {}: not a finite number",
+                table.source(),
+                table.line_of_row(row),
+                index + 1,
+                Num(x),
+                y.value()
+            );
+        }
         columns[0].push(x);
         columns[1].push(y.value());
         for (k, dk) in y.derivatives().iter().enumerate() {
@@ -124,6 +139,20 @@ fn run_order<E: Operator<f64>, const N: usize>(
     let mut names = vec!["x".to_string(), "y".to_string()];
     names.extend((1..=N).map(|k| format!("y_d{k}")));
     Ok(Table::new(names, columns)?)
+}
+
+/// A number in a message: shortest round trip, in exponent form outside [1e-5, 1e16).
+struct Num(f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
 }
 
 /// `hyst run --model FILE`: a fitted model (see docs/formats.md) over one column, as one record.

@@ -224,9 +224,10 @@ where
     /// advances the integrators to t + `dt`.
     ///
     /// # Errors
-    /// [`Error::NonFiniteInput`] for a non-finite `u_new` or `dt` (or dt < 0), and the inverse
-    /// model's errors (a reference outside the range of a saturating shaping function). The
-    /// compensator is then unchanged.
+    /// [`Error::NonFiniteInput`] for a non-finite `u_new` or `dt` (or dt < 0), the inverse
+    /// model's errors (a reference outside the range of a saturating shaping function), and
+    /// [`Error::NonFiniteOutput`] when the command of eq. (19) or the integrator state overflows.
+    /// The compensator is then unchanged.
     pub fn try_step(&mut self, u_new: T, dt: T) -> Result<T, Error> {
         if !(u_new.is_finite() && dt.is_finite() && dt >= T::zero()) {
             let bad = if u_new.is_finite() { dt } else { u_new };
@@ -236,14 +237,24 @@ where
         }
         let n = self.order;
         let jet = Self::jet_of(n, &self.v, u_new);
+        let before = self.inverse.memory();
         let x = self.inverse.try_step(jet)?;
         let u = self.law(&x);
+        let next = Self::advanced(n, &self.v, u_new, dt);
+        if !(u.is_finite() && next.iter().all(|v| v.is_finite())) {
+            // Eq. (19) or the integrators overflow: refuse, state unchanged.
+            let _ = self.inverse.set_memory(before);
+            return Err(Error::NonFiniteOutput {
+                input: u_new.as_f64(),
+                output: u.as_f64(),
+            });
+        }
         self.last_command = u;
         self.last_reference = jet.value();
         self.last_target = x;
         // A turning point of v inside the sample becomes the reversal point exactly there.
         Self::pass_turning_points(n, &mut self.inverse, &self.v, u_new, dt);
-        self.v = Self::advanced(n, &self.v, u_new, dt);
+        self.v = next;
         Ok(u)
     }
 
@@ -353,7 +364,14 @@ where
         let mut inverse = self.inverse.clone();
         Self::pass_turning_points(n, &mut inverse, &self.v, u_new, tau);
         let x = inverse.try_step(Self::jet_of(n, &v, u_new))?;
-        Ok(self.law(&x))
+        let u = self.law(&x);
+        if !u.is_finite() {
+            return Err(Error::NonFiniteOutput {
+                input: u_new.as_f64(),
+                output: u.as_f64(),
+            });
+        }
+        Ok(u)
     }
 
     /// Reference-trajectory mode: the command for a given reference v and its first n time
@@ -363,8 +381,16 @@ where
     /// # Errors
     /// As [`Compensator::try_step`].
     pub fn track(&mut self, reference: Jet<T, N>) -> Result<T, Error> {
+        let before = self.inverse.memory();
         let x = self.inverse.try_step(reference)?;
         let u = self.law(&x);
+        if !u.is_finite() {
+            let _ = self.inverse.set_memory(before);
+            return Err(Error::NonFiniteOutput {
+                input: reference.value().as_f64(),
+                output: u.as_f64(),
+            });
+        }
         let d = reference.derivatives();
         let n = self.order;
         self.v = core::array::from_fn(|k| {

@@ -22,6 +22,16 @@ pub enum Error {
         /// The sample.
         value: f64,
     },
+    /// A finite input sample whose output is not representable: it lies beyond the float range
+    /// (e.g. input −1.79e308 with k1 = 1e300 on a rising branch), or the input is a jet whose
+    /// derivatives overflow. The operator's memory is left untouched.
+    NonFiniteOutput {
+        /// The input sample.
+        input: f64,
+        /// The output the operator computed (±∞ or NaN; NaN when the value is finite and a
+        /// time derivative of a jet is not).
+        output: f64,
+    },
     /// An initial state lies outside the band |output − input| ≤ k1 where the operator is defined.
     StateOutsideBand {
         /// The operator input of the state.
@@ -74,17 +84,33 @@ impl fmt::Display for Error {
                 name,
                 value,
                 expected,
-            } => write!(f, "invalid parameter {name} = {value}: must be {expected}"),
+            } => write!(
+                f,
+                "invalid parameter {name} = {}: must be {expected}",
+                Num(value)
+            ),
             Error::NonFiniteInput { value } => {
-                write!(f, "input sample {value} is not finite")
+                write!(f, "input sample {} is not finite", Num(value))
             }
+            Error::NonFiniteOutput { input, output } => write!(
+                f,
+                "input sample {}: the output or one of its time derivatives is beyond the \
+                 float range ({})",
+                Num(input),
+                Num(output)
+            ),
             Error::StateOutsideBand { input, output, k1 } => write!(
                 f,
-                "state (input {input}, output {output}) is outside the band |output - input| <= k1 = {k1}"
+                "state (input {}, output {}) is outside the band |output - input| <= k1 = {}",
+                Num(input),
+                Num(output),
+                Num(k1)
             ),
             Error::NotMonotone { name, at, slope } => write!(
                 f,
-                "{name} shaping function is not strictly increasing: slope {slope} at {at}"
+                "{name} shaping function is not strictly increasing: slope {} at {}",
+                Num(slope),
+                Num(at)
             ),
             Error::OutOfRange {
                 name,
@@ -93,16 +119,37 @@ impl fmt::Display for Error {
                 max,
             } => write!(
                 f,
-                "{value} is outside the range ({min}, {max}) of the {name} shaping function"
+                "{} is outside the range ({}, {}) of the {name} shaping function",
+                Num(value),
+                Num(min),
+                Num(max)
             ),
             Error::InvalidK2 { input, k2 } => write!(
                 f,
-                "the k2 law gave k2 = {k2} at input {input}: must be finite and > 0"
+                "the k2 law gave k2 = {} at input {}: must be finite and > 0",
+                Num(k2),
+                Num(input)
             ),
             Error::LengthMismatch { input, output } => write!(
                 f,
                 "input has {input} samples but the output buffer has {output}"
             ),
+        }
+    }
+}
+
+/// A number in an error message: as `{}` prints it (shortest round trip) for magnitudes in
+/// [1e-5, 1e16) and zero, in exponent form (`1e-320`, `1e300`) otherwise, so that extreme
+/// values stay readable.
+struct Num(f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
         }
     }
 }
@@ -118,6 +165,22 @@ pub(crate) fn positive<T: crate::Real>(name: &'static str, value: T) -> Result<T
             name,
             value: value.as_f64(),
             expected: "finite and > 0",
+        })
+    }
+}
+
+/// Checks that `value` is a normal (not subnormal), finite and strictly positive float, naming
+/// it in the error otherwise. Subnormal values carry fewer significant bits: a subnormal k2 gives
+/// outputs off by 1e-4 relative, so the operator's parameters must be normal.
+pub(crate) fn positive_normal<T: crate::Real>(name: &'static str, value: T) -> Result<T, Error> {
+    if value.is_normal() && value > T::zero() {
+        Ok(value)
+    } else {
+        Err(Error::InvalidParameter {
+            name,
+            value: value.as_f64(),
+            expected: "finite and > 0, a normal float (>= 2.2e-308 for f64, >= 1.2e-38 for f32; \
+                       subnormal values lose precision)",
         })
     }
 }

@@ -118,6 +118,13 @@ impl<T: Real, const N: usize> Jet<T, N> {
         self.v.is_finite() && self.d.iter().all(|c| c.is_finite())
     }
 
+    /// True when every Taylor coefficient (not the value) has magnitude ≤ `limit` (false for
+    /// NaN).
+    #[inline]
+    pub(crate) fn coefficients_below(&self, limit: T) -> bool {
+        self.d.iter().all(|c| c.abs() <= limit)
+    }
+
     /// Coefficient of order `i` (0 = value). `i ≤ N` always holds at the call sites.
     #[inline(always)]
     fn c(&self, i: usize) -> T {

@@ -7,7 +7,7 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{error::positive, Error, Jet, Real, Sample};
+use crate::{error::positive_normal, Error, Jet, Real, Sample};
 
 /// How k2 depends on the operator's input. Implement it for any smooth function: write `k2`
 /// generically over [`Sample`] and the operator gets its time derivatives for free.
@@ -25,6 +25,14 @@ pub trait K2Law<T: Real> {
     /// # Errors
     /// [`Error::InvalidParameter`] naming the bad parameter.
     fn validate(&self) -> Result<(), Error>;
+
+    /// The smallest k2 the law can give over all inputs, if known (1 / input units). The
+    /// operator's constructor checks k1 · k2 against it (see
+    /// [`ParametricHysteresis::with_k2_law`](crate::ParametricHysteresis::with_k2_law)). The
+    /// default, `None`, skips that check.
+    fn min_k2(&self) -> Option<T> {
+        None
+    }
 
     /// (min, max) of k2 over inputs in [lo, hi]. The default samples 1025 points.
     fn range(&self, lo: T, hi: T) -> (T, T) {
@@ -66,8 +74,12 @@ impl<T: Real> K2Law<T> for ConstantK2<T> {
     fn k2<S: Sample<T>>(&self, _input: S) -> S {
         S::constant(self.0)
     }
+    /// k2 must be finite and > 0, a normal float (a subnormal k2 loses precision).
     fn validate(&self) -> Result<(), Error> {
-        positive("k2", self.0).map(|_| ())
+        positive_normal("k2", self.0).map(|_| ())
+    }
+    fn min_k2(&self) -> Option<T> {
+        Some(self.0)
     }
     fn range(&self, _lo: T, _hi: T) -> (T, T) {
         (self.0, self.0)
@@ -127,7 +139,7 @@ impl<T: Real> K2Law<T> for AffineK2<T> {
     fn validate(&self) -> Result<(), Error> {
         crate::error::finite("k2 law at_zero", self.at_zero)?;
         crate::error::finite("k2 law slope", self.slope)?;
-        positive("k2 law min", self.min)?;
+        positive_normal("k2 law min", self.min)?;
         crate::error::finite("k2 law max", self.max)?;
         if self.max < self.min {
             return Err(Error::InvalidParameter {
@@ -137,6 +149,9 @@ impl<T: Real> K2Law<T> for AffineK2<T> {
             });
         }
         Ok(())
+    }
+    fn min_k2(&self) -> Option<T> {
+        Some(self.min)
     }
     fn range(&self, lo: T, hi: T) -> (T, T) {
         let a = self.k2(lo);
@@ -191,6 +206,12 @@ impl<T: Real> K2Law<T> for AnyK2Law<T> {
         match self {
             AnyK2Law::Constant { value } => ConstantK2(*value).validate(),
             AnyK2Law::Affine(law) => law.validate(),
+        }
+    }
+    fn min_k2(&self) -> Option<T> {
+        match self {
+            AnyK2Law::Constant { value } => Some(*value),
+            AnyK2Law::Affine(law) => law.min_k2(),
         }
     }
     fn range(&self, lo: T, hi: T) -> (T, T) {

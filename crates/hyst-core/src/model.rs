@@ -86,12 +86,24 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Model<T
     /// One sample (plain or jet): ψ_out(H[ψ_in(x)]).
     ///
     /// # Errors
-    /// As [`Hysteresis`]'s [`Operator::try_step`]; the memory is then unchanged.
+    /// As [`Hysteresis`]'s [`Operator::try_step`] (ψ_in(x) beyond the float range is
+    /// [`Error::NonFiniteInput`]), and [`Error::NonFiniteOutput`] when ψ_out overflows; the
+    /// memory is then unchanged.
     #[inline]
     fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
         let v = self.input.apply(x);
+        let before = self.operator.memory();
         let u = self.operator.try_step(v)?;
-        Ok(self.output.apply(u))
+        let y = self.output.apply(u);
+        if !y.all_finite() {
+            // Cheaper than stepping a copy: the restore is off the hot path.
+            self.operator.restore(before);
+            return Err(Error::NonFiniteOutput {
+                input: x.value().as_f64(),
+                output: y.value().as_f64(),
+            });
+        }
+        Ok(y)
     }
 
     fn last_output(&self) -> Option<T> {
@@ -132,11 +144,18 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Inverse
     /// # Errors
     /// [`Error::OutOfRange`] when y (or the operator's output) has no preimage under a saturating
     /// shaping function, or as [`InverseHysteresis`]'s [`Operator::try_step`]. The memory is
-    /// then unchanged.
+    /// then unchanged. [`Error::NonFiniteOutput`] when the command ψ_in⁻¹(v) is beyond the float
+    /// range.
     fn try_step<S: Sample<T>>(&mut self, y: S) -> Result<S, Error> {
         let ud = self.output.invert_sample(y)?;
         let (v, memory) = self.operator.compute(ud)?;
         let x = self.input.invert_sample(v)?;
+        if !x.all_finite() {
+            return Err(Error::NonFiniteOutput {
+                input: y.value().as_f64(),
+                output: x.value().as_f64(),
+            });
+        }
         self.operator.commit(memory);
         Ok(x)
     }

@@ -7,7 +7,9 @@ use core::marker::PhantomData;
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{error::positive, ConstantK2, Direction, Error, K2Law, Memory, Operator, Real, Sample};
+use crate::{
+    error::positive_normal, ConstantK2, Direction, Error, K2Law, Memory, Operator, Real, Sample,
+};
 
 mod sealed {
     pub trait Sealed {}
@@ -24,6 +26,12 @@ pub trait Formula: sealed::Sealed + Copy + core::fmt::Debug {
     /// The operator's output β for the input α = `x`: eq. (2) or eq. (4) between the
     /// transformation T of Definition 2.1 (α̃ = s (α − α0)) and its inverse (β = β0 + s β̃).
     fn output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S;
+    /// The same output for a plain sample, in a form that overflows only when the result itself
+    /// does: the output is written as the input plus its signed distance from the line
+    /// output = input, which lies in [−k1, k1] (the band), so no intermediate value is larger
+    /// than |x| + 2 k1. Used only when [`Formula::output`] is not finite (a transformed input
+    /// s (α − α0) or k2 M* beyond the float range, e.g. α0 = 1e308 and α = −1e308); slower.
+    fn output_wide<T: Real>(memory: &Memory<T>, x: T, m_star: T, k2: T) -> T;
 }
 
 /// Marker for the direct operator u = H(k1, k2)[v] of eq. (2).
@@ -55,6 +63,64 @@ impl Formula for Direct {
     fn output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
         memory.untransform(direct_transition(memory.transform(x), m_star, k2))
     }
+    /// u = v + s (M − e) with e = ṽ − ũ ∈ [0, min(M*, ṽ)] the root of
+    /// e = M* (1 − e^(−k2 (ṽ − e))) (eq. 4 solved for eq. 2's ũ), by safeguarded Newton.
+    fn output_wide<T: Real>(memory: &Memory<T>, x: T, m_star: T, k2: T) -> T {
+        let e = direct_gap(half_transform(memory, x), m_star, k2);
+        x + (memory.m() - e) * memory.direction.sign::<T>()
+    }
+}
+
+/// ṽ / 2 = s (α/2 − α0/2): half the transformed input of Definition 2.1, finite for all finite
+/// α and α0 (ṽ itself overflows when α and α0 are far apart with opposite signs).
+#[inline]
+fn half_transform<T: Real>(memory: &Memory<T>, alpha: T) -> T {
+    let half = T::from_f64(0.5);
+    (alpha * half - memory.reversal_input * half) * memory.direction.sign::<T>()
+}
+
+/// e^(−k2 z) for z = 2 `z_half`, without forming z (which may overflow while k2 z is moderate).
+#[inline]
+fn decay<T: Real>(k2: T, z_half: T) -> T {
+    let two = T::one() + T::one();
+    (-((k2 * z_half) * two)).exp()
+}
+
+/// The root e ∈ [0, min(M*, ṽ)] of g(e) = e − M* (1 − e^(−k2 (ṽ − e))), given ṽ / 2 (g is
+/// increasing, g(0) ≤ 0, g(min(M*, ṽ)) ≥ 0): Newton steps kept inside the bracket, bisection
+/// when a step leaves it. Every intermediate value is finite or +∞ (e^(−∞) = 0), never NaN for
+/// finite M*, k2 > 0 and ṽ ≥ 0.
+fn direct_gap<T: Real>(v_half: T, m_star: T, k2: T) -> T {
+    let zero = T::zero();
+    let half = T::from_f64(0.5);
+    let mut lo = zero;
+    let mut hi = m_star.min(v_half + v_half).max(zero);
+    let mut e = hi;
+    for _ in 0..200 {
+        let t = decay(k2, v_half - e * half);
+        let g = e - m_star * (T::one() - t);
+        if g > zero {
+            hi = e;
+        } else if g < zero {
+            lo = e;
+        } else {
+            return e;
+        }
+        let slope = T::one() + m_star * (k2 * t);
+        let newton = e - g / slope;
+        let next = if slope.is_finite() && newton > lo && newton < hi {
+            newton
+        } else {
+            lo + (hi - lo) / (T::one() + T::one())
+        };
+        if !(next > lo && next < hi) {
+            // Converged: the step is below the resolution, or the bracket is down to adjacent
+            // floats.
+            return e;
+        }
+        e = next;
+    }
+    e
 }
 
 /// Eq. (2): ũ = ṽ − M* + W(k2 M* e^(k2 (M* − ṽ))) / k2.
@@ -102,6 +168,13 @@ impl Formula for Inverse {
         let ud_tilde = memory.transform(x);
         let along_input = ud_tilde * s + memory.reversal_output;
         along_input + (S::constant(T::one()) - (-(k2 * ud_tilde)).exp()) * (m_star * s)
+    }
+    /// v = u_d + s (M + M* (1 − e^(−k2 ũ_d))): eq. (4) with β0 − α0 = s M folded in, so an
+    /// overflowing ũ_d only makes the exponential 0.
+    fn output_wide<T: Real>(memory: &Memory<T>, x: T, m_star: T, k2: T) -> T {
+        let s = memory.direction.sign::<T>();
+        let gap = memory.m() + m_star * (T::one() - decay(k2, half_transform(memory, x)));
+        x + gap * s
     }
 }
 
@@ -161,7 +234,9 @@ impl<T: Real, F: Formula> ParametricHysteresis<T, ConstantK2<T>, F> {
     /// the line output = input).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming `k1` or `k2` unless both are finite and > 0.
+    /// [`Error::InvalidParameter`] naming `k1` or `k2` unless both are finite, > 0 and normal
+    /// floats, or naming `k1*k2` when their product is too small (see
+    /// [`ParametricHysteresis::with_k2_law`]).
     pub fn new(k1: T, k2: T) -> Result<Self, Error> {
         Self::with_k2_law(k1, ConstantK2(k2))
     }
@@ -177,10 +252,39 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
     /// An operator whose k2 follows `law` (Section 4.3), no history.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for k1 not finite and > 0, or from the law's own check.
+    /// [`Error::InvalidParameter`] naming
+    /// - `k1` unless it is finite, > 0, a normal float (not subnormal) and at most a quarter of
+    ///   the largest float;
+    /// - the law's parameter from its own check (a constant `k2` must be finite, > 0 and normal);
+    /// - `k1*k2` when k1 times the law's smallest k2 ([`K2Law::min_k2`]) is below
+    ///   `T::MIN_POSITIVE / T::EPSILON` (2.0e-292 for f64, 9.9e-32 for f32): then k2 M* in
+    ///   eq. (2) is subnormal for every M* that matters and the output loses its precision.
+    ///   Such a loop is below the float resolution anyway; express the input in other units.
+    ///
+    /// Large products k1 k2 (beyond the float range: `new(1e300, 1e300)`) are accepted: the
+    /// operator then evaluates eq. (2) in an overflow-free form (see [`Operator::try_step`]).
     pub fn with_k2_law(k1: T, law: K) -> Result<Self, Error> {
-        positive("k1", k1)?;
+        positive_normal("k1", k1)?;
+        if k1 > T::max_value() * T::from_f64(0.25) {
+            return Err(Error::InvalidParameter {
+                name: "k1",
+                value: k1.as_f64(),
+                expected: "at most a quarter of the largest float (4.5e307 for f64, 8.5e37 for \
+                           f32), so that the output near any representable input is finite",
+            });
+        }
         law.validate()?;
+        if let Some(k2) = law.min_k2() {
+            let product = k1 * k2;
+            if product < T::min_positive_value() / T::epsilon() {
+                return Err(Error::InvalidParameter {
+                    name: "k1*k2",
+                    value: k1.as_f64() * k2.as_f64(),
+                    expected: ">= 2.0e-292 for f64, >= 9.9e-32 for f32 (below, k2 M* is \
+                               subnormal and the output loses precision; use other input units)",
+                });
+            }
+        }
         Ok(Self {
             k1,
             law,
@@ -235,8 +339,10 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         let mut memory = self
             .memory
             .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
-        let y = Self::advance(&mut memory, self.k1, x, k2);
-        Ok((y, memory))
+        match Self::advance_local(&mut memory, self.k1, x, k2) {
+            Some(y) => Ok((y, memory)),
+            None => Err(self.overflow(x, k2)),
+        }
     }
 
     /// Everything that can refuse a sample, checked before the memory is touched: a non-finite
@@ -259,16 +365,124 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         }
     }
 
-    /// Definition 2.1's memory update followed by the formula: infallible.
+    /// Definition 2.1's memory update followed by the formula. `None` (the memory untouched)
+    /// when the output of this finite input is not finite.
+    ///
+    /// The output is kept in the band [x − k1, x + k1] as computed in floating point (eqs. 2
+    /// and 4 stay inside it in exact arithmetic; rounding can step out by an ulp, and by more
+    /// when k1 is below the float spacing of the input, e.g. f32 with k1 = 5e-6 and inputs near
+    /// 1000, where errors would otherwise accumulate through the reversal points). So
+    /// |output − input| ≤ k1 + ½ ulp(|input| + k1) always holds, and the memory stays in the band.
+    ///
+    /// When eq. (2) or (4) as written is not finite for a finite input (an intermediate value
+    /// overflows), [`Formula::output_wide`] computes the value again in a form that overflows
+    /// only with the result. For |x| ≤ `T::MAX` / 4 (and k1 ≤ `T::MAX` / 4, checked by the
+    /// constructor) that result, within 3 k1 of x, is always finite, so plain samples there update
+    /// the memory in place; larger inputs and jets go through
+    /// [`ParametricHysteresis::advance_checked`].
+    // `!(a <= b)` on purpose: NaN must take the slow path.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     #[inline(always)]
-    fn advance<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> S {
+    fn advance<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Option<S> {
+        let v = x.value();
+        if S::ORDER > 0 || !(v.abs() <= T::max_value() * T::from_f64(0.25)) {
+            return Self::advance_checked(memory, k1, x, k2);
+        }
+        memory.observe(v, x.trend());
+        let m_star = F::m_star(memory, k1);
+        let mut y = F::output(memory, x, m_star, k2);
+        // One test on the hot path, also false for NaN and ±∞.
+        if !((y.value() - v).abs() <= k1) {
+            // `repair` cannot fail here (see above); the fallback keeps the memory finite.
+            y = Self::repair(memory, k1, v, y, m_star, k2.value()).unwrap_or(S::constant(v));
+        }
+        memory.last_input = v;
+        memory.last_output = y.value();
+        Some(y)
+    }
+
+    /// [`ParametricHysteresis::advance`] on a copy of the memory, committed only on success:
+    /// for plain inputs beyond `T::MAX` / 4.
+    #[inline]
+    fn advance_checked<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Option<S> {
+        let mut next = *memory;
+        let y = Self::advance_local(&mut next, k1, x, k2)?;
+        *memory = next;
+        Some(y)
+    }
+
+    /// [`ParametricHysteresis::advance`] with every check, on a memory the caller discards when
+    /// this returns `None` (a copy): for jets, whose derivatives may overflow, and for inputs
+    /// beyond `T::MAX` / 4.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    #[inline]
+    fn advance_local<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Option<S> {
         let v = x.value();
         memory.observe(v, x.trend());
         let m_star = F::m_star(memory, k1);
-        let y = F::output(memory, x, m_star, k2);
+        let mut y = F::output(memory, x, m_star, k2);
+        if !((y.value() - v).abs() <= k1) || !y.all_finite() {
+            y = Self::repair(memory, k1, v, y, m_star, k2.value())?;
+        }
         memory.last_input = v;
         memory.last_output = y.value();
-        y
+        Some(y)
+    }
+
+    /// The slow path of [`ParametricHysteresis::advance`], out of line: an output that is not
+    /// finite is computed again by [`Formula::output_wide`] (`None` when that is not finite
+    /// either, or the sample is a jet); then the output is clamped into [v − k1, v + k1].
+    #[cold]
+    #[inline(never)]
+    fn repair<S: Sample<T>>(memory: &Memory<T>, k1: T, v: T, y: S, m_star: T, k2: T) -> Option<S> {
+        let y = if y.all_finite() {
+            y
+        } else {
+            let wide = F::output_wide(memory, v, m_star, k2);
+            if S::ORDER == 0 && wide.is_finite() {
+                S::constant(wide)
+            } else {
+                return None;
+            }
+        };
+        let (lo, hi) = (v - k1, v + k1);
+        let value = y.value();
+        Some(if value < lo {
+            y.with_value(lo)
+        } else if value > hi {
+            y.with_value(hi)
+        } else {
+            y
+        })
+    }
+
+    /// The error for a finite input `x` whose output is not finite (see
+    /// [`ParametricHysteresis::advance`]).
+    #[cold]
+    #[inline(never)]
+    fn overflow<S: Sample<T>>(&self, x: S, k2: S) -> Error {
+        let mut memory = self
+            .memory
+            .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
+        memory.observe(x.value(), x.trend());
+        let m_star = F::m_star(&memory, self.k1);
+        let fast = F::output(&memory, x, m_star, k2);
+        let output = if S::ORDER > 0 && fast.value().is_finite() {
+            // The value is fine; a time derivative overflowed.
+            T::nan()
+        } else {
+            F::output_wide(&memory, x.value(), m_star, k2.value())
+        };
+        Error::NonFiniteOutput {
+            input: x.value().as_f64(),
+            output: output.as_f64(),
+        }
+    }
+
+    /// Puts back a memory saved from this operator (no check: it was this operator's).
+    #[inline]
+    pub(crate) fn restore(&mut self, memory: Option<Memory<T>>) {
+        self.memory = memory;
     }
 
     /// Commits a memory produced by [`ParametricHysteresis::compute`].
@@ -285,14 +499,44 @@ impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K
     /// One sample, plain or a jet: Definition 2.1's memory update, then eq. (2) or eq. (4).
     ///
     /// # Errors
-    /// [`Error::NonFiniteInput`] or [`Error::InvalidK2`]; the memory is then unchanged.
+    /// [`Error::NonFiniteInput`], [`Error::InvalidK2`], or [`Error::NonFiniteOutput`] when the
+    /// output of a finite input is beyond the float range; the memory is then unchanged.
     #[inline(always)]
     fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
         let k2 = self.checked_k2(x)?;
-        let memory = self
-            .memory
-            .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
-        Ok(Self::advance(memory, self.k1, x, k2))
+        let result = if S::ORDER == 0 {
+            // The first plain sample (a reversal point on the line output = input) always
+            // succeeds, so the memory can be created in place.
+            let memory = self
+                .memory
+                .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
+            Self::advance(memory, self.k1, x, k2)
+        } else {
+            // A jet's derivatives can overflow, even on the first sample: in place, undoing what
+            // `observe` changed on failure (cheaper than a copy).
+            let fresh = self.memory.is_none();
+            let memory = self
+                .memory
+                .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
+            let before = (
+                memory.reversal_input,
+                memory.reversal_output,
+                memory.direction,
+            );
+            let y = Self::advance_local(memory, self.k1, x, k2);
+            if y.is_none() {
+                (
+                    memory.reversal_input,
+                    memory.reversal_output,
+                    memory.direction,
+                ) = before;
+                if fresh {
+                    self.memory = None;
+                }
+            }
+            y
+        };
+        result.ok_or_else(|| self.overflow(x, k2))
     }
 
     #[inline(always)]

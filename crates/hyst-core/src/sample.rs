@@ -124,8 +124,19 @@ impl<T: Real, const N: usize> Sample<T> for Jet<T, N> {
             .find(|c| **c != T::zero())
             .map(|c| *c > T::zero())
     }
+    /// The stored Taylor coefficients and the derivatives they stand for (coefficient × k!,
+    /// which can overflow where the coefficient does not).
+    #[inline]
     fn all_finite(&self) -> bool {
-        self.is_finite()
+        // Fast test: every coefficient at most MAX / N! (then no derivative can overflow);
+        // the exact one only when that fails.
+        let mut factorial = T::one();
+        for k in 1..=N {
+            factorial = factorial * T::from_usize(k);
+        }
+        let limit = T::max_value() / factorial;
+        (self.value().is_finite() && self.coefficients_below(limit))
+            || (self.is_finite() && self.derivatives().iter().all(|d| d.is_finite()))
     }
     fn exp(self) -> Self {
         Jet::exp(self)

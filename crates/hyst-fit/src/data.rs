@@ -8,6 +8,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::FitError;
 
+/// The largest magnitude of an input or output value the fit accepts: 1e100. Beyond it, squared
+/// residuals, their sums and the Jacobian's products can overflow (data scaled by 1e300 gave an
+/// infinite RMS; one 1e308 outlier a meaningless k1 with NaN standard errors).
+pub const MAX_MAGNITUDE: f64 = 1e100;
+
 /// One independent record (a loop, a reversal curve, an experiment): the model starts afresh
 /// at its first sample.
 #[derive(Clone, Debug, PartialEq)]
@@ -99,6 +104,17 @@ impl Dataset {
     pub fn from_table(table: &Table, options: &DataOptions) -> Result<Self, FitError> {
         let input = table.column(&options.input)?;
         let output = table.column(&options.output)?;
+        for (name, column) in [(&options.input, input), (&options.output, output)] {
+            if let Some(row) = column.iter().position(|v| v.abs() > MAX_MAGNITUDE) {
+                return Err(FitError::ValueTooLarge {
+                    file: table.source().to_string(),
+                    line: table.line_of_row(row),
+                    column: name.clone(),
+                    value: column[row],
+                    limit: MAX_MAGNITUDE,
+                });
+            }
+        }
         let record_name = if options.no_record {
             None
         } else {

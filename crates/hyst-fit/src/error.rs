@@ -114,6 +114,41 @@ pub enum FitError {
     #[error("the fit failed: {0}")]
     NoConvergence(String),
 
+    /// A data value is too large in magnitude for the fit: squares and sums of residuals would
+    /// overflow (e.g. data in units where values reach 1e300, or a 1e308 outlier).
+    #[error(
+        "{file}:{line}: column {column:?}: {value:e} is too large for the fit (|value| must be \
+         at most {limit:e}, or squared residuals overflow): rescale the column (other units) or \
+         remove the outlier"
+    )]
+    ValueTooLarge {
+        /// The data file.
+        file: String,
+        /// The 1-based line of the value.
+        line: usize,
+        /// The column name.
+        column: String,
+        /// The value.
+        value: f64,
+        /// The largest magnitude accepted ([`crate::data::MAX_MAGNITUDE`]).
+        limit: f64,
+    },
+
+    /// The fit ended with a non-finite error statistic or parameter: the data cannot be
+    /// described by a finite model at this scale.
+    #[error(
+        "{file}: the fit gave {what} = {value}: not a finite number (badly scaled data or \
+         outliers); no model file was written"
+    )]
+    NonFiniteResult {
+        /// The data file.
+        file: String,
+        /// Which number, e.g. "the training RMS" or "parameter k1".
+        what: String,
+        /// The value (NaN or infinite).
+        value: f64,
+    },
+
     /// The user interrupted the fit (Ctrl-C); nothing was written.
     #[error("interrupted: no model file was written")]
     Interrupted,

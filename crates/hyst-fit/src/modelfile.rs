@@ -161,7 +161,7 @@ impl ModelFile {
         };
         let value: toml::Table = text
             .parse()
-            .map_err(|e: toml::de::Error| bad(format!("not valid TOML: {e}")))?;
+            .map_err(|e: toml::de::Error| bad(format!("not valid TOML: {}", one_line(text, &e))))?;
         match value.get("format").and_then(|v| v.as_str()) {
             Some(FORMAT) => {}
             _ => {
@@ -179,8 +179,9 @@ impl ModelFile {
             }
             None => return Err(bad("no `version`".into())),
         }
-        let file: ModelFile =
-            toml::from_str(text).map_err(|e| bad(format!("invalid model file: {e}")))?;
+        let file: ModelFile = toml::from_str(text).map_err(|e: toml::de::Error| {
+            bad(format!("invalid model file: {}", one_line(text, &e)))
+        })?;
         if file.version < file.required_version() {
             return Err(bad(format!(
                 "version = {} but [prandtl-ishlinskii.output] needs format version {}",
@@ -306,4 +307,19 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
         h = h.wrapping_mul(0x0000_0100_0000_01b3);
     }
     h
+}
+
+/// A TOML error on one line: "line L, column C: message" (the parser's own display spans several
+/// lines with a snippet of the file).
+fn one_line(text: &str, e: &toml::de::Error) -> String {
+    let message = e.message().trim().replace('\n', "; ");
+    match e.span() {
+        Some(span) => {
+            let before = text.get(..span.start).unwrap_or("");
+            let line = before.matches('\n').count() + 1;
+            let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            format!("line {line}, column {column}: {message}")
+        }
+        None => message,
+    }
 }

@@ -138,6 +138,12 @@ pub fn fit_pi_with(
         let design = Design::new(&columns, m);
         let (model, estimates) = fit_output(&design, &r, &w, offset, output.degree(), n_of(data))?;
         let (training, validation) = error_stats(data, |x| model.run(x).ok())?;
+        crate::smooth::check_finite(
+            &data.source,
+            &training,
+            validation.as_ref(),
+            estimates.iter().map(|e| (e.name.as_str(), e.value)),
+        )?;
         return Ok(PiFit {
             model,
             estimates,
@@ -186,6 +192,12 @@ pub fn fit_pi_with(
         });
     }
     let (training, validation) = error_stats(data, |x| model.run(x).ok())?;
+    crate::smooth::check_finite(
+        &data.source,
+        &training,
+        validation.as_ref(),
+        estimates.iter().map(|e| (e.name.as_str(), e.value)),
+    )?;
     Ok(PiFit {
         model,
         estimates,

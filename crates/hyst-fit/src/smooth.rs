@@ -338,7 +338,7 @@ pub fn fit_smooth(
     let s2 = best.cost / dof * layout.norm.output_half_span.powi(2);
     let inv = crate::linalg::spd_inverse(&best.jtj, p);
     let scale2 = layout.norm.output_half_span.powi(2);
-    let estimates = layout
+    let estimates: Vec<Estimate> = layout
         .params
         .iter()
         .enumerate()
@@ -364,6 +364,12 @@ pub fn fit_smooth(
     } else {
         None
     };
+    check_finite(
+        &data.source,
+        &training,
+        validation.as_ref(),
+        estimates.iter().map(|e| (e.name.as_str(), e.value)),
+    )?;
     Ok(SmoothFit {
         model,
         layout,
@@ -453,4 +459,39 @@ pub fn error_stats(
         Some(ErrorStats::new(&val, span))
     };
     Ok((ErrorStats::new(&train, span), v))
+}
+
+/// Refuses a fit whose error statistics or parameter values are not finite
+/// ([`FitError::NonFiniteResult`]). Standard errors may be NaN (a parameter the data does not
+/// identify) and are not checked.
+///
+/// # Errors
+/// [`FitError::NonFiniteResult`] naming the first non-finite number.
+pub fn check_finite<'a>(
+    file: &str,
+    training: &ErrorStats,
+    validation: Option<&ErrorStats>,
+    parameters: impl IntoIterator<Item = (&'a str, f64)>,
+) -> Result<(), FitError> {
+    let stats = [("training", Some(training)), ("validation", validation)];
+    let mut numbers: Vec<(String, f64)> = Vec::new();
+    for (set, s) in stats {
+        if let Some(s) = s {
+            numbers.push((format!("the {set} RMS"), s.rms));
+            numbers.push((format!("the {set} max error"), s.max_abs));
+        }
+    }
+    numbers.extend(
+        parameters
+            .into_iter()
+            .map(|(name, v)| (format!("parameter {name}"), v)),
+    );
+    match numbers.into_iter().find(|(_, v)| !v.is_finite()) {
+        Some((what, value)) => Err(FitError::NonFiniteResult {
+            file: file.to_string(),
+            what,
+            value,
+        }),
+        None => Ok(()),
+    }
 }

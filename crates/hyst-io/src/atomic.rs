@@ -1,24 +1,35 @@
-//! Atomic file replacement on [`tempfile`]: write a temporary file next to the
-//! destination, fsync it, then rename it over the destination.
+//! Output files: atomic replacement on [`tempfile`] for regular files (write a
+//! temporary file next to the destination, fsync it, then rename it over the
+//! destination), straight writes for standard output (`-`) and devices, and the
+//! list of live temporary files that a signal handler removes
+//! ([`remove_temporary_files`]).
 
-use std::fs::{self, File};
+use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::IoError;
 
-/// Writes `bytes` to `path` atomically.
+/// The output path that means standard output.
+pub const STDOUT: &str = "-";
+
+/// Writes `bytes` to `path`: atomically for a regular file, straight through for
+/// standard output and devices.
 ///
-/// The bytes go to a hidden temporary file (`.NAME.XXXXXX.tmp`, six random
-/// characters) in the same directory as `path`, which is flushed and fsynced
-/// and then renamed over `path`; afterwards the directory is fsynced (best
-/// effort). Readers therefore see either the complete old file or the complete
-/// new one, never a mix.
-///
-/// If `path` already exists, the new file gets its permissions; otherwise it
-/// gets the usual permissions of a newly created file (`0o666` less the umask
-/// on Unix). If `path` is a symbolic link, the link itself is replaced by a
-/// regular file.
+/// - `-` writes to standard output.
+/// - A path that exists and is not a regular file or directory (a character
+///   device such as `/dev/null`, `/dev/stdout`'s target, a FIFO) is opened and
+///   written directly: it cannot be replaced, and must not be.
+/// - A symbolic link is followed: its target is written (atomically if it is a
+///   regular file, created if the link dangles); the link itself stays.
+/// - A regular file (or a new path): the bytes go to a hidden temporary file
+///   (`.NAME.XXXXXX.tmp`, six random characters) in the same directory, which
+///   is flushed and fsynced and then renamed over the file; afterwards the
+///   directory is fsynced (best effort). Readers therefore see either the
+///   complete old file or the complete new one, never a mix. If the file
+///   already exists, the new file gets its permissions; otherwise it gets the
+///   usual permissions of a newly created file (`0o666` less the umask on Unix).
 ///
 /// # Errors
 ///
@@ -26,10 +37,54 @@ use crate::IoError;
 /// (naming the step that failed and the OS error) if the temporary file cannot
 /// be created, written, synced or renamed. On any error (and on a panic while
 /// writing) the destination is untouched and no temporary file remains. A
-/// process killed while writing (e.g. by an unhandled Ctrl-C) may leave the
-/// temporary file behind, but never a partial destination.
+/// process killed by a signal it does not handle may leave the temporary file
+/// behind (never a partial destination); `hyst` handles SIGINT and SIGTERM by
+/// calling [`remove_temporary_files`].
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     write_atomic_with(path, |w| w.write_all(bytes))
+}
+
+/// The temporary files being written right now (full paths).
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
+    TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Removes every temporary file this process is writing, for a signal handler
+/// that is about to end the process.
+///
+/// The returned guard holds the list locked: while it lives no temporary file
+/// is created or renamed over its destination, so keep it until the process
+/// exits. A rename that had already happened stands (the destination is then
+/// complete).
+pub fn remove_temporary_files() -> MutexGuard<'static, Vec<PathBuf>> {
+    let mut live = temporaries();
+    for path in live.drain(..) {
+        let _ = fs::remove_file(path);
+    }
+    live
+}
+
+/// Fails with [`IoError::SameFile`] when `output` is the same file as `input`
+/// (same device and inode: the same path, a symbolic or a hard link). A path
+/// that does not exist yet is never the same file; `-` (standard output) is not
+/// checked.
+///
+/// # Errors
+///
+/// [`IoError::SameFile`].
+pub fn check_distinct(input: &Path, output: &Path) -> Result<(), IoError> {
+    if output.as_os_str() == STDOUT {
+        return Ok(());
+    }
+    if same_file::is_same_file(input, output).unwrap_or(false) {
+        return Err(IoError::SameFile {
+            input: input.to_path_buf(),
+            output: output.to_path_buf(),
+        });
+    }
+    Ok(())
 }
 
 /// Builds a [`IoError::Write`] for `path`.
@@ -42,29 +97,100 @@ fn write_error(path: &Path, action: impl Into<String>) -> impl FnOnce(io::Error)
     }
 }
 
-/// Writes atomically whatever `fill` writes into the (buffered) temporary file.
+/// Writes whatever `fill` writes to `path`, as [`write_atomic`] describes.
 ///
 /// Same guarantees as [`write_atomic`]; an error returned by `fill` is reported
-/// as [`IoError::Write`] and leaves the destination untouched.
+/// as [`IoError::Write`] and leaves the destination untouched (standard output
+/// and devices excepted: what was written there stays written).
 pub(crate) fn write_atomic_with<F>(path: &Path, fill: F) -> Result<(), IoError>
 where
-    F: FnOnce(&mut BufWriter<&File>) -> io::Result<()>,
+    F: FnOnce(&mut BufWriter<&mut dyn Write>) -> io::Result<()>,
 {
-    let existing = match fs::metadata(path) {
-        Ok(meta) if meta.is_dir() => {
+    if path.as_os_str() == STDOUT {
+        let stdout = io::stdout();
+        let mut lock = stdout.lock();
+        let mut writer: BufWriter<&mut dyn Write> = BufWriter::new(&mut lock);
+        return fill(&mut writer)
+            .and_then(|()| writer.flush())
+            .map_err(write_error(path, "write to standard output"));
+    }
+    // `metadata` follows symbolic links, the kernel's "magic" ones too (/dev/stdout ->
+    // /proc/self/fd/1 -> a pipe), so a device or FIFO is recognised through any link.
+    let followed = fs::metadata(path);
+    if let Ok(meta) = &followed {
+        if meta.is_dir() {
             return Err(IoError::IsDirectory {
                 path: path.to_path_buf(),
-            })
+            });
         }
-        Ok(meta) => Some(meta.permissions()),
-        Err(_) => None,
-    };
-    let file_name = path.file_name().ok_or_else(|| IoError::Write {
+        if !meta.is_file() {
+            return write_device(path, path, fill);
+        }
+    }
+    let mut target = path.to_path_buf();
+    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        target = resolve_link(path).map_err(write_error(path, "follow the symbolic link"))?;
+    }
+    match followed {
+        Ok(meta) => write_replacing(path, &target, Some(meta.permissions()), fill),
+        Err(_) => write_replacing(path, &target, None, fill),
+    }
+}
+
+/// The final target of the symbolic link `link`: its canonical path, or for a
+/// dangling link the (last) target it names, relative to the link's directory.
+fn resolve_link(link: &Path) -> io::Result<PathBuf> {
+    if let Ok(resolved) = fs::canonicalize(link) {
+        return Ok(resolved);
+    }
+    let mut current = link.to_path_buf();
+    for _ in 0..40 {
+        match fs::read_link(&current) {
+            Ok(next) => {
+                current = match current.parent() {
+                    Some(dir) => dir.join(next),
+                    None => next,
+                };
+            }
+            Err(_) => return Ok(current),
+        }
+    }
+    Err(io::Error::other("too many levels of symbolic links"))
+}
+
+/// Writes straight into an existing non-regular file (a device, a FIFO).
+fn write_device<F>(path: &Path, target: &Path, fill: F) -> Result<(), IoError>
+where
+    F: FnOnce(&mut BufWriter<&mut dyn Write>) -> io::Result<()>,
+{
+    let mut file = OpenOptions::new()
+        .write(true)
+        .open(target)
+        .map_err(write_error(path, "open"))?;
+    let mut sink: &mut dyn Write = &mut file;
+    let mut writer = BufWriter::new(&mut sink as &mut dyn Write);
+    fill(&mut writer)
+        .and_then(|()| writer.flush())
+        .map_err(write_error(path, "write"))
+}
+
+/// Replaces the regular file (or creates the new file) `target` atomically;
+/// errors name `path`, the path the user gave.
+fn write_replacing<F>(
+    path: &Path,
+    target: &Path,
+    existing: Option<fs::Permissions>,
+    fill: F,
+) -> Result<(), IoError>
+where
+    F: FnOnce(&mut BufWriter<&mut dyn Write>) -> io::Result<()>,
+{
+    let file_name = target.file_name().ok_or_else(|| IoError::Write {
         path: path.to_path_buf(),
         action: "write".into(),
         source: io::Error::new(io::ErrorKind::InvalidInput, "the path has no file name"),
     })?;
-    let dir = match path.parent() {
+    let dir = match target.parent() {
         Some(dir) if !dir.as_os_str().is_empty() => dir,
         _ => Path::new("."),
     };
@@ -77,17 +203,26 @@ where
     // tempfile creates 0o600 files; ask for what `File::create` gives instead.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    // Created and listed under the lock, so a signal handler's cleanup sees it.
     // Removed on drop (error or panic below) unless persisted.
-    let temp = builder.tempfile_in(dir).map_err(write_error(
-        path,
-        format!("create a temporary file in {:?}", dir.display().to_string()),
-    ))?;
+    let temp = {
+        let mut live = temporaries();
+        let temp = builder.tempfile_in(dir).map_err(write_error(
+            path,
+            format!("create a temporary file in {:?}", dir.display().to_string()),
+        ))?;
+        live.push(temp.path().to_path_buf());
+        temp
+    };
+    let listed = Listed(temp.path().to_path_buf());
 
     // Through the plain `File`: tempfile's own `Write` would append the
     // temporary path to every error message.
     let file = temp.as_file();
     {
-        let mut writer = BufWriter::new(file);
+        let mut handle: &File = file;
+        let mut sink: &mut dyn Write = &mut handle;
+        let mut writer = BufWriter::new(&mut sink as &mut dyn Write);
         fill(&mut writer)
             .and_then(|()| writer.flush())
             .map_err(write_error(path, "write the temporary file"))?;
@@ -102,7 +237,17 @@ where
     file.sync_all()
         .map_err(write_error(path, "sync the temporary file to disk"))?;
 
-    temp.persist(path).map_err(|e| {
+    // Renamed and unlisted under the lock: a signal handler either removes the
+    // temporary file first (and the process ends before the rename) or finds
+    // the rename done.
+    let persisted = {
+        let mut live = temporaries();
+        let persisted = temp.persist(target);
+        live.retain(|p| p != &listed.0);
+        std::mem::forget(listed);
+        persisted
+    };
+    persisted.map_err(|e| {
         let action = format!(
             "rename the temporary file {:?} over it",
             e.file.path().display().to_string()
@@ -113,6 +258,16 @@ where
 
     sync_dir(dir);
     Ok(())
+}
+
+/// A temporary file on the list of [`remove_temporary_files`]; dropping it
+/// (on an error or a panic) takes it off.
+struct Listed(PathBuf);
+
+impl Drop for Listed {
+    fn drop(&mut self) {
+        temporaries().retain(|p| p != &self.0);
+    }
 }
 
 /// Makes the rename durable by syncing the directory (Unix only); tempfile's
@@ -333,5 +488,98 @@ mod tests {
                 .ends_with("cannot write: the path has no file name"),
             "{err}"
         );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_symbolic_link_is_written_through_and_stays_a_link() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("real.csv");
+        fs::write(&target, b"old").unwrap();
+        let link = dir.path().join("link.csv");
+        std::os::unix::fs::symlink("real.csv", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(fs::read(&target).unwrap(), b"new");
+        assert_eq!(entries(dir.path()), ["link.csv", "real.csv"]);
+        // A dangling link: its target is created, the link stays.
+        let dangling = dir.path().join("dangling.csv");
+        std::os::unix::fs::symlink("made.csv", &dangling).unwrap();
+        write_atomic(&dangling, b"made").unwrap();
+        assert!(fs::symlink_metadata(&dangling)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(fs::read(dir.path().join("made.csv")).unwrap(), b"made");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_device_is_written_not_replaced() {
+        write_atomic(Path::new("/dev/null"), b"discarded").unwrap();
+        assert!(!fs::metadata("/dev/null").unwrap().is_file());
+        // Through a symbolic link to the device too.
+        let dir = tempfile::tempdir().unwrap();
+        let link = dir.path().join("null");
+        std::os::unix::fs::symlink("/dev/null", &link).unwrap();
+        write_atomic(&link, b"discarded").unwrap();
+        assert!(fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert!(!fs::metadata("/dev/null").unwrap().is_file());
+        assert_eq!(entries(dir.path()), ["null"]);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn same_file_is_detected_through_links() {
+        let dir = tempfile::tempdir().unwrap();
+        let data = dir.path().join("d.csv");
+        fs::write(&data, b"x\n1\n").unwrap();
+        let soft = dir.path().join("soft.csv");
+        std::os::unix::fs::symlink(&data, &soft).unwrap();
+        let hard = dir.path().join("hard.csv");
+        fs::hard_link(&data, &hard).unwrap();
+        for out in [&data, &soft, &hard] {
+            let err = check_distinct(&data, out).unwrap_err();
+            assert!(matches!(err, IoError::SameFile { .. }), "{err:?}");
+            assert_eq!(
+                err.to_string(),
+                format!(
+                    "{}: is the same file as the input {} (the input would be overwritten); \
+                     choose another output",
+                    out.display(),
+                    data.display()
+                )
+            );
+        }
+        check_distinct(&data, &dir.path().join("new.csv")).unwrap();
+        let copy = dir.path().join("copy.csv");
+        fs::write(&copy, b"x\n1\n").unwrap();
+        check_distinct(&data, &copy).unwrap();
+        check_distinct(&data, Path::new(STDOUT)).unwrap();
+    }
+
+    #[test]
+    fn live_temporary_files_are_listed_until_renamed() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.csv");
+        let mut listed = Vec::new();
+        write_atomic_with(&path, |w| {
+            listed = temporaries().clone();
+            w.write_all(b"x")
+        })
+        .unwrap();
+        let temp: Vec<_> = listed
+            .iter()
+            .filter(|p| p.parent() == Some(dir.path()))
+            .collect();
+        assert_eq!(temp.len(), 1, "{listed:?}");
+        assert!(!temp[0].exists());
+        assert!(!temporaries().iter().any(|p| p.parent() == Some(dir.path())));
     }
 }

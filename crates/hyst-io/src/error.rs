@@ -266,6 +266,22 @@ pub enum IoError {
         value: f64,
     },
 
+    /// The output path names the same file as an input (directly, through a
+    /// symbolic link or as a hard link: same device and inode), so writing it
+    /// would destroy the input. Nothing was written.
+    #[error(
+        "{}: is the same file as the input {} (the input would be overwritten); \
+         choose another output",
+        output.display(),
+        input.display()
+    )]
+    SameFile {
+        /// The input path as given.
+        input: PathBuf,
+        /// The output path as given.
+        output: PathBuf,
+    },
+
     /// Writing a file failed; the destination was left untouched and the
     /// temporary file was removed.
     #[error("{}: cannot {action}: {source}", path.display())]

@@ -42,6 +42,6 @@ mod atomic;
 mod error;
 mod table;
 
-pub use atomic::write_atomic;
+pub use atomic::{check_distinct, remove_temporary_files, write_atomic, STDOUT};
 pub use error::IoError;
 pub use table::Table;

@@ -65,6 +65,24 @@ impl Table {
         parse(&bytes, &file)
     }
 
+    /// Parses CSV `bytes` as [`Table::read`] parses a file's contents, with
+    /// `source` as the file name in error messages.
+    ///
+    /// # Errors
+    ///
+    /// As [`Table::read`], except the read errors.
+    pub fn parse(bytes: &[u8], source: &str) -> Result<Table, IoError> {
+        parse(bytes, source)
+    }
+
+    /// The CSV text [`Table::write_atomic`] writes.
+    pub fn to_csv(&self) -> Vec<u8> {
+        let mut out = Vec::new();
+        // Writing into a Vec cannot fail.
+        let _ = self.write_csv(&mut out);
+        out
+    }
+
     /// Builds a table from column names and columns.
     ///
     /// The table's [`source`](Table::source) is `<memory>`, and row `i` gets

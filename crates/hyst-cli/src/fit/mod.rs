@@ -13,7 +13,6 @@ mod progress;
 
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
-use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Result;
@@ -117,11 +116,6 @@ pub struct Args {
 
 /// Runs `hyst fit`.
 pub fn main(args: Args) -> Result<()> {
-    let interrupted = Arc::new(());
-    let _ = ctrlc::set_handler(move || {
-        let _keep = &interrupted;
-        INTERRUPTED.store(true, Ordering::SeqCst);
-    });
     let table = Table::read(&args.data)?;
     let options = DataOptions {
         input: args.input.clone(),

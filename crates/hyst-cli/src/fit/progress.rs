@@ -6,7 +6,8 @@ use std::time::{Duration, Instant};
 
 use hyst_fit::lm::{Observer, Progress};
 
-/// Ctrl-C sets this; the fit's observer stops at the next iteration.
+/// Set to stop the fit at the next iteration (the observer checks it). Ctrl-C itself ends the
+/// process at once from the signal thread (`crate::signals`), before any model file exists.
 pub(super) static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 /// Progress on stderr (indicatif), shown once a fit has run for a second; stops on Ctrl-C.

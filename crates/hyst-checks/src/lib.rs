@@ -1,0 +1,133 @@
+//! The invariants checked by the fuzz targets of `fuzz/` (cargo-fuzz, nightly) and by the corpus
+//! replay test `tests/corpus.rs` (stable `cargo test`): both call the same functions, so the
+//! corpus in `fuzz/corpus/<target>/` guards the same properties in CI without nightly.
+//!
+//! Each `check_*` function takes arbitrary bytes, never panics, and returns `Err` with a
+//! description when a documented invariant is broken:
+//!
+//! - [`check_csv`]: the CSV reader (hyst-io) accepts or refuses any bytes with a one-line error;
+//!   an accepted table holds only finite values and reads back identically after writing.
+//! - [`check_model_file`]: the model-file reader (hyst-fit) accepts or refuses any text with a
+//!   one-line error; an accepted model runs, direct and inverse, with finite outputs or an error.
+//! - [`check_operators`]: the operator pair, shaped models, the compensator and jets, f64 and
+//!   f32, with arbitrary parameters and inputs: see [`operators`].
+
+pub mod operators;
+
+pub use operators::check_operators;
+
+use hyst_fit::ModelFile;
+use hyst_io::Table;
+
+/// An error message must be one line (the tools print it after `error: `).
+fn one_line(what: &str, message: &str) -> Result<(), String> {
+    if message.is_empty() || message.contains('\n') {
+        return Err(format!(
+            "{what}: the error message is not one line: {message:?}"
+        ));
+    }
+    Ok(())
+}
+
+/// The CSV reader on arbitrary bytes.
+///
+/// # Errors
+/// A description of the broken invariant.
+pub fn check_csv(data: &[u8]) -> Result<(), String> {
+    let table = match Table::parse(data, "fuzz.csv") {
+        Ok(t) => t,
+        Err(e) => return one_line("csv", &e.to_string()),
+    };
+    let names = table.names().to_vec();
+    let mut columns = Vec::with_capacity(names.len());
+    for name in &names {
+        let column = table
+            .column(name)
+            .map_err(|e| format!("column {name:?}: {e}"))?;
+        if let Some(v) = column.iter().find(|v| !v.is_finite()) {
+            return Err(format!("column {name:?} holds the non-finite value {v}"));
+        }
+        if column.len() != table.len() {
+            return Err(format!(
+                "column {name:?} has {} rows of {}",
+                column.len(),
+                table.len()
+            ));
+        }
+        columns.push(column.to_vec());
+    }
+    let mut last_line = 0;
+    for row in 0..table.len() {
+        let line = table.line_of_row(row);
+        // Non-decreasing: a lone \r ends a CSV record but not a line, so two rows can share one.
+        if line < last_line {
+            return Err(format!("row {row} on line {line} after line {last_line}"));
+        }
+        last_line = line;
+    }
+    // Written and read back: the identical names and bits.
+    let text = table.to_csv();
+    let again = Table::parse(&text, "again.csv")
+        .map_err(|e| format!("the written table does not read back: {e}"))?;
+    if again.names() != names.as_slice() {
+        return Err(format!(
+            "names {:?} read back as {:?}",
+            names,
+            again.names()
+        ));
+    }
+    for (name, column) in names.iter().zip(&columns) {
+        let back = again.column(name).map_err(|e| e.to_string())?;
+        let same = back.len() == column.len()
+            && back
+                .iter()
+                .zip(column)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+        if !same {
+            return Err(format!("column {name:?} does not read back bit for bit"));
+        }
+    }
+    Ok(())
+}
+
+/// The model-file reader on arbitrary bytes (as UTF-8 text).
+///
+/// # Errors
+/// A description of the broken invariant.
+pub fn check_model_file(data: &[u8]) -> Result<(), String> {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return Ok(());
+    };
+    let file = match ModelFile::from_toml(text, std::path::Path::new("fuzz.toml")) {
+        Ok(f) => f,
+        Err(e) => return one_line("model file", &e.to_string()),
+    };
+    let inputs = [0.0, 0.5, 1.0, -1.0, 0.25, 1e3, -1e3, 0.0];
+    for inverse in [false, true] {
+        let mut op = match file.evaluator(0.0, inverse) {
+            Ok(op) => op,
+            Err(e) => {
+                one_line("model file evaluator", &e.to_string())?;
+                continue;
+            }
+        };
+        for &x in &inputs {
+            use hyst_core::Operator;
+            match op.try_step(x) {
+                Ok(y) if !y.is_finite() => {
+                    return Err(format!(
+                        "accepted model (inverse: {inverse}) gives {y} for the finite input {x}"
+                    ));
+                }
+                Ok(_) => {}
+                Err(e) => one_line("model step", &e.to_string())?,
+            }
+        }
+    }
+    // What the reader accepted, written and read again, is accepted again.
+    if let Ok(again) = file.to_toml() {
+        ModelFile::from_toml(&again, std::path::Path::new("again.toml"))
+            .map_err(|e| format!("the written model file does not read back: {e}"))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,438 @@
+//! Hostile inputs, odd paths and signals (issue 9): an output that is an input is refused before
+//! anything is written; `-o -`, symbolic links and devices are written through; SIGINT/SIGTERM
+//! stop at once with 130/143 and leave no output or temporary file; extreme numbers give finite
+//! results or a one-line error naming the file and line; fits on data beyond the float range fail;
+//! `hyst bench` is short by default; OS errors are printed once.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+
+use std::fs;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn hyst() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_hyst"))
+}
+
+fn run(args: &[&str], dir: &Path) -> Output {
+    hyst().args(args).current_dir(dir).output().unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Names of the entries of `dir`, hidden ones included, sorted.
+fn entries(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+const DATA: &str = "x\n0\n0.5\n1\n0.2\n-0.4\n";
+
+#[cfg(unix)]
+#[test]
+fn an_output_that_is_the_input_is_refused_before_anything_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    fs::write(d.join("f.csv"), DATA).unwrap();
+    std::os::unix::fs::symlink("f.csv", d.join("soft.csv")).unwrap();
+    fs::hard_link(d.join("f.csv"), d.join("hard.csv")).unwrap();
+    for out in ["f.csv", "soft.csv", "hard.csv", "./f.csv"] {
+        let o = run(&["run", "--k1", "0.2", "--k2", "8", "f.csv", "-o", out], d);
+        assert_eq!(o.status.code(), Some(1), "{out}");
+        assert_eq!(
+            stderr(&o),
+            format!(
+                "error: {out}: is the same file as the input f.csv (the input would be \
+                 overwritten); choose another output\n"
+            )
+        );
+        assert_eq!(fs::read_to_string(d.join("f.csv")).unwrap(), DATA);
+    }
+    // hyst fit: the data file is not replaced by the model.
+    fs::write(d.join("d.csv"), "u,y\n0,0\n1,0.8\n0,0.2\n").unwrap();
+    let o = run(
+        &[
+            "fit", "d.csv", "--input", "u", "--output", "y", "-o", "d.csv",
+        ],
+        d,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("d.csv: is the same file as the input d.csv"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        fs::read_to_string(d.join("d.csv")).unwrap(),
+        "u,y\n0,0\n1,0.8\n0,0.2\n"
+    );
+    assert_eq!(entries(d), ["d.csv", "f.csv", "hard.csv", "soft.csv"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn dash_streams_to_stdout_and_links_and_devices_are_written_through() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    fs::write(d.join("f.csv"), DATA).unwrap();
+    let o = run(&["run", "--k1", "0.2", "--k2", "8", "f.csv", "-o", "-"], d);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.starts_with("x,y\n0,0\n0.5,"), "{text}");
+    assert_eq!(text.lines().count(), 6);
+    // The same bytes as a file.
+    let o = run(
+        &["run", "--k1", "0.2", "--k2", "8", "f.csv", "-o", "out.csv"],
+        d,
+    );
+    assert!(o.status.success());
+    assert_eq!(fs::read_to_string(d.join("out.csv")).unwrap(), text);
+    // A symbolic link stays a link; its target gets the output.
+    std::os::unix::fs::symlink("target.csv", d.join("link.csv")).unwrap();
+    let o = run(
+        &["run", "--k1", "0.2", "--k2", "8", "f.csv", "-o", "link.csv"],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(fs::symlink_metadata(d.join("link.csv"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(fs::read_to_string(d.join("target.csv")).unwrap(), text);
+    // /dev/stdout (a link to /proc/self/fd/1, here a pipe) is written through, not replaced.
+    let o = run(
+        &[
+            "run",
+            "--k1",
+            "0.2",
+            "--k2",
+            "8",
+            "f.csv",
+            "-o",
+            "/dev/stdout",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8(o.stdout).unwrap(), text);
+    assert!(fs::symlink_metadata("/dev/stdout")
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    // A device is written, not replaced by a regular file; also through a link to it.
+    std::os::unix::fs::symlink("/dev/null", d.join("null")).unwrap();
+    for out in ["/dev/null", "null"] {
+        let o = run(&["run", "--k1", "0.2", "--k2", "8", "f.csv", "-o", out], d);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    assert!(!fs::metadata("/dev/null").unwrap().is_file());
+    assert!(fs::symlink_metadata(d.join("null"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(
+        entries(d),
+        ["f.csv", "link.csv", "null", "out.csv", "target.csv"]
+    );
+}
+
+/// A CSV file of `rows` samples of a slow sine.
+fn big_input(path: &Path, rows: usize) {
+    use std::io::Write;
+    let mut w = std::io::BufWriter::new(fs::File::create(path).unwrap());
+    writeln!(w, "x").unwrap();
+    for k in 0..rows {
+        writeln!(w, "{:.6}", (k as f64 * 1e-3).sin() * 1.5).unwrap();
+    }
+}
+
+fn signal(pid: u32, name: &str) {
+    let status = Command::new("kill")
+        .args([&format!("-{name}"), &pid.to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
+/// Spawns `hyst run` on 2 M rows in a fresh directory (input outside it), waits for
+/// `ready(directory, time since the spawn)`, sends `sig` and returns (exit code, seconds from the signal to the exit, the
+/// directory's entries afterwards).
+fn interrupt_run(
+    sig: &str,
+    ready: impl Fn(&Path, Duration) -> bool,
+) -> (Option<i32>, f64, Vec<String>) {
+    let input_dir = tempfile::tempdir().unwrap();
+    let input = input_dir.path().join("in.csv");
+    big_input(&input, 2_000_000);
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = hyst()
+        .args(["run", "--k1", "0.2", "--k2", "8"])
+        .arg(&input)
+        .args(["-o", "out.csv"])
+        .current_dir(dir.path())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let waited = Instant::now();
+    while !ready(dir.path(), waited.elapsed()) {
+        assert!(
+            waited.elapsed() < Duration::from_secs(120),
+            "never ready: {:?}",
+            entries(dir.path())
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // Still running: the signal interrupts work in progress.
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "finished before the signal"
+    );
+    let sent = Instant::now();
+    signal(child.id(), sig);
+    let status = child.wait().unwrap();
+    let stop = sent.elapsed().as_secs_f64();
+    (status.code(), stop, entries(dir.path()))
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_during_run_stops_at_once_with_130_and_no_output() {
+    // Signalled while the 2 M rows are being read or run (the debug binary takes many seconds
+    // for the whole file).
+    let (code, stop, left) =
+        interrupt_run("INT", |_, running| running > Duration::from_millis(400));
+    assert_eq!(code, Some(130));
+    assert!(stop < 2.0, "took {stop} s to stop");
+    assert!(left.is_empty(), "{left:?}");
+}
+
+#[cfg(unix)]
+#[test]
+fn sigterm_while_writing_removes_the_temporary_file() {
+    // Signalled once the hidden temporary file exists, i.e. while the output is being written.
+    let (code, stop, left) = interrupt_run("TERM", |d, _| {
+        entries(d)
+            .iter()
+            .any(|n| n.starts_with(".out.csv.") && n.ends_with(".tmp"))
+    });
+    assert_eq!(code, Some(143));
+    assert!(stop < 2.0, "took {stop} s to stop");
+    assert!(left.is_empty(), "{left:?}");
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_during_fit_exits_130_and_writes_no_model() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    {
+        let mut w = std::io::BufWriter::new(fs::File::create(d.join("d.csv")).unwrap());
+        writeln!(w, "u,y").unwrap();
+        let mut h = hyst_core::Hysteresis::new(0.2, 8.0).unwrap();
+        for k in 0..200_000 {
+            let u = (k as f64 * 0.003).sin() * (1.0 + 0.3 * (k as f64 * 1e-4).cos());
+            writeln!(w, "{u},{}", hyst_core::Operator::step(&mut h, u) * 2.0).unwrap();
+        }
+    }
+    let mut child = hyst()
+        .args([
+            "fit", "d.csv", "--input", "u", "--output", "y", "-o", "m.toml",
+        ])
+        .current_dir(d)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(700));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the fit finished before the signal"
+    );
+    signal(child.id(), "INT");
+    assert_eq!(child.wait().unwrap().code(), Some(130));
+    assert_eq!(entries(d), ["d.csv"]);
+}
+
+#[test]
+fn extreme_inputs_give_finite_outputs_or_an_error_naming_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    fs::write(d.join("big.csv"), "x\n1e308\n-1e308\n1e308\n").unwrap();
+    let o = run(
+        &["run", "--k1", "0.2", "--k2", "8", "big.csv", "-o", "-"],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        String::from_utf8(o.stdout).unwrap(),
+        "x,y\n1e308,1e308\n-1e308,-1e308\n1e308,1e308\n"
+    );
+    // The inverse within k1 = 1e300 of -MAX would be below -MAX: refused, naming line 3.
+    fs::write(
+        d.join("max.csv"),
+        "# falls to -MAX\nx\n0\n-1.7976931348623157e308\n",
+    )
+    .unwrap();
+    let o = run(
+        &[
+            "run",
+            "--inverse",
+            "--k1",
+            "1e300",
+            "--k2",
+            "1",
+            "max.csv",
+            "-o",
+            "out.csv",
+        ],
+        d,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "error: max.csv:4: column 1 (\"x\"): value -1.7976931348623157e308: input sample \
+         -1.7976931348623157e308: the output or one of its time derivatives is beyond the float \
+         range (-inf)\n"
+    );
+    assert_eq!(entries(d), ["big.csv", "max.csv"]);
+    // new(1e300, 1e300): a near-backlash far beyond the float range of k2 M*, finite.
+    fs::write(d.join("small.csv"), "x\n0\n1\n-1\n").unwrap();
+    let o = run(
+        &[
+            "run",
+            "--k1",
+            "1e300",
+            "--k2",
+            "1e300",
+            "small.csv",
+            "-o",
+            "-",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    for line in String::from_utf8(o.stdout).unwrap().lines().skip(1) {
+        let y: f64 = line.split(',').nth(1).unwrap().parse().unwrap();
+        assert!(y.abs() < 1e-15, "{line}");
+    }
+}
+
+#[test]
+fn a_subnormal_k2_is_refused_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("f.csv"), DATA).unwrap();
+    let o = run(
+        &[
+            "run", "--k1", "0.2", "--k2", "1e-320", "f.csv", "-o", "o.csv",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "error: --k1/--k2: invalid parameter k2 = 1e-320: must be finite and > 0, a normal float \
+         (>= 2.2e-308 for f64, >= 1.2e-38 for f32; subnormal values lose precision)\n"
+    );
+    assert_eq!(entries(dir.path()), ["f.csv"]);
+}
+
+#[test]
+fn fits_on_data_beyond_the_float_range_fail_with_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut scaled = String::from("u,y\n");
+    let mut outlier = String::from("u,y\n");
+    let mut h = hyst_core::Hysteresis::new(0.2, 8.0).unwrap();
+    for k in 0..400 {
+        let u = (k as f64 * 0.05).sin();
+        let y = hyst_core::Operator::step(&mut h, u);
+        scaled.push_str(&format!("{:e},{:e}\n", u * 1e300, y * 1e300));
+        let y = if k == 100 { 1e308 } else { y };
+        outlier.push_str(&format!("{u},{y}\n"));
+    }
+    fs::write(d.join("scaled.csv"), scaled).unwrap();
+    fs::write(d.join("outlier.csv"), outlier).unwrap();
+    for (file, line, value) in [
+        ("scaled.csv", 3, "4.997916927067833e298"),
+        ("outlier.csv", 102, "1e308"),
+    ] {
+        let o = run(
+            &["fit", file, "--input", "u", "--output", "y", "-o", "m.toml"],
+            d,
+        );
+        assert_eq!(o.status.code(), Some(1), "{file}");
+        let column = if file == "scaled.csv" { "u" } else { "y" };
+        assert_eq!(
+            stderr(&o),
+            format!(
+                "error: {file}:{line}: column \"{column}\": {value} is too large for the fit \
+                 (|value| must be at most 1e100, or squared residuals overflow): rescale the \
+                 column (other units) or remove the outlier\n"
+            )
+        );
+    }
+    assert_eq!(entries(d), ["outlier.csv", "scaled.csv"]);
+}
+
+#[test]
+fn bench_says_what_its_time_means_and_is_short_by_default() {
+    let help = hyst().args(["bench", "--help"]).output().unwrap();
+    let help = String::from_utf8(help.stdout).unwrap();
+    assert!(
+        help.contains("Total measuring time of the whole run"),
+        "{help}"
+    );
+    let started = Instant::now();
+    let o = hyst().args(["bench", "--json"]).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The default budget is 1 s; the old default ran 14 s (release) to minutes (debug).
+    let took = started.elapsed().as_secs_f64();
+    assert!(took < 10.0, "bench took {took} s");
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(json["direct_ns"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn an_os_error_is_printed_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(
+        &[
+            "run",
+            "--k1",
+            "0.2",
+            "--k2",
+            "8",
+            "missing.csv",
+            "-o",
+            "o.csv",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let os = std::io::Error::from_raw_os_error(2).to_string();
+    assert_eq!(
+        stderr(&o),
+        format!("error: missing.csv: cannot read: {os}\n")
+    );
+    let o = run(
+        &[
+            "run",
+            "--k1",
+            "0.2",
+            "--k2",
+            "8",
+            "missing.csv",
+            "-o",
+            "no/dir/o.csv",
+        ],
+        dir.path(),
+    );
+    assert_eq!(stderr(&o).matches("os error").count(), 1, "{}", stderr(&o));
+}
