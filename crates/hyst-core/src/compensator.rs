@@ -243,7 +243,7 @@ where
         let next = Self::advanced(n, &self.v, u_new, dt);
         if !(u.is_finite() && next.iter().all(|v| v.is_finite())) {
             // Eq. (19) or the integrators overflow: refuse, state unchanged.
-            let _ = self.inverse.set_memory(before);
+            self.inverse.restore(before);
             return Err(Error::NonFiniteOutput {
                 input: u_new.as_f64(),
                 output: u.as_f64(),
@@ -385,7 +385,7 @@ where
         let x = self.inverse.try_step(reference)?;
         let u = self.law(&x);
         if !u.is_finite() {
-            let _ = self.inverse.set_memory(before);
+            self.inverse.restore(before);
             return Err(Error::NonFiniteOutput {
                 input: reference.value().as_f64(),
                 output: u.as_f64(),

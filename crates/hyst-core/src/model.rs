@@ -127,6 +127,11 @@ impl<T: Real, I: Shaping<T> + Clone, K: K2Law<T> + Clone, O: Shaping<T> + Clone>
 }
 
 impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> InverseModel<T, I, K, O> {
+    /// Puts back a memory saved from this compensator (no check: it was its own).
+    pub(crate) fn restore(&mut self, memory: Option<Memory<T>>) {
+        self.operator.restore(memory);
+    }
+
     /// The inverse operator (with its memory).
     #[must_use]
     pub fn operator(&self) -> &InverseHysteresis<T, K> {

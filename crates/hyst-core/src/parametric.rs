@@ -71,6 +71,16 @@ impl Formula for Direct {
     }
 }
 
+/// The error for the finite input `x` whose output is the non-finite `output`.
+#[cold]
+#[inline(never)]
+fn overflow<T: Real>(x: T, output: T) -> Error {
+    Error::NonFiniteOutput {
+        input: x.as_f64(),
+        output: output.as_f64(),
+    }
+}
+
 /// ṽ / 2 = s (α/2 − α0/2): half the transformed input of Definition 2.1, finite for all finite
 /// α and α0 (ṽ itself overflows when α and α0 are far apart with opposite signs).
 #[inline]
@@ -339,9 +349,9 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         let mut memory = self
             .memory
             .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
-        match Self::advance_local(&mut memory, self.k1, x, k2) {
-            Some(y) => Ok((y, memory)),
-            None => Err(self.overflow(x, k2)),
+        match Self::advance(&mut memory, self.k1, x, k2) {
+            Ok(y) => Ok((y, memory)),
+            Err(output) => Err(overflow(x.value(), output)),
         }
     }
 
@@ -365,8 +375,9 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         }
     }
 
-    /// Definition 2.1's memory update followed by the formula. `None` (the memory untouched)
-    /// when the output of this finite input is not finite.
+    /// Definition 2.1's memory update followed by the formula, in place. `Err` with the
+    /// non-finite output (NaN when only a jet's derivative overflowed) when this finite input
+    /// has no finite output; the memory is then as it was (what `observe` changed is undone).
     ///
     /// The output is kept in the band [x − k1, x + k1] as computed in floating point (eqs. 2
     /// and 4 stay inside it in exact arithmetic; rounding can step out by an ulp, and by more
@@ -376,107 +387,66 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
     ///
     /// When eq. (2) or (4) as written is not finite for a finite input (an intermediate value
     /// overflows), [`Formula::output_wide`] computes the value again in a form that overflows
-    /// only with the result. For |x| ≤ `T::MAX` / 4 (and k1 ≤ `T::MAX` / 4, checked by the
-    /// constructor) that result, within 3 k1 of x, is always finite, so plain samples there update
-    /// the memory in place; larger inputs and jets go through
-    /// [`ParametricHysteresis::advance_checked`].
+    /// only with the result (which lies within 3 k1 of x, k1 ≤ `T::MAX` / 4).
     // `!(a <= b)` on purpose: NaN must take the slow path.
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     #[inline(always)]
-    fn advance<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Option<S> {
+    fn advance<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Result<S, T> {
         let v = x.value();
-        if S::ORDER > 0 || !(v.abs() <= T::max_value() * T::from_f64(0.25)) {
-            return Self::advance_checked(memory, k1, x, k2);
-        }
+        // What `observe` may change, to undo it when the output is beyond the float range.
+        let before = (
+            memory.reversal_input,
+            memory.reversal_output,
+            memory.direction,
+        );
         memory.observe(v, x.trend());
         let m_star = F::m_star(memory, k1);
         let mut y = F::output(memory, x, m_star, k2);
         // One test on the hot path, also false for NaN and ±∞.
-        if !((y.value() - v).abs() <= k1) {
-            // `repair` cannot fail here (see above); the fallback keeps the memory finite.
-            y = Self::repair(memory, k1, v, y, m_star, k2.value()).unwrap_or(S::constant(v));
+        if !((y.value() - v).abs() <= k1) || (S::ORDER > 0 && !y.all_finite()) {
+            // A jet whose derivatives overflow has no overflow-free form: NaN stands for them.
+            let repaired = if S::ORDER > 0 && !y.all_finite() {
+                Err(if y.value().is_finite() {
+                    T::nan()
+                } else {
+                    y.value()
+                })
+            } else {
+                Self::repair(memory, k1, v, y.value(), m_star, k2.value())
+            };
+            match repaired {
+                Ok(value) => y = y.with_value(value),
+                Err(output) => {
+                    (
+                        memory.reversal_input,
+                        memory.reversal_output,
+                        memory.direction,
+                    ) = before;
+                    return Err(output);
+                }
+            }
         }
         memory.last_input = v;
         memory.last_output = y.value();
-        Some(y)
+        Ok(y)
     }
 
-    /// [`ParametricHysteresis::advance`] on a copy of the memory, committed only on success:
-    /// for plain inputs beyond `T::MAX` / 4.
-    #[inline]
-    fn advance_checked<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Option<S> {
-        let mut next = *memory;
-        let y = Self::advance_local(&mut next, k1, x, k2)?;
-        *memory = next;
-        Some(y)
-    }
-
-    /// [`ParametricHysteresis::advance`] with every check, on a memory the caller discards when
-    /// this returns `None` (a copy): for jets, whose derivatives may overflow, and for inputs
-    /// beyond `T::MAX` / 4.
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    #[inline]
-    fn advance_local<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Option<S> {
-        let v = x.value();
-        memory.observe(v, x.trend());
-        let m_star = F::m_star(memory, k1);
-        let mut y = F::output(memory, x, m_star, k2);
-        if !((y.value() - v).abs() <= k1) || !y.all_finite() {
-            y = Self::repair(memory, k1, v, y, m_star, k2.value())?;
-        }
-        memory.last_input = v;
-        memory.last_output = y.value();
-        Some(y)
-    }
-
-    /// The slow path of [`ParametricHysteresis::advance`], out of line: an output that is not
-    /// finite is computed again by [`Formula::output_wide`] (`None` when that is not finite
-    /// either, or the sample is a jet); then the output is clamped into [v − k1, v + k1].
+    /// The slow path of [`ParametricHysteresis::advance`], out of line, on the output's value:
+    /// a value that is not finite is computed again by [`Formula::output_wide`] (`Err` with it
+    /// when that is not finite either); then it is clamped into [v − k1, v + k1].
     #[cold]
     #[inline(never)]
-    fn repair<S: Sample<T>>(memory: &Memory<T>, k1: T, v: T, y: S, m_star: T, k2: T) -> Option<S> {
-        let y = if y.all_finite() {
+    fn repair(memory: &Memory<T>, k1: T, v: T, y: T, m_star: T, k2: T) -> Result<T, T> {
+        let y = if y.is_finite() {
             y
         } else {
             let wide = F::output_wide(memory, v, m_star, k2);
-            if S::ORDER == 0 && wide.is_finite() {
-                S::constant(wide)
-            } else {
-                return None;
+            if !wide.is_finite() {
+                return Err(wide);
             }
+            wide
         };
-        let (lo, hi) = (v - k1, v + k1);
-        let value = y.value();
-        Some(if value < lo {
-            y.with_value(lo)
-        } else if value > hi {
-            y.with_value(hi)
-        } else {
-            y
-        })
-    }
-
-    /// The error for a finite input `x` whose output is not finite (see
-    /// [`ParametricHysteresis::advance`]).
-    #[cold]
-    #[inline(never)]
-    fn overflow<S: Sample<T>>(&self, x: S, k2: S) -> Error {
-        let mut memory = self
-            .memory
-            .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
-        memory.observe(x.value(), x.trend());
-        let m_star = F::m_star(&memory, self.k1);
-        let fast = F::output(&memory, x, m_star, k2);
-        let output = if S::ORDER > 0 && fast.value().is_finite() {
-            // The value is fine; a time derivative overflowed.
-            T::nan()
-        } else {
-            F::output_wide(&memory, x.value(), m_star, k2.value())
-        };
-        Error::NonFiniteOutput {
-            input: x.value().as_f64(),
-            output: output.as_f64(),
-        }
+        Ok(y.max(v - k1).min(v + k1))
     }
 
     /// Puts back a memory saved from this operator (no check: it was this operator's).
@@ -512,31 +482,19 @@ impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K
                 .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
             Self::advance(memory, self.k1, x, k2)
         } else {
-            // A jet's derivatives can overflow, even on the first sample: in place, undoing what
-            // `observe` changed on failure (cheaper than a copy).
+            // A jet's derivatives can overflow even on the first sample: `advance` then undoes
+            // what it changed, and a memory created for this sample goes again.
             let fresh = self.memory.is_none();
             let memory = self
                 .memory
                 .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
-            let before = (
-                memory.reversal_input,
-                memory.reversal_output,
-                memory.direction,
-            );
-            let y = Self::advance_local(memory, self.k1, x, k2);
-            if y.is_none() {
-                (
-                    memory.reversal_input,
-                    memory.reversal_output,
-                    memory.direction,
-                ) = before;
-                if fresh {
-                    self.memory = None;
-                }
+            let y = Self::advance(memory, self.k1, x, k2);
+            if y.is_err() && fresh {
+                self.memory = None;
             }
             y
         };
-        result.ok_or_else(|| self.overflow(x, k2))
+        result.map_err(|output| overflow(x.value(), output))
     }
 
     #[inline(always)]

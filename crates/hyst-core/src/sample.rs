@@ -104,6 +104,13 @@ impl<T: Real> Sample<T> for T {
     }
 }
 
+/// The exact test behind `all_finite` for jets, out of line (rarely reached).
+#[cold]
+#[inline(never)]
+fn derivatives_finite<T: Real, const N: usize>(jet: &Jet<T, N>) -> bool {
+    jet.is_finite() && jet.derivatives().iter().all(|d| d.is_finite())
+}
+
 impl<T: Real, const N: usize> Sample<T> for Jet<T, N> {
     const ORDER: usize = N;
     #[inline]
@@ -135,8 +142,7 @@ impl<T: Real, const N: usize> Sample<T> for Jet<T, N> {
             factorial = factorial * T::from_usize(k);
         }
         let limit = T::max_value() / factorial;
-        (self.value().is_finite() && self.coefficients_below(limit))
-            || (self.is_finite() && self.derivatives().iter().all(|d| d.is_finite()))
+        (self.value().is_finite() && self.coefficients_below(limit)) || derivatives_finite(self)
     }
     fn exp(self) -> Self {
         Jet::exp(self)
