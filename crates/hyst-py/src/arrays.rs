@@ -86,6 +86,18 @@ pub fn samples<'py>(x: &Bound<'py, PyAny>, name: &str) -> PyResult<Samples<'py>>
     }
 }
 
+/// Reads `x` as a 1-D array of samples and copies it into float64 values (for the calls that
+/// keep their own copy: the fit, the family envelope, the benchmark).
+///
+/// # Errors
+/// As [`samples`].
+pub fn samples_f64(x: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
+    Ok(match samples(x, name)? {
+        Samples::F64(a) => a.as_array().iter().copied().collect(),
+        Samples::F32(a) => a.as_array().iter().map(|v| f64::from(*v)).collect(),
+    })
+}
+
 /// Reads `d` as the time derivatives of `n` samples: shape (n, N) with 1 ≤ N ≤
 /// [`MAX_DERIVATIVES`] (a 1-D array of length n is the first derivative alone). Returns the
 /// array (float64) and whether it was 1-D.

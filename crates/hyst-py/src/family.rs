@@ -5,7 +5,7 @@ use hyst_core::Family as CoreFamily;
 use pyo3::prelude::*;
 use pyo3::types::PyType;
 
-use crate::arrays::{samples, to_numpy, Samples};
+use crate::arrays::{samples_f64, to_numpy};
 use crate::errors::{core, value_error};
 use crate::operator::{Engine, Hysteresis, InverseHysteresis, Precision};
 
@@ -126,10 +126,7 @@ impl Family {
         if !(2..=64).contains(&grid) {
             return Err(value_error(format!("grid = {grid}: expected 2 to 64")));
         }
-        let input: Vec<f64> = match samples(x, "x")? {
-            Samples::F64(a) => a.as_array().iter().copied().collect(),
-            Samples::F32(a) => a.as_array().iter().map(|v| f64::from(*v)).collect(),
-        };
+        let input = samples_f64(x, "x")?;
         if let Some((i, v)) = input.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(value_error(format!("x[{i}] = {v}: not a finite number")));
         }

@@ -19,9 +19,9 @@ use hyst_io::Table;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{samples, Samples};
+use crate::arrays::samples_f64;
 use crate::errors::{self, value_error};
-use crate::model::{to_python, Model};
+use crate::model::{by_parameter, reached, to_python, Model};
 
 /// A command-line choice by its command-line name (`ShapingKind`, `K2Kind`, …).
 fn choice<E: ValueEnum>(option: &str, value: &str) -> PyResult<E> {
@@ -35,14 +35,6 @@ fn choice<E: ValueEnum>(option: &str, value: &str) -> PyResult<E> {
             "{option} = {value:?}: invalid value; possible values: {}",
             names.join(", ")
         ))
-    })
-}
-
-/// A 1-D array-like as float64 values (copied: the fit keeps its own columns).
-fn column(x: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
-    Ok(match samples(x, name)? {
-        Samples::F64(a) => a.as_array().iter().copied().collect(),
-        Samples::F32(a) => a.as_array().iter().map(|v| f64::from(*v)).collect(),
     })
 }
 
@@ -159,8 +151,8 @@ pub fn fit(
         },
     };
 
-    let u = column(u, "u")?;
-    let y = column(y, "y")?;
+    let u = samples_f64(u, "u")?;
+    let y = samples_f64(y, "y")?;
     let mut names = vec![input_name.to_string(), output_name.to_string()];
     if names[0] == names[1] {
         return Err(value_error(format!(
@@ -181,7 +173,7 @@ pub fn fit(
                 )));
             }
             names.push(name.clone());
-            columns.push(column(v, array)?);
+            columns.push(samples_f64(v, array)?);
         }
     }
     let n = columns[0].len();
@@ -279,32 +271,20 @@ impl FitResult {
     /// normalised input units (the input range maps to [−1, 1]); see `units`.
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for e in &self.file().parameters {
-            d.set_item(&e.name, e.value)?;
-        }
-        Ok(d)
+        by_parameter(py, self.file(), |e| e.value)
     }
 
     /// The standard errors by name, from σ² (JᵀJ)⁻¹ (NaN where the data do not identify a
     /// parameter; they assume independent residuals).
     #[getter]
     fn stderr<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for e in &self.file().parameters {
-            d.set_item(&e.name, e.std_error)?;
-        }
-        Ok(d)
+        by_parameter(py, self.file(), |e| e.std_error)
     }
 
     /// The parameters' units by name.
     #[getter]
     fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for e in &self.file().parameters {
-            d.set_item(&e.name, &e.unit)?;
-        }
-        Ok(d)
+        by_parameter(py, self.file(), |e| e.unit.clone())
     }
 
     /// RMS error on the training records (output units).
@@ -342,30 +322,21 @@ impl FitResult {
     /// (or for a Prandtl–Ishlinskii model).
     #[getter]
     fn family<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        match &self.file().family {
-            Some(w) if w.reachable => Ok(Some(to_python(py, w)?)),
-            _ => Ok(None),
-        }
+        reached(self.file()).map(|w| to_python(py, w)).transpose()
     }
 
     /// Δa of that family (Proposition 3.2, operator units), None when the family is not
     /// reached.
     #[getter]
     fn delta_a(&self) -> Option<f64> {
-        self.file()
-            .family
-            .filter(|w| w.reachable)
-            .map(|w| w.delta_a)
+        reached(self.file()).map(|w| w.delta_a)
     }
 
     /// The compensation error bound at the output (Δa through ψ_out's slope; output units),
     /// None when the family is not reached.
     #[getter]
     fn output_bound(&self) -> Option<f64> {
-        self.file()
-            .family
-            .filter(|w| w.reachable)
-            .map(|w| w.output_bound)
+        reached(self.file()).map(|w| w.output_bound)
     }
 
     /// Wall time of the fit (s).

@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use hyst_fit::modelfile::ModelKind;
-use hyst_fit::{Evaluator, ModelFile};
+use hyst_fit::widths::FamilyWidths;
+use hyst_fit::{Estimate, Evaluator, ModelFile};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -23,6 +24,30 @@ pub fn to_python<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let text = serde_json::to_string(value).map_err(value_error)?;
     py.import("json")?.call_method1("loads", (text,))
+}
+
+/// A dict from each fitted parameter's name to `field` of its estimate (value, standard
+/// error, unit): what `params`, `stderr` and `units` of `Model` and `FitResult` return.
+///
+/// # Errors
+/// Only if Python cannot store an item.
+pub fn by_parameter<'py, V: IntoPyObject<'py>>(
+    py: Python<'py>,
+    file: &ModelFile,
+    field: impl Fn(&Estimate) -> V,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for e in &file.parameters {
+        d.set_item(&e.name, field(e))?;
+    }
+    Ok(d)
+}
+
+/// The family of a model file when it reaches the coverage asked (Definition 2.8); `None`
+/// for no family, or one that does not reach it: then neither it nor its bound is reported.
+#[must_use]
+pub fn reached(file: &ModelFile) -> Option<&FamilyWidths> {
+    file.family.as_ref().filter(|w| w.reachable)
 }
 
 /// A fitted model (smooth or Prandtl–Ishlinskii) from a model file, direct or as its exact
@@ -193,31 +218,19 @@ impl Model {
     /// The fitted parameters by name ("k1", "k2", "out.gain", …), in the units of `units`.
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for e in &self.file.parameters {
-            d.set_item(&e.name, e.value)?;
-        }
-        Ok(d)
+        by_parameter(py, &self.file, |e| e.value)
     }
 
     /// The parameters' standard errors by name (NaN where the data do not identify one).
     #[getter]
     fn stderr<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for e in &self.file.parameters {
-            d.set_item(&e.name, e.std_error)?;
-        }
-        Ok(d)
+        by_parameter(py, &self.file, |e| e.std_error)
     }
 
     /// The parameters' units by name.
     #[getter]
     fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for e in &self.file.parameters {
-            d.set_item(&e.name, &e.unit)?;
-        }
-        Ok(d)
+        by_parameter(py, &self.file, |e| e.unit.clone())
     }
 
     /// The data columns the model was fitted on, with their units: {"input", "output",
@@ -241,17 +254,14 @@ impl Model {
     /// coverage asked.
     #[getter]
     fn family<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        match &self.file.family {
-            Some(w) if w.reachable => Ok(Some(to_python(py, w)?)),
-            _ => Ok(None),
-        }
+        reached(&self.file).map(|w| to_python(py, w)).transpose()
     }
 
     /// Δa of the family (Proposition 3.2; operator units), None when there is no reached
     /// family.
     #[getter]
     fn delta_a(&self) -> Option<f64> {
-        self.file.family.filter(|w| w.reachable).map(|w| w.delta_a)
+        reached(&self.file).map(|w| w.delta_a)
     }
 
     /// The model file's text (TOML, docs/formats.md).

@@ -10,7 +10,9 @@ use hyst_core::{
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyType};
 
-use crate::arrays::{derivatives, pair, result_array, run_into, run_jets, samples, Samples};
+use crate::arrays::{
+    derivatives, pair, result_array, run_into, run_jets, samples, samples_f64, Samples,
+};
 use crate::errors::{core, value_error};
 
 /// The arithmetic of an operator: float64 (default) or float32 (as on a microcontroller's FPU;
@@ -581,10 +583,7 @@ pub fn bench_core(
         }
         best * 1e9 / input.len().max(1) as f64
     }
-    let input: Vec<f64> = match samples(x, "x")? {
-        Samples::F64(a) => a.as_array().iter().copied().collect(),
-        Samples::F32(a) => a.as_array().iter().map(|v| f64::from(*v)).collect(),
-    };
+    let input = samples_f64(x, "x")?;
     let precision = Precision::from_dtype(dtype)?;
     let direct = Engine::<Direct>::new(k1, k2, precision)?;
     let input32: Vec<f32> = input.iter().map(|v| *v as f32).collect();
