@@ -134,63 +134,53 @@ pub fn fit_pi_with(
     let mut w = nnls(&gram, &shifted, m);
     w[0] += eps;
     let offset = ymean - w.iter().zip(&mean).map(|(a, b)| a * b).sum::<f64>();
-    if output != PiOutputKind::None {
+    // With an output polynomial its own fit gives the model and estimates; without, the plain
+    // sum and its standard errors. Both then go through the same checks.
+    let (model, estimates) = if output != PiOutputKind::None {
         let design = Design::new(&columns, m);
-        let (model, estimates) = fit_output(&design, &r, &w, offset, output.degree(), n_of(data))?;
-        let (training, validation) = error_stats(data, |x| model.run(x).ok())?;
-        crate::smooth::check_finite(
-            &data.source,
-            &training,
-            validation.as_ref(),
-            estimates.iter().map(|e| (e.name.as_str(), e.value)),
-        )?;
-        return Ok(PiFit {
-            model,
-            estimates,
-            training,
-            validation,
-            seconds: started.elapsed().as_secs_f64(),
-        });
-    }
-    let model = PiModel {
-        identity_weight: w[0],
-        thresholds: r,
-        weights: w[1..].to_vec(),
-        offset,
-        output: None,
+        fit_output(&design, &r, &w, offset, output.degree(), n_of(data))?
+    } else {
+        let model = PiModel {
+            identity_weight: w[0],
+            thresholds: r,
+            weights: w[1..].to_vec(),
+            offset,
+            output: None,
+        };
+        // Standard errors on the free set (weights away from 0), offset from the centred model.
+        let cost = (syy - 2.0 * w.iter().zip(&rhs).map(|(a, b)| a * b).sum::<f64>()
+            + (0..m)
+                .map(|a| (0..m).map(|b| w[a] * gram[a * m + b] * w[b]).sum::<f64>())
+                .sum::<f64>())
+        .max(0.0);
+        let n = data.training_samples();
+        let free = free_set(&w);
+        let s2 = cost / (n.saturating_sub(free.len() + 1).max(1)) as f64;
+        let se = std_errors(&gram, m, &free, s2);
+        let mut estimates = vec![
+            Estimate {
+                name: "w0".into(),
+                value: w[0],
+                std_error: se[0],
+                unit: "output/input".into(),
+            },
+            Estimate {
+                name: "offset".into(),
+                value: offset,
+                std_error: (s2 / sw).sqrt(),
+                unit: "output units".into(),
+            },
+        ];
+        for j in 1..m {
+            estimates.push(Estimate {
+                name: format!("w{j} (r = {:.4})", model.thresholds[j - 1]),
+                value: w[j],
+                std_error: se[j],
+                unit: "output/input".into(),
+            });
+        }
+        (model, estimates)
     };
-    // Standard errors on the free set (weights away from 0), offset from the centred model.
-    let cost = (syy - 2.0 * w.iter().zip(&rhs).map(|(a, b)| a * b).sum::<f64>()
-        + (0..m)
-            .map(|a| (0..m).map(|b| w[a] * gram[a * m + b] * w[b]).sum::<f64>())
-            .sum::<f64>())
-    .max(0.0);
-    let n = data.training_samples();
-    let free = free_set(&w);
-    let s2 = cost / (n.saturating_sub(free.len() + 1).max(1)) as f64;
-    let se = std_errors(&gram, m, &free, s2);
-    let mut estimates = vec![
-        Estimate {
-            name: "w0".into(),
-            value: w[0],
-            std_error: se[0],
-            unit: "output/input".into(),
-        },
-        Estimate {
-            name: "offset".into(),
-            value: offset,
-            std_error: (s2 / sw).sqrt(),
-            unit: "output units".into(),
-        },
-    ];
-    for j in 1..m {
-        estimates.push(Estimate {
-            name: format!("w{j} (r = {:.4})", model.thresholds[j - 1]),
-            value: w[j],
-            std_error: se[j],
-            unit: "output/input".into(),
-        });
-    }
     let (training, validation) = error_stats(data, |x| model.run(x).ok())?;
     crate::smooth::check_finite(
         &data.source,
