@@ -12,7 +12,6 @@ mod plots;
 mod progress;
 
 use std::path::PathBuf;
-use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use anyhow::Result;
@@ -26,7 +25,7 @@ use hyst_fit::{
 use hyst_io::Table;
 
 use plots::{draw, time_column};
-use progress::{ProgressObserver, INTERRUPTED};
+use progress::ProgressObserver;
 
 /// Arguments of `hyst fit`.
 #[derive(clap::Args, Debug)]
@@ -176,20 +175,14 @@ pub fn main(args: Args) -> Result<()> {
         bar: None,
         starts: args.starts.max(1),
     };
-    let identified = identify(
-        &data,
-        &request,
-        &mut observer,
-        &|| INTERRUPTED.load(Ordering::SeqCst),
-        provenance,
-    )
-    .map_err(|e| match e {
-        // The library names its parameter; the user knows it as the flag.
-        e @ hyst_fit::FitError::InvalidSetting {
-            name: "operators", ..
-        } => anyhow::Error::new(e).context("--operators"),
-        e => e.into(),
-    })?;
+    let identified =
+        identify(&data, &request, &mut observer, &|| false, provenance).map_err(|e| match e {
+            // The library names its parameter; the user knows it as the flag.
+            e @ hyst_fit::FitError::InvalidSetting {
+                name: "operators", ..
+            } => anyhow::Error::new(e).context("--operators"),
+            e => e.into(),
+        })?;
     drop(observer);
     let mut report = identified.report;
     // Plots first: if they cannot be written, the command fails before the model file exists.

@@ -1,16 +1,12 @@
-//! Progress of `hyst fit` on stderr, and Ctrl-C: the fit's observer.
+//! Progress of `hyst fit` on stderr: the fit's observer. (Ctrl-C ends the process at once from
+//! the signal thread, `crate::signals`, before any model file exists.)
 
 use std::ops::ControlFlow;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use hyst_fit::lm::{Observer, Progress};
 
-/// Set to stop the fit at the next iteration (the observer checks it). Ctrl-C itself ends the
-/// process at once from the signal thread (`crate::signals`), before any model file exists.
-pub(super) static INTERRUPTED: AtomicBool = AtomicBool::new(false);
-
-/// Progress on stderr (indicatif), shown once a fit has run for a second; stops on Ctrl-C.
+/// Progress on stderr (indicatif), shown once a fit has run for a second.
 pub(super) struct ProgressObserver {
     pub(super) started: Instant,
     pub(super) bar: Option<indicatif::ProgressBar>,
@@ -19,9 +15,6 @@ pub(super) struct ProgressObserver {
 
 impl Observer for ProgressObserver {
     fn observe(&mut self, p: &Progress) -> ControlFlow<()> {
-        if INTERRUPTED.load(Ordering::SeqCst) {
-            return ControlFlow::Break(());
-        }
         if self.bar.is_none() && self.started.elapsed() > Duration::from_secs(1) {
             let bar = indicatif::ProgressBar::new_spinner();
             bar.enable_steady_tick(Duration::from_millis(120));
