@@ -288,6 +288,13 @@ pub fn fit_smooth(
     observer: &mut dyn Observer,
 ) -> Result<SmoothFit, FitError> {
     let started = Instant::now();
+    if options.starts == 0 {
+        return Err(FitError::InvalidSetting {
+            name: "starts",
+            value: 0.0,
+            expected: "at least 1 start".into(),
+        });
+    }
     if !(options.coverage > 0.0 && options.coverage <= 1.0) {
         return Err(FitError::Invalid(format!(
             "coverage {} must be in (0, 1]",
@@ -321,8 +328,21 @@ pub fn fit_smooth(
         }
     }
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    candidates.truncate(options.starts);
+    // The optimum of the simpler structure this one contains, as one more start: the fit then
+    // never ends worse than that simpler fit (local minima of the richer one aside).
+    if let Some(simple) = simpler(structure) {
+        let inner = FitOptions {
+            widths: false,
+            ..*options
+        };
+        let f = fit_smooth(data, simple, &inner, observer)?;
+        if let Some(theta) = embed(&layout, &f, problem.input_range) {
+            candidates.insert(0, (f64::NAN, theta));
+        }
+    }
     let mut best: Option<Solution> = None;
-    for (start, (_, theta0)) in candidates.iter().take(options.starts.max(1)).enumerate() {
+    for (start, (_, theta0)) in candidates.iter().enumerate() {
         let mut tagged = Tagged {
             inner: &mut *observer,
             start,
@@ -401,6 +421,91 @@ pub fn fit_smooth(
         termination: best.termination,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The simpler structure that `structure` contains, whose optimum is an exact (or, for a
+/// saturating ψ_out, a close) point of `structure`: affine k2 ⊃ constant k2; polynomial ψ_in ⊃
+/// affine ψ_in; poly3 ψ_out ⊃ poly2 ⊃ affine; tanh and Langevin ψ_out ⊃ affine in the limit
+/// of a wide scale. `None` for the simplest structures (and for saturating or quad-exp ψ_in,
+/// whose limits rescale k1 and k2).
+#[must_use]
+pub fn simpler(structure: Structure) -> Option<Structure> {
+    use crate::{K2Kind, ShapingKind};
+    if structure.k2 == K2Kind::Affine {
+        return Some(Structure {
+            k2: K2Kind::Constant,
+            ..structure
+        });
+    }
+    let input = match structure.input_shaping {
+        ShapingKind::Poly3 => Some(ShapingKind::Poly2),
+        ShapingKind::Poly2 => Some(ShapingKind::Affine),
+        _ => None,
+    };
+    if let Some(input_shaping) = input {
+        return Some(Structure {
+            input_shaping,
+            ..structure
+        });
+    }
+    let output = match structure.output_shaping {
+        ShapingKind::Poly3 => Some(ShapingKind::Poly2),
+        ShapingKind::Poly2 | ShapingKind::Tanh | ShapingKind::Langevin => Some(ShapingKind::Affine),
+        ShapingKind::Affine | ShapingKind::QuadExp => None,
+    };
+    output.map(|output_shaping| Structure {
+        output_shaping,
+        ..structure
+    })
+}
+
+/// The fit `simple` of the structure [`simpler`] gave, as θ of `layout`: shared parameters
+/// keep their values, the new ones take the values that reproduce the simpler model (a k2
+/// slope and polynomial coefficients of 0; a tanh or Langevin ψ_out of a scale 30 times its
+/// argument's range, centred, whose gain makes its slope at 0 the affine gain). `None` when
+/// the point is not feasible.
+fn embed(layout: &Layout, simple: &SmoothFit, input_range: (f64, f64)) -> Option<Vec<f64>> {
+    use crate::ShapingKind;
+    let value = |name: &str| {
+        simple
+            .estimates
+            .iter()
+            .find(|e| e.name == name)
+            .map(|e| e.value)
+    };
+    let saturating = matches!(
+        layout.structure.output_shaping,
+        ShapingKind::Tanh | ShapingKind::Langevin
+    ) && simple.layout.structure.output_shaping == ShapingKind::Affine;
+    let (v_lo, v_hi) = (
+        simple.model.input_shaping.apply(input_range.0),
+        simple.model.input_shaping.apply(input_range.1),
+    );
+    let (a_lo, a_hi) =
+        SmoothModel::output_argument_range(simple.model.form, simple.model.k1, v_lo, v_hi);
+    // In the stop form ψ_out sees (v − H[v]) / k1 ∈ [−1, 1].
+    let reach = match simple.model.form {
+        crate::Form::Operator => a_lo.abs().max(a_hi.abs()),
+        crate::Form::Stop => 1.0,
+    };
+    let scale = 30.0 * reach;
+    // Slope at 0: tanh 1, Langevin 1/3.
+    let slope = match layout.structure.output_shaping {
+        ShapingKind::Langevin => 1.0 / 3.0,
+        _ => 1.0,
+    };
+    let mut theta = Vec::with_capacity(layout.len());
+    for spec in &layout.params {
+        let v = match (spec.name.as_str(), saturating) {
+            ("out.scale", true) => scale,
+            ("out.centre", true) => 0.0,
+            ("out.gain" | "out.level", true) => value(&spec.name)? * scale / slope,
+            (name, _) => value(name).unwrap_or(0.0),
+        };
+        theta.push(spec.transform.theta(v));
+    }
+    layout.model(&theta, input_range).ok()?;
+    Some(theta)
 }
 
 /// Below this k1 · k2 the stop form is in its Dahl limit: its transition after a reversal is
