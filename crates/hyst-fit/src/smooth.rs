@@ -14,6 +14,7 @@ use std::time::Instant;
 use hyst_core::Shaping;
 use serde::Serialize;
 
+use crate::data::History;
 use crate::lm::{
     Infeasible, LevenbergMarquardt, Observer, Problem, Progress, Solution, Termination,
 };
@@ -124,6 +125,9 @@ pub struct SmoothFit {
 struct SmoothProblem<'a> {
     layout: &'a Layout,
     data: &'a Dataset,
+    /// The records as uninterrupted histories (segments of one measurement run on from each
+    /// other), each with the offset of its training samples in residual order.
+    histories: Vec<(History, Vec<Option<usize>>)>,
     input_range: (f64, f64),
     /// √w / output half-span per training sample, in residual order.
     scale: Vec<f64>,
@@ -137,9 +141,27 @@ impl<'a> SmoothProblem<'a> {
             .training()
             .flat_map(|r| r.weight.iter().map(move |w| w.sqrt() * inv))
             .collect();
+        // Residual offsets: training records in order.
+        let mut offsets = vec![None; data.records.len()];
+        let mut at = 0;
+        for (i, r) in data.records.iter().enumerate() {
+            if !r.validation {
+                offsets[i] = Some(at);
+                at += r.len();
+            }
+        }
+        let histories = data
+            .histories()
+            .into_iter()
+            .map(|h| {
+                let o = h.parts.iter().map(|(i, _, _)| offsets[*i]).collect();
+                (h, o)
+            })
+            .collect();
         Self {
             layout,
             data,
+            histories,
             input_range: data.input_range(),
             n: scale.len(),
             scale,
@@ -152,20 +174,28 @@ impl<'a> SmoothProblem<'a> {
             .map_err(|_| Infeasible)
     }
 
-    /// Simulates the training records; `z` receives the operator output when given.
+    /// Simulates the training records (each history whole, validation segments included, so
+    /// that a segment starts where the one before it ended); `z` receives the operator output
+    /// when given.
     fn simulate(
         &self,
         m: &SmoothModel,
         y: &mut [f64],
         mut z: Option<&mut [f64]>,
     ) -> Result<(), Infeasible> {
-        let mut at = 0;
-        for r in self.data.training() {
-            let end = at + r.len();
-            let zs = z.as_deref_mut().map(|z| &mut z[at..end]);
-            m.simulate(&r.input, zs, &mut y[at..end])
-                .map_err(|_| Infeasible)?;
-            at = end;
+        let (mut hy, mut hz) = (Vec::new(), Vec::new());
+        for (h, offsets) in &self.histories {
+            hy.resize(h.input.len(), 0.0);
+            hz.resize(h.input.len(), 0.0);
+            let zs = z.is_some().then_some(&mut hz[..]);
+            m.simulate(&h.input, zs, &mut hy).map_err(|_| Infeasible)?;
+            for ((_, start, len), at) in h.parts.iter().zip(offsets) {
+                let Some(at) = *at else { continue };
+                y[at..at + len].copy_from_slice(&hy[*start..start + len]);
+                if let Some(z) = z.as_deref_mut() {
+                    z[at..at + len].copy_from_slice(&hz[*start..start + len]);
+                }
+            }
         }
         Ok(())
     }
@@ -364,17 +394,48 @@ pub fn fit_smooth(
     let dof = (problem.n - p).max(1) as f64;
     let s2 = best.cost / dof * layout.norm.output_half_span.powi(2);
     let dahl = dahl_limit(&model).is_some();
-    let kept: Vec<usize> = (0..p)
+    let mut kept: Vec<usize> = (0..p)
         .filter(|&j| !(dahl && layout.params[j].name == "k1"))
         .collect();
-    let q = kept.len();
-    let mut reduced = vec![0.0; q * q];
-    for (a, &i) in kept.iter().enumerate() {
-        for (b, &j) in kept.iter().enumerate() {
-            reduced[a * q + b] = best.jtj[i * p + j];
+    let mut inv = reduced_inverse(&best.jtj, p, &kept);
+    if inv.is_none() {
+        // Singular: the parameters whose removal makes it invertible span the direction the
+        // data does not see; they get NaN, the others their standard errors without them.
+        let lost: Vec<usize> = kept
+            .iter()
+            .copied()
+            .filter(|&j| {
+                let without: Vec<usize> = kept.iter().copied().filter(|&k| k != j).collect();
+                reduced_inverse(&best.jtj, p, &without).is_some()
+            })
+            .collect();
+        if let Some(&first) = lost.first() {
+            let without: Vec<usize> = kept.iter().copied().filter(|&k| k != first).collect();
+            inv = reduced_inverse(&best.jtj, p, &without);
+            kept = without.into_iter().filter(|k| !lost.contains(k)).collect();
+            // Standard errors of the kept ones come from the matrix without `first` only.
+            let with_first_removed: Vec<usize> = (0..p)
+                .filter(|&j| j != first && !(dahl && layout.params[j].name == "k1"))
+                .collect();
+            inv = inv.map(|full| {
+                let q = with_first_removed.len();
+                let mut out = vec![f64::NAN; kept.len() * kept.len()];
+                for (a, &i) in kept.iter().enumerate() {
+                    for (b, &j) in kept.iter().enumerate() {
+                        let (Some(x), Some(y)) = (
+                            with_first_removed.iter().position(|&k| k == i),
+                            with_first_removed.iter().position(|&k| k == j),
+                        ) else {
+                            continue;
+                        };
+                        out[a * kept.len() + b] = full[x * q + y];
+                    }
+                }
+                out
+            });
         }
     }
-    let inv = crate::linalg::spd_inverse(&reduced, q);
+    let q = kept.len();
     let scale2 = layout.norm.output_half_span.powi(2);
     let estimates: Vec<Estimate> = layout
         .params
@@ -421,6 +482,18 @@ pub fn fit_smooth(
         termination: best.termination,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The inverse of the rows and columns `kept` of the p × p matrix `a`.
+fn reduced_inverse(a: &[f64], p: usize, kept: &[usize]) -> Option<Vec<f64>> {
+    let q = kept.len();
+    let mut reduced = vec![0.0; q * q];
+    for (x, &i) in kept.iter().enumerate() {
+        for (y, &j) in kept.iter().enumerate() {
+            reduced[x * q + y] = a[i * p + j];
+        }
+    }
+    crate::linalg::spd_inverse(&reduced, q)
 }
 
 /// The simpler structure that `structure` contains, whose optimum is an exact (or, for a
@@ -592,10 +665,10 @@ pub fn error_stats(
     let span = (hi - lo).max(f64::MIN_POSITIVE);
     let mut train = Vec::new();
     let mut val = Vec::new();
-    for r in &data.records {
-        let y = run(&r.input).ok_or_else(|| {
-            FitError::NoConvergence(format!("the fitted model cannot run record {}", r.id))
-        })?;
+    let outputs = data
+        .run_histories(run)
+        .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
+    for (r, y) in data.records.iter().zip(&outputs) {
         let errs = if r.validation { &mut val } else { &mut train };
         for ((m, o), w) in y.iter().zip(&r.output).zip(&r.weight) {
             if *w > 0.0 {
