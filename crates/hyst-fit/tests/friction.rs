@@ -188,15 +188,17 @@ fn the_operator_form_forced_onto_friction_is_reported_degenerate() -> Result<(),
         form: FormChoice::Operator,
         ..Request::default()
     };
-    let err = identify(
+    let Err(err) = identify(
         &data,
         &request,
         &mut Silent,
         &|| false,
         Provenance::default(),
-    )
-    .map(|_| ())
-    .unwrap_err();
+    ) else {
+        return Err(FitError::Invalid(
+            "the operator form fitted friction".into(),
+        ));
+    };
     let message = err.to_string();
     assert!(
         matches!(err, FitError::Degenerate(_)) && message.starts_with("no hysteresis found in"),
