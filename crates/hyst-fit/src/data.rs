@@ -328,9 +328,19 @@ impl Dataset {
     /// over each history and returns the output of every record, in record order.
     #[must_use]
     pub fn run_histories(&self, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
+        self.run_histories_with(|_, input| run(input))
+    }
+
+    /// As [`Dataset::run_histories`], with the index of each history in
+    /// [`Dataset::histories`] (for a start estimated per history).
+    #[must_use]
+    pub fn run_histories_with(
+        &self,
+        run: impl Fn(usize, &[f64]) -> Option<Vec<f64>>,
+    ) -> Option<Vec<Vec<f64>>> {
         let mut out = vec![Vec::new(); self.records.len()];
-        for h in self.histories() {
-            let y = run(&h.input)?;
+        for (index, h) in self.histories().into_iter().enumerate() {
+            let y = run(index, &h.input)?;
             for (i, start, len) in h.parts {
                 out[i] = y.get(start..start + len)?.to_vec();
             }

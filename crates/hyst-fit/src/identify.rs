@@ -156,9 +156,32 @@ pub fn identify(
                     sig(3.0 / k2, 3),
                 ));
             }
+            if let Some(starts) = f.starts.as_ref().filter(|s| !s.is_empty()) {
+                let (lo, hi) = starts
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), s| {
+                        (a.min(*s), b.max(*s))
+                    });
+                notes.push(format!(
+                    "initial states estimated for {} histor{}: the operator output starts at \
+                     v0 + b·k1 with b from {} to {} (−1: as after a rise, 1: as after a fall)",
+                    starts.len(),
+                    if starts.len() == 1 { "y" } else { "ies" },
+                    sig(lo, 3),
+                    sig(hi, 3)
+                ));
+            }
+            let outputs = f.outputs(data).unwrap_or_default();
+            let training: Vec<Vec<f64>> = data
+                .records
+                .iter()
+                .zip(outputs)
+                .filter(|(r, _)| !r.validation)
+                .map(|(_, y)| y)
+                .collect();
             diagnose(
                 data,
-                &training_outputs(&|x| f.model.run(x).ok()),
+                &training,
                 Some(&f.estimates),
                 if dahl.is_some() { &["k1"] } else { &[] },
                 found.orientation,

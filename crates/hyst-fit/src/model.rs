@@ -242,6 +242,65 @@ impl SmoothModel {
         }
     }
 
+    /// `operator` started for a record with inputs `input`: by the start rule, or, with a
+    /// `band` fraction b ∈ [−1, 1] (an estimated start), at rest at a reversal at the first
+    /// sample with the operator output v0 + b · k1, heading the way the input first moves.
+    fn start_in<K: K2Law<f64>>(
+        &self,
+        operator: Hysteresis<f64, K>,
+        input: &[f64],
+        band: Option<f64>,
+    ) -> Result<Hysteresis<f64, K>, Error> {
+        let first = input.first().copied().unwrap_or(0.0);
+        let Some(b) = band else {
+            return self.start(operator, first);
+        };
+        let v0 = self.input_shaping.apply(first);
+        let rising = input
+            .iter()
+            .find(|x| **x != first)
+            .is_none_or(|x| *x > first);
+        let direction = if rising {
+            Direction::Rising
+        } else {
+            Direction::Falling
+        };
+        let b = if b.is_finite() {
+            b.clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
+        let k1 = operator.k1();
+        operator.with_initial_state(v0, on_asymptote(v0, b * k1), direction)
+    }
+
+    /// As [`SmoothModel::shaped`] for a record with inputs `input`, started by the rule or at
+    /// the estimated band fraction `band` (see [`SmoothModel::simulate_from`]).
+    ///
+    /// # Errors
+    /// As [`SmoothModel::core`].
+    pub fn shaped_from<K: K2Law<f64>>(
+        &self,
+        operator: Hysteresis<f64, K>,
+        input: &[f64],
+        band: Option<f64>,
+    ) -> Result<Shaped<K>, Error> {
+        let operator = self.start_in(operator, input, band)?;
+        Ok(match self.form {
+            Form::Operator => Shaped::Operator(Model::new(
+                self.input_shaping,
+                operator,
+                self.output_shaping,
+            )?),
+            Form::Stop => Shaped::Stop(Stop::new(
+                self.input_shaping,
+                operator,
+                self.output_shaping,
+                self.linear,
+            )?),
+        })
+    }
+
     /// The core model ψ_out(H[ψ_in(·)]) for a record starting at `first_input` (use it to run
     /// the model).
     ///
@@ -267,20 +326,7 @@ impl SmoothModel {
         operator: Hysteresis<f64, K>,
         first_input: f64,
     ) -> Result<Shaped<K>, Error> {
-        let operator = self.start(operator, first_input)?;
-        Ok(match self.form {
-            Form::Operator => Shaped::Operator(Model::new(
-                self.input_shaping,
-                operator,
-                self.output_shaping,
-            )?),
-            Form::Stop => Shaped::Stop(Stop::new(
-                self.input_shaping,
-                operator,
-                self.output_shaping,
-                self.linear,
-            )?),
-        })
+        self.shaped_from(operator, &[first_input], None)
     }
 
     /// The exact compensator (desired output → command) for a record whose first *command*
@@ -328,13 +374,30 @@ impl SmoothModel {
     pub fn simulate(
         &self,
         input: &[f64],
+        operator_out: Option<&mut [f64]>,
+        output: &mut [f64],
+    ) -> Result<(), Error> {
+        self.simulate_from(input, None, operator_out, output)
+    }
+
+    /// [`SmoothModel::simulate`] from an estimated start: with `band` = Some(b), b ∈ [−1, 1],
+    /// the record starts at rest at a reversal at its first sample with the operator output
+    /// v0 + b · k1 (−1: the lower asymptote, 0: the line, 1: the upper one), heading the way the
+    /// input first moves; with `None`, by the start rule.
+    ///
+    /// # Errors
+    /// As [`SmoothModel::simulate`].
+    pub fn simulate_from(
+        &self,
+        input: &[f64],
+        band: Option<f64>,
         mut operator_out: Option<&mut [f64]>,
         output: &mut [f64],
     ) -> Result<(), Error> {
-        let Some(&first) = input.first() else {
+        if input.is_empty() {
             return Ok(());
-        };
-        let mut h = self.operator(first)?;
+        }
+        let mut h = self.start_in(Hysteresis::with_k2_law(self.k1, self.k2)?, input, band)?;
         for (i, (x, y)) in input.iter().zip(output.iter_mut()).enumerate() {
             let v = self.input_shaping.apply(*x);
             let u = h.try_step(v)?;

@@ -33,6 +33,12 @@ pub struct FitOptions {
     pub coverage: f64,
     /// Compute family widths (a few hundred extra simulations).
     pub widths: bool,
+    /// Estimate each history's initial state (a record, or a record cut into segments) from its
+    /// data instead of the start rule: a reversal at its first sample with the operator output
+    /// anywhere in the band ([`SmoothModel::simulate_from`]), chosen by least squares for every
+    /// trial of the parameters (variable projection). The start rule stays the model's rule for
+    /// new data.
+    pub estimate_starts: bool,
 }
 
 impl Default for FitOptions {
@@ -42,6 +48,7 @@ impl Default for FitOptions {
             method: LevenbergMarquardt::default(),
             coverage: 0.99,
             widths: true,
+            estimate_starts: false,
         }
     }
 }
@@ -117,6 +124,9 @@ pub struct SmoothFit {
     pub iterations: usize,
     /// Why the best start stopped.
     pub termination: Termination,
+    /// The estimated start of each history ([`Dataset::histories`]) as a band fraction in
+    /// [−1, 1] ([`SmoothModel::simulate_from`]); `None` when the start rule was used.
+    pub starts: Option<Vec<f64>>,
     /// Wall time of the fit (s).
     pub seconds: f64,
 }
@@ -128,6 +138,8 @@ struct SmoothProblem<'a> {
     /// The records as uninterrupted histories (segments of one measurement run on from each
     /// other), each with the offset of its training samples in residual order.
     histories: Vec<(History, Vec<Option<usize>>)>,
+    /// Estimate each history's start ([`FitOptions::estimate_starts`]).
+    estimate: bool,
     input_range: (f64, f64),
     /// √w / output half-span per training sample, in residual order.
     scale: Vec<f64>,
@@ -135,7 +147,7 @@ struct SmoothProblem<'a> {
 }
 
 impl<'a> SmoothProblem<'a> {
-    fn new(layout: &'a Layout, data: &'a Dataset) -> Self {
+    fn new(layout: &'a Layout, data: &'a Dataset, estimate: bool) -> Self {
         let inv = 1.0 / layout.norm.output_half_span;
         let scale: Vec<f64> = data
             .training()
@@ -162,6 +174,7 @@ impl<'a> SmoothProblem<'a> {
             layout,
             data,
             histories,
+            estimate,
             input_range: data.input_range(),
             n: scale.len(),
             scale,
@@ -174,21 +187,68 @@ impl<'a> SmoothProblem<'a> {
             .map_err(|_| Infeasible)
     }
 
+    /// The estimated start of each history for the model `m` (`None` without estimation):
+    /// the band fraction b ∈ [−1, 1] that minimises the history's weighted squared error, by
+    /// Brent's method, compared with the ends b = ±1 (the asymptotes, where the minimum often
+    /// lies).
+    fn bands(&self, m: &SmoothModel) -> Option<Vec<f64>> {
+        if !self.estimate {
+            return None;
+        }
+        let mut y = Vec::new();
+        let bands = self
+            .histories
+            .iter()
+            .map(|(h, _)| {
+                y.resize(h.input.len(), 0.0);
+                let mut cost = |b: f64| -> f64 {
+                    if m.simulate_from(&h.input, Some(b), None, &mut y).is_err() {
+                        return f64::INFINITY;
+                    }
+                    y.iter()
+                        .zip(&h.output)
+                        .zip(&h.weight)
+                        .map(|((p, o), w)| w * (p - o) * (p - o))
+                        .sum()
+                };
+                let inner = brent_minimum(&mut cost, -1.0, 1.0, 1e-7);
+                [(-1.0, cost(-1.0)), (1.0, cost(1.0)), inner]
+                    .into_iter()
+                    .min_by(|p, q| p.1.total_cmp(&q.1))
+                    .map_or(0.0, |p| p.0)
+            })
+            .collect();
+        Some(bands)
+    }
+
     /// Simulates the training records (each history whole, validation segments included, so
-    /// that a segment starts where the one before it ended); `z` receives the operator output
-    /// when given.
+    /// that a segment starts where the one before it ended), from the estimated starts when
+    /// the fit estimates them; `z` receives the operator output when given.
     fn simulate(
         &self,
         m: &SmoothModel,
         y: &mut [f64],
+        z: Option<&mut [f64]>,
+    ) -> Result<(), Infeasible> {
+        self.simulate_with(m, self.bands(m).as_deref(), y, z)
+    }
+
+    /// [`SmoothProblem::simulate`] from the given starts (`None`: the start rule).
+    fn simulate_with(
+        &self,
+        m: &SmoothModel,
+        bands: Option<&[f64]>,
+        y: &mut [f64],
         mut z: Option<&mut [f64]>,
     ) -> Result<(), Infeasible> {
         let (mut hy, mut hz) = (Vec::new(), Vec::new());
-        for (h, offsets) in &self.histories {
+        for (index, (h, offsets)) in self.histories.iter().enumerate() {
             hy.resize(h.input.len(), 0.0);
             hz.resize(h.input.len(), 0.0);
             let zs = z.is_some().then_some(&mut hz[..]);
-            m.simulate(&h.input, zs, &mut hy).map_err(|_| Infeasible)?;
+            let band = bands.and_then(|b| b.get(index).copied());
+            m.simulate_from(&h.input, band, zs, &mut hy)
+                .map_err(|_| Infeasible)?;
             for ((_, start, len), at) in h.parts.iter().zip(offsets) {
                 let Some(at) = *at else { continue };
                 y[at..at + len].copy_from_slice(&hy[*start..start + len]);
@@ -231,9 +291,13 @@ impl Problem for SmoothProblem<'_> {
     }
     fn jacobian(&self, theta: &[f64], r: &[f64], jac: &mut [f64]) -> Result<(), Infeasible> {
         let base = self.model(theta)?;
+        // The starts stay those of the base point: at the optimum over them, the derivative
+        // of the cost with respect to θ is the partial one (variable projection).
+        let bands = self.bands(&base);
+        let bands = bands.as_deref();
         let mut y = vec![0.0; self.n];
         let mut z = vec![0.0; self.n];
-        self.simulate(&base, &mut y, Some(&mut z))?;
+        self.simulate_with(&base, bands, &mut y, Some(&mut z))?;
         // ψ_in's output: the same for every parameter of ψ_out (they leave the operator alone).
         let mut v = Vec::with_capacity(self.n);
         for rec in self.data.training() {
@@ -253,7 +317,7 @@ impl Problem for SmoothProblem<'_> {
                     }
                     true
                 }
-                (Ok(m), Group::Operator) => self.simulate(&m, &mut y, None).is_ok(),
+                (Ok(m), Group::Operator) => self.simulate_with(&m, bands, &mut y, None).is_ok(),
                 (Err(_), _) => false,
             };
             let col = &mut jac[j * self.n..(j + 1) * self.n];
@@ -265,7 +329,7 @@ impl Problem for SmoothProblem<'_> {
                 // Backward difference at the edge of the feasible set.
                 t[j] = theta[j] - h;
                 let m = self.model(&t)?;
-                self.simulate(&m, &mut y, None)?;
+                self.simulate_with(&m, bands, &mut y, None)?;
                 self.to_residuals(&y, &mut rp)?;
                 for ((c, a), b) in col.iter_mut().zip(&rp).zip(r) {
                     *c = (b - a) / h;
@@ -333,44 +397,22 @@ pub fn fit_smooth(
     }
     let layout = Layout::new(structure, normalisation(data));
     data.check(layout.len(), structure.form == crate::Form::Operator)?;
-    let problem = SmoothProblem::new(&layout, data);
+    let problem = SmoothProblem::new(&layout, data, options.estimate_starts);
 
-    // Starting points: a grid over (k1, k2), each with the least-squares output gain and offset.
-    let mut candidates: Vec<(f64, Vec<f64>)> = Vec::new();
-    for k1 in [0.02_f64, 0.05, 0.1, 0.2, 0.4] {
-        for k2 in [1.0_f64, 3.0, 10.0, 30.0] {
-            let mut theta = layout.start();
-            if let Some(i) = layout.index("k1") {
-                theta[i] = k1.ln();
-            }
-            if let Some(i) = layout.index("k2") {
-                theta[i] = k2.ln();
-            }
-            if let Some(theta) = linear_output_start(&problem, theta) {
-                let mut r = vec![0.0; problem.n];
-                if problem.residuals(&theta, &mut r).is_ok() {
-                    let cost: f64 = r.iter().map(|v| v * v).sum();
-                    if cost.is_finite() {
-                        candidates.push((cost, theta));
-                    }
-                }
-            }
-        }
-    }
-    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
-    candidates.truncate(options.starts);
-    // The optimum of the simpler structure this one contains, as one more start: the fit then
-    // never ends worse than that simpler fit (local minima of the richer one aside).
-    if let Some(simple) = simpler(structure) {
-        let inner = FitOptions {
+    let candidates = if options.estimate_starts {
+        // The fit from the start rule first (grid, nested starts and all), then the estimated
+        // starts refine its optimum: each trial of θ costs a search per history, so it runs
+        // from one good start only.
+        let rule = FitOptions {
             widths: false,
+            estimate_starts: false,
             ..*options
         };
-        let f = fit_smooth(data, simple, &inner, observer)?;
-        if let Some(theta) = embed(&layout, &f, problem.input_range) {
-            candidates.insert(0, (f64::NAN, theta));
-        }
-    }
+        let f = fit_smooth(data, structure, &rule, observer)?;
+        vec![(f64::NAN, f.theta)]
+    } else {
+        start_candidates(data, structure, &layout, &problem, options, observer)?
+    };
     let mut best: Option<Solution> = None;
     for (start, (_, theta0)) in candidates.iter().enumerate() {
         let mut tagged = Tagged {
@@ -458,9 +500,18 @@ pub fn fit_smooth(
         })
         .collect();
 
-    let (training, validation) = error_stats(data, |input| model.run(input).ok())?;
+    let starts = problem.bands(&model);
+    let outputs = run_records(data, &model, starts.as_deref())
+        .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
+    let (training, validation) = error_stats_of(data, &outputs);
     let widths = if options.widths {
-        Some(family_widths(data, &model, options.coverage, observer)?)
+        Some(family_widths(
+            data,
+            &model,
+            starts.as_deref(),
+            options.coverage,
+            observer,
+        )?)
     } else {
         None
     };
@@ -480,8 +531,75 @@ pub fn fit_smooth(
         widths,
         iterations: best.iterations,
         termination: best.termination,
+        starts,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The minimum of `f` on [a, b] by Brent's method (golden sections with parabolic steps),
+/// to an absolute tolerance `tol` in x: (x, f(x)). About 10–15 evaluations for a smooth
+/// function, where golden sections alone need 40.
+fn brent_minimum(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, tol: f64) -> (f64, f64) {
+    let golden = 0.5 * (3.0 - 5.0_f64.sqrt());
+    let (mut a, mut b) = (a, b);
+    let mut x = a + golden * (b - a);
+    let (mut w, mut v) = (x, x);
+    let mut fx = f(x);
+    let (mut fw, mut fv) = (fx, fx);
+    let (mut d, mut e) = (0.0_f64, 0.0_f64);
+    for _ in 0..60 {
+        let m = 0.5 * (a + b);
+        if (x - m).abs() <= 2.0 * tol - 0.5 * (b - a) {
+            break;
+        }
+        let mut golden_step = true;
+        if e.abs() > tol {
+            // Parabola through (v, fv), (w, fw), (x, fx).
+            let r = (x - w) * (fx - fv);
+            let q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            let mut q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
+            }
+            q = q.abs();
+            if p.abs() < (0.5 * q * e).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                golden_step = false;
+            }
+        }
+        if golden_step {
+            e = if x >= m { a - x } else { b - x };
+            d = golden * e;
+        }
+        let u = if d.abs() >= tol {
+            x + d
+        } else {
+            x + tol.copysign(d)
+        };
+        let fu = f(u);
+        if fu <= fx {
+            if u >= x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv, w, fw) = (w, fw, u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
+    }
+    (x, fx)
 }
 
 /// The inverse of the rows and columns `kept` of the p × p matrix `a`.
@@ -494,6 +612,56 @@ fn reduced_inverse(a: &[f64], p: usize, kept: &[usize]) -> Option<Vec<f64>> {
         }
     }
     crate::linalg::spd_inverse(&reduced, q)
+}
+
+/// The starts of the least-squares method: the best `options.starts` points of a grid over
+/// (k1, k2), each with the least-squares output gain and offset, and first the optimum of the
+/// simpler structure `structure` contains ([`simpler`]).
+fn start_candidates(
+    data: &Dataset,
+    structure: Structure,
+    layout: &Layout,
+    problem: &SmoothProblem<'_>,
+    options: &FitOptions,
+    observer: &mut dyn Observer,
+) -> Result<Vec<(f64, Vec<f64>)>, FitError> {
+    // Starting points: a grid over (k1, k2), each with the least-squares output gain and offset.
+    let mut candidates: Vec<(f64, Vec<f64>)> = Vec::new();
+    for k1 in [0.02_f64, 0.05, 0.1, 0.2, 0.4] {
+        for k2 in [1.0_f64, 3.0, 10.0, 30.0] {
+            let mut theta = layout.start();
+            if let Some(i) = layout.index("k1") {
+                theta[i] = k1.ln();
+            }
+            if let Some(i) = layout.index("k2") {
+                theta[i] = k2.ln();
+            }
+            if let Some(theta) = linear_output_start(problem, theta) {
+                let mut r = vec![0.0; problem.n];
+                if problem.residuals(&theta, &mut r).is_ok() {
+                    let cost: f64 = r.iter().map(|v| v * v).sum();
+                    if cost.is_finite() {
+                        candidates.push((cost, theta));
+                    }
+                }
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    candidates.truncate(options.starts);
+    // The optimum of the simpler structure this one contains, as one more start: the fit then
+    // never ends worse than that simpler fit (local minima of the richer one aside).
+    if let Some(simple) = simpler(structure) {
+        let inner = FitOptions {
+            widths: false,
+            ..*options
+        };
+        let f = fit_smooth(data, simple, &inner, observer)?;
+        if let Some(theta) = embed(layout, &f, problem.input_range) {
+            candidates.insert(0, (f64::NAN, theta));
+        }
+    }
+    Ok(candidates)
 }
 
 /// The simpler structure that `structure` contains, whose optimum is an exact (or, for a
@@ -652,6 +820,31 @@ fn linear_output_start(problem: &SmoothProblem<'_>, mut theta: Vec<f64>) -> Opti
     Some(theta)
 }
 
+/// The output of `model` on every record of `data` (record order), each history run from its
+/// estimated start `starts` (per history, [`SmoothFit::starts`]) or the start rule.
+#[must_use]
+pub fn run_records(
+    data: &Dataset,
+    model: &SmoothModel,
+    starts: Option<&[f64]>,
+) -> Option<Vec<Vec<f64>>> {
+    data.run_histories_with(|index, input| {
+        let mut y = vec![0.0; input.len()];
+        let band = starts.and_then(|s| s.get(index).copied());
+        model.simulate_from(input, band, None, &mut y).ok()?;
+        Some(y)
+    })
+}
+
+impl SmoothFit {
+    /// The fitted model's output on every record of `data` (the data it was fitted to), as the
+    /// fit ran it (segments running on, estimated starts).
+    #[must_use]
+    pub fn outputs(&self, data: &Dataset) -> Option<Vec<Vec<f64>>> {
+        run_records(data, &self.model, self.starts.as_deref())
+    }
+}
+
 /// Training and validation error statistics of any model (`run` maps a record's input to its
 /// output, `None` when the model cannot run it).
 ///
@@ -661,14 +854,20 @@ pub fn error_stats(
     data: &Dataset,
     run: impl Fn(&[f64]) -> Option<Vec<f64>>,
 ) -> Result<(ErrorStats, Option<ErrorStats>), FitError> {
+    let outputs = data
+        .run_histories(run)
+        .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
+    Ok(error_stats_of(data, &outputs))
+}
+
+/// Training and validation error statistics of the model `outputs` (one per record).
+#[must_use]
+pub fn error_stats_of(data: &Dataset, outputs: &[Vec<f64>]) -> (ErrorStats, Option<ErrorStats>) {
     let (lo, hi) = data.output_range();
     let span = (hi - lo).max(f64::MIN_POSITIVE);
     let mut train = Vec::new();
     let mut val = Vec::new();
-    let outputs = data
-        .run_histories(run)
-        .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
-    for (r, y) in data.records.iter().zip(&outputs) {
+    for (r, y) in data.records.iter().zip(outputs) {
         let errs = if r.validation { &mut val } else { &mut train };
         for ((m, o), w) in y.iter().zip(&r.output).zip(&r.weight) {
             if *w > 0.0 {
@@ -681,7 +880,7 @@ pub fn error_stats(
     } else {
         Some(ErrorStats::new(&val, span))
     };
-    Ok((ErrorStats::new(&train, span), v))
+    (ErrorStats::new(&train, span), v)
 }
 
 /// Refuses a fit whose error statistics or parameter values are not finite
@@ -716,5 +915,26 @@ pub fn check_finite<'a>(
             value,
         }),
         None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::brent_minimum;
+
+    #[test]
+    fn brent_finds_inner_and_edge_minima_in_few_evaluations() {
+        let mut calls = 0;
+        let mut f = |x: f64| {
+            calls += 1;
+            (x - 0.3).powi(2) + 0.1 * (x - 0.3).powi(4)
+        };
+        let (x, _) = brent_minimum(&mut f, -1.0, 1.0, 1e-7);
+        assert!(
+            (x - 0.3).abs() < 1e-6 && calls < 30,
+            "{x} after {calls} calls"
+        );
+        let (x, _) = brent_minimum(&mut |x: f64| x, -1.0, 1.0, 1e-7);
+        assert!(x < -1.0 + 1e-6, "{x}");
     }
 }

@@ -49,9 +49,10 @@ pub struct FamilyWidths {
 
 /// Fraction of samples (weight > 0, all records) inside the envelope of the family
 /// RH(k1, `d1`, k2 law, `d2`) around `model`: at each sample the smallest and largest output of
-/// the [`Family::lattice`] of 3 × 3 members, each run over the whole record inside the fitted
-/// shaping with the record's start rule ([`SmoothModel::shaped`]). `lower` and `upper` are
-/// scratch buffers, reused across records and calls.
+/// the [`Family::lattice`] of 3 × 3 members, each run over each whole history (a record, or a
+/// record cut into segments) inside the fitted shaping, from the history's estimated start
+/// `starts` or the start rule ([`SmoothModel::shaped_from`]). `lower` and `upper` are scratch
+/// buffers, reused across records and calls.
 ///
 /// # Errors
 /// The core's error when the family is invalid (`d1` ≥ k1, a negative or non-finite width) or a
@@ -59,6 +60,7 @@ pub struct FamilyWidths {
 fn coverage(
     data: &Dataset,
     model: &SmoothModel,
+    starts: Option<&[f64]>,
     d1: f64,
     d2: f64,
     lower: &mut Vec<f64>,
@@ -68,16 +70,17 @@ fn coverage(
     let mut inside = 0usize;
     let mut samples = 0usize;
     // Each history whole: a segment starts where the one before it ended.
-    for h in data.histories() {
-        let Some(&first) = h.input.first() else {
+    for (index, h) in data.histories().into_iter().enumerate() {
+        if h.input.is_empty() {
             continue;
-        };
+        }
+        let band = starts.and_then(|s| s.get(index).copied());
         let n = h.input.len();
         lower.resize(n, 0.0);
         upper.resize(n, 0.0);
         let (lower, upper) = (&mut lower[..n], &mut upper[..n]);
         family.envelope_with(&h.input, lower, upper, 3, |member| {
-            model.shaped(member, first)
+            model.shaped_from(member, &h.input, band)
         })?;
         let r = Reproducibility::compare(&h.output, Some(&h.weight), lower, upper, 0.0);
         inside += r.inside;
@@ -112,7 +115,8 @@ pub fn bound(
     Ok((b.delta_a, law, (k2_lo, k2_hi)))
 }
 
-/// Searches the smallest family widths that reproduce `coverage` of the samples.
+/// Searches the smallest family widths that reproduce `coverage` of the samples, the members
+/// started as the fit started the model (`starts`: [`crate::SmoothFit::starts`]).
 ///
 /// # Errors
 /// [`FitError::Interrupted`] when the observer stops; [`FitError::Core`] when the model or a
@@ -120,6 +124,7 @@ pub fn bound(
 pub fn family_widths(
     data: &Dataset,
     model: &SmoothModel,
+    starts: Option<&[f64]>,
     coverage_target: f64,
     observer: &mut dyn Observer,
 ) -> Result<FamilyWidths, FitError> {
@@ -163,7 +168,8 @@ pub fn family_widths(
         }
     };
     let (mut lower, mut upper) = (Vec::new(), Vec::new());
-    let mut cover = |d1: f64, d2: f64| coverage(data, model, d1, d2, &mut lower, &mut upper);
+    let mut cover =
+        |d1: f64, d2: f64| coverage(data, model, starts, d1, d2, &mut lower, &mut upper);
     let base = cover(0.0, 0.0)?;
     if base >= coverage_target {
         let (delta_a, law, k2_range) = bound(model, 0.0, 0.0, v_range)?;
@@ -278,14 +284,17 @@ mod tests {
         let x = input();
         let data = Dataset::single(&x, &truth.run(&x).unwrap());
         let (mut lo, mut hi) = (Vec::new(), Vec::new());
-        assert_eq!(coverage(&data, &m, d1, d2, &mut lo, &mut hi).unwrap(), 1.0);
-        let nominal = coverage(&data, &m, 0.0, 0.0, &mut lo, &mut hi).unwrap();
+        assert_eq!(
+            coverage(&data, &m, None, d1, d2, &mut lo, &mut hi).unwrap(),
+            1.0
+        );
+        let nominal = coverage(&data, &m, None, 0.0, 0.0, &mut lo, &mut hi).unwrap();
         assert!(nominal < 0.05, "{nominal}");
         // Half the widths leave part of the data outside.
-        let half = coverage(&data, &m, d1 / 2.0, d2 / 2.0, &mut lo, &mut hi).unwrap();
+        let half = coverage(&data, &m, None, d1 / 2.0, d2 / 2.0, &mut lo, &mut hi).unwrap();
         assert!(half > nominal && half < 0.9, "{half}");
         // An invalid family is an error, not a coverage.
-        assert!(coverage(&data, &m, m.k1, 0.0, &mut lo, &mut hi).is_err());
+        assert!(coverage(&data, &m, None, m.k1, 0.0, &mut lo, &mut hi).is_err());
     }
 
     #[test]
@@ -299,12 +308,12 @@ mod tests {
         data.records[0].weight[1000..].fill(0.0);
         let (mut lo, mut hi) = (Vec::new(), Vec::new());
         assert_eq!(
-            coverage(&data, &m, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
+            coverage(&data, &m, None, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
             1.0
         );
         data.records[0].weight[1000..].fill(1.0);
         assert_eq!(
-            coverage(&data, &m, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
+            coverage(&data, &m, None, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
             0.5
         );
     }
@@ -319,7 +328,7 @@ mod tests {
         };
         let x = input();
         let data = Dataset::single(&x, &truth.run(&x).unwrap());
-        let w = family_widths(&data, &m, 0.99, &mut Silent).unwrap();
+        let w = family_widths(&data, &m, None, 0.99, &mut Silent).unwrap();
         assert!(w.reachable && w.coverage >= 0.99, "{w:?}");
         assert!(w.delta_k1 > 0.0 && w.delta_k1 < 0.98 * m.k1, "{w:?}");
         assert_eq!((w.delta_k2_law, w.k2_range), (0.0, (5.0, 5.0)));

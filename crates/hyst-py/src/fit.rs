@@ -74,7 +74,8 @@ impl Observer for Signals {
 /// (an array of record ids, one per sample: each record starts from its own initial state),
 /// `weight` (an array of weights ≥ 0), `validate` (record ids held out), `validate_every`,
 /// `coverage`, `operators`, `pi_output`, `compare`, `input_offset`, `output_offset`,
-/// `initial_state` ("rising", "falling", "line"), `form` ("auto": the stop form for clockwise
+/// `initial_state` ("rising", "falling", "line"), `estimate_initial_states` (estimate each
+/// record's start from its data), `form` ("auto": the stop form for clockwise
 /// loops such as friction, else the operator form; "operator"; "stop"), `keep_degenerate`
 /// (keep a fit that found no hysteresis instead of raising ValueError), `input_name`, `output_name`, `input_unit`,
 /// `output_unit`. Raises ValueError with the CLI's words for bad options or data; Ctrl-C
@@ -86,7 +87,8 @@ impl Observer for Signals {
     model_kind = "smooth", starts = 3, segment = None, segments = None, record = None,
     weight = None, validate = None, validate_every = None, coverage = 0.99, operators = 16,
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
-    initial_state = "rising", form = "auto", keep_degenerate = false, input_name = "u", output_name = "y", input_unit = "",
+    initial_state = "rising", estimate_initial_states = false, form = "auto",
+    keep_degenerate = false, input_name = "u", output_name = "y", input_unit = "",
     output_unit = ""
 ))]
 #[allow(clippy::too_many_arguments)]
@@ -112,6 +114,7 @@ pub fn fit(
     input_offset: Option<bool>,
     output_offset: bool,
     initial_state: &str,
+    estimate_initial_states: bool,
     form: &str,
     keep_degenerate: bool,
     input_name: &str,
@@ -148,6 +151,7 @@ pub fn fit(
         options: FitOptions {
             starts,
             coverage,
+            estimate_starts: estimate_initial_states,
             ..FitOptions::default()
         },
         operators,

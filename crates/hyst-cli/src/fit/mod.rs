@@ -79,6 +79,12 @@ pub struct Args {
     /// failing.
     #[arg(long)]
     pub keep_degenerate: bool,
+    /// Estimate each record's initial state from its data (a reversal at its first sample with
+    /// the operator output anywhere in the band, by least squares) instead of assuming
+    /// `--initial-state`, which stays the model's rule for new data. For records that start
+    /// mid-history.
+    #[arg(long)]
+    pub estimate_initial_states: bool,
     /// How each record starts.
     #[arg(long, value_enum, default_value_t = InitialState::Rising)]
     pub initial_state: InitialState,
@@ -155,6 +161,7 @@ pub fn main(args: Args) -> Result<()> {
     let fit_options = FitOptions {
         starts: args.starts,
         coverage: args.coverage,
+        estimate_starts: args.estimate_initial_states,
         ..FitOptions::default()
     };
     let request = Request {

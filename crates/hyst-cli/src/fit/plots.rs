@@ -21,8 +21,6 @@ fn thin(points: Vec<(f64, f64)>, max: usize) -> Vec<(f64, f64)> {
 
 /// Points of a plot series.
 type Points = Vec<(f64, f64)>;
-/// A model run over one record.
-type RunFn<'a> = Box<dyn Fn(&[f64]) -> Option<Vec<f64>> + 'a>;
 
 /// The time axis of the residual plot: `--time COL`, else a column with a conventional time name.
 pub(super) fn time_column<'t>(
@@ -59,30 +57,24 @@ pub(super) fn draw(
             measured.push((*x, *y));
         }
     }
-    let runs: Vec<(&str, RunFn<'_>)> = [
-        smooth.map(|f| {
-            (
-                "smooth model",
-                Box::new(move |x: &[f64]| f.model.run(x).ok()) as RunFn<'_>,
-            )
-        }),
+    // As the fit ran them: segments of one measurement run on from each other, from the
+    // estimated starts when the fit estimated them.
+    let runs: Vec<(&str, Option<Vec<Vec<f64>>>)> = [
+        smooth.map(|f| ("smooth model", f.outputs(data))),
         pi.map(|f| {
             (
                 "Prandtl–Ishlinskii",
-                Box::new(move |x: &[f64]| f.model.run(x).ok()) as RunFn<'_>,
+                data.run_histories(|x| f.model.run(x).ok()),
             )
         }),
     ]
     .into_iter()
     .flatten()
     .collect();
-    for (name, run) in &runs {
+    for (name, outputs) in runs {
         let mut io = Vec::new();
         let mut res = Vec::new();
-        // As the fit ran them: segments of one measurement run on from each other.
-        let outputs = data
-            .run_histories(run)
-            .context("the fitted model cannot run the data")?;
+        let outputs = outputs.context("the fitted model cannot run the data")?;
         for (r, y) in data.records.iter().zip(&outputs) {
             for (((x, m), o), row) in r.input.iter().zip(y).zip(&r.output).zip(&r.rows) {
                 io.push((*x, *m));

@@ -170,6 +170,7 @@ def fit(
     input_offset: Optional[bool] = None,
     output_offset: bool = True,
     initial_state: Literal["rising", "falling", "line"] = "rising",
+    estimate_initial_states: bool = False,
     form: Literal["auto", "operator", "stop"] = "auto",
     keep_degenerate: bool = False,
     input_name: str = "u",
