@@ -130,12 +130,31 @@ pub trait Shaping<T: Real> {
 }
 
 /// Solves f(x) = y for a strictly increasing f on [lo, hi] (ends may be infinite) by Newton's
-/// method, safeguarded by bisection on a bracket, to full precision.
+/// method, safeguarded by bisection on a bracket, to full precision. On a
+/// [`Dual`](crate::Dual) the root's gradient is −(∂f/∂p − ∂y/∂p) / f'(x)
+/// ([`Real::implicit_root`]).
 ///
 /// # Errors
 /// [`Error::OutOfRange`] when no bracket contains y.
 pub fn solve_increasing<T: Real>(
     f: impl Fn(T) -> (T, T),
+    y: T,
+    lo: T,
+    hi: T,
+    name: &'static str,
+) -> Result<T, Error> {
+    // Derivatives (duals) from f(x) − y = 0 at the root, not through the iterations.
+    bracketed_root(&f, y, lo, hi, name).map(|x| {
+        x.implicit_root(|x| {
+            let (fx, slope) = f(x);
+            (fx - y, slope)
+        })
+    })
+}
+
+/// The iteration of [`solve_increasing`] on the values.
+fn bracketed_root<T: Real>(
+    f: &impl Fn(T) -> (T, T),
     y: T,
     lo: T,
     hi: T,
