@@ -130,6 +130,7 @@ pub mod real;
 pub mod sample;
 pub mod scaled_shaping;
 pub mod shaping;
+pub mod stop;
 
 pub use compensator::Compensator;
 pub use dual::Dual;
@@ -153,6 +154,7 @@ pub use scaled_shaping::ScaledShaping;
 pub use shaping::{
     Affine, AnyShaping, Identity, Langevin, Polynomial, QuadraticExp, Shaping, Tanh,
 };
+pub use stop::Stop;
 
 /// The Rust examples of the project's README and guide, compiled and run as doctests so the
 /// documentation cannot drift from the code.

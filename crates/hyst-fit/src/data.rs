@@ -314,11 +314,13 @@ impl Dataset {
     }
 
     /// Checks that the data can identify a model with `parameters` free parameters: a moving
-    /// input, more training samples than parameters, an output that rises with the input.
+    /// input, more training samples than parameters, and, when the model is `increasing` (the
+    /// operator form and the Prandtl–Ishlinskii model; not the stop form, whose linear term
+    /// takes either sign), an output that rises with the input.
     ///
     /// # Errors
     /// [`FitError::ConstantInput`], [`FitError::TooFewSamples`], [`FitError::DecreasingOutput`].
-    pub fn check(&self, parameters: usize) -> Result<(), FitError> {
+    pub fn check(&self, parameters: usize, increasing: bool) -> Result<(), FitError> {
         let samples = self.training_samples();
         let (lo, hi) = range(self.training().flat_map(|r| r.input.iter()));
         if hi.is_nan() || hi <= lo {
@@ -348,7 +350,7 @@ impl Dataset {
             }
         }
         let cov = sxy / n - (sx / n) * (sy / n);
-        if cov < 0.0 && sxx / n - (sx / n) * (sx / n) > 0.0 {
+        if increasing && cov < 0.0 && sxx / n - (sx / n) * (sx / n) > 0.0 {
             return Err(FitError::DecreasingOutput {
                 file: self.source.clone(),
                 column: self.columns.output.clone(),

@@ -88,7 +88,8 @@ pub enum FitError {
     /// The output falls while the input rises: the model's maps are increasing.
     #[error(
         "{file}: the output column {column:?} decreases when the input increases; the model \
-         (increasing shaping, counter-clockwise loops) needs an increasing map: negate the output"
+         (increasing shaping, counter-clockwise loops) needs an increasing map: negate the output \
+         (a clockwise loop, such as friction against position, takes the stop form: --form stop)"
     )]
     DecreasingOutput {
         /// The data file.
@@ -148,6 +149,11 @@ pub enum FitError {
         /// The value (NaN or infinite).
         value: f64,
     },
+
+    /// The fit found no hysteresis: the model collapsed to a curve without loops, or its
+    /// parameters are not identified by the data. Nothing was written.
+    #[error("{0}")]
+    Degenerate(String),
 
     /// The user interrupted the fit (Ctrl-C); nothing was written.
     #[error("interrupted: no model file was written")]

@@ -5,13 +5,19 @@
 
 use std::time::{Duration, Instant};
 
+use crate::degeneracy::diagnose;
 use crate::lm::Observer;
 use crate::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT, MIN_VERSION};
+use crate::orientation::{loops, FormChoice};
 use crate::pi::PiOutputKind;
 use crate::pi_fit::{fit_pi_with, PiFit};
-use crate::report::{Report, Summary};
-use crate::smooth::{fit_smooth, FitOptions, SmoothFit};
+use crate::report::{sig, Findings, Report, Summary};
+use crate::smooth::{dahl_limit, fit_smooth, FitOptions, SmoothFit};
 use crate::{Dataset, FitError, ModelFile, Structure};
+
+/// The branch gap (fraction of the output span) above which the data's loops are clockwise
+/// beyond doubt, and a Prandtl–Ishlinskii fit (counterclockwise only) is refused.
+const PI_CLOCKWISE_GAP: f64 = 0.005;
 
 /// What to identify: the model kind with its structure, and the fit's options.
 #[derive(Clone, Debug)]
@@ -20,8 +26,13 @@ pub struct Request {
     pub kind: ModelKind,
     /// Also fit the other kind and report both side by side.
     pub compare: bool,
-    /// The smooth model's structure.
+    /// The smooth model's structure; its `form` is replaced by [`Request::form`]'s choice.
     pub structure: Structure,
+    /// The smooth model's form: from the data's loop orientation (`Auto`), or given.
+    pub form: FormChoice,
+    /// Keep a fit that found no hysteresis ([`crate::degeneracy`]) instead of failing with
+    /// [`FitError::Degenerate`]; the report then says `degenerate`.
+    pub keep_degenerate: bool,
     /// The smooth fit's options (starts, coverage of the family widths, …).
     pub options: FitOptions,
     /// Play operators of the Prandtl–Ishlinskii model (1 ..= [`crate::pi::MAX_OPERATORS`]).
@@ -38,6 +49,8 @@ impl Default for Request {
             kind: ModelKind::Smooth,
             compare: false,
             structure: Structure::default(),
+            form: FormChoice::Auto,
+            keep_degenerate: false,
             options: FitOptions::default(),
             operators: 16,
             pi_output: PiOutputKind::None,
@@ -90,13 +103,23 @@ pub fn identify(
 ) -> Result<Identified, FitError> {
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
     let want_pi = request.kind == ModelKind::PrandtlIshlinskii || request.compare;
+    let found = loops(data);
+    if want_pi && found.gap > PI_CLOCKWISE_GAP {
+        return Err(FitError::Invalid(format!(
+            "the loops in {} run clockwise (the output leads the input: rising minus falling \
+             branch {:+.3} % of the output span, as friction against position); a \
+             Prandtl–Ishlinskii model only makes counterclockwise loops: fit the smooth model, \
+             whose stop form fits clockwise loops (--model-kind smooth)",
+            data.source,
+            100.0 * found.gap
+        )));
+    }
+    let structure = Structure {
+        form: request.form.resolve(found.orientation),
+        ..request.structure
+    };
     let smooth = if want_smooth {
-        Some(fit_smooth(
-            data,
-            request.structure,
-            &request.options,
-            observer,
-        )?)
+        Some(fit_smooth(data, structure, &request.options, observer)?)
     } else {
         None
     };
@@ -108,6 +131,66 @@ pub fn identify(
     } else {
         None
     };
+    // Did the requested model find hysteresis at all?
+    let training_outputs = |run: &dyn Fn(&[f64]) -> Option<Vec<f64>>| -> Vec<Vec<f64>> {
+        data.training()
+            .map(|r| run(&r.input).unwrap_or_default())
+            .collect()
+    };
+    let mut notes = Vec::new();
+    let diagnosis = match (request.kind, &smooth, &pi) {
+        (ModelKind::Smooth, Some(f), _) => {
+            let dahl = dahl_limit(&f.model);
+            if let Some(k2) = dahl {
+                notes.push(format!(
+                    "k1 · k2 = {} < {}: the stop form's Dahl limit (after each reversal the \
+                     output approaches its level as 1 − e^(−k2 Δv), over a travel of about \
+                     3/k2 = {} normalised input units); every smaller k1 gives the same model, \
+                     so k1 is not identified",
+                    sig(f.model.k1 * k2, 2),
+                    crate::smooth::DAHL_LIMIT,
+                    sig(3.0 / k2, 3),
+                ));
+            }
+            diagnose(
+                data,
+                &training_outputs(&|x| f.model.run(x).ok()),
+                Some(&f.estimates),
+                if dahl.is_some() { &["k1"] } else { &[] },
+                found.orientation,
+            )
+        }
+        (_, _, Some(f)) => diagnose(
+            data,
+            &training_outputs(&|x| f.model.run(x).ok()),
+            None,
+            &[],
+            found.orientation,
+        ),
+        _ => {
+            return Err(FitError::Invalid(
+                "internal: the requested model was not fitted".into(),
+            ))
+        }
+    };
+    if diagnosis.rate_share > crate::degeneracy::RATE_NOTE {
+        notes.push(format!(
+            "{} % of the residuals' variance follows the input's rate of change: the data holds \
+             rate-dependent behaviour (viscous friction, creep, eddy currents) that a \
+             rate-independent model cannot represent; the model fits the rate-independent part",
+            sig(100.0 * diagnosis.rate_share, 2)
+        ));
+    }
+    let (out_lo, out_hi) = data.output_range();
+    if diagnosis.degenerate {
+        let message = diagnosis.message(&data.source, &request.units.output, out_hi - out_lo);
+        if !request.keep_degenerate {
+            return Err(FitError::Degenerate(format!(
+                "{message}. No model file was written; pass --keep-degenerate to keep it"
+            )));
+        }
+        notes.insert(0, message);
+    }
     provenance.records = data.records.len();
     provenance.validation_records = data.validation().map(|r| r.id).collect();
 
@@ -161,6 +244,12 @@ pub fn identify(
             model_file: String::new(),
             model,
             output_span: hi - lo,
+            findings: Findings {
+                orientation: found.orientation,
+                loop_gap: found.gap,
+                degenerate: diagnosis.degenerate,
+                notes,
+            },
             comparison,
             plots: Vec::new(),
         },
@@ -174,7 +263,7 @@ fn smooth_file(
     units: Units,
     provenance: Provenance,
 ) -> ModelFile {
-    ModelFile {
+    let mut file = ModelFile {
         format: FORMAT.into(),
         version: MIN_VERSION,
         kind: ModelKind::Smooth,
@@ -193,7 +282,10 @@ fn smooth_file(
         prandtl_ishlinskii: None,
         family: f.widths,
         provenance,
-    }
+    };
+    // The lowest version that holds the content: readers of older versions refuse a stop form.
+    file.version = file.required_version();
+    file
 }
 
 fn pi_file(

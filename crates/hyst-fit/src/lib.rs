@@ -5,8 +5,10 @@
 //!   weights, a train/validation split by record.
 //! - [`Structure`]: the model structure (k2 constant or affine, shaping functions, offsets, the
 //!   start rule), laid out as free parameters by [`structure::Layout`].
-//! - [`SmoothModel`]: the fitted model ψ_out(H(k1, k2)[ψ_in(in)]) with its k2 law (the core's
+//! - [`SmoothModel`]: the fitted model ψ_out(H(k1, k2)[ψ_in(in)]), or its stop form
+//!   ψ_out(v − H[v]) + c·v for clockwise loops ([`Form`]), with its k2 law (the core's
 //!   [`hyst_core::AnyK2Law`]), [`hyst_core::ScaledShaping`] and start rule ([`InitialState`]).
+//! - [`orientation`]: which way the data's loops run, and the form chosen from it.
 //! - [`lm`]: the least-squares problem, method (bounded Levenberg–Marquardt, settings checked
 //!   when set) and observers.
 //! - [`fit_smooth`]: multi-start fit with standard errors; [`widths`]: the family widths
@@ -21,7 +23,7 @@
 //!   asks for, the model file, the [`report`]), shared by `hyst fit` and the Python binding.
 //!
 //! The optional feature `clap` derives `clap::ValueEnum` for the choices a command line offers
-//! ([`ShapingKind`], [`K2Kind`], [`InitialState`], [`pi::PiOutputKind`],
+//! ([`ShapingKind`], [`K2Kind`], [`InitialState`], [`FormChoice`], [`pi::PiOutputKind`],
 //! [`modelfile::ModelKind`]).
 
 #![forbid(unsafe_code)]
@@ -29,6 +31,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod data;
+pub mod degeneracy;
 pub mod error;
 pub mod evaluator;
 pub mod identify;
@@ -36,6 +39,7 @@ mod linalg;
 pub mod lm;
 pub mod model;
 pub mod modelfile;
+pub mod orientation;
 pub mod pi;
 pub mod pi_fit;
 pub mod report;
@@ -47,7 +51,8 @@ pub use data::{Columns, DataOptions, Dataset, Record};
 pub use error::FitError;
 pub use evaluator::Evaluator;
 pub use identify::identify;
-pub use model::{InitialState, SmoothModel};
+pub use model::{Form, InitialState, SmoothModel};
 pub use modelfile::ModelFile;
+pub use orientation::{FormChoice, Orientation};
 pub use smooth::{fit_smooth, ErrorStats, Estimate, FitOptions, SmoothFit};
 pub use structure::{K2Kind, ShapingKind, Structure};

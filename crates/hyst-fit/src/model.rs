@@ -1,8 +1,9 @@
-//! The fitted smooth model out = ψ_out(H(k1, k2)[ψ_in(in)]) (Section 4.3) as plain data: built
+//! The fitted smooth model out = ψ_out(H(k1, k2)[ψ_in(in)]) (Section 4.3), or its stop form
+//! out = ψ_out(v − H(k1, k2)[v]) + c·v, v = ψ_in(in), for clockwise loops, as plain data: built
 //! from the core's types, run over records, and turned into the core's exact compensator.
 
 use hyst_core::{
-    AnyK2Law, Direction, Error, Hysteresis, InverseModel, K2Law, Model, Operator, Shaping,
+    AnyK2Law, Direction, Error, Hysteresis, InverseModel, K2Law, Model, Operator, Shaping, Stop,
 };
 use serde::{Deserialize, Serialize};
 
@@ -24,6 +25,44 @@ pub enum InitialState {
     Line,
 }
 
+/// Which way the model's loop runs, and so its equation. The kebab-case name (`operator`,
+/// `stop`) is the model file's and the command line's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum Form {
+    /// out = ψ_out(H[ψ_in(in)]): the operator's counterclockwise loop (the output lags the
+    /// input: piezo stacks, magnetisation, most actuators).
+    #[default]
+    Operator,
+    /// out = ψ_out(v − H[v]) + c·v, v = ψ_in(in): the smooth stop operator's clockwise loop
+    /// (friction against position, a Dahl-like model; any loop whose output leads the input).
+    Stop,
+}
+
+impl Form {
+    /// Whether this is the default [`Form::Operator`] (the model file then omits it).
+    #[must_use]
+    pub fn is_operator(&self) -> bool {
+        *self == Form::Operator
+    }
+
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Form::Operator => "operator",
+            Form::Stop => "stop",
+        }
+    }
+}
+
+// serde's `skip_serializing_if` takes a reference.
+#[allow(clippy::trivially_copy_pass_by_ref)]
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 /// v + d rounded towards v until |(v + d) − v| ≤ |d| holds in floating point (the band check
 /// of the core), so a start on the asymptote is never refused for an ulp.
 fn on_asymptote(v: f64, d: f64) -> f64 {
@@ -43,7 +82,8 @@ fn on_asymptote(v: f64, d: f64) -> f64 {
     u
 }
 
-/// A smooth model out = ψ_out(H(k1, k2)[ψ_in(in)]) with its start rule.
+/// A smooth model out = ψ_out(H(k1, k2)[ψ_in(in)]) (or its stop form, [`Form::Stop`]) with its
+/// start rule.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SmoothModel {
     /// Hysteresis half-width k1 (operator units: those of ψ_in's value), > 0.
@@ -56,10 +96,64 @@ pub struct SmoothModel {
     pub output_shaping: ScaledShaping<f64>,
     /// How each record starts.
     pub initial_state: InitialState,
+    /// The form: the operator itself (default) or its stop form.
+    #[serde(default, skip_serializing_if = "Form::is_operator")]
+    pub form: Form,
+    /// c of the stop form's linear term c·v (output units per operator unit; 0 for the operator
+    /// form).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub linear: f64,
 }
 
 /// The core model type a [`SmoothModel`] becomes.
 pub type CoreModel = Model<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
+/// The core type of a stop-form [`SmoothModel`].
+pub type CoreStop = Stop<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
+/// A model of either form around an operator with any k2 law (a family member, say): what
+/// [`SmoothModel::shaped`] builds, run through the core's [`Operator`] trait.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shaped<K> {
+    /// ψ_out(H[ψ_in(·)]).
+    Operator(Model<f64, ScaledShaping<f64>, K, ScaledShaping<f64>>),
+    /// ψ_out(v − H[v]) + c·v.
+    Stop(Stop<f64, ScaledShaping<f64>, K, ScaledShaping<f64>>),
+}
+
+impl<K: K2Law<f64>> Operator<f64> for Shaped<K> {
+    type Memory = Option<hyst_core::Memory<f64>>;
+
+    fn try_step<S: hyst_core::Sample<f64>>(&mut self, x: S) -> Result<S, Error> {
+        match self {
+            Shaped::Operator(m) => m.try_step(x),
+            Shaped::Stop(m) => m.try_step(x),
+        }
+    }
+    fn last_output(&self) -> Option<f64> {
+        match self {
+            Shaped::Operator(m) => m.last_output(),
+            Shaped::Stop(m) => m.last_output(),
+        }
+    }
+    fn reset(&mut self) {
+        match self {
+            Shaped::Operator(m) => m.reset(),
+            Shaped::Stop(m) => m.reset(),
+        }
+    }
+    fn memory(&self) -> Self::Memory {
+        match self {
+            Shaped::Operator(m) => m.memory(),
+            Shaped::Stop(m) => m.memory(),
+        }
+    }
+    fn set_memory(&mut self, memory: Self::Memory) -> Result<(), Error> {
+        match self {
+            Shaped::Operator(m) => m.set_memory(memory),
+            Shaped::Stop(m) => m.set_memory(memory),
+        }
+    }
+}
+
 /// Its exact compensator.
 pub type CoreInverse = InverseModel<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
 
@@ -69,7 +163,52 @@ impl SmoothModel {
     /// # Errors
     /// The core's error for the first invalid value.
     pub fn validate(&self) -> Result<(), Error> {
-        self.core(0.0).map(|_| ())
+        self.core(0.0)?;
+        if self.form == Form::Stop {
+            self.stop(0.0)?;
+        } else if self.linear != 0.0 {
+            return Err(Error::InvalidParameter {
+                name: "linear",
+                value: self.linear,
+                expected: "0 for the operator form (the linear term belongs to form = \"stop\")",
+            });
+        }
+        Ok(())
+    }
+
+    /// The stop form ψ_out(v − H[v]) + c·v of this model's parts, for a record whose first
+    /// input sample is `first_input` (whatever [`SmoothModel::form`] says).
+    ///
+    /// # Errors
+    /// As [`SmoothModel::core`], and a non-finite `linear`.
+    pub fn stop(&self, first_input: f64) -> Result<CoreStop, Error> {
+        Stop::new(
+            self.input_shaping,
+            self.start(Hysteresis::with_k2_law(self.k1, self.k2)?, first_input)?,
+            self.output_shaping,
+            self.linear,
+        )
+    }
+
+    /// The model output for the operator input v = ψ_in(in) and the operator output u = H[v]:
+    /// ψ_out(u), or ψ_out(v − u) + c·v in the stop form.
+    #[must_use]
+    #[inline]
+    pub fn output(&self, v: f64, u: f64) -> f64 {
+        match self.form {
+            Form::Operator => self.output_shaping.apply(u),
+            Form::Stop => self.output_shaping.apply(v - u) + v * self.linear,
+        }
+    }
+
+    /// The range of ψ_out's argument over the operator inputs [v_lo, v_hi]: the operator output
+    /// (within k1 of its input), or the stop value v − H[v] ∈ [−k1, k1].
+    #[must_use]
+    pub fn output_argument_range(form: Form, k1: f64, v_lo: f64, v_hi: f64) -> (f64, f64) {
+        match form {
+            Form::Operator => (v_lo - k1, v_hi + k1),
+            Form::Stop => (-k1, k1),
+        }
     }
 
     /// The core operator H(k1, k2) for a record whose first input sample is `first_input`,
@@ -109,13 +248,17 @@ impl SmoothModel {
     /// # Errors
     /// As [`SmoothModel::operator`], and the shaping functions' own validation errors.
     pub fn core(&self, first_input: f64) -> Result<CoreModel, Error> {
-        self.shaped(Hysteresis::with_k2_law(self.k1, self.k2)?, first_input)
+        Model::new(
+            self.input_shaping,
+            self.operator(first_input)?,
+            self.output_shaping,
+        )
     }
 
     /// Any operator with no history (a member of a family around this model, say) inside this
-    /// model's shaping, ψ_out(operator[ψ_in(·)]), started by this model's start rule for a
-    /// record whose first input sample is `first_input` (on the asymptotes of the operator's
-    /// own k1).
+    /// model's shaping and form, ψ_out(operator[ψ_in(·)]) or its stop form, started by this
+    /// model's start rule for a record whose first input sample is `first_input` (on the
+    /// asymptotes of the operator's own k1).
     ///
     /// # Errors
     /// As [`SmoothModel::core`].
@@ -123,12 +266,21 @@ impl SmoothModel {
         &self,
         operator: Hysteresis<f64, K>,
         first_input: f64,
-    ) -> Result<Model<f64, ScaledShaping<f64>, K, ScaledShaping<f64>>, Error> {
-        Model::new(
-            self.input_shaping,
-            self.start(operator, first_input)?,
-            self.output_shaping,
-        )
+    ) -> Result<Shaped<K>, Error> {
+        let operator = self.start(operator, first_input)?;
+        Ok(match self.form {
+            Form::Operator => Shaped::Operator(Model::new(
+                self.input_shaping,
+                operator,
+                self.output_shaping,
+            )?),
+            Form::Stop => Shaped::Stop(Stop::new(
+                self.input_shaping,
+                operator,
+                self.output_shaping,
+                self.linear,
+            )?),
+        })
     }
 
     /// The exact compensator (desired output → command) for a record whose first *command*
@@ -136,7 +288,17 @@ impl SmoothModel {
     ///
     /// # Errors
     /// Invalid parameters.
+    /// [`Error::InvalidParameter`] (`form`) for the stop form, which has no inverse: friction
+    /// is compensated by feeding its predicted force forward (docs/fitting.md).
     pub fn compensator(&self, first_input: f64) -> Result<CoreInverse, Error> {
+        if self.form == Form::Stop {
+            return Err(Error::InvalidParameter {
+                name: "form",
+                value: f64::NAN,
+                expected: "the operator form: a stop-form (friction) model has no inverse; \
+                           compensate it by feeding its predicted output forward",
+            });
+        }
         Ok(self.core(first_input)?.inverse())
     }
 
@@ -157,8 +319,9 @@ impl SmoothModel {
         self.compensator(x0)
     }
 
-    /// Runs the model over one record: `operator_out` receives H's output (before ψ_out) when
-    /// given, `output` the model output. Same arithmetic as stepping [`SmoothModel::core`].
+    /// Runs the model over one record: `operator_out` receives H's output u when given, `output`
+    /// the model output ([`SmoothModel::output`]). Same arithmetic as stepping
+    /// [`SmoothModel::core`] (or [`SmoothModel::stop`]).
     ///
     /// # Errors
     /// Invalid parameters, or a non-finite value on the way (the fit treats it as infeasible).
@@ -180,7 +343,13 @@ impl SmoothModel {
                     *slot = u;
                 }
             }
-            *y = self.output_shaping.apply(u);
+            *y = self.output(v, u);
+            if !y.is_finite() {
+                return Err(Error::NonFiniteOutput {
+                    input: *x,
+                    output: *y,
+                });
+            }
         }
         Ok(())
     }

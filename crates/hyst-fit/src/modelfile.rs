@@ -11,6 +11,7 @@ use hyst_core::{K2Law, Operator};
 use serde::{Deserialize, Serialize};
 
 use crate::evaluator::Evaluator;
+use crate::model::Form;
 use crate::pi::PiModel;
 use crate::smooth::{ErrorStats, Estimate};
 use crate::widths::FamilyWidths;
@@ -19,10 +20,11 @@ use crate::{Columns, FitError, SmoothModel, Structure};
 /// The value of the `format` key.
 pub const FORMAT: &str = "hyst-model";
 /// The newest format version this crate reads and writes. Version 2 adds the optional
-/// `[prandtl-ishlinskii.output]` polynomial; a file is written with the lowest version that
+/// `[prandtl-ishlinskii.output]` polynomial, version 3 the stop form of the smooth model
+/// (`form = "stop"` and `linear` in `[smooth]`); a file is written with the lowest version that
 /// holds its content ([`ModelFile::required_version`]), so files without it stay readable by
 /// version-1 readers, and version-1 readers refuse the files they would misread.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 /// The oldest format version this crate reads.
 pub const MIN_VERSION: u32 = 1;
 
@@ -184,8 +186,9 @@ impl ModelFile {
         })?;
         if file.version < file.required_version() {
             return Err(bad(format!(
-                "version = {} but [prandtl-ishlinskii.output] needs format version {}",
+                "version = {} but {} needs format version {}",
                 file.version,
+                file.required_by(),
                 file.required_version()
             )));
         }
@@ -208,13 +211,23 @@ impl ModelFile {
         Ok(file)
     }
 
-    /// The lowest format version that holds this file's content: 2 with a PI output
-    /// polynomial, else 1. `hyst fit` writes this version.
+    /// The lowest format version that holds this file's content: 3 for a stop-form smooth
+    /// model, 2 with a PI output polynomial, else 1. `hyst fit` writes this version.
     #[must_use]
     pub fn required_version(&self) -> u32 {
-        match &self.prandtl_ishlinskii {
-            Some(p) if p.output.is_some() => 2,
+        match (&self.smooth, &self.prandtl_ishlinskii) {
+            (Some(m), _) if m.form == Form::Stop => 3,
+            (_, Some(p)) if p.output.is_some() => 2,
             _ => MIN_VERSION,
+        }
+    }
+
+    /// What makes [`ModelFile::required_version`] what it is, in the file's words.
+    fn required_by(&self) -> &'static str {
+        match self.required_version() {
+            3 => "form = \"stop\" in [smooth]",
+            2 => "[prandtl-ishlinskii.output]",
+            _ => "the content",
         }
     }
 
@@ -230,8 +243,20 @@ impl ModelFile {
     pub fn evaluator(&self, first: f64, inverse: bool) -> Result<Evaluator, FitError> {
         match (&self.smooth, &self.prandtl_ishlinskii) {
             (Some(m), _) if self.kind == ModelKind::Smooth => {
-                if !inverse {
-                    return Ok(Evaluator::Smooth(Box::new(m.core(first)?)));
+                match (m.form, inverse) {
+                    (Form::Operator, false) => {
+                        return Ok(Evaluator::Smooth(Box::new(m.core(first)?)))
+                    }
+                    (Form::Stop, false) => return Ok(Evaluator::Stop(Box::new(m.stop(first)?))),
+                    (Form::Stop, true) => {
+                        return Err(FitError::Invalid(
+                            "this is a stop-form (friction) model: it predicts the output \
+                             (force) from the input (position) and has no inverse; compensate \
+                             by feeding the predicted force forward (docs/fitting.md)"
+                                .into(),
+                        ))
+                    }
+                    (Form::Operator, true) => {}
                 }
                 Ok(Evaluator::SmoothInverse(Box::new(
                     m.compensator_from_desired(first)?,

@@ -79,7 +79,7 @@ pub fn fit_pi_with(
             expected: format!("1 to {MAX_OPERATORS} play operators"),
         });
     }
-    data.check(operators + 1 + output.degree())?;
+    data.check(operators + 1 + output.degree(), true)?;
     let (lo, hi) = data.input_range();
     let span = hi - lo;
     let r: Vec<f64> = (1..=operators)

@@ -2,8 +2,9 @@
 //! the JSON report and its text form.
 
 use crate::modelfile::ModelKind;
+use crate::orientation::Orientation;
 use crate::smooth::ErrorStats;
-use crate::{InitialState, K2Kind, ModelFile};
+use crate::{Form, InitialState, K2Kind, ModelFile};
 use serde::{Deserialize, Serialize};
 
 /// One model kind's summary, for the side-by-side comparison.
@@ -23,6 +24,21 @@ pub struct Summary {
     pub ns_per_sample: f64,
 }
 
+/// What the identification found about the data and the fit, beside the model.
+#[derive(Serialize, Deserialize, Debug, Clone, PartialEq)]
+pub struct Findings {
+    /// Which way the data's loops run ([`crate::orientation::loops`]); the smooth model's form
+    /// follows it unless the form was given.
+    pub orientation: Orientation,
+    /// The mean gap between the rising and falling branches of the data, as a fraction of the
+    /// output span (positive for clockwise).
+    pub loop_gap: f64,
+    /// The fit found no hysteresis ([`crate::degeneracy`]) and was kept on request.
+    pub degenerate: bool,
+    /// Notes for the reader, one sentence each (the degeneracy found, the Dahl limit, …).
+    pub notes: Vec<String>,
+}
+
 /// The report (`--json` prints it).
 #[derive(Serialize, Debug, Clone)]
 pub struct Report {
@@ -32,10 +48,51 @@ pub struct Report {
     pub model: ModelFile,
     /// Output span of the data (output units).
     pub output_span: f64,
+    /// What the identification found beside the fit (JSON: top-level keys `orientation`,
+    /// `loop_gap`, `degenerate`, `notes`).
+    #[serde(flatten)]
+    pub findings: Findings,
     /// Side-by-side comparison (with `--compare`).
     pub comparison: Vec<Summary>,
     /// Plot files written.
     pub plots: Vec<String>,
+}
+
+/// `x` with `digits` significant digits: fixed notation for 1e-3 ≤ |x| < 1e6 (all the integer
+/// digits kept), scientific outside, so that a number in any unit shows its digits ("29.87",
+/// "0.005281", "5.281e-4", "3.000e300").
+#[must_use]
+pub fn sig(x: f64, digits: usize) -> String {
+    let digits = digits.max(1);
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let magnitude = x.abs().log10().floor();
+    if (-3.0..6.0).contains(&magnitude) {
+        let decimals = (digits as f64 - 1.0 - magnitude).max(0.0) as usize;
+        let s = format!("{x:.decimals$}");
+        // Rounding may carry into a new digit (9.9996 → "10.000"): one decimal fewer.
+        let significant = s.replace(['-', '.'], "");
+        if significant.trim_start_matches('0').len() > digits && decimals > 0 {
+            let decimals = decimals - 1;
+            return format!("{x:.decimals$}");
+        }
+        s
+    } else {
+        format!("{x:.prec$e}", prec = digits - 1)
+    }
+}
+
+/// A fraction as a percentage with `decimals` decimals, rounded towards zero, so that a value
+/// below a threshold is never printed at or above it (0.98997 → "98.99", not "99.00").
+#[must_use]
+pub fn percent_floor(fraction: f64, decimals: usize) -> String {
+    let scale = 10f64.powi(decimals as i32);
+    let v = (100.0 * fraction * scale).floor() / scale;
+    format!("{v:.decimals$}")
 }
 
 fn unit(u: &str) -> String {
@@ -48,8 +105,11 @@ fn unit(u: &str) -> String {
 
 fn stats_line(label: &str, s: &ErrorStats, u: &str) -> String {
     format!(
-        "  {label:<26} {:>12.5}{u} ({:>6.3} %)   {:>12.5}{u} ({:>6.3} %)\n",
-        s.rms, s.rms_pct_span, s.max_abs, s.max_pct_span
+        "  {label:<26} {:>12}{u} ({:>6} %)   {:>12}{u} ({:>6} %)\n",
+        sig(s.rms, 4),
+        sig(s.rms_pct_span, 3),
+        sig(s.max_abs, 4),
+        sig(s.max_pct_span, 3)
     )
 }
 
@@ -86,15 +146,27 @@ pub fn text_report(r: &Report) -> String {
     match (m.kind, &m.structure) {
         (ModelKind::Smooth, Some(st)) => {
             s += &format!(
-                "model: smooth operator, k2 {}, input shaping {}, output shaping {}{}{}, start {}\n",
+                "model: smooth {}, k2 {}, input shaping {}, output shaping {}{}{}, start {}\n",
+                match st.form {
+                    Form::Operator => "operator ψ_out(H[ψ_in(in)])",
+                    Form::Stop => "stop form ψ_out(v − H[v]) + c·v, v = ψ_in(in)",
+                },
                 match st.k2 {
                     K2Kind::Constant => "constant",
                     K2Kind::Affine => "affine",
                 },
                 st.input_shaping.name(),
                 st.output_shaping.name(),
-                if st.output_offset { ", output offset" } else { "" },
-                if st.input_offset == Some(true) { ", input offset" } else { "" },
+                if st.output_offset {
+                    ", output offset"
+                } else {
+                    ""
+                },
+                if st.input_offset == Some(true) {
+                    ", input offset"
+                } else {
+                    ""
+                },
                 match st.initial_state {
                     InitialState::Rising => "rising",
                     InitialState::Falling => "falling",
@@ -110,8 +182,10 @@ pub fn text_report(r: &Report) -> String {
                 match pi.and_then(|p| p.output) {
                     Some(o) => format!(
                         ", output polynomial of degree {} (increasing on the PI output range \
-                         [{:.4}, {:.4}]; exact inverse PI⁻¹ ∘ P⁻¹)",
-                        o.degree, o.lo, o.hi
+                         [{}, {}]; exact inverse PI⁻¹ ∘ P⁻¹)",
+                        o.degree,
+                        sig(o.lo, 4),
+                        sig(o.hi, 4)
                     ),
                     None => String::new(),
                 }
@@ -119,12 +193,25 @@ pub fn text_report(r: &Report) -> String {
         }
     }
     s += &format!(
-        "fit: {:.3} s, {} parameters, {:.0} ns per sample to evaluate\n\n",
-        m.metrics.fit_seconds, m.metrics.parameters, m.metrics.ns_per_sample
+        "loops: {} (rising minus falling branch {} % of the output span)\n",
+        r.findings.orientation.name(),
+        sig(100.0 * r.findings.loop_gap, 3)
     );
     s += &format!(
-        "errors (output span {:.5}{u})          RMS (% of span)             max (% of span)\n",
-        r.output_span
+        "fit: {} s, {} parameters, {} ns per sample to evaluate\n",
+        sig(m.metrics.fit_seconds, 3),
+        m.metrics.parameters,
+        sig(m.metrics.ns_per_sample, 3)
+    );
+    for note in &r.findings.notes {
+        s += &format!("note: {note}\n");
+    }
+    if r.findings.degenerate {
+        s += "WARNING: degenerate fit kept on request (--keep-degenerate): no hysteresis found\n";
+    }
+    s += &format!(
+        "\nerrors (output span {}{u})          RMS (% of span)             max (% of span)\n",
+        sig(r.output_span, 4)
     );
     s += &stats_line(
         &format!("training ({} samples)", m.metrics.training.samples),
@@ -137,8 +224,11 @@ pub fn text_report(r: &Report) -> String {
     s += "\nparameter              value           std. error     unit\n";
     for e in m.parameters.iter().take(40) {
         s += &format!(
-            "  {:<20} {:>14.7}  {:>14.3e}     {}\n",
-            e.name, e.value, e.std_error, e.unit
+            "  {:<20} {:>14}  {:>14}     {}\n",
+            e.name,
+            sig(e.value, 7),
+            sig(e.std_error, 3),
+            e.unit
         );
     }
     if m.parameters.len() > 40 {
@@ -149,48 +239,68 @@ pub fn text_report(r: &Report) -> String {
     }
     if let Some(w) = &m.family {
         s += &format!(
-            "\nfamily RH(k1, Δk1, k2, Δk2) reproducing {:.1} % of the samples (Definition 2.8):\n",
-            100.0 * w.coverage_target
+            "\nfamily RH(k1, Δk1, k2, Δk2) reproducing {} % of the samples (Definition 2.8):\n",
+            sig(100.0 * w.coverage_target, 3)
         );
-        if !w.reachable {
+        if w.reachable {
             s += &format!(
-                "  NOT reachable with Δk1 < k1, Δk2 < k2: at most {:.2} % covered\n",
-                100.0 * w.coverage
+                "  Δk1 = {}, Δk2 = {} (coverage {} %)\n",
+                sig(w.delta_k1, 4),
+                sig(w.delta_k2, 4),
+                percent_floor(w.coverage, 2)
+            );
+            if w.delta_k2_law > 0.0 {
+                s += &format!(
+                    "  k2 over the data in [{}, {}]; Proposition 4.3 adds Δk2* = {}\n",
+                    sig(w.k2_range.0, 4),
+                    sig(w.k2_range.1, 4),
+                    sig(w.delta_k2_law, 4)
+                );
+            }
+        } else {
+            s += &format!(
+                "  NOT reachable with Δk1 < k1, Δk2 < k2: the widest family covers {} % \
+                 (Δk1 = {}, Δk2 = {}), so there is no bound Δa for this coverage; the data \
+                 holds behaviour the model structure lacks (look at the residuals, try a richer \
+                 structure or a lower --coverage)\n",
+                percent_floor(w.coverage, 2),
+                sig(w.delta_k1, 4),
+                sig(w.delta_k2, 4)
             );
         }
-        s += &format!(
-            "  Δk1 = {:.5}, Δk2 = {:.5} (coverage {:.2} %)\n",
-            w.delta_k1,
-            w.delta_k2,
-            100.0 * w.coverage
-        );
-        if w.delta_k2_law > 0.0 {
+        if let (Some(delta_a), Some(bound), Some(pct)) =
+            (w.delta_a, w.output_bound, w.output_bound_pct_span)
+        {
+            let (what, meaning) = match m.structure.map(|st| st.form) {
+                Some(Form::Stop) => (
+                    "prediction error bound at the output (the feed-forward force)",
+                    "|ΔH| ≤ Δa moves v − H[v] by as much",
+                ),
+                _ => (
+                    "compensation error bound at the output",
+                    "Proposition 3.2, and Δb ≤ Δa by Proposition 3.3",
+                ),
+            };
+            s += &format!("  Δa = {} (operator units; {meaning})\n", sig(delta_a, 4));
             s += &format!(
-                "  k2 over the data in [{:.4}, {:.4}]; Proposition 4.3 adds Δk2* = {:.5}\n",
-                w.k2_range.0, w.k2_range.1, w.delta_k2_law
+                "  {what}: {}{u} ({} % of span)\n",
+                sig(bound, 4),
+                sig(pct, 3)
             );
         }
-        s += &format!(
-            "  Δa = {:.5} (operator units; Proposition 3.2, and Δb ≤ Δa by Proposition 3.3)\n",
-            w.delta_a
-        );
-        s += &format!(
-            "  compensation error bound at the output: {:.5}{u} ({:.3} % of span)\n",
-            w.output_bound, w.output_bound_pct_span
-        );
     }
     if !r.comparison.is_empty() {
         s += "\ncomparison on the same data   parameters   train RMS %   valid RMS %   ns/sample   fit s\n";
         for c in &r.comparison {
             s += &format!(
-                "  {:<28} {:>10}   {:>11.3}   {:>11}   {:>9.1}   {:>5.2}\n",
+                "  {:<28} {:>10}   {:>11}   {:>11}   {:>9}   {:>5}\n",
                 c.kind,
                 c.parameters,
-                c.training.rms_pct_span,
+                sig(c.training.rms_pct_span, 3),
                 c.validation
-                    .map_or("-".to_string(), |v| format!("{:.3}", v.rms_pct_span)),
-                c.ns_per_sample,
-                c.fit_seconds
+                    .map_or("-".to_string(), |v| sig(v.rms_pct_span, 3)),
+                sig(c.ns_per_sample, 3),
+                sig(c.fit_seconds, 3)
             );
         }
     }
@@ -201,4 +311,30 @@ pub fn text_report(r: &Report) -> String {
         s += &format!("wrote {p}\n");
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_keep_their_significant_digits_at_any_scale() {
+        assert_eq!(sig(29.87201, 4), "29.87");
+        assert_eq!(sig(0.000528065, 4), "5.281e-4");
+        assert_eq!(sig(0.00528065, 4), "0.005281");
+        assert_eq!(sig(1.2344e-7, 4), "1.234e-7");
+        assert_eq!(sig(3e300, 4), "3.000e300");
+        assert_eq!(sig(-80.71770, 4), "-80.72");
+        assert_eq!(sig(123_456.7, 4), "123457");
+        assert_eq!(sig(9.99996, 4), "10.00");
+        assert_eq!(sig(0.0, 4), "0");
+        assert_eq!(sig(f64::NAN, 4), "NaN");
+    }
+
+    #[test]
+    fn percentages_are_never_rounded_up_to_a_threshold() {
+        assert_eq!(percent_floor(0.98997, 2), "98.99");
+        assert_eq!(percent_floor(0.99, 2), "99.00");
+        assert_eq!(percent_floor(1.0, 1), "100.0");
+    }
 }

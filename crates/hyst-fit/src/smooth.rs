@@ -204,6 +204,11 @@ impl Problem for SmoothProblem<'_> {
         let mut y = vec![0.0; self.n];
         let mut z = vec![0.0; self.n];
         self.simulate(&base, &mut y, Some(&mut z))?;
+        // ψ_in's output: the same for every parameter of ψ_out (they leave the operator alone).
+        let mut v = Vec::with_capacity(self.n);
+        for rec in self.data.training() {
+            v.extend(rec.input.iter().map(|x| base.input_shaping.apply(*x)));
+        }
         let mut rp = vec![0.0; self.n];
         let mut t = theta.to_vec();
         for (j, spec) in self.layout.params.iter().enumerate() {
@@ -213,8 +218,8 @@ impl Problem for SmoothProblem<'_> {
             let m = self.model(&t);
             let ok = match (m, spec.group) {
                 (Ok(m), Group::Output) => {
-                    for (yi, zi) in y.iter_mut().zip(&z) {
-                        *yi = m.output_shaping.apply(*zi);
+                    for ((yi, zi), vi) in y.iter_mut().zip(&z).zip(&v) {
+                        *yi = m.output(*vi, *zi);
                     }
                     true
                 }
@@ -290,7 +295,7 @@ pub fn fit_smooth(
         )));
     }
     let layout = Layout::new(structure, normalisation(data));
-    data.check(layout.len())?;
+    data.check(layout.len(), structure.form == crate::Form::Operator)?;
     let problem = SmoothProblem::new(&layout, data);
 
     // Starting points: a grid over (k1, k2), each with the least-squares output gain and offset.
@@ -332,11 +337,24 @@ pub fn fit_smooth(
         .ok_or_else(|| FitError::NoConvergence("no starting point gave a finite cost".into()))?;
     let model = layout.model(&best.theta, problem.input_range)?;
 
-    // Standard errors: cov θ = s² (JᵀJ)⁻¹, s² = Σ r² / (n − p); value = f(θ).
+    // Standard errors: cov θ = s² (JᵀJ)⁻¹, s² = Σ r² / (n − p); value = f(θ). In the stop
+    // form's Dahl limit k1 carries no information (its column of J vanishes): the covariance
+    // of the others is taken without it, and k1's standard error is NaN.
     let p = layout.len();
     let dof = (problem.n - p).max(1) as f64;
     let s2 = best.cost / dof * layout.norm.output_half_span.powi(2);
-    let inv = crate::linalg::spd_inverse(&best.jtj, p);
+    let dahl = dahl_limit(&model).is_some();
+    let kept: Vec<usize> = (0..p)
+        .filter(|&j| !(dahl && layout.params[j].name == "k1"))
+        .collect();
+    let q = kept.len();
+    let mut reduced = vec![0.0; q * q];
+    for (a, &i) in kept.iter().enumerate() {
+        for (b, &j) in kept.iter().enumerate() {
+            reduced[a * q + b] = best.jtj[i * p + j];
+        }
+    }
+    let inv = crate::linalg::spd_inverse(&reduced, q);
     let scale2 = layout.norm.output_half_span.powi(2);
     let estimates: Vec<Estimate> = layout
         .params
@@ -345,9 +363,10 @@ pub fn fit_smooth(
         .map(|(j, spec)| {
             let value = spec.transform.value(best.theta[j]);
             // NaN (not identifiable) propagates: NaN.max(0.0) would hide it.
-            let var = inv
-                .as_ref()
-                .map_or(f64::NAN, |inv| inv[j * p + j] * s2 / scale2);
+            let var = match (kept.iter().position(|&k| k == j), inv.as_ref()) {
+                (Some(a), Some(inv)) => inv[a * q + a] * s2 / scale2,
+                _ => f64::NAN,
+            };
             let var = if var < 0.0 { 0.0 } else { var };
             Estimate {
                 name: spec.name.clone(),
@@ -384,47 +403,73 @@ pub fn fit_smooth(
     })
 }
 
-/// Sets the output gain (and offset) of θ by linear least squares on the shaped operator
-/// output (the rest of θ fixed). `None` when the point is infeasible.
+/// Below this k1 · k2 the stop form is in its Dahl limit: its transition after a reversal is
+/// the exponential 1 − e^(−k2 Δv) of Dahl's friction model, the same for every smaller k1.
+pub const DAHL_LIMIT: f64 = 1e-3;
+
+/// When `model` is a stop form in its Dahl limit (k1 · k2 < [`DAHL_LIMIT`] for the largest k2
+/// of its law), where k1 is not identified: that largest k2.
+#[must_use]
+pub fn dahl_limit(model: &SmoothModel) -> Option<f64> {
+    let k2 = match model.k2 {
+        hyst_core::AnyK2Law::Constant { value } => value,
+        hyst_core::AnyK2Law::Affine(law) => law.max,
+    };
+    (model.form == crate::Form::Stop && model.k1 * k2 < DAHL_LIMIT).then_some(k2)
+}
+
+/// Sets the output gain (and offset, and the stop form's linear term) of θ by linear least
+/// squares on the shaped operator output (the rest of θ fixed). `None` when the point is
+/// infeasible.
 fn linear_output_start(problem: &SmoothProblem<'_>, mut theta: Vec<f64>) -> Option<Vec<f64>> {
     let layout = problem.layout;
-    let gi = layout.index("out.gain")?;
+    // The overall gain: ψ_out's, or the stop form's level (gain × k1).
+    let gi = layout
+        .index("out.gain")
+        .or_else(|| layout.index("out.level"))?;
     let oi = layout.index("out.offset");
+    let li = layout.index("out.linear");
     theta[gi] = 0.0; // gain 1
-    if let Some(oi) = oi {
-        theta[oi] = 0.0;
+    for k in [oi, li].into_iter().flatten() {
+        theta[k] = 0.0;
     }
     let m = problem.model(&theta).ok()?;
     let mut s = vec![0.0; problem.n];
     problem.simulate(&m, &mut s, None).ok()?;
-    let (mut sw, mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    // Columns: the shaped output (gain 1), then v = ψ_in(in) for the linear term, then 1.
+    let p = 1 + usize::from(li.is_some()) + usize::from(oi.is_some());
+    let (mut a, mut b) = (vec![0.0; p * p], vec![0.0; p]);
     let mut i = 0;
     for rec in problem.data.training() {
-        for (obs, w) in rec.output.iter().zip(&rec.weight) {
-            let x = s[i];
-            sw += w;
-            sx += w * x;
-            sy += w * obs;
-            sxx += w * x * x;
-            sxy += w * x * obs;
+        for ((x, obs), w) in rec.input.iter().zip(&rec.output).zip(&rec.weight) {
+            let mut row = [s[i], 0.0, 0.0];
+            let mut k = 1;
+            if li.is_some() {
+                row[k] = m.input_shaping.apply(*x);
+                k += 1;
+            }
+            if oi.is_some() {
+                row[k] = 1.0;
+            }
+            for r in 0..p {
+                b[r] += w * row[r] * obs;
+                for c in 0..p {
+                    a[r * p + c] += w * row[r] * row[c];
+                }
+            }
             i += 1;
         }
     }
-    let (gain, offset) = if oi.is_some() {
-        let det = sw * sxx - sx * sx;
-        let g = (sw * sxy - sx * sy) / det;
-        (g, (sy - g * sx) / sw)
-    } else {
-        (sxy / sxx, 0.0)
-    };
+    let coef = crate::linalg::cholesky_solve(&a, &b, p).unwrap_or_else(|| vec![f64::NAN; p]);
+    let gain = coef[0];
     let gain = if gain.is_finite() && gain > 0.0 {
         gain
     } else {
         1e-3 * layout.norm.output_half_span
     };
     theta[gi] = gain.ln();
-    if let Some(oi) = oi {
-        theta[oi] = if offset.is_finite() { offset } else { 0.0 };
+    for (k, index) in (1..).zip([li, oi].into_iter().flatten()) {
+        theta[index] = if coef[k].is_finite() { coef[k] } else { 0.0 };
     }
     Some(theta)
 }

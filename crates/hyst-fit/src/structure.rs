@@ -12,7 +12,8 @@ use hyst_core::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::{model::InitialState, SmoothModel};
+use crate::model::{Form, InitialState};
+use crate::SmoothModel;
 use hyst_core::ScaledShaping;
 
 /// A shaping function family for ψ_in or ψ_out. Its kebab-case name (`affine`, `poly2`, `poly3`,
@@ -96,6 +97,10 @@ pub struct Structure {
     pub output_offset: bool,
     /// How each record starts.
     pub initial_state: InitialState,
+    /// The form: the operator (counterclockwise loops) or its stop form (clockwise loops,
+    /// friction), with the linear term `out.linear`.
+    #[serde(default, skip_serializing_if = "Form::is_operator")]
+    pub form: Form,
 }
 
 impl Default for Structure {
@@ -109,6 +114,7 @@ impl Default for Structure {
             input_offset: None,
             output_offset: true,
             initial_state: InitialState::Rising,
+            form: Form::Operator,
         }
     }
 }
@@ -268,7 +274,21 @@ impl Layout {
                 add("out.c", "1", Log, Out, 1.0);
             }
         }
-        add("out.gain", "output units", Log, Out, norm.output_half_span);
+        match structure.form {
+            Form::Operator => add("out.gain", "output units", Log, Out, norm.output_half_span),
+            // The stop's output is at most k1: its level gain × k1 (the Coulomb force of a
+            // friction model) stays put while k1 → 0 (the Dahl limit), where the gain does not.
+            Form::Stop => add("out.level", "output units", Log, Out, norm.output_half_span),
+        }
+        if structure.form == Form::Stop {
+            add(
+                "out.linear",
+                "output units per operator unit",
+                Linear,
+                Out,
+                0.0,
+            );
+        }
         if structure.output_offset {
             add(
                 "out.offset",
@@ -363,21 +383,29 @@ impl Layout {
         ScaledShaping::new(pre_gain, pre_offset, shape, 1.0, 0.0)
     }
 
-    /// The output shaping for θ, given the range of the operator's input (v_lo, v_hi) on the
-    /// data (its domain covers the operator output there, which lies within k1 of it).
+    /// The output shaping for θ, given the range of its argument on the data
+    /// ([`SmoothModel::output_argument_range`]: the operator output, or the stop value
+    /// v − H[v] ∈ [−k1, k1]). In the stop form the shape sees (v − H[v]) / k1 ∈ [−1, 1], and
+    /// `out.level` is its gain: the output's swing at the end of a travel (the Coulomb level of
+    /// a friction model), which stays put as k1 → 0 (the Dahl limit) where a gain on v − H[v]
+    /// would grow without bound.
     ///
     /// # Errors
     /// When the values are invalid.
     pub fn output_shaping(
         &self,
         theta: &[f64],
-        v_range: (f64, f64),
+        arg_range: (f64, f64),
     ) -> Result<ScaledShaping<f64>, hyst_core::Error> {
         let get = |name: &str| {
             self.index(name)
                 .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
         };
-        let gain = get("out.gain");
+        let (gain, unit) = match self.structure.form {
+            Form::Operator => (get("out.gain"), 1.0),
+            Form::Stop => (get("out.level"), 1.0 / get("k1")),
+        };
+        let v_range = (arg_range.0 * unit, arg_range.1 * unit);
         let offset = if self.structure.output_offset {
             get("out.offset")
         } else {
@@ -423,7 +451,7 @@ impl Layout {
                 0.0,
             ),
         };
-        ScaledShaping::new(pre_gain, pre_offset, shape, gain, offset)
+        ScaledShaping::new(pre_gain * unit, pre_offset, shape, gain, offset)
     }
 
     /// The model for θ, for data whose input spans [in_lo, in_hi].
@@ -466,13 +494,21 @@ impl Layout {
                 })
             }
         };
-        let output_shaping = self.output_shaping(theta, (v_lo - k1, v_hi + k1))?;
+        let output_shaping = self.output_shaping(
+            theta,
+            SmoothModel::output_argument_range(self.structure.form, k1, v_lo, v_hi),
+        )?;
         let m = SmoothModel {
             k1,
             k2,
             input_shaping,
             output_shaping,
             initial_state: self.structure.initial_state,
+            form: self.structure.form,
+            linear: match self.structure.form {
+                Form::Operator => 0.0,
+                Form::Stop => get("out.linear"),
+            },
         };
         m.validate()?;
         Ok(m)

@@ -37,12 +37,14 @@ pub struct FamilyWidths {
     /// Range of the nominal k2 over the data (equal ends for constant k2).
     pub k2_range: (f64, f64),
     /// Δa of Proposition 3.2 for RH(k1, Δk1, k2, Δk2 + Δk2*), the worst over the k2 range
-    /// (operator units); Δb ≤ Δa (Proposition 3.3).
-    pub delta_a: f64,
-    /// The bound in output units: Δa times the Lipschitz constant of ψ_out on the data.
-    pub output_bound: f64,
-    /// `output_bound` as % of the output span.
-    pub output_bound_pct_span: f64,
+    /// (operator units); Δb ≤ Δa (Proposition 3.3). `None` when the coverage is not
+    /// reachable: no family within the limits reproduces the data, so no bound holds for it.
+    pub delta_a: Option<f64>,
+    /// The bound in output units: Δa times the Lipschitz constant of ψ_out on the data
+    /// (`None` when not reachable).
+    pub output_bound: Option<f64>,
+    /// `output_bound` as % of the output span (`None` when not reachable).
+    pub output_bound_pct_span: Option<f64>,
 }
 
 /// Fraction of samples (weight > 0, all records) inside the envelope of the family
@@ -137,13 +139,11 @@ pub fn family_widths(
     let d2_max = (d2_max - law).max(0.0);
     let (ylo, yhi) = data.output_range();
     let span = (yhi - ylo).max(f64::MIN_POSITIVE);
-    // The Lipschitz constant of ψ_out over the operator's output range on the data.
-    let lipschitz = shaped_bound(
-        1.0,
-        &model.output_shaping,
-        v_range.0 - model.k1,
-        v_range.1 + model.k1,
-    );
+    // The Lipschitz constant of ψ_out over its argument's range on the data: the operator
+    // output, or the stop value v − H[v] (which moves with H: |Δ(v − H)| = |ΔH| ≤ Δa).
+    let (arg_lo, arg_hi) =
+        SmoothModel::output_argument_range(model.form, model.k1, v_range.0, v_range.1);
+    let lipschitz = shaped_bound(1.0, &model.output_shaping, arg_lo, arg_hi);
 
     let rays = [(1.0, 0.0), (1.0, 0.5), (1.0, 1.0), (0.5, 1.0), (0.0, 1.0)];
     let mut best: Option<(f64, f64, f64, f64)> = None; // (Δa, Δk1, Δk2, coverage)
@@ -174,9 +174,9 @@ pub fn family_widths(
             coverage: base,
             delta_k2_law: law,
             k2_range,
-            delta_a,
-            output_bound: delta_a * lipschitz,
-            output_bound_pct_span: 100.0 * delta_a * lipschitz / span,
+            delta_a: Some(delta_a),
+            output_bound: Some(delta_a * lipschitz),
+            output_bound_pct_span: Some(100.0 * delta_a * lipschitz / span),
         });
     }
     for (c1, c2) in rays {
@@ -218,6 +218,7 @@ pub fn family_widths(
         None => (false, best_coverage.1, best_coverage.2, best_coverage.0),
     };
     let (delta_a, law, k2_range) = bound(model, d1, d2, v_range)?;
+    let delta_a = reachable.then_some(delta_a);
     Ok(FamilyWidths {
         coverage_target,
         reachable,
@@ -227,8 +228,8 @@ pub fn family_widths(
         delta_k2_law: law,
         k2_range,
         delta_a,
-        output_bound: delta_a * lipschitz,
-        output_bound_pct_span: 100.0 * delta_a * lipschitz / span,
+        output_bound: delta_a.map(|d| d * lipschitz),
+        output_bound_pct_span: delta_a.map(|d| 100.0 * d * lipschitz / span),
     })
 }
 
@@ -249,6 +250,8 @@ mod tests {
             input_shaping: ScaledShaping::new(0.5, 0.1, identity, 1.0, 0.0).unwrap(),
             output_shaping: ScaledShaping::new(1.0, 0.0, identity, 2.0, 0.3).unwrap(),
             initial_state: InitialState::Falling,
+            form: crate::Form::Operator,
+            linear: 0.0,
         }
     }
 
@@ -320,8 +323,11 @@ mod tests {
         assert!(w.delta_k1 > 0.0 && w.delta_k1 < 0.98 * m.k1, "{w:?}");
         assert_eq!((w.delta_k2_law, w.k2_range), (0.0, (5.0, 5.0)));
         let b = hyst_core::family::delta_a(m.k1, w.delta_k1, 5.0, w.delta_k2).unwrap();
-        assert_eq!(w.delta_a, b.delta_a);
+        assert_eq!(w.delta_a, Some(b.delta_a));
         // ψ_out has gain 2: the bound in output units doubles.
-        assert!((w.output_bound - 2.0 * w.delta_a).abs() < 1e-12, "{w:?}");
+        assert!(
+            (w.output_bound.unwrap() - 2.0 * b.delta_a).abs() < 1e-12,
+            "{w:?}"
+        );
     }
 }

@@ -194,6 +194,8 @@ fn saturating_model() -> ModelFile {
                 post_offset: 0.0,
             },
             initial_state: InitialState::Line,
+            form: hyst_fit::Form::Operator,
+            linear: 0.0,
         }),
         None,
     )

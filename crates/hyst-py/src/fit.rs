@@ -10,10 +10,10 @@ use hyst_fit::identify::Request;
 use hyst_fit::lm::{Observer, Progress};
 use hyst_fit::modelfile::{fnv1a64, ModelKind, Provenance, Units};
 use hyst_fit::pi::PiOutputKind;
-use hyst_fit::report::{text_report, Report, Summary};
+use hyst_fit::report::{text_report, Findings, Report, Summary};
 use hyst_fit::{
-    identify, DataOptions, Dataset, FitError, FitOptions, InitialState, K2Kind, ModelFile,
-    ShapingKind, Structure,
+    identify, DataOptions, Dataset, FitError, FitOptions, FormChoice, InitialState, K2Kind,
+    ModelFile, ShapingKind, Structure,
 };
 use hyst_io::Table;
 use pyo3::prelude::*;
@@ -74,7 +74,9 @@ impl Observer for Signals {
 /// (an array of record ids, one per sample: each record starts from its own initial state),
 /// `weight` (an array of weights ≥ 0), `validate` (record ids held out), `validate_every`,
 /// `coverage`, `operators`, `pi_output`, `compare`, `input_offset`, `output_offset`,
-/// `initial_state` ("rising", "falling", "line"), `input_name`, `output_name`, `input_unit`,
+/// `initial_state` ("rising", "falling", "line"), `form` ("auto": the stop form for clockwise
+/// loops such as friction, else the operator form; "operator"; "stop"), `keep_degenerate`
+/// (keep a fit that found no hysteresis instead of raising ValueError), `input_name`, `output_name`, `input_unit`,
 /// `output_unit`. Raises ValueError with the CLI's words for bad options or data; Ctrl-C
 /// stops the fit with KeyboardInterrupt. The GIL is released while it runs.
 #[pyfunction]
@@ -84,7 +86,7 @@ impl Observer for Signals {
     model_kind = "smooth", starts = 3, segment = None, segments = None, record = None,
     weight = None, validate = None, validate_every = None, coverage = 0.99, operators = 16,
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
-    initial_state = "rising", input_name = "u", output_name = "y", input_unit = "",
+    initial_state = "rising", form = "auto", keep_degenerate = false, input_name = "u", output_name = "y", input_unit = "",
     output_unit = ""
 ))]
 #[allow(clippy::too_many_arguments)]
@@ -110,6 +112,8 @@ pub fn fit(
     input_offset: Option<bool>,
     output_offset: bool,
     initial_state: &str,
+    form: &str,
+    keep_degenerate: bool,
     input_name: &str,
     output_name: &str,
     input_unit: &str,
@@ -133,11 +137,14 @@ pub fn fit(
         input_offset,
         output_offset,
         initial_state: choice::<InitialState>("initial_state", initial_state)?,
+        form: hyst_fit::Form::Operator,
     };
     let request = Request {
         kind: choice::<ModelKind>("model_kind", model_kind)?,
         compare,
         structure,
+        form: choice::<FormChoice>("form", form)?,
+        keep_degenerate,
         options: FitOptions {
             starts,
             coverage,
@@ -329,14 +336,14 @@ impl FitResult {
     /// reached.
     #[getter]
     fn delta_a(&self) -> Option<f64> {
-        reached(self.file()).map(|w| w.delta_a)
+        reached(self.file()).and_then(|w| w.delta_a)
     }
 
     /// The compensation error bound at the output (Δa through ψ_out's slope; output units),
     /// None when the family is not reached.
     #[getter]
     fn output_bound(&self) -> Option<f64> {
-        reached(self.file()).map(|w| w.output_bound)
+        reached(self.file()).and_then(|w| w.output_bound)
     }
 
     /// Wall time of the fit (s).
@@ -361,9 +368,33 @@ impl FitResult {
         serde_json::to_string_pretty(&self.report).map_err(value_error)
     }
 
-    fn __reduce__<'py>(
-        slf: &Bound<'py, Self>,
-    ) -> PyResult<(Bound<'py, PyAny>, (String, f64, String))> {
+    /// Which way the data's loops run: "counterclockwise" (the output lags the input) or
+    /// "clockwise" (it leads: friction); the smooth model's form follows it unless given.
+    #[getter]
+    fn orientation(&self) -> &'static str {
+        self.report.findings.orientation.name()
+    }
+
+    /// The mean gap between the data's rising and falling branches, as a fraction of the
+    /// output span (positive for clockwise).
+    #[getter]
+    fn loop_gap(&self) -> f64 {
+        self.report.findings.loop_gap
+    }
+
+    /// True when the fit found no hysteresis and was kept (`keep_degenerate=True`).
+    #[getter]
+    fn degenerate(&self) -> bool {
+        self.report.findings.degenerate
+    }
+
+    /// Notes of the identification, one sentence each (degeneracy, the Dahl limit, …).
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.report.findings.notes.clone()
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Pickled)> {
         let me = slf.borrow();
         let restore = slf
             .py()
@@ -371,7 +402,8 @@ impl FitResult {
             .getattr("_fit_result_from_json")?;
         let toml = me.file().to_toml().map_err(errors::fit)?;
         let comparison = serde_json::to_string(&me.report.comparison).map_err(value_error)?;
-        Ok((restore, (toml, me.report.output_span, comparison)))
+        let findings = serde_json::to_string(&me.report.findings).map_err(value_error)?;
+        Ok((restore, (toml, me.report.output_span, comparison, findings)))
     }
 
     fn __repr__(&self) -> String {
@@ -388,23 +420,30 @@ impl FitResult {
     }
 }
 
-/// Rebuilds a `FitResult` from what pickling stores: the model file's TOML, the output span
-/// and the comparison (JSON).
+/// What pickling stores of a `FitResult`: the model file's TOML, the output span, the
+/// comparison and the findings (JSON).
+type Pickled = (String, f64, String, String);
+
+/// Rebuilds a `FitResult` from what pickling stores: the model file's TOML, the output span,
+/// the comparison and the findings (JSON).
 #[pyfunction(name = "_fit_result_from_json")]
 pub fn fit_result_from_json(
     py: Python<'_>,
     toml: &str,
     output_span: f64,
     comparison: &str,
+    findings: &str,
 ) -> PyResult<FitResult> {
     let model = ModelFile::from_toml(toml, Path::new("<pickle>")).map_err(errors::fit)?;
     let comparison: Vec<Summary> = serde_json::from_str(comparison).map_err(value_error)?;
+    let findings: Findings = serde_json::from_str(findings).map_err(value_error)?;
     FitResult::new(
         py,
         Report {
             model_file: String::new(),
             model,
             output_span,
+            findings,
             comparison,
             plots: Vec::new(),
         },

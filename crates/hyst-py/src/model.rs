@@ -261,7 +261,7 @@ impl Model {
     /// family.
     #[getter]
     fn delta_a(&self) -> Option<f64> {
-        reached(&self.file).map(|w| w.delta_a)
+        reached(&self.file).and_then(|w| w.delta_a)
     }
 
     /// The model file's text (TOML, docs/formats.md).

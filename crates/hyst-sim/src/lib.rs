@@ -10,6 +10,7 @@
 //!   discrete [`Preisach`] model, and the reversal-curve input [`forc_input`];
 //! - [`closed_loop`]: [`simulate_compensated`], plant → truth driven by the compensator of
 //!   eq. (19), sampled into a [`Trace`];
+//! - [`friction`]: a LuGre friction force ([`LuGre`]), a clockwise "truth" for identification;
 //! - [`examples`]: the paper's Examples 1–3 as runs, with documented synthetic truths;
 //! - [`error`]: the error type, [`SimError`].
 //!
@@ -26,12 +27,14 @@
 pub mod closed_loop;
 pub mod error;
 pub mod examples;
+pub mod friction;
 pub mod integrate;
 pub mod plant;
 pub mod truth;
 
 pub use closed_loop::{simulate_compensated, Trace};
 pub use error::SimError;
+pub use friction::LuGre;
 pub use integrate::{integrate_adaptive, rk4_step, AdaptiveStats};
 pub use plant::StateSpace;
 pub use truth::{forc_input, Drifting, DriftingMemory, Preisach};

@@ -20,7 +20,8 @@ use hyst_fit::modelfile::{fnv1a64, ModelKind, Provenance, Units};
 use hyst_fit::pi::PiOutputKind;
 use hyst_fit::report::text_report;
 use hyst_fit::{
-    identify, DataOptions, Dataset, FitOptions, InitialState, K2Kind, ShapingKind, Structure,
+    identify, DataOptions, Dataset, FitOptions, FormChoice, InitialState, K2Kind, ShapingKind,
+    Structure,
 };
 use hyst_io::Table;
 
@@ -68,6 +69,16 @@ pub struct Args {
     /// Do not fit an output offset.
     #[arg(long)]
     pub no_output_offset: bool,
+    /// The smooth model's form: `auto` takes the stop form ψ_out(v − H[v]) + c·v when the data's
+    /// loops run clockwise (the output leads the input, as friction against position) and the
+    /// operator form ψ_out(H[v]) otherwise; the report states the orientation found.
+    #[arg(long, value_enum, default_value_t = FormChoice::Auto)]
+    pub form: FormChoice,
+    /// Keep a fit that found no hysteresis (a model without loops, or parameters the data does
+    /// not identify): write the model file and mark the report `degenerate`, instead of
+    /// failing.
+    #[arg(long)]
+    pub keep_degenerate: bool,
     /// How each record starts.
     #[arg(long, value_enum, default_value_t = InitialState::Rising)]
     pub initial_state: InitialState,
@@ -139,6 +150,7 @@ pub fn main(args: Args) -> Result<()> {
         input_offset: if args.input_offset { Some(true) } else { None },
         output_offset: !args.no_output_offset,
         initial_state: args.initial_state,
+        form: hyst_fit::Form::Operator,
     };
     let fit_options = FitOptions {
         starts: args.starts,
@@ -149,6 +161,8 @@ pub fn main(args: Args) -> Result<()> {
         kind: args.model_kind,
         compare: args.compare,
         structure,
+        form: args.form,
+        keep_degenerate: args.keep_degenerate,
         options: fit_options,
         operators: args.operators,
         pi_output: args.pi_output,

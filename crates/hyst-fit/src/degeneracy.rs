@@ -1,0 +1,291 @@
+//! Whether a fit found hysteresis at all. A least-squares fit on data its structure cannot
+//! describe (a clockwise loop fitted by the operator form, say) does not fail: it slides to the
+//! edge of the parameter space, where the model is a curve without loops and some parameters
+//! are not identified (k1 → 0, k2 → 0, NaN standard errors). [`diagnose`] says so, with the
+//! RMS of the straight line that does as well, so that the user is not handed a line as a
+//! hysteresis model.
+
+use serde::{Deserialize, Serialize};
+
+use crate::orientation::{loops, Orientation};
+use crate::{Dataset, Estimate, Record};
+
+/// Below this gap between its rising and falling branches (fraction of the output span), a
+/// model has no loop: 0.1 %, about the resolution of a 10-bit sensor.
+pub const MIN_GAP: f64 = 1e-3;
+
+/// What [`diagnose`] found.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Diagnosis {
+    /// The model has no loop, or parameters the data does not identify.
+    pub degenerate: bool,
+    /// One clause per finding ("the fitted model has no loop …").
+    pub reasons: Vec<String>,
+    /// The gap between the model's own rising and falling branches on the training inputs
+    /// (fraction of the output span; positive for clockwise).
+    pub model_gap: f64,
+    /// RMS of the least-squares straight line output = a + b · input on the training data
+    /// (output units).
+    pub line_rms: f64,
+    /// The share of the residuals' variance that a term proportional to the input's rate of
+    /// change (the signed central difference) explains, in [0, 1]: rate-dependent behaviour
+    /// (viscous friction, creep, eddy currents) that no rate-independent model represents.
+    pub rate_share: f64,
+}
+
+/// Above this [`Diagnosis::rate_share`], the report notes rate dependence.
+pub const RATE_NOTE: f64 = 0.1;
+
+/// The share of the residual variance explained by a least-squares term c · ẋ (ẋ the central
+/// difference of the input, per sample; weighted, over the training records).
+fn rate_share(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
+    let (mut srr, mut srd, mut sdd) = (0.0, 0.0, 0.0);
+    for (r, y) in data.training().zip(outputs) {
+        let n = r.input.len().min(y.len());
+        for i in 0..n {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let d = r.input[b] - r.input[a];
+            let e = r.output[i] - y[i];
+            let w = r.weight[i];
+            srr += w * e * e;
+            srd += w * e * d;
+            sdd += w * d * d;
+        }
+    }
+    if srr > 0.0 && sdd > 0.0 {
+        (srd * srd / (sdd * srr)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+impl Diagnosis {
+    /// The one-line message: "no hysteresis found in FILE: …; a straight line fits with RMS …".
+    #[must_use]
+    pub fn message(&self, file: &str, unit: &str, span: f64) -> String {
+        let unit = if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
+        format!(
+            "no hysteresis found in {file}: {}; a straight line fits with RMS {}{unit} ({} % of \
+             the output span)",
+            self.reasons.join("; "),
+            crate::report::sig(self.line_rms, 3),
+            crate::report::sig(100.0 * self.line_rms / span, 3),
+        )
+    }
+}
+
+/// The least-squares line a + b x over the weighted training samples, and its RMS over the
+/// samples of positive weight.
+fn line_rms(data: &Dataset) -> f64 {
+    let (mut sw, mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for r in data.training() {
+        for ((x, y), w) in r.input.iter().zip(&r.output).zip(&r.weight) {
+            sw += w;
+            sx += w * x;
+            sy += w * y;
+            sxx += w * x * x;
+            sxy += w * x * y;
+        }
+    }
+    let det = sw * sxx - sx * sx;
+    let b = if det > 0.0 {
+        (sw * sxy - sx * sy) / det
+    } else {
+        0.0
+    };
+    let a = (sy - b * sx) / sw;
+    let (mut ss, mut n) = (0.0, 0usize);
+    for r in data.training() {
+        for ((x, y), w) in r.input.iter().zip(&r.output).zip(&r.weight) {
+            if *w > 0.0 {
+                ss += (y - a - b * x).powi(2);
+                n += 1;
+            }
+        }
+    }
+    (ss / n.max(1) as f64).sqrt()
+}
+
+/// Diagnoses a fitted model from its output on the training records (`outputs`, one vector
+/// per training record, in order) and its estimates (`None` for models whose standard errors
+/// may be NaN by design, such as the Prandtl–Ishlinskii weights at their bound 0).
+/// `unidentified_ok` names parameters whose NaN standard error is expected (k1 in the stop
+/// form's Dahl limit). `data_orientation` words the advice.
+#[must_use]
+pub fn diagnose(
+    data: &Dataset,
+    outputs: &[Vec<f64>],
+    estimates: Option<&[Estimate]>,
+    unidentified_ok: &[&str],
+    data_orientation: Orientation,
+) -> Diagnosis {
+    // The model's own loops: its output in place of the measured one, on the same inputs.
+    let records: Vec<Record> = data
+        .training()
+        .zip(outputs)
+        .map(|(r, y)| Record {
+            output: y.clone(),
+            ..r.clone()
+        })
+        .collect();
+    let mut modelled = Dataset::from_records(&data.source, data.columns.clone(), records);
+    // The gap is measured against the data's output span, not the model's.
+    let (ylo, yhi) = data.output_range();
+    let model_span = {
+        let (lo, hi) = modelled.output_range();
+        hi - lo
+    };
+    let gap = loops(&modelled).gap * model_span / (yhi - ylo).max(f64::MIN_POSITIVE);
+    modelled.records.clear();
+
+    let mut reasons = Vec::new();
+    if gap.abs() < MIN_GAP {
+        reasons.push(format!(
+            "the fitted model has no loop (its rising and falling branches are {} % of the \
+             output span apart, below {} %){}",
+            crate::report::sig(100.0 * gap.abs(), 2),
+            100.0 * MIN_GAP,
+            match data_orientation {
+                Orientation::Clockwise => {
+                    "; the data's loops run clockwise: the stop form (--form stop or auto) fits \
+                     those"
+                }
+                Orientation::Counterclockwise => "",
+                Orientation::None => "; the data holds no loop either",
+            }
+        ));
+    }
+    if let Some(estimates) = estimates {
+        let lost: Vec<&str> = estimates
+            .iter()
+            .filter(|e| e.std_error.is_nan() && !unidentified_ok.contains(&e.name.as_str()))
+            .map(|e| e.name.as_str())
+            .collect();
+        if !lost.is_empty() {
+            reasons.push(format!(
+                "the data does not identify {} (standard error NaN)",
+                lost.join(", ")
+            ));
+        }
+    }
+    Diagnosis {
+        degenerate: !reasons.is_empty(),
+        reasons,
+        model_gap: gap,
+        line_rms: line_rms(data),
+        rate_share: rate_share(data, outputs),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::{InitialState, SmoothModel};
+    use hyst_core::{AnyK2Law, ScaledShaping};
+
+    fn operator_model() -> SmoothModel {
+        SmoothModel {
+            k1: 0.2,
+            k2: AnyK2Law::Constant { value: 5.0 },
+            input_shaping: ScaledShaping::identity(),
+            output_shaping: ScaledShaping::identity(),
+            initial_state: InitialState::Rising,
+            form: crate::Form::Operator,
+            linear: 0.0,
+        }
+    }
+
+    fn input() -> Vec<f64> {
+        (0..2000)
+            .map(|k| (k as f64 * 0.01).sin() * (1.0 + 0.3 * (k as f64 * 0.0013).cos()))
+            .collect()
+    }
+
+    fn estimate(name: &str, std_error: f64) -> Estimate {
+        Estimate {
+            name: name.into(),
+            value: 1.0,
+            std_error,
+            unit: String::new(),
+        }
+    }
+
+    #[test]
+    fn a_line_is_degenerate_and_a_loop_is_not() {
+        let x = input();
+        let y: Vec<f64> = x.iter().map(|v| 2.0 * v + 1.0).collect();
+        let data = Dataset::single(&x, &y);
+        let d = diagnose(
+            &data,
+            std::slice::from_ref(&y),
+            None,
+            &[],
+            Orientation::Counterclockwise,
+        );
+        assert!(d.degenerate && d.line_rms < 1e-12, "{d:?}");
+        let message = d.message("f.csv", "N", 4.0);
+        assert!(message.starts_with("no hysteresis found in f.csv: the fitted model has no loop"));
+
+        let model = operator_model();
+        let looped = model.run(&x).unwrap();
+        let d = diagnose(
+            &data,
+            &[looped],
+            Some(&[estimate("k1", 0.1)]),
+            &[],
+            Orientation::Counterclockwise,
+        );
+        assert!(!d.degenerate, "{d:?}");
+        assert!(d.model_gap < -0.01, "{d:?}");
+    }
+
+    #[test]
+    fn residuals_that_follow_the_rate_are_found() {
+        let x = input();
+        let model = operator_model();
+        let y = model.run(&x).unwrap();
+        let mut measured = y.clone();
+        for i in 1..x.len() - 1 {
+            measured[i] += 30.0 * (x[i + 1] - x[i - 1]);
+        }
+        let data = Dataset::single(&x, &measured);
+        let d = diagnose(
+            &data,
+            std::slice::from_ref(&y),
+            None,
+            &[],
+            Orientation::Counterclockwise,
+        );
+        assert!(d.rate_share > 0.95, "{d:?}");
+        let data = Dataset::single(&x, &y);
+        let d = diagnose(&data, &[y], None, &[], Orientation::Counterclockwise);
+        assert!(d.rate_share < 1e-6, "{d:?}");
+    }
+
+    #[test]
+    fn a_nan_standard_error_is_degenerate_unless_expected() {
+        let x = input();
+        let model = operator_model();
+        let y = model.run(&x).unwrap();
+        let data = Dataset::single(&x, &y);
+        let nan = [estimate("k1", f64::NAN), estimate("k2", 0.5)];
+        let d = diagnose(
+            &data,
+            std::slice::from_ref(&y),
+            Some(&nan),
+            &[],
+            Orientation::Clockwise,
+        );
+        assert!(
+            d.degenerate && d.reasons[0].contains("does not identify k1"),
+            "{d:?}"
+        );
+        let d = diagnose(&data, &[y], Some(&nan), &["k1"], Orientation::Clockwise);
+        assert!(!d.degenerate, "{d:?}");
+    }
+}

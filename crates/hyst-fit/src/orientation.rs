@@ -1,0 +1,186 @@
+//! Which way the data's loops run, and the model form that follows from it.
+//!
+//! A loop runs counterclockwise in the (input, output) plane when the output is lower while the
+//! input rises than while it falls at the same input (the output lags: the operator's own
+//! loops), and clockwise when it is higher (the output leads: friction against position, the
+//! stop form). The input range is cut into bins; in each bin that holds both, the mean output
+//! of the rising samples minus that of the falling samples is the gap between the branches, and
+//! the sign of the samples-weighted mean gap gives the orientation. Unlike the signed area
+//! ∮ y dx, it needs no closed loop, and a curve without loops gives a gap near 0 whatever its
+//! shape.
+
+use serde::{Deserialize, Serialize};
+
+use crate::{Dataset, Form};
+
+/// The direction of the data's hysteresis loops in the (input, output) plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Orientation {
+    /// The output lags the input (piezo stacks, magnetic materials): the operator form.
+    Counterclockwise,
+    /// The output leads the input (friction against position): the stop form.
+    Clockwise,
+    /// No loop: the branches are less than [`crate::degeneracy::MIN_GAP`] of the output span
+    /// apart (a curve, or noise around one).
+    None,
+}
+
+impl Orientation {
+    /// The name printed in reports and written to JSON.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Orientation::Counterclockwise => "counterclockwise",
+            Orientation::Clockwise => "clockwise",
+            Orientation::None => "none",
+        }
+    }
+}
+
+/// The loops found in a dataset: their orientation and the gap between their branches.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Loops {
+    /// The orientation of the mean gap ([`Orientation::None`] when it is below
+    /// [`crate::degeneracy::MIN_GAP`]).
+    pub orientation: Orientation,
+    /// The mean output while rising minus while falling at the same input, as a fraction of the
+    /// output span: positive for clockwise, near 0 for data without loops (noise and rate
+    /// effects give a few 0.1 %), up to 1 for a rectangle.
+    pub gap: f64,
+}
+
+/// Input bins of the branch comparison.
+const BINS: usize = 32;
+
+/// The orientation of the loops in the training records of `data`.
+#[must_use]
+pub fn loops(data: &Dataset) -> Loops {
+    let (xlo, xhi) = data.input_range();
+    let (ylo, yhi) = data.output_range();
+    let xs = (xhi - xlo).max(f64::MIN_POSITIVE);
+    let ys = (yhi - ylo).max(f64::MIN_POSITIVE);
+    // Per bin and direction (0 rising, 1 falling): n, Σx, Σy, Σx², Σxy, in normalised units.
+    let mut sums = [[[0.0_f64; 5]; 2]; BINS];
+    for r in data.training() {
+        let n = r.input.len();
+        for i in 0..n {
+            // The direction by the central difference (one-sided at the ends).
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let dx = r.input[b] - r.input[a];
+            if dx == 0.0 || r.weight[i] <= 0.0 {
+                continue;
+            }
+            let x = (r.input[i] - xlo) / xs;
+            let bin = ((x * BINS as f64).floor().max(0.0) as usize).min(BINS - 1);
+            let y = (r.output[i] - ylo) / ys;
+            let s = &mut sums[bin][usize::from(dx < 0.0)];
+            for (acc, v) in s.iter_mut().zip([1.0, x, y, x * x, x * y]) {
+                *acc += v;
+            }
+        }
+    }
+    // In each bin, both branches as lines of one common slope: the gap is the difference of
+    // their intercepts at the same input (a steep curve sampled at different inputs on the way
+    // up and down has no gap).
+    let (mut gap, mut weight) = (0.0, 0.0);
+    for [[nr, xr, yr, xxr, xyr], [nf, xf, yf, xxf, xyf]] in sums {
+        if nr < 2.0 || nf < 2.0 {
+            continue;
+        }
+        let sxx = (xxr - xr * xr / nr) + (xxf - xf * xf / nf);
+        let sxy = (xyr - xr * yr / nr) + (xyf - xf * yf / nf);
+        let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+        let w = nr.min(nf);
+        gap += w * ((yr / nr - yf / nf) - slope * (xr / nr - xf / nf));
+        weight += w;
+    }
+    let gap = if weight > 0.0 { gap / weight } else { 0.0 };
+    Loops {
+        orientation: if gap.abs() < crate::degeneracy::MIN_GAP {
+            Orientation::None
+        } else if gap > 0.0 {
+            Orientation::Clockwise
+        } else {
+            Orientation::Counterclockwise
+        },
+        gap,
+    }
+}
+
+/// The form the user asks for: chosen from the data, or given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum FormChoice {
+    /// The stop form when the data's loops run clockwise, the operator form otherwise (also
+    /// when there is no loop).
+    #[default]
+    Auto,
+    /// Always the operator form ψ_out(H[ψ_in(in)]).
+    Operator,
+    /// Always the stop form ψ_out(v − H[v]) + c·v.
+    Stop,
+}
+
+impl FormChoice {
+    /// The form for data whose loops run `orientation`.
+    #[must_use]
+    pub fn resolve(self, orientation: Orientation) -> Form {
+        match (self, orientation) {
+            (FormChoice::Operator, _) => Form::Operator,
+            (FormChoice::Stop, _) => Form::Stop,
+            (FormChoice::Auto, Orientation::Counterclockwise | Orientation::None) => Form::Operator,
+            (FormChoice::Auto, Orientation::Clockwise) => Form::Stop,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    fn circle(clockwise: bool) -> Dataset {
+        let n = 400;
+        let (x, y): (Vec<f64>, Vec<f64>) = (0..=n)
+            .map(|k| {
+                let t = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+                let s = if clockwise { -t.sin() } else { t.sin() };
+                (t.cos(), s)
+            })
+            .unzip();
+        Dataset::single(&x, &y)
+    }
+
+    #[test]
+    fn a_circle_has_the_mean_gap_of_its_branches_and_its_direction() {
+        // x = cos t, y = ± sin t: the branches are ±√(1 − x²) (normalised to [0, 1]: gap
+        // √(1 − x²)), whose mean over bins of equal sample counts is about π/4 … 1.
+        let ccw = loops(&circle(false));
+        assert_eq!(ccw.orientation, Orientation::Counterclockwise);
+        assert!(ccw.gap < -0.5 && ccw.gap > -1.0, "{ccw:?}");
+        let cw = loops(&circle(true));
+        assert_eq!(cw.orientation, Orientation::Clockwise);
+        assert!((cw.gap + ccw.gap).abs() < 1e-12, "{cw:?}");
+    }
+
+    #[test]
+    fn a_curve_without_loops_has_no_area() {
+        let x: Vec<f64> = (0..200).map(|k| (k as f64 * 0.1).sin() * 3.0).collect();
+        let y: Vec<f64> = x.iter().map(|v| 1e300 * v.tanh()).collect();
+        let l = loops(&Dataset::single(&x, &y));
+        assert!(l.gap.abs() < 1e-3, "{l:?}");
+        assert_eq!(l.orientation, Orientation::None);
+    }
+
+    #[test]
+    fn auto_follows_the_orientation_and_a_given_form_does_not() {
+        use Orientation::{Clockwise, Counterclockwise};
+        assert_eq!(FormChoice::Auto.resolve(Orientation::None), Form::Operator);
+        assert_eq!(FormChoice::Auto.resolve(Clockwise), Form::Stop);
+        assert_eq!(FormChoice::Auto.resolve(Counterclockwise), Form::Operator);
+        assert_eq!(FormChoice::Operator.resolve(Clockwise), Form::Operator);
+        assert_eq!(FormChoice::Stop.resolve(Counterclockwise), Form::Stop);
+    }
+}
