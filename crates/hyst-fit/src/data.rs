@@ -29,6 +29,24 @@ pub struct Record {
     pub rows: Vec<usize>,
     /// Whether the record is held out for validation.
     pub validation: bool,
+    /// Whether this record continues the history of the record before it: a segment cut by
+    /// `--segment` from the same measurement. The model then runs on from the state the
+    /// previous segment left (see [`Dataset::histories`]) instead of starting afresh.
+    pub continues: bool,
+}
+
+/// Consecutive records that form one uninterrupted history (one measurement cut into
+/// segments, or a single record): their samples in order, and where each record lies in them.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct History {
+    /// Input samples of all the records, in order.
+    pub input: Vec<f64>,
+    /// Output samples.
+    pub output: Vec<f64>,
+    /// Weights.
+    pub weight: Vec<f64>,
+    /// (index of the record in [`Dataset::records`], first sample in this history, length).
+    pub parts: Vec<(usize, usize, usize)>,
 }
 
 impl Record {
@@ -177,6 +195,7 @@ impl Dataset {
                     weight: Vec::new(),
                     rows: Vec::new(),
                     validation: false,
+                    continues: false,
                 });
                 records.len() - 1
             });
@@ -204,6 +223,7 @@ impl Dataset {
                         weight: r.weight[start..end].to_vec(),
                         rows: r.rows[start..end].to_vec(),
                         validation: false,
+                        continues: start > 0,
                     });
                     next += 1;
                 }
@@ -279,8 +299,43 @@ impl Dataset {
                 weight: vec![1.0; n],
                 rows: (0..n).collect(),
                 validation: false,
+                continues: false,
             }],
         )
+    }
+
+    /// The records grouped into uninterrupted histories ([`Record::continues`]): a model runs
+    /// over each history from its start rule, so that a segment starts where the one before
+    /// it ended.
+    #[must_use]
+    pub fn histories(&self) -> Vec<History> {
+        let mut out: Vec<History> = Vec::new();
+        for (i, r) in self.records.iter().enumerate() {
+            if !r.continues || out.is_empty() {
+                out.push(History::default());
+            }
+            if let Some(h) = out.last_mut() {
+                h.parts.push((i, h.input.len(), r.len()));
+                h.input.extend_from_slice(&r.input);
+                h.output.extend_from_slice(&r.output);
+                h.weight.extend_from_slice(&r.weight);
+            }
+        }
+        out
+    }
+
+    /// Runs `run` (a record's input → the model output, `None` when the model cannot run it)
+    /// over each history and returns the output of every record, in record order.
+    #[must_use]
+    pub fn run_histories(&self, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
+        let mut out = vec![Vec::new(); self.records.len()];
+        for h in self.histories() {
+            let y = run(&h.input)?;
+            for (i, start, len) in h.parts {
+                out[i] = y.get(start..start + len)?.to_vec();
+            }
+        }
+        Some(out)
     }
 
     /// The training records.

@@ -10,6 +10,18 @@ use serde::{Deserialize, Serialize};
 use crate::orientation::{loops, Orientation};
 use crate::{Dataset, Estimate, Record};
 
+/// A model whose RMS error is above this fraction of the straight line's does no better than
+/// a line.
+pub const LINE_RATIO: f64 = 0.95;
+
+/// A model whose loop is below this share of the data's, and no better than a line, is a line
+/// in effect.
+pub const LOOP_SHARE: f64 = 0.1;
+
+/// The parameters of the hysteresis itself: when the data does not identify one of them, the
+/// fit found no hysteresis.
+pub const HYSTERESIS_PARAMETERS: [&str; 3] = ["k1", "k2", "k2.slope"];
+
 /// Below this gap between its rising and falling branches (fraction of the output span), a
 /// model has no loop: 0.1 %, about the resolution of a 10-bit sensor.
 pub const MIN_GAP: f64 = 1e-3;
@@ -19,8 +31,15 @@ pub const MIN_GAP: f64 = 1e-3;
 pub struct Diagnosis {
     /// The model has no loop, or parameters the data does not identify.
     pub degenerate: bool,
-    /// One clause per finding ("the fitted model has no loop …").
+    /// The model has its loop, and only parameters of the hysteresis went unidentified (k2 at
+    /// its bound, say): degenerate, but not "no hysteresis".
+    pub found_loop: bool,
+    /// One clause per finding ("the fitted model has no loop …"), then what the data's loops
+    /// call for.
     pub reasons: Vec<String>,
+    /// Findings that do not make the fit degenerate (shaping parameters the data does not
+    /// identify).
+    pub notes: Vec<String>,
     /// The gap between the model's own rising and falling branches on the training inputs
     /// (fraction of the output span; positive for clockwise).
     pub model_gap: f64,
@@ -69,8 +88,12 @@ impl Diagnosis {
             format!(" {unit}")
         };
         format!(
-            "no hysteresis found in {file}: {}; a straight line fits with RMS {}{unit} ({} % of \
-             the output span)",
+            "{} {file}: {}; a straight line fits with RMS {}{unit} ({} % of the output span)",
+            if self.found_loop {
+                "degenerate fit of"
+            } else {
+                "no hysteresis found in"
+            },
             self.reasons.join("; "),
             crate::report::sig(self.line_rms, 3),
             crate::report::sig(100.0 * self.line_rms / span, 3),
@@ -143,40 +166,107 @@ pub fn diagnose(
     modelled.records.clear();
 
     let mut reasons = Vec::new();
-    if gap.abs() < MIN_GAP {
+    let data_gap = loops(data).gap;
+    if gap.abs() >= MIN_GAP && data_gap.abs() >= MIN_GAP && gap * data_gap < 0.0 {
+        reasons.push(format!(
+            "the fitted model's loops run {} and the data's {} (branch gaps {} % and {} % of \
+             the output span): the structure cannot describe the data",
+            if gap > 0.0 {
+                "clockwise"
+            } else {
+                "counterclockwise"
+            },
+            if data_gap > 0.0 {
+                "clockwise"
+            } else {
+                "counterclockwise"
+            },
+            crate::report::sig(100.0 * gap, 2),
+            crate::report::sig(100.0 * data_gap, 2),
+        ));
+    } else if gap.abs() < MIN_GAP {
         reasons.push(format!(
             "the fitted model has no loop (its rising and falling branches are {} % of the \
-             output span apart, below {} %){}",
+             output span apart, below {} %)",
             crate::report::sig(100.0 * gap.abs(), 2),
             100.0 * MIN_GAP,
-            match data_orientation {
-                Orientation::Clockwise => {
-                    "; the data's loops run clockwise: the stop form (--form stop or auto) fits \
-                     those"
-                }
-                Orientation::Counterclockwise => "",
-                Orientation::None => "; the data holds no loop either",
-            }
         ));
     }
+    let model_rms = {
+        let (mut ss, mut n) = (0.0, 0usize);
+        for (r, y) in data.training().zip(outputs) {
+            for ((o, m), w) in r.output.iter().zip(y).zip(&r.weight) {
+                if *w > 0.0 {
+                    ss += (m - o).powi(2);
+                    n += 1;
+                }
+            }
+        }
+        (ss / n.max(1) as f64).sqrt()
+    };
+    let line = line_rms(data);
+    if reasons.is_empty()
+        && gap.abs() < LOOP_SHARE * data_gap.abs()
+        && model_rms >= LINE_RATIO * line
+        && line > 0.0
+    {
+        reasons.push(format!(
+            "the fitted model is a line in effect (its loop is {} % of the data's, and its RMS \
+             {} is no better than a straight line's)",
+            crate::report::sig(100.0 * gap.abs() / data_gap.abs(), 2),
+            crate::report::sig(model_rms, 3),
+        ));
+    }
+    let mut notes = Vec::new();
+    let mut found_loop = false;
     if let Some(estimates) = estimates {
-        let lost: Vec<&str> = estimates
-            .iter()
-            .filter(|e| e.std_error.is_nan() && !unidentified_ok.contains(&e.name.as_str()))
-            .map(|e| e.name.as_str())
-            .collect();
-        if !lost.is_empty() {
+        let lost = |hysteresis: bool| -> Vec<String> {
+            estimates
+                .iter()
+                .filter(|e| e.std_error.is_nan() && !unidentified_ok.contains(&e.name.as_str()))
+                .filter(|e| HYSTERESIS_PARAMETERS.contains(&e.name.as_str()) == hysteresis)
+                .map(|e| format!("{} = {}", e.name, crate::report::sig(e.value, 4)))
+                .collect()
+        };
+        let (core, shaping) = (lost(true), lost(false));
+        if !core.is_empty() {
+            found_loop = reasons.is_empty();
             reasons.push(format!(
                 "the data does not identify {} (standard error NaN)",
-                lost.join(", ")
+                core.join(", ")
+            ));
+        }
+        if !shaping.is_empty() {
+            notes.push(format!(
+                "the data does not identify {} (standard error NaN): the structure has a \
+                 freedom the data does not show (a shaping that does not saturate on the data, \
+                 say); a simpler structure fits as well and is better conditioned",
+                shaping.join(", ")
             ));
         }
     }
+    if !reasons.is_empty() && !found_loop {
+        reasons.push(
+            match data_orientation {
+                Orientation::Clockwise => {
+                    "the data's loops run clockwise: the stop form (--form stop or auto) fits those"
+                }
+                Orientation::Counterclockwise => {
+                    "the data's loops run counterclockwise: the operator form (--form operator or \
+                     auto) fits those"
+                }
+                Orientation::None => "the data holds no loop either",
+            }
+            .to_string(),
+        );
+    }
     Diagnosis {
         degenerate: !reasons.is_empty(),
+        found_loop,
         reasons,
+        notes,
         model_gap: gap,
-        line_rms: line_rms(data),
+        line_rms: line,
         rate_share: rate_share(data, outputs),
     }
 }
@@ -233,6 +323,7 @@ mod tests {
 
         let model = operator_model();
         let looped = model.run(&x).unwrap();
+        let data = Dataset::single(&x, &looped);
         let d = diagnose(
             &data,
             &[looped],

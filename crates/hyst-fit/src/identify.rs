@@ -133,8 +133,12 @@ pub fn identify(
     };
     // Did the requested model find hysteresis at all?
     let training_outputs = |run: &dyn Fn(&[f64]) -> Option<Vec<f64>>| -> Vec<Vec<f64>> {
-        data.training()
-            .map(|r| run(&r.input).unwrap_or_default())
+        let all = data.run_histories(run).unwrap_or_default();
+        data.records
+            .iter()
+            .zip(all)
+            .filter(|(r, _)| !r.validation)
+            .map(|(_, y)| y)
             .collect()
     };
     let mut notes = Vec::new();
@@ -173,6 +177,7 @@ pub fn identify(
             ))
         }
     };
+    notes.extend(diagnosis.notes.iter().cloned());
     if diagnosis.rate_share > crate::degeneracy::RATE_NOTE {
         notes.push(format!(
             "{} % of the residuals' variance follows the input's rate of change: the data holds \

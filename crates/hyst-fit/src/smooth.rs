@@ -16,6 +16,7 @@ use std::time::Instant;
 use hyst_core::{Dual, Shaping};
 use serde::Serialize;
 
+use crate::data::History;
 use crate::lm::{
     Infeasible, LevenbergMarquardt, Observer, Problem, Progress, Solution, Termination,
 };
@@ -127,6 +128,9 @@ pub struct SmoothFit {
 struct SmoothProblem<'a> {
     layout: &'a Layout,
     data: &'a Dataset,
+    /// The records as uninterrupted histories (segments of one measurement run on from each
+    /// other), each with the offset of its training samples in residual order.
+    histories: Vec<(History, Vec<Option<usize>>)>,
     input_range: (f64, f64),
     /// √w / output half-span per training sample, in residual order.
     scale: Vec<f64>,
@@ -140,9 +144,27 @@ impl<'a> SmoothProblem<'a> {
             .training()
             .flat_map(|r| r.weight.iter().map(move |w| w.sqrt() * inv))
             .collect();
+        // Residual offsets: training records in order.
+        let mut offsets = vec![None; data.records.len()];
+        let mut at = 0;
+        for (i, r) in data.records.iter().enumerate() {
+            if !r.validation {
+                offsets[i] = Some(at);
+                at += r.len();
+            }
+        }
+        let histories = data
+            .histories()
+            .into_iter()
+            .map(|h| {
+                let o = h.parts.iter().map(|(i, _, _)| offsets[*i]).collect();
+                (h, o)
+            })
+            .collect();
         Self {
             layout,
             data,
+            histories,
             input_range: data.input_range(),
             n: scale.len(),
             scale,
@@ -155,20 +177,28 @@ impl<'a> SmoothProblem<'a> {
             .map_err(|_| Infeasible)
     }
 
-    /// Simulates the training records; `z` receives the operator output when given.
+    /// Simulates the training records (each history whole, validation segments included, so
+    /// that a segment starts where the one before it ended); `z` receives the operator output
+    /// when given.
     fn simulate(
         &self,
         m: &SmoothModel,
         y: &mut [f64],
         mut z: Option<&mut [f64]>,
     ) -> Result<(), Infeasible> {
-        let mut at = 0;
-        for r in self.data.training() {
-            let end = at + r.len();
-            let zs = z.as_deref_mut().map(|z| &mut z[at..end]);
-            m.simulate(&r.input, zs, &mut y[at..end])
-                .map_err(|_| Infeasible)?;
-            at = end;
+        let (mut hy, mut hz) = (Vec::new(), Vec::new());
+        for (h, offsets) in &self.histories {
+            hy.resize(h.input.len(), 0.0);
+            hz.resize(h.input.len(), 0.0);
+            let zs = z.is_some().then_some(&mut hz[..]);
+            m.simulate(&h.input, zs, &mut hy).map_err(|_| Infeasible)?;
+            for ((_, start, len), at) in h.parts.iter().zip(offsets) {
+                let Some(at) = *at else { continue };
+                y[at..at + len].copy_from_slice(&hy[*start..start + len]);
+                if let Some(z) = z.as_deref_mut() {
+                    z[at..at + len].copy_from_slice(&hz[*start..start + len]);
+                }
+            }
         }
         Ok(())
     }
@@ -220,7 +250,8 @@ impl Problem for SmoothProblem<'_> {
 
 impl SmoothProblem<'_> {
     /// Columns `offset..offset + N` of the Jacobian (those that exist) from one dual run over
-    /// the training records: θ_j seeded as the dual variable j − offset, the others constant.
+    /// each history (as [`SmoothProblem::simulate`] runs them): θ_j seeded as the dual variable
+    /// j − offset, the others constant.
     fn dual_columns<const N: usize>(
         &self,
         theta: &[f64],
@@ -238,11 +269,24 @@ impl SmoothProblem<'_> {
         let jac = jac
             .get_mut(offset * n..(offset + columns) * n)
             .ok_or(Infeasible)?;
-        let mut at = 0;
         let mut finite = true;
-        for rec in self.data.training() {
-            m.run_with(&rec.input, |i, _, y| {
-                let k = at + i;
+        // Each history whole, as `simulate` runs it; a sample of a training part lands at its
+        // residual's row (parts are in sample order, so one cursor walks them).
+        for (h, offsets) in &self.histories {
+            let mut parts = h.parts.iter().zip(offsets).peekable();
+            m.run_with(&h.input, |i, _, y| {
+                while parts
+                    .peek()
+                    .is_some_and(|((_, start, len), _)| i >= start + len)
+                {
+                    parts.next();
+                }
+                let Some(&((_, start, _), Some(at))) = parts.peek() else {
+                    return;
+                };
+                let Some(k) = i.checked_sub(*start).map(|d| at + d) else {
+                    return;
+                };
                 let scale = self.scale.get(k).copied().unwrap_or(0.0);
                 for (c, g) in y.gradient().iter().take(columns).enumerate() {
                     let d = g * scale;
@@ -253,7 +297,6 @@ impl SmoothProblem<'_> {
                 }
             })
             .map_err(|_| Infeasible)?;
-            at += rec.len();
         }
         if finite {
             Ok(())
@@ -304,6 +347,13 @@ pub fn fit_smooth(
     observer: &mut dyn Observer,
 ) -> Result<SmoothFit, FitError> {
     let started = Instant::now();
+    if options.starts == 0 {
+        return Err(FitError::InvalidSetting {
+            name: "starts",
+            value: 0.0,
+            expected: "at least 1 start".into(),
+        });
+    }
     if !(options.coverage > 0.0 && options.coverage <= 1.0) {
         return Err(FitError::Invalid(format!(
             "coverage {} must be in (0, 1]",
@@ -337,8 +387,21 @@ pub fn fit_smooth(
         }
     }
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    candidates.truncate(options.starts);
+    // The optimum of the simpler structure this one contains, as one more start: the fit then
+    // never ends worse than that simpler fit (local minima of the richer one aside).
+    if let Some(simple) = simpler(structure) {
+        let inner = FitOptions {
+            widths: false,
+            ..*options
+        };
+        let f = fit_smooth(data, simple, &inner, observer)?;
+        if let Some(theta) = embed(&layout, &f, problem.input_range) {
+            candidates.insert(0, (f64::NAN, theta));
+        }
+    }
     let mut best: Option<Solution> = None;
-    for (start, (_, theta0)) in candidates.iter().take(options.starts.max(1)).enumerate() {
+    for (start, (_, theta0)) in candidates.iter().enumerate() {
         let mut tagged = Tagged {
             inner: &mut *observer,
             start,
@@ -360,17 +423,48 @@ pub fn fit_smooth(
     let dof = (problem.n - p).max(1) as f64;
     let s2 = best.cost / dof * layout.norm.output_half_span.powi(2);
     let dahl = dahl_limit(&model).is_some();
-    let kept: Vec<usize> = (0..p)
+    let mut kept: Vec<usize> = (0..p)
         .filter(|&j| !(dahl && layout.params[j].name == "k1"))
         .collect();
-    let q = kept.len();
-    let mut reduced = vec![0.0; q * q];
-    for (a, &i) in kept.iter().enumerate() {
-        for (b, &j) in kept.iter().enumerate() {
-            reduced[a * q + b] = best.jtj[i * p + j];
+    let mut inv = reduced_inverse(&best.jtj, p, &kept);
+    if inv.is_none() {
+        // Singular: the parameters whose removal makes it invertible span the direction the
+        // data does not see; they get NaN, the others their standard errors without them.
+        let lost: Vec<usize> = kept
+            .iter()
+            .copied()
+            .filter(|&j| {
+                let without: Vec<usize> = kept.iter().copied().filter(|&k| k != j).collect();
+                reduced_inverse(&best.jtj, p, &without).is_some()
+            })
+            .collect();
+        if let Some(&first) = lost.first() {
+            let without: Vec<usize> = kept.iter().copied().filter(|&k| k != first).collect();
+            inv = reduced_inverse(&best.jtj, p, &without);
+            kept = without.into_iter().filter(|k| !lost.contains(k)).collect();
+            // Standard errors of the kept ones come from the matrix without `first` only.
+            let with_first_removed: Vec<usize> = (0..p)
+                .filter(|&j| j != first && !(dahl && layout.params[j].name == "k1"))
+                .collect();
+            inv = inv.map(|full| {
+                let q = with_first_removed.len();
+                let mut out = vec![f64::NAN; kept.len() * kept.len()];
+                for (a, &i) in kept.iter().enumerate() {
+                    for (b, &j) in kept.iter().enumerate() {
+                        let (Some(x), Some(y)) = (
+                            with_first_removed.iter().position(|&k| k == i),
+                            with_first_removed.iter().position(|&k| k == j),
+                        ) else {
+                            continue;
+                        };
+                        out[a * kept.len() + b] = full[x * q + y];
+                    }
+                }
+                out
+            });
         }
     }
-    let inv = crate::linalg::spd_inverse(&reduced, q);
+    let q = kept.len();
     let scale2 = layout.norm.output_half_span.powi(2);
     let estimates: Vec<Estimate> = layout
         .params
@@ -417,6 +511,103 @@ pub fn fit_smooth(
         termination: best.termination,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The inverse of the rows and columns `kept` of the p × p matrix `a`.
+fn reduced_inverse(a: &[f64], p: usize, kept: &[usize]) -> Option<Vec<f64>> {
+    let q = kept.len();
+    let mut reduced = vec![0.0; q * q];
+    for (x, &i) in kept.iter().enumerate() {
+        for (y, &j) in kept.iter().enumerate() {
+            reduced[x * q + y] = a[i * p + j];
+        }
+    }
+    crate::linalg::spd_inverse(&reduced, q)
+}
+
+/// The simpler structure that `structure` contains, whose optimum is an exact (or, for a
+/// saturating ψ_out, a close) point of `structure`: affine k2 ⊃ constant k2; polynomial ψ_in ⊃
+/// affine ψ_in; poly3 ψ_out ⊃ poly2 ⊃ affine; tanh and Langevin ψ_out ⊃ affine in the limit
+/// of a wide scale. `None` for the simplest structures (and for saturating or quad-exp ψ_in,
+/// whose limits rescale k1 and k2).
+#[must_use]
+pub fn simpler(structure: Structure) -> Option<Structure> {
+    use crate::{K2Kind, ShapingKind};
+    if structure.k2 == K2Kind::Affine {
+        return Some(Structure {
+            k2: K2Kind::Constant,
+            ..structure
+        });
+    }
+    let input = match structure.input_shaping {
+        ShapingKind::Poly3 => Some(ShapingKind::Poly2),
+        ShapingKind::Poly2 => Some(ShapingKind::Affine),
+        _ => None,
+    };
+    if let Some(input_shaping) = input {
+        return Some(Structure {
+            input_shaping,
+            ..structure
+        });
+    }
+    let output = match structure.output_shaping {
+        ShapingKind::Poly3 => Some(ShapingKind::Poly2),
+        ShapingKind::Poly2 | ShapingKind::Tanh | ShapingKind::Langevin => Some(ShapingKind::Affine),
+        ShapingKind::Affine | ShapingKind::QuadExp => None,
+    };
+    output.map(|output_shaping| Structure {
+        output_shaping,
+        ..structure
+    })
+}
+
+/// The fit `simple` of the structure [`simpler`] gave, as θ of `layout`: shared parameters
+/// keep their values, the new ones take the values that reproduce the simpler model (a k2
+/// slope and polynomial coefficients of 0; a tanh or Langevin ψ_out of a scale 30 times its
+/// argument's range, centred, whose gain makes its slope at 0 the affine gain). `None` when
+/// the point is not feasible.
+fn embed(layout: &Layout, simple: &SmoothFit, input_range: (f64, f64)) -> Option<Vec<f64>> {
+    use crate::ShapingKind;
+    let value = |name: &str| {
+        simple
+            .estimates
+            .iter()
+            .find(|e| e.name == name)
+            .map(|e| e.value)
+    };
+    let saturating = matches!(
+        layout.structure.output_shaping,
+        ShapingKind::Tanh | ShapingKind::Langevin
+    ) && simple.layout.structure.output_shaping == ShapingKind::Affine;
+    let (v_lo, v_hi) = (
+        simple.model.input_shaping.apply(input_range.0),
+        simple.model.input_shaping.apply(input_range.1),
+    );
+    let (a_lo, a_hi) =
+        SmoothModel::output_argument_range(simple.model.form, simple.model.k1, v_lo, v_hi);
+    // In the stop form ψ_out sees (v − H[v]) / k1 ∈ [−1, 1].
+    let reach = match simple.model.form {
+        crate::Form::Operator => a_lo.abs().max(a_hi.abs()),
+        crate::Form::Stop => 1.0,
+    };
+    let scale = 30.0 * reach;
+    // Slope at 0: tanh 1, Langevin 1/3.
+    let slope = match layout.structure.output_shaping {
+        ShapingKind::Langevin => 1.0 / 3.0,
+        _ => 1.0,
+    };
+    let mut theta = Vec::with_capacity(layout.len());
+    for spec in &layout.params {
+        let v = match (spec.name.as_str(), saturating) {
+            ("out.scale", true) => scale,
+            ("out.centre", true) => 0.0,
+            ("out.gain" | "out.level", true) => value(&spec.name)? * scale / slope,
+            (name, _) => value(name).unwrap_or(0.0),
+        };
+        theta.push(spec.transform.theta(v));
+    }
+    layout.model(&theta, input_range).ok()?;
+    Some(theta)
 }
 
 /// Below this k1 · k2 the stop form is in its Dahl limit: its transition after a reversal is
@@ -503,10 +694,10 @@ pub fn error_stats(
     let span = (hi - lo).max(f64::MIN_POSITIVE);
     let mut train = Vec::new();
     let mut val = Vec::new();
-    for r in &data.records {
-        let y = run(&r.input).ok_or_else(|| {
-            FitError::NoConvergence(format!("the fitted model cannot run record {}", r.id))
-        })?;
+    let outputs = data
+        .run_histories(run)
+        .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
+    for (r, y) in data.records.iter().zip(&outputs) {
         let errs = if r.validation { &mut val } else { &mut train };
         for ((m, o), w) in y.iter().zip(&r.output).zip(&r.weight) {
             if *w > 0.0 {
@@ -554,5 +745,122 @@ pub fn check_finite<'a>(
             value,
         }),
         None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
+    use super::*;
+    use crate::structure::{K2Kind, ShapingKind};
+    use crate::{Columns, Form, Record};
+
+    /// Three records: the second continues the first (one history), the third is held out in
+    /// between so the residual rows skip it, and a fourth starts afresh.
+    fn data() -> Dataset {
+        let record = |id: i64, phase: f64, validation: bool, continues: bool| {
+            let input: Vec<f64> = (0..300)
+                .map(|k| {
+                    let t = f64::from(k) * 0.03 + phase;
+                    2.0 + 1.5 * t.sin() * (1.0 + 0.3 * (0.31 * t).cos())
+                })
+                .collect();
+            let output = input
+                .iter()
+                .map(|x| 3.0 * x + 0.4 * (x * 1.7).sin())
+                .collect();
+            Record {
+                id,
+                weight: vec![1.0; input.len()],
+                rows: (0..input.len()).collect(),
+                output,
+                input,
+                validation,
+                continues,
+            }
+        };
+        let records = vec![
+            record(0, 0.0, false, false),
+            record(1, 9.0, true, true),
+            record(2, 18.0, false, true),
+            record(3, 2.0, false, false),
+        ];
+        Dataset::from_records("test", Columns::default(), records)
+    }
+
+    /// The dual Jacobian equals central differences of the residuals (the same evaluation), for
+    /// structures with every kind of parameter: k2 law, ψ_in, ψ_out, offsets, the stop form.
+    #[test]
+    fn dual_jacobian_equals_central_differences() {
+        let data = data();
+        let structures = [
+            (
+                K2Kind::Constant,
+                ShapingKind::Affine,
+                ShapingKind::Tanh,
+                Form::Operator,
+            ),
+            (
+                K2Kind::Affine,
+                ShapingKind::Poly2,
+                ShapingKind::Langevin,
+                Form::Operator,
+            ),
+            (
+                K2Kind::Constant,
+                ShapingKind::Langevin,
+                ShapingKind::Poly3,
+                Form::Operator,
+            ),
+            (
+                K2Kind::Constant,
+                ShapingKind::Tanh,
+                ShapingKind::Affine,
+                Form::Stop,
+            ),
+        ];
+        for (k2, input_shaping, output_shaping, form) in structures {
+            let structure = Structure {
+                k2,
+                input_shaping,
+                output_shaping,
+                form,
+                ..Structure::default()
+            };
+            let layout = Layout::new(structure, normalisation(&data));
+            let problem = SmoothProblem::new(&layout, &data);
+            let (n, p) = (problem.n, layout.len());
+            // A point away from the neutral start (k1 0.3, k2 4, small shape parameters).
+            let mut theta = layout.start();
+            theta[0] = 0.3_f64.ln();
+            theta[1] = 4.0_f64.ln();
+            for (j, spec) in layout.params.iter().enumerate().skip(2) {
+                if spec.transform == crate::structure::Transform::Linear && spec.start == 0.0 {
+                    theta[j] = 0.01 * (j as f64);
+                }
+            }
+            let mut r = vec![0.0; n];
+            problem.residuals(&theta, &mut r).unwrap();
+            let mut jac = vec![0.0; n * p];
+            problem.jacobian(&theta, &r, &mut jac).unwrap();
+            let (mut up, mut down) = (vec![0.0; n], vec![0.0; n]);
+            for j in 0..p {
+                let h = 1e-6 * theta[j].abs().max(1.0);
+                let mut t = theta.clone();
+                t[j] = theta[j] + h;
+                problem.residuals(&t, &mut up).unwrap();
+                t[j] = theta[j] - h;
+                problem.residuals(&t, &mut down).unwrap();
+                for i in 0..n {
+                    let fd = (up[i] - down[i]) / (2.0 * h);
+                    let d = jac[j * n + i];
+                    assert!(
+                        (d - fd).abs() <= 1e-5 * (1.0 + fd.abs()),
+                        "{structure:?} {} row {i}: dual {d} vs central difference {fd}",
+                        layout.params[j].name
+                    );
+                }
+            }
+        }
     }
 }

@@ -67,18 +67,19 @@ fn coverage(
     let family = Family::with_k2_law(model.k1, d1, model.k2, d2)?;
     let mut inside = 0usize;
     let mut samples = 0usize;
-    for r in &data.records {
-        let Some(&first) = r.input.first() else {
+    // Each history whole: a segment starts where the one before it ended.
+    for h in data.histories() {
+        let Some(&first) = h.input.first() else {
             continue;
         };
-        let n = r.input.len();
+        let n = h.input.len();
         lower.resize(n, 0.0);
         upper.resize(n, 0.0);
         let (lower, upper) = (&mut lower[..n], &mut upper[..n]);
-        family.envelope_with(&r.input, lower, upper, 3, |member| {
+        family.envelope_with(&h.input, lower, upper, 3, |member| {
             model.shaped(member, first)
         })?;
-        let r = Reproducibility::compare(&r.output, Some(&r.weight), lower, upper, 0.0);
+        let r = Reproducibility::compare(&h.output, Some(&h.weight), lower, upper, 0.0);
         inside += r.inside;
         samples += r.samples;
     }

@@ -42,9 +42,13 @@ def test_options_mirror_the_cli(piezo):
     seg = hyst.fit(u, y, segment=1000, initial_state="line", validate=[2])
     assert seg.validation is not None and seg.validation["samples"] == 1000
     assert hyst.fit(u, y, segments=1000, initial_state="line", validate=[2]).params == seg.params
+    # Segments of one record are one history: cutting it changes nothing without validation.
+    whole = hyst.fit(u, y, initial_state="line")
+    assert hyst.fit(u, y, segment=1000, initial_state="line").params == whole.params
+    # Independent records each start afresh (from the start rule), so they fit differently.
     rec = np.repeat([0, 1, 2], 1000)
     by_record = hyst.fit(u, y, record=rec, initial_state="line", validate_every=3)
-    assert by_record.params == seg.params
+    assert by_record.validation["samples"] == 1000 and by_record.params != seg.params
     w = np.ones_like(u)
     w[::2] = 0.0
     weighted = hyst.fit(u, y, weight=w)
@@ -103,3 +107,36 @@ def test_pickle_fit_result(piezo):
     again = pickle.loads(pickle.dumps(r))
     assert again.params == r.params and again.report() == r.report()
     assert "FitResult(kind=\"smooth\"" in repr(r)
+
+
+def _friction():
+    """Force against position with a clockwise loop: 3 · (x − H[x]) plus noise, a stop form."""
+    t = np.arange(6000) * 1e-3
+    x = 4.0 * np.sin(2 * np.pi * 0.7 * t) + 1.5 * np.sin(2 * np.pi * 1.9 * t + 0.4)
+    h = hyst.Hysteresis(k1=0.3, k2=12.0)
+    force = 3.0 * (x - h.process(x)) + 0.05 * np.random.default_rng(7).standard_normal(x.size)
+    return x, force
+
+
+def test_friction_takes_the_stop_form_and_says_so():
+    x, force = _friction()
+    r = hyst.fit(x, force)
+    assert r.orientation == "clockwise" and r.loop_gap > 0.1
+    assert "out.level" in r.params and "out.linear" in r.params
+    assert r.rms < 1.2 * 0.05 and not r.degenerate  # at the noise level
+    assert "stop form" in r.report()
+    back = pickle.loads(pickle.dumps(r))
+    assert (back.orientation, back.loop_gap, back.notes) == (r.orientation, r.loop_gap, r.notes)
+    # The stop form has no inverse.
+    with pytest.raises(ValueError, match="no inverse"):
+        r.model.inverse()
+
+
+def test_a_fit_without_hysteresis_raises_unless_kept():
+    x, force = _friction()
+    with pytest.raises(ValueError, match="^no hysteresis found in"):
+        hyst.fit(x, force, form="operator")
+    kept = hyst.fit(x, force, form="operator", keep_degenerate=True)
+    assert kept.degenerate and kept.notes[0].startswith("no hysteresis found")
+    with pytest.raises(ValueError, match="form"):
+        hyst.fit(x, force, form="clockwise")

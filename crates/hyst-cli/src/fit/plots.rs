@@ -79,9 +79,12 @@ pub(super) fn draw(
     for (name, run) in &runs {
         let mut io = Vec::new();
         let mut res = Vec::new();
-        for r in &data.records {
-            let y = run(&r.input).context("the fitted model cannot run the data")?;
-            for (((x, m), o), row) in r.input.iter().zip(&y).zip(&r.output).zip(&r.rows) {
+        // As the fit ran them: segments of one measurement run on from each other.
+        let outputs = data
+            .run_histories(run)
+            .context("the fitted model cannot run the data")?;
+        for (r, y) in data.records.iter().zip(&outputs) {
+            for (((x, m), o), row) in r.input.iter().zip(y).zip(&r.output).zip(&r.rows) {
                 io.push((*x, *m));
                 let at = match time {
                     Some((_, t)) => t.get(*row).copied().unwrap_or(f64::NAN),
