@@ -9,7 +9,7 @@
 //! Internally the coefficients are normalised Taylor coefficients `f^(k)(t)/k!`; use
 //! [`Jet::from_derivatives`] and [`Jet::derivatives`] at the boundary.
 
-use core::ops::{Add, Div, Mul, Neg, Sub};
+use core::ops::{Div, Mul};
 
 use crate::Real;
 
@@ -199,41 +199,7 @@ impl<T: Real, const N: usize> Jet<T, N> {
     }
 }
 
-impl<T: Real, const N: usize> Add for Jet<T, N> {
-    type Output = Self;
-    #[inline]
-    fn add(mut self, rhs: Self) -> Self {
-        self.v = self.v + rhs.v;
-        for (a, b) in self.d.iter_mut().zip(rhs.d.iter()) {
-            *a = *a + *b;
-        }
-        self
-    }
-}
-
-impl<T: Real, const N: usize> Sub for Jet<T, N> {
-    type Output = Self;
-    #[inline]
-    fn sub(mut self, rhs: Self) -> Self {
-        self.v = self.v - rhs.v;
-        for (a, b) in self.d.iter_mut().zip(rhs.d.iter()) {
-            *a = *a - *b;
-        }
-        self
-    }
-}
-
-impl<T: Real, const N: usize> Neg for Jet<T, N> {
-    type Output = Self;
-    #[inline]
-    fn neg(mut self) -> Self {
-        self.v = -self.v;
-        for a in self.d.iter_mut() {
-            *a = -*a;
-        }
-        self
-    }
-}
+linear_ops!(Jet);
 
 impl<T: Real, const N: usize> Mul for Jet<T, N> {
     type Output = Self;
@@ -266,48 +232,6 @@ impl<T: Real, const N: usize> Div for Jet<T, N> {
             q.set(k, s / rhs.v);
         }
         q
-    }
-}
-
-impl<T: Real, const N: usize> Add<T> for Jet<T, N> {
-    type Output = Self;
-    #[inline]
-    fn add(mut self, rhs: T) -> Self {
-        self.v = self.v + rhs;
-        self
-    }
-}
-
-impl<T: Real, const N: usize> Sub<T> for Jet<T, N> {
-    type Output = Self;
-    #[inline]
-    fn sub(mut self, rhs: T) -> Self {
-        self.v = self.v - rhs;
-        self
-    }
-}
-
-impl<T: Real, const N: usize> Mul<T> for Jet<T, N> {
-    type Output = Self;
-    #[inline]
-    fn mul(mut self, rhs: T) -> Self {
-        self.v = self.v * rhs;
-        for a in self.d.iter_mut() {
-            *a = *a * rhs;
-        }
-        self
-    }
-}
-
-impl<T: Real, const N: usize> Div<T> for Jet<T, N> {
-    type Output = Self;
-    #[inline]
-    fn div(mut self, rhs: T) -> Self {
-        self.v = self.v / rhs;
-        for a in self.d.iter_mut() {
-            *a = *a / rhs;
-        }
-        self
     }
 }
 

@@ -62,7 +62,9 @@ pub(crate) fn w0_finite<T: Real>(x: T) -> T {
 ///
 /// ω is the solution of ω + ln ω = y. ω(−∞) = 0, ω(+∞) = +∞, NaN gives NaN.
 /// For y ≤ [`Real::EXP_ARG_MAX`] it is `W0(exp(y))`; above, it starts from the asymptotic
-/// expansion y − ln y + ln y / y and applies two Fritsch–Shafer–Crowley steps (fourth order).
+/// expansion y − ln y + ln y / y and applies two Fritsch–Shafer–Crowley steps (fourth order);
+/// on a [`Dual`](crate::Dual) the gradient is ω'(y) = ω / (1 + ω) times y's, for every y
+/// ([`Real::implicit_root`]).
 ///
 /// # Examples
 /// ```
@@ -75,6 +77,13 @@ pub(crate) fn w0_finite<T: Real>(x: T) -> T {
 /// ```
 #[must_use]
 pub fn omega<T: Real>(y: T) -> T {
+    // Derivatives (duals) from ω + ln ω − y = 0, i.e. ω' = ω / (1 + ω): neither through the
+    // iterations nor through e^y (whose derivative overflows long before ω does).
+    omega_value(y).implicit_root(|w| (w + w.ln() - y, T::one() + w.recip()))
+}
+
+/// ω(y) on the values (see [`omega`]).
+fn omega_value<T: Real>(y: T) -> T {
     if y <= T::EXP_ARG_MAX {
         // exp(−∞) = 0 and W0(0) = 0; NaN propagates.
         return w0(y.exp());

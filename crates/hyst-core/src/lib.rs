@@ -28,7 +28,93 @@ macro_rules! forward_memory {
     };
 }
 
+/// The linear operations of a value-plus-coefficients type (`Jet`, `Dual`: fields `v: T` and
+/// `d: [T; N]`): `+`, `-` and negation act on every part; adding or subtracting a plain number
+/// moves the value only; multiplying or dividing by one scales every part.
+macro_rules! linear_ops {
+    ($ty:ident) => {
+        impl<T: Real, const N: usize> core::ops::Add for $ty<T, N> {
+            type Output = Self;
+            #[inline]
+            fn add(mut self, rhs: Self) -> Self {
+                self.v = self.v + rhs.v;
+                for (a, b) in self.d.iter_mut().zip(rhs.d.iter()) {
+                    *a = *a + *b;
+                }
+                self
+            }
+        }
+
+        impl<T: Real, const N: usize> core::ops::Sub for $ty<T, N> {
+            type Output = Self;
+            #[inline]
+            fn sub(mut self, rhs: Self) -> Self {
+                self.v = self.v - rhs.v;
+                for (a, b) in self.d.iter_mut().zip(rhs.d.iter()) {
+                    *a = *a - *b;
+                }
+                self
+            }
+        }
+
+        impl<T: Real, const N: usize> core::ops::Neg for $ty<T, N> {
+            type Output = Self;
+            #[inline]
+            fn neg(mut self) -> Self {
+                self.v = -self.v;
+                for a in self.d.iter_mut() {
+                    *a = -*a;
+                }
+                self
+            }
+        }
+
+        impl<T: Real, const N: usize> core::ops::Add<T> for $ty<T, N> {
+            type Output = Self;
+            #[inline]
+            fn add(mut self, rhs: T) -> Self {
+                self.v = self.v + rhs;
+                self
+            }
+        }
+
+        impl<T: Real, const N: usize> core::ops::Sub<T> for $ty<T, N> {
+            type Output = Self;
+            #[inline]
+            fn sub(mut self, rhs: T) -> Self {
+                self.v = self.v - rhs;
+                self
+            }
+        }
+
+        impl<T: Real, const N: usize> core::ops::Mul<T> for $ty<T, N> {
+            type Output = Self;
+            #[inline]
+            fn mul(mut self, rhs: T) -> Self {
+                self.v = self.v * rhs;
+                for a in self.d.iter_mut() {
+                    *a = *a * rhs;
+                }
+                self
+            }
+        }
+
+        impl<T: Real, const N: usize> core::ops::Div<T> for $ty<T, N> {
+            type Output = Self;
+            #[inline]
+            fn div(mut self, rhs: T) -> Self {
+                self.v = self.v / rhs;
+                for a in self.d.iter_mut() {
+                    *a = *a / rhs;
+                }
+                self
+            }
+        }
+    };
+}
+
 pub mod compensator;
+pub mod dual;
 pub mod error;
 pub mod family;
 pub mod jet;
@@ -47,6 +133,7 @@ pub mod shaping;
 pub mod stop;
 
 pub use compensator::Compensator;
+pub use dual::Dual;
 pub use error::Error;
 pub use family::{Bound, Family, RangeBound, Reproducibility, ShiftedK2};
 pub use jet::Jet;

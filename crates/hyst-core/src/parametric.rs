@@ -101,6 +101,15 @@ fn decay<T: Real>(k2: T, z_half: T) -> T {
 /// when a step leaves it. Every intermediate value is finite or +∞ (e^(−∞) = 0), never NaN for
 /// finite M*, k2 > 0 and ṽ ≥ 0.
 fn direct_gap<T: Real>(v_half: T, m_star: T, k2: T) -> T {
+    // Derivatives (duals) from g(e) = 0 at the root, not through the iterations.
+    bracketed_gap(v_half, m_star, k2).implicit_root(|e| {
+        let t = decay(k2, v_half - e * T::from_f64(0.5));
+        (e - m_star * (T::one() - t), T::one() + m_star * (k2 * t))
+    })
+}
+
+/// The iteration of [`direct_gap`] on the values.
+fn bracketed_gap<T: Real>(v_half: T, m_star: T, k2: T) -> T {
     let zero = T::zero();
     let half = T::from_f64(0.5);
     let mut lo = zero;
@@ -147,7 +156,18 @@ fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
     let b = k2 * (S::constant(m_star) - v_tilde);
     let x = a * b.exp();
     let u_tilde = if x.value().is_finite() {
-        v_tilde - m_star + x.w0() / k2
+        let w = x.w0();
+        // A dual's gradient of x = a e^b overflows before x does (e^b times k2's gradient);
+        // for W > 1 it comes from w + ln w = ln a + b instead (identity on plain floats).
+        let w = if w.value() > T::one() {
+            w.implicit(|w| {
+                let slope = S::constant(T::one()) + S::constant(T::one()) / w;
+                (w + w.ln() - (k2.ln() + m_star.ln() + b), slope)
+            })
+        } else {
+            w
+        };
+        v_tilde - m_star + w / k2
     } else {
         let ln_a = k2.ln() + m_star.ln();
         let w = (ln_a + b).omega();
@@ -561,5 +581,38 @@ impl<T: Real, K: K2Law<T> + Clone> ParametricHysteresis<T, K, Inverse> {
     #[must_use]
     pub fn direct(&self) -> ParametricHysteresis<T, K, Direct> {
         self.mirrored()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Dual;
+
+    /// The overflow-free form's root e(ṽ/2, M*, k2): its dual gradient (implicit-function
+    /// theorem) against central differences of the plain iteration.
+    #[test]
+    fn direct_gap_gradient_is_the_implicit_one() {
+        for &(v_half, m_star, k2) in &[(0.1_f64, 0.3, 8.0), (0.02, 0.25, 40.0), (1.5, 0.1, 0.7)] {
+            let p = [v_half, m_star, k2];
+            let e = direct_gap(
+                Dual::<f64, 3>::variable(v_half, 0),
+                Dual::variable(m_star, 1),
+                Dual::variable(k2, 2),
+            );
+            assert_eq!(e.value(), direct_gap(v_half, m_star, k2));
+            for (j, g) in e.gradient().iter().enumerate() {
+                let h = 1e-6 * p[j];
+                let (mut up, mut down) = (p, p);
+                up[j] += h;
+                down[j] -= h;
+                let fd = (direct_gap(up[0], up[1], up[2]) - direct_gap(down[0], down[1], down[2]))
+                    / (2.0 * h);
+                assert!(
+                    (g - fd).abs() <= 1e-7 * (1.0 + fd.abs()),
+                    "{p:?} {j}: {g} vs {fd}"
+                );
+            }
+        }
     }
 }

@@ -2,7 +2,9 @@
 
 use core::fmt::{Debug, Display};
 
-/// A real floating-point type: implemented for `f32` and `f64`.
+/// A real floating-point type: implemented for `f32` and `f64`, and for
+/// [`Dual<f32 or f64, N>`](crate::Dual) (a value with its gradient with respect to N parameters,
+/// for parameter sensitivities through the same code).
 ///
 /// All maths goes through [`num_traits::Float`]: without the `std` feature its functions are
 /// `libm`'s, with `std` they are the platform's (the standard library's `exp`, `ln`, …), so
@@ -25,6 +27,21 @@ pub trait Real:
     /// The largest `y` for which `exp(y)` is finite, less a safety margin: above it the Wright
     /// omega function is evaluated in the log domain.
     const EXP_ARG_MAX: Self;
+    /// Zero, as a constant (for constants of composite types such as [`Dual`](crate::Dual)).
+    const ZERO: Self;
+
+    /// The derivatives of a root w of g(w; p) = 0 that an iteration has converged to on the
+    /// values: `residual_and_slope(w)` returns (g(w), ∂g/∂w) at w. A plain float has no
+    /// derivatives and returns `self` without calling it (no cost on the plain path); a
+    /// [`Dual`](crate::Dual) keeps its value and takes its gradient from the implicit-function
+    /// theorem, ∂w/∂p = −(∂g/∂p) / (∂g/∂w) (g evaluated at the value held constant), so no
+    /// iteration is ever differentiated.
+    #[inline(always)]
+    #[must_use]
+    fn implicit_root(self, residual_and_slope: impl FnOnce(Self) -> (Self, Self)) -> Self {
+        let _ = residual_and_slope;
+        self
+    }
 }
 
 impl Real for f64 {
@@ -45,6 +62,7 @@ impl Real for f64 {
         lambert_w::lambert_w0(self)
     }
     const EXP_ARG_MAX: Self = 700.0;
+    const ZERO: Self = 0.0;
 }
 
 impl Real for f32 {
@@ -65,4 +83,5 @@ impl Real for f32 {
         lambert_w::lambert_w0f(self)
     }
     const EXP_ARG_MAX: Self = 85.0;
+    const ZERO: Self = 0.0;
 }

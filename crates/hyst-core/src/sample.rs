@@ -54,6 +54,16 @@ pub trait Sample<T: Real>:
     /// Wright omega ω(x) = W0(e^x).
     #[must_use]
     fn omega(self) -> Self;
+    /// A root w of g(w) = 0 whose parameter gradient (if the number type carries one) should
+    /// come from the implicit-function theorem: [`Real::implicit_root`] for plain numbers
+    /// (identity on `f32`/`f64`, the gradient of a [`Dual`](crate::Dual)); a jet keeps its
+    /// Taylor-arithmetic derivatives.
+    #[must_use]
+    #[inline(always)]
+    fn implicit(self, residual_and_slope: impl FnOnce(Self) -> (Self, Self)) -> Self {
+        let _ = residual_and_slope;
+        self
+    }
 }
 
 impl<T: Real> Sample<T> for T {
@@ -101,6 +111,10 @@ impl<T: Real> Sample<T> for T {
     #[inline]
     fn omega(self) -> Self {
         lambert::omega(self)
+    }
+    #[inline(always)]
+    fn implicit(self, residual_and_slope: impl FnOnce(Self) -> (Self, Self)) -> Self {
+        Real::implicit_root(self, residual_and_slope)
     }
 }
 

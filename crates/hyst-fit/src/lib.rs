@@ -51,7 +51,7 @@ pub use data::{Columns, DataOptions, Dataset, Record};
 pub use error::FitError;
 pub use evaluator::Evaluator;
 pub use identify::identify;
-pub use model::{Form, InitialState, SmoothModel};
+pub use model::{FitReal, Form, InitialState, SmoothModel};
 pub use modelfile::ModelFile;
 pub use orientation::{FormChoice, Orientation};
 pub use smooth::{fit_smooth, ErrorStats, Estimate, FitOptions, SmoothFit};

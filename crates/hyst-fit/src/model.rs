@@ -3,7 +3,8 @@
 //! from the core's types, run over records, and turned into the core's exact compensator.
 
 use hyst_core::{
-    AnyK2Law, Direction, Error, Hysteresis, InverseModel, K2Law, Model, Operator, Shaping, Stop,
+    AnyK2Law, Direction, Dual, Error, Hysteresis, InverseModel, K2Law, Model, Operator, Real,
+    Shaping, Stop,
 };
 use serde::{Deserialize, Serialize};
 
@@ -59,13 +60,43 @@ impl Form {
 
 // serde's `skip_serializing_if` takes a reference.
 #[allow(clippy::trivially_copy_pass_by_ref)]
-fn is_zero(x: &f64) -> bool {
-    *x == 0.0
+fn is_zero<T: Default + PartialEq>(x: &T) -> bool {
+    *x == T::default()
 }
 
-/// v + d rounded towards v until |(v + d) − v| ≤ |d| holds in floating point (the band check
-/// of the core), so a start on the asymptote is never refused for an ulp.
-fn on_asymptote(v: f64, d: f64) -> f64 {
+/// The numbers a [`SmoothModel`] is evaluated on: `f64` (the fit's values, model files) and
+/// [`Dual<f64, N>`] (the same evaluation with the gradient with respect to N parameters: the
+/// fit's Jacobian). Everything is [`Real`] arithmetic except a start on an asymptote, which
+/// rounds the value by ulps (see `on_asymptote`) and so needs to set a value exactly.
+pub trait FitReal: Real {
+    /// The same derivatives with the value `value` (for `f64`: `value`).
+    #[must_use]
+    fn with_f64_value(self, value: f64) -> Self;
+}
+
+impl FitReal for f64 {
+    #[inline]
+    fn with_f64_value(self, value: f64) -> Self {
+        value
+    }
+}
+
+impl<const N: usize> FitReal for Dual<f64, N> {
+    #[inline]
+    fn with_f64_value(self, value: f64) -> Self {
+        Dual::new(value, self.gradient())
+    }
+}
+
+/// v + d with its value rounded towards v until |(v + d) − v| ≤ |d| holds in floating point
+/// (the band check of the core), so a start on the asymptote is never refused for an ulp (the
+/// derivatives are those of v + d).
+fn on_asymptote<T: FitReal>(v: T, d: T) -> T {
+    (v + d).with_f64_value(on_asymptote_value(v.as_f64(), d.as_f64()))
+}
+
+/// The value of [`on_asymptote`].
+fn on_asymptote_value(v: f64, d: f64) -> f64 {
     let mut u = v + d;
     for _ in 0..64 {
         if (u - v).abs() <= d.abs() {
@@ -84,16 +115,23 @@ fn on_asymptote(v: f64, d: f64) -> f64 {
 
 /// A smooth model out = ψ_out(H(k1, k2)[ψ_in(in)]) (or its stop form, [`Form::Stop`]) with its
 /// start rule.
+///
+/// `T` is `f64` for a model as such; the fit evaluates the same model on [`Dual`] numbers
+/// ([`FitReal`]) for its Jacobian.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SmoothModel {
+#[serde(bound(
+    serialize = "T: Serialize + Default + PartialEq",
+    deserialize = "T: Deserialize<'de> + Default + PartialEq"
+))]
+pub struct SmoothModel<T = f64> {
     /// Hysteresis half-width k1 (operator units: those of ψ_in's value), > 0.
-    pub k1: f64,
+    pub k1: T,
     /// The k2 law (1 / operator units).
-    pub k2: AnyK2Law<f64>,
+    pub k2: AnyK2Law<T>,
     /// Input shaping ψ_in: from input units to operator units.
-    pub input_shaping: ScaledShaping<f64>,
+    pub input_shaping: ScaledShaping<T>,
     /// Output shaping ψ_out: from operator units to output units.
-    pub output_shaping: ScaledShaping<f64>,
+    pub output_shaping: ScaledShaping<T>,
     /// How each record starts.
     pub initial_state: InitialState,
     /// The form: the operator itself (default) or its stop form.
@@ -102,13 +140,13 @@ pub struct SmoothModel {
     /// c of the stop form's linear term c·v (output units per operator unit; 0 for the operator
     /// form).
     #[serde(default, skip_serializing_if = "is_zero")]
-    pub linear: f64,
+    pub linear: T,
 }
 
 /// The core model type a [`SmoothModel`] becomes.
-pub type CoreModel = Model<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
+pub type CoreModel<T = f64> = Model<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
 /// The core type of a stop-form [`SmoothModel`].
-pub type CoreStop = Stop<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
+pub type CoreStop<T = f64> = Stop<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
 /// A model of either form around an operator with any k2 law (a family member, say): what
 /// [`SmoothModel::shaped`] builds, run through the core's [`Operator`] trait.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -157,19 +195,19 @@ impl<K: K2Law<f64>> Operator<f64> for Shaped<K> {
 /// Its exact compensator.
 pub type CoreInverse = InverseModel<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
 
-impl SmoothModel {
+impl<T: FitReal> SmoothModel<T> {
     /// Checks every parameter through the core's constructors.
     ///
     /// # Errors
     /// The core's error for the first invalid value.
     pub fn validate(&self) -> Result<(), Error> {
-        self.core(0.0)?;
+        self.core(T::zero())?;
         if self.form == Form::Stop {
-            self.stop(0.0)?;
-        } else if self.linear != 0.0 {
+            self.stop(T::zero())?;
+        } else if self.linear != T::zero() {
             return Err(Error::InvalidParameter {
                 name: "linear",
-                value: self.linear,
+                value: self.linear.as_f64(),
                 expected: "0 for the operator form (the linear term belongs to form = \"stop\")",
             });
         }
@@ -181,7 +219,7 @@ impl SmoothModel {
     ///
     /// # Errors
     /// As [`SmoothModel::core`], and a non-finite `linear`.
-    pub fn stop(&self, first_input: f64) -> Result<CoreStop, Error> {
+    pub fn stop(&self, first_input: T) -> Result<CoreStop<T>, Error> {
         Stop::new(
             self.input_shaping,
             self.start(Hysteresis::with_k2_law(self.k1, self.k2)?, first_input)?,
@@ -194,7 +232,7 @@ impl SmoothModel {
     /// ψ_out(u), or ψ_out(v − u) + c·v in the stop form.
     #[must_use]
     #[inline]
-    pub fn output(&self, v: f64, u: f64) -> f64 {
+    pub fn output(&self, v: T, u: T) -> T {
         match self.form {
             Form::Operator => self.output_shaping.apply(u),
             Form::Stop => self.output_shaping.apply(v - u) + v * self.linear,
@@ -204,7 +242,7 @@ impl SmoothModel {
     /// The range of ψ_out's argument over the operator inputs [v_lo, v_hi]: the operator output
     /// (within k1 of its input), or the stop value v − H[v] ∈ [−k1, k1].
     #[must_use]
-    pub fn output_argument_range(form: Form, k1: f64, v_lo: f64, v_hi: f64) -> (f64, f64) {
+    pub fn output_argument_range(form: Form, k1: T, v_lo: T, v_hi: T) -> (T, T) {
         match form {
             Form::Operator => (v_lo - k1, v_hi + k1),
             Form::Stop => (-k1, k1),
@@ -217,18 +255,18 @@ impl SmoothModel {
     /// # Errors
     /// [`Error::InvalidParameter`] for an invalid k1 or k2 law (the core's checks), or for a
     /// `first_input` whose start point is not finite.
-    pub fn operator(&self, first_input: f64) -> Result<Hysteresis<f64, AnyK2Law<f64>>, Error> {
+    pub fn operator(&self, first_input: T) -> Result<Hysteresis<T, AnyK2Law<T>>, Error> {
         self.start(Hysteresis::with_k2_law(self.k1, self.k2)?, first_input)
     }
 
     /// `operator` started by the model's start rule ([`SmoothModel::initial_state`]) for a
     /// record whose first input sample is `first_input`: on the line, or on the asymptote of
     /// `operator`'s own k1.
-    fn start<K: K2Law<f64>>(
+    fn start<K: K2Law<T>>(
         &self,
-        operator: Hysteresis<f64, K>,
-        first_input: f64,
-    ) -> Result<Hysteresis<f64, K>, Error> {
+        operator: Hysteresis<T, K>,
+        first_input: T,
+    ) -> Result<Hysteresis<T, K>, Error> {
         let v0 = self.input_shaping.apply(first_input);
         let k1 = operator.k1();
         match self.initial_state {
@@ -245,17 +283,17 @@ impl SmoothModel {
     /// `operator` started for a record with inputs `input`: by the start rule, or, with a
     /// `band` fraction b ∈ [−1, 1] (an estimated start), at rest at a reversal at the first
     /// sample with the operator output v0 + b · k1, heading the way the input first moves.
-    fn start_in<K: K2Law<f64>>(
+    fn start_in<K: K2Law<T>>(
         &self,
-        operator: Hysteresis<f64, K>,
+        operator: Hysteresis<T, K>,
         input: &[f64],
         band: Option<f64>,
-    ) -> Result<Hysteresis<f64, K>, Error> {
+    ) -> Result<Hysteresis<T, K>, Error> {
         let first = input.first().copied().unwrap_or(0.0);
         let Some(b) = band else {
-            return self.start(operator, first);
+            return self.start(operator, T::from_f64(first));
         };
-        let v0 = self.input_shaping.apply(first);
+        let v0 = self.input_shaping.apply(T::from_f64(first));
         let rising = input
             .iter()
             .find(|x| **x != first)
@@ -271,9 +309,96 @@ impl SmoothModel {
             0.0
         };
         let k1 = operator.k1();
-        operator.with_initial_state(v0, on_asymptote(v0, b * k1), direction)
+        operator.with_initial_state(v0, on_asymptote(v0, k1 * T::from_f64(b)), direction)
     }
 
+    /// The core model ψ_out(H[ψ_in(·)]) for a record starting at `first_input` (use it to run
+    /// the model).
+    ///
+    /// # Errors
+    /// As [`SmoothModel::operator`], and the shaping functions' own validation errors.
+    pub fn core(&self, first_input: T) -> Result<CoreModel<T>, Error> {
+        Model::new(
+            self.input_shaping,
+            self.operator(first_input)?,
+            self.output_shaping,
+        )
+    }
+
+    /// Runs the model over one record: `operator_out` receives H's output u when given, `output`
+    /// the model output ([`SmoothModel::output`]). Same arithmetic as stepping
+    /// [`SmoothModel::core`] (or [`SmoothModel::stop`]).
+    ///
+    /// # Errors
+    /// Invalid parameters, or a non-finite value on the way (the fit treats it as infeasible).
+    pub fn simulate(
+        &self,
+        input: &[f64],
+        operator_out: Option<&mut [T]>,
+        output: &mut [T],
+    ) -> Result<(), Error> {
+        self.simulate_from(input, None, operator_out, output)
+    }
+
+    /// [`SmoothModel::simulate`] from an estimated start: with `band` = Some(b), b ∈ [−1, 1],
+    /// the record starts at rest at a reversal at its first sample with the operator output
+    /// v0 + b · k1 (−1: the lower asymptote, 0: the line, 1: the upper one), heading the way the
+    /// input first moves; with `None`, by the start rule.
+    ///
+    /// # Errors
+    /// As [`SmoothModel::simulate`].
+    pub fn simulate_from(
+        &self,
+        input: &[f64],
+        band: Option<f64>,
+        mut operator_out: Option<&mut [T]>,
+        output: &mut [T],
+    ) -> Result<(), Error> {
+        self.run_with(input, band, |i, u, y| {
+            if let Some(slot) = operator_out.as_deref_mut().and_then(|z| z.get_mut(i)) {
+                *slot = u;
+            }
+            if let Some(slot) = output.get_mut(i) {
+                *slot = y;
+            }
+        })
+    }
+
+    /// Runs the model over one record, started by the rule or from the estimated `band` (as
+    /// [`SmoothModel::simulate_from`]), and hands each sample's index, operator output u and
+    /// model output to `each` (in order): the one loop behind [`SmoothModel::simulate`] and the
+    /// fit's Jacobian.
+    ///
+    /// # Errors
+    /// As [`SmoothModel::simulate`].
+    #[inline]
+    pub fn run_with(
+        &self,
+        input: &[f64],
+        band: Option<f64>,
+        mut each: impl FnMut(usize, T, T),
+    ) -> Result<(), Error> {
+        if input.is_empty() {
+            return Ok(());
+        }
+        let mut h = self.start_in(Hysteresis::with_k2_law(self.k1, self.k2)?, input, band)?;
+        for (i, x) in input.iter().enumerate() {
+            let v = self.input_shaping.apply(T::from_f64(*x));
+            let u = h.try_step(v)?;
+            let y = self.output(v, u);
+            if !y.is_finite() {
+                return Err(Error::NonFiniteOutput {
+                    input: *x,
+                    output: y.as_f64(),
+                });
+            }
+            each(i, u, y);
+        }
+        Ok(())
+    }
+}
+
+impl SmoothModel {
     /// As [`SmoothModel::shaped`] for a record with inputs `input`, started by the rule or at
     /// the estimated band fraction `band` (see [`SmoothModel::simulate_from`]).
     ///
@@ -299,19 +424,6 @@ impl SmoothModel {
                 self.linear,
             )?),
         })
-    }
-
-    /// The core model ψ_out(H[ψ_in(·)]) for a record starting at `first_input` (use it to run
-    /// the model).
-    ///
-    /// # Errors
-    /// As [`SmoothModel::operator`], and the shaping functions' own validation errors.
-    pub fn core(&self, first_input: f64) -> Result<CoreModel, Error> {
-        Model::new(
-            self.input_shaping,
-            self.operator(first_input)?,
-            self.output_shaping,
-        )
     }
 
     /// Any operator with no history (a member of a family around this model, say) inside this
@@ -355,66 +467,33 @@ impl SmoothModel {
     /// # Errors
     /// A desired output beyond a saturating output shaping's range, or invalid parameters.
     pub fn compensator_from_desired(&self, first_desired: f64) -> Result<CoreInverse, Error> {
+        if self.form == Form::Stop {
+            return self.compensator(first_desired);
+        }
         let u0 = self.output_shaping.invert(first_desired)?;
-        let v0 = match self.initial_state {
-            InitialState::Line => u0,
-            InitialState::Rising => u0 + self.k1,
-            InitialState::Falling => u0 - self.k1,
+        // The start point in operator units, built from u0 itself: the compensator's memory then
+        // holds exactly the ψ_out⁻¹ of the first desired output, whose first step is then
+        // exactly at the reversal (a round trip through ψ_in would leave it an ulp off, a tiny
+        // step the wrong way that turns the branch).
+        let operator = Hysteresis::with_k2_law(self.k1, self.k2)?;
+        let operator = match self.initial_state {
+            InitialState::Line => operator,
+            InitialState::Rising => operator.with_initial_state(
+                on_asymptote_value(u0, self.k1),
+                u0,
+                Direction::Rising,
+            )?,
+            InitialState::Falling => operator.with_initial_state(
+                on_asymptote_value(u0, -self.k1),
+                u0,
+                Direction::Falling,
+            )?,
         };
-        let x0 = self.input_shaping.invert(v0)?;
-        self.compensator(x0)
-    }
-
-    /// Runs the model over one record: `operator_out` receives H's output u when given, `output`
-    /// the model output ([`SmoothModel::output`]). Same arithmetic as stepping
-    /// [`SmoothModel::core`] (or [`SmoothModel::stop`]).
-    ///
-    /// # Errors
-    /// Invalid parameters, or a non-finite value on the way (the fit treats it as infeasible).
-    pub fn simulate(
-        &self,
-        input: &[f64],
-        operator_out: Option<&mut [f64]>,
-        output: &mut [f64],
-    ) -> Result<(), Error> {
-        self.simulate_from(input, None, operator_out, output)
-    }
-
-    /// [`SmoothModel::simulate`] from an estimated start: with `band` = Some(b), b ∈ [−1, 1],
-    /// the record starts at rest at a reversal at its first sample with the operator output
-    /// v0 + b · k1 (−1: the lower asymptote, 0: the line, 1: the upper one), heading the way the
-    /// input first moves; with `None`, by the start rule.
-    ///
-    /// # Errors
-    /// As [`SmoothModel::simulate`].
-    pub fn simulate_from(
-        &self,
-        input: &[f64],
-        band: Option<f64>,
-        mut operator_out: Option<&mut [f64]>,
-        output: &mut [f64],
-    ) -> Result<(), Error> {
-        if input.is_empty() {
-            return Ok(());
+        // Checks the command exists (a saturating ψ_in has a bounded range).
+        if let Some(m) = operator.memory() {
+            self.input_shaping.invert(m.last_input)?;
         }
-        let mut h = self.start_in(Hysteresis::with_k2_law(self.k1, self.k2)?, input, band)?;
-        for (i, (x, y)) in input.iter().zip(output.iter_mut()).enumerate() {
-            let v = self.input_shaping.apply(*x);
-            let u = h.try_step(v)?;
-            if let Some(z) = operator_out.as_deref_mut() {
-                if let Some(slot) = z.get_mut(i) {
-                    *slot = u;
-                }
-            }
-            *y = self.output(v, u);
-            if !y.is_finite() {
-                return Err(Error::NonFiniteOutput {
-                    input: *x,
-                    output: *y,
-                });
-            }
-        }
-        Ok(())
+        Ok(Model::new(self.input_shaping, operator, self.output_shaping)?.inverse())
     }
 
     /// Runs the model over one record into a new vector.

@@ -8,11 +8,11 @@
 //! overall gain and offset belong to ψ_out. k1 and k2 are then in these normalised units.
 
 use hyst_core::{
-    AffineK2, AnyK2Law, AnyShaping, Langevin, Polynomial, QuadraticExp, Shaping, Tanh,
+    AffineK2, AnyK2Law, AnyShaping, Langevin, Polynomial, QuadraticExp, Real, Shaping, Tanh,
 };
 use serde::{Deserialize, Serialize};
 
-use crate::model::{Form, InitialState};
+use crate::model::{FitReal, Form, InitialState};
 use crate::SmoothModel;
 use hyst_core::ScaledShaping;
 
@@ -131,7 +131,7 @@ pub enum Transform {
 impl Transform {
     /// The value for θ.
     #[must_use]
-    pub fn value(self, theta: f64) -> f64 {
+    pub fn value<T: Real>(self, theta: T) -> T {
         match self {
             Transform::Linear => theta,
             Transform::Log => theta.exp(),
@@ -343,35 +343,49 @@ impl Layout {
             .collect()
     }
 
+    /// The value of the parameter `name` for θ (0 when the structure has no such parameter):
+    /// generic, so the fit can evaluate the model on duals seeded in θ.
+    fn get<T: Real>(&self, theta: &[T], name: &str) -> T {
+        self.index(name)
+            .and_then(|i| Some(self.params.get(i)?.transform.value(*theta.get(i)?)))
+            .unwrap_or_else(T::zero)
+    }
+
     /// The input shaping for θ.
     ///
     /// # Errors
     /// When the values are invalid (non-monotone polynomial, …).
-    pub fn input_shaping(&self, theta: &[f64]) -> Result<ScaledShaping<f64>, hyst_core::Error> {
-        let get = |name: &str| {
-            self.index(name)
-                .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
-        };
+    pub fn input_shaping<T: Real>(
+        &self,
+        theta: &[T],
+    ) -> Result<ScaledShaping<T>, hyst_core::Error> {
+        let c = T::from_f64;
+        let get = |name: &str| self.get(theta, name);
         let offset = if self.input_offset {
             get("in.offset")
         } else {
-            0.0
+            T::zero()
         };
-        let pre_gain = 1.0 / self.norm.half_span;
-        let pre_offset = -self.norm.centre / self.norm.half_span + offset;
-        let (lo, hi) = (-1.0 - DOMAIN_MARGIN + offset, 1.0 + DOMAIN_MARGIN + offset);
+        let pre_gain = c(1.0 / self.norm.half_span);
+        let pre_offset = c(-self.norm.centre / self.norm.half_span) + offset;
+        let (lo, hi) = (
+            c(-1.0 - DOMAIN_MARGIN) + offset,
+            c(1.0 + DOMAIN_MARGIN) + offset,
+        );
         let shape = match self.structure.input_shaping {
             ShapingKind::Affine => AnyShaping::Identity,
-            ShapingKind::Poly2 => {
-                AnyShaping::Polynomial(Polynomial::new([0.0, 1.0, get("in.p2"), 0.0], lo, hi)?)
-            }
-            ShapingKind::Poly3 => AnyShaping::Polynomial(Polynomial::new(
-                [0.0, 1.0, get("in.p2"), get("in.p3")],
+            ShapingKind::Poly2 => AnyShaping::Polynomial(Polynomial::new(
+                [c(0.0), c(1.0), get("in.p2"), c(0.0)],
                 lo,
                 hi,
             )?),
-            ShapingKind::Tanh => AnyShaping::Tanh(Tanh::new(1.0, get("in.scale"))?),
-            ShapingKind::Langevin => AnyShaping::Langevin(Langevin::new(1.0, get("in.scale"))?),
+            ShapingKind::Poly3 => AnyShaping::Polynomial(Polynomial::new(
+                [c(0.0), c(1.0), get("in.p2"), get("in.p3")],
+                lo,
+                hi,
+            )?),
+            ShapingKind::Tanh => AnyShaping::Tanh(Tanh::new(c(1.0), get("in.scale"))?),
+            ShapingKind::Langevin => AnyShaping::Langevin(Langevin::new(c(1.0), get("in.scale"))?),
             ShapingKind::QuadExp => AnyShaping::QuadraticExp(QuadraticExp::new(
                 get("in.a"),
                 get("in.b"),
@@ -380,7 +394,7 @@ impl Layout {
                 hi,
             )?),
         };
-        ScaledShaping::new(pre_gain, pre_offset, shape, 1.0, 0.0)
+        ScaledShaping::new(pre_gain, pre_offset, shape, c(1.0), c(0.0))
     }
 
     /// The output shaping for θ, given the range of its argument on the data
@@ -392,51 +406,53 @@ impl Layout {
     ///
     /// # Errors
     /// When the values are invalid.
-    pub fn output_shaping(
+    pub fn output_shaping<T: Real>(
         &self,
-        theta: &[f64],
-        arg_range: (f64, f64),
-    ) -> Result<ScaledShaping<f64>, hyst_core::Error> {
-        let get = |name: &str| {
-            self.index(name)
-                .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
-        };
+        theta: &[T],
+        arg_range: (T, T),
+    ) -> Result<ScaledShaping<T>, hyst_core::Error> {
+        let c = T::from_f64;
+        let get = |name: &str| self.get(theta, name);
         let (gain, unit) = match self.structure.form {
-            Form::Operator => (get("out.gain"), 1.0),
-            Form::Stop => (get("out.level"), 1.0 / get("k1")),
+            Form::Operator => (get("out.gain"), c(1.0)),
+            Form::Stop => (get("out.level"), c(1.0) / get("k1")),
         };
         let v_range = (arg_range.0 * unit, arg_range.1 * unit);
         let offset = if self.structure.output_offset {
             get("out.offset")
         } else {
-            0.0
+            c(0.0)
         };
-        let half = 0.5 * (v_range.1 - v_range.0);
-        let (lo, hi) = (v_range.0 - 0.25 * half, v_range.1 + 0.25 * half);
+        let half = (v_range.1 - v_range.0) * c(0.5);
+        let (lo, hi) = (v_range.0 - half * c(0.25), v_range.1 + half * c(0.25));
         let (shape, pre_gain, pre_offset) = match self.structure.output_shaping {
-            ShapingKind::Affine => (AnyShaping::Identity, 1.0, 0.0),
+            ShapingKind::Affine => (AnyShaping::Identity, c(1.0), c(0.0)),
             ShapingKind::Poly2 => (
-                AnyShaping::Polynomial(Polynomial::new([0.0, 1.0, get("out.q2"), 0.0], lo, hi)?),
-                1.0,
-                0.0,
-            ),
-            ShapingKind::Poly3 => (
                 AnyShaping::Polynomial(Polynomial::new(
-                    [0.0, 1.0, get("out.q2"), get("out.q3")],
+                    [c(0.0), c(1.0), get("out.q2"), c(0.0)],
                     lo,
                     hi,
                 )?),
-                1.0,
-                0.0,
+                c(1.0),
+                c(0.0),
+            ),
+            ShapingKind::Poly3 => (
+                AnyShaping::Polynomial(Polynomial::new(
+                    [c(0.0), c(1.0), get("out.q2"), get("out.q3")],
+                    lo,
+                    hi,
+                )?),
+                c(1.0),
+                c(0.0),
             ),
             ShapingKind::Tanh => (
-                AnyShaping::Tanh(Tanh::new(1.0, 1.0)?),
-                1.0 / get("out.scale"),
+                AnyShaping::Tanh(Tanh::new(c(1.0), c(1.0))?),
+                c(1.0) / get("out.scale"),
                 get("out.centre"),
             ),
             ShapingKind::Langevin => (
-                AnyShaping::Langevin(Langevin::new(1.0, 1.0)?),
-                1.0 / get("out.scale"),
+                AnyShaping::Langevin(Langevin::new(c(1.0), c(1.0))?),
+                c(1.0) / get("out.scale"),
                 get("out.centre"),
             ),
             ShapingKind::QuadExp => (
@@ -447,29 +463,29 @@ impl Layout {
                     lo,
                     hi,
                 )?),
-                1.0,
-                0.0,
+                c(1.0),
+                c(0.0),
             ),
         };
         ScaledShaping::new(pre_gain * unit, pre_offset, shape, gain, offset)
     }
 
-    /// The model for θ, for data whose input spans [in_lo, in_hi].
+    /// The model for θ, for data whose input spans [in_lo, in_hi]: on `f64`, or on
+    /// [`Dual`](hyst_core::Dual)s seeded in θ for the derivatives of everything the model
+    /// evaluates with respect to θ (the fit's Jacobian), through the same code.
     ///
     /// # Errors
     /// When θ is outside the feasible set (the fit rejects the step).
-    pub fn model(
+    pub fn model<T: FitReal>(
         &self,
-        theta: &[f64],
+        theta: &[T],
         input_range: (f64, f64),
-    ) -> Result<SmoothModel, hyst_core::Error> {
-        let get = |name: &str| {
-            self.index(name)
-                .map_or(0.0, |i| self.params[i].transform.value(theta[i]))
-        };
+    ) -> Result<SmoothModel<T>, hyst_core::Error> {
+        let c = T::from_f64;
+        let get = |name: &str| self.get(theta, name);
         let input_shaping = self.input_shaping(theta)?;
-        let v_lo = input_shaping.apply(input_range.0);
-        let v_hi = input_shaping.apply(input_range.1);
+        let v_lo = input_shaping.apply(c(input_range.0));
+        let v_hi = input_shaping.apply(c(input_range.1));
         let k1 = get("k1");
         let k2 = match self.structure.k2 {
             K2Kind::Constant => AnyK2Law::Constant { value: get("k2") },
@@ -479,18 +495,18 @@ impl Layout {
                 let a = at_zero + slope * (v_lo - k1);
                 let b = at_zero + slope * (v_hi + k1);
                 let (min, max) = (a.min(b), a.max(b));
-                if min.is_nan() || min <= 0.02 * at_zero {
+                if min.is_nan() || min <= at_zero * c(0.02) {
                     return Err(hyst_core::Error::InvalidParameter {
                         name: "k2.slope",
-                        value: slope,
+                        value: slope.as_f64(),
                         expected: "a k2 law that stays positive on the data",
                     });
                 }
                 AnyK2Law::Affine(AffineK2 {
                     at_zero,
                     slope,
-                    min: 0.5 * min,
-                    max: 2.0 * max,
+                    min: min * c(0.5),
+                    max: max * c(2.0),
                 })
             }
         };
@@ -506,7 +522,7 @@ impl Layout {
             initial_state: self.structure.initial_state,
             form: self.structure.form,
             linear: match self.structure.form {
-                Form::Operator => 0.0,
+                Form::Operator => c(0.0),
                 Form::Stop => get("out.linear"),
             },
         };
