@@ -157,6 +157,24 @@ impl SmoothModel {
         self.compensator(x0)
     }
 
+    /// The open range (lo, hi) of the model's output when ψ_out saturates (tanh, Langevin): the
+    /// outputs approach lo and hi but never reach them, so a desired output outside has no
+    /// command. `None` when ψ_out is unbounded (at either end).
+    #[must_use]
+    pub fn output_range(&self) -> Option<(f64, f64)> {
+        let psi = &self.output_shaping;
+        // The shape names its range when asked to invert a value beyond it.
+        let end = |probe: f64, pick: fn(f64, f64) -> f64| match psi.shape.invert(probe) {
+            Err(Error::OutOfRange { min, max, .. }) => {
+                psi.post_gain * pick(min, max) + psi.post_offset
+            }
+            _ => probe * f64::INFINITY,
+        };
+        let lo = end(-f64::MAX, |min, _| min);
+        let hi = end(f64::MAX, |_, max| max);
+        (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
+    }
+
     /// Runs the model over one record: `operator_out` receives H's output (before ψ_out) when
     /// given, `output` the model output. Same arithmetic as stepping [`SmoothModel::core`].
     ///
