@@ -272,10 +272,13 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
         )
     );
     // A Langevin output shaping saturates: the range and the limits of `--saturate`.
-    let sat = file.saturation().expect("a saturating output shaping");
+    let missing = |what: &str| FitError::Invalid(format!("the test model has no {what}"));
+    let sat = file
+        .saturation()
+        .ok_or_else(|| missing("saturating output shaping"))?;
     let psi = model.output_shaping;
     let hyst_core::AnyShaping::Langevin(l) = psi.shape else {
-        panic!("not Langevin: {psi:?}")
+        return Err(missing("Langevin output shaping"));
     };
     let (lo, hi) = (
         psi.post_offset - psi.post_gain * l.gain,
@@ -290,12 +293,15 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
     // names the desired output and the range in output units.
     let commands = file.run_inverse(&[0.5 * (lo + hi), sat.limits.1, sat.limits.0])?;
     assert!(commands.iter().all(|c| c.is_finite()), "{commands:?}");
-    match file.run_inverse(&[hi]) {
-        Err(FitError::Core(hyst_core::Error::OutOfRange {
-            value, min, max, ..
-        })) => assert_eq!((value, min, max), (hi, lo, hi)),
-        other => panic!("{other:?}"),
-    }
+    let refused = file.run_inverse(&[hi]);
+    assert!(
+        matches!(
+            refused,
+            Err(FitError::Core(hyst_core::Error::OutOfRange { value, min, max, .. }))
+                if (value, min, max) == (hi, lo, hi)
+        ),
+        "{refused:?}"
+    );
     Ok(())
 }
 
