@@ -54,7 +54,7 @@ pub struct Args {
     /// Langevin) cannot reach into 99.9 % of its range about the centre, instead of stopping
     /// with an error; a clamped row gets the clamped value in x and zero derivatives. Stderr
     /// says how many rows were clamped and which was first.
-    #[arg(long, requires_all = ["model", "inverse"])]
+    #[arg(long)]
     pub saturate: bool,
     /// Input CSV file.
     pub input: PathBuf,
@@ -66,6 +66,12 @@ pub struct Args {
 
 /// Runs `hyst run`.
 pub fn main(args: Args) -> Result<()> {
+    if args.saturate && !(args.source.model.is_some() && args.source.inverse) {
+        bail!(
+            "--saturate applies to --model FILE --inverse: the compensator of a model whose \
+             output shaping saturates"
+        );
+    }
     let mut rows = CsvReader::open(&args.input)?;
     match args.source.chosen()? {
         Chosen::Model(path) => {

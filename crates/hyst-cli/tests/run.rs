@@ -225,6 +225,33 @@ fn errors_name_file_line_and_column_and_write_nothing() {
         &["x_d1"],
     );
     assert_fails_cleanly(&["--k1", "0.1", "--k2", "3"], "t,u\n1,2\n", &["--column"]);
+    // The file is streamed: an error far into it still leaves nothing behind.
+    let mut long = String::from("t,x\n");
+    for i in 0..10_000 {
+        long += &format!("{i},{}\n", (i as f64 * 0.01).sin());
+    }
+    long += "10000,oops\n";
+    assert_fails_cleanly(
+        &["--k1", "0.2", "--k2", "8"],
+        &long,
+        &["data.csv:10002: column 2 (\"x\"): cannot parse \"oops\""],
+    );
+    let k = ["--k1", "0.2", "--k2", "8"];
+    assert_fails_cleanly(
+        &[&k[..], &["--record", "loop"]].concat(),
+        "x,curve\n0,0\n",
+        &["--record: ", "no column named \"loop\""],
+    );
+    assert_fails_cleanly(
+        &[&k[..], &["--record", "x"]].concat(),
+        "x,curve\n0,0\n",
+        &["--record x: the output already has a column \"x\""],
+    );
+    assert_fails_cleanly(
+        &[&k[..], &["--inverse", "--saturate"]].concat(),
+        "x\n1\n",
+        &["--saturate applies to --model FILE --inverse"],
+    );
 }
 
 #[test]
