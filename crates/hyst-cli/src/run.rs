@@ -50,10 +50,11 @@ pub struct Args {
     /// not a continuation. COLUMN is copied to the end of OUTPUT.
     #[arg(long, value_name = "COLUMN")]
     pub record: Option<String>,
-    /// With --model --inverse: clamp desired outputs that a saturating output shaping (tanh,
-    /// Langevin) cannot reach into 99.9 % of its range about the centre, instead of stopping
-    /// with an error; a clamped row gets the clamped value in x and zero derivatives. Stderr
-    /// says how many rows were clamped and which was first.
+    /// With --model --inverse, for a model whose output shaping saturates (tanh, Langevin; open
+    /// range (lo, hi), unreachable): clamp every desired output beyond 99.9 % of the range about
+    /// its centre to that limit, instead of stopping at the first one outside (lo, hi). A
+    /// clamped row gets the clamped value in x and zero derivatives; stderr says how many rows
+    /// were clamped and which was first.
     #[arg(long)]
     pub saturate: bool,
     /// Input CSV file.
