@@ -235,7 +235,8 @@ struct Block<const N: usize> {
 
 /// The loop of [`run`] for N time derivatives: blocks of rows are read, run and written in
 /// turn. An error is reported for the first row, in file order, where anything fails (a row
-/// that cannot be read stops the reading; the rows before it are still run first).
+/// that cannot be read stops the reading; the rows before it are still run first), and the
+/// block holding it is not written.
 fn stream<R: Read, E: Operator<f64>, const N: usize>(
     rows: &mut CsvReader<R>,
     columns: &Columns,
@@ -358,6 +359,11 @@ fn stream<R: Read, E: Operator<f64>, const N: usize>(
             }
             block.y.push(y);
         }
+        // A row that cannot be read fails the run once the rows before it are known to run;
+        // the block is not written (standard output gets no part of it).
+        if let Some(e) = unread {
+            return Err(e.into());
+        }
         // Write.
         for (i, (x, y)) in block.x.iter().zip(&block.y).enumerate() {
             values.clear();
@@ -366,9 +372,6 @@ fn stream<R: Read, E: Operator<f64>, const N: usize>(
             values.extend_from_slice(&y.derivatives());
             values.extend(block.id.get(i).copied());
             out.write_row(&values)?;
-        }
-        if let Some(e) = unread {
-            return Err(e.into());
         }
     }
 }

@@ -272,3 +272,25 @@ fn a_missing_input_file_is_named() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/in.csv"));
 }
+
+#[test]
+fn standard_output_gets_nothing_from_a_run_that_fails_early() {
+    let dir = tempfile::tempdir().unwrap();
+    for (text, expected) in [("x\n", "no data rows"), ("x\n1\n2\nthree\n", "data.csv:4")] {
+        let input = dir.path().join("data.csv");
+        std::fs::write(&input, text).unwrap();
+        let out = hyst()
+            .args(["run", "--k1", "0.2", "--k2", "8"])
+            .arg(&input)
+            .args(["-o", "-"])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1));
+        assert!(
+            out.stdout.is_empty(),
+            "{:?}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+        assert!(String::from_utf8_lossy(&out.stderr).contains(expected));
+    }
+}

@@ -39,6 +39,9 @@ pub struct CsvWriter {
     out: Output,
     /// The column names (for messages).
     names: Vec<String>,
+    /// The header row until it is written, with the first row or by `finish` (so that standard
+    /// output gets nothing from a command that fails before its first row).
+    header: Option<Vec<u8>>,
     /// The line being formatted.
     line: String,
     /// Rows written so far.
@@ -48,8 +51,8 @@ pub struct CsvWriter {
 }
 
 impl CsvWriter {
-    /// Opens the output for `path` (see [`write_atomic`](crate::write_atomic)) and writes the
-    /// header row.
+    /// Opens the output for `path` (see [`write_atomic`](crate::write_atomic)); the header row
+    /// goes out with the first row (or on [`CsvWriter::finish`]).
     ///
     /// # Errors
     /// [`IoError::NoColumns`] or [`IoError::InvalidName`] for names that could not be read back
@@ -57,13 +60,13 @@ impl CsvWriter {
     pub fn create(path: &Path, names: Vec<String>) -> Result<Self, IoError> {
         let file = path.display().to_string();
         check_names(&names, &file)?;
-        let mut out = Output::create(path)?;
+        let out = Output::create(path)?;
         let mut header = Vec::new();
         write_header(&mut header, &names).map_err(|e| out.error(e))?;
-        out.write_bytes(&header)?;
         Ok(CsvWriter {
             out,
             names,
+            header: Some(header),
             line: String::new(),
             rows: 0,
             file,
@@ -92,6 +95,7 @@ impl CsvWriter {
                 value: values.get(i).copied().unwrap_or(f64::NAN),
             });
         }
+        self.write_header()?;
         self.line.clear();
         push_row(&mut self.line, values.iter().copied());
         self.out.write_bytes(self.line.as_bytes())?;
@@ -104,8 +108,17 @@ impl CsvWriter {
     ///
     /// # Errors
     /// [`IoError::Write`] naming the step that failed; the destination is then untouched.
-    pub fn finish(self) -> Result<(), IoError> {
+    pub fn finish(mut self) -> Result<(), IoError> {
+        self.write_header()?;
         self.out.finish()
+    }
+
+    /// Writes the header row if it is not written yet.
+    fn write_header(&mut self) -> Result<(), IoError> {
+        match self.header.take() {
+            Some(header) => self.out.write_bytes(&header),
+            None => Ok(()),
+        }
     }
 }
 
