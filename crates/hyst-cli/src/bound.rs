@@ -20,9 +20,11 @@ pub struct Args {
     /// Δk2: the family's k2 ranges over [k2 − Δk2, k2 + Δk2].
     #[arg(long, default_value_t = 0.0)]
     pub dk2: f64,
-    /// Gain (Lipschitz constant) of a linear output shaping function: scales Δb.
-    #[arg(long, default_value_t = 1.0)]
-    pub output_gain: f64,
+    /// Gain (Lipschitz constant, > 0) of a linear output shaping function: scales Δb. Shaping
+    /// functions are increasing, so a gain <= 0 is refused (for a sensor that falls as the
+    /// output rises, give the magnitude of its gain: the bound is the same).
+    #[arg(long, allow_negative_numbers = true)]
+    pub output_gain: Option<f64>,
     /// Print JSON (keys delta_a, corners, delta_b_max, ...) instead of text.
     #[arg(long)]
     pub json: bool,
@@ -30,8 +32,14 @@ pub struct Args {
 
 /// Runs `hyst bound`.
 pub fn main(args: Args) -> Result<()> {
-    if !args.output_gain.is_finite() {
-        anyhow::bail!("--output-gain must be finite, got {}", args.output_gain);
+    if let Some(gain) = args.output_gain {
+        if !(gain.is_finite() && gain > 0.0) {
+            anyhow::bail!(
+                "--output-gain {gain}: the gain must be finite and > 0 (the slope of an \
+                 increasing output shaping; for a decreasing sensor give the magnitude of its \
+                 gain, the bound is the same)"
+            );
+        }
     }
     let b = delta_a(args.k1, args.dk1, args.k2, args.dk2).with_context(|| {
         format!(
@@ -39,7 +47,7 @@ pub fn main(args: Args) -> Result<()> {
             args.k1, args.dk1, args.k2, args.dk2
         )
     })?;
-    let gain = args.output_gain.abs();
+    let gain = args.output_gain.unwrap_or(1.0);
     let delta_b_max = b.delta_a * gain;
     if args.json {
         let corners: Vec<serde_json::Value> = b
@@ -86,7 +94,7 @@ pub fn main(args: Args) -> Result<()> {
         "delta_b <= delta_a = {:.4}  (Proposition 3.3, eq. 15)",
         b.delta_a
     );
-    if gain != 1.0 {
+    if args.output_gain.is_some() {
         println!(
             "after the output shaping (gain {gain}): delta_b <= {:.4}",
             delta_b_max

@@ -76,3 +76,44 @@ fn invalid_family_is_an_error() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("dk1"), "{err}");
 }
+
+/// Example 1's family with linear shaping.
+const EXAMPLE1: [&str; 9] = [
+    "bound", "--k1", "0.14", "--dk1", "0.1", "--k2", "8", "--dk2", "5",
+];
+
+#[test]
+fn a_gain_that_is_not_positive_is_refused_naming_flag_and_value() {
+    for (gain, shown) in [
+        ("-1", "-1"),
+        ("0", "0"),
+        ("-0", "-0"),
+        ("inf", "inf"),
+        ("nan", "NaN"),
+    ] {
+        let out = hyst(&[&EXAMPLE1[..], &["--output-gain", gain]].concat());
+        assert_eq!(out.status.code(), Some(1), "--output-gain {gain}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains(&format!(
+                "--output-gain {shown}: the gain must be finite and > 0"
+            )),
+            "{err}"
+        );
+        assert!(out.stdout.is_empty(), "nothing printed for {gain}");
+    }
+}
+
+#[test]
+fn a_given_gain_is_always_reported() {
+    // Gain 1 changes nothing, but the line says it was applied.
+    let out = hyst(&[&EXAMPLE1[..], &["--output-gain", "1"]].concat());
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("after the output shaping (gain 1): delta_b <= 0.1301"),
+        "{text}"
+    );
+    let out = hyst(&EXAMPLE1);
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("after the output shaping"));
+}

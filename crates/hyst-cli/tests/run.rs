@@ -225,6 +225,33 @@ fn errors_name_file_line_and_column_and_write_nothing() {
         &["x_d1"],
     );
     assert_fails_cleanly(&["--k1", "0.1", "--k2", "3"], "t,u\n1,2\n", &["--column"]);
+    // The file is streamed: an error far into it still leaves nothing behind.
+    let mut long = String::from("t,x\n");
+    for i in 0..10_000 {
+        long += &format!("{i},{}\n", (i as f64 * 0.01).sin());
+    }
+    long += "10000,oops\n";
+    assert_fails_cleanly(
+        &["--k1", "0.2", "--k2", "8"],
+        &long,
+        &["data.csv:10002: column 2 (\"x\"): cannot parse \"oops\""],
+    );
+    let k = ["--k1", "0.2", "--k2", "8"];
+    assert_fails_cleanly(
+        &[&k[..], &["--record", "loop"]].concat(),
+        "x,curve\n0,0\n",
+        &["--record: ", "no column named \"loop\""],
+    );
+    assert_fails_cleanly(
+        &[&k[..], &["--record", "x"]].concat(),
+        "x,curve\n0,0\n",
+        &["--record x: the output already has a column \"x\""],
+    );
+    assert_fails_cleanly(
+        &[&k[..], &["--inverse", "--saturate"]].concat(),
+        "x\n1\n",
+        &["--saturate applies to --model FILE --inverse"],
+    );
 }
 
 #[test]
@@ -244,4 +271,26 @@ fn a_missing_input_file_is_named() {
         .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/in.csv"));
+}
+
+#[test]
+fn standard_output_gets_nothing_from_a_run_that_fails_early() {
+    let dir = tempfile::tempdir().unwrap();
+    for (text, expected) in [("x\n", "no data rows"), ("x\n1\n2\nthree\n", "data.csv:4")] {
+        let input = dir.path().join("data.csv");
+        std::fs::write(&input, text).unwrap();
+        let out = hyst()
+            .args(["run", "--k1", "0.2", "--k2", "8"])
+            .arg(&input)
+            .args(["-o", "-"])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1));
+        assert!(
+            out.stdout.is_empty(),
+            "{:?}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+        assert!(String::from_utf8_lossy(&out.stderr).contains(expected));
+    }
 }

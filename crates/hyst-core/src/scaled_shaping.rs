@@ -62,6 +62,24 @@ impl<T: Real> ScaledShaping<T> {
         Ok(w)
     }
 
+    /// The shape's refusal to invert `y` told in the units of ψ: the value given and ψ's range,
+    /// not the shape's own (a desired output 2 beyond 1.32 · tanh(·) is "2 is outside the range
+    /// (-1.32, 1.32)", not "1.51 is outside the range (-1, 1)").
+    fn in_own_units(&self, y: T, e: Error) -> Error {
+        match e {
+            Error::OutOfRange { name, min, max, .. } => {
+                let (gain, offset) = (self.post_gain.as_f64(), self.post_offset.as_f64());
+                Error::OutOfRange {
+                    name,
+                    value: y.as_f64(),
+                    min: gain * min + offset,
+                    max: gain * max + offset,
+                }
+            }
+            other => other,
+        }
+    }
+
     /// The shape's argument for x.
     fn inner(&self, x: T) -> T {
         self.pre_gain * x + self.pre_offset
@@ -88,14 +106,18 @@ impl<T: Real> Shaping<T> for ScaledShaping<T> {
     fn invert_in_domain(&self, y: T) -> Result<T, Error> {
         let z = self
             .shape
-            .invert_in_domain((y - self.post_offset) / self.post_gain)?;
+            .invert_in_domain((y - self.post_offset) / self.post_gain)
+            .map_err(|e| self.in_own_units(y, e))?;
         Ok((z - self.pre_offset) / self.pre_gain)
     }
     fn invert(&self, y: T) -> Result<T, Error> {
         if !y.is_finite() {
             return Err(Error::NonFiniteInput { value: y.as_f64() });
         }
-        let z = self.shape.invert((y - self.post_offset) / self.post_gain)?;
+        let z = self
+            .shape
+            .invert((y - self.post_offset) / self.post_gain)
+            .map_err(|e| self.in_own_units(y, e))?;
         Ok((z - self.pre_offset) / self.pre_gain)
     }
     fn validate(&self) -> Result<(), Error> {
@@ -107,5 +129,27 @@ impl<T: Real> Shaping<T> for ScaledShaping<T> {
     }
     fn lipschitz(&self, lo: T, hi: T) -> T {
         self.post_gain * self.pre_gain * self.shape.lipschitz(self.inner(lo), self.inner(hi))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Tanh;
+
+    #[test]
+    fn out_of_range_is_told_in_the_units_of_psi() -> Result<(), Error> {
+        // ψ(x) = 2 · tanh(x) + 1: range (-1, 3).
+        let psi = ScaledShaping::new(1.0, 0.0, AnyShaping::Tanh(Tanh::new(1.0, 1.0)?), 2.0, 1.0)?;
+        let expected = Err(Error::OutOfRange {
+            name: "tanh",
+            value: 3.5,
+            min: -1.0,
+            max: 3.0,
+        });
+        assert_eq!(psi.invert(3.5), expected);
+        assert_eq!(psi.invert_in_domain(3.5), expected);
+        assert!((psi.invert(2.0)? - 0.5_f64.atanh()).abs() < 1e-15);
+        Ok(())
     }
 }

@@ -98,9 +98,13 @@ pub enum FitError {
         column: String,
     },
 
-    /// The core refused a value (an invalid parameter in a model file, a non-monotone shaping).
+    /// The core refused a value (an invalid parameter in a model file, a non-monotone shaping,
+    /// a desired output beyond a saturating shaping). The message includes the core's, so the
+    /// core error is not also this error's `source()`: a report that prints an error and its
+    /// sources would otherwise say it twice ("… of the tanh shaping function: … of the tanh
+    /// shaping function").
     #[error("model: {0}")]
-    Core(#[from] hyst_core::Error),
+    Core(hyst_core::Error),
 
     /// A model file could not be read or understood.
     #[error("{}: {message}", path.display())]
@@ -158,4 +162,40 @@ pub enum FitError {
     /// The user interrupted the fit (Ctrl-C); nothing was written.
     #[error("interrupted: no model file was written")]
     Interrupted,
+}
+
+impl From<hyst_core::Error> for FitError {
+    fn from(e: hyst_core::Error) -> Self {
+        FitError::Core(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An error and its sources on one line, as a report that follows `source()` prints them.
+    fn chain(e: &dyn std::error::Error) -> String {
+        let mut line = e.to_string();
+        let mut next = e.source();
+        while let Some(cause) = next {
+            line = format!("{line}: {cause}");
+            next = cause.source();
+        }
+        line
+    }
+
+    #[test]
+    fn a_core_error_is_said_once() {
+        let e = FitError::from(hyst_core::Error::OutOfRange {
+            name: "tanh",
+            value: 2.0,
+            min: -1.0,
+            max: 1.0,
+        });
+        assert_eq!(
+            chain(&e),
+            "model: 2 is outside the range (-1, 1) of the tanh shaping function"
+        );
+    }
 }

@@ -496,6 +496,28 @@ impl SmoothModel {
         Ok(Model::new(self.input_shaping, operator, self.output_shaping)?.inverse())
     }
 
+    /// The open range (lo, hi) of the model's output when ψ_out saturates (tanh, Langevin): the
+    /// outputs approach lo and hi but never reach them, so a desired output outside has no
+    /// command. `None` when ψ_out is unbounded (at either end), and for the stop form, whose
+    /// linear term is unbounded and which has no inverse.
+    #[must_use]
+    pub fn output_range(&self) -> Option<(f64, f64)> {
+        if self.form == Form::Stop {
+            return None;
+        }
+        let psi = &self.output_shaping;
+        // The shape names its range when asked to invert a value beyond it.
+        let end = |probe: f64, pick: fn(f64, f64) -> f64| match psi.shape.invert(probe) {
+            Err(Error::OutOfRange { min, max, .. }) => {
+                psi.post_gain * pick(min, max) + psi.post_offset
+            }
+            _ => probe * f64::INFINITY,
+        };
+        let lo = end(-f64::MAX, |min, _| min);
+        let hi = end(f64::MAX, |_, max| max);
+        (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
+    }
+
     /// Runs the model over one record into a new vector.
     ///
     /// # Errors

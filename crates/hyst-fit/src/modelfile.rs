@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use hyst_core::{K2Law, Operator};
+use hyst_core::{K2Law, Operator, Shaping};
 use serde::{Deserialize, Serialize};
 
 use crate::evaluator::Evaluator;
@@ -27,6 +27,25 @@ pub const FORMAT: &str = "hyst-model";
 pub const VERSION: u32 = 3;
 /// The oldest format version this crate reads.
 pub const MIN_VERSION: u32 = 1;
+
+/// The fraction of a saturating output shaping's range, about its centre, that
+/// [`ModelFile::saturation`] lets the compensator ask for: a tanh reaches 99.9 % of its
+/// saturation level at atanh(0.999) ≈ 3.8 times its scale, so the command stays finite and
+/// moderate, while the last 0.1 % would need a command growing without bound.
+pub const SATURATION_FRACTION: f64 = 0.999;
+
+/// What a saturating output shaping lets the compensator reach (see [`ModelFile::saturation`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Saturation {
+    /// The output shaping function ("tanh", "langevin").
+    pub shaping: &'static str,
+    /// The open range (lo, hi) of the model's output: no command produces lo, hi or beyond.
+    pub range: (f64, f64),
+    /// The desired outputs a compensator may be asked for: [`SATURATION_FRACTION`] of `range`
+    /// about its centre. Clamping a desired output into these limits keeps the command finite
+    /// and the map from desired output to command monotone.
+    pub limits: (f64, f64),
+}
 
 /// Which model the file holds: `smooth` (section `[smooth]`) or `prandtl-ishlinskii` (section
 /// `[prandtl-ishlinskii]`; `pi` on the command line).
@@ -135,8 +154,11 @@ impl ModelFile {
     pub fn to_toml(&self) -> Result<String, FitError> {
         let body = toml::to_string(self)
             .map_err(|e| FitError::Invalid(format!("cannot write the model file: {e}")))?;
+        // The version this file says it is (`hyst fit` writes the lowest that holds it), not
+        // the newest this crate knows.
         Ok(format!(
-            "# hyst model file, format version {VERSION} (see docs/formats.md)\n{body}"
+            "# hyst model file, format version {} (see docs/formats.md)\n{body}",
+            self.version
         ))
     }
 
@@ -172,12 +194,22 @@ impl ModelFile {
                 )))
             }
         }
-        match value.get("version").and_then(|v| v.as_integer()) {
-            Some(v) if (i64::from(MIN_VERSION)..=i64::from(VERSION)).contains(&v) => {}
-            Some(v) => {
+        match value.get("version") {
+            Some(toml::Value::Integer(v))
+                if (i64::from(MIN_VERSION)..=i64::from(VERSION)).contains(v) => {}
+            Some(toml::Value::Integer(v)) => {
                 return Err(bad(format!(
                     "format version {v}; this hyst reads versions {MIN_VERSION} to {VERSION}"
                 )))
+            }
+            Some(other) => {
+                let at = top_level_line(text, "version")
+                    .map_or_else(String::new, |line| format!("line {line}: "));
+                return Err(bad(format!(
+                    "{at}`version = {other}` is a {}: the format version is an integer \
+                     (`version = {MIN_VERSION}`, no quotes)",
+                    other.type_str()
+                )));
             }
             None => return Err(bad("no `version`".into())),
         }
@@ -268,6 +300,28 @@ impl ModelFile {
         }
     }
 
+    /// The saturation of a smooth model whose output shaping is bounded (tanh, Langevin): the
+    /// open range of its output and the limits, [`SATURATION_FRACTION`] of that range about its
+    /// centre, that `hyst run --inverse --saturate` clamps desired outputs to. `None` for a
+    /// model whose output is unbounded (affine or polynomial shaping, Prandtl–Ishlinskii).
+    #[must_use]
+    pub fn saturation(&self) -> Option<Saturation> {
+        let m = self
+            .smooth
+            .as_ref()
+            .filter(|_| self.kind == ModelKind::Smooth)?;
+        let (lo, hi) = m.output_range()?;
+        let (centre, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+        Some(Saturation {
+            shaping: m.output_shaping.name(),
+            range: (lo, hi),
+            limits: (
+                centre - SATURATION_FRACTION * half,
+                centre + SATURATION_FRACTION * half,
+            ),
+        })
+    }
+
     /// Reads and checks a model file.
     ///
     /// # Errors
@@ -332,6 +386,19 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
         h = h.wrapping_mul(0x0000_0100_0000_01b3);
     }
     h
+}
+
+/// The 1-based line of the top-level key `key` (before the first table header), if it is
+/// written plainly as `key = …`.
+fn top_level_line(text: &str, key: &str) -> Option<usize> {
+    text.lines()
+        .take_while(|line| !line.trim_start().starts_with('['))
+        .position(|line| {
+            line.trim_start()
+                .strip_prefix(key)
+                .is_some_and(|rest| rest.trim_start().starts_with('='))
+        })
+        .map(|i| i + 1)
 }
 
 /// A TOML error on one line: "line L, column C: message" (the parser's own display spans several

@@ -250,6 +250,58 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
     let older = text.replace(&format!("version = {VERSION}"), "version = 1");
     let back = hyst_fit::ModelFile::from_toml(&older, std::path::Path::new("m.toml"))?;
     assert_eq!(back.version, 1);
+    // The comment above `version` names the version written, not the newest one known.
+    assert!(text.starts_with(&format!("# hyst model file, format version {VERSION} ")));
+    let written_as_1 = hyst_fit::ModelFile {
+        version: 1,
+        ..file.clone()
+    }
+    .to_toml()?;
+    assert!(written_as_1.starts_with("# hyst model file, format version 1 "));
+    assert!(written_as_1.contains("\nversion = 1\n"));
+    // A version of the wrong type is named with its value and line, not reported missing.
+    let quoted = older.replace("version = 1", "version = \"1\"");
+    let err = hyst_fit::ModelFile::from_toml(&quoted, std::path::Path::new("m.toml"))
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(
+        err.as_deref(),
+        Some(
+            "m.toml: line 3: `version = \"1\"` is a string: the format version is an integer \
+             (`version = 1`, no quotes)"
+        )
+    );
+    // A Langevin output shaping saturates: the range and the limits of `--saturate`.
+    let missing = |what: &str| FitError::Invalid(format!("the test model has no {what}"));
+    let sat = file
+        .saturation()
+        .ok_or_else(|| missing("saturating output shaping"))?;
+    let psi = model.output_shaping;
+    let hyst_core::AnyShaping::Langevin(l) = psi.shape else {
+        return Err(missing("Langevin output shaping"));
+    };
+    let (lo, hi) = (
+        psi.post_offset - psi.post_gain * l.gain,
+        psi.post_offset + psi.post_gain * l.gain,
+    );
+    assert_eq!(sat.shaping, "langevin");
+    assert_eq!(sat.range, (lo, hi));
+    let half = 0.5 * (hi - lo);
+    assert!((sat.limits.0 - (lo + 0.001 * half)).abs() < 1e-12 * half);
+    assert!((sat.limits.1 - (hi - 0.001 * half)).abs() < 1e-12 * half);
+    // The limits are reachable with finite commands; the range's end is not, and the refusal
+    // names the desired output and the range in output units.
+    let commands = file.run_inverse(&[0.5 * (lo + hi), sat.limits.1, sat.limits.0])?;
+    assert!(commands.iter().all(|c| c.is_finite()), "{commands:?}");
+    let refused = file.run_inverse(&[hi]);
+    assert!(
+        matches!(
+            refused,
+            Err(FitError::Core(hyst_core::Error::OutOfRange { value, min, max, .. }))
+                if (value, min, max) == (hi, lo, hi)
+        ),
+        "{refused:?}"
+    );
     Ok(())
 }
 

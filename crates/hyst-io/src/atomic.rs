@@ -104,36 +104,195 @@ fn write_error(path: &Path, action: impl Into<String>) -> impl FnOnce(io::Error)
 /// and devices excepted: what was written there stays written).
 pub(crate) fn write_atomic_with<F>(path: &Path, fill: F) -> Result<(), IoError>
 where
-    F: FnOnce(&mut BufWriter<&mut dyn Write>) -> io::Result<()>,
+    F: FnOnce(&mut dyn Write) -> io::Result<()>,
 {
-    if path.as_os_str() == STDOUT {
-        let stdout = io::stdout();
-        let mut lock = stdout.lock();
-        let mut writer: BufWriter<&mut dyn Write> = BufWriter::new(&mut lock);
-        return fill(&mut writer)
-            .and_then(|()| writer.flush())
-            .map_err(write_error(path, "write to standard output"));
+    let mut output = Output::create(path)?;
+    fill(&mut output).map_err(|e| output.error(e))?;
+    output.finish()
+}
+
+/// An output being written, as [`write_atomic`] describes: standard output, a device written
+/// straight through, or a temporary file next to the destination that [`Output::finish`]
+/// renames over it. Dropped unfinished (an error, a panic), it removes the temporary file and
+/// leaves the destination as it was.
+pub(crate) struct Output {
+    /// The path the user gave (named in errors).
+    path: PathBuf,
+    /// Where the bytes go.
+    sink: Sink,
+}
+
+/// Where an [`Output`]'s bytes go.
+enum Sink {
+    /// Standard output.
+    Stdout(BufWriter<io::StdoutLock<'static>>),
+    /// An existing non-regular file (a device, a FIFO), written directly.
+    Device(BufWriter<File>),
+    /// A temporary file, renamed over `target` when finished.
+    Temporary {
+        /// The temporary file, written through the plain `File`: tempfile's own `Write`
+        /// would append the temporary path to every error message.
+        writer: BufWriter<File>,
+        /// Its path; removes the file when dropped unless persisted.
+        temp: tempfile::TempPath,
+        /// Its entry on the list of [`remove_temporary_files`].
+        listed: Listed,
+        /// The regular file to replace (the target of a symbolic link the user named).
+        target: PathBuf,
+        /// The directory of both.
+        dir: PathBuf,
+        /// The permissions of the file being replaced, if it exists.
+        existing: Option<fs::Permissions>,
+    },
+}
+
+/// The buffer of an [`Output`]: large enough that writing 10 M short rows costs no more than
+/// the rows themselves.
+const BUFFER: usize = 64 * 1024;
+
+impl Output {
+    /// Opens the output for `path`: standard output for `-`, the device itself for an existing
+    /// non-regular file, otherwise a new temporary file in the destination's directory (the
+    /// target of a symbolic link is the destination).
+    ///
+    /// # Errors
+    /// [`IoError::IsDirectory`], or [`IoError::Write`] naming the step that failed.
+    pub(crate) fn create(path: &Path) -> Result<Output, IoError> {
+        let sink = if path.as_os_str() == STDOUT {
+            Sink::Stdout(BufWriter::with_capacity(BUFFER, io::stdout().lock()))
+        } else {
+            // `metadata` follows symbolic links, the kernel's "magic" ones too (/dev/stdout ->
+            // /proc/self/fd/1 -> a pipe), so a device or FIFO is recognised through any link.
+            let followed = fs::metadata(path);
+            match &followed {
+                Ok(meta) if meta.is_dir() => {
+                    return Err(IoError::IsDirectory {
+                        path: path.to_path_buf(),
+                    })
+                }
+                Ok(meta) if !meta.is_file() => {
+                    let file = OpenOptions::new()
+                        .write(true)
+                        .open(path)
+                        .map_err(write_error(path, "open"))?;
+                    Sink::Device(BufWriter::with_capacity(BUFFER, file))
+                }
+                _ => {
+                    let mut target = path.to_path_buf();
+                    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+                        target = resolve_link(path)
+                            .map_err(write_error(path, "follow the symbolic link"))?;
+                    }
+                    temporary(path, target, followed.ok().map(|m| m.permissions()))?
+                }
+            }
+        };
+        Ok(Output {
+            path: path.to_path_buf(),
+            sink,
+        })
     }
-    // `metadata` follows symbolic links, the kernel's "magic" ones too (/dev/stdout ->
-    // /proc/self/fd/1 -> a pipe), so a device or FIFO is recognised through any link.
-    let followed = fs::metadata(path);
-    if let Ok(meta) = &followed {
-        if meta.is_dir() {
-            return Err(IoError::IsDirectory {
-                path: path.to_path_buf(),
-            });
+
+    /// The [`IoError::Write`] for an error while writing the bytes.
+    pub(crate) fn error(&self, source: io::Error) -> IoError {
+        let action = match self.sink {
+            Sink::Stdout(_) => "write to standard output",
+            Sink::Device(_) => "write",
+            Sink::Temporary { .. } => "write the temporary file",
+        };
+        write_error(&self.path, action)(source)
+    }
+
+    /// Writes `bytes`.
+    ///
+    /// # Errors
+    /// [`IoError::Write`].
+    pub(crate) fn write_bytes(&mut self, bytes: &[u8]) -> Result<(), IoError> {
+        self.write_all(bytes).map_err(|e| self.error(e))
+    }
+
+    /// Flushes the bytes, and for a regular file gives the temporary file the old file's
+    /// permissions, syncs it to disk and renames it over the destination (then syncs the
+    /// directory, best effort).
+    ///
+    /// # Errors
+    /// [`IoError::Write`] naming the step that failed; the destination is then untouched and
+    /// the temporary file removed.
+    pub(crate) fn finish(mut self) -> Result<(), IoError> {
+        self.flush().map_err(|e| self.error(e))?;
+        let path = self.path;
+        let Sink::Temporary {
+            writer,
+            temp,
+            listed,
+            target,
+            dir,
+            existing,
+        } = self.sink
+        else {
+            return Ok(());
+        };
+        let file = writer
+            .into_inner()
+            .map_err(|e| write_error(&path, "write the temporary file")(e.into_error()))?;
+        if let Some(permissions) = existing {
+            // After creation, so that the umask does not narrow them.
+            file.set_permissions(permissions).map_err(write_error(
+                &path,
+                "give the temporary file the old file's permissions",
+            ))?;
         }
-        if !meta.is_file() {
-            return write_device(path, path, fill);
+        file.sync_all()
+            .map_err(write_error(&path, "sync the temporary file to disk"))?;
+        drop(file);
+
+        // Renamed and unlisted under the lock: a signal handler either removes the
+        // temporary file first (and the process ends before the rename) or finds
+        // the rename done.
+        let persisted = {
+            let mut live = temporaries();
+            let persisted = temp.persist(&target);
+            live.retain(|p| p != &listed.0);
+            std::mem::forget(listed);
+            persisted
+        };
+        persisted.map_err(|e| {
+            let action = format!(
+                "rename the temporary file {:?} over it",
+                e.path.display().to_string()
+            );
+            // Dropping `e.path` removes the temporary file.
+            write_error(&path, action)(e.error)
+        })?;
+
+        sync_dir(&dir);
+        Ok(())
+    }
+}
+
+impl Write for Output {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        match &mut self.sink {
+            Sink::Stdout(w) => w.write(bytes),
+            Sink::Device(w) => w.write(bytes),
+            Sink::Temporary { writer, .. } => writer.write(bytes),
         }
     }
-    let mut target = path.to_path_buf();
-    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-        target = resolve_link(path).map_err(write_error(path, "follow the symbolic link"))?;
+
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+        match &mut self.sink {
+            Sink::Stdout(w) => w.write_all(bytes),
+            Sink::Device(w) => w.write_all(bytes),
+            Sink::Temporary { writer, .. } => writer.write_all(bytes),
+        }
     }
-    match followed {
-        Ok(meta) => write_replacing(path, &target, Some(meta.permissions()), fill),
-        Err(_) => write_replacing(path, &target, None, fill),
+
+    fn flush(&mut self) -> io::Result<()> {
+        match &mut self.sink {
+            Sink::Stdout(w) => w.flush(),
+            Sink::Device(w) => w.flush(),
+            Sink::Temporary { writer, .. } => writer.flush(),
+        }
     }
 }
 
@@ -158,41 +317,21 @@ fn resolve_link(link: &Path) -> io::Result<PathBuf> {
     Err(io::Error::other("too many levels of symbolic links"))
 }
 
-/// Writes straight into an existing non-regular file (a device, a FIFO).
-fn write_device<F>(path: &Path, target: &Path, fill: F) -> Result<(), IoError>
-where
-    F: FnOnce(&mut BufWriter<&mut dyn Write>) -> io::Result<()>,
-{
-    let mut file = OpenOptions::new()
-        .write(true)
-        .open(target)
-        .map_err(write_error(path, "open"))?;
-    let mut sink: &mut dyn Write = &mut file;
-    let mut writer = BufWriter::new(&mut sink as &mut dyn Write);
-    fill(&mut writer)
-        .and_then(|()| writer.flush())
-        .map_err(write_error(path, "write"))
-}
-
-/// Replaces the regular file (or creates the new file) `target` atomically;
-/// errors name `path`, the path the user gave.
-fn write_replacing<F>(
+/// A new temporary file (`.NAME.XXXXXX.tmp`) next to `target`, on the list of
+/// [`remove_temporary_files`]; errors name `path`, the path the user gave.
+fn temporary(
     path: &Path,
-    target: &Path,
+    target: PathBuf,
     existing: Option<fs::Permissions>,
-    fill: F,
-) -> Result<(), IoError>
-where
-    F: FnOnce(&mut BufWriter<&mut dyn Write>) -> io::Result<()>,
-{
+) -> Result<Sink, IoError> {
     let file_name = target.file_name().ok_or_else(|| IoError::Write {
         path: path.to_path_buf(),
         action: "write".into(),
         source: io::Error::new(io::ErrorKind::InvalidInput, "the path has no file name"),
     })?;
     let dir = match target.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
+        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+        _ => PathBuf::from("."),
     };
 
     let mut prefix = std::ffi::OsString::from(".");
@@ -204,60 +343,24 @@ where
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
     // Created and listed under the lock, so a signal handler's cleanup sees it.
-    // Removed on drop (error or panic below) unless persisted.
-    let temp = {
+    let (file, temp) = {
         let mut live = temporaries();
-        let temp = builder.tempfile_in(dir).map_err(write_error(
+        let temp = builder.tempfile_in(&dir).map_err(write_error(
             path,
             format!("create a temporary file in {:?}", dir.display().to_string()),
         ))?;
         live.push(temp.path().to_path_buf());
-        temp
+        temp.into_parts()
     };
-    let listed = Listed(temp.path().to_path_buf());
-
-    // Through the plain `File`: tempfile's own `Write` would append the
-    // temporary path to every error message.
-    let file = temp.as_file();
-    {
-        let mut handle: &File = file;
-        let mut sink: &mut dyn Write = &mut handle;
-        let mut writer = BufWriter::new(&mut sink as &mut dyn Write);
-        fill(&mut writer)
-            .and_then(|()| writer.flush())
-            .map_err(write_error(path, "write the temporary file"))?;
-    }
-    if let Some(permissions) = existing {
-        // After creation, so that the umask does not narrow them.
-        file.set_permissions(permissions).map_err(write_error(
-            path,
-            "give the temporary file the old file's permissions",
-        ))?;
-    }
-    file.sync_all()
-        .map_err(write_error(path, "sync the temporary file to disk"))?;
-
-    // Renamed and unlisted under the lock: a signal handler either removes the
-    // temporary file first (and the process ends before the rename) or finds
-    // the rename done.
-    let persisted = {
-        let mut live = temporaries();
-        let persisted = temp.persist(target);
-        live.retain(|p| p != &listed.0);
-        std::mem::forget(listed);
-        persisted
-    };
-    persisted.map_err(|e| {
-        let action = format!(
-            "rename the temporary file {:?} over it",
-            e.file.path().display().to_string()
-        );
-        // Dropping `e.file` removes the temporary file.
-        write_error(path, action)(e.error)
-    })?;
-
-    sync_dir(dir);
-    Ok(())
+    let listed = Listed(temp.to_path_buf());
+    Ok(Sink::Temporary {
+        writer: BufWriter::with_capacity(BUFFER, file),
+        temp,
+        listed,
+        target,
+        dir,
+        existing,
+    })
 }
 
 /// A temporary file on the list of [`remove_temporary_files`]; dropping it

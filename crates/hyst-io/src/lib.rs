@@ -40,8 +40,12 @@
 
 mod atomic;
 mod error;
+mod reader;
 mod table;
+mod writer;
 
 pub use atomic::{check_distinct, remove_temporary_files, write_atomic, STDOUT};
 pub use error::IoError;
+pub use reader::CsvReader;
 pub use table::Table;
+pub use writer::CsvWriter;

@@ -1,12 +1,14 @@
 //! Numeric CSV tables.
 
-use std::collections::HashMap;
-use std::fs;
 use std::io::{self, Write};
 use std::path::Path;
 
 use crate::atomic::write_atomic_with;
-use crate::IoError;
+use crate::reader::{pick_column, unknown_column};
+#[cfg(test)]
+use crate::writer::push_f64;
+use crate::writer::{check_names, push_row, write_header};
+use crate::{CsvReader, IoError};
 
 /// Source name of tables built with [`Table::new`].
 const MEMORY_SOURCE: &str = "<memory>";
@@ -52,17 +54,7 @@ impl Table {
     /// - [`IoError::Csv`] if the CSV parser itself fails;
     /// - [`IoError::NoData`] if there is a header but no data rows.
     pub fn read(path: &Path) -> Result<Table, IoError> {
-        let file = path.display().to_string();
-        if path.is_dir() {
-            return Err(IoError::IsDirectory {
-                path: path.to_path_buf(),
-            });
-        }
-        let bytes = fs::read(path).map_err(|source| IoError::Read {
-            file: file.clone(),
-            source,
-        })?;
-        parse(&bytes, &file)
+        collect(CsvReader::open(path)?)
     }
 
     /// Parses CSV `bytes` as [`Table::read`] parses a file's contents, with
@@ -107,41 +99,7 @@ impl Table {
                 columns: columns.len(),
             });
         }
-        if names.is_empty() {
-            return Err(IoError::NoColumns { file });
-        }
-        let invalid = |i: usize, reason: String| IoError::InvalidName {
-            file: MEMORY_SOURCE.to_string(),
-            column: i + 1,
-            name: names[i].clone(),
-            reason,
-        };
-        let mut seen: HashMap<&str, usize> = HashMap::new();
-        for (i, name) in names.iter().enumerate() {
-            if name.trim().is_empty() {
-                return Err(invalid(i, "the name is empty".into()));
-            }
-            if name.trim() != name {
-                return Err(invalid(
-                    i,
-                    "leading or trailing whitespace would be lost when the file is read back"
-                        .into(),
-                ));
-            }
-            if name.contains(['\n', '\r']) {
-                return Err(invalid(i, "names cannot contain line breaks".into()));
-            }
-            if let Some(first) = seen.insert(name, i + 1) {
-                return Err(invalid(i, format!("column {first} has the same name")));
-            }
-        }
-        if names.iter().all(|n| looks_numeric(n)) {
-            return Err(invalid(
-                0,
-                "all column names are numbers, so the header could not be told apart from data"
-                    .into(),
-            ));
-        }
+        check_names(&names, &file)?;
         let len = columns[0].len();
         for (i, column) in columns.iter().enumerate() {
             if column.len() != len {
@@ -196,7 +154,7 @@ impl Table {
     pub fn column(&self, name: &str) -> Result<&[f64], IoError> {
         match self.column_index(name) {
             Some(i) => Ok(&self.columns[i]),
-            None => Err(self.unknown_column(name)),
+            None => Err(unknown_column(&self.source, &self.names, name)),
         }
     }
 
@@ -231,21 +189,7 @@ impl Table {
     /// `--column`) if no name is given, there is no `x` column and there is more
     /// than one column.
     pub fn pick_column(&self, name: Option<&str>) -> Result<(usize, &[f64]), IoError> {
-        let index = match name {
-            Some(name) => self
-                .column_index(name)
-                .ok_or_else(|| self.unknown_column(name))?,
-            None => match self.column_index("x") {
-                Some(i) => i,
-                None if self.names.len() == 1 => 0,
-                None => {
-                    return Err(IoError::AmbiguousColumn {
-                        file: self.source.clone(),
-                        available: self.names.clone(),
-                    })
-                }
-            },
-        };
+        let index = pick_column(&self.source, &self.names, name)?;
         Ok((index, &self.columns[index]))
     }
 
@@ -267,271 +211,39 @@ impl Table {
     }
 
     /// Writes the table as CSV (the format of [`Table::write_atomic`]) to `w`.
-    fn write_csv<W: Write>(&self, w: &mut W) -> io::Result<()> {
-        for (i, name) in self.names.iter().enumerate() {
-            if i > 0 {
-                w.write_all(b",")?;
-            }
-            let needs_quotes =
-                name.contains([',', '"', '\n', '\r']) || (i == 0 && name.starts_with('#'));
-            if needs_quotes {
-                write!(w, "\"{}\"", name.replace('"', "\"\""))?;
-            } else {
-                w.write_all(name.as_bytes())?;
-            }
-        }
-        w.write_all(b"\n")?;
+    fn write_csv(&self, w: &mut dyn Write) -> io::Result<()> {
+        write_header(w, &self.names)?;
         let mut line = String::new();
         for row in 0..self.len() {
             line.clear();
-            for (i, column) in self.columns.iter().enumerate() {
-                if i > 0 {
-                    line.push(',');
-                }
-                push_f64(&mut line, column[row]);
-            }
-            line.push('\n');
+            push_row(&mut line, self.columns.iter().map(|column| column[row]));
             w.write_all(line.as_bytes())?;
         }
         Ok(())
     }
-
-    /// The error for a column name that does not exist.
-    fn unknown_column(&self, name: &str) -> IoError {
-        IoError::UnknownColumn {
-            file: self.source.clone(),
-            name: name.to_string(),
-            available: self.names.clone(),
-        }
-    }
 }
 
-/// Appends `v` in its shortest round-trip form.
-fn push_f64(out: &mut String, v: f64) {
-    use std::fmt::Write as _;
-    let a = v.abs();
-    // Both `{}` and `{:e}` print the shortest digits that parse back to `v`;
-    // `{}` never uses an exponent, which gets unwieldy for 1e300 or 5e-324.
-    // Writing into a String cannot fail.
-    let _ = if a == 0.0 || (1e-5..1e16).contains(&a) {
-        write!(out, "{v}")
-    } else {
-        write!(out, "{v:e}")
-    };
-}
-
-/// Whether a (trimmed) cell parses as a number, finite or not.
-fn looks_numeric(cell: &str) -> bool {
-    cell.trim().parse::<f64>().is_ok()
-}
-
-/// Skips what the CSV parser skips before a record (blank lines, `#` comment
-/// lines, and at the very start a UTF-8 BOM) and returns the offset of the
-/// record's first byte.
-fn skip_to_record(bytes: &[u8], mut pos: usize) -> usize {
-    if pos == 0 && bytes.starts_with(b"\xEF\xBB\xBF") {
-        pos = 3;
-    }
-    while pos < bytes.len() {
-        match bytes[pos] {
-            b'\r' | b'\n' => pos += 1,
-            b'#' => match bytes[pos..].iter().position(|&b| b == b'\n') {
-                Some(nl) => pos += nl + 1,
-                None => pos = bytes.len(),
-            },
-            _ => break,
+/// Reads a whole CSV input into a table.
+fn collect<R: std::io::Read>(mut rows: CsvReader<R>) -> Result<Table, IoError> {
+    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); rows.names().len()];
+    let mut lines = Vec::new();
+    while let Some((line, values)) = rows.next_row()? {
+        for (column, value) in columns.iter_mut().zip(values) {
+            column.push(*value);
         }
-    }
-    pos
-}
-
-/// Converts byte offsets into 1-based line numbers, for increasing offsets.
-struct LineCounter<'a> {
-    /// The whole input.
-    bytes: &'a [u8],
-    /// Offset up to which newlines have been counted.
-    pos: usize,
-    /// The line number at `pos`.
-    line: usize,
-}
-
-impl LineCounter<'_> {
-    /// The 1-based line containing byte offset `offset` (must not decrease).
-    fn line_at(&mut self, offset: usize) -> usize {
-        let offset = offset.min(self.bytes.len());
-        if offset > self.pos {
-            self.line += self.bytes[self.pos..offset]
-                .iter()
-                .filter(|&&b| b == b'\n')
-                .count();
-            self.pos = offset;
-        }
-        self.line
-    }
-}
-
-/// Decodes one cell of `record`, trimmed of surrounding whitespace.
-fn cell<'r>(
-    record: &'r csv::ByteRecord,
-    index: usize,
-    file: &str,
-    line: usize,
-    name: &str,
-) -> Result<&'r str, IoError> {
-    let raw = record.get(index).unwrap_or_default();
-    match std::str::from_utf8(raw) {
-        Ok(s) => Ok(s.trim()),
-        Err(_) => Err(IoError::InvalidUtf8 {
-            file: file.to_string(),
-            line,
-            column: index + 1,
-            name: name.to_string(),
-            value: String::from_utf8_lossy(raw).trim().to_string(),
-        }),
-    }
-}
-
-/// Whether the record is an all-whitespace line (the parser skips truly empty
-/// lines itself, but not lines of spaces).
-fn is_blank(record: &csv::ByteRecord) -> bool {
-    record.len() == 1
-        && record
-            .get(0)
-            .is_some_and(|c| c.iter().all(|b| b.is_ascii_whitespace()))
-}
-
-/// Parses a whole CSV input.
-fn parse(bytes: &[u8], file: &str) -> Result<Table, IoError> {
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .comment(Some(b'#'))
-        .from_reader(bytes);
-    let mut lines = LineCounter {
-        bytes,
-        pos: 0,
-        line: 1,
-    };
-    let mut record = csv::ByteRecord::new();
-
-    // Reads the next non-blank record and returns its 1-based start line.
-    let mut next = |record: &mut csv::ByteRecord| -> Result<Option<usize>, IoError> {
-        loop {
-            let start = usize::try_from(reader.position().byte()).unwrap_or(usize::MAX);
-            let more = reader.read_byte_record(record).map_err(|e| IoError::Csv {
-                file: file.to_string(),
-                line: lines.line_at(skip_to_record(bytes, start)),
-                message: e.to_string(),
-            })?;
-            if !more {
-                return Ok(None);
-            }
-            let line = lines.line_at(skip_to_record(bytes, start));
-            if !is_blank(record) {
-                return Ok(Some(line));
-            }
-        }
-    };
-
-    // Header.
-    let Some(header_line) = next(&mut record)? else {
-        return Err(IoError::Empty {
-            file: file.to_string(),
-        });
-    };
-    let mut names = Vec::with_capacity(record.len());
-    for i in 0..record.len() {
-        let name = cell(&record, i, file, header_line, "")?;
-        // csv-core strips a BOM at the start of the input; be safe if it did not.
-        let name = if i == 0 {
-            name.trim_start_matches('\u{feff}').trim()
-        } else {
-            name
-        };
-        names.push(name.to_string());
-    }
-    if names.iter().all(|n| looks_numeric(n)) {
-        return Err(IoError::NoHeader {
-            file: file.to_string(),
-            line: header_line,
-            cells: names,
-        });
-    }
-    let mut seen: HashMap<&str, usize> = HashMap::new();
-    for (i, name) in names.iter().enumerate() {
-        if name.is_empty() {
-            return Err(IoError::EmptyName {
-                file: file.to_string(),
-                line: header_line,
-                column: i + 1,
-            });
-        }
-        if let Some(first) = seen.insert(name, i + 1) {
-            return Err(IoError::DuplicateName {
-                file: file.to_string(),
-                line: header_line,
-                column: i + 1,
-                name: name.clone(),
-                first,
-            });
-        }
-    }
-
-    // Data rows.
-    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
-    let mut row_lines = Vec::new();
-    while let Some(line) = next(&mut record)? {
-        if record.len() != names.len() {
-            let cells = (0..record.len())
-                .map(|i| {
-                    String::from_utf8_lossy(record.get(i).unwrap_or_default())
-                        .trim()
-                        .to_string()
-                })
-                .collect();
-            return Err(IoError::CellCount {
-                file: file.to_string(),
-                line,
-                expected: names.len(),
-                found: record.len(),
-                header_line,
-                cells,
-            });
-        }
-        for (i, (name, column)) in names.iter().zip(&mut columns).enumerate() {
-            let text = cell(&record, i, file, line, name)?;
-            let value: f64 = text.parse().map_err(|_| IoError::Parse {
-                file: file.to_string(),
-                line,
-                column: i + 1,
-                name: name.clone(),
-                value: text.to_string(),
-            })?;
-            if !value.is_finite() {
-                return Err(IoError::NonFinite {
-                    file: file.to_string(),
-                    line,
-                    column: i + 1,
-                    name: name.clone(),
-                    value: text.to_string(),
-                });
-            }
-            column.push(value);
-        }
-        row_lines.push(line);
-    }
-    if row_lines.is_empty() {
-        return Err(IoError::NoData {
-            file: file.to_string(),
-            header_line,
-        });
+        lines.push(line);
     }
     Ok(Table {
-        names,
+        names: rows.names().to_vec(),
         columns,
-        lines: row_lines,
-        source: file.to_string(),
+        lines,
+        source: rows.source().to_string(),
     })
+}
+
+/// Parses a whole CSV input held in memory.
+fn parse(bytes: &[u8], file: &str) -> Result<Table, IoError> {
+    collect(CsvReader::new(bytes, file)?)
 }
 
 #[cfg(test)]
@@ -539,6 +251,7 @@ mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
     use super::*;
+    use std::fs;
 
     /// Parses `text` as a file called `data.csv`.
     fn read_str(text: &str) -> Result<Table, IoError> {

@@ -1,0 +1,395 @@
+//! Integration tests of `hyst run --record` (one operator start per record, FORC curves and B-H
+//! loops) and `--saturate` (desired outputs beyond a saturating output shaping), and of their
+//! messages.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use hyst_core::Operator;
+
+fn hyst(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hyst"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Runs `hyst run ARGS INPUT -o OUTPUT` and returns OUTPUT's text; panics with stderr on failure.
+fn run_ok(args: &[&str], input: &Path, output: &Path) -> String {
+    let mut all = vec!["run"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&[s(input), "-o", s(output)]);
+    let out = hyst(&all);
+    assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+    std::fs::read_to_string(output).unwrap()
+}
+
+/// The data rows of a CSV text, split at commas.
+fn rows(text: &str) -> Vec<Vec<String>> {
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+/// Records: the id and the samples (value, first derivative) of each.
+type Records = Vec<(f64, Vec<(f64, f64)>)>;
+
+/// A FORC-like file: records 0, 1 and 0 again (a repeat that is not contiguous), each a
+/// reversal curve, with a time derivative column.
+fn forc_file(dir: &Path) -> (PathBuf, Records) {
+    let mut records = Vec::new();
+    for (id, top) in [(0.0, 1.0), (1.0, 0.4), (0.0, -0.3)] {
+        let n = 40;
+        let samples: Vec<(f64, f64)> = (0..n)
+            .map(|i| {
+                let t = i as f64 / (n - 1) as f64;
+                // Down from saturation to the reversal field `top`, then back up.
+                let x = if t < 0.5 {
+                    1.5 - (1.5 - top) * 2.0 * t
+                } else {
+                    top + (1.5 - top) * (2.0 * t - 1.0)
+                };
+                (x, if t < 0.5 { -1.0 } else { 1.0 })
+            })
+            .collect();
+        records.push((id, samples));
+    }
+    let mut text = String::from("# FORC\nH,H_d1,curve\n");
+    for (id, samples) in &records {
+        for (x, d) in samples {
+            text += &format!("{x},{d},{id}\n");
+        }
+    }
+    let path = dir.join("forc.csv");
+    std::fs::write(&path, text).unwrap();
+    (path, records)
+}
+
+#[test]
+fn k1_k2_records_restart_the_operator_and_repeats_are_new_records() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, records) = forc_file(dir.path());
+    for inverse in [false, true] {
+        let mut args = vec![
+            "--k1", "0.2", "--k2", "8", "--column", "H", "--record", "curve",
+        ];
+        if inverse {
+            args.push("--inverse");
+        }
+        let text = run_ok(&args, &input, &dir.path().join("out.csv"));
+        assert!(text.starts_with("x,y,curve\n"), "{text}");
+        let got = rows(&text);
+        let mut i = 0;
+        for (id, samples) in &records {
+            // Each record from no history, as a fresh operator.
+            let mut direct = hyst_core::Hysteresis::new(0.2, 8.0).unwrap();
+            let mut inv = hyst_core::InverseHysteresis::new(0.2, 8.0).unwrap();
+            for (x, _) in samples {
+                let want = if inverse {
+                    inv.step(*x)
+                } else {
+                    direct.step(*x)
+                };
+                let row = &got[i];
+                assert_eq!(row[0].parse::<f64>().unwrap(), *x);
+                assert_eq!(
+                    row[1].parse::<f64>().unwrap().to_bits(),
+                    want.to_bits(),
+                    "row {i}, inverse {inverse}"
+                );
+                assert_eq!(row[2].parse::<f64>().unwrap(), *id);
+                i += 1;
+            }
+        }
+        assert_eq!(i, got.len());
+        // Without --record the file is one history: the third curve differs.
+        let one = run_ok(&args[..6], &input, &dir.path().join("one.csv"));
+        assert!(one.starts_with("x,y\n"));
+        let one = rows(&one);
+        let (a, b) = (&one[80], &got[80]);
+        assert_ne!(a[1], b[1], "the third record must restart");
+    }
+}
+
+/// Fits a model to the steel B-H loops (tanh output shaping) and returns its path.
+fn steel_model(dir: &Path) -> PathBuf {
+    let model = dir.join("steel.toml");
+    let data = repo().join("data/bh-loops/m130_27s_steel_loops.csv");
+    let out = hyst(&[
+        "fit",
+        "--input",
+        "H_A_per_m",
+        "--output",
+        "B_T",
+        "--output-shaping",
+        "tanh",
+        s(&data),
+        "-o",
+        s(&model),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    model
+}
+
+#[test]
+fn model_records_start_by_the_model_rule_at_each_first_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = steel_model(dir.path());
+    let data = repo().join("data/bh-loops/m130_27s_steel_loops.csv");
+    let text = std::fs::read_to_string(&data).unwrap();
+    // The loops, each in a file of its own: running it alone is the reference.
+    let mut header_and_loops: Vec<(String, String)> = Vec::new();
+    for line in text.lines().skip(1) {
+        let id = line.split(',').next().unwrap().to_string();
+        match header_and_loops.last_mut() {
+            Some((last, body)) if *last == id => {
+                body.push_str(line);
+                body.push('\n');
+            }
+            _ => header_and_loops.push((id, format!("loop,H_A_per_m,B_T\n{line}\n"))),
+        }
+    }
+    assert!(header_and_loops.len() >= 3);
+    for args in [
+        &["--model", s(&model)][..],
+        &["--model", s(&model), "--inverse", "--saturate"][..],
+    ] {
+        let mut all: Vec<&str> = args.to_vec();
+        all.extend_from_slice(&["--record", "loop"]);
+        let together = rows(&run_ok(&all, &data, &dir.path().join("all.csv")));
+        let mut i = 0;
+        for (k, (id, body)) in header_and_loops.iter().enumerate() {
+            let part = dir.path().join(format!("loop{k}.csv"));
+            std::fs::write(&part, body).unwrap();
+            let alone = rows(&run_ok(args, &part, &dir.path().join("alone.csv")));
+            for row in alone {
+                assert_eq!(together[i][..2], row[..], "{args:?} loop {id} row {i}");
+                assert_eq!(together[i][2], *id);
+                i += 1;
+            }
+        }
+        assert_eq!(i, together.len());
+    }
+}
+
+#[test]
+fn records_carry_derivatives_through_a_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, records) = forc_file(dir.path());
+    // A model in the units of the FORC file: fit to a synthetic loop of H.
+    let mut data = String::from("H,M\n");
+    let mut truth = hyst_core::Hysteresis::new(0.2, 6.0).unwrap();
+    for i in 0..600 {
+        let x = 1.5 * (i as f64 * 0.05).sin() * (1.0 - i as f64 / 900.0);
+        data += &format!("{x},{}\n", 0.8 * truth.step(x));
+    }
+    let data_path = dir.path().join("loop.csv");
+    std::fs::write(&data_path, data).unwrap();
+    let model = dir.path().join("m.toml");
+    let out = hyst(&[
+        "fit",
+        "--input",
+        "H",
+        "--output",
+        "M",
+        s(&data_path),
+        "-o",
+        s(&model),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let args = [
+        "--model",
+        s(&model),
+        "--column",
+        "H",
+        "--derivatives",
+        "1",
+        "--record",
+        "curve",
+    ];
+    let got = rows(&run_ok(&args, &input, &dir.path().join("out.csv")));
+    // Record by record, alone.
+    let mut i = 0;
+    for (k, (_, samples)) in records.iter().enumerate() {
+        let mut body = String::from("H,H_d1\n");
+        for (x, d) in samples {
+            body += &format!("{x},{d}\n");
+        }
+        let part = dir.path().join(format!("c{k}.csv"));
+        std::fs::write(&part, body).unwrap();
+        let alone = rows(&run_ok(&args[..6], &part, &dir.path().join("alone.csv")));
+        for row in alone {
+            assert_eq!(got[i][..3], row[..], "record {k}, row {i}");
+            i += 1;
+        }
+    }
+    assert_eq!(i, got.len());
+}
+
+#[test]
+fn forc_file_runs_record_by_record() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = repo().join("data/feco-forc/feco_forc_sequence.csv");
+    let out_path = dir.path().join("out.csv");
+    let text = run_ok(
+        &[
+            "--k1",
+            "300",
+            "--k2",
+            "0.01",
+            "--column",
+            "H_Oe",
+            "--record",
+            "curve_index",
+        ],
+        &data,
+        &out_path,
+    );
+    let got = rows(&text);
+    assert_eq!(got.len(), 30628);
+    // Every curve starts on the line y = x (no history: the first sample is a reversal point).
+    let mut last = String::new();
+    let mut starts = 0;
+    for row in &got {
+        if row[2] != last {
+            assert_eq!(
+                row[0], row[1],
+                "curve {} starts at its first sample",
+                row[2]
+            );
+            last.clone_from(&row[2]);
+            starts += 1;
+        }
+    }
+    assert_eq!(starts, 152);
+}
+
+/// A desired-output file for the steel model: in range, then beyond tanh's range.
+fn desired(dir: &Path, values: &[f64]) -> PathBuf {
+    let mut text = String::from("B_T\n");
+    for v in values {
+        text += &format!("{v}\n");
+    }
+    let path = dir.join("desired.csv");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn beyond_a_saturating_shaping_is_one_clear_error_by_default() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = steel_model(dir.path());
+    let out = dir.path().join("cmd.csv");
+    std::fs::write(&out, "previous\n").unwrap();
+    for (values, line, value) in [
+        (&[0.1, 0.5, 2.0, 0.3][..], 4, "2"),
+        (&[-7.5, 0.5][..], 2, "-7.5"),
+    ] {
+        let input = desired(dir.path(), values);
+        let o = hyst(&[
+            "run",
+            "--model",
+            s(&model),
+            "--inverse",
+            s(&input),
+            "-o",
+            s(&out),
+        ]);
+        assert_eq!(o.status.code(), Some(1));
+        let err = stderr(&o);
+        assert!(
+            err.contains(&format!(
+                "desired.csv:{line}: column 1 (\"B_T\"): desired output {value} is outside the \
+                 range ("
+            )),
+            "{err}"
+        );
+        assert!(err.contains("of the model's tanh output shaping"), "{err}");
+        assert!(err.contains("--saturate clamps"), "{err}");
+        // Said once.
+        assert_eq!(err.matches("outside the range").count(), 1, "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous\n");
+    }
+}
+
+#[test]
+fn saturate_clamps_into_the_stated_fraction_of_the_range_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = steel_model(dir.path());
+    let file: toml::Table = std::fs::read_to_string(&model).unwrap().parse().unwrap();
+    let psi = &file["smooth"]["output_shaping"];
+    let (gain, offset) = (
+        psi["post_gain"].as_float().unwrap(),
+        psi["post_offset"].as_float().unwrap(),
+    );
+    let tanh_gain = psi["shape"]["tanh"]["gain"].as_float().unwrap();
+    let (lo, hi) = (offset - gain * tanh_gain, offset + gain * tanh_gain);
+    let half = 0.5 * (hi - lo);
+    let (a, b) = (lo + 0.001 * half, hi - 0.001 * half);
+    let values = [0.1, 0.5, 2.0, hi, 0.3, -9.0, 0.5 * (b + hi)];
+    let input = desired(dir.path(), &values);
+    let out = dir.path().join("cmd.csv");
+    let o = hyst(&[
+        "run",
+        "--model",
+        s(&model),
+        "--inverse",
+        "--saturate",
+        s(&input),
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.starts_with("hyst run: --saturate clamped 4 of 7 desired outputs into ["),
+        "{err}"
+    );
+    assert!(err.contains("99.9 % of the range"), "{err}");
+    assert!(err.contains("desired.csv:4 (value 2)"), "{err}");
+    let got = rows(&std::fs::read_to_string(&out).unwrap());
+    let x: Vec<f64> = got.iter().map(|r| r[0].parse().unwrap()).collect();
+    let command: Vec<f64> = got.iter().map(|r| r[1].parse().unwrap()).collect();
+    assert!(command.iter().all(|c| c.is_finite()));
+    assert_eq!(x[0], 0.1);
+    assert!(
+        (x[2] - b).abs() < 1e-12 && (x[3] - b).abs() < 1e-12,
+        "{x:?}"
+    );
+    assert!((x[5] - a).abs() < 1e-12, "{x:?}");
+    assert!((x[6] - b).abs() < 1e-12, "{x:?}");
+    // The clamped commands are what the model needs to produce the limits: run them forward.
+    let mut fwd = String::from("H_A_per_m\n");
+    for c in &command {
+        fwd += &format!("{c}\n");
+    }
+    let fwd_in = dir.path().join("commands.csv");
+    std::fs::write(&fwd_in, fwd).unwrap();
+    let back = rows(&run_ok(
+        &["--model", s(&model)],
+        &fwd_in,
+        &dir.path().join("back.csv"),
+    ));
+    for (row, want) in back.iter().zip(&x) {
+        let y: f64 = row[1].parse().unwrap();
+        assert!(
+            (y - want).abs() < 1e-6,
+            "model(command) {y} vs desired {want}"
+        );
+    }
+}

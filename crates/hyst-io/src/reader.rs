@@ -1,0 +1,526 @@
+//! Reading a numeric CSV file row by row, in constant memory: [`CsvReader`]. [`Table`](crate::Table)
+//! is built on it, so a file read whole and a file streamed are parsed, checked and located
+//! (line numbers) by the same code.
+
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::{self, Read};
+use std::path::Path;
+
+use crate::IoError;
+
+/// Bytes already located (their newlines counted) that may pile up before they are dropped
+/// from the window: dropping moves the rest of the window, so doing it once per this many bytes
+/// keeps the cost per byte constant.
+const DROP_AFTER: usize = 64 * 1024;
+
+/// A CSV file with a header row, read one data row at a time.
+///
+/// The header and every row are checked as [`Table::read`](crate::Table::read) documents (the
+/// two share this code): every cell must parse as a finite `f64`, every row must have one cell
+/// per column, blank lines and `#` comment lines are skipped but counted, and errors name the
+/// file, the line, the column and the value. Memory stays constant: only the current row, the
+/// parser's buffer and the bytes of the current line are held.
+///
+/// # Examples
+/// ```
+/// # fn main() -> Result<(), hyst_io::IoError> {
+/// use hyst_io::CsvReader;
+///
+/// let mut rows = CsvReader::new(&b"t,x\n# a comment\n0,0.5\n1,0.25\n"[..], "data.csv")?;
+/// assert_eq!(rows.names(), ["t", "x"]);
+/// assert_eq!(rows.pick_column(None)?, 1);
+/// assert_eq!(rows.next_row()?, Some((3, &[0.0, 0.5][..])));
+/// assert_eq!(rows.next_row()?, Some((4, &[1.0, 0.25][..])));
+/// assert_eq!(rows.next_row()?, None);
+/// # Ok(())
+/// # }
+/// ```
+pub struct CsvReader<R: Read> {
+    /// The parser, reading through the window of recent bytes.
+    reader: csv::Reader<Window<R>>,
+    /// The current record.
+    record: csv::ByteRecord,
+    /// The values of the current row.
+    values: Vec<f64>,
+    /// Line numbers of byte offsets.
+    lines: LineCounter,
+    /// Column names, in file order.
+    names: Vec<String>,
+    /// 1-based line of the header.
+    header_line: usize,
+    /// Data rows returned so far.
+    rows: usize,
+    /// File path or other name of the source, for messages.
+    source: String,
+}
+
+impl CsvReader<File> {
+    /// Opens a CSV file and reads its header; the path (as displayed) names the file in errors.
+    ///
+    /// # Errors
+    /// [`IoError::IsDirectory`] or [`IoError::Read`] when the file cannot be read, and the
+    /// header errors of [`CsvReader::new`].
+    pub fn open(path: &Path) -> Result<Self, IoError> {
+        let file = path.display().to_string();
+        if path.is_dir() {
+            return Err(IoError::IsDirectory {
+                path: path.to_path_buf(),
+            });
+        }
+        let handle = File::open(path).map_err(|source| IoError::Read {
+            file: file.clone(),
+            source,
+        })?;
+        Self::new(handle, &file)
+    }
+}
+
+impl<R: Read> CsvReader<R> {
+    /// Reads the header from `reader`; `source` names the input in errors.
+    ///
+    /// # Errors
+    /// [`IoError::Empty`] (nothing but blank lines and comments), [`IoError::NoHeader`] (the
+    /// first row holds only numbers), [`IoError::EmptyName`], [`IoError::DuplicateName`],
+    /// [`IoError::InvalidUtf8`], [`IoError::Csv`] and [`IoError::Read`].
+    pub fn new(reader: R, source: &str) -> Result<Self, IoError> {
+        let reader = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .comment(Some(b'#'))
+            .from_reader(Window {
+                inner: reader,
+                bytes: Vec::new(),
+                base: 0,
+            });
+        let mut this = CsvReader {
+            reader,
+            record: csv::ByteRecord::new(),
+            values: Vec::new(),
+            lines: LineCounter { pos: 0, line: 1 },
+            names: Vec::new(),
+            header_line: 0,
+            rows: 0,
+            source: source.to_string(),
+        };
+        let Some(header_line) = this.next_record()? else {
+            return Err(IoError::Empty {
+                file: this.source.clone(),
+            });
+        };
+        let mut names = Vec::with_capacity(this.record.len());
+        for i in 0..this.record.len() {
+            let name = cell(&this.record, i, &this.source, header_line, "")?;
+            // csv-core strips a BOM at the start of the input; be safe if it did not.
+            let name = if i == 0 {
+                name.trim_start_matches('\u{feff}').trim()
+            } else {
+                name
+            };
+            names.push(name.to_string());
+        }
+        if names.iter().all(|n| looks_numeric(n)) {
+            return Err(IoError::NoHeader {
+                file: this.source.clone(),
+                line: header_line,
+                cells: names,
+            });
+        }
+        let mut seen: HashMap<&str, usize> = HashMap::new();
+        for (i, name) in names.iter().enumerate() {
+            if name.is_empty() {
+                return Err(IoError::EmptyName {
+                    file: this.source.clone(),
+                    line: header_line,
+                    column: i + 1,
+                });
+            }
+            if let Some(first) = seen.insert(name, i + 1) {
+                return Err(IoError::DuplicateName {
+                    file: this.source.clone(),
+                    line: header_line,
+                    column: i + 1,
+                    name: name.clone(),
+                    first,
+                });
+            }
+        }
+        this.values = vec![0.0; names.len()];
+        this.names = names;
+        this.header_line = header_line;
+        Ok(this)
+    }
+
+    /// The column names, in file order.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The file path or other source name used in error messages.
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// The 0-based index of the column called `name` (exact, case-sensitive match).
+    pub fn column_index(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+
+    /// The 0-based index of the column called `name`.
+    ///
+    /// # Errors
+    /// [`IoError::UnknownColumn`], listing the available columns.
+    pub fn column(&self, name: &str) -> Result<usize, IoError> {
+        self.column_index(name)
+            .ok_or_else(|| unknown_column(&self.source, &self.names, name))
+    }
+
+    /// Chooses the input column as [`Table::pick_column`](crate::Table::pick_column) does:
+    /// `name` if given, else `x`, else the only column; returns its 0-based index.
+    ///
+    /// # Errors
+    /// As [`Table::pick_column`](crate::Table::pick_column).
+    pub fn pick_column(&self, name: Option<&str>) -> Result<usize, IoError> {
+        pick_column(&self.source, &self.names, name)
+    }
+
+    /// The next data row: its 1-based line and its values (one per column, all finite), or
+    /// `None` after the last row.
+    ///
+    /// # Errors
+    /// [`IoError::CellCount`], [`IoError::Parse`], [`IoError::NonFinite`],
+    /// [`IoError::InvalidUtf8`], [`IoError::Csv`] or [`IoError::Read`] for this row, and
+    /// [`IoError::NoData`] when the file ends before its first data row.
+    pub fn next_row(&mut self) -> Result<Option<(usize, &[f64])>, IoError> {
+        let Some(line) = self.next_record()? else {
+            if self.rows == 0 {
+                return Err(IoError::NoData {
+                    file: self.source.clone(),
+                    header_line: self.header_line,
+                });
+            }
+            return Ok(None);
+        };
+        let record = &self.record;
+        let file = self.source.as_str();
+        if record.len() != self.names.len() {
+            let cells = (0..record.len())
+                .map(|i| {
+                    String::from_utf8_lossy(record.get(i).unwrap_or_default())
+                        .trim()
+                        .to_string()
+                })
+                .collect();
+            return Err(IoError::CellCount {
+                file: file.to_string(),
+                line,
+                expected: self.names.len(),
+                found: record.len(),
+                header_line: self.header_line,
+                cells,
+            });
+        }
+        for (i, (name, slot)) in self.names.iter().zip(&mut self.values).enumerate() {
+            let text = cell(record, i, file, line, name)?;
+            let value: f64 = text.parse().map_err(|_| IoError::Parse {
+                file: file.to_string(),
+                line,
+                column: i + 1,
+                name: name.clone(),
+                value: text.to_string(),
+            })?;
+            if !value.is_finite() {
+                return Err(IoError::NonFinite {
+                    file: file.to_string(),
+                    line,
+                    column: i + 1,
+                    name: name.clone(),
+                    value: text.to_string(),
+                });
+            }
+            *slot = value;
+        }
+        self.rows += 1;
+        Ok(Some((line, &self.values)))
+    }
+
+    /// Reads the next non-blank record into `self.record` and returns its 1-based start line.
+    fn next_record(&mut self) -> Result<Option<usize>, IoError> {
+        loop {
+            let start = usize::try_from(self.reader.position().byte()).unwrap_or(usize::MAX);
+            let more = self.reader.read_byte_record(&mut self.record);
+            let window = self.reader.get_mut();
+            let line = self.lines.line_at(window, window.skip_to_record(start));
+            let more = more.map_err(|e| {
+                let message = e.to_string();
+                match e.into_kind() {
+                    csv::ErrorKind::Io(source) => IoError::Read {
+                        file: self.source.clone(),
+                        source,
+                    },
+                    _ => IoError::Csv {
+                        file: self.source.clone(),
+                        line,
+                        message,
+                    },
+                }
+            })?;
+            window.drop_before(self.lines.pos);
+            if !more {
+                return Ok(None);
+            }
+            if !is_blank(&self.record) {
+                return Ok(Some(line));
+            }
+        }
+    }
+}
+
+/// The reader under the CSV parser, keeping the bytes read since the last located offset (the
+/// parser reads ahead in blocks), so that lines can be counted without holding the file.
+struct Window<R> {
+    /// The underlying reader.
+    inner: R,
+    /// The bytes from offset `base` on, up to what the parser has read.
+    bytes: Vec<u8>,
+    /// The offset in the input of `bytes[0]`.
+    base: usize,
+}
+
+impl<R: Read> Read for Window<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.bytes
+            .extend_from_slice(buf.get(..n).unwrap_or_default());
+        Ok(n)
+    }
+}
+
+impl<R> Window<R> {
+    /// The bytes from input offset `offset` on (empty if they are not held).
+    fn from(&self, offset: usize) -> &[u8] {
+        offset
+            .checked_sub(self.base)
+            .and_then(|i| self.bytes.get(i..))
+            .unwrap_or_default()
+    }
+
+    /// Skips what the CSV parser skips before a record (blank lines, `#` comment lines, and at
+    /// the very start a UTF-8 BOM) and returns the input offset of the record's first byte.
+    fn skip_to_record(&self, start: usize) -> usize {
+        let mut pos = start;
+        if pos == 0 && self.from(0).starts_with(b"\xEF\xBB\xBF") {
+            pos = 3;
+        }
+        loop {
+            match self.from(pos).first() {
+                Some(b'\r' | b'\n') => pos += 1,
+                Some(b'#') => {
+                    let rest = self.from(pos);
+                    pos += rest
+                        .iter()
+                        .position(|&b| b == b'\n')
+                        .map_or(rest.len(), |nl| nl + 1);
+                }
+                _ => return pos,
+            }
+        }
+    }
+
+    /// Forgets the bytes before input offset `offset` (once enough of them have piled up).
+    fn drop_before(&mut self, offset: usize) {
+        let done = offset.saturating_sub(self.base).min(self.bytes.len());
+        if done >= DROP_AFTER {
+            self.bytes.drain(..done);
+            self.base += done;
+        }
+    }
+}
+
+/// Converts input offsets into 1-based line numbers, for increasing offsets.
+struct LineCounter {
+    /// Offset up to which newlines have been counted.
+    pos: usize,
+    /// The line number at `pos`.
+    line: usize,
+}
+
+impl LineCounter {
+    /// The 1-based line containing input offset `offset` (must not decrease), counting the
+    /// newlines the window holds.
+    fn line_at<R>(&mut self, window: &Window<R>, offset: usize) -> usize {
+        if offset > self.pos {
+            let held = window.from(self.pos);
+            let upto = held.get(..offset - self.pos).unwrap_or(held);
+            self.line += upto.iter().filter(|&&b| b == b'\n').count();
+            self.pos += upto.len();
+        }
+        self.line
+    }
+}
+
+/// Decodes one cell of `record`, trimmed of surrounding whitespace.
+fn cell<'r>(
+    record: &'r csv::ByteRecord,
+    index: usize,
+    file: &str,
+    line: usize,
+    name: &str,
+) -> Result<&'r str, IoError> {
+    let raw = record.get(index).unwrap_or_default();
+    match std::str::from_utf8(raw) {
+        Ok(s) => Ok(s.trim()),
+        Err(_) => Err(IoError::InvalidUtf8 {
+            file: file.to_string(),
+            line,
+            column: index + 1,
+            name: name.to_string(),
+            value: String::from_utf8_lossy(raw).trim().to_string(),
+        }),
+    }
+}
+
+/// Whether the record is an all-whitespace line (the parser skips truly empty lines itself, but
+/// not lines of spaces).
+fn is_blank(record: &csv::ByteRecord) -> bool {
+    record.len() == 1
+        && record
+            .get(0)
+            .is_some_and(|c| c.iter().all(|b| b.is_ascii_whitespace()))
+}
+
+/// Whether a (trimmed) cell parses as a number, finite or not.
+pub(crate) fn looks_numeric(cell: &str) -> bool {
+    cell.trim().parse::<f64>().is_ok()
+}
+
+/// The error for a column name that does not exist in `names`.
+pub(crate) fn unknown_column(source: &str, names: &[String], name: &str) -> IoError {
+    IoError::UnknownColumn {
+        file: source.to_string(),
+        name: name.to_string(),
+        available: names.to_vec(),
+    }
+}
+
+/// The input column among `names`: `name` if given, else `x`, else the only column.
+pub(crate) fn pick_column(
+    source: &str,
+    names: &[String],
+    name: Option<&str>,
+) -> Result<usize, IoError> {
+    let index_of = |wanted: &str| names.iter().position(|n| n == wanted);
+    match name {
+        Some(name) => index_of(name).ok_or_else(|| unknown_column(source, names, name)),
+        None => match index_of("x") {
+            Some(i) => Ok(i),
+            None if names.len() == 1 => Ok(0),
+            None => Err(IoError::AmbiguousColumn {
+                file: source.to_string(),
+                available: names.to_vec(),
+            }),
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+    use super::*;
+
+    /// A reader that hands out at most `chunk` bytes per call, so records and line ends fall
+    /// across the parser's reads.
+    struct Trickle<'a> {
+        bytes: &'a [u8],
+        chunk: usize,
+    }
+
+    impl Read for Trickle<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            let n = self.chunk.min(buf.len()).min(self.bytes.len());
+            buf[..n].copy_from_slice(&self.bytes[..n]);
+            self.bytes = &self.bytes[n..];
+            Ok(n)
+        }
+    }
+
+    fn lines_of(text: &[u8], chunk: usize) -> Vec<(usize, Vec<f64>)> {
+        let mut rows = CsvReader::new(Trickle { bytes: text, chunk }, "t.csv").unwrap();
+        let mut out = Vec::new();
+        while let Some((line, values)) = rows.next_row().unwrap() {
+            out.push((line, values.to_vec()));
+        }
+        out
+    }
+
+    #[test]
+    fn line_numbers_do_not_depend_on_how_the_input_arrives() {
+        // Comments, blank lines, CRLF and a quoted header cell with a line break, long enough
+        // that the window is dropped from several times. (A byte order mark is recognised
+        // only when the parser's first read holds all three of its bytes, as a file's does.)
+        let mut text = b"# head\r\n\"a\nb\",c\r\n\r\n".to_vec();
+        for i in 0..40_000 {
+            if i % 7 == 0 {
+                text.extend_from_slice(b"# comment, with \"quote\n\n");
+            }
+            text.extend_from_slice(format!("{i},{}\r\n", i * 2).as_bytes());
+        }
+        let whole = lines_of(&text, usize::MAX);
+        assert_eq!(whole.len(), 40_000);
+        // Lines 1-4: comment, header (two lines), blank; then a comment and a blank line
+        // before every 7th row.
+        assert_eq!(whole[0], (7, vec![0.0, 0.0]));
+        let mut line = 5;
+        for (i, (l, v)) in whole.iter().enumerate() {
+            if i % 7 == 0 {
+                line += 2;
+            }
+            assert_eq!((*l, v[0]), (line, i as f64));
+            line += 1;
+        }
+        for chunk in [1, 2, 3, 7, 64, 4096, 100_000] {
+            assert_eq!(lines_of(&text, chunk), whole, "chunk {chunk}");
+        }
+    }
+
+    #[test]
+    fn errors_deep_in_a_stream_name_their_line() {
+        let mut text = String::from("x,y\n");
+        for i in 0..100_000 {
+            text.push_str(&format!("{i},1\n"));
+        }
+        text.push_str("5,oops\n");
+        let mut rows = CsvReader::new(
+            Trickle {
+                bytes: text.as_bytes(),
+                chunk: 777,
+            },
+            "big.csv",
+        )
+        .unwrap();
+        let err = loop {
+            match rows.next_row() {
+                Ok(Some(_)) => {}
+                Ok(None) => panic!("no error"),
+                Err(e) => break e,
+            }
+        };
+        assert_eq!(
+            err.to_string(),
+            r#"big.csv:100002: column 2 ("y"): cannot parse "oops" as a number"#
+        );
+    }
+
+    #[test]
+    fn a_read_error_is_reported_as_one() {
+        struct Failing;
+        impl Read for Failing {
+            fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+                Err(io::Error::other("disk on fire"))
+            }
+        }
+        let err = CsvReader::new(Failing, "f.csv").err().unwrap();
+        assert_eq!(err.to_string(), "f.csv: cannot read: disk on fire");
+    }
+}
