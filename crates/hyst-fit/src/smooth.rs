@@ -428,7 +428,21 @@ pub fn fit_smooth(
     data.check(layout.len(), structure.form == crate::Form::Operator)?;
     let problem = SmoothProblem::new(&layout, data, options.estimate_starts);
 
-    let candidates = if options.estimate_starts {
+    // A long record is searched on its reduction (turning points and every k-th sample, exact
+    // where kept: `crate::reduction`), then polished here on the full data from that optimum.
+    let reduced = if options.estimate_starts {
+        None
+    } else {
+        crate::reduction::reduce(data)
+    };
+    let candidates = if let Some(small) = &reduced {
+        let search = FitOptions {
+            widths: false,
+            ..*options
+        };
+        let f = fit_smooth(small, structure, &search, observer)?;
+        vec![(f64::NAN, f.theta)]
+    } else if options.estimate_starts {
         // The fit from the start rule first (grid, nested starts and all), then the estimated
         // starts refine its optimum: each trial of θ costs a search per history, so it runs
         // from one good start only.
@@ -442,13 +456,26 @@ pub fn fit_smooth(
     } else {
         start_candidates(data, structure, &layout, &problem, options, observer)?
     };
+    // The polish after a search on the reduction stops once an iteration lowers the cost by less
+    // than a tenth of one sample's residual variance (Δcost / cost < 0.1 / (n − p), a change of
+    // χ² below 0.1): the rest would move the parameters by a small fraction of their standard
+    // errors, at the price of full-data iterations.
+    let method = match &reduced {
+        Some(_) => {
+            let dof = problem.n.saturating_sub(layout.len()).max(1) as f64;
+            options
+                .method
+                .with_ftol((0.1 / dof).max(options.method.ftol()))?
+        }
+        None => options.method,
+    };
     let mut best: Option<Solution> = None;
     for (start, (_, theta0)) in candidates.iter().enumerate() {
         let mut tagged = Tagged {
             inner: &mut *observer,
             start,
         };
-        let s = options.method.minimize(&problem, theta0, &mut tagged)?;
+        let s = method.minimize(&problem, theta0, &mut tagged)?;
         if best.as_ref().is_none_or(|b| s.cost < b.cost) {
             best = Some(s);
         }
@@ -533,16 +560,20 @@ pub fn fit_smooth(
     let outputs = run_records(data, &model, starts.as_deref())
         .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
     let (training, validation) = error_stats_of(data, &outputs);
-    let widths = if options.widths {
-        Some(family_widths(
+    let widths = match (options.widths, &reduced) {
+        (false, _) => None,
+        (true, None) => Some(family_widths(
             data,
             &model,
             starts.as_deref(),
             options.coverage,
             observer,
-        )?)
-    } else {
-        None
+        )?),
+        // Searched on the reduction, then checked (and widened if need be) on the full data.
+        (true, Some(small)) => {
+            let found = family_widths(small, &model, None, options.coverage, observer)?;
+            Some(crate::widths::confirm(data, &model, found, observer)?)
+        }
     };
     check_finite(
         &data.source,

@@ -115,19 +115,21 @@ pub fn bound(
     Ok((b.delta_a, law, (k2_lo, k2_hi)))
 }
 
-/// Searches the smallest family widths that reproduce `coverage` of the samples, the members
-/// started as the fit started the model (`starts`: [`crate::SmoothFit::starts`]).
-///
-/// # Errors
-/// [`FitError::Interrupted`] when the observer stops; [`FitError::Core`] when the model or a
-/// member of the family cannot run the data.
-pub fn family_widths(
-    data: &Dataset,
-    model: &SmoothModel,
-    starts: Option<&[f64]>,
-    coverage_target: f64,
-    observer: &mut dyn Observer,
-) -> Result<FamilyWidths, FitError> {
+/// What bounds the family widths of `model` on `data`, and what turns Δa into an output bound.
+struct Limits {
+    /// ψ_in over the data's input range.
+    v_range: (f64, f64),
+    /// The largest Δk1 (members keep k1 > 0).
+    d1_max: f64,
+    /// The largest Δk2 (members keep k2 > 0, with room for Proposition 4.3's Δk2*).
+    d2_max: f64,
+    /// The output span of the data.
+    span: f64,
+    /// The Lipschitz constant of ψ_out over its argument's range on the data.
+    lipschitz: f64,
+}
+
+fn limits(data: &Dataset, model: &SmoothModel) -> Result<Limits, FitError> {
     let (in_lo, in_hi) = data.input_range();
     let v_range = (
         model.input_shaping.apply(in_lo),
@@ -151,6 +153,120 @@ pub fn family_widths(
         SmoothModel::output_argument_range(model.form, model.k1, v_range.0, v_range.1);
     let lipschitz = shaped_bound(1.0, &model.output_shaping, arg_lo, arg_hi);
 
+    Ok(Limits {
+        v_range,
+        d1_max,
+        d2_max,
+        span,
+        lipschitz,
+    })
+}
+
+/// Family widths found on a reduction of `data` (`crate::reduction`), checked on all of
+/// `data`: the coverage is recomputed there, and when it falls short of the target the widths
+/// are widened along their own ray (Δk1 : Δk2 kept) by bisection, up to the limits; if even the
+/// widest family on that ray falls short, the coverage is not reachable (no Δa).
+///
+/// # Errors
+/// As [`family_widths`].
+pub fn confirm(
+    data: &Dataset,
+    model: &SmoothModel,
+    found: FamilyWidths,
+    observer: &mut dyn Observer,
+) -> Result<FamilyWidths, FitError> {
+    let Limits {
+        v_range,
+        d1_max,
+        d2_max,
+        span,
+        lipschitz,
+    } = limits(data, model)?;
+    let (mut lower, mut upper) = (Vec::new(), Vec::new());
+    let mut cover = |d1: f64, d2: f64| -> Result<f64, FitError> {
+        if observer
+            .observe(&Progress {
+                iteration: 0,
+                cost: f64::NAN,
+                lambda: f64::NAN,
+                start: usize::MAX,
+            })
+            .is_break()
+        {
+            return Err(FitError::Interrupted);
+        }
+        Ok(coverage(data, model, None, d1, d2, &mut lower, &mut upper)?)
+    };
+    let target = found.coverage_target;
+    let (d1, d2) = (found.delta_k1, found.delta_k2);
+    let at_found = cover(d1, d2)?;
+    let (reachable, d1, d2, cov) = if at_found >= target || !found.reachable {
+        (found.reachable && at_found >= target, d1, d2, at_found)
+    } else {
+        // The widest family on the same ray.
+        let t_max = [(d1, d1_max), (d2, d2_max)]
+            .iter()
+            .filter(|(d, _)| *d > 0.0)
+            .map(|(d, max)| max / d)
+            .fold(f64::INFINITY, f64::min);
+        let t_max = if t_max.is_finite() {
+            t_max.max(1.0)
+        } else {
+            1.0
+        };
+        let widest = cover(t_max * d1, t_max * d2)?;
+        if widest < target {
+            (false, t_max * d1, t_max * d2, widest)
+        } else {
+            let (mut lo, mut hi, mut hi_cov) = (1.0, t_max, widest);
+            for _ in 0..8 {
+                let mid = 0.5 * (lo + hi);
+                let c = cover(mid * d1, mid * d2)?;
+                if c >= target {
+                    (hi, hi_cov) = (mid, c);
+                } else {
+                    lo = mid;
+                }
+            }
+            (true, hi * d1, hi * d2, hi_cov)
+        }
+    };
+    let (delta_a, law, k2_range) = bound(model, d1, d2, v_range)?;
+    let delta_a = reachable.then_some(delta_a);
+    Ok(FamilyWidths {
+        coverage_target: target,
+        reachable,
+        delta_k1: d1,
+        delta_k2: d2,
+        coverage: cov,
+        delta_k2_law: law,
+        k2_range,
+        delta_a,
+        output_bound: delta_a.map(|d| d * lipschitz),
+        output_bound_pct_span: delta_a.map(|d| 100.0 * d * lipschitz / span),
+    })
+}
+
+/// Searches the smallest family widths that reproduce `coverage` of the samples, the members
+/// started as the fit started the model (`starts`: [`crate::SmoothFit::starts`]).
+///
+/// # Errors
+/// [`FitError::Interrupted`] when the observer stops; [`FitError::Core`] when the model or a
+/// member of the family cannot run the data.
+pub fn family_widths(
+    data: &Dataset,
+    model: &SmoothModel,
+    starts: Option<&[f64]>,
+    coverage_target: f64,
+    observer: &mut dyn Observer,
+) -> Result<FamilyWidths, FitError> {
+    let Limits {
+        v_range,
+        d1_max,
+        d2_max,
+        span,
+        lipschitz,
+    } = limits(data, model)?;
     let rays = [(1.0, 0.0), (1.0, 0.5), (1.0, 1.0), (0.5, 1.0), (0.0, 1.0)];
     let mut best: Option<(f64, f64, f64, f64)> = None; // (Δa, Δk1, Δk2, coverage)
     let mut best_coverage = (0.0, 0.0, 0.0);
