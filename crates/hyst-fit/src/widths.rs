@@ -116,6 +116,7 @@ pub fn bound(
 }
 
 /// What bounds the family widths of `model` on `data`, and what turns Δa into an output bound.
+#[derive(Clone, Copy)]
 struct Limits {
     /// ψ_in over the data's input range.
     v_range: (f64, f64),
@@ -127,6 +128,34 @@ struct Limits {
     span: f64,
     /// The Lipschitz constant of ψ_out over its argument's range on the data.
     lipschitz: f64,
+}
+
+impl Limits {
+    /// The report of the widths (Δk1, Δk2) that reach `coverage` (of `target`): Δa and the
+    /// output bound when `reachable`, none otherwise.
+    fn widths(
+        &self,
+        model: &SmoothModel,
+        target: f64,
+        reachable: bool,
+        (d1, d2): (f64, f64),
+        coverage: f64,
+    ) -> Result<FamilyWidths, FitError> {
+        let (delta_a, law, k2_range) = bound(model, d1, d2, self.v_range)?;
+        let delta_a = reachable.then_some(delta_a);
+        Ok(FamilyWidths {
+            coverage_target: target,
+            reachable,
+            delta_k1: d1,
+            delta_k2: d2,
+            coverage,
+            delta_k2_law: law,
+            k2_range,
+            delta_a,
+            output_bound: delta_a.map(|d| d * self.lipschitz),
+            output_bound_pct_span: delta_a.map(|d| 100.0 * d * self.lipschitz / self.span),
+        })
+    }
 }
 
 fn limits(data: &Dataset, model: &SmoothModel) -> Result<Limits, FitError> {
@@ -175,13 +204,13 @@ pub fn confirm(
     found: FamilyWidths,
     observer: &mut dyn Observer,
 ) -> Result<FamilyWidths, FitError> {
+    let lim = limits(data, model)?;
     let Limits {
         v_range,
         d1_max,
         d2_max,
-        span,
-        lipschitz,
-    } = limits(data, model)?;
+        ..
+    } = lim;
     let (mut lower, mut upper) = (Vec::new(), Vec::new());
     let mut cover = |d1: f64, d2: f64| -> Result<f64, FitError> {
         if observer
@@ -231,20 +260,7 @@ pub fn confirm(
             (true, hi * d1, hi * d2, hi_cov)
         }
     };
-    let (delta_a, law, k2_range) = bound(model, d1, d2, v_range)?;
-    let delta_a = reachable.then_some(delta_a);
-    Ok(FamilyWidths {
-        coverage_target: target,
-        reachable,
-        delta_k1: d1,
-        delta_k2: d2,
-        coverage: cov,
-        delta_k2_law: law,
-        k2_range,
-        delta_a,
-        output_bound: delta_a.map(|d| d * lipschitz),
-        output_bound_pct_span: delta_a.map(|d| 100.0 * d * lipschitz / span),
-    })
+    lim.widths(model, target, reachable, (d1, d2), cov)
 }
 
 /// Searches the smallest family widths that reproduce `coverage` of the samples, the members
@@ -260,13 +276,13 @@ pub fn family_widths(
     coverage_target: f64,
     observer: &mut dyn Observer,
 ) -> Result<FamilyWidths, FitError> {
+    let lim = limits(data, model)?;
     let Limits {
         v_range,
         d1_max,
         d2_max,
-        span,
-        lipschitz,
-    } = limits(data, model)?;
+        ..
+    } = lim;
     let rays = [(1.0, 0.0), (1.0, 0.5), (1.0, 1.0), (0.5, 1.0), (0.0, 1.0)];
     let mut best: Option<(f64, f64, f64, f64)> = None; // (Δa, Δk1, Δk2, coverage)
     let mut best_coverage = (0.0, 0.0, 0.0);
@@ -288,19 +304,7 @@ pub fn family_widths(
         |d1: f64, d2: f64| coverage(data, model, starts, d1, d2, &mut lower, &mut upper);
     let base = cover(0.0, 0.0)?;
     if base >= coverage_target {
-        let (delta_a, law, k2_range) = bound(model, 0.0, 0.0, v_range)?;
-        return Ok(FamilyWidths {
-            coverage_target,
-            reachable: true,
-            delta_k1: 0.0,
-            delta_k2: 0.0,
-            coverage: base,
-            delta_k2_law: law,
-            k2_range,
-            delta_a: Some(delta_a),
-            output_bound: Some(delta_a * lipschitz),
-            output_bound_pct_span: Some(100.0 * delta_a * lipschitz / span),
-        });
+        return lim.widths(model, coverage_target, true, (0.0, 0.0), base);
     }
     for (c1, c2) in rays {
         if c2 > 0.0 && d2_max <= 0.0 {
@@ -340,20 +344,7 @@ pub fn family_widths(
         Some((_, d1, d2, c)) => (true, d1, d2, c),
         None => (false, best_coverage.1, best_coverage.2, best_coverage.0),
     };
-    let (delta_a, law, k2_range) = bound(model, d1, d2, v_range)?;
-    let delta_a = reachable.then_some(delta_a);
-    Ok(FamilyWidths {
-        coverage_target,
-        reachable,
-        delta_k1: d1,
-        delta_k2: d2,
-        coverage: cov,
-        delta_k2_law: law,
-        k2_range,
-        delta_a,
-        output_bound: delta_a.map(|d| d * lipschitz),
-        output_bound_pct_span: delta_a.map(|d| 100.0 * d * lipschitz / span),
-    })
+    lim.widths(model, coverage_target, reachable, (d1, d2), cov)
 }
 
 #[cfg(test)]
