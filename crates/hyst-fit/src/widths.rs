@@ -205,12 +205,7 @@ pub fn confirm(
     observer: &mut dyn Observer,
 ) -> Result<FamilyWidths, FitError> {
     let lim = limits(data, model)?;
-    let Limits {
-        v_range,
-        d1_max,
-        d2_max,
-        ..
-    } = lim;
+    let Limits { d1_max, d2_max, .. } = lim;
     let (mut lower, mut upper) = (Vec::new(), Vec::new());
     let mut cover = |d1: f64, d2: f64| -> Result<f64, FitError> {
         if observer
