@@ -725,10 +725,11 @@ fn start_candidates(
 }
 
 /// The simpler structure that `structure` contains, whose optimum is an exact (or, for a
-/// saturating ψ_out, a close) point of `structure`: affine k2 ⊃ constant k2; polynomial ψ_in ⊃
-/// affine ψ_in; poly3 ψ_out ⊃ poly2 ⊃ affine; tanh and Langevin ψ_out ⊃ affine in the limit
-/// of a wide scale. `None` for the simplest structures (and for saturating or quad-exp ψ_in,
-/// whose limits rescale k1 and k2).
+/// saturating shaping, a close) point of `structure`: affine k2 ⊃ constant k2; polynomial ψ_in
+/// ⊃ affine ψ_in; tanh and Langevin ψ_in ⊃ affine in the limit of a wide scale (a saturating
+/// ψ_in has slope 1 at the input's centre, so k1 and k2 carry over); poly3 ψ_out ⊃ poly2 ⊃
+/// affine; tanh and Langevin ψ_out ⊃ affine in the limit of a wide scale. `None` for the
+/// simplest structures (and for a quad-exp ψ_in, whose limit rescales k1 and k2).
 #[must_use]
 pub fn simpler(structure: Structure) -> Option<Structure> {
     use crate::{K2Kind, ShapingKind};
@@ -741,11 +742,23 @@ pub fn simpler(structure: Structure) -> Option<Structure> {
     let input = match structure.input_shaping {
         ShapingKind::Poly3 => Some(ShapingKind::Poly2),
         ShapingKind::Poly2 => Some(ShapingKind::Affine),
-        _ => None,
+        ShapingKind::Tanh | ShapingKind::Langevin => Some(ShapingKind::Affine),
+        ShapingKind::Affine | ShapingKind::QuadExp => None,
     };
     if let Some(input_shaping) = input {
+        let saturating = matches!(
+            structure.input_shaping,
+            ShapingKind::Tanh | ShapingKind::Langevin
+        );
         return Some(Structure {
             input_shaping,
+            // A saturating ψ_in's offset (its argument at the centre) has no affine
+            // counterpart: the affine ψ_in gets its default (none).
+            input_offset: if saturating {
+                None
+            } else {
+                structure.input_offset
+            },
             ..structure
         });
     }
@@ -762,9 +775,10 @@ pub fn simpler(structure: Structure) -> Option<Structure> {
 
 /// The fit `simple` of the structure [`simpler`] gave, as θ of `layout`: shared parameters
 /// keep their values, the new ones take the values that reproduce the simpler model (a k2
-/// slope and polynomial coefficients of 0; a tanh or Langevin ψ_out of a scale 30 times its
-/// argument's range, centred, whose gain makes its slope at 0 the affine gain). `None` when
-/// the point is not feasible.
+/// slope and polynomial coefficients of 0; a tanh or Langevin ψ_in of scale 30 (normalised
+/// input units) with its argument 0 at the centre; a tanh or Langevin ψ_out of a scale 30 times
+/// its argument's reach, argument 0 at the centre, with the affine ψ_out's slope and its level
+/// at the centre). `None` when the point is not feasible.
 fn embed(layout: &Layout, simple: &SmoothFit, input_range: (f64, f64)) -> Option<Vec<f64>> {
     use crate::ShapingKind;
     let value = |name: &str| {
@@ -778,6 +792,10 @@ fn embed(layout: &Layout, simple: &SmoothFit, input_range: (f64, f64)) -> Option
         layout.structure.output_shaping,
         ShapingKind::Tanh | ShapingKind::Langevin
     ) && simple.layout.structure.output_shaping == ShapingKind::Affine;
+    let saturating_input = matches!(
+        layout.structure.input_shaping,
+        ShapingKind::Tanh | ShapingKind::Langevin
+    ) && simple.layout.structure.input_shaping == ShapingKind::Affine;
     let (v_lo, v_hi) = (
         simple.model.input_shaping.apply(input_range.0),
         simple.model.input_shaping.apply(input_range.1),
@@ -790,18 +808,17 @@ fn embed(layout: &Layout, simple: &SmoothFit, input_range: (f64, f64)) -> Option
         crate::Form::Stop => 1.0,
     };
     let scale = 30.0 * reach;
-    // Slope at 0: tanh 1, Langevin 1/3.
-    let slope = match layout.structure.output_shaping {
-        ShapingKind::Langevin => 1.0 / 3.0,
-        _ => 1.0,
-    };
+    // The affine ψ_out's level at the centre of its argument's range.
+    let level = simple.model.output_shaping.apply(0.5 * (a_lo + a_hi));
     let mut theta = Vec::with_capacity(layout.len());
     for spec in &layout.params {
-        let v = match (spec.name.as_str(), saturating) {
-            ("out.scale", true) => scale,
-            ("out.centre", true) => 0.0,
-            ("out.gain" | "out.level", true) => value(&spec.name)? * scale / slope,
-            (name, _) => value(name).unwrap_or(0.0),
+        let v = match (spec.name.as_str(), saturating, saturating_input) {
+            ("in.scale", _, true) => 30.0,
+            ("in.arg_at_centre", _, true) | ("out.arg_at_centre", true, _) => 0.0,
+            ("out.scale", true, _) => scale,
+            ("out.slope", true, _) => value("out.gain")?,
+            ("out.level_at_centre", true, _) => level,
+            (name, _, _) => value(name).unwrap_or(0.0),
         };
         theta.push(spec.transform.theta(v));
     }
@@ -829,11 +846,16 @@ pub fn dahl_limit(model: &SmoothModel) -> Option<f64> {
 /// infeasible.
 fn linear_output_start(problem: &SmoothProblem<'_>, mut theta: Vec<f64>) -> Option<Vec<f64>> {
     let layout = problem.layout;
-    // The overall gain: ψ_out's, or the stop form's level (gain × k1).
+    // The overall gain: ψ_out's, a saturating ψ_out's slope at the centre, or the stop form's
+    // level (gain × k1); the offset: ψ_out's, or a saturating ψ_out's level at the centre
+    // (ψ_out is linear in both).
     let gi = layout
         .index("out.gain")
+        .or_else(|| layout.index("out.slope"))
         .or_else(|| layout.index("out.level"))?;
-    let oi = layout.index("out.offset");
+    let oi = layout
+        .index("out.offset")
+        .or_else(|| layout.index("out.level_at_centre"));
     let li = layout.index("out.linear");
     theta[gi] = 0.0; // gain 1
     for k in [oi, li].into_iter().flatten() {

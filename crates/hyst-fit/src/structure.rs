@@ -250,7 +250,11 @@ impl Layout {
         let input_offset = structure
             .input_offset
             .unwrap_or(structure.input_shaping.saturating());
-        if input_offset {
+        if input_offset && structure.input_shaping.saturating() {
+            // A saturating ψ_in is normalised at the input's centre (value 0, slope 1 there):
+            // its offset is the argument of the shape at the centre.
+            add("in.arg_at_centre", "1", Linear, Op, 0.0);
+        } else if input_offset {
             add("in.offset", "normalised input", Linear, Op, 0.0);
         }
         match structure.output_shaping {
@@ -260,13 +264,17 @@ impl Layout {
                 add("out.q2", "1", Linear, Out, 0.0);
                 add("out.q3", "1", Linear, Out, 0.0);
             }
-            ShapingKind::Tanh => {
-                add("out.scale", "operator units", Log, Out, 2.0);
-                add("out.centre", "1", Linear, Out, 0.0);
-            }
-            ShapingKind::Langevin => {
-                add("out.scale", "operator units", Log, Out, 0.5);
-                add("out.centre", "1", Linear, Out, 0.0);
+            // Saturating ψ_out: the scale and the shape's argument at the centre of the data
+            // (curvature and saturation); its slope and level there follow below.
+            ShapingKind::Tanh | ShapingKind::Langevin => {
+                let (scale, unit) = match (structure.output_shaping, structure.form) {
+                    (ShapingKind::Tanh, Form::Operator) => (2.0, "operator units"),
+                    (_, Form::Operator) => (0.5, "operator units"),
+                    (ShapingKind::Tanh, Form::Stop) => (2.0, "k1"),
+                    (_, Form::Stop) => (0.5, "k1"),
+                };
+                add("out.scale", unit, Log, Out, scale);
+                add("out.arg_at_centre", "1", Linear, Out, 0.0);
             }
             ShapingKind::QuadExp => {
                 add("out.a", "1", Log, Out, 0.01);
@@ -274,7 +282,15 @@ impl Layout {
                 add("out.c", "1", Log, Out, 1.0);
             }
         }
+        let saturating = structure.output_shaping.saturating();
         match structure.form {
+            Form::Operator if saturating => add(
+                "out.slope",
+                "output units per operator unit",
+                Log,
+                Out,
+                norm.output_half_span,
+            ),
             Form::Operator => add("out.gain", "output units", Log, Out, norm.output_half_span),
             // The stop's output is at most k1: its level gain × k1 (the Coulomb force of a
             // friction model) stays put while k1 → 0 (the Dahl limit), where the gain does not.
@@ -289,7 +305,15 @@ impl Layout {
                 0.0,
             );
         }
-        if structure.output_offset {
+        if structure.output_offset && saturating {
+            add(
+                "out.level_at_centre",
+                "output units",
+                Linear,
+                Out,
+                norm.output_centre,
+            );
+        } else if structure.output_offset {
             add(
                 "out.offset",
                 "output units",
@@ -361,7 +385,8 @@ impl Layout {
     ) -> Result<ScaledShaping<T>, hyst_core::Error> {
         let c = T::from_f64;
         let get = |name: &str| self.get(theta, name);
-        let offset = if self.input_offset {
+        let saturating = self.structure.input_shaping.saturating();
+        let offset = if self.input_offset && !saturating {
             get("in.offset")
         } else {
             T::zero()
@@ -384,8 +409,14 @@ impl Layout {
                 lo,
                 hi,
             )?),
-            ShapingKind::Tanh => AnyShaping::Tanh(Tanh::new(c(1.0), get("in.scale"))?),
-            ShapingKind::Langevin => AnyShaping::Langevin(Langevin::new(c(1.0), get("in.scale"))?),
+            ShapingKind::Tanh | ShapingKind::Langevin => {
+                return self.saturating_input_shaping(
+                    get("in.scale"),
+                    get("in.arg_at_centre"),
+                    pre_gain,
+                    pre_offset,
+                );
+            }
             ShapingKind::QuadExp => AnyShaping::QuadraticExp(QuadraticExp::new(
                 get("in.a"),
                 get("in.b"),
@@ -397,12 +428,55 @@ impl Layout {
         ScaledShaping::new(pre_gain, pre_offset, shape, c(1.0), c(0.0))
     }
 
+    /// The saturating ψ_in x̂ ↦ (σ / f'(a)) (f(x̂ / σ + a) − f(a)) (f = tanh or L, x̂ the
+    /// normalised input): its value 0 and slope 1 at the input's centre keep k1 and k2 in
+    /// normalised input units whatever the scale σ, so σ and the argument at the centre a
+    /// carry only curvature and saturation (with ψ_in = f(x̂ / σ + a) instead, a wide σ made
+    /// k1, k2 and σ nearly collinear and the fit crawled along that valley).
+    fn saturating_input_shaping<T: Real>(
+        &self,
+        scale: T,
+        arg_at_centre: T,
+        pre_gain: T,
+        pre_offset: T,
+    ) -> Result<ScaledShaping<T>, hyst_core::Error> {
+        let kind = self.structure.input_shaping;
+        let shape = unit_shape(kind)?;
+        let scale = natural_scale(kind, scale, arg_at_centre);
+        let (value, slope) = shape.value_and_slope(arg_at_centre);
+        let gain = scale / slope;
+        let post_offset = -(gain * value);
+        if !(gain.is_finite() && gain > T::zero() && post_offset.is_finite()) {
+            return Err(hyst_core::Error::InvalidParameter {
+                name: "in.arg_at_centre",
+                value: arg_at_centre.as_f64(),
+                expected: "an argument where the shape is not flat",
+            });
+        }
+        ScaledShaping::new(
+            pre_gain / scale,
+            pre_offset / scale + arg_at_centre,
+            shape,
+            gain,
+            post_offset,
+        )
+    }
+
     /// The output shaping for θ, given the range of its argument on the data
     /// ([`SmoothModel::output_argument_range`]: the operator output, or the stop value
     /// v − H[v] ∈ [−k1, k1]). In the stop form the shape sees (v − H[v]) / k1 ∈ [−1, 1], and
     /// `out.level` is its gain: the output's swing at the end of a travel (the Coulomb level of
     /// a friction model), which stays put as k1 → 0 (the Dahl limit) where a gain on v − H[v]
     /// would grow without bound.
+    ///
+    /// A saturating ψ_out is w ↦ g f((w − w_m) / σ + a) + o (f = tanh or L, w its argument,
+    /// w_m the centre of w's range on the data), parameterised by quantities the data
+    /// determines well: the scale σ (`out.scale`), the argument at the centre a
+    /// (`out.arg_at_centre`), the slope S at w_m (`out.slope`; in the stop form `out.level`,
+    /// the slope with respect to w / k1, which is the level for an affine ψ_out) and the value L
+    /// at w_m (`out.level_at_centre`), so that g = S σ / f'(a) and o = L − g f(a). With
+    /// (σ, c, g, o) instead, a ψ_out that does not saturate on the data left the four nearly
+    /// collinear, and the fit crawled along that valley to its iteration limit.
     ///
     /// # Errors
     /// When the values are invalid.
@@ -418,6 +492,25 @@ impl Layout {
             Form::Stop => (get("out.level"), c(1.0) / get("k1")),
         };
         let v_range = (arg_range.0 * unit, arg_range.1 * unit);
+        if self.structure.output_shaping.saturating() {
+            let slope = match self.structure.form {
+                Form::Operator => get("out.slope"),
+                Form::Stop => gain,
+            };
+            let level = if self.structure.output_offset {
+                Some(get("out.level_at_centre"))
+            } else {
+                None
+            };
+            let centre = (v_range.0 + v_range.1) * c(0.5);
+            return self.saturating_output_shaping(
+                get("out.scale"),
+                get("out.arg_at_centre"),
+                slope,
+                level,
+                (unit, centre),
+            );
+        }
         let offset = if self.structure.output_offset {
             get("out.offset")
         } else {
@@ -445,16 +538,9 @@ impl Layout {
                 c(1.0),
                 c(0.0),
             ),
-            ShapingKind::Tanh => (
-                AnyShaping::Tanh(Tanh::new(c(1.0), c(1.0))?),
-                c(1.0) / get("out.scale"),
-                get("out.centre"),
-            ),
-            ShapingKind::Langevin => (
-                AnyShaping::Langevin(Langevin::new(c(1.0), c(1.0))?),
-                c(1.0) / get("out.scale"),
-                get("out.centre"),
-            ),
+            ShapingKind::Tanh | ShapingKind::Langevin => {
+                (unit_shape(self.structure.output_shaping)?, c(1.0), c(0.0))
+            }
             ShapingKind::QuadExp => (
                 AnyShaping::QuadraticExp(QuadraticExp::new(
                     get("out.a"),
@@ -468,6 +554,40 @@ impl Layout {
             ),
         };
         ScaledShaping::new(pre_gain * unit, pre_offset, shape, gain, offset)
+    }
+
+    /// The saturating ψ_out of [`Layout::output_shaping`] from its scale σ, argument at the
+    /// centre a, slope S and level L at the centre (`None`: no output offset, o = 0), for the
+    /// argument's `unit` (1, or 1/k1 in the stop form) and the centre w_m of the scaled
+    /// argument's range.
+    fn saturating_output_shaping<T: Real>(
+        &self,
+        scale: T,
+        arg_at_centre: T,
+        slope: T,
+        level: Option<T>,
+        (unit, centre): (T, T),
+    ) -> Result<ScaledShaping<T>, hyst_core::Error> {
+        let kind = self.structure.output_shaping;
+        let shape = unit_shape(kind)?;
+        let scale = natural_scale(kind, scale, arg_at_centre);
+        let (value, shape_slope) = shape.value_and_slope(arg_at_centre);
+        let gain = slope * scale / shape_slope;
+        let offset = level.map_or_else(T::zero, |l| l - gain * value);
+        if !(gain.is_finite() && gain > T::zero() && offset.is_finite()) {
+            return Err(hyst_core::Error::InvalidParameter {
+                name: "out.arg_at_centre",
+                value: arg_at_centre.as_f64(),
+                expected: "an argument where the shape is not flat",
+            });
+        }
+        ScaledShaping::new(
+            unit / scale,
+            arg_at_centre - centre / scale,
+            shape,
+            gain,
+            offset,
+        )
     }
 
     /// The model for θ, for data whose input spans [in_lo, in_hi]: on `f64`, or on
@@ -528,5 +648,27 @@ impl Layout {
         };
         m.validate()?;
         Ok(m)
+    }
+}
+
+/// tanh or L with gain and scale 1 (the identity for the other kinds, which never ask).
+fn unit_shape<T: Real>(kind: ShapingKind) -> Result<AnyShaping<T>, hyst_core::Error> {
+    Ok(match kind {
+        ShapingKind::Tanh => AnyShaping::Tanh(Tanh::new(T::one(), T::one())?),
+        ShapingKind::Langevin => AnyShaping::Langevin(Langevin::new(T::one(), T::one())?),
+        _ => AnyShaping::Identity,
+    })
+}
+
+/// The scale σ of a saturating shape's argument from its parameter `scale` and the argument at
+/// the centre a: σ = `scale` for tanh, σ = `scale` / √(1 + a²) for L. Far into L's tail
+/// (L(x) ≈ 1 − 1/x) the curve the data sees tends to a hyperbola whose bend is set by σ a, not
+/// by σ or a alone; with σ as the parameter the fit crawled along the curved valley σ a =
+/// const, while with σ √(1 + a²) the bend stays put as a moves. tanh's tail tends to an
+/// exponential whose bend is set by σ alone.
+fn natural_scale<T: Real>(kind: ShapingKind, scale: T, arg_at_centre: T) -> T {
+    match kind {
+        ShapingKind::Langevin => scale / (T::one() + arg_at_centre * arg_at_centre).sqrt(),
+        _ => scale,
     }
 }

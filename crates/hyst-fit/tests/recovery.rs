@@ -123,17 +123,78 @@ fn noise_free_tanh_output_and_rising_start_are_recovered() -> Result<(), FitErro
         initial_state: InitialState::Rising,
         ..Structure::default()
     };
-    check_exact(
-        structure,
-        &[
-            ("k1", 0.1),
-            ("k2", 12.0),
-            ("out.scale", 0.8),
-            ("out.centre", 0.1),
-            ("out.gain", 1.5),
-            ("out.offset", 0.2),
-        ],
-    )
+    check_exact(structure, TANH_OUTPUT)
+}
+
+/// A tanh ψ_out's truth: slope 1.5 and level 0.2 at the centre, bending with scale 0.8.
+const TANH_OUTPUT: &[(&str, f64)] = &[
+    ("k1", 0.1),
+    ("k2", 12.0),
+    ("out.scale", 0.8),
+    ("out.arg_at_centre", 0.3),
+    ("out.slope", 1.5),
+    ("out.level_at_centre", 0.2),
+];
+
+/// A saturating ψ_out (and ψ_in) parameterised by its slope and level at the centre of the
+/// data converges quickly: with (scale, centre, gain, offset) the fit crawled along a valley
+/// and took hundreds of iterations.
+/// A case: ψ_in, ψ_out and the true parameter values.
+type Case = (ShapingKind, ShapingKind, &'static [(&'static str, f64)]);
+
+#[test]
+fn noise_free_saturating_shapings_converge_in_few_iterations() -> Result<(), FitError> {
+    let cases: [Case; 3] = [
+        (ShapingKind::Affine, ShapingKind::Tanh, TANH_OUTPUT),
+        (
+            ShapingKind::Affine,
+            ShapingKind::Langevin,
+            &[
+                ("k1", 0.1),
+                ("k2", 12.0),
+                ("out.scale", 0.4),
+                ("out.arg_at_centre", -0.5),
+                ("out.slope", 1.5),
+                ("out.level_at_centre", 0.2),
+            ],
+        ),
+        (
+            ShapingKind::Tanh,
+            ShapingKind::Affine,
+            &[
+                ("k1", 0.1),
+                ("k2", 12.0),
+                ("in.scale", 1.2),
+                ("in.arg_at_centre", 0.4),
+                ("out.gain", 1.5),
+                ("out.offset", 0.2),
+            ],
+        ),
+    ];
+    for (input_shaping, output_shaping, values) in cases {
+        let structure = Structure {
+            input_shaping,
+            output_shaping,
+            ..Structure::default()
+        };
+        let x = input(3000);
+        let (model, _) = truth(structure, &x, values)?;
+        let y = model.run(&x)?;
+        let fit = fit_smooth(
+            &Dataset::single(&x, &y),
+            structure,
+            &FitOptions::default(),
+            &mut Silent,
+        )?;
+        assert!(
+            fit.training.rms_pct_span < 1e-6 && fit.iterations < 50,
+            "{structure:?}: RMS {} % of span after {} iterations ({:?})",
+            fit.training.rms_pct_span,
+            fit.iterations,
+            fit.termination
+        );
+    }
+    Ok(())
 }
 
 #[test]
