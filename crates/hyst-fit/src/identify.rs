@@ -12,7 +12,7 @@ use crate::orientation::{loops, FormChoice};
 use crate::pi::PiOutputKind;
 use crate::pi_fit::{fit_pi_with, PiFit};
 use crate::report::{sig, Findings, Report, Summary};
-use crate::smooth::{dahl_limit, fit_smooth, FitOptions, SmoothFit};
+use crate::smooth::{fit_smooth, FitOptions, ParameterLimit, SmoothFit};
 use crate::{Dataset, FitError, ModelFile, Structure};
 
 /// The branch gap (fraction of the output span) above which the data's loops are clockwise
@@ -144,17 +144,9 @@ pub fn identify(
     let mut notes = Vec::new();
     let diagnosis = match (request.kind, &smooth, &pi) {
         (ModelKind::Smooth, Some(f), _) => {
-            let dahl = dahl_limit(&f.model);
-            if let Some(k2) = dahl {
-                notes.push(format!(
-                    "k1 · k2 = {} < {}: the stop form's Dahl limit (after each reversal the \
-                     output approaches its level as 1 − e^(−k2 Δv), over a travel of about \
-                     3/k2 = {} normalised input units); every smaller k1 gives the same model, \
-                     so k1 is not identified",
-                    sig(f.model.k1 * k2, 2),
-                    crate::smooth::DAHL_LIMIT,
-                    sig(3.0 / k2, 3),
-                ));
+            let limit = ParameterLimit::of(&f.model);
+            if let Some(limit) = limit {
+                notes.push(limit.note(f.model.k1));
             }
             if let Some(starts) = f.starts.as_ref().filter(|s| !s.is_empty()) {
                 let (lo, hi) = starts
@@ -183,7 +175,7 @@ pub fn identify(
                 data,
                 &training,
                 Some(&f.estimates),
-                if dahl.is_some() { &["k1"] } else { &[] },
+                limit.map_or(&[][..], ParameterLimit::unidentified),
                 found.orientation,
             )
         }
