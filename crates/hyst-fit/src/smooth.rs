@@ -734,18 +734,21 @@ fn start_candidates(
         }
     }
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
-    candidates.truncate(options.starts);
-    // The optimum of the simpler structure this one contains, as one more start: the fit then
-    // never ends worse than that simpler fit (local minima of the richer one aside).
+    // The optimum of the simpler structure this one contains, as the first start: the fit then
+    // never ends worse than that simpler fit (local minima of the richer one aside). It counts
+    // as one of the `starts`, the best of the grid fill the rest.
+    let mut nested = None;
     if let Some(simple) = simpler(structure) {
         let inner = FitOptions {
             widths: false,
             ..*options
         };
         let f = fit_smooth(data, simple, &inner, observer)?;
-        if let Some(theta) = embed(layout, &f, problem.input_range) {
-            candidates.insert(0, (f64::NAN, theta));
-        }
+        nested = embed(layout, &f, problem.input_range);
+    }
+    candidates.truncate(options.starts - usize::from(nested.is_some() && options.starts > 1));
+    if let Some(theta) = nested {
+        candidates.insert(0, (f64::NAN, theta));
     }
     Ok(candidates)
 }
