@@ -28,7 +28,9 @@ use crate::{Dataset, FitError, SmoothModel};
 /// Options of the fit.
 #[derive(Clone, Copy, Debug)]
 pub struct FitOptions {
-    /// Number of starts refined by the least-squares method (the best of a grid over k1, k2).
+    /// Number of starts refined by the least-squares method, at least 1: the best of a grid over
+    /// (k1, k2), and for a richer structure first the optimum of the simpler one it contains
+    /// ([`simpler`]), which counts as one of them.
     pub starts: usize,
     /// The method.
     pub method: LevenbergMarquardt,

@@ -109,7 +109,8 @@ pub struct Args {
     /// Coverage of the family widths (fraction of samples the family envelope must hold).
     #[arg(long, default_value_t = 0.99)]
     pub coverage: f64,
-    /// Number of starts refined by Levenberg–Marquardt.
+    /// Number of starts refined by Levenberg–Marquardt (at least 1): the best of a grid over
+    /// (k1, k2), and for a richer structure first the optimum of the simpler one it contains.
     #[arg(long, default_value_t = 3)]
     pub starts: usize,
     /// Units of the input column (for the model file and the report).
