@@ -92,18 +92,8 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Model<T
     #[inline]
     fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
         let v = self.input.apply(x);
-        let before = self.operator.memory();
-        let u = self.operator.try_step(v)?;
-        let y = self.output.apply(u);
-        if !y.all_finite() {
-            // Cheaper than stepping a copy: the restore is off the hot path.
-            self.operator.restore(before);
-            return Err(Error::NonFiniteOutput {
-                input: x.value().as_f64(),
-                output: y.value().as_f64(),
-            });
-        }
-        Ok(y)
+        let output = &self.output;
+        self.operator.step_into(x, v, |u| output.apply(u))
     }
 
     fn last_output(&self) -> Option<T> {

@@ -469,6 +469,29 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         Ok(y.max(v - k1).min(v + k1))
     }
 
+    /// One step of a model built around this operator (the shaped [`crate::Model`], the
+    /// [`crate::Stop`] form): steps on `v` and maps the operator output to the model's output
+    /// with `output`. When that is not finite, the memory is put back (cheaper than stepping a
+    /// copy: the restore is off the hot path) and the error names the model's input `x`.
+    #[inline]
+    pub(crate) fn step_into<S: Sample<T>>(
+        &mut self,
+        x: S,
+        v: S,
+        output: impl FnOnce(S) -> S,
+    ) -> Result<S, Error> {
+        let before = self.memory;
+        let y = output(self.try_step(v)?);
+        if !y.all_finite() {
+            self.memory = before;
+            return Err(Error::NonFiniteOutput {
+                input: x.value().as_f64(),
+                output: y.value().as_f64(),
+            });
+        }
+        Ok(y)
+    }
+
     /// Puts back a memory saved from this operator (no check: it was this operator's).
     #[inline]
     pub(crate) fn restore(&mut self, memory: Option<Memory<T>>) {

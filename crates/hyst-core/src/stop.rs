@@ -100,17 +100,9 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Stop<T,
     #[inline]
     fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
         let v = self.input.apply(x);
-        let before = self.operator.memory();
-        let u = self.operator.try_step(v)?;
-        let y = self.output.apply(v - u) + v * self.linear;
-        if !y.all_finite() {
-            self.operator.restore(before);
-            return Err(Error::NonFiniteOutput {
-                input: x.value().as_f64(),
-                output: y.value().as_f64(),
-            });
-        }
-        Ok(y)
+        let (output, linear) = (&self.output, self.linear);
+        self.operator
+            .step_into(x, v, |u| output.apply(v - u) + v * linear)
     }
 
     fn last_output(&self) -> Option<T> {
