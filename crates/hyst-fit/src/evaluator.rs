@@ -3,11 +3,11 @@
 //! the core's one stepping interface [`Operator`].
 
 use hyst_core::{
-    Error, InverseShapedPrandtlIshlinskii, Memory, Operator, PlayMemory, PrandtlIshlinskii, Sample,
-    ShapedPrandtlIshlinskii,
+    AnyK2Law, Error, InverseShapedPrandtlIshlinskii, Memory, Operator, PlayMemory,
+    PrandtlIshlinskii, Sample, ShapedPrandtlIshlinskii,
 };
 
-use crate::model::{CoreInverse, CoreModel, CoreStop};
+use crate::model::{CoreInverse, Shaped};
 use crate::pi::MAX_OPERATORS;
 
 /// The core Prandtl–Ishlinskii sum used for the baseline.
@@ -20,10 +20,9 @@ pub type CoreShapedPiInverse = InverseShapedPrandtlIshlinskii<f64, MAX_OPERATORS
 /// A fitted model, runnable on plain numbers or jets (see `ModelFile::evaluator`).
 #[derive(Clone, Debug)]
 pub enum Evaluator {
-    /// The smooth model ψ_out(H[ψ_in(x)]).
-    Smooth(Box<CoreModel>),
-    /// The stop form ψ_out(v − H[v]) + c·v, v = ψ_in(x) (friction; no inverse).
-    Stop(Box<CoreStop>),
+    /// The smooth model ψ_out(H[ψ_in(x)]), or its stop form ψ_out(v − H[v]) + c·v,
+    /// v = ψ_in(x) (friction; no inverse).
+    Smooth(Box<Shaped<AnyK2Law<f64>>>),
     /// The smooth model's exact compensator ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y)]).
     SmoothInverse(Box<CoreInverse>),
     /// The Prandtl–Ishlinskii sum PI[x]; as its own inverse type, PI⁻¹[y] too.
@@ -48,7 +47,6 @@ macro_rules! each {
     ($self:expr, $op:ident => $e:expr) => {
         match $self {
             Evaluator::Smooth($op) => $e,
-            Evaluator::Stop($op) => $e,
             Evaluator::SmoothInverse($op) => $e,
             Evaluator::Pi($op) => $e,
             Evaluator::ShapedPi($op) => $e,
@@ -79,7 +77,6 @@ impl Operator<f64> for Evaluator {
     fn memory(&self) -> EvaluatorMemory {
         match self {
             Evaluator::Smooth(op) => EvaluatorMemory::Smooth(op.memory()),
-            Evaluator::Stop(op) => EvaluatorMemory::Smooth(op.memory()),
             Evaluator::SmoothInverse(op) => EvaluatorMemory::Smooth(op.memory()),
             Evaluator::Pi(op) => EvaluatorMemory::Plays(Box::new(op.memory())),
             Evaluator::ShapedPi(op) => EvaluatorMemory::Plays(Box::new(op.memory())),
@@ -93,7 +90,6 @@ impl Operator<f64> for Evaluator {
     fn set_memory(&mut self, memory: EvaluatorMemory) -> Result<(), Error> {
         match (self, memory) {
             (Evaluator::Smooth(op), EvaluatorMemory::Smooth(m)) => op.set_memory(m),
-            (Evaluator::Stop(op), EvaluatorMemory::Smooth(m)) => op.set_memory(m),
             (Evaluator::SmoothInverse(op), EvaluatorMemory::Smooth(m)) => op.set_memory(m),
             (Evaluator::Pi(op), EvaluatorMemory::Plays(m)) => op.set_memory(*m),
             (Evaluator::ShapedPi(op), EvaluatorMemory::Plays(m)) => op.set_memory(*m),

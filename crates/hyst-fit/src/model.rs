@@ -8,6 +8,8 @@ use hyst_core::{
 };
 use serde::{Deserialize, Serialize};
 
+use crate::FitError;
+
 use hyst_core::ScaledShaping;
 
 /// Where each record starts (Definition 2.1 needs a first reversal point). The default,
@@ -441,22 +443,31 @@ impl SmoothModel {
         self.shaped_from(operator, &[first_input], None)
     }
 
+    /// Whether the model has an inverse: the operator form does; the stop form does not.
+    ///
+    /// # Errors
+    /// [`FitError::Invalid`] for the stop form, saying how friction is compensated instead
+    /// (feed-forward of its predicted force, docs/fitting.md).
+    pub fn invertible(&self) -> Result<(), FitError> {
+        match self.form {
+            Form::Operator => Ok(()),
+            Form::Stop => Err(FitError::Invalid(
+                "this is a stop-form (friction) model: it predicts the output (force) from the \
+                 input (position) and has no inverse; compensate by feeding the predicted force \
+                 forward (docs/fitting.md)"
+                    .into(),
+            )),
+        }
+    }
+
     /// The exact compensator (desired output → command) for a record whose first *command*
     /// would be `first_input`; with [`InitialState::Line`] the start is immaterial.
     ///
     /// # Errors
-    /// Invalid parameters.
-    /// [`Error::InvalidParameter`] (`form`) for the stop form, which has no inverse: friction
-    /// is compensated by feeding its predicted force forward (docs/fitting.md).
-    pub fn compensator(&self, first_input: f64) -> Result<CoreInverse, Error> {
-        if self.form == Form::Stop {
-            return Err(Error::InvalidParameter {
-                name: "form",
-                value: f64::NAN,
-                expected: "the operator form: a stop-form (friction) model has no inverse; \
-                           compensate it by feeding its predicted output forward",
-            });
-        }
+    /// Invalid parameters ([`FitError::Core`]); the stop form's refusal
+    /// ([`SmoothModel::invertible`]).
+    pub fn compensator(&self, first_input: f64) -> Result<CoreInverse, FitError> {
+        self.invertible()?;
         Ok(self.core(first_input)?.inverse())
     }
 
@@ -465,11 +476,10 @@ impl SmoothModel {
     /// with ψ_out(H[ψ_in(x0)]) = `first_desired` on the start rule's asymptote (or line).
     ///
     /// # Errors
-    /// A desired output beyond a saturating output shaping's range, or invalid parameters.
-    pub fn compensator_from_desired(&self, first_desired: f64) -> Result<CoreInverse, Error> {
-        if self.form == Form::Stop {
-            return self.compensator(first_desired);
-        }
+    /// A desired output beyond a saturating output shaping's range, or invalid parameters
+    /// ([`FitError::Core`]); the stop form's refusal ([`SmoothModel::invertible`]).
+    pub fn compensator_from_desired(&self, first_desired: f64) -> Result<CoreInverse, FitError> {
+        self.invertible()?;
         let u0 = self.output_shaping.invert(first_desired)?;
         // The start point in operator units, built from u0 itself: the compensator's memory then
         // holds exactly the ψ_out⁻¹ of the first desired output, whose first step is then

@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use hyst_core::{K2Law, Operator, Shaping};
+use hyst_core::{Hysteresis, K2Law, Operator, Shaping};
 use serde::{Deserialize, Serialize};
 
 use crate::evaluator::Evaluator;
@@ -275,24 +275,13 @@ impl ModelFile {
     pub fn evaluator(&self, first: f64, inverse: bool) -> Result<Evaluator, FitError> {
         match (&self.smooth, &self.prandtl_ishlinskii) {
             (Some(m), _) if self.kind == ModelKind::Smooth => {
-                match (m.form, inverse) {
-                    (Form::Operator, false) => {
-                        return Ok(Evaluator::Smooth(Box::new(m.core(first)?)))
-                    }
-                    (Form::Stop, false) => return Ok(Evaluator::Stop(Box::new(m.stop(first)?))),
-                    (Form::Stop, true) => {
-                        return Err(FitError::Invalid(
-                            "this is a stop-form (friction) model: it predicts the output \
-                             (force) from the input (position) and has no inverse; compensate \
-                             by feeding the predicted force forward (docs/fitting.md)"
-                                .into(),
-                        ))
-                    }
-                    (Form::Operator, true) => {}
+                if inverse {
+                    return Ok(Evaluator::SmoothInverse(Box::new(
+                        m.compensator_from_desired(first)?,
+                    )));
                 }
-                Ok(Evaluator::SmoothInverse(Box::new(
-                    m.compensator_from_desired(first)?,
-                )))
+                let operator = Hysteresis::with_k2_law(m.k1, m.k2)?;
+                Ok(Evaluator::Smooth(Box::new(m.shaped(operator, first)?)))
             }
             (_, Some(p)) if inverse => Ok(p.inverse_operator()?),
             (_, Some(p)) => Ok(p.operator()?),

@@ -66,9 +66,12 @@ fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverse> {
                 )))
             }
         };
-        return smooth
-            .compensator_from_desired(v0)
-            .map_err(|e| core(format!("state: v = {v0} is not reachable by the model"), e));
+        return smooth.compensator_from_desired(v0).map_err(|e| match e {
+            hyst_fit::FitError::Core(e) => {
+                core(format!("state: v = {v0} is not reachable by the model"), e)
+            }
+            e => crate::errors::fit(e),
+        });
     }
     let (k1, k2) = if let Ok(h) = model.cast::<Hysteresis>() {
         let h = h.borrow();

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use hyst_fit::modelfile::ModelKind;
 use hyst_fit::widths::FamilyWidths;
-use hyst_fit::{Estimate, Evaluator, Form, ModelFile};
+use hyst_fit::{Estimate, Evaluator, ModelFile};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -193,9 +193,9 @@ impl Model {
     /// PI⁻¹ for a Prandtl–Ishlinskii model): desired output in, command out. No history.
     /// Raises ValueError for a stop-form (friction) model, which has no inverse.
     fn inverse(&self) -> PyResult<Self> {
-        if let Some(m) = self.file.smooth.as_ref().filter(|m| m.form == Form::Stop) {
-            // The evaluator's own refusal, so that the words are the CLI's.
-            m.compensator(0.0).map_err(|e| value_error(e.to_string()))?;
+        if let Some(m) = &self.file.smooth {
+            // The model's own refusal, so that the words are the CLI's.
+            m.invertible().map_err(errors::fit)?;
         }
         Ok(Self::new(self.file.clone(), true, self.source.clone()))
     }
