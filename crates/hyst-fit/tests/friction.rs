@@ -4,28 +4,14 @@
 //! the span and well below the plain Coulomb model, and the operator form forced onto the same
 //! data is reported as degenerate instead of returned as a line.
 
+mod common;
+use common::normals;
 use hyst_fit::identify::{identify, Request};
 use hyst_fit::lm::Silent;
 use hyst_fit::modelfile::Provenance;
 use hyst_fit::orientation::{loops, FormChoice, Orientation};
 use hyst_fit::{Dataset, FitError, Form, ModelFile};
 use hyst_sim::LuGre;
-
-/// A deterministic standard normal sequence (xorshift64* and Box–Muller).
-fn normals(n: usize, mut seed: u64) -> Vec<f64> {
-    let mut uniform = move || {
-        seed ^= seed >> 12;
-        seed ^= seed << 25;
-        seed ^= seed >> 27;
-        ((seed.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    };
-    (0..n)
-        .map(|_| {
-            let (a, b) = (uniform(), uniform());
-            (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-        })
-        .collect()
-}
 
 /// A piston stroke: three sines of incommensurate frequencies (mm), 1 kHz, 8 s.
 fn stroke(seed: u64) -> Vec<f64> {

@@ -1,6 +1,8 @@
 //! Recovery of known parameters from synthetic data: exact (to 1e-6) without noise, within the
 //! reported standard errors with noise. The truth is a member of the fitted structure.
 
+mod common;
+use common::normals;
 use hyst_fit::lm::Silent;
 use hyst_fit::smooth::normalisation;
 use hyst_fit::structure::Layout;
@@ -37,22 +39,6 @@ fn truth(
     }
     let model = layout.model(&theta, probe.input_range())?;
     Ok((model, layout))
-}
-
-/// A deterministic standard normal sequence (xorshift64* and Box–Muller).
-fn normals(n: usize, mut seed: u64) -> Vec<f64> {
-    let mut uniform = move || {
-        seed ^= seed >> 12;
-        seed ^= seed << 25;
-        seed ^= seed >> 27;
-        ((seed.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    };
-    (0..n)
-        .map(|_| {
-            let (a, b) = (uniform(), uniform());
-            (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-        })
-        .collect()
 }
 
 fn check_exact(structure: Structure, values: &[(&str, f64)]) -> Result<(), FitError> {
