@@ -59,7 +59,7 @@ pub const RATE_NOTE: f64 = 0.1;
 /// difference of the input, per sample; weighted, over the training records).
 fn rate_share(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
     let (mut srr, mut srd, mut sdd) = (0.0, 0.0, 0.0);
-    for (r, y) in data.training().zip(outputs) {
+    for (r, y) in training(data, outputs) {
         let n = r.input.len().min(y.len());
         for i in 0..n {
             let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
@@ -101,6 +101,18 @@ impl Diagnosis {
     }
 }
 
+/// The training records of `data`, each with the model's output for it (`outputs`: one per
+/// record of `data`).
+fn training<'a>(
+    data: &'a Dataset,
+    outputs: &'a [Vec<f64>],
+) -> impl Iterator<Item = (&'a Record, &'a Vec<f64>)> {
+    data.records
+        .iter()
+        .zip(outputs)
+        .filter(|(r, _)| !r.validation)
+}
+
 /// The least-squares line a + b x over the weighted training samples, and its RMS over the
 /// samples of positive weight.
 fn line_rms(data: &Dataset) -> f64 {
@@ -134,7 +146,7 @@ fn line_rms(data: &Dataset) -> f64 {
 }
 
 /// Diagnoses a fitted model from its output on the training records (`outputs`, one vector
-/// per training record, in order) and its estimates (`None` for models whose standard errors
+/// per record of `data`, in order, as [`Dataset::run_histories`] gives them) and its estimates (`None` for models whose standard errors
 /// may be NaN by design, such as the Prandtl–Ishlinskii weights at their bound 0).
 /// `unidentified_ok` names parameters whose NaN standard error is expected (k1 in the stop
 /// form's Dahl limit). `data_orientation` words the advice.
@@ -147,9 +159,7 @@ pub fn diagnose(
     data_orientation: Orientation,
 ) -> Diagnosis {
     // The model's own loops: its output in place of the measured one, on the same inputs.
-    let records: Vec<Record> = data
-        .training()
-        .zip(outputs)
+    let records: Vec<Record> = training(data, outputs)
         .map(|(r, y)| Record {
             output: y.clone(),
             ..r.clone()
@@ -194,7 +204,7 @@ pub fn diagnose(
     }
     let model_rms = {
         let (mut ss, mut n) = (0.0, 0usize);
-        for (r, y) in data.training().zip(outputs) {
+        for (r, y) in training(data, outputs) {
             for ((o, m), w) in r.output.iter().zip(y).zip(&r.weight) {
                 if *w > 0.0 {
                     ss += (m - o).powi(2);

@@ -132,15 +132,6 @@ pub fn identify(
         None
     };
     // Did the requested model find hysteresis at all?
-    let training_outputs = |run: &dyn Fn(&[f64]) -> Option<Vec<f64>>| -> Vec<Vec<f64>> {
-        let all = data.run_histories(run).unwrap_or_default();
-        data.records
-            .iter()
-            .zip(all)
-            .filter(|(r, _)| !r.validation)
-            .map(|(_, y)| y)
-            .collect()
-    };
     let mut notes = Vec::new();
     let diagnosis = match (request.kind, &smooth, &pi) {
         (ModelKind::Smooth, Some(f), _) => {
@@ -163,17 +154,9 @@ pub fn identify(
                     sig(hi, 3)
                 ));
             }
-            let outputs = f.outputs(data).unwrap_or_default();
-            let training: Vec<Vec<f64>> = data
-                .records
-                .iter()
-                .zip(outputs)
-                .filter(|(r, _)| !r.validation)
-                .map(|(_, y)| y)
-                .collect();
             diagnose(
                 data,
-                &training,
+                &f.outputs(data).unwrap_or_default(),
                 Some(&f.estimates),
                 limit.map_or(&[][..], ParameterLimit::unidentified),
                 found.orientation,
@@ -181,7 +164,9 @@ pub fn identify(
         }
         (_, _, Some(f)) => diagnose(
             data,
-            &training_outputs(&|x| f.model.run(x).ok()),
+            &data
+                .run_histories(|x| f.model.run(x).ok())
+                .unwrap_or_default(),
             None,
             &[],
             found.orientation,
