@@ -115,6 +115,20 @@ pub fn bound(
     Ok((b.delta_a, law, (k2_lo, k2_hi)))
 }
 
+/// Reports step `step` of a width search to `observer` (progress of no start, without cost);
+/// [`FitError::Interrupted`] when it stops the search.
+fn tick(observer: &mut dyn Observer, step: usize) -> Result<(), FitError> {
+    match observer.observe(&Progress {
+        iteration: step,
+        cost: f64::NAN,
+        lambda: f64::NAN,
+        start: usize::MAX,
+    }) {
+        ControlFlow::Continue(()) => Ok(()),
+        ControlFlow::Break(()) => Err(FitError::Interrupted),
+    }
+}
+
 /// What bounds the family widths of `model` on `data`, and what turns Δa into an output bound.
 #[derive(Clone, Copy)]
 struct Limits {
@@ -207,18 +221,10 @@ pub fn confirm(
     let lim = limits(data, model)?;
     let Limits { d1_max, d2_max, .. } = lim;
     let (mut lower, mut upper) = (Vec::new(), Vec::new());
+    let mut step = 0;
     let mut cover = |d1: f64, d2: f64| -> Result<f64, FitError> {
-        if observer
-            .observe(&Progress {
-                iteration: 0,
-                cost: f64::NAN,
-                lambda: f64::NAN,
-                start: usize::MAX,
-            })
-            .is_break()
-        {
-            return Err(FitError::Interrupted);
-        }
+        step += 1;
+        tick(observer, step)?;
         Ok(coverage(data, model, None, d1, d2, &mut lower, &mut upper)?)
     };
     let target = found.coverage_target;
@@ -284,15 +290,7 @@ pub fn family_widths(
     let mut step = 0;
     let mut tick = |observer: &mut dyn Observer| -> Result<(), FitError> {
         step += 1;
-        match observer.observe(&Progress {
-            iteration: step,
-            cost: f64::NAN,
-            lambda: f64::NAN,
-            start: usize::MAX,
-        }) {
-            ControlFlow::Continue(()) => Ok(()),
-            ControlFlow::Break(()) => Err(FitError::Interrupted),
-        }
+        tick(observer, step)
     };
     let (mut lower, mut upper) = (Vec::new(), Vec::new());
     let mut cover =
