@@ -471,18 +471,37 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
     /// The envelope of any operators built around the family's members: `build` turns each
     /// member H(k1 + a Δk1, k2 + b Δk2) of the lattice into the operator that is run over
     /// `input` (a shaped model with its initial state, say), and `lower` / `upper` receive the
-    /// smallest and largest output at each sample. The one loop over the members of a family.
+    /// smallest and largest output at each sample.
     ///
     /// # Errors
-    /// [`Error::LengthMismatch`] for slices of different lengths; the first error of `build`, or
-    /// of a member other than [`Error::NonFiniteInput`] (an invalid k2 from a law that goes
-    /// non-positive once shifted by −Δk2). Non-finite input samples give NaN envelope samples.
+    /// As [`Family::envelope_of`].
     pub fn envelope_with<O: Operator<T>>(
         &self,
         input: &[T],
         lower: &mut [T],
         upper: &mut [T],
         grid: usize,
+        build: impl FnMut(Hysteresis<T, ShiftedK2<K, T>>) -> Result<O, Error>,
+    ) -> Result<(), Error> {
+        self.envelope_of(Self::lattice(grid), input, lower, upper, build)
+    }
+
+    /// The envelope over the members at the positions `members` ((a, b) in [−1, 1]², as
+    /// [`Family::lattice`] gives them), each built by `build` and run over `input`: `lower` and
+    /// `upper` receive the smallest and largest output at each sample. The one loop over the
+    /// members of a family; envelopes of disjoint sets of members combine by taking the smaller
+    /// lower and the larger upper value (so the members can be shared among threads).
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] for slices of different lengths; the first error of `build`, or
+    /// of a member other than [`Error::NonFiniteInput`] (an invalid k2 from a law that goes
+    /// non-positive once shifted by −Δk2). Non-finite input samples give NaN envelope samples.
+    pub fn envelope_of<O: Operator<T>>(
+        &self,
+        members: impl IntoIterator<Item = (T, T)>,
+        input: &[T],
+        lower: &mut [T],
+        upper: &mut [T],
         mut build: impl FnMut(Hysteresis<T, ShiftedK2<K, T>>) -> Result<O, Error>,
     ) -> Result<(), Error> {
         if input.len() != lower.len() || input.len() != upper.len() {
@@ -493,7 +512,7 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
         }
         lower.iter_mut().for_each(|x| *x = T::infinity());
         upper.iter_mut().for_each(|x| *x = T::neg_infinity());
-        for (a, b) in Self::lattice(grid) {
+        for (a, b) in members {
             let mut member = build(self.member(a, b)?)?;
             for ((x, lo), hi) in input.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
                 match member.try_step(*x) {

@@ -70,14 +70,29 @@ pub struct Identified {
     pub report: Report,
 }
 
-/// Mean evaluation time per sample of `run` over the records (repeated to ≥ 50 ms), in ns.
+/// At most this many samples (the records' first ones) are timed by [`ns_per_sample`]: the cost
+/// per sample does not depend on the record's length, and a long record would otherwise add a
+/// whole run of the model to the fit.
+const TIMED_SAMPLES: usize = 1 << 16;
+
+/// Mean evaluation time per sample of `run` over the records' first [`TIMED_SAMPLES`] samples
+/// (repeated to ≥ 50 ms), in ns.
 fn ns_per_sample(data: &Dataset, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> f64 {
-    let samples: usize = data.records.iter().map(|r| r.len()).sum();
+    let mut budget = TIMED_SAMPLES;
+    let mut inputs: Vec<&[f64]> = Vec::new();
+    for r in &data.records {
+        let take = r.input.len().min(budget);
+        if take > 0 {
+            inputs.push(&r.input[..take]);
+            budget -= take;
+        }
+    }
+    let samples: usize = inputs.iter().map(|x| x.len()).sum();
     let started = Instant::now();
     let mut rounds = 0usize;
     while rounds == 0 || started.elapsed() < Duration::from_millis(50) {
-        for r in &data.records {
-            std::hint::black_box(run(std::hint::black_box(&r.input)));
+        for x in &inputs {
+            std::hint::black_box(run(std::hint::black_box(x)));
         }
         rounds += 1;
     }
@@ -156,7 +171,7 @@ pub fn identify(
             }
             diagnose(
                 data,
-                &f.outputs(data).unwrap_or_default(),
+                &f.outputs,
                 Some(&f.estimates),
                 limit.map_or(&[][..], ParameterLimit::unidentified),
                 found.orientation,

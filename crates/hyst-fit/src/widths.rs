@@ -47,12 +47,33 @@ pub struct FamilyWidths {
     pub output_bound_pct_span: Option<f64>,
 }
 
+/// Histories at least this long share the family's members among threads (below it, starting
+/// the threads would cost more than they save).
+const PARALLEL_FROM: usize = 20_000;
+
+/// Scratch envelopes for [`coverage`], one (lower, upper) pair per worker thread, reused across
+/// histories and calls.
+struct Scratch {
+    envelopes: Vec<(Vec<f64>, Vec<f64>)>,
+}
+
+impl Scratch {
+    /// One pair per thread the machine offers, at most one per member of the 3 × 3 lattice.
+    fn new() -> Self {
+        let workers = std::thread::available_parallelism().map_or(1, |n| n.get().min(9));
+        Self {
+            envelopes: vec![(Vec::new(), Vec::new()); workers],
+        }
+    }
+}
+
 /// Fraction of samples (weight > 0, all records) inside the envelope of the family
 /// RH(k1, `d1`, k2 law, `d2`) around `model`: at each sample the smallest and largest output of
 /// the [`Family::lattice`] of 3 × 3 members, each run over each whole history (a record, or a
 /// record cut into segments) inside the fitted shaping, from the history's estimated start
-/// `starts` or the start rule ([`SmoothModel::shaped_from`]). `lower` and `upper` are scratch
-/// buffers, reused across records and calls.
+/// `starts` or the start rule ([`SmoothModel::shaped_from`]). On a long history the members are
+/// shared among the threads of `scratch` ([`Family::envelope_of`]); the result does not depend
+/// on how many there are.
 ///
 /// # Errors
 /// The core's error when the family is invalid (`d1` ≥ k1, a negative or non-finite width) or a
@@ -63,10 +84,10 @@ fn coverage(
     starts: Option<&[f64]>,
     d1: f64,
     d2: f64,
-    lower: &mut Vec<f64>,
-    upper: &mut Vec<f64>,
+    scratch: &mut Scratch,
 ) -> Result<f64, hyst_core::Error> {
     let family = Family::with_k2_law(model.k1, d1, model.k2, d2)?;
+    let members: Vec<(f64, f64)> = Family::<f64, AnyK2Law<f64>>::lattice(3).collect();
     let mut inside = 0usize;
     let mut samples = 0usize;
     // Each history whole: a segment starts where the one before it ended.
@@ -76,12 +97,61 @@ fn coverage(
         }
         let band = starts.and_then(|s| s.get(index).copied());
         let n = h.input.len();
-        lower.resize(n, 0.0);
-        upper.resize(n, 0.0);
-        let (lower, upper) = (&mut lower[..n], &mut upper[..n]);
-        family.envelope_with(&h.input, lower, upper, 3, |member| {
-            model.shaped_from(member, &h.input, band)
+        let workers = if n >= PARALLEL_FROM {
+            scratch.envelopes.len()
+        } else {
+            1
+        };
+        let envelope = |mine: Vec<(f64, f64)>, lower: &mut [f64], upper: &mut [f64]| {
+            family.envelope_of(mine, &h.input, lower, upper, |member| {
+                model.shaped_from(member, &h.input, band)
+            })
+        };
+        let share = |w: usize| -> Vec<(f64, f64)> {
+            members.iter().copied().skip(w).step_by(workers).collect()
+        };
+        let (first, others) =
+            scratch
+                .envelopes
+                .split_first_mut()
+                .ok_or(hyst_core::Error::LengthMismatch {
+                    input: n,
+                    output: 0,
+                })?;
+        for (lower, upper) in std::iter::once(&mut *first)
+            .chain(others.iter_mut())
+            .take(workers)
+        {
+            lower.resize(n, 0.0);
+            upper.resize(n, 0.0);
+        }
+        std::thread::scope(|scope| -> Result<(), hyst_core::Error> {
+            let running: Vec<_> = others
+                .iter_mut()
+                .take(workers - 1)
+                .enumerate()
+                .map(|(w, (lower, upper))| {
+                    let mine = share(w + 1);
+                    let envelope = &envelope;
+                    scope.spawn(move || envelope(mine, &mut lower[..n], &mut upper[..n]))
+                })
+                .collect();
+            let own = envelope(share(0), &mut first.0[..n], &mut first.1[..n]);
+            for handle in running {
+                // A worker's panic is resumed here, as it would have unwound without threads.
+                handle
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))?;
+            }
+            own
         })?;
+        let (lower, upper) = (&mut first.0[..n], &mut first.1[..n]);
+        for (l, u) in others.iter().take(workers - 1) {
+            for ((lo, hi), (l, u)) in lower.iter_mut().zip(upper.iter_mut()).zip(l.iter().zip(u)) {
+                *lo = lo.min(*l);
+                *hi = hi.max(*u);
+            }
+        }
         let r = Reproducibility::compare(&h.output, Some(&h.weight), lower, upper, 0.0);
         inside += r.inside;
         samples += r.samples;
@@ -220,12 +290,12 @@ pub fn confirm(
 ) -> Result<FamilyWidths, FitError> {
     let lim = limits(data, model)?;
     let Limits { d1_max, d2_max, .. } = lim;
-    let (mut lower, mut upper) = (Vec::new(), Vec::new());
+    let mut scratch = Scratch::new();
     let mut step = 0;
     let mut cover = |d1: f64, d2: f64| -> Result<f64, FitError> {
         step += 1;
         tick(observer, step)?;
-        Ok(coverage(data, model, None, d1, d2, &mut lower, &mut upper)?)
+        Ok(coverage(data, model, None, d1, d2, &mut scratch)?)
     };
     let target = found.coverage_target;
     let (d1, d2) = (found.delta_k1, found.delta_k2);
@@ -264,6 +334,34 @@ pub fn confirm(
     lim.widths(model, target, reachable, (d1, d2), cov)
 }
 
+/// The largest t in [0, 1] at which the widths `widths(t)` along a ray still give a Δa
+/// ([`bound`]) no larger than `best` (1 when the whole ray does, 0 when none of it does), to a
+/// relative 1e-6 by bisection; Δa grows with both widths.
+fn ray_end(
+    model: &SmoothModel,
+    v_range: (f64, f64),
+    widths: impl Fn(f64) -> (f64, f64),
+    best: f64,
+) -> f64 {
+    let within = |t: f64| {
+        let (w1, w2) = widths(t);
+        bound(model, w1, w2, v_range).is_ok_and(|(a, _, _)| a <= best)
+    };
+    if within(1.0) {
+        return 1.0;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while hi - lo > 1e-6 {
+        let mid = 0.5 * (lo + hi);
+        if within(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
 /// Searches the smallest family widths that reproduce `coverage` of the samples, the members
 /// started as the fit started the model (`starts`: [`crate::SmoothFit::starts`]).
 ///
@@ -292,9 +390,8 @@ pub fn family_widths(
         step += 1;
         tick(observer, step)
     };
-    let (mut lower, mut upper) = (Vec::new(), Vec::new());
-    let mut cover =
-        |d1: f64, d2: f64| coverage(data, model, starts, d1, d2, &mut lower, &mut upper);
+    let mut scratch = Scratch::new();
+    let mut cover = |d1: f64, d2: f64| coverage(data, model, starts, d1, d2, &mut scratch);
     let base = cover(0.0, 0.0)?;
     if base >= coverage_target {
         return lim.widths(model, coverage_target, true, (0.0, 0.0), base);
@@ -304,8 +401,18 @@ pub fn family_widths(
             continue;
         }
         let widths = |t: f64| (t * c1 * d1_max, t * c2 * d2_max);
+        // Δa grows along the ray: past the point where it equals the best Δa found so far the
+        // ray cannot win, so the search ends there (one evaluation when even that point falls
+        // short of the coverage, instead of a bisection over the whole ray).
+        let t_end = match best {
+            None => 1.0,
+            Some((best_a, ..)) => ray_end(model, v_range, widths, best_a),
+        };
+        if t_end <= 0.0 {
+            continue;
+        }
         tick(observer)?;
-        let (w1, w2) = widths(1.0);
+        let (w1, w2) = widths(t_end);
         let full = cover(w1, w2)?;
         if full > best_coverage.0 {
             best_coverage = (full, w1, w2);
@@ -313,7 +420,7 @@ pub fn family_widths(
         if full < coverage_target {
             continue;
         }
-        let (mut lo, mut hi, mut hi_cov) = (0.0, 1.0, full);
+        let (mut lo, mut hi, mut hi_cov) = (0.0, t_end, full);
         for _ in 0..10 {
             tick(observer)?;
             let mid = 0.5 * (lo + hi);
@@ -383,18 +490,18 @@ mod tests {
         };
         let x = input();
         let data = Dataset::single(&x, &truth.run(&x).unwrap());
-        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        let mut scratch = Scratch::new();
         assert_eq!(
-            coverage(&data, &m, None, d1, d2, &mut lo, &mut hi).unwrap(),
+            coverage(&data, &m, None, d1, d2, &mut scratch).unwrap(),
             1.0
         );
-        let nominal = coverage(&data, &m, None, 0.0, 0.0, &mut lo, &mut hi).unwrap();
+        let nominal = coverage(&data, &m, None, 0.0, 0.0, &mut scratch).unwrap();
         assert!(nominal < 0.05, "{nominal}");
         // Half the widths leave part of the data outside.
-        let half = coverage(&data, &m, None, d1 / 2.0, d2 / 2.0, &mut lo, &mut hi).unwrap();
+        let half = coverage(&data, &m, None, d1 / 2.0, d2 / 2.0, &mut scratch).unwrap();
         assert!(half > nominal && half < 0.9, "{half}");
         // An invalid family is an error, not a coverage.
-        assert!(coverage(&data, &m, None, m.k1, 0.0, &mut lo, &mut hi).is_err());
+        assert!(coverage(&data, &m, None, m.k1, 0.0, &mut scratch).is_err());
     }
 
     #[test]
@@ -406,14 +513,14 @@ mod tests {
         y[1000..].iter_mut().for_each(|v| *v += 1.0);
         let mut data = Dataset::single(&x, &y);
         data.records[0].weight[1000..].fill(0.0);
-        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        let mut scratch = Scratch::new();
         assert_eq!(
-            coverage(&data, &m, None, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
+            coverage(&data, &m, None, 0.0, 0.0, &mut scratch).unwrap(),
             1.0
         );
         data.records[0].weight[1000..].fill(1.0);
         assert_eq!(
-            coverage(&data, &m, None, 0.0, 0.0, &mut lo, &mut hi).unwrap(),
+            coverage(&data, &m, None, 0.0, 0.0, &mut scratch).unwrap(),
             0.5
         );
     }

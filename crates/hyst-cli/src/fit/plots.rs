@@ -60,7 +60,7 @@ pub(super) fn draw(
     // As the fit ran them: segments of one measurement run on from each other, from the
     // estimated starts when the fit estimated them.
     let runs: Vec<(&str, Option<Vec<Vec<f64>>>)> = [
-        smooth.map(|f| ("smooth model", f.outputs(data))),
+        smooth.map(|f| ("smooth model", Some(f.outputs.clone()))),
         pi.map(|f| {
             (
                 "Prandtl–Ishlinskii",
