@@ -53,6 +53,13 @@ pub struct Args {
     /// The operator.
     #[command(flatten)]
     pub source: Source,
+    /// With --model --inverse, for a model whose output shaping saturates (tanh, Langevin; open
+    /// range (lo, hi), unreachable): the FMU clamps every desired output beyond 99.9 % of the
+    /// range about its centre to that limit, as `hyst run --saturate` does, instead of refusing
+    /// a value outside (lo, hi); fmi2DoStep returns fmi2Warning (and logs it) when the desired
+    /// output enters saturation.
+    #[arg(long)]
+    pub saturate: bool,
     /// The FMU to write (NAME.fmu; NAME becomes the modelName). Written atomically.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -79,6 +86,8 @@ struct Fmu {
     timestamp: zip::DateTime,
     kind: Kind,
     inverse: bool,
+    /// Clamp desired outputs into the model's saturation limits (`--saturate`).
+    saturate: bool,
     /// The command line that made the FMU (shell-quoted).
     command: String,
 }
@@ -90,6 +99,22 @@ pub fn main(args: Args) -> Result<()> {
         Chosen::Model(path) => read_model(path, &args.output)?,
         Chosen::Parameters { k1, k2 } => Kind::Operator { k1, k2 },
     };
+    if args.saturate {
+        match &kind {
+            Kind::Model { file, .. } if args.source.inverse => {
+                if file.saturation().is_none() {
+                    bail!(
+                        "--saturate: the model's output is unbounded (its output shaping does \
+                         not saturate), so no desired output needs clamping"
+                    );
+                }
+            }
+            _ => bail!(
+                "--saturate applies to --model FILE --inverse: the compensator of a model whose \
+                 output shaping saturates"
+            ),
+        }
+    }
     let library = read_library()?;
     let (generated, timestamp) = now()?;
     let fmu = Fmu {
@@ -99,6 +124,7 @@ pub fn main(args: Args) -> Result<()> {
         timestamp,
         kind,
         inverse: args.source.inverse,
+        saturate: args.saturate,
         command: command_line(),
     };
     let bytes = fmu.archive(&library)?;
@@ -351,9 +377,16 @@ impl Fmu {
                 };
                 let (input, output) = (&file.columns.input, &file.columns.output);
                 if inverse {
+                    let clamped = match file.saturation().filter(|_| self.saturate) {
+                        Some(s) => format!(
+                            ", desired outputs clamped into [{}, {}]",
+                            s.limits.0, s.limits.1
+                        ),
+                        None => String::new(),
+                    };
                     format!(
                         "the exact compensator of a fitted {kind} hysteresis model \
-                         ({output} -> {input})"
+                         ({output} -> {input}){clamped}"
                     )
                 } else {
                     format!("a fitted {kind} hysteresis model ({input} -> {output})")
@@ -573,6 +606,9 @@ impl Fmu {
             }
             Kind::Model { .. } => {
                 let _ = writeln!(t, "kind = \"model\"\ninverse = {}", self.inverse);
+                if self.saturate {
+                    let _ = writeln!(t, "saturate = true");
+                }
             }
         }
         t

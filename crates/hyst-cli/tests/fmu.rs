@@ -606,3 +606,81 @@ fn bad_arguments_name_the_problem_and_leave_no_file() {
     );
     assert_eq!(std::fs::read(fmu).unwrap(), good);
 }
+
+#[test]
+fn saturate_is_written_for_the_compensator_of_a_saturating_model_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let lib = fake_library(d);
+    let affine = fit_piezo(d);
+    let tanh = d.join("tanh.toml");
+    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    let out = Command::new(env!("CARGO_BIN_EXE_hyst"))
+        .args(["fit", data.to_str().unwrap(), "--input", "u_actuator_V"])
+        .args([
+            "--output",
+            "y_capsensor_um",
+            "--output-shaping",
+            "tanh",
+            "-o",
+        ])
+        .arg(&tanh)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let fmu = d.join("comp.fmu");
+    let (fmu_s, tanh_s, affine_s) = (
+        fmu.to_str().unwrap(),
+        tanh.to_str().unwrap(),
+        affine.to_str().unwrap(),
+    );
+    let before = ["libhyst_fmu.so", "piezo.toml", "tanh.toml"];
+    fails(
+        d,
+        &lib,
+        &[
+            "--k1",
+            "0.2",
+            "--k2",
+            "8",
+            "--inverse",
+            "--saturate",
+            "-o",
+            fmu_s,
+        ],
+        &["--saturate applies to --model FILE --inverse"],
+        &before,
+    );
+    fails(
+        d,
+        &lib,
+        &["--model", tanh_s, "--saturate", "-o", fmu_s],
+        &["--saturate applies to --model FILE --inverse"],
+        &before,
+    );
+    fails(
+        d,
+        &lib,
+        &["--model", affine_s, "--inverse", "--saturate", "-o", fmu_s],
+        &["--saturate", "unbounded"],
+        &before,
+    );
+    let out = hyst_fmu(
+        &lib,
+        &["--model", tanh_s, "--inverse", "--saturate", "-o", fmu_s],
+    );
+    ok(&out);
+    assert!(text(&out.stdout).contains("desired outputs clamped into ["));
+    let entries = unzip(&fmu);
+    let config: toml::Table = text(entry(&entries, "resources/fmu.toml")).parse().unwrap();
+    assert_eq!(config["saturate"].as_bool(), Some(true));
+    // Without --saturate the key is absent (the FMU refuses values beyond the range).
+    ok(&hyst_fmu(
+        &lib,
+        &["--model", tanh_s, "--inverse", "-o", fmu_s],
+    ));
+    let config: toml::Table = text(entry(&unzip(&fmu), "resources/fmu.toml"))
+        .parse()
+        .unwrap();
+    assert!(!config.contains_key("saturate"));
+}

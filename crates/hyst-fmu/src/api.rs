@@ -831,7 +831,9 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
 }
 
 /// `fmi2DoStep` (StepMode): commits the current x; any step size ≥ 0 (the operator is rate
-/// independent). A refused sample gives fmi2Error and changes nothing.
+/// independent). A refused sample gives fmi2Error and changes nothing. With `saturate = true`,
+/// the first step whose desired output is clamped (after unclamped ones) gives fmi2Warning and
+/// a logged warning; the step is committed.
 ///
 /// # Safety
 /// `c` as in [`fmi2FreeInstance`].
@@ -846,8 +848,13 @@ pub unsafe extern "C" fn fmi2DoStep(
     // SAFETY: the caller's contract.
     unsafe {
         with_instance(c, "fmi2DoStep", &[StepMode], |inst| {
-            inst.do_step(currentCommunicationPoint, communicationStepSize)?;
-            Ok(fmi2Status::fmi2OK)
+            match inst.do_step(currentCommunicationPoint, communicationStepSize)? {
+                Some(warning) => {
+                    inst.log.warning(&format!("fmi2DoStep: {warning}"));
+                    Ok(fmi2Status::fmi2Warning)
+                }
+                None => Ok(fmi2Status::fmi2OK),
+            }
         })
     }
 }

@@ -7,6 +7,8 @@
 //! guid = "{...}"      # the same string as modelDescription.xml's guid
 //! kind = "operator"   # or "model" (then resources/model.toml is the model file)
 //! inverse = false     # true: H^-1 (operator) or the model's exact compensator (model)
+//! saturate = false    # kind = "model", inverse = true, a saturating output shaping only:
+//!                     # clamp desired outputs into 99.9 % of the model's output range
 //! k1 = 0.2            # kind = "operator" only: the start values of the parameters
 //! k2 = 8.0
 //! ```
@@ -14,6 +16,7 @@
 use std::path::{Path, PathBuf};
 
 use hyst_core::{Hysteresis, InverseHysteresis};
+use hyst_fit::modelfile::Saturation;
 use hyst_fit::ModelFile;
 use serde::Deserialize;
 
@@ -49,6 +52,11 @@ pub struct Config {
     pub inverse: bool,
     /// The operator or the model.
     pub kind: Kind,
+    /// `saturate = true`: the output range of the model's saturating output shaping and the
+    /// limits ([`hyst_fit::modelfile::SATURATION_FRACTION`] of it) that desired outputs are
+    /// clamped into before the compensator sees them, as `hyst run --saturate` clamps them.
+    /// `None`: a desired output beyond the range is refused.
+    pub saturation: Option<Saturation>,
 }
 
 /// fmu.toml as written (checked further by [`Config::read`]).
@@ -63,6 +71,8 @@ struct RawConfig {
     kind: String,
     #[serde(default)]
     inverse: bool,
+    #[serde(default)]
+    saturate: bool,
     k1: Option<f64>,
     k2: Option<f64>,
 }
@@ -135,10 +145,28 @@ impl Config {
                 ))
             }
         };
+        let saturation = match (&kind, raw.saturate) {
+            (_, false) => None,
+            (Kind::Model(model), true) if raw.inverse => {
+                Some(model.saturation().ok_or_else(|| {
+                    format!(
+                        "{name}: saturate = true: the model's output is unbounded (its output \
+                     shaping does not saturate), so no desired output needs clamping"
+                    )
+                })?)
+            }
+            (_, true) => {
+                return Err(format!(
+                    "{name}: saturate = true: applies to kind = \"model\" with inverse = true \
+                     (the compensator of a model whose output shaping saturates)"
+                ))
+            }
+        };
         Ok(Self {
             guid: raw.guid,
             inverse: raw.inverse,
             kind,
+            saturation,
         })
     }
 }

@@ -85,6 +85,9 @@ pub struct Instance {
     /// `None` until fmi2ExitInitializationMode (operator) or the first fmi2DoStep (model).
     engine: Option<Engine>,
     time: f64,
+    /// Whether the last committed x was clamped (`saturate = true`): a warning is sent when
+    /// the desired output enters saturation, not at every step it stays there.
+    saturated: bool,
     /// The FMU states handed out (fmi2GetFMUstate, fmi2DeSerializeFMUstate); a handle is the
     /// address of its box, and only handles found here are accepted.
     #[allow(clippy::vec_box)]
@@ -112,6 +115,7 @@ impl Instance {
             parameters: None,
             engine: None,
             time: 0.0,
+            saturated: false,
             states: Vec::new(),
         };
         instance.reset();
@@ -129,6 +133,7 @@ impl Instance {
         };
         self.engine = None;
         self.time = 0.0;
+        self.saturated = false;
         self.log.debug = self.logging_at_instantiation;
     }
 
@@ -208,22 +213,36 @@ impl Instance {
         Ok(())
     }
 
+    /// The x the operator sees: the current x, clamped into the saturation limits with
+    /// `saturate = true` (then also whether it was clamped).
+    fn input(&self) -> (f64, bool) {
+        match self.config.saturation {
+            Some(s) => {
+                let (lo, hi) = s.limits;
+                let x = self.x.clamp(lo, hi);
+                (x, x != self.x)
+            }
+            None => (self.x, false),
+        }
+    }
+
     /// y for the committed history followed by the current x, without committing anything.
     /// Before the operator is built (initialisation) a fresh operator with the current k1, k2
     /// is used; before a model's first fmi2DoStep, an evaluator started at x.
     fn output(&self) -> Result<f64, String> {
         let refused = |e: &dyn fmt::Display| format!("x = {}: {e}", self.x);
+        let (x, _) = self.input();
         match (&self.engine, &self.config.kind, self.parameters) {
-            (Some(engine), _, _) => engine.peek(self.x).map_err(|e| refused(&e)),
+            (Some(engine), _, _) => engine.peek(x).map_err(|e| refused(&e)),
             (None, Kind::Operator { .. }, Some((k1, k2))) => {
                 Engine::operator(k1, k2, self.config.inverse)
                     .map_err(|e| e.to_string())?
-                    .peek(self.x)
+                    .peek(x)
                     .map_err(|e| refused(&e))
             }
-            (None, Kind::Model(file), _) => Engine::model(file, self.x, self.config.inverse)
+            (None, Kind::Model(file), _) => Engine::model(file, x, self.config.inverse)
                 .map_err(|e| refused(&e))?
-                .peek(self.x)
+                .peek(x)
                 .map_err(|e| refused(&e)),
             (None, Kind::Operator { .. }, None) => {
                 Err("internal error: an operator without parameters".into())
@@ -259,11 +278,14 @@ impl Instance {
     }
 
     /// fmi2DoStep: commits the current x (a model's evaluator is created at the first step,
-    /// started at x as `hyst run --model` starts a record). Any step size ≥ 0 is fine.
+    /// started at x as `hyst run --model` starts a record). Any step size ≥ 0 is fine. With
+    /// `saturate = true` a desired output beyond the limits is clamped into them; the step
+    /// then returns the warning to send when it is the first clamped step after an unclamped
+    /// one (the desired output enters saturation).
     ///
     /// # Errors
     /// A negative or non-finite step, or x refused; nothing changes then.
-    pub fn do_step(&mut self, current: f64, step: f64) -> Result<(), String> {
+    pub fn do_step(&mut self, current: f64, step: f64) -> Result<Option<String>, String> {
         if !(current.is_finite() && step.is_finite() && step >= 0.0) {
             return Err(format!(
                 "currentCommunicationPoint = {current}, communicationStepSize = {step}: \
@@ -271,14 +293,15 @@ impl Instance {
             ));
         }
         let refused = |e: &dyn fmt::Display| format!("x = {}: {e}", self.x);
+        let (x, clamped) = self.input();
         match (&mut self.engine, &self.config.kind) {
             (Some(engine), _) => {
-                engine.step(self.x).map_err(|e| refused(&e))?;
+                engine.step(x).map_err(|e| refused(&e))?;
             }
             (None, Kind::Model(file)) => {
                 let mut engine =
-                    Engine::model(file, self.x, self.config.inverse).map_err(|e| refused(&e))?;
-                engine.step(self.x).map_err(|e| refused(&e))?;
+                    Engine::model(file, x, self.config.inverse).map_err(|e| refused(&e))?;
+                engine.step(x).map_err(|e| refused(&e))?;
                 self.engine = Some(engine);
             }
             (None, Kind::Operator { .. }) => {
@@ -286,7 +309,16 @@ impl Instance {
             }
         }
         self.time = current + step;
-        Ok(())
+        let warning = match self.config.saturation {
+            Some(s) if clamped && !self.saturated => Some(format!(
+                "x = {}: beyond the range ({}, {}) of the model's {} output shaping: clamped \
+                 to {x} (saturate = true; no further warning until x is back within [{}, {}])",
+                self.x, s.range.0, s.range.1, s.shaping, s.limits.0, s.limits.1
+            )),
+            _ => None,
+        };
+        self.saturated = clamped;
+        Ok(warning)
     }
 
     /// The end of the last successful communication step (the start time before the first).

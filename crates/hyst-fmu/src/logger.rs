@@ -1,6 +1,7 @@
 //! Messages to the master through its `fmi2CallbackLogger`.
 //!
-//! Errors are always logged (category `logStatusError`, or `logStatusFatal`); debug messages
+//! Errors and warnings are always logged (category `logStatusError`, `logStatusFatal` or
+//! `logStatusWarning`); debug messages
 //! (category `logAll`) only while debug logging is on (fmi2Instantiate's `loggingOn`,
 //! fmi2SetDebugLogging). The text is always passed as the argument of a `"%s"` format, never as
 //! the format itself, and `#` is written `##` (FMI 2.0 reserves `#` for variable references in
@@ -12,6 +13,8 @@ use crate::fmi2::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
 
 /// The category of error messages.
 pub const CATEGORY_ERROR: &CStr = c"logStatusError";
+/// The category of warnings.
+pub const CATEGORY_WARNING: &CStr = c"logStatusWarning";
 /// The category of the message that reports a fatal error.
 pub const CATEGORY_FATAL: &CStr = c"logStatusFatal";
 /// The category of debug messages.
@@ -55,6 +58,11 @@ impl Logger {
     /// Sends an error message (always).
     pub fn error(&self, message: &str) {
         self.send(fmi2Status::fmi2Error, CATEGORY_ERROR, message);
+    }
+
+    /// Sends a warning (always).
+    pub fn warning(&self, message: &str) {
+        self.send(fmi2Status::fmi2Warning, CATEGORY_WARNING, message);
     }
 
     /// Sends a debug message when debug logging is on.

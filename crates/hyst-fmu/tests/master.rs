@@ -26,7 +26,9 @@ use hyst_fmu::fmi2::*;
 use hyst_fmu::instance::{VR_K1, VR_K2, VR_X, VR_Y};
 use hyst_fmu::*;
 
-use fmi2Status::{fmi2Discard as DISCARD, fmi2Error as ERROR, fmi2OK as OK};
+use fmi2Status::{
+    fmi2Discard as DISCARD, fmi2Error as ERROR, fmi2OK as OK, fmi2Warning as WARNING,
+};
 
 const GUID: &str = "{6f1c2a3e-hyst-test}";
 
@@ -717,6 +719,60 @@ fn a_desired_output_beyond_saturation_is_refused_and_changes_nothing() {
     assert_eq!(bits(&ys), bits(&evaluator_run(&file, true, &desired)));
 }
 
+#[test]
+fn saturate_clamps_desired_outputs_and_warns_when_saturation_starts() {
+    let file = saturating_model();
+    let limits = file.saturation().unwrap().limits;
+    let dir = tempfile::tempdir().unwrap();
+    write_config(
+        dir.path(),
+        &format!("{}saturate = true\n", model_config(true)),
+    );
+    file.write(&dir.path().join("model.toml")).unwrap();
+    let fmu = Fmu::started(dir.path());
+    // Starts beyond the range (tanh's is (-2, 2)): clamped, with a warning, and run.
+    let desired: Vec<f64> = [3.0, 2.5, 1.0, 0.2]
+        .into_iter()
+        .chain((0..300).map(|k| 1.5 * signal(k) / 1.3))
+        .chain([-2.0, -7.0, -1.5, 1.9, 2.0])
+        .collect();
+    let mut ys = Vec::new();
+    let mut warnings = Vec::new();
+    for (k, x) in desired.iter().enumerate() {
+        assert_eq!(fmu.set(VR_X, *x), OK);
+        let y = fmu.y();
+        let status = fmu.do_step();
+        let clamped = x.clamp(limits.0, limits.1) != *x;
+        let entering =
+            clamped && (k == 0 || desired[k - 1].clamp(limits.0, limits.1) == desired[k - 1]);
+        assert_eq!(status, if entering { WARNING } else { OK }, "x = {x}");
+        if status == WARNING {
+            fmu.time.set(fmu.time.get() + 0.01);
+        }
+        assert_eq!(fmu.y().to_bits(), y.to_bits());
+        ys.push(y);
+        let log = fmu.log.take();
+        assert!(log.iter().all(|l| l.status != ERROR as c_int), "{log:?}");
+        warnings.extend(log.into_iter().filter(|l| l.status == WARNING as c_int));
+    }
+    // A warning where saturation starts (3.0, -2.0), none while it lasts (2.5, -7.0).
+    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert!(warnings.iter().all(|w| w.category == "logStatusWarning"));
+    for part in ["fmi2DoStep", "x = 3", "tanh", "clamped to"] {
+        assert!(
+            warnings[0].message.contains(part),
+            "{:?} lacks {part}",
+            warnings[0]
+        );
+    }
+    // The outputs are the evaluator's for the clamped desired outputs.
+    let clamped: Vec<f64> = desired
+        .iter()
+        .map(|x| x.clamp(limits.0, limits.1))
+        .collect();
+    assert_eq!(bits(&ys), bits(&evaluator_run(&file, true, &clamped)));
+}
+
 // ------------------------------------------------------------------------------------------
 // FMU states.
 
@@ -1046,7 +1102,7 @@ fn bad_resources_give_null_and_a_message() {
         fmi2CoSimulation,
         &["fmuResourceLocation \"resources\""],
     );
-    let cases: [(&str, &[&str]); 10] = [
+    let cases: [(&str, &[&str]); 11] = [
         ("format = \"hyst-model\"\nversion = 1\n", &["format = \"hyst-model\""]),
         ("format = \"hyst-fmu\"\nversion = 2\n", &["version = 2"]),
         ("format = \"hyst-fmu\"\n", &["no `version`"]),
@@ -1057,6 +1113,7 @@ fn bad_resources_give_null_and_a_message() {
         ("format = \"hyst-fmu\"\nversion = 1\nguid = \"g\"\nkind = \"play\"\n", &["kind = \"play\""]),
         ("format = \"hyst-fmu\"\nversion = 1\nguid = \"g\"\nkind = \"model\"\n", &["model.toml"]),
         ("format = \"hyst-fmu\"\nversion = 1\nguid = \"g\"\nkind = \"model\"\nk1 = 0.2\n", &["k1 = 0.2", "only kind = \"operator\""]),
+        ("format = \"hyst-fmu\"\nversion = 1\nguid = \"g\"\nkind = \"operator\"\ninverse = true\nsaturate = true\nk1 = 0.2\nk2 = 8.0\n", &["saturate = true", "kind = \"model\" with inverse = true"]),
     ];
     for (body, parts) in cases {
         let d = tempfile::tempdir().unwrap();
@@ -1267,4 +1324,25 @@ fn messages_are_passed_as_a_percent_s_argument_with_hash_escaped() {
                 .iter()
                 .all(|l| l.category == "logAll" && l.instance == "loud" && l.status == OK as c_int)
     );
+}
+
+#[test]
+fn saturate_needs_the_compensator_of_a_saturating_model() {
+    for (file, inverse, part) in [
+        (saturating_model(), false, "with inverse = true"),
+        (fitted_model(), true, "unbounded"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        write_config(
+            dir.path(),
+            &format!("{}saturate = true\n", model_config(inverse)),
+        );
+        file.write(&dir.path().join("model.toml")).unwrap();
+        refused(
+            &uri(dir.path()),
+            GUID,
+            fmi2CoSimulation,
+            &["fmu.toml", "saturate = true", part],
+        );
+    }
 }
