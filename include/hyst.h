@@ -806,6 +806,28 @@ int hyst_model_process(struct hyst_model *m,
                        double *y,
                        size_t n);
 
+// Makes the compensator (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
+// beyond 99.9 % of a saturating model's output range (tanh or Langevin output shaping; the range
+// itself is unreachable) to that limit instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
+// `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
+// a compensator run already started. `hyst_model_clamped` counts the clamped values.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
+// and the model's output is unbounded (nothing could need clamping; nothing changes).
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load` not yet freed.
+int hyst_model_saturate(struct hyst_model *m, int on);
+
+// Writes into `*count` how many desired outputs the compensator clamped
+// (`hyst_model_saturate`) since the model was loaded or reset.
+//
+// Returns `HYST_OK` or `HYST_ERR_NULL_POINTER`.
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load` not yet freed; `count` is NULL or writable.
+int hyst_model_clamped(const struct hyst_model *m, uint64_t *count);
+
 // Forgets both runs: the next `hyst_model_process` of each kind starts a new record.
 //
 // # Safety

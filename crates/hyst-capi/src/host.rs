@@ -7,16 +7,21 @@ use std::path::Path;
 use std::ptr;
 
 use hyst_core::Operator;
-use hyst_fit::{Evaluator, ModelFile};
+use hyst_fit::{Evaluator, ModelFile, Saturated};
 
-use crate::status::{self, HYST_ERR_INTERNAL, HYST_ERR_MODEL_FILE, HYST_ERR_NULL_POINTER, HYST_OK};
+use crate::status::{
+    self, HYST_ERR_INTERNAL, HYST_ERR_INVALID_PARAMETER, HYST_ERR_MODEL_FILE,
+    HYST_ERR_NULL_POINTER, HYST_OK,
+};
 
 /// A fitted model loaded from a model file, with the state of its direct run and of its
 /// compensator run (opaque; create with `hyst_model_load`, release with `hyst_model_free`).
 pub struct hyst_model {
     file: ModelFile,
-    direct: Option<Evaluator>,
-    inverse: Option<Evaluator>,
+    direct: Option<Saturated<Evaluator>>,
+    inverse: Option<Saturated<Evaluator>>,
+    /// The compensator's clamp limits (`hyst_model_saturate`); `None`: nothing is clamped.
+    limits: Option<(f64, f64)>,
 }
 
 /// Copies `message` into the caller's buffer (truncated at a character boundary, always
@@ -65,6 +70,7 @@ pub unsafe extern "C" fn hyst_model_load(
             file,
             direct: None,
             inverse: None,
+            limits: None,
         }))
     });
     let message = match result {
@@ -112,16 +118,17 @@ pub unsafe extern "C" fn hyst_model_process(
     let model = unsafe { &mut *m };
     catch_unwind(AssertUnwindSafe(|| {
         let inverse = inverse != 0;
-        let slot = if inverse {
-            &mut model.inverse
+        let (slot, limits) = if inverse {
+            (&mut model.inverse, model.limits)
         } else {
-            &mut model.direct
+            (&mut model.direct, None)
         };
         if slot.is_none() {
             // SAFETY: n > 0 and `x` holds n values.
             let first = unsafe { x.read() };
+            let first = Saturated::new((), limits).clamp(first).unwrap_or(first);
             match model.file.evaluator(first, inverse) {
-                Ok(e) => *slot = Some(e),
+                Ok(e) => *slot = Some(Saturated::new(e, limits)),
                 Err(hyst_fit::FitError::Core(e)) => return status::of(&e),
                 Err(_) => return HYST_ERR_MODEL_FILE,
             }
@@ -141,6 +148,58 @@ pub unsafe extern "C" fn hyst_model_process(
         HYST_OK
     }))
     .unwrap_or(HYST_ERR_INTERNAL)
+}
+
+/// Makes the compensator (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
+/// beyond 99.9 % of a saturating model's output range (tanh or Langevin output shaping; the range
+/// itself is unreachable) to that limit instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
+/// `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
+/// a compensator run already started. `hyst_model_clamped` counts the clamped values.
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
+/// and the model's output is unbounded (nothing could need clamping; nothing changes).
+///
+/// # Safety
+/// `m` is NULL or a model from `hyst_model_load` not yet freed.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_saturate(m: *mut hyst_model, on: c_int) -> c_int {
+    if m.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: a live model (caller's contract).
+    let model = unsafe { &mut *m };
+    let limits = if on != 0 {
+        match model.file.saturation() {
+            Some(s) => Some(s.limits),
+            None => return HYST_ERR_INVALID_PARAMETER,
+        }
+    } else {
+        None
+    };
+    model.limits = limits;
+    if let Some(run) = model.inverse.as_mut() {
+        run.limits = limits;
+    }
+    HYST_OK
+}
+
+/// Writes into `*count` how many desired outputs the compensator clamped
+/// (`hyst_model_saturate`) since the model was loaded or reset.
+///
+/// Returns `HYST_OK` or `HYST_ERR_NULL_POINTER`.
+///
+/// # Safety
+/// `m` is NULL or a model from `hyst_model_load` not yet freed; `count` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u64) -> c_int {
+    if m.is_null() || count.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: a live model (caller's contract).
+    let model = unsafe { &*m };
+    // SAFETY: non-NULL and writable (caller's contract).
+    unsafe { count.write(model.inverse.as_ref().map_or(0, |r| r.clamped)) };
+    HYST_OK
 }
 
 /// Forgets both runs: the next `hyst_model_process` of each kind starts a new record.

@@ -559,7 +559,7 @@ fn fitted_model_file(dir: &std::path::Path) -> std::path::PathBuf {
 
 #[test]
 fn host_model_runs_like_the_evaluator_in_one_block_or_many() {
-    let dir = tempfile_dir();
+    let dir = tempfile_dir("blocks");
     let path = fitted_model_file(&dir);
     let file = hyst_fit::ModelFile::read(&path).unwrap();
     let cpath = CString::new(path.to_str().unwrap()).unwrap();
@@ -630,8 +630,96 @@ fn host_model_runs_like_the_evaluator_in_one_block_or_many() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-fn tempfile_dir() -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("hyst-capi-test-{}", std::process::id()));
+/// A fresh folder for the test `name` (tests run in parallel threads of one process).
+fn tempfile_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("hyst-capi-test-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+#[test]
+fn host_model_saturate_clamps_the_compensators_desired_outputs() {
+    let dir = tempfile_dir("saturate");
+    let affine = fitted_model_file(&dir);
+    let mut file = hyst_fit::ModelFile::read(&affine).unwrap();
+    // The same model with an output saturating at ±2 (tanh).
+    if let Some(m) = file.smooth.as_mut() {
+        m.output_shaping = hyst_core::ScaledShaping {
+            pre_gain: 1.0,
+            pre_offset: 0.0,
+            shape: hyst_core::AnyShaping::Tanh(hyst_core::Tanh::new(1.0, 1.0).unwrap()),
+            post_gain: 2.0,
+            post_offset: 0.0,
+        };
+    }
+    let path = dir.join("tanh.toml");
+    file.write(&path).unwrap();
+    let limits = file.saturation().unwrap().limits;
+    let load = |p: &std::path::Path| {
+        let c = CString::new(p.to_str().unwrap()).unwrap();
+        let m = unsafe { hyst_model_load(c.as_ptr(), ptr::null_mut(), 0) };
+        assert!(!m.is_null());
+        m
+    };
+    // Desired outputs beyond the range now and then, the first one too.
+    let desired: Vec<f64> = std::iter::once(2.5)
+        .chain((0..600).map(|k| 2.6 * signal(k + 40)))
+        .collect();
+    let beyond = desired
+        .iter()
+        .filter(|y| **y < limits.0 || **y > limits.1)
+        .count();
+    assert!(
+        beyond > 10 && desired[0].abs() > 2.0,
+        "{beyond} {}",
+        desired[0]
+    );
+    let mut y = vec![0.0; desired.len()];
+    let mut count = u64::MAX;
+    unsafe {
+        // An unbounded model has nothing to clamp.
+        let open = load(&affine);
+        assert_eq!(hyst_model_saturate(open, 1), HYST_ERR_INVALID_PARAMETER);
+        assert_eq!(
+            hyst_model_saturate(ptr::null_mut(), 1),
+            HYST_ERR_NULL_POINTER
+        );
+        hyst_model_free(open);
+
+        let m = load(&path);
+        let (x, n) = (desired.as_ptr(), desired.len());
+        assert_eq!(
+            hyst_model_process(m, 1, x, y.as_mut_ptr(), n),
+            HYST_ERR_OUT_OF_RANGE
+        );
+        assert_eq!(hyst_model_saturate(m, 1), HYST_OK);
+        assert_eq!(hyst_model_process(m, 1, x, y.as_mut_ptr(), n), HYST_OK);
+        assert_eq!(hyst_model_clamped(m, &mut count), HYST_OK);
+        assert_eq!(count, beyond as u64);
+        assert_eq!(
+            hyst_model_clamped(m, ptr::null_mut()),
+            HYST_ERR_NULL_POINTER
+        );
+        // Off again: the next value beyond the range is refused, in the run already started.
+        assert_eq!(hyst_model_saturate(m, 0), HYST_OK);
+        let mut out = [0.0];
+        assert_eq!(
+            hyst_model_process(m, 1, [9.0].as_ptr(), out.as_mut_ptr(), 1),
+            HYST_ERR_OUT_OF_RANGE
+        );
+        assert_eq!(hyst_model_reset(m), HYST_OK);
+        assert_eq!(hyst_model_clamped(m, &mut count), HYST_OK);
+        assert_eq!(count, 0);
+        hyst_model_free(m);
+    }
+    // The outputs are the compensator's for the clamped desired outputs.
+    let clamped: Vec<f64> = desired
+        .iter()
+        .map(|v| v.clamp(limits.0, limits.1))
+        .collect();
+    let mut evaluator = file.evaluator(clamped[0], true).unwrap();
+    for (x, y) in clamped.iter().zip(&y) {
+        assert_eq!(evaluator.try_step(*x).unwrap().to_bits(), y.to_bits());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -50,7 +50,7 @@ pub mod widths;
 
 pub use data::{Columns, DataOptions, Dataset, Record};
 pub use error::FitError;
-pub use evaluator::Evaluator;
+pub use evaluator::{Evaluator, Saturated};
 pub use identify::identify;
 pub use model::{FitReal, Form, InitialState, SmoothModel};
 pub use modelfile::ModelFile;

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use hyst_fit::modelfile::ModelKind;
 use hyst_fit::widths::FamilyWidths;
-use hyst_fit::{Estimate, Evaluator, ModelFile};
+use hyst_fit::{Estimate, Evaluator, ModelFile, Saturated};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -63,7 +63,9 @@ pub struct Model {
     pub(crate) inverse: bool,
     /// Where it came from, for messages ("<fit>" for a fit's result).
     pub(crate) source: String,
-    evaluator: Option<Evaluator>,
+    /// The compensator clamps desired outputs into the saturation limits (`inverse(saturate=True)`).
+    pub(crate) saturate: bool,
+    evaluator: Option<Saturated<Evaluator>>,
 }
 
 impl Model {
@@ -74,25 +76,45 @@ impl Model {
             file,
             inverse,
             source,
+            saturate: false,
             evaluator: None,
         }
     }
 
-    /// The evaluator, started at `first` if there is none yet; `true` when it was started now.
-    fn started(&mut self, first: f64) -> PyResult<(&mut Evaluator, bool)> {
+    /// The clamp limits of the compensator with `saturate` (`None`: nothing is clamped).
+    fn limits(&self) -> Option<(f64, f64)> {
+        if self.inverse && self.saturate {
+            self.file.saturation().map(|s| s.limits)
+        } else {
+            None
+        }
+    }
+
+    /// The evaluator, started at `first` (clamped, with `saturate`) if there is none yet;
+    /// `true` when it was started now.
+    fn started(&mut self, first: f64) -> PyResult<(&mut Saturated<Evaluator>, bool)> {
         let fresh = self.evaluator.is_none();
         let evaluator = match self.evaluator.take() {
             Some(e) => e,
-            None => self.file.evaluator(first, self.inverse).map_err(|e| {
-                value_error(format!(
-                    "x[0] = {first}: the model {} cannot start here: {e}",
-                    self.source
-                ))
-            })?,
+            None => {
+                let limits = self.limits();
+                let at = Saturated::new((), limits).clamp(first).unwrap_or(first);
+                let e = self.file.evaluator(at, self.inverse).map_err(|e| {
+                    value_error(format!(
+                        "x[0] = {first}: the model {} cannot start here: {e}",
+                        self.source
+                    ))
+                })?;
+                Saturated::new(e, limits)
+            }
         };
         Ok((self.evaluator.insert(evaluator), fresh))
     }
 }
+
+/// What pickling a `Model` stores: its TOML text, `inverse`, `source` and `saturate` (the
+/// arguments of `_model_from_toml`).
+type Pickled = (String, bool, String, bool);
 
 fn first_of(xs: &Samples<'_>) -> Option<f64> {
     match xs {
@@ -192,12 +214,55 @@ impl Model {
     /// The model's exact compensator ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y_d)]) (eq. 4 inside the shaping;
     /// PI⁻¹ for a Prandtl–Ishlinskii model): desired output in, command out. No history.
     /// Raises ValueError for a stop-form (friction) model, which has no inverse.
-    fn inverse(&self) -> PyResult<Self> {
+    ///
+    /// `saturate=True` (a model whose output shaping saturates: tanh, Langevin; see
+    /// `saturation`): a desired output beyond the limits is clamped to the nearer one instead of
+    /// raising ValueError, as `hyst run --inverse --saturate` does; `clamped` counts them.
+    /// ValueError for a model whose output is unbounded (nothing could need clamping).
+    #[pyo3(signature = (*, saturate=false))]
+    fn inverse(&self, saturate: bool) -> PyResult<Self> {
         if let Some(m) = &self.file.smooth {
             // The model's own refusal, so that the words are the CLI's.
             m.invertible().map_err(errors::fit)?;
         }
-        Ok(Self::new(self.file.clone(), true, self.source.clone()))
+        if saturate && self.file.saturation().is_none() {
+            return Err(value_error(
+                "saturate=True: the model's output is unbounded (its output shaping does not \
+                 saturate), so no desired output needs clamping",
+            ));
+        }
+        let mut m = Self::new(self.file.clone(), true, self.source.clone());
+        m.saturate = saturate;
+        Ok(m)
+    }
+
+    /// The output range of a saturating output shaping (tanh, Langevin) and the limits, 99.9 %
+    /// of it about its centre, that `inverse(saturate=True)` clamps desired outputs into:
+    /// {"shaping": "tanh", "range": (lo, hi), "limits": (lo, hi)}; None for a model whose
+    /// output is unbounded.
+    #[getter]
+    fn saturation<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(s) = self.file.saturation() else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("shaping", s.shaping)?;
+        d.set_item("range", s.range)?;
+        d.set_item("limits", s.limits)?;
+        Ok(Some(d))
+    }
+
+    /// Whether the compensator clamps desired outputs (`inverse(saturate=True)`).
+    #[getter]
+    fn saturates(&self) -> bool {
+        self.saturate
+    }
+
+    /// How many desired outputs were clamped since the model was made or `reset()` (0 unless
+    /// it is a compensator with `saturate=True`).
+    #[getter]
+    fn clamped(&self) -> u64 {
+        self.evaluator.as_ref().map_or(0, |e| e.clamped)
     }
 
     /// The direct model ψ_out(H[ψ_in(x)]), with no history.
@@ -282,10 +347,13 @@ impl Model {
 
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
-    ) -> PyResult<(Bound<'py, PyAny>, (String, bool, String))> {
+    ) -> PyResult<(Bound<'py, PyAny>, Pickled)> {
         let me = slf.borrow();
         let restore = slf.py().import("hyst._hyst")?.getattr("_model_from_toml")?;
-        Ok((restore, (me.to_toml()?, me.inverse, me.source.clone())))
+        Ok((
+            restore,
+            (me.to_toml()?, me.inverse, me.source.clone(), me.saturate),
+        ))
     }
 
     fn __repr__(&self) -> String {
@@ -293,7 +361,11 @@ impl Model {
             "Model(kind={:?}, source={:?}{})",
             self.kind(),
             self.source,
-            if self.inverse { ", inverse" } else { "" }
+            match (self.inverse, self.saturate) {
+                (true, true) => ", inverse, saturate",
+                (true, false) => ", inverse",
+                _ => "",
+            }
         )
     }
 }
@@ -310,8 +382,15 @@ pub fn load_model(path: PathBuf) -> PyResult<Model> {
 
 /// Rebuilds a model from its TOML text (what pickling a `Model` stores).
 #[pyfunction(name = "_model_from_toml")]
-#[pyo3(signature = (text, inverse=false, source="<toml>".to_string()))]
-pub fn model_from_toml(text: &str, inverse: bool, source: String) -> PyResult<Model> {
+#[pyo3(signature = (text, inverse=false, source="<toml>".to_string(), saturate=false))]
+pub fn model_from_toml(
+    text: &str,
+    inverse: bool,
+    source: String,
+    saturate: bool,
+) -> PyResult<Model> {
     let file = ModelFile::from_toml(text, Path::new(&source)).map_err(errors::fit)?;
-    Ok(Model::new(file, inverse, source))
+    let mut model = Model::new(file, inverse, source);
+    model.saturate = inverse && saturate;
+    Ok(model)
 }

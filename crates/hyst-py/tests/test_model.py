@@ -105,3 +105,41 @@ def test_refused_sample_leaves_model_unchanged(models, piezo):
     rest = m.process(u[100:200])
     m.reset()
     assert np.array_equal(m.process(u[:200]), np.concatenate([first, rest]))
+
+
+def test_saturating_compensator_clamps_as_hyst_run_saturate(cli, models, piezo_path, tmp_path):
+    common = [piezo_path, "--input", "u_actuator_V", "--output", "y_capsensor_um"]
+    tanh = tmp_path / "tanh.toml"
+    cli("fit", *common, "-o", tanh, "--output-shaping", "tanh")
+    m = hyst.load_model(tanh)
+    s = m.saturation
+    assert s["shaping"] == "tanh"
+    (lo, hi), (clo, chi) = s["range"], s["limits"]
+    assert lo < clo < chi < hi
+    # Desired outputs that leave the range now and then.
+    t = np.linspace(0.0, 6.0, 900)
+    desired = 0.5 * (lo + hi) + 0.6 * (hi - lo) * np.sin(t)
+    assert np.any(desired > hi) and np.any(desired < lo)
+    path = tmp_path / "desired.csv"
+    with open(path, "w") as f:
+        f.write("y\n" + "".join(f"{float(v)!r}\n" for v in desired))
+    cli("run", "--model", tanh, "--inverse", "--saturate", "--column", "y", path, "-o", tmp_path / "o.csv")
+    ref = read_csv(tmp_path / "o.csv")["y"]
+    comp = m.inverse(saturate=True)
+    assert comp.saturates and comp.clamped == 0
+    assert np.array_equal(comp.process(desired), ref)
+    assert comp.clamped == int(np.sum((desired < clo) | (desired > chi)))
+    # Pickled, it still clamps; reset() clears the count.
+    again = pickle.loads(pickle.dumps(comp))
+    assert again.saturates and "saturate" in repr(again)
+    assert np.array_equal(again.process(desired), ref)
+    comp.reset()
+    assert comp.clamped == 0
+    # Without saturate, the first value beyond the range is refused, naming its index.
+    with pytest.raises(ValueError, match=r"x\[\d+\]"):
+        m.inverse().process(desired)
+    # A model whose output is unbounded has nothing to clamp.
+    affine = hyst.load_model(models["pi"])
+    assert affine.saturation is None
+    with pytest.raises(ValueError, match="unbounded"):
+        affine.inverse(saturate=True)
