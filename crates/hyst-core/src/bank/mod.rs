@@ -62,10 +62,12 @@ pub struct Columns<S> {
     last_output: S,
     /// 1 once the channel has a history, 0 before its first sample.
     started: S,
-    /// Direct operator: the last ω, its y and dω/dy there (the next sample's start).
+    /// Direct operator: the last ω and its y (the next sample's start).
     omega: S,
     omega_y: S,
-    omega_slope: S,
+    /// ln k2 and 1 / k2, fixed.
+    ln_k2: S,
+    inv_k2: S,
 }
 
 /// N operators of formula `F` ([`Direct`]: eq. 2, [`Inverse`]: eq. 4) stepped together, state
@@ -132,6 +134,13 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     pub fn new(k1: S, k2: S) -> Result<Self, BankError> {
         check(k1.as_ref(), k2.as_ref())?;
         let zero = |v| S::filled(&k1, v);
+        let map = |s: &S, f: fn(T) -> T| {
+            let mut out = s.clone();
+            for v in out.as_mut() {
+                *v = f(*v);
+            }
+            out
+        };
         Ok(Self {
             columns: Columns {
                 reversal_input: zero(T::zero()),
@@ -142,7 +151,8 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 started: zero(T::zero()),
                 omega: zero(T::zero()),
                 omega_y: zero(T::neg_infinity()),
-                omega_slope: zero(T::zero()),
+                ln_k2: map(&k2, |v| v.ln_l()),
+                inv_k2: map(&k2, |v| T::one() / v),
                 k1,
                 k2,
             },
@@ -336,7 +346,8 @@ struct Chunk<T, const L: usize> {
     started: [T; L],
     omega: [T; L],
     omega_y: [T; L],
-    omega_slope: [T; L],
+    ln_k2: [T; L],
+    inv_k2: [T; L],
 }
 
 /// The formula of a bank: eq. (2) or eq. (4) on a chunk of channels.
@@ -347,7 +358,11 @@ pub trait BankFormula: Formula {
     const TRANSFORMED: bool;
     /// One tick of a chunk: the memory update of Definition 2.1 done, computes the outputs.
     #[doc(hidden)]
-    fn chunk_output<T: Lane, const L: usize>(c: &mut ChunkRef<'_, T, L>, x: &[T; L]) -> [T; L];
+    fn chunk_output<T: Lane, const L: usize>(
+        c: &mut ChunkRef<'_, T, L>,
+        x: &[T; L],
+        reversal: &[bool; L],
+    ) -> [T; L];
 }
 
 /// A chunk's state as the formulas see it (public only for the sealed [`BankFormula`]).
@@ -372,7 +387,11 @@ mod kernels {
     impl BankFormula for Inverse {
         const TRANSFORMED: bool = false;
         #[inline(always)]
-        fn chunk_output<T: Lane, const L: usize>(c: &mut ChunkRef<'_, T, L>, x: &[T; L]) -> [T; L] {
+        fn chunk_output<T: Lane, const L: usize>(
+            c: &mut ChunkRef<'_, T, L>,
+            x: &[T; L],
+            _reversal: &[bool; L],
+        ) -> [T; L] {
             let c = &mut *c.0;
             let one = T::one();
             let mut y = [T::zero(); L];
@@ -390,58 +409,62 @@ mod kernels {
     impl BankFormula for Direct {
         const TRANSFORMED: bool = true;
         #[inline(always)]
-        fn chunk_output<T: Lane, const L: usize>(c: &mut ChunkRef<'_, T, L>, x: &[T; L]) -> [T; L] {
+        fn chunk_output<T: Lane, const L: usize>(
+            c: &mut ChunkRef<'_, T, L>,
+            x: &[T; L],
+            _reversal: &[bool; L],
+        ) -> [T; L] {
             let c = &mut *c.0;
-            let (zero, one) = (T::zero(), T::one());
+            let zero = T::zero();
             let mut m_star = [zero; L];
             let mut vt = [zero; L];
             let mut ln_a = [zero; L];
             let mut y = [zero; L];
-            let mut w = [zero; L];
-            let mut slope = [zero; L];
-            let mut accepted = [false; L];
             for i in 0..L {
                 m_star[i] = direct_m_star(c.rin[i], c.rout[i], c.sign[i], c.k1[i]);
                 vt[i] = (x[i] - c.rin[i]) * c.sign[i];
-                ln_a[i] = c.k2[i].ln_l() + m_star[i].ln_l();
+                ln_a[i] = c.ln_k2[i] + m_star[i].ln_l();
                 y[i] = ln_a[i] + c.k2[i] * (m_star[i] - vt[i]);
-                // ω: one FSC step from the last ω extrapolated along dω/dy = ω / (1 + ω)
-                // (after a reversal, from the reversal point, where ω = k2 M* exactly).
-                let guess = c.omega[i] + c.omega_slope[i] * (y[i] - c.omega_y[i]);
-                let (w1, r) = super::lanes::fsc_step(guess, y[i]);
-                w[i] = w1;
-                slope[i] = w1 / (one + w1);
-                accepted[i] = y[i] < T::OMEGA_SMALL || r.abs() <= T::RESIDUAL_OK;
             }
-            if y.iter().any(|v| *v < T::OMEGA_SMALL) {
+            // ω(y): a start within 2.2e-5, then one FSC step. eʸ and ln y only where some
+            // channel of the chunk needs them.
+            let mut t = [zero; L];
+            if y.iter().any(|v| *v < T::from_f64(-3.0)) {
                 for i in 0..L {
-                    let t = y[i].exp_l();
-                    let tiny = t - t * t;
-                    let small = y[i] < T::OMEGA_SMALL;
-                    w[i] = T::select(small, tiny, w[i]);
-                    slope[i] = T::select(small, tiny, slope[i]);
+                    t[i] = y[i].exp_l();
                 }
             }
-            // A channel too far from its last ω (a jump of the input): the full evaluation,
-            // for that channel alone.
+            let mut ln_y = [zero; L];
+            if y.iter().any(|v| *v > T::from_f64(12.0)) {
+                for i in 0..L {
+                    ln_y[i] = y[i].ln_l();
+                }
+            }
+            let mut w = [zero; L];
+            let mut accepted = [false; L];
+            for i in 0..L {
+                let start = super::lanes::omega_start(y[i], t[i], ln_y[i]);
+                let (w1, r) = super::lanes::fsc_step(start, y[i]);
+                let small = y[i] < T::OMEGA_SMALL;
+                w[i] = T::select(small, t[i] - t[i] * t[i], w1);
+                accepted[i] = small || r.abs() <= T::RESIDUAL_OK;
+            }
+            // The start is good everywhere; should a channel still miss (a rounding corner),
+            // the full evaluation, for that channel alone.
             for i in 0..L {
                 if !accepted[i] {
                     w[i] = super::lanes::omega(y[i]);
-                    slope[i] = w[i] / (one + w[i]);
                 }
             }
             let mut out = [zero; L];
             for i in 0..L {
-                let plain = vt[i] - m_star[i] + w[i] / c.k2[i];
+                let plain = vt[i] - m_star[i] + w[i] * c.inv_k2[i];
                 out[i] = T::select(vt[i] == zero, zero, plain);
-                c.omega[i] = w[i];
-                c.omega_y[i] = y[i];
-                c.omega_slope[i] = slope[i];
             }
             // Where e^y overflows, the scalar operator's log form (no cancellation of huge terms).
             if y.iter().any(|v| *v > T::EXP_ARG_MAX) {
                 for i in 0..L {
-                    let log_form = (ln_a[i] - w[i].ln_l()) / c.k2[i];
+                    let log_form = (ln_a[i] - w[i].ln_l()) * c.inv_k2[i];
                     out[i] = T::select(y[i] > T::EXP_ARG_MAX && vt[i] != zero, log_form, out[i]);
                 }
             }
@@ -457,6 +480,7 @@ mod kernels {
         x: &[T; L],
     ) -> [T; L] {
         let (zero, one) = (T::zero(), T::one());
+        let mut reversal = [false; L];
         for i in 0..L {
             // A channel's first sample: at rest on the line output = input, rising.
             let xi = x[i];
@@ -467,21 +491,13 @@ mod kernels {
             let rin = T::select(fresh, xi, c.rin[i]);
             let rout = T::select(fresh, xi, c.rout[i]);
             let new_sign = T::select(xi > lin, one, T::select(xi < lin, -one, sign));
-            let reversal = (new_sign != sign) | fresh;
-            c.rin[i] = T::select(reversal, lin, rin);
-            c.rout[i] = T::select(reversal, lout, rout);
+            reversal[i] = (new_sign != sign) | fresh;
+            c.rin[i] = T::select(reversal[i], lin, rin);
+            c.rout[i] = T::select(reversal[i], lout, rout);
             c.sign[i] = new_sign;
             c.started[i] = one;
-            if F::TRANSFORMED {
-                // At the reversal point ũ = 0, where ω = k2 M* and y = ln(k2 M*) + k2 M*
-                // exactly: the start of the direct formula's next ω.
-                let a = c.k2[i] * direct_m_star(c.rin[i], c.rout[i], new_sign, c.k1[i]);
-                c.omega[i] = T::select(reversal, a, c.omega[i]);
-                c.omega_y[i] = T::select(reversal, a.ln_l() + a, c.omega_y[i]);
-                c.omega_slope[i] = T::select(reversal, a / (one + a), c.omega_slope[i]);
-            }
         }
-        let u_tilde = F::chunk_output(&mut ChunkRef(c), x);
+        let u_tilde = F::chunk_output(&mut ChunkRef(c), x, &reversal);
         let mut y = [zero; L];
         for i in 0..L {
             // The direct formula returns ũ (untransformed here); the inverse returns v itself.
@@ -574,7 +590,8 @@ mod kernels {
             started: col(&cols.started, zero),
             omega: col(&cols.omega, zero),
             omega_y: col(&cols.omega_y, T::neg_infinity()),
-            omega_slope: col(&cols.omega_slope, zero),
+            ln_k2: col(&cols.ln_k2, zero),
+            inv_k2: col(&cols.inv_k2, one),
         }
     }
 
@@ -595,7 +612,6 @@ mod kernels {
         put(&mut cols.started, &c.started);
         put(&mut cols.omega, &c.omega);
         put(&mut cols.omega_y, &c.omega_y);
-        put(&mut cols.omega_slope, &c.omega_slope);
     }
 }
 
