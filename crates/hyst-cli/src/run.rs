@@ -13,6 +13,11 @@
 //!   back later starts a new record. OUTPUT then ends with COLUMN.
 //! - OUTPUT has the header `x,y[,y_d1…][,RECORD]`, one row per input row, every value in full
 //!   `f64` precision (parses back to the identical number).
+//! - `--column` may be repeated: one operator per column (the same parameters or model, each
+//!   its own memory), OUTPUT `a,b,…,y_a,y_b,…[,y_a_d1…,y_b_d1…][,RECORD]`, and a record restarts
+//!   every column. Plain `--k1/--k2` columns without derivatives run as one bank (outputs within
+//!   a few ulp of the single-column run, not bit for bit); everything else runs each column
+//!   exactly as alone. A single column takes the exact path always (its output is unchanged).
 //! - The file is streamed: memory does not grow with its length.
 //! - Errors name the file, line and column; nothing is written on failure (temporary file, then
 //!   rename), and an OUTPUT that is INPUT (or the model file) is refused before anything is read.
@@ -51,7 +56,8 @@ pub struct Args {
     /// Restart the operator wherever the value of COLUMN changes (FORC curves, B-H loops): each
     /// record starts by the start rule (--model: the model's initial_state at the record's first
     /// sample; --k1/--k2: no history). A value that comes back after another is a new record,
-    /// not a continuation. COLUMN is copied to the end of OUTPUT.
+    /// not a continuation. COLUMN is copied to the end of OUTPUT. With several --column, every
+    /// column restarts at a new record.
     #[arg(long, value_name = "COLUMN")]
     pub record: Option<String>,
     /// With --model --inverse, for a model whose output shaping saturates (tanh, Langevin; open
