@@ -157,7 +157,7 @@ fn errors_name_the_channel_and_leave_the_memories() {
     let mut a: Vec<f64> = (0..CHANNELS).map(k1).collect();
     let b: Vec<f64> = (0..CHANNELS).map(k2).collect();
     a[11] = -1.0;
-    let mut bank = 1usize as *mut hyst_bank;
+    let mut bank = ptr::dangling_mut::<hyst_bank>();
     let mut channel = 0;
     let s =
         unsafe { hyst_bank_create(a.as_ptr(), b.as_ptr(), CHANNELS, 0, &mut bank, &mut channel) };

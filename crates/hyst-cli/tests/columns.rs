@@ -8,6 +8,9 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod common;
+use common::read_csv;
+
 fn hyst(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_hyst"))
         .args(args)
@@ -25,8 +28,8 @@ fn corpus(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// Runs `hyst run ARGS INPUT -o OUTPUT`; returns the header and the rows (as text cells).
-fn run_ok(args: &[&str], input: &Path, output: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+/// Runs `hyst run ARGS INPUT -o OUTPUT`; returns the header and the rows.
+fn run_ok(args: &[&str], input: &Path, output: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let mut all = vec!["run"];
     all.extend_from_slice(args);
     all.extend_from_slice(&[s(input), "-o", s(output)]);
@@ -36,18 +39,7 @@ fn run_ok(args: &[&str], input: &Path, output: &Path) -> (Vec<String>, Vec<Vec<S
         "{args:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let text = std::fs::read_to_string(output).unwrap();
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let rows = lines
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect();
-    (header, rows)
+    read_csv(output)
 }
 
 /// Three signals with many reversals, at different scales (one of them far beyond the band),
@@ -72,10 +64,6 @@ fn signals(dir: &Path) -> PathBuf {
     }
     std::fs::write(&path, text).unwrap();
     path
-}
-
-fn num(cell: &str) -> f64 {
-    cell.parse().unwrap()
 }
 
 /// The bank's stated agreement with the scalar operator: |Δy| ≤ 1e-13 · max(|y|, k1), a few
@@ -115,7 +103,7 @@ fn several_plain_columns_equal_their_single_runs_within_the_tolerance() {
                 let (_, alone) = run_ok(&alone_args, &input, &dir.path().join("alone.csv"));
                 for (i, (t, a)) in together.iter().zip(&alone).enumerate() {
                     assert_eq!(t[k], a[0], "{all:?} row {i}: the input is copied");
-                    let (yb, ys) = (num(&t[3 + k]), num(&a[1]));
+                    let (yb, ys) = (t[3 + k], a[1]);
                     assert!(
                         close(yb, ys, 0.2),
                         "{all:?}, column {column}, row {i}: bank {yb} vs alone {ys}"

@@ -10,7 +10,10 @@
 use hyst_core::bank::{BankFormula, Lane};
 use hyst_core::{BankError, BankVec, Direct, Error, Inverse, Memory as CoreMemory, Real};
 use numpy::ndarray::{ArrayView2, ArrayViewMut2, Axis, Dimension, Slice};
-use numpy::{Element, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{
+    Element, PyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray,
+    PyReadwriteArray, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::PyIndexError;
 use pyo3::prelude::*;
 use pyo3::types::PyType;
@@ -364,6 +367,27 @@ fn array2<'py, T: Element>(
     Ok(a)
 }
 
+/// Read access to `x` and write access to `out` (a different array).
+fn borrow<'py, T: Element, D: Dimension>(
+    x: &Bound<'py, PyArray<T, D>>,
+    out: &Bound<'py, PyArray<T, D>>,
+) -> PyResult<(PyReadonlyArray<'py, T, D>, PyReadwriteArray<'py, T, D>)> {
+    if out.is(x) {
+        return Err(value_error(
+            "out: must not be x (the outputs would overwrite the samples as they are read)",
+        ));
+    }
+    let ro = x
+        .try_readonly()
+        .map_err(|e| value_error(format!("x: the array cannot be read: {e}")))?;
+    let rw = out.try_readwrite().map_err(|e| {
+        value_error(format!(
+            "out: the array cannot be written (or overlaps x): {e}"
+        ))
+    })?;
+    Ok((ro, rw))
+}
+
 /// Reads `x` as a 1-D array of the type `T`.
 fn array1<'py, T: Element>(
     x: &Bound<'py, PyAny>,
@@ -473,7 +497,7 @@ impl Bank {
 
     /// One tick: `x` holds one sample per channel (a 1-D array-like of length `channels`);
     /// returns the outputs as a 1-D array of the bank's dtype, or writes them into `out` (a
-    /// 1-D array of that dtype and length) and returns it.
+    /// 1-D array of that dtype and length, not x) and returns it.
     ///
     /// Raises ValueError for a NaN or infinite sample (or an output beyond the float range),
     /// naming its channel and value; every memory is then as before the call.
@@ -494,28 +518,10 @@ impl Bank {
                     a.len()
                 )));
             }
-            // x and out may be the same array: x is read first.
-            let xs: Vec<T> = a
-                .try_readonly()
-                .map_err(|e| value_error(format!("x: the array cannot be read: {e}")))?
-                .as_array()
-                .iter()
-                .copied()
-                .collect();
             let result = output::<T>(py, out, &[n], dtype)?;
-            let dest = result.cast::<PyArray1<T>>()?;
-            let mut rw = dest
-                .try_readwrite()
-                .map_err(|e| value_error(format!("out: the array cannot be written: {e}")))?;
-            let mut ys = vec![<T as Real>::ZERO; n];
-            let saved = memories(b);
-            if let Err(e) = ticks(b, &xs, &mut ys, 0) {
-                restore(b, saved);
-                return Err(e.into_err("x", true));
-            }
-            for (slot, v) in rw.as_array_mut().iter_mut().zip(&ys) {
-                *slot = *v;
-            }
+            let (ro, mut rw) = borrow(&a, result.cast::<PyArray1<T>>()?)?;
+            let (xv, yv) = (ro.as_array().insert_axis(Axis(0)), rw.as_array_mut().insert_axis(Axis(0)));
+            run_array(b, xv, yv).map_err(|e| e.into_err("x", true))?;
             Ok(result)
         })
     }
@@ -524,7 +530,7 @@ impl Bank {
     /// C-ordered array is time-major, the layout a controller produces; it is read in place
     /// when it has the bank's dtype; any other order or stride is accepted and read through a
     /// buffer). Returns the outputs in an array of the same shape and the bank's dtype, or
-    /// writes them into `out` (that shape and dtype) and returns it. The GIL is released
+    /// writes them into `out` (that shape and dtype, not x) and returns it. The GIL is released
     /// meanwhile; Ctrl-C stops a long call with KeyboardInterrupt.
     ///
     /// Raises ValueError at the first NaN or infinite sample (or output beyond the float
@@ -550,16 +556,7 @@ impl Bank {
                 )));
             }
             let result = output::<T>(py, out, &[ticks_n, n], dtype)?;
-            let dest = result.cast::<PyArray2<T>>()?;
-            if dest.is(&a) {
-                return Err(value_error("out: must not be x (the outputs would overwrite the samples as they are read)"));
-            }
-            let mut rw = dest
-                .try_readwrite()
-                .map_err(|e| value_error(format!("out: the array cannot be written: {e}")))?;
-            let ro = a
-                .try_readonly()
-                .map_err(|e| value_error(format!("x: the array cannot be read: {e}")))?;
+            let (ro, mut rw) = borrow(&a, result.cast::<PyArray2<T>>()?)?;
             let (xv, yv) = (ro.as_array(), rw.as_array_mut());
             py.detach(|| run_array(b, xv, yv))
                 .map_err(|e| e.into_err("x", false))?;

@@ -3,13 +3,11 @@ k1, k2 within the bank's stated tolerance (|dy| <= 1e-13 max(|y|, k1) in float64
 float32); step and process give the same outputs; both array orders; errors name the tick,
 channel and value and leave every memory as it was; memories per channel; pickling; Ctrl-C."""
 
-import os
 import pickle
-import signal
-import threading
 
 import numpy as np
 import pytest
+from conftest import interrupted
 
 import hyst
 
@@ -160,11 +158,5 @@ def test_ctrl_c_stops_a_long_run_and_keeps_the_memories():
     b = hyst.Bank(np.full(100, 0.2), np.full(100, 8.0))
     b.process(x[:2])
     saved = [b.memory(c) for c in range(b.channels)]
-    timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
-    timer.start()
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            b.process(x)
-    finally:
-        timer.cancel()
+    interrupted(lambda: b.process(x))
     assert [b.memory(c) for c in range(b.channels)] == saved
