@@ -85,6 +85,12 @@
 // the state is unchanged and the last output is written.
 #define HYST_ERR_OVERFLOW 13
 
+// A bank of operators (opaque; create with `hyst_bank_create`, release with `hyst_bank_free`).
+typedef struct hyst_bank hyst_bank;
+
+// A bank of operators (opaque; create with `hyst_bank_create_f32`, release with `hyst_bank_free_f32`).
+typedef struct hyst_bank_f32 hyst_bank_f32;
+
 // A fitted model loaded from a model file, with the state of its direct run and of its
 // compensator run (opaque; create with `hyst_model_load`, release with `hyst_model_free`).
 typedef struct hyst_model hyst_model;
@@ -777,6 +783,178 @@ int32_t hyst_shaped_compensator_get_state(struct hyst_shaped_compensator *c,
 // # Safety
 // `c` is NULL or an initialised `hyst_shaped_compensator`.
 int32_t hyst_shaped_compensator_reset(struct hyst_shaped_compensator *c);
+
+// Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
+// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the compensators) when `inverse` ≠ 0, each with no history.
+// On success `*bank` receives it (release it with `hyst_bank_free_f32`).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER` (`bank`, `k1` or `k2` NULL), `HYST_ERR_LENGTH`
+// (`channels` = 0), or `HYST_ERR_INVALID_PARAMETER` unless every k1 and k2 is finite and > 0:
+// `*channel` (when `channel` is not NULL) then receives the first invalid channel. On failure
+// `*bank` is set to NULL.
+//
+// # Safety
+// `k1` and `k2` are NULL or hold `channels` values; `bank` is NULL or writable; `channel` is
+// NULL or writable.
+int32_t hyst_bank_create_f32(const float *k1,
+                             const float *k2,
+                             size_t channels,
+                             int32_t inverse,
+                             struct hyst_bank_f32 **bank,
+                             size_t *channel);
+
+// The number of channels of `bank` (0 for NULL).
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed.
+size_t hyst_bank_channels_f32(const struct hyst_bank_f32 *bank);
+
+// Runs `ticks` ticks through the bank: `x` holds them time-major (`x[t * channels + c]` is
+// channel c's sample at tick t, each tick's samples contiguous, as a controller produces
+// them) and `y` receives the outputs in the same layout (`y` may be `x`). `ticks` = 1 is one
+// control period: see `hyst_bank_step_f32`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (channels × ticks overflows),
+// `HYST_ERR_NON_FINITE` for a NaN or infinite sample (nothing is processed), or
+// `HYST_ERR_OVERFLOW` for a finite sample whose output is beyond the float range: `*channel`
+// (when `channel` is not NULL) receives its channel, and every memory is as before the call.
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed; `x` and `y` are NULL or hold
+// channels × `ticks` values; `channel` is NULL or writable.
+int32_t hyst_bank_process_f32(struct hyst_bank_f32 *bank,
+                              const float *x,
+                              float *y,
+                              size_t ticks,
+                              size_t *channel);
+
+// One tick: `x[c]` is channel c's new sample and `y[c]` receives its output (`channels`
+// values each; `y` may be `x`). As `hyst_bank_process_f32` with `ticks` = 1.
+//
+// # Safety
+// As `hyst_bank_process_f32` with `ticks` = 1.
+int32_t hyst_bank_step_f32(struct hyst_bank_f32 *bank, const float *x, float *y, size_t *channel);
+
+// Forgets every channel's history (the next sample of each lies on the line output = input).
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed.
+int32_t hyst_bank_reset_f32(struct hyst_bank_f32 *bank);
+
+// Writes the memory of Definition 2.1 of channel `channel` into `*memory` (`has_history` = 0
+// before its first sample).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_LENGTH` for a channel beyond the bank.
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed; `memory` is NULL or writable.
+int32_t hyst_bank_get_memory_f32(struct hyst_bank_f32 *bank,
+                                 size_t channel,
+                                 struct hyst_memory_f32 *memory);
+
+// Restores the memory of channel `channel` from `*memory` (`has_history` = 0: no history), as
+// saved by `hyst_bank_get_memory_f32` (or `hyst_operator_get_memory`: the same memory).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` for a channel beyond the bank,
+// `HYST_ERR_NON_FINITE` or `HYST_ERR_STATE_OUTSIDE_BAND` for a memory the channel cannot be in
+// (checked against its k1; nothing changes then).
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed; `memory` is NULL or readable.
+int32_t hyst_bank_set_memory_f32(struct hyst_bank_f32 *bank,
+                                 size_t channel,
+                                 const struct hyst_memory_f32 *memory);
+
+// Releases a bank from `hyst_bank_create_f32` (NULL is ignored).
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed; it must not be used afterwards.
+void hyst_bank_free_f32(struct hyst_bank_f32 *bank);
+
+// Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
+// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the compensators) when `inverse` ≠ 0, each with no history.
+// On success `*bank` receives it (release it with `hyst_bank_free`).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER` (`bank`, `k1` or `k2` NULL), `HYST_ERR_LENGTH`
+// (`channels` = 0), or `HYST_ERR_INVALID_PARAMETER` unless every k1 and k2 is finite and > 0:
+// `*channel` (when `channel` is not NULL) then receives the first invalid channel. On failure
+// `*bank` is set to NULL.
+//
+// # Safety
+// `k1` and `k2` are NULL or hold `channels` values; `bank` is NULL or writable; `channel` is
+// NULL or writable.
+int32_t hyst_bank_create(const double *k1,
+                         const double *k2,
+                         size_t channels,
+                         int32_t inverse,
+                         struct hyst_bank **bank,
+                         size_t *channel);
+
+// The number of channels of `bank` (0 for NULL).
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create` not yet freed.
+size_t hyst_bank_channels(const struct hyst_bank *bank);
+
+// Runs `ticks` ticks through the bank: `x` holds them time-major (`x[t * channels + c]` is
+// channel c's sample at tick t, each tick's samples contiguous, as a controller produces
+// them) and `y` receives the outputs in the same layout (`y` may be `x`). `ticks` = 1 is one
+// control period: see `hyst_bank_step`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (channels × ticks overflows),
+// `HYST_ERR_NON_FINITE` for a NaN or infinite sample (nothing is processed), or
+// `HYST_ERR_OVERFLOW` for a finite sample whose output is beyond the float range: `*channel`
+// (when `channel` is not NULL) receives its channel, and every memory is as before the call.
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create` not yet freed; `x` and `y` are NULL or hold
+// channels × `ticks` values; `channel` is NULL or writable.
+int32_t hyst_bank_process(struct hyst_bank *bank,
+                          const double *x,
+                          double *y,
+                          size_t ticks,
+                          size_t *channel);
+
+// One tick: `x[c]` is channel c's new sample and `y[c]` receives its output (`channels`
+// values each; `y` may be `x`). As `hyst_bank_process` with `ticks` = 1.
+//
+// # Safety
+// As `hyst_bank_process` with `ticks` = 1.
+int32_t hyst_bank_step(struct hyst_bank *bank, const double *x, double *y, size_t *channel);
+
+// Forgets every channel's history (the next sample of each lies on the line output = input).
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create` not yet freed.
+int32_t hyst_bank_reset(struct hyst_bank *bank);
+
+// Writes the memory of Definition 2.1 of channel `channel` into `*memory` (`has_history` = 0
+// before its first sample).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_LENGTH` for a channel beyond the bank.
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create` not yet freed; `memory` is NULL or writable.
+int32_t hyst_bank_get_memory(struct hyst_bank *bank, size_t channel, struct hyst_memory *memory);
+
+// Restores the memory of channel `channel` from `*memory` (`has_history` = 0: no history), as
+// saved by `hyst_bank_get_memory` (or `hyst_operator_get_memory`: the same memory).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` for a channel beyond the bank,
+// `HYST_ERR_NON_FINITE` or `HYST_ERR_STATE_OUTSIDE_BAND` for a memory the channel cannot be in
+// (checked against its k1; nothing changes then).
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create` not yet freed; `memory` is NULL or readable.
+int32_t hyst_bank_set_memory(struct hyst_bank *bank,
+                             size_t channel,
+                             const struct hyst_memory *memory);
+
+// Releases a bank from `hyst_bank_create` (NULL is ignored).
+//
+// # Safety
+// `bank` is NULL or a bank from `hyst_bank_create` not yet freed; it must not be used afterwards.
+void hyst_bank_free(struct hyst_bank *bank);
 
 // Loads and checks a model file. Returns NULL on failure and writes the reason (naming the
 // file, and the line and key where the file is wrong) into `error` (`error_len` bytes,

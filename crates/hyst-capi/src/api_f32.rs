@@ -33,7 +33,7 @@ pub struct hyst_memory_f32 {
 }
 
 impl hyst_memory_f32 {
-    fn of(fields: MemoryFields<f32>) -> Self {
+    pub(crate) fn of(fields: MemoryFields<f32>) -> Self {
         Self {
             reversal_input: fields.reversal_input,
             reversal_output: fields.reversal_output,
@@ -44,7 +44,7 @@ impl hyst_memory_f32 {
         }
     }
 
-    fn fields(&self) -> MemoryFields<f32> {
+    pub(crate) fn fields(&self) -> MemoryFields<f32> {
         MemoryFields {
             reversal_input: self.reversal_input,
             reversal_output: self.reversal_output,

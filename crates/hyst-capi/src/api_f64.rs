@@ -33,7 +33,7 @@ pub struct hyst_memory {
 }
 
 impl hyst_memory {
-    fn of(fields: MemoryFields<f64>) -> Self {
+    pub(crate) fn of(fields: MemoryFields<f64>) -> Self {
         Self {
             reversal_input: fields.reversal_input,
             reversal_output: fields.reversal_output,
@@ -44,7 +44,7 @@ impl hyst_memory {
         }
     }
 
-    fn fields(&self) -> MemoryFields<f64> {
+    pub(crate) fn fields(&self) -> MemoryFields<f64> {
         MemoryFields {
             reversal_input: self.reversal_input,
             reversal_output: self.reversal_output,

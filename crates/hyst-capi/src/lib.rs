@@ -9,7 +9,8 @@
 //!   [`hyst_status_message`].
 //! - **Host part** (feature `std`, the default): fitted model files, the same as `hyst run
 //!   --model` and bit-identical to it (`hyst_model_load`, `hyst_model_process`,
-//!   `hyst_model_reset`, `hyst_model_free`).
+//!   `hyst_model_reset`, `hyst_model_free`); banks of N operators stepped together in SIMD
+//!   lanes (`hyst_bank_*`, `hyst_bank_*_f32`: a deformable mirror's actuators, a stage's axes).
 //!
 //! NULL pointers, misaligned or uninitialised states, bad lengths and non-finite numbers give a
 //! status, never a crash. Nothing here panics on any input; the host part also catches a panic
@@ -22,6 +23,10 @@
 
 pub mod api_f32;
 pub mod api_f64;
+#[cfg(feature = "std")]
+pub mod bank_f32;
+#[cfg(feature = "std")]
+pub mod bank_f64;
 mod engine;
 #[cfg(feature = "std")]
 pub mod host;

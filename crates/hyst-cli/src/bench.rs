@@ -8,17 +8,19 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Result};
 use serde_json::json;
 
-use crate::workloads::{Inputs, NAMES, SAMPLES};
+use crate::workloads::{Inputs, NAMES};
 
 /// Arguments of `hyst bench`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Print JSON (keys direct_ns, inverse_ns, inverse_d2_ns, model_ns, exp_ns, lambert_w0_ns,
-    /// plus the goal ratios) instead of a table.
+    /// bank_inverse_ns, bank_direct_ns, bank_inverse_f32_ns (banks of 1,024 channels, ns per
+    /// channel-sample), plus the goal ratios and the banks' ratios to the scalar operators)
+    /// instead of a table.
     #[arg(long)]
     pub json: bool,
     /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
-    /// takes this plus about 0.1 s of calibration). The time is shared by the six workloads,
+    /// takes this plus about 0.1 s of calibration). The time is shared by the nine workloads,
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
@@ -36,7 +38,7 @@ fn batch_ns(inputs: &Inputs, index: usize, calls: usize) -> f64 {
     }
     let elapsed = start.elapsed();
     std::hint::black_box(checksum);
-    elapsed.as_secs_f64() * 1e9 / (calls * SAMPLES) as f64
+    elapsed.as_secs_f64() * 1e9 / (calls * inputs.samples(index)) as f64
 }
 
 /// Runs `hyst bench`.
@@ -85,9 +87,28 @@ pub fn main(args: Args) -> Result<()> {
         .iter()
         .map(|s| s.iter().copied().fold(f64::INFINITY, f64::min))
         .collect();
-    let (direct, inverse, exp, w0) = (best[0], best[1], best[4], best[5]);
+    let at = |i: usize| best.get(i).copied().unwrap_or(f64::NAN);
+    let (direct, inverse, exp, w0) = (at(0), at(1), at(4), at(5));
     let inverse_ratio = inverse / exp;
     let direct_ratio = direct / (w0 + exp);
+    // The banks against the scalar operators (per channel-sample over per sample).
+    let bank_ratios = [
+        (
+            "bank_inverse_over_inverse",
+            "bank H^-1 f64 / scalar H^-1",
+            at(6) / inverse,
+        ),
+        (
+            "bank_direct_over_direct",
+            "bank H f64 / scalar H",
+            at(7) / direct,
+        ),
+        (
+            "bank_inverse_f32_over_inverse",
+            "bank H^-1 f32 / scalar H^-1 f64",
+            at(8) / inverse,
+        ),
+    ];
     if args.json {
         let mut map = serde_json::Map::new();
         for ((_, key), ns) in NAMES.iter().zip(&best) {
@@ -99,6 +120,9 @@ pub fn main(args: Args) -> Result<()> {
             "goals_met".into(),
             json!(inverse_ratio <= 1.5 && direct_ratio <= 1.5),
         );
+        for (key, _, ratio) in bank_ratios {
+            map.insert(key.into(), json!(ratio));
+        }
         println!("{}", serde_json::to_string_pretty(&map)?);
     } else {
         println!("{:<36} {:>10}", "workload", "ns/sample");
@@ -115,6 +139,10 @@ pub fn main(args: Args) -> Result<()> {
             "goal direct <= 1.5 x (lambert_w0+exp): {direct_ratio:.2} ({})",
             verdict(direct_ratio)
         );
+        println!();
+        for (_, name, ratio) in bank_ratios {
+            println!("{:<37} {ratio:.2}", format!("{name}:"));
+        }
     }
     Ok(())
 }

@@ -13,6 +13,11 @@
 //!   back later starts a new record. OUTPUT then ends with COLUMN.
 //! - OUTPUT has the header `x,y[,y_d1…][,RECORD]`, one row per input row, every value in full
 //!   `f64` precision (parses back to the identical number).
+//! - `--column` may be repeated: one operator per column (the same parameters or model, each
+//!   its own memory), OUTPUT `a,b,…,y_a,y_b,…[,y_a_d1…,y_b_d1…][,RECORD]`, and a record restarts
+//!   every column. Plain `--k1/--k2` columns without derivatives run as one bank (outputs within
+//!   a few ulp of the single-column run, not bit for bit); everything else runs each column
+//!   exactly as alone. A single column takes the exact path always (its output is unchanged).
 //! - The file is streamed: memory does not grow with its length.
 //! - Errors name the file, line and column; nothing is written on failure (temporary file, then
 //!   rename), and an OUTPUT that is INPUT (or the model file) is refused before anything is read.
@@ -24,7 +29,8 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 
 use crate::source::{Chosen, Source};
-use hyst_core::{Hysteresis, InverseHysteresis, Jet, Operator, Sample};
+use hyst_core::bank::BankFormula;
+use hyst_core::{BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Sample};
 use hyst_fit::modelfile::{Saturation, SATURATION_FRACTION};
 use hyst_io::{CsvReader, CsvWriter};
 
@@ -38,16 +44,20 @@ pub struct Args {
     #[command(flatten)]
     pub source: Source,
     /// The input column (default: `x`, or the only column; with --model the model's input
-    /// column, or its output column with --inverse).
-    #[arg(long)]
-    pub column: Option<String>,
+    /// column, or its output column with --inverse). Repeat it for several columns, one
+    /// operator each (the same parameters or model, each with its own memory): OUTPUT then
+    /// has the input columns under their names, then `y_<column>` for each (see
+    /// docs/formats.md).
+    #[arg(long, value_name = "NAME")]
+    pub column: Vec<String>,
     /// Also propagate N time derivatives (columns <column>_d1 … <column>_dN in, y_d1 … out).
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=MAX_DERIVATIVES as i64))]
     pub derivatives: u8,
     /// Restart the operator wherever the value of COLUMN changes (FORC curves, B-H loops): each
     /// record starts by the start rule (--model: the model's initial_state at the record's first
     /// sample; --k1/--k2: no history). A value that comes back after another is a new record,
-    /// not a continuation. COLUMN is copied to the end of OUTPUT.
+    /// not a continuation. COLUMN is copied to the end of OUTPUT. With several --column, every
+    /// column restarts at a new record.
     #[arg(long, value_name = "COLUMN")]
     pub record: Option<String>,
     /// With --model --inverse, for a model whose output shaping saturates (tanh, Langevin; open
@@ -74,15 +84,18 @@ pub fn main(args: Args) -> Result<()> {
         );
     }
     let mut rows = CsvReader::open(&args.input)?;
+    let mut columns: Vec<Option<&str>> = args.column.iter().map(|c| Some(c.as_str())).collect();
     match args.source.chosen()? {
         Chosen::Model(path) => {
             let model = hyst_fit::ModelFile::read(path)?;
             let inverse = args.source.inverse;
-            let column = match &args.column {
-                Some(c) => c.clone(),
-                None if inverse => model.columns.output.clone(),
-                None => model.columns.input.clone(),
-            };
+            if columns.is_empty() {
+                columns.push(Some(if inverse {
+                    model.columns.output.as_str()
+                } else {
+                    model.columns.input.as_str()
+                }));
+            }
             let saturation = if inverse { model.saturation() } else { None };
             if args.saturate && saturation.is_none() {
                 eprintln!(
@@ -99,15 +112,41 @@ pub fn main(args: Args) -> Result<()> {
                     .evaluator(first, inverse)
                     .with_context(|| format!("the model {} cannot start here", path.display()))
             };
-            run(&mut rows, &args, Some(&column), limits, start)
+            let scalar = Scalar::new(start, limits);
+            run(&mut rows, &args, &columns, |rows, c, out| {
+                scalar.stream(rows, c, out, args.derivatives)
+            })
         }
-        Chosen::Parameters { k1, k2 } if args.source.inverse => {
-            let start = |_: f64| InverseHysteresis::new(k1, k2).context("--k1/--k2");
-            run(&mut rows, &args, args.column.as_deref(), None, start)
+        Chosen::Parameters { k1, k2 } if columns.len() > 1 && args.derivatives == 0 => {
+            // Several plain operators: one bank, stepped together.
+            let n = columns.len();
+            if args.source.inverse {
+                let bank = Banked::<Inverse>::new(k1, k2, n)?;
+                run(&mut rows, &args, &columns, |rows, c, out| {
+                    stream::<_, _, 0>(bank, rows, c, out)
+                })
+            } else {
+                let bank = Banked::<Direct>::new(k1, k2, n)?;
+                run(&mut rows, &args, &columns, |rows, c, out| {
+                    stream::<_, _, 0>(bank, rows, c, out)
+                })
+            }
         }
         Chosen::Parameters { k1, k2 } => {
-            let start = |_: f64| Hysteresis::new(k1, k2).context("--k1/--k2");
-            run(&mut rows, &args, args.column.as_deref(), None, start)
+            if columns.is_empty() {
+                columns.push(None);
+            }
+            if args.source.inverse {
+                let start = |_: f64| InverseHysteresis::new(k1, k2).context("--k1/--k2");
+                run(&mut rows, &args, &columns, |rows, c, out| {
+                    Scalar::new(start, None).stream(rows, c, out, args.derivatives)
+                })
+            } else {
+                let start = |_: f64| Hysteresis::new(k1, k2).context("--k1/--k2");
+                run(&mut rows, &args, &columns, |rows, c, out| {
+                    Scalar::new(start, None).stream(rows, c, out, args.derivatives)
+                })
+            }
         }
     }
 }
@@ -122,70 +161,101 @@ struct Limits {
     clamp: bool,
 }
 
-/// The columns of one run.
-struct Columns {
-    /// The input column.
-    input: usize,
+/// One input column of a run.
+struct Input {
+    /// Its index in INPUT.
+    index: usize,
     /// Its name.
     name: String,
     /// The derivative columns `<name>_d1 …`.
     derivatives: Vec<usize>,
+}
+
+/// The columns of one run.
+struct Columns {
+    /// The input columns, one operator each.
+    inputs: Vec<Input>,
     /// The record column.
     record: Option<usize>,
 }
 
-/// Streams INPUT through the operator that `start` builds for each record (from the record's
-/// first sample) into OUTPUT.
-fn run<R: Read, E: Operator<f64>>(
+/// The header of OUTPUT for the input columns `names` (N derivatives, maybe a record column):
+/// `x,y[,y_d1…]` for one column (the format of a single-operator run), and for several
+/// `a,b,…,y_a,y_b,…[,y_a_d1…,y_b_d1…]`; then the record column.
+fn output_names(names: &[&str], n: usize, record: Option<&str>) -> Result<Vec<String>> {
+    let mut out = Vec::new();
+    if let [_] = names {
+        out.extend(["x".to_string(), "y".to_string()]);
+        out.extend((1..=n).map(|k| format!("y_d{k}")));
+    } else {
+        out.extend(names.iter().map(|c| (*c).to_string()));
+        out.extend(names.iter().map(|c| format!("y_{c}")));
+        for c in names {
+            out.extend((1..=n).map(|k| format!("y_{c}_d{k}")));
+        }
+        let twice = out
+            .iter()
+            .enumerate()
+            .find(|(i, c)| out.get(..*i).is_some_and(|before| before.contains(c)));
+        if let Some((_, c)) = twice {
+            bail!(
+                "the output would have the column {c:?} twice (an input column is named like \
+                 the output of another); rename that input column"
+            );
+        }
+    }
+    if let Some(r) = record {
+        if out.iter().any(|c| c == r) {
+            bail!("--record {r}: the output already has a column {r:?}; rename the record column");
+        }
+        out.push(r.to_string());
+    }
+    Ok(out)
+}
+
+/// Streams INPUT through one operator per input column into OUTPUT: `go` runs the rows
+/// (it holds the operators); `columns` names the input columns (`None`: the default one).
+fn run<R: Read>(
     rows: &mut CsvReader<R>,
     args: &Args,
-    column: Option<&str>,
-    limits: Option<Limits>,
-    start: impl FnMut(f64) -> Result<E>,
+    columns: &[Option<&str>],
+    go: impl FnOnce(&mut CsvReader<R>, &Columns, &mut CsvWriter) -> Result<Clamped>,
 ) -> Result<()> {
     let n = usize::from(args.derivatives);
-    let input = rows.pick_column(column)?;
-    let name = rows.names().get(input).cloned().unwrap_or_default();
-    let mut derivatives = Vec::with_capacity(n);
-    for k in 1..=n {
-        let wanted = format!("{name}_d{k}");
-        derivatives.push(rows.column(&wanted).with_context(|| {
-            format!(
-                "--derivatives {n} needs the column {wanted:?} (time derivative {k} of {name:?})"
-            )
-        })?);
+    let mut inputs: Vec<Input> = Vec::with_capacity(columns.len());
+    for column in columns {
+        let index = rows.pick_column(*column)?;
+        let name = rows.names().get(index).cloned().unwrap_or_default();
+        if inputs.iter().any(|i| i.index == index) {
+            bail!("--column {name}: given twice (one operator per column)");
+        }
+        let mut derivatives = Vec::with_capacity(n);
+        for k in 1..=n {
+            let wanted = format!("{name}_d{k}");
+            derivatives.push(rows.column(&wanted).with_context(|| {
+                format!(
+                    "--derivatives {n} needs the column {wanted:?} (time derivative {k} of \
+                     {name:?})"
+                )
+            })?);
+        }
+        inputs.push(Input {
+            index,
+            name,
+            derivatives,
+        });
     }
     let record = match &args.record {
         Some(r) => Some(rows.column(r).context("--record")?),
         None => None,
     };
-    let mut names = vec!["x".to_string(), "y".to_string()];
-    names.extend((1..=n).map(|k| format!("y_d{k}")));
-    if let Some(r) = &args.record {
-        if names.contains(r) {
-            bail!("--record {r}: the output already has a column {r:?}; rename the record column");
-        }
-        names.push(r.clone());
-    }
-    let columns = Columns {
-        input,
-        name,
-        derivatives,
-        record,
-    };
+    let names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
+    let names = output_names(&names, n, args.record.as_deref())?;
+    let columns = Columns { inputs, record };
     let mut out = CsvWriter::create(&args.output, names)?;
-    macro_rules! with_order {
-        ($($n:literal)*) => {
-            match n {
-                0 => stream::<R, E, 0>(rows, &columns, limits, start, &mut out),
-                $($n => stream::<R, E, $n>(rows, &columns, limits, start, &mut out),)*
-                n => bail!("--derivatives {n}: at most {MAX_DERIVATIVES} are supported"),
-            }
-        };
-    }
-    let clamped = with_order!(1 2 3 4 5 6 7 8)?;
+    let clamped = go(rows, &columns, &mut out)?;
     out.finish()?;
-    if let (Some(limits), Some(first)) = (limits, clamped.first) {
+    if let (Some(limits), Some(first)) = (clamped.limits, clamped.first) {
         let s = limits.saturation;
         eprintln!(
             "hyst run: --saturate clamped {} of {} desired outputs into [{}, {}] ({} % of the \
@@ -206,14 +276,17 @@ fn run<R: Read, E: Operator<f64>>(
     Ok(())
 }
 
-/// How many rows `--saturate` clamped, of how many, and the first (line and value).
-#[derive(Default)]
+/// How many desired outputs `--saturate` clamped, of how many, and the first (line and
+/// value).
+#[derive(Clone, Copy, Default)]
 struct Clamped {
-    /// Rows clamped.
+    /// The limits that clamped them (`None`: nothing to clamp).
+    limits: Option<Limits>,
+    /// Values clamped.
     rows: usize,
-    /// Rows read.
+    /// Values read.
     of: usize,
-    /// Line and value of the first clamped row.
+    /// Line and value of the first clamped one.
     first: Option<(usize, f64)>,
 }
 
@@ -221,48 +294,309 @@ struct Clamped {
 /// when the whole file was held), and memory stays bounded by the block.
 const BLOCK: usize = 4096;
 
-/// One block of rows: where they are and what the operator gets.
+/// One block of rows: where they are and what the operators get, time-major (row after row,
+/// each row's K input columns together).
 struct Block<const N: usize> {
     /// Source lines.
     lines: Vec<usize>,
-    /// Operator inputs (after `--saturate`) with their time derivatives.
+    /// Operator inputs (after `--saturate`) with their time derivatives, K per row.
     x: Vec<Jet<f64, N>>,
     /// Record ids (empty without `--record`).
     id: Vec<f64>,
-    /// Outputs.
+    /// Outputs, K per row.
     y: Vec<Jet<f64, N>>,
+}
+
+/// Where a value is, for messages.
+struct Place<'a> {
+    /// The file (or `<stdin>`).
+    source: &'a str,
+    /// The run's columns.
+    columns: &'a Columns,
+}
+
+impl Place<'_> {
+    /// `FILE:LINE: column C ("NAME")` for input column `k` of the run.
+    fn column(&self, line: usize, k: usize) -> String {
+        let (index, name) = self
+            .columns
+            .inputs
+            .get(k)
+            .map_or((0, ""), |i| (i.index, i.name.as_str()));
+        format!("{}:{line}: column {} ({name:?})", self.source, index + 1)
+    }
+
+    /// `FILE:LINE: column C ("NAME"): value V`.
+    fn at(&self, line: usize, k: usize, x: f64) -> String {
+        format!("{}: value {}", self.column(line, k), Num(x))
+    }
+}
+
+/// The operators of a run, one per input column, stepping jets of N time derivatives.
+trait Channels<const N: usize> {
+    /// Runs the block's rows in order, appending K outputs per row to `block.y`. An error
+    /// names the first row, in file order (and in it the first column), where anything fails.
+    fn run_block(
+        &mut self,
+        block: &mut Block<N>,
+        place: &Place<'_>,
+        clamped: &mut Clamped,
+    ) -> Result<()>;
+}
+
+/// One scalar operator per column (the exact path of a single-column run): every option,
+/// model files, derivatives, `--saturate`. `start` builds an operator for a record (or the
+/// whole file) from its first sample.
+struct Scalar<E, S> {
+    /// The operators (empty before the first row and at a new record).
+    ops: Vec<E>,
+    /// The record of the running operators.
+    record: f64,
+    /// Builds an operator from a record's first sample.
+    start: S,
+    /// `--model --inverse` of a saturating output shaping: what may be asked.
+    limits: Option<Limits>,
+}
+
+impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>> Scalar<E, S> {
+    /// Operators that `start` builds, `limits` on their inputs.
+    fn new(start: S, limits: Option<Limits>) -> Self {
+        Self {
+            ops: Vec::new(),
+            record: f64::NAN,
+            start,
+            limits,
+        }
+    }
+
+    /// Streams INPUT into OUTPUT with N = `--derivatives` time derivatives.
+    fn stream<R: Read>(
+        self,
+        rows: &mut CsvReader<R>,
+        columns: &Columns,
+        out: &mut CsvWriter,
+        order: u8,
+    ) -> Result<Clamped> {
+        let limits = self.limits;
+        macro_rules! with_order {
+            ($($n:literal)*) => {
+                match order {
+                    $($n => stream::<R, Self, $n>(self, rows, columns, out),)*
+                    n => bail!("--derivatives {n}: at most {MAX_DERIVATIVES} are supported"),
+                }
+            };
+        }
+        let clamped = with_order!(0 1 2 3 4 5 6 7 8)?;
+        Ok(Clamped { limits, ..clamped })
+    }
+
+    /// `--saturate`: checks (or clamps) the desired output `x` of input column `k`.
+    fn saturate<const N: usize>(
+        &self,
+        x: &mut Jet<f64, N>,
+        line: usize,
+        k: usize,
+        place: &Place<'_>,
+        clamped: &mut Clamped,
+    ) -> Result<()> {
+        let Some(limits) = self.limits else {
+            return Ok(());
+        };
+        clamped.of += 1;
+        let s = limits.saturation;
+        let (lo, hi) = s.limits;
+        let v = x.value();
+        if limits.clamp && !(lo..=hi).contains(&v) {
+            clamped.rows += 1;
+            clamped.first.get_or_insert((line, v));
+            *x = Jet::constant(v.clamp(lo, hi));
+        } else if v <= s.range.0 || v >= s.range.1 {
+            bail!(
+                "{}: desired output {} is outside the range ({}, {}) of the model's {} output \
+                 shaping, which no command reaches; --saturate clamps such values into [{}, \
+                 {}] ({} % of the range)",
+                place.column(line, k),
+                Num(v),
+                Num(s.range.0),
+                Num(s.range.1),
+                s.shaping,
+                Num(lo),
+                Num(hi),
+                100.0 * SATURATION_FRACTION
+            );
+        }
+        Ok(())
+    }
+}
+
+impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>, const N: usize> Channels<N> for Scalar<E, S> {
+    fn run_block(
+        &mut self,
+        block: &mut Block<N>,
+        place: &Place<'_>,
+        clamped: &mut Clamped,
+    ) -> Result<()> {
+        let k = place.columns.inputs.len().max(1);
+        for (i, (&line, row)) in block.lines.iter().zip(block.x.chunks_mut(k)).enumerate() {
+            let id = block.id.get(i).copied();
+            // A new record (or the first row): the operators start afresh from this row.
+            let fresh = match id {
+                Some(id) => id != self.record,
+                None => self.ops.is_empty(),
+            };
+            if fresh {
+                self.record = id.unwrap_or(f64::NAN);
+                self.ops.clear();
+            }
+            for (c, x) in row.iter_mut().enumerate() {
+                self.saturate(x, line, c, place, clamped)?;
+                let at = || place.at(line, c, x.value());
+                if fresh {
+                    let started = (self.start)(x.value()).with_context(|| match id {
+                        Some(id) => format!("{} (first sample of record {})", at(), Num(id)),
+                        None => at(),
+                    })?;
+                    self.ops.push(started);
+                }
+                let Some(op) = self.ops.get_mut(c) else {
+                    bail!("{}: the operator was not started", at());
+                };
+                let y = op.try_step(*x).with_context(at)?;
+                if !y.all_finite() {
+                    // The core refuses overflowing outputs; a model's own parts (a
+                    // Prandtl–Ishlinskii output polynomial) are checked here, so the error
+                    // names the input line.
+                    bail!(
+                        "{} gives the output {}: not a finite number",
+                        at(),
+                        y.value()
+                    );
+                }
+                block.y.push(y);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The plain operators H(k1, k2) or H⁻¹(k1, k2) of several columns (`--k1/--k2`, no
+/// derivatives) as one bank ([`BankVec`]): the columns are stepped together, in SIMD lanes.
+/// Its outputs agree with the scalar operator's to a few ulp, not bit for bit (the bank has
+/// its own `exp`, `ln` and ω). A new record restarts every channel (no history).
+struct Banked<F> {
+    /// One channel per input column.
+    bank: BankVec<f64, F>,
+    /// The record running (`None` before the first row, and without `--record`).
+    record: Option<f64>,
+    /// The inputs of a run of rows, time-major.
+    xs: Vec<f64>,
+    /// Their outputs.
+    ys: Vec<f64>,
+}
+
+impl<F: BankFormula> Banked<F> {
+    /// `channels` channels of H(k1, k2) (or H⁻¹), checked.
+    fn new(k1: f64, k2: f64, channels: usize) -> Result<Self> {
+        let bank = BankVec::from_vecs(vec![k1; channels], vec![k2; channels])
+            .map_err(|e| anyhow::anyhow!("--k1/--k2: {}", e.error))?;
+        Ok(Self {
+            bank,
+            record: None,
+            xs: Vec::with_capacity(BLOCK * channels),
+            ys: Vec::with_capacity(BLOCK * channels),
+        })
+    }
+
+    /// Steps rows `from..to` of the block (one record) through the bank.
+    fn run_rows(
+        &mut self,
+        block: &mut Block<0>,
+        place: &Place<'_>,
+        rows: std::ops::Range<usize>,
+    ) -> Result<()> {
+        let k = self.bank.channels();
+        let first = rows.start;
+        let line = |i: usize| block.lines.get(first + i / k).copied().unwrap_or(0);
+        let xs = block
+            .x
+            .get(rows.start * k..rows.end * k)
+            .unwrap_or_default();
+        self.xs.clear();
+        self.xs.extend(xs.iter().map(Jet::value));
+        self.ys.clear();
+        self.ys.resize(self.xs.len(), 0.0);
+        if let Err(e) = self.bank.process_ticks(&self.xs, &mut self.ys) {
+            // The reader gives finite numbers only: the bank has no reason to refuse them.
+            let x = self.xs.get(e.channel).copied().unwrap_or(f64::NAN);
+            bail!("{}: {}", place.at(line(e.channel), e.channel, x), e.error);
+        }
+        if let Some(i) = self.ys.iter().position(|y| !y.is_finite()) {
+            bail!(
+                "{} gives the output {}: not a finite number",
+                place.at(line(i), i % k, self.xs.get(i).copied().unwrap_or(f64::NAN)),
+                self.ys.get(i).copied().unwrap_or(f64::NAN)
+            );
+        }
+        block.y.extend(self.ys.iter().map(|&y| Jet::constant(y)));
+        Ok(())
+    }
+}
+
+impl<F: BankFormula> Channels<0> for Banked<F> {
+    fn run_block(
+        &mut self,
+        block: &mut Block<0>,
+        place: &Place<'_>,
+        _clamped: &mut Clamped,
+    ) -> Result<()> {
+        let rows = block.lines.len();
+        let mut from = 0;
+        while from < rows {
+            // The rows of one record: the channels restart (no history) at a new one.
+            let id = block.id.get(from).copied();
+            let to = match id {
+                Some(id) => (from..rows)
+                    .find(|&i| block.id.get(i).copied() != Some(id))
+                    .unwrap_or(rows),
+                None => rows,
+            };
+            if let Some(id) = id {
+                if self.record != Some(id) {
+                    self.bank.reset();
+                }
+                self.record = Some(id);
+            }
+            self.run_rows(block, place, from..to)?;
+            from = to;
+        }
+        Ok(())
+    }
 }
 
 /// The loop of [`run`] for N time derivatives: blocks of rows are read, run and written in
 /// turn. An error is reported for the first row, in file order, where anything fails (a row
 /// that cannot be read stops the reading; the rows before it are still run first), and the
 /// block holding it is not written.
-fn stream<R: Read, E: Operator<f64>, const N: usize>(
+fn stream<R: Read, C: Channels<N>, const N: usize>(
+    mut channels: C,
     rows: &mut CsvReader<R>,
     columns: &Columns,
-    limits: Option<Limits>,
-    mut start: impl FnMut(f64) -> Result<E>,
     out: &mut CsvWriter,
 ) -> Result<Clamped> {
     let source = rows.source().to_string();
-    let (input, name) = (columns.input, columns.name.as_str());
-    let at = |line: usize, x: f64| {
-        format!(
-            "{source}:{line}: column {} ({name:?}): value {}",
-            input + 1,
-            Num(x)
-        )
+    let place = Place {
+        source: &source,
+        columns,
     };
+    let k = columns.inputs.len();
     let mut clamped = Clamped::default();
-    let mut op: Option<E> = None;
-    let mut record = f64::NAN;
     let mut block = Block::<N> {
         lines: Vec::with_capacity(BLOCK),
-        x: Vec::with_capacity(BLOCK),
+        x: Vec::with_capacity(BLOCK * k),
         id: Vec::with_capacity(BLOCK),
-        y: Vec::with_capacity(BLOCK),
+        y: Vec::with_capacity(BLOCK * k),
     };
-    let mut values = Vec::with_capacity(N + 3);
+    let mut values = Vec::with_capacity(k * (N + 2) + 1);
     loop {
         // Read.
         block.lines.clear();
@@ -273,13 +607,15 @@ fn stream<R: Read, E: Operator<f64>, const N: usize>(
         while block.lines.len() < BLOCK {
             match rows.next_row() {
                 Ok(Some((line, row))) => {
-                    let x = row.get(input).copied().unwrap_or_default();
-                    let mut d = [0.0; N];
-                    for (slot, &c) in d.iter_mut().zip(&columns.derivatives) {
-                        *slot = row.get(c).copied().unwrap_or_default();
+                    for input in &columns.inputs {
+                        let x = row.get(input.index).copied().unwrap_or_default();
+                        let mut d = [0.0; N];
+                        for (slot, &c) in d.iter_mut().zip(&input.derivatives) {
+                            *slot = row.get(c).copied().unwrap_or_default();
+                        }
+                        block.x.push(Jet::from_derivatives(x, d));
                     }
                     block.lines.push(line);
-                    block.x.push(Jet::from_derivatives(x, d));
                     block
                         .id
                         .extend(columns.record.and_then(|r| row.get(r).copied()));
@@ -298,78 +634,20 @@ fn stream<R: Read, E: Operator<f64>, const N: usize>(
             };
         }
         // Run.
-        for (i, (&line, x)) in block.lines.iter().zip(block.x.iter_mut()).enumerate() {
-            clamped.of += 1;
-            if let Some(limits) = limits {
-                let s = limits.saturation;
-                let (lo, hi) = s.limits;
-                let v = x.value();
-                if limits.clamp && !(lo..=hi).contains(&v) {
-                    clamped.rows += 1;
-                    clamped.first.get_or_insert((line, v));
-                    *x = Jet::constant(v.clamp(lo, hi));
-                } else if v <= s.range.0 || v >= s.range.1 {
-                    bail!(
-                        "{source}:{line}: column {} ({name:?}): desired output {} is outside \
-                         the range ({}, {}) of the model's {} output shaping, which no command \
-                         reaches; --saturate clamps such values into [{}, {}] ({} % of the \
-                         range)",
-                        input + 1,
-                        Num(v),
-                        Num(s.range.0),
-                        Num(s.range.1),
-                        s.shaping,
-                        Num(lo),
-                        Num(hi),
-                        100.0 * SATURATION_FRACTION
-                    );
-                }
-            }
-            let id = block.id.get(i).copied();
-            // A new record (or the first row): the operator starts afresh from this sample.
-            let fresh = match id {
-                Some(id) => id != record,
-                None => op.is_none(),
-            };
-            if fresh {
-                let started = start(x.value()).with_context(|| match id {
-                    Some(id) => format!(
-                        "{} (first sample of record {})",
-                        at(line, x.value()),
-                        Num(id)
-                    ),
-                    None => at(line, x.value()),
-                })?;
-                record = id.unwrap_or(f64::NAN);
-                op = Some(started);
-            }
-            let Some(op) = op.as_mut() else {
-                bail!("{}: the operator was not started", at(line, x.value()));
-            };
-            let y = op.try_step(*x).with_context(|| at(line, x.value()))?;
-            if !y.all_finite() {
-                // The core refuses overflowing outputs; a model's own parts (a
-                // Prandtl–Ishlinskii output polynomial) are checked here, so the error names
-                // the input line.
-                bail!(
-                    "{} gives the output {}: not a finite number",
-                    at(line, x.value()),
-                    y.value()
-                );
-            }
-            block.y.push(y);
-        }
+        channels.run_block(&mut block, &place, &mut clamped)?;
         // A row that cannot be read fails the run once the rows before it are known to run;
         // the block is not written (standard output gets no part of it).
         if let Some(e) = unread {
             return Err(e.into());
         }
-        // Write.
-        for (i, (x, y)) in block.x.iter().zip(&block.y).enumerate() {
+        // Write: one column, `x,y,y_d…`; several, `a,b,…,y_a,y_b,…,y_a_d…,y_b_d…`.
+        for (i, (x, y)) in block.x.chunks(k).zip(block.y.chunks(k)).enumerate() {
             values.clear();
-            values.push(x.value());
-            values.push(y.value());
-            values.extend_from_slice(&y.derivatives());
+            values.extend(x.iter().map(Jet::value));
+            values.extend(y.iter().map(Jet::value));
+            for y in y {
+                values.extend_from_slice(&y.derivatives());
+            }
             values.extend(block.id.get(i).copied());
             out.write_row(&values)?;
         }

@@ -3,24 +3,43 @@
 //!
 //! Each workload processes [`SAMPLES`] samples of a signal with many reversals (a sum of sines
 //! with a slowly growing amplitude) and returns a checksum so the work cannot be optimised away.
+//! The bank workloads run [`BANK_CHANNELS`] channels (each its own stretch of that signal) for
+//! [`BANK_TICKS`] ticks from no history ([`Inputs::samples`] channel-samples per call), reported
+//! per channel-sample.
 
+use std::cell::RefCell;
 use std::hint::black_box;
 
+use hyst_core::bank::{BankFormula, Lane};
 use hyst_core::{
-    Affine, Hysteresis, InverseHysteresis, Jet, Model, Operator, Polynomial, Real as _,
+    Affine, BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Model, Operator,
+    Polynomial, Real as _,
 };
 
 /// Samples per workload call.
 pub const SAMPLES: usize = 4096;
 
+/// Channels of the bank workloads (a deformable mirror's actuators).
+pub const BANK_CHANNELS: usize = 1024;
+
+/// Ticks per call of the bank workloads (each call starts from no history, as the scalar
+/// workloads do: one tick in 64 is a channel's first).
+pub const BANK_TICKS: usize = 64;
+
 /// The names of the workloads, in report order, with their JSON keys.
-pub const NAMES: [(&str, &str); 6] = [
+pub const NAMES: [(&str, &str); 9] = [
     ("direct operator H (eq. 2)", "direct_ns"),
     ("inverse operator H^-1 (eq. 4)", "inverse_ns"),
     ("inverse with 2 derivatives (jet)", "inverse_d2_ns"),
     ("model, polynomial shaping", "model_ns"),
     ("f64 exp (yardstick)", "exp_ns"),
     ("lambert_w0 (yardstick)", "lambert_w0_ns"),
+    ("bank of 1024 H^-1, f64 (per channel)", "bank_inverse_ns"),
+    ("bank of 1024 H, f64 (per channel)", "bank_direct_ns"),
+    (
+        "bank of 1024 H^-1, f32 (per channel)",
+        "bank_inverse_f32_ns",
+    ),
 ];
 
 /// Precomputed inputs for all workloads.
@@ -29,6 +48,36 @@ pub struct Inputs {
     jets: Vec<Jet<f64, 2>>,
     w_args: Vec<f64>,
     exp_args: Vec<f64>,
+    /// The bank workloads' inputs, time-major (`BANK_TICKS` ticks of `BANK_CHANNELS`).
+    bank_x: Vec<f64>,
+    /// The same in f32.
+    bank_x32: Vec<f32>,
+    /// The banks and their output buffers, made once (`None`: they could not be built).
+    banks: RefCell<Option<Banks>>,
+}
+
+/// The banks of the bank workloads, kept between calls (building one computes ln k2 for each
+/// channel and allocates its state: not what a control loop does per tick).
+struct Banks {
+    inverse: BankVec<f64, Inverse>,
+    direct: BankVec<f64, Direct>,
+    inverse32: BankVec<f32, Inverse>,
+    y: Vec<f64>,
+    y32: Vec<f32>,
+}
+
+impl Banks {
+    fn new() -> Option<Self> {
+        let k = |v: f64| vec![v; BANK_CHANNELS];
+        let k32 = |v: f32| vec![v; BANK_CHANNELS];
+        Some(Self {
+            inverse: BankVec::from_vecs(k(0.14), k(8.0)).ok()?,
+            direct: BankVec::from_vecs(k(0.14), k(8.0)).ok()?,
+            inverse32: BankVec::from_vecs(k32(0.14), k32(8.0)).ok()?,
+            y: vec![0.0; BANK_CHANNELS * BANK_TICKS],
+            y32: vec![0.0; BANK_CHANNELS * BANK_TICKS],
+        })
+    }
 }
 
 impl Inputs {
@@ -55,11 +104,31 @@ impl Inputs {
             .map(|v| 2.24 * (2.24 - 8.0 * v.abs()).exp())
             .collect();
         let exp_args = x.iter().map(|v| -8.0 * v.abs()).collect();
+        // Channel c at tick t: sample c·61 + t of the signal (every channel its own stretch,
+        // consecutive ticks consecutive samples, as the scalar workloads see them).
+        let bank_x: Vec<f64> = (0..BANK_TICKS)
+            .flat_map(|t| (0..BANK_CHANNELS).map(move |c| (c * 61 + t) % SAMPLES))
+            .map(|i| x.get(i).copied().unwrap_or_default())
+            .collect();
+        let bank_x32 = bank_x.iter().map(|&v| v as f32).collect();
         Self {
             x,
             jets,
             w_args,
             exp_args,
+            bank_x,
+            bank_x32,
+            banks: RefCell::new(Banks::new()),
+        }
+    }
+
+    /// The (channel-)samples of one call of workload `index`.
+    #[must_use]
+    pub fn samples(&self, index: usize) -> usize {
+        if index >= 6 {
+            BANK_CHANNELS * BANK_TICKS
+        } else {
+            SAMPLES
         }
     }
 
@@ -97,9 +166,25 @@ impl Inputs {
                 .iter()
                 .map(|&a| black_box(a).lambert_w0_fukushima())
                 .sum(),
+            6..=8 => {
+                let mut banks = self.banks.try_borrow_mut().ok()?;
+                let b = banks.as_mut()?;
+                match index {
+                    6 => bank(&mut b.inverse, &self.bank_x, &mut b.y)?,
+                    7 => bank(&mut b.direct, &self.bank_x, &mut b.y)?,
+                    _ => bank(&mut b.inverse32, &self.bank_x32, &mut b.y32)?,
+                }
+            }
             _ => return None,
         })
     }
+}
+
+/// `bank` from no history over the ticks `x` (time-major) into `y`; the sum of the outputs.
+fn bank<T: Lane, F: BankFormula>(bank: &mut BankVec<T, F>, x: &[T], y: &mut [T]) -> Option<f64> {
+    bank.reset();
+    bank.process_ticks(black_box(x), y).ok()?;
+    Some(black_box(&*y).iter().map(|v| v.as_f64()).sum())
 }
 
 impl Default for Inputs {

@@ -397,6 +397,38 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
     assert!(took < 10.0, "bench took {took} s");
     let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(json["direct_ns"].as_f64().unwrap() > 0.0);
+    // The banks of 1,024 channels are measured in the same run, next to the scalar keys.
+    for key in [
+        "inverse_ns",
+        "inverse_d2_ns",
+        "model_ns",
+        "exp_ns",
+        "lambert_w0_ns",
+        "bank_inverse_ns",
+        "bank_direct_ns",
+        "bank_inverse_f32_ns",
+    ] {
+        let ns = json[key].as_f64().unwrap_or(f64::NAN);
+        assert!(ns > 0.0 && ns.is_finite(), "{key}: {ns}");
+    }
+    let ratio = json["bank_inverse_over_inverse"].as_f64().unwrap();
+    let expected = json["bank_inverse_ns"].as_f64().unwrap() / json["inverse_ns"].as_f64().unwrap();
+    assert!(
+        (ratio - expected).abs() <= 1e-12 * expected,
+        "{ratio} vs {expected}"
+    );
+    let text = hyst()
+        .args(["bench", "--seconds", "0.05"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(text.stdout).unwrap();
+    for row in [
+        "bank of 1024 H^-1, f64",
+        "bank of 1024 H, f64",
+        "bank H f64 / scalar H:",
+    ] {
+        assert!(text.contains(row), "{text}");
+    }
 }
 
 #[test]

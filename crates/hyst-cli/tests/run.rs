@@ -3,10 +3,12 @@
 //! name the file, line and column without leaving any output behind.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
-use std::path::Path;
 use std::process::Command;
 
 use hyst_core::Operator;
+
+mod common;
+use common::read_csv;
 
 fn hyst() -> Command {
     Command::new(env!("CARGO_BIN_EXE_hyst"))
@@ -51,21 +53,6 @@ impl Reference {
         self.state = Some((a0, b0, s, x, y));
         y
     }
-}
-
-fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|c| c.parse::<f64>().unwrap()).collect())
-        .collect();
-    (header, rows)
 }
 
 fn random_walk(n: usize, seed: u64) -> Vec<f64> {

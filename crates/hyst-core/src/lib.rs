@@ -113,6 +113,7 @@ macro_rules! linear_ops {
     };
 }
 
+pub mod bank;
 pub mod compensator;
 pub mod dual;
 pub mod error;
@@ -132,6 +133,9 @@ pub mod scaled_shaping;
 pub mod shaping;
 pub mod stop;
 
+#[cfg(feature = "std")]
+pub use bank::BankVec;
+pub use bank::{Bank, BankError, DirectBank, InverseBank, ParametricBank};
 pub use compensator::Compensator;
 pub use dual::Dual;
 pub use error::Error;

@@ -36,6 +36,19 @@ fn readonly<'py, T: Element>(
 
 /// `numpy.asarray(x, dtype=float64)`, with the argument's name in the error.
 fn as_float64<'py>(x: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    as_dtype(x, name, "float64")
+}
+
+/// `numpy.asarray(x, dtype=dtype)`, with the argument's name in the error (complex numbers
+/// are refused rather than silently losing their imaginary part).
+///
+/// # Errors
+/// `ValueError` when `x` cannot be read as numbers.
+pub fn as_dtype<'py>(
+    x: &Bound<'py, PyAny>,
+    name: &str,
+    dtype: &str,
+) -> PyResult<Bound<'py, PyAny>> {
     let py = x.py();
     // numpy would drop the imaginary part with only a warning.
     let kind: Option<String> = x
@@ -49,7 +62,7 @@ fn as_float64<'py>(x: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyA
         )));
     }
     let kwargs = PyDict::new(py);
-    kwargs.set_item("dtype", "float64")?;
+    kwargs.set_item("dtype", dtype)?;
     py.import("numpy")?
         .call_method("asarray", (x,), Some(&kwargs))
         .map_err(|e| {
@@ -59,7 +72,8 @@ fn as_float64<'py>(x: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyA
         })
 }
 
-fn shape_of(a: &Bound<'_, PyAny>) -> String {
+/// The `shape` of an array, as Python prints it ("?" if it has none).
+pub fn shape_of(a: &Bound<'_, PyAny>) -> String {
     a.getattr("shape")
         .and_then(|s| s.repr())
         .map_or_else(|_| "?".into(), |s| s.to_string())

@@ -7,6 +7,7 @@
 //! | Python | Rust |
 //! |---|---|
 //! | `Hysteresis`, `InverseHysteresis`, `Memory` ([`operator`]) | `hyst_core::Hysteresis`, `InverseHysteresis`, `Memory` (eqs. 2, 4, Definition 2.1) |
+//! | `Bank` ([`bank`]) | `hyst_core::BankVec`: N operators stepped together in SIMD lanes |
 //! | `load_model`, `Model` ([`model`]) | `hyst_fit::ModelFile` + `Evaluator` (the model file of `hyst fit`) |
 //! | `fit`, `FitResult` ([`fit`]) | `hyst_fit::identify` (what `hyst fit` runs) |
 //! | `Family` ([`family`]) | `hyst_core::Family` (Definition 2.8, Proposition 3.2) |
@@ -22,6 +23,7 @@
 use pyo3::prelude::*;
 
 pub mod arrays;
+pub mod bank;
 pub mod compensator;
 pub mod errors;
 pub mod family;
@@ -36,6 +38,7 @@ fn _hyst(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<operator::Hysteresis>()?;
     m.add_class::<operator::InverseHysteresis>()?;
     m.add_class::<operator::Memory>()?;
+    m.add_class::<bank::Bank>()?;
     m.add_class::<model::Model>()?;
     m.add_class::<fit::FitResult>()?;
     m.add_class::<family::Family>()?;

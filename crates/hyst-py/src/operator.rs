@@ -84,7 +84,8 @@ macro_rules! each {
     };
 }
 
-fn to_core<T: Real>(m: &CoreMemory<f64>) -> CoreMemory<T> {
+/// A float64 memory in the arithmetic `T`.
+pub(crate) fn to_core<T: Real>(m: &CoreMemory<f64>) -> CoreMemory<T> {
     CoreMemory {
         reversal_input: T::from_f64(m.reversal_input),
         reversal_output: T::from_f64(m.reversal_output),
@@ -94,7 +95,8 @@ fn to_core<T: Real>(m: &CoreMemory<f64>) -> CoreMemory<T> {
     }
 }
 
-fn from_core<T: Real>(m: &CoreMemory<T>) -> CoreMemory<f64> {
+/// A memory in float64 (exact from float32).
+pub(crate) fn from_core<T: Real>(m: &CoreMemory<T>) -> CoreMemory<f64> {
     CoreMemory {
         reversal_input: m.reversal_input.as_f64(),
         reversal_output: m.reversal_output.as_f64(),

@@ -62,3 +62,18 @@ def read_csv(path):
     names = rows[0]
     data = np.array([[float(v) for v in r] for r in rows[1:]])
     return {n: data[:, i] for i, n in enumerate(names)}
+
+
+def interrupted(call):
+    """Runs `call()` with a SIGINT 50 ms in (a run long enough to be interrupted) and checks
+    that it raises KeyboardInterrupt."""
+    import signal
+    import threading
+
+    timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            call()
+    finally:
+        timer.cancel()

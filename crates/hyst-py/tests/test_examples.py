@@ -72,3 +72,11 @@ def test_docs_first_example_runs():
     text = (ROOT / "docs" / "python.md").read_text()
     block = text.split("```python\n", 1)[1].split("```", 1)[0]
     exec(compile(block, "docs/python.md", "exec"), {})
+
+
+def test_docs_bank_example_runs():
+    """The Python block under "## A bank of operators" in docs/python.md, run as written."""
+    text = (ROOT / "docs" / "python.md").read_text()
+    section = text.split("## A bank of operators\n", 1)[1]
+    block = section.split("```python\n", 1)[1].split("```", 1)[0]
+    exec(compile(block, "docs/python.md", "exec"), {})

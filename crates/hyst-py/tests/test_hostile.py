@@ -1,5 +1,6 @@
 """Whatever is passed, the interpreter never aborts and no Rust panic reaches Python: bad
-arguments raise ValueError / TypeError / OSError with a message."""
+arguments raise ValueError / TypeError / OSError (IndexError for a channel outside a Bank)
+with a message."""
 
 import numpy as np
 import pytest
@@ -13,7 +14,7 @@ def no_panic(fn, *args, **kwargs):
         return fn(*args, **kwargs)
     except BaseException as e:  # noqa: BLE001 - a PanicException derives from BaseException
         assert type(e).__name__ != "PanicException", f"panic crossed into Python: {e}"
-        assert isinstance(e, (ValueError, TypeError, OSError, OverflowError)), repr(e)
+        assert isinstance(e, (ValueError, TypeError, OSError, OverflowError, IndexError)), repr(e)
         assert str(e), "an exception without a message"
         return e
 
@@ -37,6 +38,26 @@ def test_operators_survive_odd_input(x):
         f = hyst.Family(0.2, 0.1, 8.0, 1.0)
         no_panic(f.envelope, x)
         no_panic(hyst.Compensator(op, 1.0, [0.1]).process, x, 1e-3)
+
+
+@pytest.mark.parametrize("x", ODD, ids=range(len(ODD)))
+def test_banks_survive_odd_input(x):
+    for bank in (hyst.Bank([0.2, 0.1, 0.3], [8.0, 1.0, 3.0]),
+                 hyst.Bank([0.2, 0.1, 0.3], [8.0, 1.0, 3.0], inverse=True, dtype="float32"),
+                 hyst.Bank([1e-300, 1e308, 1.0], [1e300, 1e-300, 1.0], inverse=True)):
+        no_panic(bank.step, x)
+        no_panic(bank.step, np.zeros(3), out=x)
+        no_panic(bank.process, x)
+        no_panic(bank.process, np.zeros((4, 3)), out=x)
+        no_panic(bank.process, np.array([[1e308, -1e308, 5e-324]] * 3))
+        no_panic(bank.memory, x)
+        no_panic(bank.set_memory, 0, x)
+        no_panic(bank.__setstate__, x)
+        no_panic(hyst.Bank, x, x)
+        no_panic(hyst.Bank, x, [1.0, 2.0, 3.0], dtype=x)
+    aliased = np.zeros((4, 3))
+    no_panic(bank.process, aliased, out=aliased)
+    no_panic(bank.process, aliased, out=aliased[::-1])
 
 
 @pytest.mark.parametrize(

@@ -192,21 +192,13 @@ def test_repr():
 def test_ctrl_c_stops_a_long_run():
     """SIGINT during a long process() raises KeyboardInterrupt at the next chunk of 2^20 samples
     and leaves the memory as it was (a finished run would have moved it)."""
-    import os
-    import signal
-    import threading
+    from conftest import interrupted
 
     x = np.sin(np.linspace(0.0, 2e4, 20_000_000))
     h = hyst.Hysteresis(0.2, 8.0)
     h.process([0.0, 0.3])
     saved = h.memory
-    timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
-    timer.start()
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            h.process(x)
-    finally:
-        timer.cancel()
+    interrupted(lambda: h.process(x))
     assert h.memory == saved
 
 

@@ -15,6 +15,7 @@ See docs/python.md for the guide.
 """
 
 from ._hyst import (
+    Bank,
     Compensator,
     Family,
     FitResult,
@@ -28,6 +29,7 @@ from ._hyst import (
 )
 
 __all__ = [
+    "Bank",
     "Compensator",
     "Family",
     "FitResult",
