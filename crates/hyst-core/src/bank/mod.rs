@@ -2,26 +2,37 @@
 //! (Definition 2.1), stepped together — a deformable mirror's actuators, the axes of a stage.
 //!
 //! The state is a structure of arrays over storage `S` (`[T; N]` arrays without allocation, or
-//! `Vec<T>` with `std`), and the channels are computed in chunks of [`Lane::LANES`] (8 × f64,
-//! 16 × f32) by branch-free code ([`lanes`]) that the compiler vectorises. With `std`, the
-//! chunk loop is compiled for AVX-512, AVX2 + FMA and the x86-64 baseline (SSE2) and the best
-//! one the processor has is chosen at run time (the `multiversion` crate; docs/performance.md
-//! says why); without `std` it is compiled for the target's own features.
+//! `Vec<T>` with `std`). The channels run in chunks of one vector register (AVX-512: 8 × f64,
+//! 16 × f32; AVX2: 4 × f64, 8 × f32) whose state stays in registers while the ticks go by, in
+//! branch-free code written once against a small vector trait ([`lanes`] has the elementary
+//! functions). With `std` on x86-64 the instruction set is chosen at run time (AVX-512, else
+//! AVX2 + FMA, else the portable code, one channel at a time, which is also what `no_std`
+//! builds and other processors run); [`isa`] tells which, [`force_isa`] chooses one.
+//! docs/performance.md has the measurements behind these choices.
 //!
-//! Every clone does the same arithmetic (no fused multiply-add is introduced), so a bank's
-//! results do not depend on the processor. They agree with the scalar operator
-//! ([`crate::Hysteresis`], [`crate::InverseHysteresis`]) to a few ulp, not bit for bit: the
-//! bank has its own `exp`, `ln` and ω where the scalar operator calls the platform's `exp` and
-//! the `lambert_w` crate (the bound is stated and tested in `tests/bank.rs`).
+//! The results agree with the scalar operator ([`crate::Hysteresis`],
+//! [`crate::InverseHysteresis`]) to a few ulp, not bit for bit: the bank has its own `exp`, `ln`
+//! and ω where the scalar operator calls the platform's `exp` and the `lambert_w` crate, and the
+//! AVX2 and AVX-512 kernels fuse multiply-adds (so they also differ from the portable kernel in
+//! the last bits). The bound is stated and tested for every kernel in `tests/bank.rs`.
+//!
+//! Guarantees shared with the scalar operator: every output satisfies |output − input| ≤ k1 as
+//! computed in floating point (so a saved memory always passes [`Memory::validate`]); a lane
+//! whose output would leave that band or not be finite is computed by the scalar operator from
+//! the same memory. Non-finite inputs and outputs are errors naming the channel, and then no
+//! channel's memory changes.
 //!
 //! Direct operator (eq. 2): ũ = ṽ − M* + ω(y)/k2 with y = ln(k2 M*) + k2 (M* − ṽ) (the scalar
 //! operator's W0(k2 M* e^(k2 (M* − ṽ))) in the log domain, so nothing overflows), and
-//! ũ = (ln(k2 M*) − ln ω)/k2 where e^y would overflow. ω starts from the previous sample's ω
-//! extrapolated along dω/dy = ω/(1 + ω), one fourth-order step; when any channel of a chunk is
-//! too far for that (after a reversal, a jump of the input), the chunk takes the full
-//! evaluation of [`lanes::omega`].
+//! ũ = (ln(k2 M*) − ln ω)/k2 where e^y would overflow. M* and ln(k2 M*) change only at reversals
+//! and are cached per channel.
 
+mod kernel;
 pub mod lanes;
+#[doc(hidden)]
+pub mod simd;
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+mod x86;
 
 use core::marker::PhantomData;
 
@@ -62,12 +73,12 @@ pub struct Columns<S> {
     last_output: S,
     /// 1 once the channel has a history, 0 before its first sample.
     started: S,
-    /// Direct operator: the last ω and its y (the next sample's start).
-    omega: S,
-    omega_y: S,
-    /// ln k2 and 1 / k2, fixed.
-    ln_k2: S,
+    /// Direct operator: 1 / k2 and ln k2 (fixed), and M* (eq. 2) and ln(k2 M*), which change
+    /// only at reversals (NaN: to be computed from the memory when the channel next runs).
     inv_k2: S,
+    ln_k2: S,
+    m_star: S,
+    ln_a: S,
 }
 
 /// N operators of formula `F` ([`Direct`]: eq. 2, [`Inverse`]: eq. 4) stepped together, state
@@ -75,6 +86,8 @@ pub struct Columns<S> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParametricBank<T, F, S> {
     columns: Columns<S>,
+    /// Inputs with |x| above this (or not finite) take the checked path (see `input_limit`).
+    limit: T,
     formula: PhantomData<(T, F)>,
 }
 
@@ -107,7 +120,9 @@ impl<T: Copy> Storage<T> for std::vec::Vec<T> {
     }
 }
 
-fn check<T: Lane>(k1: &[T], k2: &[T]) -> Result<(), BankError> {
+/// Checks each channel's parameters as [`crate::ParametricHysteresis::new`] does for one
+/// operator (the bank accepts exactly the channels the scalar operator accepts).
+fn check<T: Lane, F: BankFormula>(k1: &[T], k2: &[T]) -> Result<(), BankError> {
     if k1.len() != k2.len() {
         return Err(BankError {
             channel: k1.len().min(k2.len()),
@@ -118,11 +133,28 @@ fn check<T: Lane>(k1: &[T], k2: &[T]) -> Result<(), BankError> {
         });
     }
     for (channel, (a, b)) in k1.iter().zip(k2).enumerate() {
-        let wrap = |error| BankError { channel, error };
-        crate::error::positive("k1", *a).map_err(wrap)?;
-        crate::error::positive("k2", *b).map_err(wrap)?;
+        crate::ParametricHysteresis::<T, crate::ConstantK2<T>, F>::new(*a, *b)
+            .map_err(|error| BankError { channel, error })?;
     }
     Ok(())
+}
+
+/// The largest |input| for which no channel's output can leave the float range: every output
+/// lies within 3 k1 of its input (eqs. 2 and 4 on a memory in the band, or their overflow-free
+/// forms), so below T::MAX − 4 max k1 the scalar operator never refuses a finite sample.
+fn input_limit<T: Lane>(k1: &[T]) -> T {
+    let max = k1
+        .iter()
+        .fold(T::zero(), |m, v| if *v > m { *v } else { m });
+    T::max_value() - T::from_f64(4.0) * max
+}
+
+/// Whether every sample is within `limit` in magnitude (false for NaN and ±∞); no early exit,
+/// so that it vectorises.
+fn all_within<T: Lane>(input: &[T], limit: T) -> bool {
+    input
+        .iter()
+        .fold(true, |ok, x| ok & (num_traits::Float::abs(*x) <= limit))
 }
 
 impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
@@ -130,9 +162,26 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// every channel without history (its first sample lies on the line output = input).
     ///
     /// # Errors
-    /// The first invalid parameter, with its channel; k1 and k2 of different lengths.
+    /// The first channel whose k1, k2 [`crate::ParametricHysteresis::new`] refuses (each
+    /// finite, positive and normal, k1 at most a quarter of the largest float, k1 k2 not below
+    /// the subnormal range), with its channel; k1 and k2 of different lengths
+    /// ([`Error::LengthMismatch`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use hyst_core::{InverseBank, InverseHysteresis, Operator};
+    /// let mut bank = InverseBank::<f64, 3>::new([0.1, 0.2, 0.3], [8.0, 8.0, 2.0])?;
+    /// let mut out = [0.0; 3];
+    /// bank.step(&[0.0, 0.0, 0.0], &mut out)?;
+    /// bank.step(&[0.5, -0.5, 1.0], &mut out)?;
+    /// // Channel 1 is H⁻¹(0.2, 8) on its own input.
+    /// let mut one = InverseHysteresis::new(0.2, 8.0)?;
+    /// one.step(0.0);
+    /// assert!((out[1] - one.step(-0.5)).abs() < 1e-14);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(k1: S, k2: S) -> Result<Self, BankError> {
-        check(k1.as_ref(), k2.as_ref())?;
+        check::<T, F>(k1.as_ref(), k2.as_ref())?;
         let zero = |v| S::filled(&k1, v);
         let map = |s: &S, f: fn(T) -> T| {
             let mut out = s.clone();
@@ -142,6 +191,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
             out
         };
         Ok(Self {
+            limit: input_limit(k1.as_ref()),
             columns: Columns {
                 reversal_input: zero(T::zero()),
                 reversal_output: zero(T::zero()),
@@ -149,10 +199,10 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 last_input: zero(T::zero()),
                 last_output: zero(T::zero()),
                 started: zero(T::zero()),
-                omega: zero(T::zero()),
-                omega_y: zero(T::neg_infinity()),
-                ln_k2: map(&k2, |v| v.ln_l()),
                 inv_k2: map(&k2, |v| T::one() / v),
+                ln_k2: map(&k2, |v| v.ln_l()),
+                m_star: zero(T::nan()),
+                ln_a: zero(T::nan()),
                 k1,
                 k2,
             },
@@ -246,7 +296,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 put(&mut c.last_input, m.last_input);
                 put(&mut c.last_output, m.last_output);
                 put(&mut c.started, T::one());
-                put(&mut c.omega_y, T::neg_infinity());
+                put(&mut c.m_star, T::nan());
             }
         }
         Ok(())
@@ -255,8 +305,11 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// One tick: `input[c]` is channel c's new sample, `output[c]` receives its output.
     ///
     /// # Errors
-    /// Slices of another length than the bank ([`Error::LengthMismatch`]), or a non-finite
-    /// sample ([`Error::NonFiniteInput`], with its channel); the memory is then untouched.
+    /// Slices of another length than the bank ([`Error::LengthMismatch`]), a non-finite sample
+    /// ([`Error::NonFiniteInput`], with its channel), or a finite sample whose output is beyond
+    /// the float range ([`Error::NonFiniteOutput`], with its channel: only possible within
+    /// 4 k1 of the largest float). No channel's memory changes then; the contents of `output`
+    /// are unspecified.
     pub fn step(&mut self, input: &[T], output: &mut [T]) -> Result<(), BankError> {
         self.process_ticks(input, output)
     }
@@ -265,8 +318,8 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// shape (channels, samples)): `input[c * samples + t]` is channel c at tick t.
     ///
     /// # Errors
-    /// As [`ParametricBank::step`]; the non-finite sample is reported by channel (and nothing
-    /// is processed).
+    /// As [`ParametricBank::step`], for the first failing channel (in channel order); no
+    /// channel's memory changes then (no tick is processed).
     pub fn process_block(
         &mut self,
         input: &[T],
@@ -274,7 +327,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
         samples: usize,
     ) -> Result<(), BankError> {
         let n = self.channels();
-        let expected = n.checked_mul(samples).unwrap_or(usize::MAX);
+        let expected = n.saturating_mul(samples);
         if input.len() != expected || output.len() != expected {
             return Err(BankError {
                 channel: 0,
@@ -284,14 +337,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 },
             });
         }
-        if let Some((i, x)) = input.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-            return Err(BankError {
-                channel: i / samples.max(1),
-                error: Error::NonFiniteInput { value: x.as_f64() },
-            });
-        }
-        T::run::<F, S>(&mut self.columns, input, output, samples, true);
-        Ok(())
+        self.run_checked(input, output, samples, true)
     }
 
     /// A block of ticks, time-major: `input[t * channels + c]` is channel c at tick t (each
@@ -299,10 +345,10 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// transposition. `input.len()` must be a multiple of the channel count.
     ///
     /// # Errors
-    /// As [`ParametricBank::step`]; nothing is processed on error.
+    /// As [`ParametricBank::process_block`].
     pub fn process_ticks(&mut self, input: &[T], output: &mut [T]) -> Result<(), BankError> {
         let n = self.channels();
-        if n == 0 || input.len() % n != 0 || output.len() != input.len() {
+        if n == 0 || !input.len().is_multiple_of(n) || output.len() != input.len() {
             return Err(BankError {
                 channel: 0,
                 error: Error::LengthMismatch {
@@ -311,14 +357,40 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 },
             });
         }
+        self.run_checked(input, output, input.len() / n, false)
+    }
+
+    /// Runs a block whose lengths are checked: straight through when every sample is below
+    /// the input limit (then no channel can fail); otherwise a non-finite sample is an error
+    /// before anything runs, and a run with samples near the end of the float range works on
+    /// the memory with a copy to put back should the scalar operator refuse a sample.
+    fn run_checked(
+        &mut self,
+        input: &[T],
+        output: &mut [T],
+        samples: usize,
+        channel_major: bool,
+    ) -> Result<(), BankError> {
+        if all_within(input, self.limit) {
+            return T::run::<F, S>(&mut self.columns, input, output, samples, channel_major);
+        }
+        let n = self.channels().max(1);
         if let Some((i, x)) = input.iter().enumerate().find(|(_, x)| !x.is_finite()) {
             return Err(BankError {
-                channel: i % n,
+                channel: if channel_major {
+                    i / samples.max(1)
+                } else {
+                    i % n
+                },
                 error: Error::NonFiniteInput { value: x.as_f64() },
             });
         }
-        T::run::<F, S>(&mut self.columns, input, output, input.len() / n, false);
-        Ok(())
+        let before = self.columns.clone();
+        let result = T::run::<F, S>(&mut self.columns, input, output, samples, channel_major);
+        if result.is_err() {
+            self.columns = before;
+        }
+        result
     }
 }
 
@@ -333,292 +405,101 @@ impl<T: Lane, F: BankFormula> ParametricBank<T, F, std::vec::Vec<T>> {
     }
 }
 
-/// One chunk of `L` channels' state, in registers while it runs through the ticks.
-#[derive(Clone, Copy)]
-struct Chunk<T, const L: usize> {
-    k1: [T; L],
-    k2: [T; L],
-    rin: [T; L],
-    rout: [T; L],
-    sign: [T; L],
-    lin: [T; L],
-    lout: [T; L],
-    started: [T; L],
-    omega: [T; L],
-    omega_y: [T; L],
-    ln_k2: [T; L],
-    inv_k2: [T; L],
-}
-
-/// The formula of a bank: eq. (2) or eq. (4) on a chunk of channels.
+/// The formula of a bank: eq. (2) or eq. (4). Implemented by [`Direct`] and [`Inverse`].
 pub trait BankFormula: Formula {
-    /// Whether the chunk output is ũ of Definition 2.1 (to be untransformed: the direct
-    /// formula) or the output itself (the inverse formula, which folds the transformation in).
+    /// Whether this is the direct formula (eq. 2).
     #[doc(hidden)]
-    const TRANSFORMED: bool;
-    /// One tick of a chunk: the memory update of Definition 2.1 done, computes the outputs.
-    #[doc(hidden)]
-    fn chunk_output<T: Lane, const L: usize>(
-        c: &mut ChunkRef<'_, T, L>,
-        x: &[T; L],
-        reversal: &[bool; L],
-    ) -> [T; L];
+    const DIRECT: bool;
 }
 
-/// A chunk's state as the formulas see it (public only for the sealed [`BankFormula`]).
-#[doc(hidden)]
-pub struct ChunkRef<'a, T, const L: usize>(&'a mut Chunk<T, L>);
+impl BankFormula for Direct {
+    const DIRECT: bool = true;
+}
 
-// Lane loops index `[T; L]` arrays with `i < L`: in bounds by construction, and the compiler
-// drops the checks; iterator chains over eleven arrays would hide the arithmetic.
-#[allow(clippy::indexing_slicing)]
-mod kernels {
-    use super::{BankFormula, Chunk, ChunkRef, Columns, Lane, Storage};
-    use crate::{Direct, Inverse};
+impl BankFormula for Inverse {
+    const DIRECT: bool = false;
+}
 
-    /// M* of the direct formula: M + k1 clamped into the band [0, 2 k1].
-    #[inline(always)]
-    fn direct_m_star<T: Lane>(rin: T, rout: T, sign: T, k1: T) -> T {
-        let m = (rout - rin) * sign + k1;
-        let two_k1 = k1 + k1;
-        T::select(m < T::zero(), T::zero(), T::select(m > two_k1, two_k1, m))
-    }
+/// An instruction set the bank's kernels are compiled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Isa {
+    /// AVX-512F, 512-bit vectors (8 × f64, 16 × f32) with fused multiply-add (x86-64, `std`).
+    Avx512,
+    /// AVX2 + FMA, 256-bit vectors (4 × f64, 8 × f32) (x86-64, `std`).
+    Avx2,
+    /// Portable code, one channel at a time (every target; x86-64's SSE2 baseline).
+    Portable,
+}
 
-    impl BankFormula for Inverse {
-        const TRANSFORMED: bool = false;
-        #[inline(always)]
-        fn chunk_output<T: Lane, const L: usize>(
-            c: &mut ChunkRef<'_, T, L>,
-            x: &[T; L],
-            _reversal: &[bool; L],
-        ) -> [T; L] {
-            let c = &mut *c.0;
-            let one = T::one();
-            let mut y = [T::zero(); L];
-            for i in 0..L {
-                let s = c.sign[i];
-                let m_star = c.k1[i] - (c.rout[i] - c.rin[i]) * s;
-                let ud = (x[i] - c.rin[i]) * s;
-                let along = ud * s + c.rout[i];
-                y[i] = along + (one - (-(c.k2[i] * ud)).exp_l()) * (m_star * s);
-            }
-            y
+impl Isa {
+    /// "avx512", "avx2" or "portable".
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Avx512 => "avx512",
+            Isa::Avx2 => "avx2",
+            Isa::Portable => "portable",
         }
     }
 
-    impl BankFormula for Direct {
-        const TRANSFORMED: bool = true;
-        #[inline(always)]
-        fn chunk_output<T: Lane, const L: usize>(
-            c: &mut ChunkRef<'_, T, L>,
-            x: &[T; L],
-            _reversal: &[bool; L],
-        ) -> [T; L] {
-            let c = &mut *c.0;
-            let zero = T::zero();
-            let mut m_star = [zero; L];
-            let mut vt = [zero; L];
-            let mut ln_a = [zero; L];
-            let mut y = [zero; L];
-            for i in 0..L {
-                m_star[i] = direct_m_star(c.rin[i], c.rout[i], c.sign[i], c.k1[i]);
-                vt[i] = (x[i] - c.rin[i]) * c.sign[i];
-                ln_a[i] = c.ln_k2[i] + m_star[i].ln_l();
-                y[i] = ln_a[i] + c.k2[i] * (m_star[i] - vt[i]);
+    /// Whether this processor (and build) can run it.
+    #[must_use]
+    pub fn available(self) -> bool {
+        match self {
+            Isa::Portable => true,
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            Isa::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            Isa::Avx2 => {
+                std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma")
             }
-            // ω(y): a start within 2.2e-5, then one FSC step. eʸ and ln y only where some
-            // channel of the chunk needs them.
-            let mut t = [zero; L];
-            if y.iter().any(|v| *v < T::from_f64(-3.0)) {
-                for i in 0..L {
-                    t[i] = y[i].exp_l();
-                }
-            }
-            let mut ln_y = [zero; L];
-            if y.iter().any(|v| *v > T::from_f64(12.0)) {
-                for i in 0..L {
-                    ln_y[i] = y[i].ln_l();
-                }
-            }
-            let mut w = [zero; L];
-            let mut accepted = [false; L];
-            for i in 0..L {
-                let start = super::lanes::omega_start(y[i], t[i], ln_y[i]);
-                let (w1, r) = super::lanes::fsc_step(start, y[i]);
-                let small = y[i] < T::OMEGA_SMALL;
-                w[i] = T::select(small, t[i] - t[i] * t[i], w1);
-                accepted[i] = small || r.abs() <= T::RESIDUAL_OK;
-            }
-            // The start is good everywhere; should a channel still miss (a rounding corner),
-            // the full evaluation, for that channel alone.
-            for i in 0..L {
-                if !accepted[i] {
-                    w[i] = super::lanes::omega(y[i]);
-                }
-            }
-            let mut out = [zero; L];
-            for i in 0..L {
-                let plain = vt[i] - m_star[i] + w[i] * c.inv_k2[i];
-                out[i] = T::select(vt[i] == zero, zero, plain);
-            }
-            // Where e^y overflows, the scalar operator's log form (no cancellation of huge terms).
-            if y.iter().any(|v| *v > T::EXP_ARG_MAX) {
-                for i in 0..L {
-                    let log_form = (ln_a[i] - w[i].ln_l()) * c.inv_k2[i];
-                    out[i] = T::select(y[i] > T::EXP_ARG_MAX && vt[i] != zero, log_form, out[i]);
-                }
-            }
-            out
+            #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+            _ => false,
         }
-    }
-
-    /// Definition 2.1's memory update on a chunk (selects, no branches), then the formula, then
-    /// the output kept in the band [x − k1, x + k1] as the scalar operator keeps it.
-    #[inline(always)]
-    pub(super) fn tick<T: Lane, F: BankFormula, const L: usize>(
-        c: &mut Chunk<T, L>,
-        x: &[T; L],
-    ) -> [T; L] {
-        let (zero, one) = (T::zero(), T::one());
-        let mut reversal = [false; L];
-        for i in 0..L {
-            // A channel's first sample: at rest on the line output = input, rising.
-            let xi = x[i];
-            let fresh = c.started[i] == zero;
-            let lin = T::select(fresh, xi, c.lin[i]);
-            let lout = T::select(fresh, xi, c.lout[i]);
-            let sign = T::select(fresh, one, c.sign[i]);
-            let rin = T::select(fresh, xi, c.rin[i]);
-            let rout = T::select(fresh, xi, c.rout[i]);
-            let new_sign = T::select(xi > lin, one, T::select(xi < lin, -one, sign));
-            reversal[i] = (new_sign != sign) | fresh;
-            c.rin[i] = T::select(reversal[i], lin, rin);
-            c.rout[i] = T::select(reversal[i], lout, rout);
-            c.sign[i] = new_sign;
-            c.started[i] = one;
-        }
-        let u_tilde = F::chunk_output(&mut ChunkRef(c), x, &reversal);
-        let mut y = [zero; L];
-        for i in 0..L {
-            // The direct formula returns ũ (untransformed here); the inverse returns v itself.
-            let raw = if F::TRANSFORMED {
-                u_tilde[i] * c.sign[i] + c.rout[i]
-            } else {
-                u_tilde[i]
-            };
-            let (lo, hi) = (x[i] - c.k1[i], x[i] + c.k1[i]);
-            y[i] = T::select(raw < lo, lo, T::select(raw > hi, hi, raw));
-            c.lin[i] = x[i];
-            c.lout[i] = y[i];
-        }
-        y
-    }
-
-    /// Ticks per tile: the samples of a chunk's channels copied into a time-major buffer.
-    const TILE: usize = 16;
-
-    /// Runs the channels of `cols` in chunks of `L` through `samples` ticks of `input` into
-    /// `output`, channel c at tick t at `c * samples + t` (`channel_major`) or at
-    /// `t * channels + c`. Each chunk's state stays local while the ticks go by; channel-major
-    /// data is transposed through a time-major tile of [`TILE`] ticks (contiguous stores, one
-    /// strided load per value).
-    #[inline(always)]
-    pub(super) fn run_block<T: Lane, F: BankFormula, S: Storage<T>, const L: usize>(
-        cols: &mut Columns<S>,
-        input: &[T],
-        output: &mut [T],
-        samples: usize,
-        channel_major: bool,
-    ) {
-        let n = cols.k1.as_ref().len();
-        let mut start = 0;
-        while start < n {
-            let width = (n - start).min(L);
-            let mut chunk = load::<T, S, L>(cols, start, width);
-            if !channel_major {
-                for t in 0..samples {
-                    let row = &input[t * n + start..t * n + start + width];
-                    let mut x = [T::zero(); L];
-                    x[..width].copy_from_slice(row);
-                    let y = tick::<T, F, L>(&mut chunk, &x);
-                    output[t * n + start..t * n + start + width].copy_from_slice(&y[..width]);
-                }
-            } else {
-                let mut t0 = 0;
-                while t0 < samples {
-                    let len = (samples - t0).min(TILE);
-                    let mut xs = [[T::zero(); L]; TILE];
-                    for (k, x) in xs.iter_mut().enumerate().take(len) {
-                        for (i, xi) in x.iter_mut().enumerate().take(width) {
-                            *xi = input[(start + i) * samples + t0 + k];
-                        }
-                    }
-                    for (k, x) in xs.iter().enumerate().take(len) {
-                        let y = tick::<T, F, L>(&mut chunk, x);
-                        for (i, yi) in y.iter().enumerate().take(width) {
-                            output[(start + i) * samples + t0 + k] = *yi;
-                        }
-                    }
-                    t0 += len;
-                }
-            }
-            store::<T, S, L>(cols, &chunk, start, width);
-            start += width;
-        }
-    }
-
-    fn load<T: Lane, S: Storage<T>, const L: usize>(
-        cols: &Columns<S>,
-        start: usize,
-        width: usize,
-    ) -> Chunk<T, L> {
-        let col = |s: &S, fill: T| -> [T; L] {
-            let mut a = [fill; L];
-            a[..width].copy_from_slice(&s.as_ref()[start..start + width]);
-            a
-        };
-        let (zero, one) = (T::zero(), T::one());
-        Chunk {
-            // Padding lanes get harmless parameters; their outputs are dropped.
-            k1: col(&cols.k1, one),
-            k2: col(&cols.k2, one),
-            rin: col(&cols.reversal_input, zero),
-            rout: col(&cols.reversal_output, zero),
-            sign: col(&cols.sign, one),
-            lin: col(&cols.last_input, zero),
-            lout: col(&cols.last_output, zero),
-            started: col(&cols.started, zero),
-            omega: col(&cols.omega, zero),
-            omega_y: col(&cols.omega_y, T::neg_infinity()),
-            ln_k2: col(&cols.ln_k2, zero),
-            inv_k2: col(&cols.inv_k2, one),
-        }
-    }
-
-    fn store<T: Lane, S: Storage<T>, const L: usize>(
-        cols: &mut Columns<S>,
-        c: &Chunk<T, L>,
-        start: usize,
-        width: usize,
-    ) {
-        let put = |s: &mut S, a: &[T; L]| {
-            s.as_mut()[start..start + width].copy_from_slice(&a[..width]);
-        };
-        put(&mut cols.reversal_input, &c.rin);
-        put(&mut cols.reversal_output, &c.rout);
-        put(&mut cols.sign, &c.sign);
-        put(&mut cols.last_input, &c.lin);
-        put(&mut cols.last_output, &c.lout);
-        put(&mut cols.started, &c.started);
-        put(&mut cols.omega, &c.omega);
-        put(&mut cols.omega_y, &c.omega_y);
     }
 }
 
-/// How a float type runs a block: its chunk width, and the dispatch to the best instruction set.
+/// The forced instruction set: 0 none, else 1 + its index in `ISAS`.
+static FORCED: core::sync::atomic::AtomicU8 = core::sync::atomic::AtomicU8::new(0);
+const ISAS: [Isa; 3] = [Isa::Avx512, Isa::Avx2, Isa::Portable];
+
+/// Chooses the instruction set of every bank in the process (`None`: the best available, the
+/// default) — for measurements and for testing each kernel against the scalar operator.
+///
+/// # Errors
+/// `Err(isa)` when this processor or build cannot run `isa`; nothing changes then.
+pub fn force_isa(isa: Option<Isa>) -> Result<(), Isa> {
+    let code = match isa {
+        None => 0,
+        Some(i) if i.available() => match i {
+            Isa::Avx512 => 1,
+            Isa::Avx2 => 2,
+            Isa::Portable => 3,
+        },
+        Some(i) => return Err(i),
+    };
+    FORCED.store(code, core::sync::atomic::Ordering::Relaxed);
+    Ok(())
+}
+
+/// The instruction set the banks run on now: the forced one ([`force_isa`]), else the best
+/// available (AVX-512, AVX2 + FMA, portable, in that order).
+#[must_use]
+pub fn isa() -> Isa {
+    let forced = FORCED.load(core::sync::atomic::Ordering::Relaxed);
+    if let Some(i) = ISAS.get(usize::from(forced).wrapping_sub(1)) {
+        return *i;
+    }
+    ISAS.into_iter()
+        .find(|i| i.available())
+        .unwrap_or(Isa::Portable)
+}
+
+/// How a float type runs a block: the dispatch to the kernel of the chosen instruction set.
 /// Implemented for `f32` and `f64` only.
 pub trait RunBlock: Sized {
-    /// Runs `samples` ticks of the channel-major `input` through every channel of `cols`.
+    /// Runs `samples` ticks of `input` through every channel of `cols`.
     #[doc(hidden)]
     fn run<F: BankFormula, S: Storage<Self>>(
         cols: &mut Columns<S>,
@@ -626,65 +507,35 @@ pub trait RunBlock: Sized {
         output: &mut [Self],
         samples: usize,
         channel_major: bool,
-    );
+    ) -> Result<(), BankError>;
 }
 
-/// Runs a block, compiled once per instruction set (AVX-512, AVX2 + FMA, baseline) with the
-/// best one chosen at run time when `std` is on.
-#[cfg_attr(
-    feature = "std",
-    multiversion::multiversion(targets(
-        "x86_64+avx512f+avx512dq+avx512vl+avx512bw",
-        "x86_64+avx2+fma",
-    ))
-)]
-fn dispatch_f64<F: BankFormula, S: Storage<f64>>(
-    cols: &mut Columns<S>,
-    input: &[f64],
-    output: &mut [f64],
-    samples: usize,
-    channel_major: bool,
-) {
-    kernels::run_block::<f64, F, S, 64>(cols, input, output, samples, channel_major);
+macro_rules! run_block {
+    ($t:ty, $entry:ident) => {
+        impl RunBlock for $t {
+            fn run<F: BankFormula, S: Storage<Self>>(
+                cols: &mut Columns<S>,
+                input: &[Self],
+                output: &mut [Self],
+                samples: usize,
+                channel_major: bool,
+            ) -> Result<(), BankError> {
+                #[cfg(all(feature = "std", target_arch = "x86_64"))]
+                {
+                    let isa = isa();
+                    if isa != Isa::Portable {
+                        if let Some(r) =
+                            x86::$entry::<F, S>(isa, cols, input, output, samples, channel_major)
+                        {
+                            return r;
+                        }
+                    }
+                }
+                kernel::run::<$t, F, S>(cols, input, output, samples, channel_major)
+            }
+        }
+    };
 }
 
-#[cfg_attr(
-    feature = "std",
-    multiversion::multiversion(targets(
-        "x86_64+avx512f+avx512dq+avx512vl+avx512bw",
-        "x86_64+avx2+fma",
-    ))
-)]
-fn dispatch_f32<F: BankFormula, S: Storage<f32>>(
-    cols: &mut Columns<S>,
-    input: &[f32],
-    output: &mut [f32],
-    samples: usize,
-    channel_major: bool,
-) {
-    kernels::run_block::<f32, F, S, 64>(cols, input, output, samples, channel_major);
-}
-
-impl RunBlock for f64 {
-    fn run<F: BankFormula, S: Storage<Self>>(
-        cols: &mut Columns<S>,
-        input: &[Self],
-        output: &mut [Self],
-        samples: usize,
-        channel_major: bool,
-    ) {
-        dispatch_f64::<F, S>(cols, input, output, samples, channel_major);
-    }
-}
-
-impl RunBlock for f32 {
-    fn run<F: BankFormula, S: Storage<Self>>(
-        cols: &mut Columns<S>,
-        input: &[Self],
-        output: &mut [Self],
-        samples: usize,
-        channel_major: bool,
-    ) {
-        dispatch_f32::<F, S>(cols, input, output, samples, channel_major);
-    }
-}
+run_block!(f64, run_f64);
+run_block!(f32, run_f32);
