@@ -1,139 +1,135 @@
 //! The bank's speed goals of issue 13 as ratios measured in one run (`cargo bench -p hyst-core
-//! --bench bank`; docs/performance.md records the figures): 1,024 channels, per channel-sample,
-//! bank against the scalar operators run channel by channel over the same signals, each figure
-//! the fastest of interleaved rounds (on a shared machine the slower rounds measure the
-//! neighbours). `HYST_BANK_ISA=avx512|avx2|portable` forces one clone of the kernels.
+//! --bench bank`; docs/performance.md records the figures): 1,024 channels, f64 (and f32), ns
+//! per channel-sample, each figure the fastest of interleaved rounds (on a shared machine the
+//! slower rounds measure the neighbours).
+//!
+//! Two ways of running, each against the scalar operators run the same way:
+//! - tick by tick (the controller's loop: `step` with one sample per channel; the scalar
+//!   operators stepped once each per tick) — the data (8 KiB a tick) stays in L1;
+//! - a block of 256 ticks (`process_ticks`, time-major; the scalar operators each `process`
+//!   their channel's 256 samples) — 2 MiB in and 2 MiB out for f64, more than L2 holds, so the
+//!   bank's time there is partly memory bandwidth (f32 moves half the bytes).
+//!
+//! `HYST_BANK_ISA=avx512|avx2|portable` forces one kernel.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use std::hint::black_box;
 use std::time::Instant;
 
-use hyst_core::bank::{force_isa, Isa};
-use hyst_core::{BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Operator};
+use hyst_core::bank::{force_isa, BankFormula, Isa, Lane};
+use hyst_core::{BankVec, ConstantK2, Direct, Inverse, Operator, ParametricHysteresis};
 
 const CHANNELS: usize = 1024;
 const TICKS: usize = 256;
-const ROUNDS: usize = 30;
+const ROUNDS: usize = 60;
 
-/// Channel c's signal at tick t (time-major): a sum of sines with many reversals, each channel
-/// shifted in phase.
+/// Channel c's signal at tick t: a sum of sines with many reversals, each channel shifted in
+/// phase.
 fn signal(c: usize, t: usize) -> f64 {
     let tt = t as f64 * 0.05 + c as f64 * 0.01;
     1.5 * tt.sin() * (0.37 * tt).cos() + 0.3 * (7.1 * tt).sin()
 }
 
-type Job<'a> = (&'static str, Box<dyn FnMut() + 'a>);
+type Job<'a> = (String, Box<dyn FnMut() + 'a>);
+
+/// The four jobs of one precision and formula: bank and scalar, tick by tick and in a block.
+fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str) -> Vec<Job<'a>> {
+    let (k1, k2) = (T::from_f64(0.2), T::from_f64(8.0));
+    let ticks: Vec<T> = (0..TICKS)
+        .flat_map(|t| (0..CHANNELS).map(move |c| T::from_f64(signal(c, t))))
+        .collect();
+    let channels: Vec<T> = (0..CHANNELS)
+        .flat_map(|c| (0..TICKS).map(move |t| T::from_f64(signal(c, t))))
+        .collect();
+    let bank = || BankVec::<T, F>::from_vecs(vec![k1; CHANNELS], vec![k2; CHANNELS]).unwrap();
+    let ops = || -> Vec<ParametricHysteresis<T, ConstantK2<T>, F>> {
+        (0..CHANNELS)
+            .map(|_| ParametricHysteresis::new(k1, k2).unwrap())
+            .collect()
+    };
+    let (mut b1, mut b2, mut s1, mut s2) = (bank(), bank(), ops(), ops());
+    let (t1, t2, t3, c4) = (ticks.clone(), ticks.clone(), ticks, channels);
+    let mut o1 = vec![T::zero(); CHANNELS];
+    let mut o2 = vec![T::zero(); CHANNELS * TICKS];
+    let mut o3 = vec![T::zero(); CHANNELS];
+    let mut o4 = vec![T::zero(); CHANNELS * TICKS];
+    vec![
+        (
+            format!("tick  bank   {name}"),
+            Box::new(move || {
+                for row in t1.chunks_exact(CHANNELS) {
+                    b1.step(black_box(row), &mut o1).unwrap();
+                }
+            }),
+        ),
+        (
+            format!("block bank   {name}"),
+            Box::new(move || b2.process_ticks(black_box(&t2), &mut o2).unwrap()),
+        ),
+        (
+            format!("tick  scalar {name}"),
+            Box::new(move || {
+                for row in t3.chunks_exact(CHANNELS) {
+                    for ((op, y), x) in s1.iter_mut().zip(o3.iter_mut()).zip(black_box(row)) {
+                        *y = op.step(*x);
+                    }
+                }
+            }),
+        ),
+        (
+            format!("block scalar {name}"),
+            Box::new(move || {
+                let (input, output) = (black_box(&c4), &mut o4);
+                for (c, op) in s2.iter_mut().enumerate() {
+                    let r = c * TICKS..(c + 1) * TICKS;
+                    op.process(&input[r.clone()], &mut output[r]).unwrap();
+                }
+            }),
+        ),
+    ]
+}
 
 fn main() {
     if let Ok(name) = std::env::var("HYST_BANK_ISA") {
         let isa = [Isa::Avx512, Isa::Avx2, Isa::Portable]
             .into_iter()
             .find(|i| i.name() == name);
-        match isa.map(|i| force_isa(Some(i))) {
-            Some(Ok(())) => {}
-            _ => {
-                eprintln!(
-                    "HYST_BANK_ISA={name}: not one this processor runs (avx512, avx2, portable)"
-                );
-                std::process::exit(2);
-            }
+        if let Some(Ok(())) = isa.map(|i| force_isa(Some(i))) {
+        } else {
+            eprintln!("HYST_BANK_ISA={name}: not one this processor runs (avx512, avx2, portable)");
+            std::process::exit(2);
         }
     }
-    let (k1, k2) = (0.2, 8.0);
-    let ticks: Vec<f64> = (0..TICKS)
-        .flat_map(|t| (0..CHANNELS).map(move |c| signal(c, t)))
-        .collect();
-    let channels: Vec<f64> = (0..CHANNELS)
-        .flat_map(|c| (0..TICKS).map(move |t| signal(c, t)))
-        .collect();
-    let ticks32: Vec<f32> = ticks.iter().map(|v| *v as f32).collect();
-    let mut out = vec![0.0; CHANNELS * TICKS];
-    let mut out2 = vec![0.0; CHANNELS * TICKS];
-    let mut out3 = vec![0.0; CHANNELS * TICKS];
-    let mut out4 = vec![0.0; CHANNELS * TICKS];
-    let mut out32 = vec![0.0_f32; CHANNELS * TICKS];
-    let mut out32d = vec![0.0_f32; CHANNELS * TICKS];
-    let mut inv =
-        BankVec::<f64, Inverse>::from_vecs(vec![k1; CHANNELS], vec![k2; CHANNELS]).unwrap();
-    let mut dir =
-        BankVec::<f64, Direct>::from_vecs(vec![k1; CHANNELS], vec![k2; CHANNELS]).unwrap();
-    let mut inv32 =
-        BankVec::<f32, Inverse>::from_vecs(vec![0.2; CHANNELS], vec![8.0; CHANNELS]).unwrap();
-    let mut dir32 =
-        BankVec::<f32, Direct>::from_vecs(vec![0.2; CHANNELS], vec![8.0; CHANNELS]).unwrap();
-    let mut sinv: Vec<_> = (0..CHANNELS)
-        .map(|_| InverseHysteresis::new(k1, k2).unwrap())
-        .collect();
-    let mut sdir: Vec<_> = (0..CHANNELS)
-        .map(|_| Hysteresis::new(k1, k2).unwrap())
-        .collect();
-    let mut jobs: Vec<Job> = vec![
-        (
-            "bank inverse f64",
-            Box::new(|| inv.process_ticks(black_box(&ticks), &mut out).unwrap()),
-        ),
-        (
-            "bank direct f64",
-            Box::new(|| dir.process_ticks(black_box(&ticks), &mut out2).unwrap()),
-        ),
-        (
-            "bank inverse f32",
-            Box::new(|| {
-                inv32
-                    .process_ticks(black_box(&ticks32), &mut out32)
-                    .unwrap()
-            }),
-        ),
-        (
-            "bank direct f32",
-            Box::new(|| {
-                dir32
-                    .process_ticks(black_box(&ticks32), &mut out32d)
-                    .unwrap()
-            }),
-        ),
-        (
-            "scalar inverse f64",
-            Box::new(|| {
-                for (c, op) in sinv.iter_mut().enumerate() {
-                    let r = c * TICKS..(c + 1) * TICKS;
-                    op.process(black_box(&channels[r.clone()]), &mut out3[r])
-                        .unwrap();
-                }
-            }),
-        ),
-        (
-            "scalar direct f64",
-            Box::new(|| {
-                for (c, op) in sdir.iter_mut().enumerate() {
-                    let r = c * TICKS..(c + 1) * TICKS;
-                    op.process(black_box(&channels[r.clone()]), &mut out4[r])
-                        .unwrap();
-                }
-            }),
-        ),
-    ];
-    let names: Vec<&str> = jobs.iter().map(|(name, _)| *name).collect();
-    let mut best = vec![f64::INFINITY; jobs.len()];
+    let mut all: Vec<Job> = Vec::new();
+    all.extend(jobs::<f64, Inverse>("inverse f64"));
+    all.extend(jobs::<f64, Direct>("direct f64"));
+    all.extend(jobs::<f32, Inverse>("inverse f32"));
+    all.extend(jobs::<f32, Direct>("direct f32"));
+    let mut best = vec![f64::INFINITY; all.len()];
     for _ in 0..ROUNDS {
-        for (b, (_, job)) in best.iter_mut().zip(jobs.iter_mut()) {
+        for (b, (_, job)) in best.iter_mut().zip(all.iter_mut()) {
             let start = Instant::now();
             job();
             let ns = start.elapsed().as_secs_f64() * 1e9 / (CHANNELS * TICKS) as f64;
             *b = b.min(ns);
         }
     }
-    drop(jobs);
-    for (name, ns) in names.iter().zip(&best) {
-        println!("{name:<22} {ns:>7.3} ns/channel-sample");
+    for ((name, _), ns) in all.iter().zip(&best) {
+        println!("{name:<26} {ns:>7.3} ns/channel-sample");
     }
-    let (bi, bd, bi32, si, sd) = (best[0], best[1], best[2], best[4], best[5]);
-    println!(
-        "ratios: inverse {:.3} (goal <= 0.25), direct {:.3} (goal <= 0.33), f32/f64 inverse {:.3} (goal <= 0.5), f32 inverse {:.0} M channel-samples/s (goal >= 500)",
-        bi / si,
-        bd / sd,
-        bi32 / bi,
-        1e3 / bi32
-    );
-    println!("isa: {}", hyst_core::bank::isa().name());
+    // Index: 4 per (formula, precision): tick bank, block bank, tick scalar, block scalar.
+    for (mode, k) in [("tick by tick", 0), ("block of 256", 1)] {
+        let (inv, dir, inv32) = (best[k], best[4 + k], best[8 + k]);
+        let (sinv, sdir) = (best[2 + k], best[6 + k]);
+        println!(
+            "{mode}: inverse {:.3} x scalar (goal <= 0.25), direct {:.3} x scalar (goal <= 0.33), \
+             f32 inverse {:.3} x f64 (goal <= 0.5), f32 inverse {:.0} M channel-samples/s \
+             (goal >= 500)",
+            inv / sinv,
+            dir / sdir,
+            inv32 / inv,
+            1e3 / inv32
+        );
+    }
+    println!("kernel: {}", hyst_core::bank::isa().name());
 }

@@ -14,7 +14,7 @@ use super::{BankError, BankFormula, Columns, Storage};
 use crate::{ConstantK2, Direction, Memory, Operator, ParametricHysteresis};
 
 /// The most lanes of any vector (AVX-512 f32).
-const MAX_LANES: usize = 16;
+const MAX_LANES: usize = 64;
 
 /// A chunk's state: the columns of its channels, and the direct formula's cached values.
 #[derive(Clone, Copy)]
@@ -93,8 +93,8 @@ fn observe<V: Simd>(st: &mut State<V>, x: V) -> V::M {
 #[inline(always)]
 fn inverse_output<V: Simd>(st: &State<V>, x: V) -> V {
     let d = x - st.rin;
-    let ud = d * st.sign;
-    let e = exp(-(st.k2 * ud));
+    // −k2 ũd as ((α0 − x) s) k2: the same rounding as −(k2 (s (x − α0))), one operation less.
+    let e = exp(((st.rin - x) * st.sign) * st.k2);
     let sm = st.k1.fma(st.sign, st.rin - st.rout);
     let along = d + st.rout;
     (V::c(1.0) - e).fma(sm, along)
@@ -239,9 +239,12 @@ fn tick<V: Simd, F: BankFormula>(
     x: V,
     start: usize,
     width: usize,
+    changed: &mut bool,
 ) -> Result<V, BankError> {
     let reversed = observe(st, x);
-    if F::DIRECT && V::any(reversed) {
+    let any_reversed = V::any(reversed);
+    *changed |= any_reversed;
+    if F::DIRECT && any_reversed {
         let (m, ln_a) = direct_cache(st);
         st.m_star = V::select(reversed, m, st.m_star);
         st.ln_a = V::select(reversed, ln_a, st.ln_a);
@@ -254,6 +257,7 @@ fn tick<V: Simd, F: BankFormula>(
     // One test on the hot path, also false for NaN and ±∞.
     if !V::all((y - x).magnitude().less_eq(st.k1)) {
         [y, st.rin, st.rout, st.sign] = repair::<V, F>(*st, x, y, start, width)?;
+        *changed = true;
     }
     st.lin = x;
     st.lout = y;
@@ -282,7 +286,6 @@ pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
     channel_major: bool,
 ) -> Result<(), BankError> {
     let n = cols.k1.as_ref().len();
-    let one = V::c(1.0);
     let layout = Layout {
         n,
         samples,
@@ -295,21 +298,24 @@ pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
         while start < n {
             let width = (n - start).min(V::LANES);
             let x0 = gather::<V>(input, &layout, start, width, t0);
-            let mut st = load::<V, F, S>(cols, start, width, x0);
+            let (mut st, mut changed) = load::<V, F, S>(cols, start, width, x0);
             for t in t0..t1 {
                 let x = gather::<V>(input, &layout, start, width, t);
-                let y = tick::<V, F>(&mut st, x, start, width)?;
+                let y = tick::<V, F>(&mut st, x, start, width, &mut changed)?;
                 scatter(output, &layout, start, width, t, y);
             }
-            put(cols.reversal_input.as_mut(), start, width, st.rin);
-            put(cols.reversal_output.as_mut(), start, width, st.rout);
-            put(cols.sign.as_mut(), start, width, st.sign);
             put(cols.last_input.as_mut(), start, width, st.lin);
             put(cols.last_output.as_mut(), start, width, st.lout);
-            put(cols.started.as_mut(), start, width, one);
-            if F::DIRECT {
-                put(cols.m_star.as_mut(), start, width, st.m_star);
-                put(cols.ln_a.as_mut(), start, width, st.ln_a);
+            // The reversal point, the sign and the direct formula's cache change only at
+            // reversals (and at a channel's first sample): most calls of a few ticks skip them.
+            if changed {
+                put(cols.reversal_input.as_mut(), start, width, st.rin);
+                put(cols.reversal_output.as_mut(), start, width, st.rout);
+                put(cols.sign.as_mut(), start, width, st.sign);
+                if F::DIRECT {
+                    put(cols.m_star.as_mut(), start, width, st.m_star);
+                    put(cols.ln_a.as_mut(), start, width, st.ln_a);
+                }
             }
             start += width;
         }
@@ -368,33 +374,36 @@ fn scatter<V: Simd>(output: &mut [V::T], at: &Layout, start: usize, width: usize
     }
 }
 
-/// A chunk's state from the columns; a channel without history starts at rest at its first
-/// sample `x0` on the line output = input, rising (its first output is then exactly x0).
+/// A chunk's state from the columns, and whether it differs from them in more than the last
+/// point; a channel without history (last input NaN) starts at rest at its first sample `x0`
+/// on the line output = input, rising (its first output is then exactly x0).
 #[inline(always)]
 fn load<V: Simd, F: BankFormula, S: Storage<V::T>>(
     cols: &Columns<S>,
     start: usize,
     width: usize,
     x0: V,
-) -> State<V> {
+) -> (State<V>, bool) {
     let zero = <V::T as crate::Real>::ZERO;
     let one = V::c(1.0);
     let col = |s: &S, fill: V::T| column::<V>(s.as_ref(), start, width, fill);
-    let started = col(&cols.started, zero).equal(one);
+    let lin = col(&cols.last_input, zero);
+    let started = lin.equal(lin);
     let mut st = State {
         k1: col(&cols.k1, <V::T as crate::Real>::from_f64(1.0)),
         k2: col(&cols.k2, <V::T as crate::Real>::from_f64(1.0)),
         rin: col(&cols.reversal_input, zero),
         rout: col(&cols.reversal_output, zero),
         sign: col(&cols.sign, zero),
-        lin: col(&cols.last_input, zero),
+        lin,
         lout: col(&cols.last_output, zero),
         inv_k2: one,
         ln_k2: one,
         m_star: one,
         ln_a: one,
     };
-    if !V::all(started) {
+    let mut fresh = !V::all(started);
+    if fresh {
         st.rin = V::select(started, st.rin, x0);
         st.rout = V::select(started, st.rout, x0);
         st.lin = V::select(started, st.lin, x0);
@@ -409,10 +418,11 @@ fn load<V: Simd, F: BankFormula, S: Storage<V::T>>(
         // Cached values are NaN after `new` and `set_memory`.
         let valid = V::and(started, st.m_star.equal(st.m_star));
         if !V::all(valid) {
+            fresh = true;
             let (m, ln_a) = direct_cache(&st);
             st.m_star = V::select(valid, st.m_star, m);
             st.ln_a = V::select(valid, st.ln_a, ln_a);
         }
     }
-    st
+    (st, fresh)
 }

@@ -4,10 +4,12 @@
 //!
 //! - `exp`: Cody–Waite reduction x = n ln 2 + r, |r| ≤ ln 2 / 2, the Taylor polynomial of e^r
 //!   to degree 13 (f64) or 7 (f32) evaluated in pairs (c₂ᵢ + c₂ᵢ₊₁ r, then Horner in r²), and
-//!   2ⁿ built from its bits. Error ≤ 2 ulp for normal results (tested against the platform's
-//!   `exp` in `tests/bank.rs`); results below the smallest normal float (x < −708.39 for f64,
-//!   −87.33 for f32) are 0, and above 709.43 (f64) / 88.37 (f32) +∞, a factor of at most 2 before
-//!   the float range ends (the bank's callers hand such samples to the scalar operator).
+//!   2ⁿ built from its bits (AVX-512: `vscalefpd`). Error ≤ 2 ulp for normal results (tested
+//!   against the platform's `exp` in `tests/bank.rs`). Portable and AVX2: results below the
+//!   smallest normal float (x < −708.39 for f64, −87.33 for f32) are 0, and above 709.43 (f64)
+//!   / 88.37 (f32) +∞, a factor of at most 2 before the float range ends (the bank's callers
+//!   hand such samples to the scalar operator); AVX-512 gets subnormal results and the end of
+//!   the range right.
 //! - `ln`: fdlibm's `e_log.c` / `e_logf.c` (x = 2ᵏ m, √½ ≤ m < √2, s = f / (2 + f), minimax
 //!   polynomial in s²); error ≤ 1 ulp for normal positive x.
 //! - ω(y) = W0(eʸ), the solution of ω + ln ω = y: see [`omega`] and the direct kernel.
@@ -46,6 +48,14 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
     const EXP_POLY: &'static [f64];
     /// fdlibm's odd-indexed (Lg1, Lg3, …) and even-indexed (Lg2, Lg4, …) log coefficients.
     const LOG_POLY: (&'static [f64], &'static [f64]);
+    /// The bits b of `exp`'s table reduction (see [`Simd::EXP_TABLE`]): 3 for f64, 4 for f32.
+    const EXP_TABLE_BITS: u32;
+    /// 2^(j / 2^b), j = 0 … 2^b − 1, rounded to this type.
+    const EXP_TABLE: &'static [f64];
+    /// 1/k!, k = 2, 3, …, for the table reduction's |r| ≤ ln 2 / 2^(b+1).
+    const EXP_POLY_TABLE: &'static [f64];
+    /// The low bits of the value's representation (the table index of `exp`).
+    fn low_bits(self) -> usize;
     /// The next float towards −∞ (finite values).
     fn next_below(self) -> Self;
     /// The next float towards +∞ (finite values).
@@ -108,6 +118,31 @@ impl Lane for f64 {
             1.531_383_769_920_937_332e-1,
         ],
     );
+    const EXP_TABLE_BITS: u32 = 3;
+    const EXP_TABLE: &'static [f64] = &[
+        1.0,
+        1.090_507_732_665_257_7,
+        1.189_207_115_002_721,
+        1.296_839_554_651_009_6,
+        core::f64::consts::SQRT_2,
+        1.542_210_825_407_940_7,
+        1.681_792_830_507_429,
+        1.834_008_086_409_342_4,
+    ];
+    // |r| ≤ ln 2 / 16: the first omitted term r⁹/9! is below 1.5e-18.
+    const EXP_POLY_TABLE: &'static [f64] = &[
+        1.0 / 2.0,
+        1.0 / 6.0,
+        1.0 / 24.0,
+        1.0 / 120.0,
+        1.0 / 720.0,
+        1.0 / 5_040.0,
+        1.0 / 40_320.0,
+    ];
+    #[inline(always)]
+    fn low_bits(self) -> usize {
+        self.to_bits() as usize
+    }
     #[inline]
     fn next_below(self) -> Self {
         f64::next_down(self)
@@ -140,6 +175,31 @@ impl Lane for f32 {
         &[0.666_666_626_93, 0.284_987_866_88],
         &[0.400_009_721_52, 0.242_790_788_41],
     );
+    const EXP_TABLE_BITS: u32 = 4;
+    const EXP_TABLE: &'static [f64] = &[
+        1.0,
+        1.044_273_734_092_712_4,
+        1.090_507_745_742_797_9,
+        1.138_788_580_894_470_2,
+        1.189_207_077_026_367_2,
+        1.241_857_767_105_102_5,
+        1.296_839_594_841_003_4,
+        1.354_255_557_060_241_7,
+        1.414_213_538_169_860_8,
+        1.476_826_190_948_486_3,
+        1.542_210_817_337_036_1,
+        1.610_490_322_113_037,
+        1.681_792_855_262_756_3,
+        1.756_252_169_609_069_8,
+        1.834_008_097_648_620_6,
+        1.915_206_551_551_818_8,
+    ];
+    // |r| ≤ ln 2 / 32: the first omitted term r⁵/5! is below 4e-11.
+    const EXP_POLY_TABLE: &'static [f64] = &[1.0 / 2.0, 1.0 / 6.0, 1.0 / 24.0];
+    #[inline(always)]
+    fn low_bits(self) -> usize {
+        self.to_bits() as usize
+    }
     #[inline]
     fn next_below(self) -> Self {
         f32::next_down(self)
@@ -184,19 +244,26 @@ where
 {
     let shift = V::splat(<V::T as Lane>::SHIFT);
     let (ln2_hi, ln2_lo) = <V::T as Lane>::EXP_LN2;
-    let t = x.fma(V::c(core::f64::consts::LOG2_E), shift);
+    if V::EXP_TABLE {
+        // x = (8 n + j) ln 2 / 8 + r (f64; 16 for f32), eˣ = 2ⁿ 2^(j/8) eʳ.
+        let k = f64::from(1_u32 << <V::T as Lane>::EXP_TABLE_BITS);
+        let xr = V::exp_arg(x);
+        let t = xr.fma(V::c(k * core::f64::consts::LOG2_E), shift);
+        let m = t - shift;
+        let r = m.fma(V::c(-ln2_hi / k), xr);
+        let r = m.fma(V::c(-ln2_lo / k), r);
+        let p = poly_pairs(r, <V::T as Lane>::EXP_POLY_TABLE);
+        let e = (r * r).fma(p, r) + V::c(1.0);
+        return V::scale(e * V::exp2_frac(t), m * V::c(1.0 / k));
+    }
+    let xr = V::exp_arg(x);
+    let t = xr.fma(V::c(core::f64::consts::LOG2_E), shift);
     let n = t - shift;
-    let r = n.fma(V::c(-ln2_hi), x);
+    let r = n.fma(V::c(-ln2_hi), xr);
     let r = n.fma(V::c(-ln2_lo), r);
     let p = poly_pairs(r, <V::T as Lane>::EXP_POLY);
     let e = (r * r).fma(p, r) + V::c(1.0);
-    let y = e * V::pow2_shifted(t);
-    let y = V::select(x.less(V::splat(<V::T as Lane>::EXP_LO)), V::c(0.0), y);
-    V::select(
-        V::splat(<V::T as Lane>::EXP_HI).less(x),
-        V::splat(<V::T as num_traits::Float>::infinity()),
-        y,
-    )
+    V::exp_tail(e, t, n, x)
 }
 
 /// ln x for positive normal x (no special cases: 0, subnormals, ∞ and NaN give wrong finite

@@ -69,10 +69,9 @@ pub struct Columns<S> {
     reversal_output: S,
     /// s = ±1 of Definition 2.1.
     sign: S,
+    /// NaN before the channel's first sample (no history).
     last_input: S,
     last_output: S,
-    /// 1 once the channel has a history, 0 before its first sample.
-    started: S,
     /// Direct operator: 1 / k2 and ln k2 (fixed), and M* (eq. 2) and ln(k2 M*), which change
     /// only at reversals (NaN: to be computed from the memory when the channel next runs).
     inv_k2: S,
@@ -196,9 +195,8 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 reversal_input: zero(T::zero()),
                 reversal_output: zero(T::zero()),
                 sign: zero(T::one()),
-                last_input: zero(T::zero()),
+                last_input: zero(T::nan()),
                 last_output: zero(T::zero()),
-                started: zero(T::zero()),
                 inv_k2: map(&k2, |v| T::one() / v),
                 ln_k2: map(&k2, |v| v.ln_l()),
                 m_star: zero(T::nan()),
@@ -230,8 +228,8 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
 
     /// Forgets every channel's history.
     pub fn reset(&mut self) {
-        for v in self.columns.started.as_mut() {
-            *v = T::zero();
+        for v in self.columns.last_input.as_mut() {
+            *v = T::nan();
         }
     }
 
@@ -241,7 +239,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     pub fn memory(&self, channel: usize) -> Option<Memory<T>> {
         let c = &self.columns;
         let get = |s: &S| s.as_ref().get(channel).copied();
-        if get(&c.started)? == T::zero() {
+        if get(&c.last_input)?.is_nan() {
             return None;
         }
         Some(Memory {
@@ -288,14 +286,13 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
             }
         };
         match memory {
-            None => put(&mut c.started, T::zero()),
+            None => put(&mut c.last_input, T::nan()),
             Some(m) => {
                 put(&mut c.reversal_input, m.reversal_input);
                 put(&mut c.reversal_output, m.reversal_output);
                 put(&mut c.sign, m.direction.sign());
                 put(&mut c.last_input, m.last_input);
                 put(&mut c.last_output, m.last_output);
-                put(&mut c.started, T::one());
                 put(&mut c.m_star, T::nan());
             }
         }

@@ -314,6 +314,30 @@ impl Simd for F64x8 {
     type M = __mmask8;
     common!(f64, 8);
     #[inline(always)]
+    fn exp_arg(x: Self) -> Self {
+        // max/min return their second operand when either is NaN: NaN stays NaN.
+        let lo = Self::splat_raw(-1100.0).0;
+        let hi = Self::splat_raw(1100.0).0;
+        Self(arch!(_mm512_min_pd(hi, _mm512_max_pd(lo, x.0))))
+    }
+    const EXP_TABLE: bool = true;
+    #[inline(always)]
+    fn exp2_frac(t: Self) -> Self {
+        let mut table = [0.0; 8];
+        for (v, c) in table.iter_mut().zip(<f64 as super::lanes::Lane>::EXP_TABLE) {
+            *v = <f64 as crate::Real>::from_f64(*c);
+        }
+        let table = Self::load_raw(&table);
+        Self(arch!(_mm512_permutexvar_pd(
+            _mm512_castpd_si512(t.0),
+            table.0
+        )))
+    }
+    #[inline(always)]
+    fn scale(e: Self, n: Self) -> Self {
+        Self(arch!(_mm512_scalef_pd(e.0, n.0)))
+    }
+    #[inline(always)]
     fn less(self, b: Self) -> __mmask8 {
         arch!(_mm512_cmp_pd_mask::<_CMP_LT_OQ>(self.0, b.0))
     }
@@ -380,6 +404,30 @@ impl Simd for F64x8 {
 impl Simd for F32x16 {
     type M = __mmask16;
     common!(f32, 16);
+    #[inline(always)]
+    fn exp_arg(x: Self) -> Self {
+        // max/min return their second operand when either is NaN: NaN stays NaN.
+        let lo = Self::splat_raw(-1100.0).0;
+        let hi = Self::splat_raw(1100.0).0;
+        Self(arch!(_mm512_min_ps(hi, _mm512_max_ps(lo, x.0))))
+    }
+    const EXP_TABLE: bool = true;
+    #[inline(always)]
+    fn exp2_frac(t: Self) -> Self {
+        let mut table = [0.0; 16];
+        for (v, c) in table.iter_mut().zip(<f32 as super::lanes::Lane>::EXP_TABLE) {
+            *v = <f32 as crate::Real>::from_f64(*c);
+        }
+        let table = Self::load_raw(&table);
+        Self(arch!(_mm512_permutexvar_ps(
+            _mm512_castps_si512(t.0),
+            table.0
+        )))
+    }
+    #[inline(always)]
+    fn scale(e: Self, n: Self) -> Self {
+        Self(arch!(_mm512_scalef_ps(e.0, n.0)))
+    }
     #[inline(always)]
     fn less(self, b: Self) -> __mmask16 {
         arch!(_mm512_cmp_ps_mask::<_CMP_LT_OQ>(self.0, b.0))
@@ -458,8 +506,18 @@ macro_rules! entry {
 
 entry!(f64_avx2, f64, F64x4, "avx2,fma");
 entry!(f32_avx2, f32, F32x8, "avx2,fma");
-entry!(f64_avx512, f64, F64x8, "avx512f");
-entry!(f32_avx512, f32, F32x16, "avx512f");
+entry!(
+    f64_avx512,
+    f64,
+    super::simd::Pair<super::simd::Pair<F64x8>>,
+    "avx512f"
+);
+entry!(
+    f32_avx512,
+    f32,
+    super::simd::Pair<super::simd::Pair<F32x16>>,
+    "avx512f"
+);
 
 /// Runs the kernel of `isa` when this processor has it (`None` otherwise, and for
 /// [`Isa::Portable`]).
