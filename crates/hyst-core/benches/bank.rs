@@ -51,7 +51,7 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str) -> Vec<Job<'a>> {
     let (t1, t2, t3, c4) = (ticks.clone(), ticks.clone(), ticks, channels);
     let mut o1 = vec![T::zero(); CHANNELS];
     let mut o2 = vec![T::zero(); CHANNELS * TICKS];
-    let mut o3 = vec![T::zero(); CHANNELS];
+    let mut o3 = [T::zero(); CHANNELS];
     let mut o4 = vec![T::zero(); CHANNELS * TICKS];
     vec![
         (
