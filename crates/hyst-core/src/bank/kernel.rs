@@ -274,6 +274,9 @@ const TILE: usize = 16;
 /// `c * samples + t` (`channel_major`) or `t * channels + c`. Tile by tile of [`TILE`] ticks;
 /// in a tile, chunk by chunk, whose state stays in registers while its ticks go by.
 ///
+/// With `limit`, first checks that every sample's magnitude is below it (false for NaN and
+/// ±∞), and returns `Ok(false)` without running otherwise.
+///
 /// # Errors
 /// What the scalar operator refuses on the rare path (an output beyond the float range); some
 /// channels have then run further than others (the caller restores the memory).
@@ -284,7 +287,13 @@ pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
     output: &mut [V::T],
     samples: usize,
     channel_major: bool,
-) -> Result<(), BankError> {
+    limit: Option<V::T>,
+) -> Result<bool, BankError> {
+    if let Some(limit) = limit {
+        if !all_within::<V>(input, limit) {
+            return Ok(false);
+        }
+    }
     let n = cols.k1.as_ref().len();
     let layout = Layout {
         n,
@@ -299,9 +308,15 @@ pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
             let width = (n - start).min(V::LANES);
             let x0 = gather::<V>(input, &layout, start, width, t0);
             let (mut st, mut changed) = load::<V, F, S>(cols, start, width, x0);
+            let mut x = x0;
             for t in t0..t1 {
-                let x = gather::<V>(input, &layout, start, width, t);
                 let y = tick::<V, F>(&mut st, x, start, width, &mut changed)?;
+                // The next samples are loaded before this tick's outputs are stored: with rows
+                // of 4 KiB (1,024 f32 channels) a load after a store to the same address modulo
+                // 4 KiB waits for it (4K aliasing).
+                if t + 1 < t1 {
+                    x = gather::<V>(input, &layout, start, width, t + 1);
+                }
                 scatter(output, &layout, start, width, t, y);
             }
             put(cols.last_input.as_mut(), start, width, st.lin);
@@ -321,7 +336,20 @@ pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
         }
         t0 = t1;
     }
-    Ok(())
+    Ok(true)
+}
+
+/// Whether every sample's magnitude is at most `limit` (false for NaN and ±∞ above a finite
+/// limit), a vector at a time.
+#[inline(always)]
+fn all_within<V: Simd>(input: &[V::T], limit: V::T) -> bool {
+    let lim = V::splat(limit);
+    let mut chunks = input.chunks_exact(V::LANES);
+    let mut ok = V::splat(<V::T as crate::Real>::ZERO).equal(V::c(0.0));
+    for c in &mut chunks {
+        ok = V::and(ok, V::load(c).magnitude().less_eq(lim));
+    }
+    V::all(ok) && chunks.remainder().iter().all(|x| x.magnitude() <= limit)
 }
 
 /// Where the samples are: `n` channels, `samples` ticks, channel-major or time-major.

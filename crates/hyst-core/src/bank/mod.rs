@@ -148,14 +148,6 @@ fn input_limit<T: Lane>(k1: &[T]) -> T {
     T::max_value() - T::from_f64(4.0) * max
 }
 
-/// Whether every sample is within `limit` in magnitude (false for NaN and ±∞); no early exit,
-/// so that it vectorises.
-fn all_within<T: Lane>(input: &[T], limit: T) -> bool {
-    input
-        .iter()
-        .fold(true, |ok, x| ok & (num_traits::Float::abs(*x) <= limit))
-}
-
 impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// A bank with the channels' k1 (> 0, output units of H) and k2 (> 0, 1 / input units),
     /// every channel without history (its first sample lies on the line output = input).
@@ -368,8 +360,18 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
         samples: usize,
         channel_major: bool,
     ) -> Result<(), BankError> {
-        if all_within(input, self.limit) {
-            return T::run::<F, S>(&mut self.columns, input, output, samples, channel_major);
+        // The kernels check the samples against the limit first (in vector code), and run
+        // only when all are below it.
+        let limit = Some(self.limit);
+        if T::run::<F, S>(
+            &mut self.columns,
+            input,
+            output,
+            samples,
+            channel_major,
+            limit,
+        )? {
+            return Ok(());
         }
         let n = self.channels().max(1);
         if let Some((i, x)) = input.iter().enumerate().find(|(_, x)| !x.is_finite()) {
@@ -383,11 +385,18 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
             });
         }
         let before = self.columns.clone();
-        let result = T::run::<F, S>(&mut self.columns, input, output, samples, channel_major);
+        let result = T::run::<F, S>(
+            &mut self.columns,
+            input,
+            output,
+            samples,
+            channel_major,
+            None,
+        );
         if result.is_err() {
             self.columns = before;
         }
-        result
+        result.map(|_| ())
     }
 }
 
@@ -496,7 +505,8 @@ pub fn isa() -> Isa {
 /// How a float type runs a block: the dispatch to the kernel of the chosen instruction set.
 /// Implemented for `f32` and `f64` only.
 pub trait RunBlock: Sized {
-    /// Runs `samples` ticks of `input` through every channel of `cols`.
+    /// Runs `samples` ticks of `input` through every channel of `cols`, unless some sample's
+    /// magnitude is not below `limit` (or is NaN): then `Ok(false)` and nothing changes.
     #[doc(hidden)]
     fn run<F: BankFormula, S: Storage<Self>>(
         cols: &mut Columns<S>,
@@ -504,7 +514,8 @@ pub trait RunBlock: Sized {
         output: &mut [Self],
         samples: usize,
         channel_major: bool,
-    ) -> Result<(), BankError>;
+        limit: Option<Self>,
+    ) -> Result<bool, BankError>;
 }
 
 macro_rules! run_block {
@@ -516,19 +527,26 @@ macro_rules! run_block {
                 output: &mut [Self],
                 samples: usize,
                 channel_major: bool,
-            ) -> Result<(), BankError> {
+                limit: Option<Self>,
+            ) -> Result<bool, BankError> {
                 #[cfg(all(feature = "std", target_arch = "x86_64"))]
                 {
                     let isa = isa();
                     if isa != Isa::Portable {
-                        if let Some(r) =
-                            x86::$entry::<F, S>(isa, cols, input, output, samples, channel_major)
-                        {
+                        if let Some(r) = x86::$entry::<F, S>(
+                            isa,
+                            cols,
+                            input,
+                            output,
+                            samples,
+                            channel_major,
+                            limit,
+                        ) {
                             return r;
                         }
                     }
                 }
-                kernel::run::<$t, F, S>(cols, input, output, samples, channel_major)
+                kernel::run::<$t, F, S>(cols, input, output, samples, channel_major, limit)
             }
         }
     };

@@ -14,7 +14,7 @@
 use core::arch::x86_64::*;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use super::simd::Simd;
+use super::simd::{Pair, Simd};
 
 /// 2⁵².
 const TWO_52: f64 = (1_u64 << 52) as f64;
@@ -498,26 +498,23 @@ macro_rules! entry {
             output: &mut [$t],
             samples: usize,
             channel_major: bool,
-        ) -> Result<(), BankError> {
-            super::kernel::run::<$v, F, S>(cols, input, output, samples, channel_major)
+            limit: Option<$t>,
+        ) -> Result<bool, BankError> {
+            super::kernel::run::<$v, F, S>(cols, input, output, samples, channel_major, limit)
         }
     };
 }
 
-entry!(f64_avx2, f64, F64x4, "avx2,fma");
-entry!(f32_avx2, f32, F32x8, "avx2,fma");
-entry!(
-    f64_avx512,
-    f64,
-    super::simd::Pair<super::simd::Pair<F64x8>>,
-    "avx512f"
-);
-entry!(
-    f32_avx512,
-    f32,
-    super::simd::Pair<super::simd::Pair<F32x16>>,
-    "avx512f"
-);
+/// The vectors a chunk of each kernel is made of (measured: docs/performance.md).
+type Avx2F64 = Pair<Pair<F64x4>>;
+type Avx2F32 = Pair<Pair<F32x8>>;
+type Avx512F64 = Pair<Pair<F64x8>>;
+type Avx512F32 = Pair<Pair<F32x16>>;
+
+entry!(f64_avx2, f64, Avx2F64, "avx2,fma");
+entry!(f32_avx2, f32, Avx2F32, "avx2,fma");
+entry!(f64_avx512, f64, Avx512F64, "avx512f");
+entry!(f32_avx512, f32, Avx512F32, "avx512f");
 
 /// Runs the kernel of `isa` when this processor has it (`None` otherwise, and for
 /// [`Isa::Portable`]).
@@ -530,18 +527,23 @@ macro_rules! dispatch {
             output: &mut [$t],
             samples: usize,
             channel_major: bool,
-        ) -> Option<Result<(), BankError>> {
+            limit: Option<$t>,
+        ) -> Option<Result<bool, BankError>> {
             match isa {
                 Isa::Avx512 if std::arch::is_x86_feature_detected!("avx512f") => {
                     // SAFETY: AVX-512F was detected on this processor just above.
-                    Some(unsafe { $avx512::<F, S>(cols, input, output, samples, channel_major) })
+                    Some(unsafe {
+                        $avx512::<F, S>(cols, input, output, samples, channel_major, limit)
+                    })
                 }
                 Isa::Avx2
                     if std::arch::is_x86_feature_detected!("avx2")
                         && std::arch::is_x86_feature_detected!("fma") =>
                 {
                     // SAFETY: AVX2 and FMA were detected on this processor just above.
-                    Some(unsafe { $avx2::<F, S>(cols, input, output, samples, channel_major) })
+                    Some(unsafe {
+                        $avx2::<F, S>(cols, input, output, samples, channel_major, limit)
+                    })
                 }
                 _ => None,
             }
