@@ -73,18 +73,15 @@ fn direct_cache<V: Simd>(st: &State<V>) -> (V, V) {
     (m, st.ln_k2 + ln(m))
 }
 
-/// Definition 2.1's memory update: the new sign, and (α0, β0) replaced by the last point on the
-/// lanes whose direction changed. Returns whether any lane reversed.
+/// Definition 2.1's memory update: a step against the direction s ((x − x_last) s < 0) reverses
+/// it and makes the last point the reversal point (α0, β0); a zero step keeps everything.
+/// Returns the lanes that reversed.
 #[inline(always)]
 fn observe<V: Simd>(st: &mut State<V>, x: V) -> V::M {
-    let one = V::c(1.0);
-    let up = st.lin.less(x);
-    let down = x.less(st.lin);
-    let sign = V::select(up, one, V::select(down, -one, st.sign));
-    let reversed = (sign * st.sign).less(V::c(0.0));
+    let reversed = ((x - st.lin) * st.sign).less(V::c(0.0));
     st.rin = V::select(reversed, st.lin, st.rin);
     st.rout = V::select(reversed, st.lout, st.rout);
-    st.sign = sign;
+    st.sign = V::select(reversed, -st.sign, st.sign);
     reversed
 }
 
