@@ -10,7 +10,7 @@
 //!   their channel's 256 samples) — 2 MiB in and 2 MiB out for f64, more than L2 holds, so the
 //!   bank's time there is partly memory bandwidth (f32 moves half the bytes).
 //!
-//! `HYST_BANK_ISA=avx512|avx2|portable` forces one kernel.
+//! `HYST_BANK_ISA=avx512|avx2|sse2|portable` forces one kernel.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use std::hint::black_box;
@@ -91,12 +91,12 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str) -> Vec<Job<'a>> {
 
 fn main() {
     if let Ok(name) = std::env::var("HYST_BANK_ISA") {
-        let isa = [Isa::Avx512, Isa::Avx2, Isa::Portable]
-            .into_iter()
-            .find(|i| i.name() == name);
+        let isa = Isa::ALL.into_iter().find(|i| i.name() == name);
         if let Some(Ok(())) = isa.map(|i| force_isa(Some(i))) {
         } else {
-            eprintln!("HYST_BANK_ISA={name}: not one this processor runs (avx512, avx2, portable)");
+            eprintln!(
+                "HYST_BANK_ISA={name}: not one this processor runs (avx512, avx2, sse2, portable)"
+            );
             std::process::exit(2);
         }
     }

@@ -223,7 +223,7 @@ impl<T: Lane + Epsilon> LaneEps for T {}
 fn every_kernel_agrees_with_the_scalar_operator() {
     let _guard = ISA_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let mut ran = 0;
-    for kernel in [Isa::Avx512, Isa::Avx2, Isa::Portable] {
+    for kernel in Isa::ALL {
         if force_isa(Some(kernel)).is_err() {
             eprintln!("{}: not available here", kernel.name());
             continue;
@@ -374,7 +374,7 @@ fn the_end_of_the_float_range_is_handled_like_the_scalar_operator() {
         (fine, refused)
     }
     let _guard = ISA_LOCK.lock().unwrap_or_else(|e| e.into_inner());
-    for kernel in [Isa::Avx512, Isa::Avx2, Isa::Portable] {
+    for kernel in Isa::ALL {
         if force_isa(Some(kernel)).is_ok() {
             // The inverse falling to −max on channel 0 (k1 = 1e300) has its output beyond the
             // float range; the direct operator's output lies between the input and the

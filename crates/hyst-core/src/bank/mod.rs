@@ -433,17 +433,24 @@ pub enum Isa {
     Avx512,
     /// AVX2 + FMA, 256-bit vectors (4 × f64, 8 × f32) (x86-64, `std`).
     Avx2,
-    /// Portable code, one channel at a time (every target; x86-64's SSE2 baseline).
+    /// SSE2, 128-bit vectors (2 × f64, 4 × f32), no fused multiply-add: x86-64's baseline
+    /// (`std`).
+    Sse2,
+    /// Portable code, plain floats (every target).
     Portable,
 }
 
 impl Isa {
-    /// "avx512", "avx2" or "portable".
+    /// Every instruction set, best first.
+    pub const ALL: [Isa; 4] = [Isa::Avx512, Isa::Avx2, Isa::Sse2, Isa::Portable];
+
+    /// "avx512", "avx2", "sse2" or "portable".
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Isa::Avx512 => "avx512",
             Isa::Avx2 => "avx2",
+            Isa::Sse2 => "sse2",
             Isa::Portable => "portable",
         }
     }
@@ -455,6 +462,8 @@ impl Isa {
             Isa::Portable => true,
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
             Isa::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            Isa::Sse2 => true,
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
             Isa::Avx2 => {
                 std::arch::is_x86_feature_detected!("avx2")
@@ -468,7 +477,7 @@ impl Isa {
 
 /// The forced instruction set: 0 none, else 1 + its index in `ISAS`.
 static FORCED: core::sync::atomic::AtomicU8 = core::sync::atomic::AtomicU8::new(0);
-const ISAS: [Isa; 3] = [Isa::Avx512, Isa::Avx2, Isa::Portable];
+const ISAS: [Isa; 4] = Isa::ALL;
 
 /// Chooses the instruction set of every bank in the process (`None`: the best available, the
 /// default) — for measurements and for testing each kernel against the scalar operator.
@@ -481,7 +490,8 @@ pub fn force_isa(isa: Option<Isa>) -> Result<(), Isa> {
         Some(i) if i.available() => match i {
             Isa::Avx512 => 1,
             Isa::Avx2 => 2,
-            Isa::Portable => 3,
+            Isa::Sse2 => 3,
+            Isa::Portable => 4,
         },
         Some(i) => return Err(i),
     };
@@ -490,7 +500,7 @@ pub fn force_isa(isa: Option<Isa>) -> Result<(), Isa> {
 }
 
 /// The instruction set the banks run on now: the forced one ([`force_isa`]), else the best
-/// available (AVX-512, AVX2 + FMA, portable, in that order).
+/// available (AVX-512, AVX2 + FMA, SSE2, portable, in that order).
 #[must_use]
 pub fn isa() -> Isa {
     let forced = FORCED.load(core::sync::atomic::Ordering::Relaxed);
@@ -546,7 +556,14 @@ macro_rules! run_block {
                         }
                     }
                 }
-                kernel::run::<$t, F, S>(cols, input, output, samples, channel_major, limit)
+                kernel::run::<simd::Pair<simd::Pair<$t>>, F, S>(
+                    cols,
+                    input,
+                    output,
+                    samples,
+                    channel_major,
+                    limit,
+                )
             }
         }
     };

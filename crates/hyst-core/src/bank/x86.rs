@@ -6,7 +6,8 @@
 //! types here are private to the crate and are created and used only inside the
 //! `#[target_feature]` kernels at the bottom of this module, which `run_f64` / `run_f32` call
 //! only after `is_x86_feature_detected!` has confirmed the features (AVX2 and FMA for
-//! [`F64x4`] / [`F32x8`], AVX-512F for [`F64x8`] / [`F32x16`]). Loads and stores check the
+//! [`F64x4`] / [`F32x8`], AVX-512F for [`F64x8`] / [`F32x16`]); [`F64x2`] / [`F32x4`] need
+//! SSE2, which every x86-64 processor has. Loads and stores check the
 //! slice length first, so no intrinsic reads or writes outside a slice.
 
 #![allow(unsafe_code)]
@@ -505,11 +506,264 @@ macro_rules! entry {
     };
 }
 
+/// SSE2 vectors: x86-64's baseline (every x86-64 processor has SSE2), so no detection.
+macro_rules! sse2_vector {
+    (
+        $name:ident, $t:ty, $raw:ty, $lanes:expr, $full:expr,
+        [$add:ident, $sub:ident, $mul:ident, $div:ident, $xor:ident, $set1:ident],
+        [$loadu:ident, $storeu:ident],
+        [$lt:ident, $le:ident, $eq:ident, $and:ident, $or:ident, $andnot:ident, $movemask:ident],
+        [$to_int:ident, $from_int:ident, $add_int:ident, $set1_int:ident, $bias:expr,
+         $shl:ident, $shr:ident, $mant:literal, $mant_mask:expr, $one:expr, $exponent:expr]
+    ) => {
+        /// A vector of the bank's SSE2 kernel (x86-64's baseline).
+        #[derive(Clone, Copy)]
+        pub(crate) struct $name($raw);
+
+        impl Add for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, b: Self) -> Self {
+                Self(arch!($add(self.0, b.0)))
+            }
+        }
+        impl Sub for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn sub(self, b: Self) -> Self {
+                Self(arch!($sub(self.0, b.0)))
+            }
+        }
+        impl Mul for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn mul(self, b: Self) -> Self {
+                Self(arch!($mul(self.0, b.0)))
+            }
+        }
+        impl Div for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn div(self, b: Self) -> Self {
+                Self(arch!($div(self.0, b.0)))
+            }
+        }
+        impl Neg for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn neg(self) -> Self {
+                Self(arch!($xor(self.0, $set1(-0.0))))
+            }
+        }
+        impl Simd for $name {
+            type T = $t;
+            type M = $raw;
+            const LANES: usize = $lanes;
+            #[inline(always)]
+            fn splat(v: $t) -> Self {
+                Self(arch!($set1(v)))
+            }
+            #[inline(always)]
+            fn load(s: &[$t]) -> Self {
+                if s.len() < $lanes {
+                    return Self::splat(0.0);
+                }
+                Self(arch!($loadu(s.as_ptr())))
+            }
+            #[inline(always)]
+            fn store(self, s: &mut [$t]) {
+                if s.len() >= $lanes {
+                    arch!($storeu(s.as_mut_ptr(), self.0));
+                }
+            }
+            #[inline(always)]
+            fn fma(self, b: Self, c: Self) -> Self {
+                self * b + c
+            }
+            #[inline(always)]
+            fn less(self, b: Self) -> $raw {
+                arch!($lt(self.0, b.0))
+            }
+            #[inline(always)]
+            fn less_eq(self, b: Self) -> $raw {
+                arch!($le(self.0, b.0))
+            }
+            #[inline(always)]
+            fn equal(self, b: Self) -> $raw {
+                arch!($eq(self.0, b.0))
+            }
+            #[inline(always)]
+            fn select(m: $raw, a: Self, b: Self) -> Self {
+                Self(arch!($or($and(m, a.0), $andnot(m, b.0))))
+            }
+            #[inline(always)]
+            fn and(a: $raw, b: $raw) -> $raw {
+                arch!($and(a, b))
+            }
+            #[inline(always)]
+            fn or(a: $raw, b: $raw) -> $raw {
+                arch!($or(a, b))
+            }
+            #[inline(always)]
+            fn and_not(a: $raw, b: $raw) -> $raw {
+                arch!($andnot(b, a))
+            }
+            #[inline(always)]
+            fn any(m: $raw) -> bool {
+                arch!($movemask(m)) != 0
+            }
+            #[inline(always)]
+            fn all(m: $raw) -> bool {
+                arch!($movemask(m)) == $full
+            }
+            #[inline(always)]
+            fn magnitude(self) -> Self {
+                Self(arch!($andnot($set1(-0.0), self.0)))
+            }
+            #[inline(always)]
+            fn pow2_shifted(t: Self) -> Self {
+                Self(arch!($from_int($shl::<$mant>($add_int(
+                    $to_int(t.0),
+                    $set1_int($bias)
+                )))))
+            }
+            #[inline(always)]
+            fn split_exponent(self) -> (Self, Self) {
+                arch!({
+                    let bits = $to_int(self.0);
+                    let m =
+                        _mm_or_si128(_mm_and_si128(bits, $set1_int($mant_mask)), $set1_int($one));
+                    let k = $exponent($shr::<$mant>(bits));
+                    (Self($from_int(m)), Self(k))
+                })
+            }
+        }
+    };
+}
+
+/// The unbiased exponent of f64 bits shifted down: as a float, the bits of 2⁵² + e less
+/// 2⁵² + 1023 (SSE2 has no 64-bit integer conversion).
+#[inline(always)]
+fn exponent_f64(e: __m128i) -> __m128d {
+    arch!({
+        let e = _mm_or_si128(e, _mm_set1_epi64x(0x4330_0000_0000_0000));
+        _mm_sub_pd(_mm_castsi128_pd(e), _mm_set1_pd(TWO_52 + 1023.0))
+    })
+}
+
+/// The unbiased exponent of f32 bits shifted down, as a float.
+#[inline(always)]
+fn exponent_f32(e: __m128i) -> __m128 {
+    arch!(_mm_cvtepi32_ps(_mm_sub_epi32(e, _mm_set1_epi32(127))))
+}
+
+sse2_vector!(
+    F64x2,
+    f64,
+    __m128d,
+    2,
+    0x3,
+    [
+        _mm_add_pd,
+        _mm_sub_pd,
+        _mm_mul_pd,
+        _mm_div_pd,
+        _mm_xor_pd,
+        _mm_set1_pd
+    ],
+    [_mm_loadu_pd, _mm_storeu_pd],
+    [
+        _mm_cmplt_pd,
+        _mm_cmple_pd,
+        _mm_cmpeq_pd,
+        _mm_and_pd,
+        _mm_or_pd,
+        _mm_andnot_pd,
+        _mm_movemask_pd
+    ],
+    [
+        _mm_castpd_si128,
+        _mm_castsi128_pd,
+        _mm_add_epi64,
+        _mm_set1_epi64x,
+        1023,
+        _mm_slli_epi64,
+        _mm_srli_epi64,
+        52,
+        0x000f_ffff_ffff_ffff,
+        0x3ff0_0000_0000_0000,
+        exponent_f64
+    ]
+);
+sse2_vector!(
+    F32x4,
+    f32,
+    __m128,
+    4,
+    0xf,
+    [
+        _mm_add_ps,
+        _mm_sub_ps,
+        _mm_mul_ps,
+        _mm_div_ps,
+        _mm_xor_ps,
+        _mm_set1_ps
+    ],
+    [_mm_loadu_ps, _mm_storeu_ps],
+    [
+        _mm_cmplt_ps,
+        _mm_cmple_ps,
+        _mm_cmpeq_ps,
+        _mm_and_ps,
+        _mm_or_ps,
+        _mm_andnot_ps,
+        _mm_movemask_ps
+    ],
+    [
+        _mm_castps_si128,
+        _mm_castsi128_ps,
+        _mm_add_epi32,
+        _mm_set1_epi32,
+        127,
+        _mm_slli_epi32,
+        _mm_srli_epi32,
+        23,
+        0x007f_ffff,
+        0x3f80_0000,
+        exponent_f32
+    ]
+);
+
 /// The vectors a chunk of each kernel is made of (measured: docs/performance.md).
 type Avx2F64 = Pair<Pair<F64x4>>;
 type Avx2F32 = Pair<Pair<F32x8>>;
 type Avx512F64 = Pair<Pair<F64x8>>;
 type Avx512F32 = Pair<Pair<F32x16>>;
+type Sse2F64 = Pair<Pair<F64x2>>;
+type Sse2F32 = Pair<Pair<F32x4>>;
+
+/// The SSE2 kernels (x86-64's baseline: no detection, no `unsafe` call).
+fn f64_sse2<F: BankFormula, S: Storage<f64>>(
+    cols: &mut Columns<S>,
+    input: &[f64],
+    output: &mut [f64],
+    samples: usize,
+    channel_major: bool,
+    limit: Option<f64>,
+) -> Result<bool, BankError> {
+    super::kernel::run::<Sse2F64, F, S>(cols, input, output, samples, channel_major, limit)
+}
+
+fn f32_sse2<F: BankFormula, S: Storage<f32>>(
+    cols: &mut Columns<S>,
+    input: &[f32],
+    output: &mut [f32],
+    samples: usize,
+    channel_major: bool,
+    limit: Option<f32>,
+) -> Result<bool, BankError> {
+    super::kernel::run::<Sse2F32, F, S>(cols, input, output, samples, channel_major, limit)
+}
 
 entry!(f64_avx2, f64, Avx2F64, "avx2,fma");
 entry!(f32_avx2, f32, Avx2F32, "avx2,fma");
@@ -519,7 +773,7 @@ entry!(f32_avx512, f32, Avx512F32, "avx512f");
 /// Runs the kernel of `isa` when this processor has it (`None` otherwise, and for
 /// [`Isa::Portable`]).
 macro_rules! dispatch {
-    ($name:ident, $t:ty, $avx512:ident, $avx2:ident) => {
+    ($name:ident, $t:ty, $avx512:ident, $avx2:ident, $sse2:ident) => {
         pub(crate) fn $name<F: BankFormula, S: Storage<$t>>(
             isa: Isa,
             cols: &mut Columns<S>,
@@ -545,11 +799,19 @@ macro_rules! dispatch {
                         $avx2::<F, S>(cols, input, output, samples, channel_major, limit)
                     })
                 }
+                Isa::Sse2 => Some($sse2::<F, S>(
+                    cols,
+                    input,
+                    output,
+                    samples,
+                    channel_major,
+                    limit,
+                )),
                 _ => None,
             }
         }
     };
 }
 
-dispatch!(run_f64, f64, f64_avx512, f64_avx2);
-dispatch!(run_f32, f32, f32_avx512, f32_avx2);
+dispatch!(run_f64, f64, f64_avx512, f64_avx2, f64_sse2);
+dispatch!(run_f32, f32, f32_avx512, f32_avx2, f32_sse2);
