@@ -3,12 +3,14 @@
 //! per channel-sample, each figure the fastest of interleaved rounds (on a shared machine the
 //! slower rounds measure the neighbours).
 //!
-//! Two ways of running, each against the scalar operators run the same way:
+//! Three ways of running, each against the scalar operators run the same way:
 //! - tick by tick (the controller's loop: `step` with one sample per channel; the scalar
 //!   operators stepped once each per tick) — the data (8 KiB a tick) stays in L1;
-//! - a block of 256 ticks (`process_ticks`, time-major; the scalar operators each `process`
-//!   their channel's 256 samples) — 2 MiB in and 2 MiB out for f64, more than L2 holds, so the
-//!   bank's time there is partly memory bandwidth (f32 moves half the bytes).
+//! - blocks of 32 ticks (`process_ticks`, time-major; the scalar operators each `process`
+//!   their channel's 32 samples) — 256 KiB in and out for f64, in L2;
+//! - a block of 256 ticks — 2 MiB in and 2 MiB out for f64, more than L2 holds, so the bank's
+//!   time there is partly memory bandwidth, shared with whatever else the machine runs (f32
+//!   moves half the bytes).
 //!
 //! `HYST_BANK_ISA=avx512|avx2|sse2|portable` forces one kernel.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
@@ -21,6 +23,8 @@ use hyst_core::{BankVec, ConstantK2, Direct, Inverse, Operator, ParametricHyster
 
 const CHANNELS: usize = 1024;
 const TICKS: usize = 256;
+/// Ticks per block of the L2-resident blocks.
+const SHORT: usize = 32;
 const ROUNDS: usize = 60;
 
 /// Channel c's signal at tick t: a sum of sines with many reversals, each channel shifted in
@@ -32,7 +36,8 @@ fn signal(c: usize, t: usize) -> f64 {
 
 type Job<'a> = (String, Box<dyn FnMut() + 'a>);
 
-/// The four jobs of one precision and formula: bank and scalar, tick by tick and in a block.
+/// The six jobs of one precision and formula: bank and scalar, tick by tick, in blocks of
+/// [`SHORT`] ticks and in one block of [`TICKS`] ticks.
 fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str) -> Vec<Job<'a>> {
     let (k1, k2) = (T::from_f64(0.2), T::from_f64(8.0));
     let ticks: Vec<T> = (0..TICKS)
@@ -48,7 +53,16 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str) -> Vec<Job<'a>> {
             .collect()
     };
     let (mut b1, mut b2, mut s1, mut s2) = (bank(), bank(), ops(), ops());
-    let (t1, t2, t3, c4) = (ticks.clone(), ticks.clone(), ticks, channels);
+    let (mut b3, mut s3) = (bank(), ops());
+    let (t1, t2, t3, t5, c4) = (
+        ticks.clone(),
+        ticks.clone(),
+        ticks.clone(),
+        ticks,
+        channels.clone(),
+    );
+    let mut o5 = vec![T::zero(); CHANNELS * TICKS].into_boxed_slice();
+    let mut o6 = vec![T::zero(); CHANNELS * SHORT].into_boxed_slice();
     let mut o1 = vec![T::zero(); CHANNELS];
     let mut o2 = vec![T::zero(); CHANNELS * TICKS];
     let mut o3 = [T::zero(); CHANNELS];
@@ -67,6 +81,17 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str) -> Vec<Job<'a>> {
             Box::new(move || b2.process_ticks(black_box(&t2), &mut o2).unwrap()),
         ),
         (
+            format!("short bank   {name}"),
+            Box::new(move || {
+                for (block, out) in t5
+                    .chunks_exact(CHANNELS * SHORT)
+                    .zip(o5.chunks_exact_mut(CHANNELS * SHORT))
+                {
+                    b3.process_ticks(black_box(block), out).unwrap();
+                }
+            }),
+        ),
+        (
             format!("tick  scalar {name}"),
             Box::new(move || {
                 for row in t3.chunks_exact(CHANNELS) {
@@ -83,6 +108,19 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str) -> Vec<Job<'a>> {
                 for (c, op) in s2.iter_mut().enumerate() {
                     let r = c * TICKS..(c + 1) * TICKS;
                     op.process(&input[r.clone()], &mut output[r]).unwrap();
+                }
+            }),
+        ),
+        (
+            format!("short scalar {name}"),
+            Box::new(move || {
+                // The same samples in blocks of SHORT ticks, each channel's block contiguous.
+                for b in 0..TICKS / SHORT {
+                    for (c, op) in s3.iter_mut().enumerate() {
+                        let r = c * TICKS + b * SHORT..c * TICKS + (b + 1) * SHORT;
+                        let o = c * SHORT..(c + 1) * SHORT;
+                        op.process(black_box(&channels[r]), &mut o6[o]).unwrap();
+                    }
                 }
             }),
         ),
@@ -117,10 +155,14 @@ fn main() {
     for ((name, _), ns) in all.iter().zip(&best) {
         println!("{name:<26} {ns:>7.3} ns/channel-sample");
     }
-    // Index: 4 per (formula, precision): tick bank, block bank, tick scalar, block scalar.
-    for (mode, k) in [("tick by tick", 0), ("block of 256", 1)] {
-        let (inv, dir, inv32) = (best[k], best[4 + k], best[8 + k]);
-        let (sinv, sdir) = (best[2 + k], best[6 + k]);
+    // Per (formula, precision), 6 jobs: bank tick, block, short; scalar tick, block, short.
+    for (mode, k) in [
+        ("tick by tick", 0),
+        ("block of 256", 1),
+        ("blocks of 32", 2),
+    ] {
+        let (inv, dir, inv32) = (best[k], best[6 + k], best[12 + k]);
+        let (sinv, sdir) = (best[3 + k], best[9 + k]);
         println!(
             "{mode}: inverse {:.3} x scalar (goal <= 0.25), direct {:.3} x scalar (goal <= 0.33), \
              f32 inverse {:.3} x f64 (goal <= 0.5), f32 inverse {:.0} M channel-samples/s \

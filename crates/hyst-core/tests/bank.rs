@@ -266,32 +266,54 @@ fn memories<F: hyst_core::bank::BankFormula>(bank: &BankVec<f64, F>) -> Vec<Opti
     (0..bank.channels()).map(|c| bank.memory(c)).collect()
 }
 
-/// A non-finite sample is an error naming its channel, in every layout, and no channel's
-/// memory changes; slices of the wrong length are errors, never panics.
+/// A non-finite sample is an error naming its channel, in every layout: in one tick no
+/// channel's memory changes; in a block the ticks before the failing one are done (the memory
+/// is as after them) and the rest are not. Slices of the wrong length are errors, never panics.
 #[test]
-fn bad_input_is_an_error_that_leaves_every_memory_alone() {
+fn bad_input_is_an_error_that_leaves_every_memory_as_before_the_tick() {
     let n = 11;
     let mut bank = BankVec::<f64, Direct>::from_vecs(vec![0.2; n], vec![8.0; n]).unwrap();
     let ticks: Vec<f64> = (0..3 * n).map(|i| (i as f64 * 0.37).sin()).collect();
     let mut out = vec![0.0; 3 * n];
     bank.process_ticks(&ticks, &mut out).unwrap();
     let before = memories(&bank);
+    // The same bank after two more good ticks (what a block failing at its third tick leaves).
+    let mut two = bank.clone();
+    two.process_ticks(&ticks[..2 * n], &mut out[..2 * n])
+        .unwrap();
+    let after_two = memories(&two);
+    let mut one = bank.clone();
+    let first: Vec<f64> = (0..n).map(|c| ticks[c * 3]).collect();
+    one.step(&first, &mut out[..n]).unwrap();
+    let after_one = memories(&one);
     for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
         let mut x: Vec<f64> = (0..n).map(|c| c as f64 * 0.01).collect();
         x[7] = bad;
         let e = bank.step(&x, &mut out[..n]).unwrap_err();
         assert_eq!(e.channel, 7);
         assert!(matches!(e.error, Error::NonFiniteInput { .. }));
+        assert_eq!(memories(&bank), before);
+
+        let mut b = bank.clone();
         let mut block = ticks.clone();
         block[2 * n + 5] = bad; // tick 2, channel 5, time-major
-        assert_eq!(bank.process_ticks(&block, &mut out).unwrap_err().channel, 5);
-        let mut block = ticks.clone();
-        block[4 * 3 + 1] = bad; // channel 4, tick 1, channel-major
-        assert_eq!(
-            bank.process_block(&block, &mut out, 3).unwrap_err().channel,
-            4
-        );
-        assert_eq!(memories(&bank), before);
+        assert_eq!(b.process_ticks(&block, &mut out).unwrap_err().channel, 5);
+        assert_eq!(memories(&b), after_two);
+
+        let mut b = bank.clone();
+        let block: Vec<f64> = (0..n)
+            .flat_map(|c| (0..3).map(move |t| (c, t)))
+            .map(|(c, t)| {
+                if c == 4 && t == 1 {
+                    bad
+                } else {
+                    ticks[c * 3 + t]
+                }
+            })
+            .collect(); // channel 4, tick 1, channel-major
+        let e = b.process_block(&block, &mut out, 3).unwrap_err();
+        assert_eq!(e.channel, 4);
+        assert_eq!(memories(&b), after_one);
     }
     // Lengths: errors, not panics, and nothing changes.
     let short = vec![0.0; n - 1];
@@ -389,6 +411,17 @@ fn the_end_of_the_float_range_is_handled_like_the_scalar_operator() {
         }
     }
     force_isa(None).unwrap();
+
+    // In a block, a refused tick stops it there: the ticks before are done.
+    let mut bank = BankVec::<f64, Inverse>::from_vecs(vec![1e300, 0.5], vec![1e-290, 8.0]).unwrap();
+    let block = [0.0, 0.0, -1e308, 1.0, -f64::MAX, 2.0, 0.0, 3.0];
+    let mut out = [0.0; 8];
+    let mut two = bank.clone();
+    two.process_ticks(&block[..4], &mut out[..4]).unwrap();
+    let e = bank.process_ticks(&block, &mut out).unwrap_err();
+    assert_eq!(e.channel, 0);
+    assert!(matches!(e.error, Error::NonFiniteOutput { .. }));
+    assert_eq!(memories(&bank), memories(&two));
 }
 
 /// One tick at a time, a time-major block and a channel-major block give the same outputs and

@@ -10,7 +10,7 @@
 
 use super::lanes::{exp, fsc_step, ln, omega_series, omega_start, omega_v, Lane};
 use super::simd::Simd;
-use super::{BankError, BankFormula, Columns, Storage};
+use super::{BankError, BankFormula, Block, Columns, Storage};
 use crate::{ConstantK2, Direction, Memory, Operator, ParametricHysteresis};
 
 /// The most lanes of any vector (AVX-512 f32).
@@ -267,12 +267,11 @@ fn tick<V: Simd, F: BankFormula>(
 /// slower for 1,024 channels).
 const TILE: usize = 16;
 
-/// Runs `samples` ticks through every channel of `cols`: channel c at tick t is at
-/// `c * samples + t` (`channel_major`) or `t * channels + c`. Tile by tile of [`TILE`] ticks;
-/// in a tile, chunk by chunk, whose state stays in registers while its ticks go by.
-///
-/// With `limit`, first checks that every sample's magnitude is below it (false for NaN and
-/// ±∞), and returns `Ok(false)` without running otherwise.
+/// Runs ticks `block.begin..block.end` through every channel of `cols`. Tile by tile of
+/// [`TILE`] ticks; in a tile, chunk by chunk, whose state stays in registers while its ticks go
+/// by. With a limit, each tile's samples are checked first (while they are in cache for the
+/// run that follows), and the run stops before the first tick with a sample whose magnitude is
+/// not below the limit (or is NaN): `Ok(Some(t))`, every tick before t done.
 ///
 /// # Errors
 /// What the scalar operator refuses on the rare path (an output beyond the float range); some
@@ -280,28 +279,27 @@ const TILE: usize = 16;
 #[inline(always)]
 pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
     cols: &mut Columns<S>,
-    input: &[V::T],
-    output: &mut [V::T],
-    samples: usize,
-    channel_major: bool,
-    limit: Option<V::T>,
-) -> Result<bool, BankError> {
-    if let Some(limit) = limit {
-        if !all_within::<V>(input, limit) {
-            return Ok(false);
-        }
-    }
+    block: &mut Block<'_, V::T>,
+) -> Result<Option<usize>, BankError> {
     let n = cols.k1.as_ref().len();
     let layout = Layout {
         n,
-        samples,
-        channel_major,
+        samples: block.samples,
+        channel_major: block.channel_major,
     };
-    let mut t0 = 0;
-    while t0 < samples {
-        let t1 = (t0 + TILE).min(samples);
+    let (input, end) = (block.input, block.end.min(block.samples));
+    let mut t0 = block.begin;
+    while t0 < end {
+        let mut t1 = (t0 + TILE).min(end);
+        let stop = match block.limit {
+            Some(limit) => first_beyond::<V>(input, &layout, t0, t1, limit),
+            None => None,
+        };
+        if let Some(bad) = stop {
+            t1 = bad;
+        }
         let mut start = 0;
-        while start < n {
+        while start < n && t0 < t1 {
             let width = (n - start).min(V::LANES);
             let x0 = gather::<V>(input, &layout, start, width, t0);
             let (mut st, mut changed) = load::<V, F, S>(cols, start, width, x0);
@@ -314,7 +312,7 @@ pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
                 if t + 1 < t1 {
                     x = gather::<V>(input, &layout, start, width, t + 1);
                 }
-                scatter(output, &layout, start, width, t, y);
+                scatter(block.output, &layout, start, width, t, y);
             }
             put(cols.last_input.as_mut(), start, width, st.lin);
             put(cols.last_output.as_mut(), start, width, st.lout);
@@ -331,9 +329,50 @@ pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
             }
             start += width;
         }
+        if stop.is_some() {
+            return Ok(stop);
+        }
         t0 = t1;
     }
-    Ok(true)
+    Ok(None)
+}
+
+/// The first tick of `t0..t1` with a sample whose magnitude is not below `limit` (NaN, ±∞ or
+/// near the end of the float range), a vector at a time over the tile.
+#[inline(always)]
+fn first_beyond<V: Simd>(
+    input: &[V::T],
+    at: &Layout,
+    t0: usize,
+    t1: usize,
+    limit: V::T,
+) -> Option<usize> {
+    // Not `>`: NaN is beyond too.
+    let within = |x: &V::T| x.magnitude() <= limit;
+    if at.channel_major {
+        let mut first = None;
+        for c in 0..at.n {
+            let row = input
+                .get(c * at.samples + t0..c * at.samples + t1)
+                .unwrap_or(&[]);
+            if !all_within::<V>(row, limit) {
+                let t = row.iter().position(|x| !within(x)).map_or(t1, |i| t0 + i);
+                first = Some(first.map_or(t, |f: usize| f.min(t)));
+            }
+        }
+        first
+    } else {
+        let tile = input.get(t0 * at.n..t1 * at.n).unwrap_or(&[]);
+        if all_within::<V>(tile, limit) {
+            None
+        } else {
+            Some(
+                tile.iter()
+                    .position(|x| !within(x))
+                    .map_or(t1, |i| t0 + i / at.n.max(1)),
+            )
+        }
+    }
 }
 
 /// Whether every sample's magnitude is at most `limit` (false for NaN and ±∞ above a finite

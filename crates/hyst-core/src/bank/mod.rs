@@ -307,8 +307,10 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// shape (channels, samples)): `input[c * samples + t]` is channel c at tick t.
     ///
     /// # Errors
-    /// As [`ParametricBank::step`], for the first failing channel (in channel order); no
-    /// channel's memory changes then (no tick is processed).
+    /// As [`ParametricBank::step`], for the first tick that fails (with its first failing
+    /// channel): the ticks before it are processed (their outputs written, every channel's
+    /// memory as after them), that tick and the later ones are not (their outputs are
+    /// unspecified). Lengths are checked before anything runs.
     pub fn process_block(
         &mut self,
         input: &[T],
@@ -349,10 +351,12 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
         self.run_checked(input, output, input.len() / n, false)
     }
 
-    /// Runs a block whose lengths are checked: straight through when every sample is below
-    /// the input limit (then no channel can fail); otherwise a non-finite sample is an error
-    /// before anything runs, and a run with samples near the end of the float range works on
-    /// the memory with a copy to put back should the scalar operator refuse a sample.
+    /// Runs a block whose lengths are checked. The kernel checks each tile of ticks against
+    /// the input limit before running it and stops before the first tick with a sample at or
+    /// beyond the limit; that tick is an error if a sample is not finite, and otherwise runs
+    /// alone on the memory with a copy to put back should the scalar operator refuse a sample
+    /// (an output beyond the float range). Either way the ticks before the failing one are
+    /// done and the memory is as after them.
     fn run_checked(
         &mut self,
         input: &[T],
@@ -360,43 +364,54 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
         samples: usize,
         channel_major: bool,
     ) -> Result<(), BankError> {
-        // The kernels check the samples against the limit first (in vector code), and run
-        // only when all are below it.
-        let limit = Some(self.limit);
-        if T::run::<F, S>(
-            &mut self.columns,
-            input,
-            output,
-            samples,
-            channel_major,
-            limit,
-        )? {
-            return Ok(());
-        }
         let n = self.channels().max(1);
-        if let Some((i, x)) = input.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-            return Err(BankError {
-                channel: if channel_major {
-                    i / samples.max(1)
+        let mut begin = 0;
+        while begin < samples {
+            let mut block = Block {
+                input,
+                output: &mut *output,
+                samples,
+                channel_major,
+                begin,
+                end: samples,
+                limit: Some(self.limit),
+            };
+            let Some(bad) = T::run::<F, S>(&mut self.columns, &mut block)? else {
+                return Ok(());
+            };
+            let sample = |c: usize| {
+                let i = if channel_major {
+                    c * samples + bad
                 } else {
-                    i % n
-                },
-                error: Error::NonFiniteInput { value: x.as_f64() },
-            });
+                    bad * n + c
+                };
+                input.get(i).copied().unwrap_or_else(T::zero)
+            };
+            if let Some(channel) = (0..n).find(|c| !sample(*c).is_finite()) {
+                return Err(BankError {
+                    channel,
+                    error: Error::NonFiniteInput {
+                        value: sample(channel).as_f64(),
+                    },
+                });
+            }
+            let before = self.columns.clone();
+            let mut block = Block {
+                input,
+                output: &mut *output,
+                samples,
+                channel_major,
+                begin: bad,
+                end: bad + 1,
+                limit: None,
+            };
+            if let Err(e) = T::run::<F, S>(&mut self.columns, &mut block) {
+                self.columns = before;
+                return Err(e);
+            }
+            begin = bad + 1;
         }
-        let before = self.columns.clone();
-        let result = T::run::<F, S>(
-            &mut self.columns,
-            input,
-            output,
-            samples,
-            channel_major,
-            None,
-        );
-        if result.is_err() {
-            self.columns = before;
-        }
-        result.map(|_| ())
+        Ok(())
     }
 }
 
@@ -512,20 +527,31 @@ pub fn isa() -> Isa {
         .unwrap_or(Isa::Portable)
 }
 
+/// The samples a kernel runs: `samples` ticks of all channels, channel c at tick t at
+/// `c * samples + t` (`channel_major`) or `t * channels + c`, of which ticks `begin..end` run;
+/// with a `limit`, only while every sample's magnitude is below it. Public only as a parameter
+/// of the sealed [`RunBlock`].
+#[doc(hidden)]
+pub struct Block<'a, T> {
+    input: &'a [T],
+    output: &'a mut [T],
+    samples: usize,
+    channel_major: bool,
+    begin: usize,
+    end: usize,
+    limit: Option<T>,
+}
+
 /// How a float type runs a block: the dispatch to the kernel of the chosen instruction set.
 /// Implemented for `f32` and `f64` only.
 pub trait RunBlock: Sized {
-    /// Runs `samples` ticks of `input` through every channel of `cols`, unless some sample's
-    /// magnitude is not below `limit` (or is NaN): then `Ok(false)` and nothing changes.
+    /// Runs the ticks of `block` through every channel of `cols`; `Ok(Some(t))` when tick `t`
+    /// has a sample beyond the block's limit (the ticks before it have run, tick `t` has not).
     #[doc(hidden)]
     fn run<F: BankFormula, S: Storage<Self>>(
         cols: &mut Columns<S>,
-        input: &[Self],
-        output: &mut [Self],
-        samples: usize,
-        channel_major: bool,
-        limit: Option<Self>,
-    ) -> Result<bool, BankError>;
+        block: &mut Block<'_, Self>,
+    ) -> Result<Option<usize>, BankError>;
 }
 
 macro_rules! run_block {
@@ -533,37 +559,18 @@ macro_rules! run_block {
         impl RunBlock for $t {
             fn run<F: BankFormula, S: Storage<Self>>(
                 cols: &mut Columns<S>,
-                input: &[Self],
-                output: &mut [Self],
-                samples: usize,
-                channel_major: bool,
-                limit: Option<Self>,
-            ) -> Result<bool, BankError> {
+                block: &mut Block<'_, Self>,
+            ) -> Result<Option<usize>, BankError> {
                 #[cfg(all(feature = "std", target_arch = "x86_64"))]
                 {
                     let isa = isa();
                     if isa != Isa::Portable {
-                        if let Some(r) = x86::$entry::<F, S>(
-                            isa,
-                            cols,
-                            input,
-                            output,
-                            samples,
-                            channel_major,
-                            limit,
-                        ) {
+                        if let Some(r) = x86::$entry::<F, S>(isa, cols, block) {
                             return r;
                         }
                     }
                 }
-                kernel::run::<simd::Pair<simd::Pair<$t>>, F, S>(
-                    cols,
-                    input,
-                    output,
-                    samples,
-                    channel_major,
-                    limit,
-                )
+                kernel::run::<simd::Pair<simd::Pair<$t>>, F, S>(cols, block)
             }
         }
     };

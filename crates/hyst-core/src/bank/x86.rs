@@ -19,7 +19,7 @@ use super::simd::{Pair, Simd};
 
 /// 2⁵².
 const TWO_52: f64 = (1_u64 << 52) as f64;
-use super::{BankError, BankFormula, Columns, Isa, Storage};
+use super::{BankError, BankFormula, Block, Columns, Isa, Storage};
 
 /// Runs an intrinsic. SAFETY: see the module's safety argument — every use is inside a vector
 /// type of this module, which exists only on a processor with its instruction set; pointers are
@@ -495,13 +495,9 @@ macro_rules! entry {
         #[target_feature(enable = $features)]
         fn $name<F: BankFormula, S: Storage<$t>>(
             cols: &mut Columns<S>,
-            input: &[$t],
-            output: &mut [$t],
-            samples: usize,
-            channel_major: bool,
-            limit: Option<$t>,
-        ) -> Result<bool, BankError> {
-            super::kernel::run::<$v, F, S>(cols, input, output, samples, channel_major, limit)
+            block: &mut Block<'_, $t>,
+        ) -> Result<Option<usize>, BankError> {
+            super::kernel::run::<$v, F, S>(cols, block)
         }
     };
 }
@@ -745,24 +741,16 @@ type Sse2F32 = Pair<Pair<F32x4>>;
 /// The SSE2 kernels (x86-64's baseline: no detection, no `unsafe` call).
 fn f64_sse2<F: BankFormula, S: Storage<f64>>(
     cols: &mut Columns<S>,
-    input: &[f64],
-    output: &mut [f64],
-    samples: usize,
-    channel_major: bool,
-    limit: Option<f64>,
-) -> Result<bool, BankError> {
-    super::kernel::run::<Sse2F64, F, S>(cols, input, output, samples, channel_major, limit)
+    block: &mut Block<'_, f64>,
+) -> Result<Option<usize>, BankError> {
+    super::kernel::run::<Sse2F64, F, S>(cols, block)
 }
 
 fn f32_sse2<F: BankFormula, S: Storage<f32>>(
     cols: &mut Columns<S>,
-    input: &[f32],
-    output: &mut [f32],
-    samples: usize,
-    channel_major: bool,
-    limit: Option<f32>,
-) -> Result<bool, BankError> {
-    super::kernel::run::<Sse2F32, F, S>(cols, input, output, samples, channel_major, limit)
+    block: &mut Block<'_, f32>,
+) -> Result<Option<usize>, BankError> {
+    super::kernel::run::<Sse2F32, F, S>(cols, block)
 }
 
 entry!(f64_avx2, f64, Avx2F64, "avx2,fma");
@@ -777,36 +765,21 @@ macro_rules! dispatch {
         pub(crate) fn $name<F: BankFormula, S: Storage<$t>>(
             isa: Isa,
             cols: &mut Columns<S>,
-            input: &[$t],
-            output: &mut [$t],
-            samples: usize,
-            channel_major: bool,
-            limit: Option<$t>,
-        ) -> Option<Result<bool, BankError>> {
+            block: &mut Block<'_, $t>,
+        ) -> Option<Result<Option<usize>, BankError>> {
             match isa {
                 Isa::Avx512 if std::arch::is_x86_feature_detected!("avx512f") => {
                     // SAFETY: AVX-512F was detected on this processor just above.
-                    Some(unsafe {
-                        $avx512::<F, S>(cols, input, output, samples, channel_major, limit)
-                    })
+                    Some(unsafe { $avx512::<F, S>(cols, block) })
                 }
                 Isa::Avx2
                     if std::arch::is_x86_feature_detected!("avx2")
                         && std::arch::is_x86_feature_detected!("fma") =>
                 {
                     // SAFETY: AVX2 and FMA were detected on this processor just above.
-                    Some(unsafe {
-                        $avx2::<F, S>(cols, input, output, samples, channel_major, limit)
-                    })
+                    Some(unsafe { $avx2::<F, S>(cols, block) })
                 }
-                Isa::Sse2 => Some($sse2::<F, S>(
-                    cols,
-                    input,
-                    output,
-                    samples,
-                    channel_major,
-                    limit,
-                )),
+                Isa::Sse2 => Some($sse2::<F, S>(cols, block)),
                 _ => None,
             }
         }
