@@ -32,6 +32,9 @@ struct State<V> {
     ln_k2: V,
     m_star: V,
     ln_a: V,
+    /// Inverse: −k2 (fixed) and s M* = s k1 − (β0 − α0) (eq. 4; changes only at reversals).
+    neg_k2: V,
+    sm: V,
 }
 
 /// A column's values for `start .. start + width` into a vector, padding with `fill`.
@@ -90,11 +93,15 @@ fn observe<V: Simd>(st: &mut State<V>, x: V) -> V::M {
 #[inline(always)]
 fn inverse_output<V: Simd>(st: &State<V>, x: V) -> V {
     let d = x - st.rin;
-    // −k2 ũd as ((α0 − x) s) k2: the same rounding as −(k2 (s (x − α0))), one operation less.
-    let e = exp(((st.rin - x) * st.sign) * st.k2);
-    let sm = st.k1.fma(st.sign, st.rin - st.rout);
-    let along = d + st.rout;
-    (V::c(1.0) - e).fma(sm, along)
+    // −k2 ũd as ((x − α0) s) (−k2): the scalar operator's −(k2 ũd), bit for bit.
+    let e = exp((d * st.sign) * st.neg_k2);
+    (V::c(1.0) - e).fma(st.sm, d + st.rout)
+}
+
+/// s M* = s k1 − (β0 − α0) of eq. (4), from the memory.
+#[inline(always)]
+fn inverse_cache<V: Simd>(st: &State<V>) -> V {
+    st.k1.fma(st.sign, st.rin - st.rout)
 }
 
 /// Eq. (2): ũ = ṽ − M* + ω(y) / k2 with y = ln(k2 M*) + k2 (M* − ṽ) (W0(k2 M* e^(k2 (M* − ṽ)))
@@ -245,6 +252,8 @@ fn tick<V: Simd, F: BankFormula>(
         let (m, ln_a) = direct_cache(st);
         st.m_star = V::select(reversed, m, st.m_star);
         st.ln_a = V::select(reversed, ln_a, st.ln_a);
+    } else if any_reversed {
+        st.sm = inverse_cache(st);
     }
     let mut y = if F::DIRECT {
         direct_output(st, x)
@@ -255,6 +264,11 @@ fn tick<V: Simd, F: BankFormula>(
     if !V::all((y - x).magnitude().less_eq(st.k1)) {
         [y, st.rin, st.rout, st.sign] = repair::<V, F>(*st, x, y, start, width)?;
         *changed = true;
+        if F::DIRECT {
+            (st.m_star, st.ln_a) = direct_cache(st);
+        } else {
+            st.sm = inverse_cache(st);
+        }
     }
     st.lin = x;
     st.lout = y;
@@ -465,6 +479,8 @@ fn load<V: Simd, F: BankFormula, S: Storage<V::T>>(
         ln_k2: one,
         m_star: one,
         ln_a: one,
+        neg_k2: one,
+        sm: one,
     };
     let mut fresh = !V::all(started);
     if fresh {
@@ -487,6 +503,9 @@ fn load<V: Simd, F: BankFormula, S: Storage<V::T>>(
             st.m_star = V::select(valid, st.m_star, m);
             st.ln_a = V::select(valid, st.ln_a, ln_a);
         }
+    } else {
+        st.neg_k2 = -st.k2;
+        st.sm = inverse_cache(&st);
     }
     (st, fresh)
 }
