@@ -1,15 +1,17 @@
 //! Branch-free `exp`, `ln` and Wright ω for the channel bank, written once for every vector
-//! width ([`Simd`]: one lane of `f32`/`f64`, AVX2, AVX-512) as straight-line code: selects, no
+//! width ([`Simd`]: one lane of `f32`/`f64`, SSE2, AVX2, AVX-512) as straight-line code: selects, no
 //! branches per lane, no calls into libm.
 //!
 //! - `exp`: Cody–Waite reduction x = n ln 2 + r, |r| ≤ ln 2 / 2, the Taylor polynomial of e^r
 //!   to degree 13 (f64) or 7 (f32) evaluated in pairs (c₂ᵢ + c₂ᵢ₊₁ r, then Horner in r²), and
-//!   2ⁿ built from its bits (AVX-512: `vscalefpd`). Error ≤ 2 ulp for normal results (tested
-//!   against the platform's `exp` in `tests/bank.rs`). Portable and AVX2: results below the
-//!   smallest normal float (x < −708.39 for f64, −87.33 for f32) are 0, and above 709.43 (f64)
-//!   / 88.37 (f32) +∞, a factor of at most 2 before the float range ends (the bank's callers
-//!   hand such samples to the scalar operator); AVX-512 gets subnormal results and the end of
-//!   the range right.
+//!   2ⁿ built from its bits; results below the smallest normal float (x < −708.39 for f64,
+//!   −87.33 for f32) are 0, and above 709.43 (f64) / 88.37 (f32) +∞, a factor of at most 2
+//!   before the float range ends (the bank's callers hand such samples to the scalar operator).
+//!   AVX-512 reduces by ln 2 / 8 (f64) or ln 2 / 16 (f32) instead, with the table of 2^(j/8) or
+//!   2^(j/16) in one register (one permute), degree 8 or 4, and `vscalefpd`, which gets
+//!   subnormal results and the end of the range right. Error ≤ 2 ulp for normal results
+//!   (tested against the platform's `exp` in `tests/bank.rs` and, per kernel, in the unit tests
+//!   of the `x86` module).
 //! - `ln`: fdlibm's `e_log.c` / `e_logf.c` (x = 2ᵏ m, √½ ≤ m < √2, s = f / (2 + f), minimax
 //!   polynomial in s²); error ≤ 1 ulp for normal positive x.
 //! - ω(y) = W0(eʸ), the solution of ω + ln ω = y: see [`omega`] and the direct kernel.
@@ -25,7 +27,7 @@ use crate::Real;
 
 /// A float type the bank runs: `f32` or `f64`, with the constants of its elementary functions.
 pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
-    /// Below this y, the five-term series of ω in t = eʸ (see [`omega_series`]) is exact to
+    /// Below this y, the five-term series of ω in t = eʸ (`omega_series`) is exact to
     /// rounding (its first omitted term, 10.8 t⁶, is below half an ulp of t).
     const OMEGA_SERIES: Self;
     /// Below this y, ω(y) = t − t² (t = eʸ) to within an ulp (used by [`omega`]).
@@ -415,8 +417,17 @@ where
     V::select(y.less(V::splat(<V::T as Lane>::OMEGA_SMALL)), t - t * t, w)
 }
 
-/// ω(y) = W0(eʸ), the Wright omega function, for one value (see [`omega_v`]): the bank's
-/// evaluation from scratch, for tests and comparisons with [`crate::lambert::omega`].
+/// ω(y) = W0(eʸ), the Wright omega function, for one value, as the bank evaluates it from
+/// scratch: Winitzki's start L (1 − ln(1 + L) / (2 + L)), L = ln(1 + eʸ), refined by two
+/// fourth-order Fritsch–Shafer–Crowley steps; t − t² (t = eʸ) below [`Lane::OMEGA_SMALL`].
+/// ω(−∞) = 0. For tests and comparisons with [`crate::lambert::omega`].
+///
+/// # Examples
+/// ```
+/// use hyst_core::bank::lanes::omega;
+/// let w = omega(1.0_f64); // W(e) = 1
+/// assert!((w - 1.0).abs() < 1e-15);
+/// ```
 #[must_use]
 pub fn omega<T: Lane>(y: T) -> T {
     omega_v(y)

@@ -2,26 +2,30 @@
 //! (Definition 2.1), stepped together — a deformable mirror's actuators, the axes of a stage.
 //!
 //! The state is a structure of arrays over storage `S` (`[T; N]` arrays without allocation, or
-//! `Vec<T>` with `std`). The channels run in chunks of one vector register (AVX-512: 8 × f64,
-//! 16 × f32; AVX2: 4 × f64, 8 × f32) whose state stays in registers while the ticks go by, in
-//! branch-free code written once against a small vector trait ([`lanes`] has the elementary
-//! functions). With `std` on x86-64 the instruction set is chosen at run time (AVX-512, else
-//! AVX2 + FMA, else the portable code, one channel at a time, which is also what `no_std`
-//! builds and other processors run); [`isa`] tells which, [`force_isa`] chooses one.
-//! docs/performance.md has the measurements behind these choices.
+//! `Vec<T>` with `std`). The channels run in chunks of four vector registers (AVX-512: 32 × f64,
+//! 64 × f32) whose state stays in registers while the ticks go by (four independent dependency
+//! chains per tick, which the processor overlaps), in branch-free code written once against a
+//! small vector trait ([`lanes`] has the elementary functions). With `std` on x86-64 the
+//! instruction set is chosen at run time: AVX-512, else AVX2 + FMA, else SSE2 (x86-64's
+//! baseline); other targets and `no_std` builds run the portable code (plain floats, four
+//! channels at a time). [`isa`] tells which runs, [`force_isa`] chooses one. docs/performance.md
+//! has the measurements behind these choices.
 //!
 //! The results agree with the scalar operator ([`crate::Hysteresis`],
 //! [`crate::InverseHysteresis`]) to a few ulp, not bit for bit: the bank has its own `exp`, `ln`
 //! and ω where the scalar operator calls the platform's `exp` and the `lambert_w` crate, and the
-//! AVX2 and AVX-512 kernels fuse multiply-adds (so they also differ from the portable kernel in
-//! the last bits). The bound is stated and tested for every kernel in `tests/bank.rs`.
+//! AVX2 and AVX-512 kernels fuse multiply-adds (so they also differ from the SSE2 and portable
+//! kernels in the last bits). For every kernel, |bank − scalar| ≤ 4 ulp (inverse) and 16 ulp
+//! (direct) of max(|input|, |output|, k1, |memory points|), tested in `tests/bank.rs`.
 //!
 //! Guarantees shared with the scalar operator: every output satisfies |output − input| ≤ k1 as
 //! computed in floating point (so a saved memory always passes [`Memory::validate`]); a lane
 //! whose output would leave that band or not be finite is computed by the scalar operator from
-//! the same memory. Non-finite inputs and outputs are errors naming the channel, and then no
-//! channel's memory changes.
+//! the same memory. A non-finite input, or a finite one whose output is beyond the float range,
+//! is an error naming the channel; the ticks before it are done and every channel's memory is
+//! as after them (for [`ParametricBank::step`]: unchanged).
 //!
+//! Inverse operator (eq. 4): v = (x − α0 + β0) + (1 − e^(−k2 ũd)) s M*, s M* cached per channel.
 //! Direct operator (eq. 2): ũ = ṽ − M* + ω(y)/k2 with y = ln(k2 M*) + k2 (M* − ṽ) (the scalar
 //! operator's W0(k2 M* e^(k2 (M* − ṽ))) in the log domain, so nothing overflows), and
 //! ũ = (ln(k2 M*) − ln ω)/k2 where e^y would overflow. M* and ln(k2 M*) change only at reversals

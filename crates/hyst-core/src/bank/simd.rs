@@ -1,7 +1,8 @@
 //! The vector operations the bank's kernels are written in: one trait, [`Simd`], implemented by
-//! `f32` and `f64` themselves (one lane: the portable kernels, also those of `no_std` builds and
-//! of x86-64 processors without AVX2) and, in [`super::x86`], by AVX2 + FMA and AVX-512 vectors.
-//! The kernels and the elementary functions ([`super::lanes`]) are written once against it.
+//! `f32` and `f64` themselves (one lane: the portable kernels, which `no_std` builds and other
+//! processors run), by [`Pair`] (two vectors as one: four per chunk in every kernel) and, in
+//! the bank's `x86` module, by SSE2, AVX2 + FMA and AVX-512 vectors. The kernels and the
+//! elementary functions ([`super::lanes`]) are written once against it.
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 

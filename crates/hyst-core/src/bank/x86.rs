@@ -788,3 +788,81 @@ macro_rules! dispatch {
 
 dispatch!(run_f64, f64, f64_avx512, f64_avx2, f64_sse2);
 dispatch!(run_f32, f32, f32_avx512, f32_avx2, f32_sse2);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bank::lanes::{exp, ln};
+
+    /// A deterministic generator (xorshift64*) of uniform numbers in [0, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1_u64 << 53) as f64
+        }
+    }
+
+    /// The worst error of `exp` and `ln` on vector `V` against the platform's, in ulp of the
+    /// result (normal results only), over 2e5 arguments.
+    fn worst<V: Simd>(
+        to: impl Fn(f64) -> V::T,
+        from: impl Fn(V::T) -> f64,
+        eps: f64,
+    ) -> (f64, f64) {
+        let mut rng = Rng(5);
+        let (mut e, mut l) = (0.0_f64, 0.0_f64);
+        let n = V::LANES;
+        for _ in 0..200_000 / n {
+            let xs: std::vec::Vec<V::T> = (0..n).map(|_| to(-80.0 + 160.0 * rng.next())).collect();
+            let ys: std::vec::Vec<V::T> = (0..n)
+                .map(|_| to((60.0 * (2.0 * rng.next() - 1.0)).exp()))
+                .collect();
+            let mut ex = std::vec![to(0.0); n];
+            let mut lx = std::vec![to(0.0); n];
+            exp(V::load(&xs)).store(&mut ex);
+            ln(V::load(&ys)).store(&mut lx);
+            for i in 0..n {
+                let r = from(xs[i]).exp();
+                e = e.max((from(ex[i]) - r).abs() / (r * eps));
+                let r = from(ys[i]).ln();
+                l = l.max((from(lx[i]) - r).abs() / (r.abs().max(1e-30) * eps));
+            }
+        }
+        (e, l)
+    }
+
+    #[test]
+    fn every_vector_exp_and_ln_match_the_platform() {
+        let f64s = |v: f64| v;
+        let f32s = |v: f64| v as f32;
+        let mut checked = 0;
+        let mut check = |(e, l): (f64, f64), what: &str| {
+            assert!(e <= 2.0 && l <= 2.0, "{what}: exp {e} ulp, ln {l} ulp");
+            checked += 1;
+        };
+        check(worst::<F64x2>(f64s, f64::from, f64::EPSILON), "sse2 f64");
+        check(
+            worst::<F32x4>(f32s, f64::from, f64::from(f32::EPSILON)),
+            "sse2 f32",
+        );
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            check(worst::<F64x4>(f64s, f64::from, f64::EPSILON), "avx2 f64");
+            check(
+                worst::<F32x8>(f32s, f64::from, f64::from(f32::EPSILON)),
+                "avx2 f32",
+            );
+        }
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            check(worst::<F64x8>(f64s, f64::from, f64::EPSILON), "avx512 f64");
+            check(
+                worst::<F32x16>(f32s, f64::from, f64::from(f32::EPSILON)),
+                "avx512 f32",
+            );
+        }
+        assert!(checked >= 2);
+    }
+}
