@@ -46,16 +46,16 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
     const EXP_LN2: (f64, f64);
     /// ln 2 in two parts for `ln`.
     const LOG_LN2: (f64, f64);
-    /// 1/k!, k = 2, 3, …: e^r = 1 + r + r² Σ cᵢ rⁱ.
-    const EXP_POLY: &'static [f64];
+    /// How many of [`INV_FACTORIALS`] `exp` uses: e^r = 1 + r + r² Σ cᵢ rⁱ, |r| ≤ ln 2 / 2.
+    const EXP_TERMS: usize;
     /// fdlibm's odd-indexed (Lg1, Lg3, …) and even-indexed (Lg2, Lg4, …) log coefficients.
     const LOG_POLY: (&'static [f64], &'static [f64]);
     /// The bits b of `exp`'s table reduction (see [`Simd::EXP_TABLE`]): 3 for f64, 4 for f32.
     const EXP_TABLE_BITS: u32;
     /// 2^(j / 2^b), j = 0 … 2^b − 1, rounded to this type.
     const EXP_TABLE: &'static [f64];
-    /// 1/k!, k = 2, 3, …, for the table reduction's |r| ≤ ln 2 / 2^(b+1).
-    const EXP_POLY_TABLE: &'static [f64];
+    /// How many of [`INV_FACTORIALS`] the table reduction uses (|r| ≤ ln 2 / 2^(b+1)).
+    const EXP_TABLE_TERMS: usize;
     /// The low bits of the value's representation (the table index of `exp`).
     fn low_bits(self) -> usize;
     /// The next float towards −∞ (finite values).
@@ -76,9 +76,50 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
     }
 }
 
+/// 1/k!, k = 2 … 13: the Taylor coefficients of (e^r − 1 − r) / r².
+pub const INV_FACTORIALS: [f64; 12] = [
+    1.0 / 2.0,
+    1.0 / 6.0,
+    1.0 / 24.0,
+    1.0 / 120.0,
+    1.0 / 720.0,
+    1.0 / 5_040.0,
+    1.0 / 40_320.0,
+    1.0 / 362_880.0,
+    1.0 / 3_628_800.0,
+    1.0 / 39_916_800.0,
+    1.0 / 479_001_600.0,
+    1.0 / 6_227_020_800.0,
+];
+
+/// The first `n` of [`INV_FACTORIALS`].
+#[inline(always)]
+fn inv_factorials(n: usize) -> &'static [f64] {
+    INV_FACTORIALS.get(..n).unwrap_or(&INV_FACTORIALS)
+}
+
+/// The bit-level items of [`Lane`], the same for both types.
+macro_rules! lane_bits {
+    ($t:ty) => {
+        #[inline(always)]
+        fn low_bits(self) -> usize {
+            self.to_bits() as usize
+        }
+        #[inline]
+        fn next_below(self) -> Self {
+            <$t>::next_down(self)
+        }
+        #[inline]
+        fn next_above(self) -> Self {
+            <$t>::next_up(self)
+        }
+    };
+}
+
 // fdlibm's constants as published (more digits than an f64 holds; they round to it).
 #[allow(clippy::excessive_precision)]
 impl Lane for f64 {
+    const EXP_TERMS: usize = 12;
     const OMEGA_SERIES: Self = -9.2;
     const OMEGA_SMALL: Self = -20.0;
     const RESIDUAL_OK: Self = 1e-4;
@@ -93,20 +134,6 @@ impl Lane for f64 {
         6.931_471_803_691_238_164_90e-1,
         1.908_214_929_270_587_700_02e-10,
     );
-    const EXP_POLY: &'static [f64] = &[
-        1.0 / 2.0,
-        1.0 / 6.0,
-        1.0 / 24.0,
-        1.0 / 120.0,
-        1.0 / 720.0,
-        1.0 / 5_040.0,
-        1.0 / 40_320.0,
-        1.0 / 362_880.0,
-        1.0 / 3_628_800.0,
-        1.0 / 39_916_800.0,
-        1.0 / 479_001_600.0,
-        1.0 / 6_227_020_800.0,
-    ];
     const LOG_POLY: (&'static [f64], &'static [f64]) = (
         &[
             6.666_666_666_666_735_130e-1,
@@ -132,31 +159,13 @@ impl Lane for f64 {
         1.834_008_086_409_342_4,
     ];
     // |r| ≤ ln 2 / 16: the first omitted term r⁹/9! is below 1.5e-18.
-    const EXP_POLY_TABLE: &'static [f64] = &[
-        1.0 / 2.0,
-        1.0 / 6.0,
-        1.0 / 24.0,
-        1.0 / 120.0,
-        1.0 / 720.0,
-        1.0 / 5_040.0,
-        1.0 / 40_320.0,
-    ];
-    #[inline(always)]
-    fn low_bits(self) -> usize {
-        self.to_bits() as usize
-    }
-    #[inline]
-    fn next_below(self) -> Self {
-        f64::next_down(self)
-    }
-    #[inline]
-    fn next_above(self) -> Self {
-        f64::next_up(self)
-    }
+    const EXP_TABLE_TERMS: usize = 7;
+    lane_bits!(f64);
 }
 
 #[allow(clippy::excessive_precision)]
 impl Lane for f32 {
+    const EXP_TERMS: usize = 6;
     const OMEGA_SERIES: Self = -4.0;
     const OMEGA_SMALL: Self = -10.0;
     const RESIDUAL_OK: Self = 1e-2;
@@ -165,14 +174,6 @@ impl Lane for f32 {
     const SHIFT: Self = 12_582_912.0;
     const EXP_LN2: (f64, f64) = (6.931_457_5e-1, 1.428_606_8e-6);
     const LOG_LN2: (f64, f64) = (6.931_381_2e-1, 9.058_001e-6);
-    const EXP_POLY: &'static [f64] = &[
-        1.0 / 2.0,
-        1.0 / 6.0,
-        1.0 / 24.0,
-        1.0 / 120.0,
-        1.0 / 720.0,
-        1.0 / 5_040.0,
-    ];
     const LOG_POLY: (&'static [f64], &'static [f64]) = (
         &[0.666_666_626_93, 0.284_987_866_88],
         &[0.400_009_721_52, 0.242_790_788_41],
@@ -197,19 +198,8 @@ impl Lane for f32 {
         1.915_206_551_551_818_8,
     ];
     // |r| ≤ ln 2 / 32: the first omitted term r⁵/5! is below 4e-11.
-    const EXP_POLY_TABLE: &'static [f64] = &[1.0 / 2.0, 1.0 / 6.0, 1.0 / 24.0];
-    #[inline(always)]
-    fn low_bits(self) -> usize {
-        self.to_bits() as usize
-    }
-    #[inline]
-    fn next_below(self) -> Self {
-        f32::next_down(self)
-    }
-    #[inline]
-    fn next_above(self) -> Self {
-        f32::next_up(self)
-    }
+    const EXP_TABLE_TERMS: usize = 3;
+    lane_bits!(f32);
 }
 
 /// Σ cᵢ xⁱ by Horner's scheme.
@@ -254,7 +244,7 @@ where
         let m = t - shift;
         let r = m.fma(V::c(-ln2_hi / k), xr);
         let r = m.fma(V::c(-ln2_lo / k), r);
-        let p = poly_pairs(r, <V::T as Lane>::EXP_POLY_TABLE);
+        let p = poly_pairs(r, inv_factorials(<V::T as Lane>::EXP_TABLE_TERMS));
         let e = (r * r).fma(p, r) + V::c(1.0);
         return V::scale(e * V::exp2_frac(t), m * V::c(1.0 / k));
     }
@@ -263,7 +253,7 @@ where
     let n = t - shift;
     let r = n.fma(V::c(-ln2_hi), xr);
     let r = n.fma(V::c(-ln2_lo), r);
-    let p = poly_pairs(r, <V::T as Lane>::EXP_POLY);
+    let p = poly_pairs(r, inv_factorials(<V::T as Lane>::EXP_TERMS));
     let e = (r * r).fma(p, r) + V::c(1.0);
     V::exp_tail(e, t, n, x)
 }
