@@ -473,3 +473,39 @@ fn layouts_and_storage_agree() {
     block.step(&row, &mut b).unwrap();
     assert_eq!(a, b);
 }
+
+/// Threads: `step_par` and `process_block_par` give the sequential outputs and memories bit for
+/// bit (1,000 channels: parts of whole chunks plus a remainder), and bad input is the
+/// sequential error.
+#[cfg(feature = "rayon")]
+#[test]
+fn threads_agree_with_one_thread() {
+    const N: usize = 1000;
+    const T: usize = 20;
+    let k1: Vec<f64> = (0..N).map(|c| 0.05 + 0.001 * c as f64).collect();
+    let k2: Vec<f64> = (0..N).map(|c| 0.5 + 0.01 * c as f64).collect();
+    let x = |c: usize, t: usize| (0.3 * t as f64 + 0.1 * c as f64).sin() * 1.3;
+    let mut seq = BankVec::<f64, Direct>::from_vecs(k1.clone(), k2.clone()).unwrap();
+    let mut par = seq.clone();
+    for t in 0..T {
+        let row: Vec<f64> = (0..N).map(|c| x(c, t)).collect();
+        let (mut a, mut b) = (vec![0.0; N], vec![0.0; N]);
+        seq.step(&row, &mut a).unwrap();
+        par.step_par(&row, &mut b).unwrap();
+        assert_eq!(a, b);
+    }
+    let block: Vec<f64> = (0..N)
+        .flat_map(|c| (0..T).map(move |t| x(c, t + T)))
+        .collect();
+    let (mut a, mut b) = (vec![0.0; N * T], vec![0.0; N * T]);
+    seq.process_block(&block, &mut a, T).unwrap();
+    par.process_block_par(&block, &mut b, T).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(memories(&seq), memories(&par));
+    let mut bad: Vec<f64> = (0..N).map(|c| x(c, 0)).collect();
+    bad[777] = f64::NAN;
+    let e = par.step_par(&bad, &mut vec![0.0; N]).unwrap_err();
+    assert_eq!(e.channel, 777);
+    assert_eq!(memories(&seq), memories(&par));
+    assert!(par.step_par(&bad[1..], &mut vec![0.0; N - 1]).is_err());
+}

@@ -10,7 +10,7 @@
 
 use super::lanes::{exp, fsc_step, ln, omega_series, omega_start, omega_v, Lane};
 use super::simd::Simd;
-use super::{BankError, BankFormula, Block, Columns, Storage};
+use super::{BankError, BankFormula, Block, ColumnsMut};
 use crate::{ConstantK2, Direction, Memory, Operator, ParametricHysteresis};
 
 /// The most lanes of any vector (AVX-512 f32).
@@ -291,11 +291,11 @@ const TILE: usize = 16;
 /// What the scalar operator refuses on the rare path (an output beyond the float range); some
 /// channels have then run further than others (the caller restores the memory).
 #[inline(always)]
-pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
-    cols: &mut Columns<S>,
+pub(crate) fn run<V: Simd, F: BankFormula>(
+    cols: &mut ColumnsMut<'_, V::T>,
     block: &mut Block<'_, V::T>,
 ) -> Result<Option<usize>, BankError> {
-    let n = cols.k1.as_ref().len();
+    let n = cols.k1.len();
     let layout = Layout {
         n,
         samples: block.samples,
@@ -316,7 +316,7 @@ pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
         while start < n && t0 < t1 {
             let width = (n - start).min(V::LANES);
             let x0 = gather::<V>(input, &layout, start, width, t0);
-            let (mut st, mut changed) = load::<V, F, S>(cols, start, width, x0);
+            let (mut st, mut changed) = load::<V, F>(cols, start, width, x0);
             let mut x = x0;
             for t in t0..t1 {
                 let y = tick::<V, F>(&mut st, x, start, width, &mut changed)?;
@@ -328,17 +328,17 @@ pub(crate) fn run<V: Simd, F: BankFormula, S: Storage<V::T>>(
                 }
                 scatter(block.output, &layout, start, width, t, y);
             }
-            put(cols.last_input.as_mut(), start, width, st.lin);
-            put(cols.last_output.as_mut(), start, width, st.lout);
+            put(cols.last_input, start, width, st.lin);
+            put(cols.last_output, start, width, st.lout);
             // The reversal point, the sign and the direct formula's cache change only at
             // reversals (and at a channel's first sample): most calls of a few ticks skip them.
             if changed {
-                put(cols.reversal_input.as_mut(), start, width, st.rin);
-                put(cols.reversal_output.as_mut(), start, width, st.rout);
-                put(cols.sign.as_mut(), start, width, st.sign);
+                put(cols.reversal_input, start, width, st.rin);
+                put(cols.reversal_output, start, width, st.rout);
+                put(cols.sign, start, width, st.sign);
                 if F::DIRECT {
-                    put(cols.m_star.as_mut(), start, width, st.m_star);
-                    put(cols.ln_a.as_mut(), start, width, st.ln_a);
+                    put(cols.m_star, start, width, st.m_star);
+                    put(cols.ln_a, start, width, st.ln_a);
                 }
             }
             start += width;
@@ -456,25 +456,25 @@ fn scatter<V: Simd>(output: &mut [V::T], at: &Layout, start: usize, width: usize
 /// point; a channel without history (last input NaN) starts at rest at its first sample `x0`
 /// on the line output = input, rising (its first output is then exactly x0).
 #[inline(always)]
-fn load<V: Simd, F: BankFormula, S: Storage<V::T>>(
-    cols: &Columns<S>,
+fn load<V: Simd, F: BankFormula>(
+    cols: &ColumnsMut<'_, V::T>,
     start: usize,
     width: usize,
     x0: V,
 ) -> (State<V>, bool) {
     let zero = <V::T as crate::Real>::ZERO;
     let one = V::c(1.0);
-    let col = |s: &S, fill: V::T| column::<V>(s.as_ref(), start, width, fill);
-    let lin = col(&cols.last_input, zero);
+    let col = |s: &[V::T], fill: V::T| column::<V>(s, start, width, fill);
+    let lin = col(cols.last_input, zero);
     let started = lin.equal(lin);
     let mut st = State {
-        k1: col(&cols.k1, <V::T as crate::Real>::from_f64(1.0)),
-        k2: col(&cols.k2, <V::T as crate::Real>::from_f64(1.0)),
-        rin: col(&cols.reversal_input, zero),
-        rout: col(&cols.reversal_output, zero),
-        sign: col(&cols.sign, zero),
+        k1: col(cols.k1, <V::T as crate::Real>::from_f64(1.0)),
+        k2: col(cols.k2, <V::T as crate::Real>::from_f64(1.0)),
+        rin: col(cols.reversal_input, zero),
+        rout: col(cols.reversal_output, zero),
+        sign: col(cols.sign, zero),
         lin,
-        lout: col(&cols.last_output, zero),
+        lout: col(cols.last_output, zero),
         inv_k2: one,
         ln_k2: one,
         m_star: one,
@@ -491,10 +491,10 @@ fn load<V: Simd, F: BankFormula, S: Storage<V::T>>(
         st.sign = V::select(started, st.sign, one);
     }
     if F::DIRECT {
-        st.inv_k2 = col(&cols.inv_k2, <V::T as crate::Real>::from_f64(1.0));
-        st.ln_k2 = col(&cols.ln_k2, zero);
-        st.m_star = col(&cols.m_star, zero);
-        st.ln_a = col(&cols.ln_a, zero);
+        st.inv_k2 = col(cols.inv_k2, <V::T as crate::Real>::from_f64(1.0));
+        st.ln_k2 = col(cols.ln_k2, zero);
+        st.m_star = col(cols.m_star, zero);
+        st.ln_a = col(cols.ln_a, zero);
         // Cached values are NaN after `new` and `set_memory`.
         let valid = V::and(started, st.m_star.equal(st.m_star));
         if !V::all(valid) {

@@ -84,6 +84,98 @@ pub struct Columns<S> {
     ln_a: S,
 }
 
+/// The columns of a range of channels, borrowed: what a kernel runs on (a whole bank, or one
+/// thread's part of it). Public only as a parameter of the sealed [`RunBlock`].
+#[doc(hidden)]
+pub struct ColumnsMut<'a, T> {
+    k1: &'a [T],
+    k2: &'a [T],
+    inv_k2: &'a [T],
+    ln_k2: &'a [T],
+    reversal_input: &'a mut [T],
+    reversal_output: &'a mut [T],
+    sign: &'a mut [T],
+    last_input: &'a mut [T],
+    last_output: &'a mut [T],
+    m_star: &'a mut [T],
+    ln_a: &'a mut [T],
+}
+
+impl<S> Columns<S> {
+    /// All channels' columns, borrowed.
+    fn view<T>(&mut self) -> ColumnsMut<'_, T>
+    where
+        S: AsRef<[T]> + AsMut<[T]>,
+    {
+        ColumnsMut {
+            k1: self.k1.as_ref(),
+            k2: self.k2.as_ref(),
+            inv_k2: self.inv_k2.as_ref(),
+            ln_k2: self.ln_k2.as_ref(),
+            reversal_input: self.reversal_input.as_mut(),
+            reversal_output: self.reversal_output.as_mut(),
+            sign: self.sign.as_mut(),
+            last_input: self.last_input.as_mut(),
+            last_output: self.last_output.as_mut(),
+            m_star: self.m_star.as_mut(),
+            ln_a: self.ln_a.as_mut(),
+        }
+    }
+}
+
+#[cfg(feature = "rayon")]
+impl<'a, T> ColumnsMut<'a, T> {
+    /// Channels `..mid` and `mid..` (all of them and none when `mid` is beyond the channels).
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        fn cut<T>(x: &[T], mid: usize) -> (&[T], &[T]) {
+            x.split_at(mid.min(x.len()))
+        }
+        fn cut_mut<T>(x: &mut [T], mid: usize) -> (&mut [T], &mut [T]) {
+            let mid = mid.min(x.len());
+            x.split_at_mut(mid)
+        }
+        let (k1a, k1b) = cut(self.k1, mid);
+        let (k2a, k2b) = cut(self.k2, mid);
+        let (ia, ib) = cut(self.inv_k2, mid);
+        let (la, lb) = cut(self.ln_k2, mid);
+        let (ria, rib) = cut_mut(self.reversal_input, mid);
+        let (roa, rob) = cut_mut(self.reversal_output, mid);
+        let (sa, sb) = cut_mut(self.sign, mid);
+        let (lia, lib) = cut_mut(self.last_input, mid);
+        let (loa, lob) = cut_mut(self.last_output, mid);
+        let (ma, mb) = cut_mut(self.m_star, mid);
+        let (aa, ab) = cut_mut(self.ln_a, mid);
+        (
+            Self {
+                k1: k1a,
+                k2: k2a,
+                inv_k2: ia,
+                ln_k2: la,
+                reversal_input: ria,
+                reversal_output: roa,
+                sign: sa,
+                last_input: lia,
+                last_output: loa,
+                m_star: ma,
+                ln_a: aa,
+            },
+            Self {
+                k1: k1b,
+                k2: k2b,
+                inv_k2: ib,
+                ln_k2: lb,
+                reversal_input: rib,
+                reversal_output: rob,
+                sign: sb,
+                last_input: lib,
+                last_output: lob,
+                m_star: mb,
+                ln_a: ab,
+            },
+        )
+    }
+}
+
 /// N operators of formula `F` ([`Direct`]: eq. 2, [`Inverse`]: eq. 4) stepped together, state
 /// in storage `S`. Use [`Bank`] (arrays, no allocation) or, with `std`, [`BankVec`].
 #[derive(Clone, Debug, PartialEq)]
@@ -380,7 +472,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 end: samples,
                 limit: Some(self.limit),
             };
-            let Some(bad) = T::run::<F, S>(&mut self.columns, &mut block)? else {
+            let Some(bad) = T::run::<F>(&mut self.columns.view(), &mut block)? else {
                 return Ok(());
             };
             let sample = |c: usize| {
@@ -409,7 +501,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 end: bad + 1,
                 limit: None,
             };
-            if let Err(e) = T::run::<F, S>(&mut self.columns, &mut block) {
+            if let Err(e) = T::run::<F>(&mut self.columns.view(), &mut block) {
                 self.columns = before;
                 return Err(e);
             }
@@ -427,6 +519,94 @@ impl<T: Lane, F: BankFormula> ParametricBank<T, F, std::vec::Vec<T>> {
     /// As [`ParametricBank::new`].
     pub fn from_vecs(k1: std::vec::Vec<T>, k2: std::vec::Vec<T>) -> Result<Self, BankError> {
         Self::new(k1, k2)
+    }
+}
+
+/// Threads: the channels split into parts of whole chunks, one part per task (rayon).
+#[cfg(feature = "rayon")]
+impl<T: Lane + Send + Sync, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
+    /// [`ParametricBank::step`] with the channels split over rayon's threads: the same outputs,
+    /// bit for bit. Worth it for banks of many thousands of channels (a tick of 1,024 channels
+    /// takes about a microsecond on one core, the order of a task's overhead).
+    ///
+    /// # Errors
+    /// As [`ParametricBank::step`] (a tick with a sample the threads' kernels would have to
+    /// refuse runs on this thread instead).
+    pub fn step_par(&mut self, input: &[T], output: &mut [T]) -> Result<(), BankError> {
+        let n = self.channels();
+        if n == 0 || input.len() != n || output.len() != n {
+            return self.step(input, output);
+        }
+        self.run_par(input, output, 1, true)
+    }
+
+    /// [`ParametricBank::process_block`] (channel-major) with the channels split over rayon's
+    /// threads: the same outputs, bit for bit.
+    ///
+    /// # Errors
+    /// As [`ParametricBank::process_block`] (a block with a sample the threads' kernels would
+    /// have to refuse runs on this thread instead).
+    pub fn process_block_par(
+        &mut self,
+        input: &[T],
+        output: &mut [T],
+        samples: usize,
+    ) -> Result<(), BankError> {
+        let n = self.channels();
+        let expected = n.saturating_mul(samples);
+        if samples == 0 || input.len() != expected || output.len() != expected {
+            return self.process_block(input, output, samples);
+        }
+        self.run_par(input, output, samples, true)
+    }
+
+    /// Runs `samples` ticks, channel-major (one tick is both layouts), in parts of whole chunks
+    /// on rayon's threads, when every sample is below the input limit (then no channel can
+    /// fail); otherwise on this thread through the checked path.
+    fn run_par(
+        &mut self,
+        input: &[T],
+        output: &mut [T],
+        samples: usize,
+        channel_major: bool,
+    ) -> Result<(), BankError> {
+        use rayon::prelude::*;
+        let limit = self.limit;
+        if !input
+            .par_iter()
+            .all(|x| num_traits::Float::abs(*x) <= limit)
+        {
+            return self.run_checked(input, output, samples, channel_major);
+        }
+        let n = self.channels();
+        // Parts of whole 64-channel chunks, about four per thread.
+        let parts = 4 * rayon::current_num_threads().max(1);
+        let size = n.div_ceil(parts).div_ceil(64).max(1) * 64;
+        let mut jobs = std::vec::Vec::new();
+        let (mut cols, mut inp, mut out) = (self.columns.view(), input, output);
+        while cols.k1.len() > size {
+            let (head, tail) = cols.split_at(size);
+            let at = (size * samples).min(inp.len()).min(out.len());
+            let (i_head, i_tail) = inp.split_at(at);
+            let (o_head, o_tail) = out.split_at_mut(at);
+            jobs.push((head, i_head, o_head));
+            (cols, inp, out) = (tail, i_tail, o_tail);
+        }
+        jobs.push((cols, inp, out));
+        jobs.into_par_iter()
+            .map(|(mut cols, input, output)| {
+                let mut block = Block {
+                    input,
+                    output,
+                    samples,
+                    channel_major,
+                    begin: 0,
+                    end: samples,
+                    limit: None,
+                };
+                T::run::<F>(&mut cols, &mut block).map(|_| ())
+            })
+            .collect::<Result<(), BankError>>()
     }
 }
 
@@ -552,8 +732,8 @@ pub trait RunBlock: Sized {
     /// Runs the ticks of `block` through every channel of `cols`; `Ok(Some(t))` when tick `t`
     /// has a sample beyond the block's limit (the ticks before it have run, tick `t` has not).
     #[doc(hidden)]
-    fn run<F: BankFormula, S: Storage<Self>>(
-        cols: &mut Columns<S>,
+    fn run<F: BankFormula>(
+        cols: &mut ColumnsMut<'_, Self>,
         block: &mut Block<'_, Self>,
     ) -> Result<Option<usize>, BankError>;
 }
@@ -561,20 +741,20 @@ pub trait RunBlock: Sized {
 macro_rules! run_block {
     ($t:ty, $entry:ident) => {
         impl RunBlock for $t {
-            fn run<F: BankFormula, S: Storage<Self>>(
-                cols: &mut Columns<S>,
+            fn run<F: BankFormula>(
+                cols: &mut ColumnsMut<'_, Self>,
                 block: &mut Block<'_, Self>,
             ) -> Result<Option<usize>, BankError> {
                 #[cfg(all(feature = "std", target_arch = "x86_64"))]
                 {
                     let isa = isa();
                     if isa != Isa::Portable {
-                        if let Some(r) = x86::$entry::<F, S>(isa, cols, block) {
+                        if let Some(r) = x86::$entry::<F>(isa, cols, block) {
                             return r;
                         }
                     }
                 }
-                kernel::run::<simd::Pair<simd::Pair<$t>>, F, S>(cols, block)
+                kernel::run::<simd::Pair<simd::Pair<$t>>, F>(cols, block)
             }
         }
     };

@@ -19,7 +19,7 @@ use super::simd::{Pair, Simd};
 
 /// 2⁵².
 const TWO_52: f64 = (1_u64 << 52) as f64;
-use super::{BankError, BankFormula, Block, Columns, Isa, Storage};
+use super::{BankError, BankFormula, Block, ColumnsMut, Isa};
 
 /// Runs an intrinsic. SAFETY: see the module's safety argument — every use is inside a vector
 /// type of this module, which exists only on a processor with its instruction set; pointers are
@@ -532,11 +532,11 @@ avx512_simd!(
 macro_rules! entry {
     ($name:ident, $t:ty, $v:ty, $features:literal) => {
         #[target_feature(enable = $features)]
-        fn $name<F: BankFormula, S: Storage<$t>>(
-            cols: &mut Columns<S>,
+        fn $name<F: BankFormula>(
+            cols: &mut ColumnsMut<'_, $t>,
             block: &mut Block<'_, $t>,
         ) -> Result<Option<usize>, BankError> {
-            super::kernel::run::<$v, F, S>(cols, block)
+            super::kernel::run::<$v, F>(cols, block)
         }
     };
 }
@@ -713,18 +713,18 @@ type Sse2F64 = Pair<Pair<F64x2>>;
 type Sse2F32 = Pair<Pair<F32x4>>;
 
 /// The SSE2 kernels (x86-64's baseline: no detection, no `unsafe` call).
-fn f64_sse2<F: BankFormula, S: Storage<f64>>(
-    cols: &mut Columns<S>,
+fn f64_sse2<F: BankFormula>(
+    cols: &mut ColumnsMut<'_, f64>,
     block: &mut Block<'_, f64>,
 ) -> Result<Option<usize>, BankError> {
-    super::kernel::run::<Sse2F64, F, S>(cols, block)
+    super::kernel::run::<Sse2F64, F>(cols, block)
 }
 
-fn f32_sse2<F: BankFormula, S: Storage<f32>>(
-    cols: &mut Columns<S>,
+fn f32_sse2<F: BankFormula>(
+    cols: &mut ColumnsMut<'_, f32>,
     block: &mut Block<'_, f32>,
 ) -> Result<Option<usize>, BankError> {
-    super::kernel::run::<Sse2F32, F, S>(cols, block)
+    super::kernel::run::<Sse2F32, F>(cols, block)
 }
 
 entry!(f64_avx2, f64, Avx2F64, "avx2,fma");
@@ -736,24 +736,24 @@ entry!(f32_avx512, f32, Avx512F32, "avx512f");
 /// [`Isa::Portable`]).
 macro_rules! dispatch {
     ($name:ident, $t:ty, $avx512:ident, $avx2:ident, $sse2:ident) => {
-        pub(crate) fn $name<F: BankFormula, S: Storage<$t>>(
+        pub(crate) fn $name<F: BankFormula>(
             isa: Isa,
-            cols: &mut Columns<S>,
+            cols: &mut ColumnsMut<'_, $t>,
             block: &mut Block<'_, $t>,
         ) -> Option<Result<Option<usize>, BankError>> {
             match isa {
                 Isa::Avx512 if std::arch::is_x86_feature_detected!("avx512f") => {
                     // SAFETY: AVX-512F was detected on this processor just above.
-                    Some(unsafe { $avx512::<F, S>(cols, block) })
+                    Some(unsafe { $avx512::<F>(cols, block) })
                 }
                 Isa::Avx2
                     if std::arch::is_x86_feature_detected!("avx2")
                         && std::arch::is_x86_feature_detected!("fma") =>
                 {
                     // SAFETY: AVX2 and FMA were detected on this processor just above.
-                    Some(unsafe { $avx2::<F, S>(cols, block) })
+                    Some(unsafe { $avx2::<F>(cols, block) })
                 }
-                Isa::Sse2 => Some($sse2::<F, S>(cols, block)),
+                Isa::Sse2 => Some($sse2::<F>(cols, block)),
                 _ => None,
             }
         }
