@@ -413,8 +413,13 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
         output: &mut [T],
         samples: usize,
     ) -> Result<(), BankError> {
-        let n = self.channels();
-        let expected = n.saturating_mul(samples);
+        self.check_block(input, output, samples)?;
+        self.run_checked(input, output, samples, true)
+    }
+
+    /// Checks the lengths of a channel-major block of `samples` ticks.
+    fn check_block(&self, input: &[T], output: &[T], samples: usize) -> Result<(), BankError> {
+        let expected = self.channels().saturating_mul(samples);
         if input.len() != expected || output.len() != expected {
             return Err(BankError {
                 channel: 0,
@@ -424,7 +429,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 },
             });
         }
-        self.run_checked(input, output, samples, true)
+        Ok(())
     }
 
     /// A block of ticks, time-major: `input[t * channels + c]` is channel c at tick t (each
@@ -552,11 +557,7 @@ impl<T: Lane + Send + Sync, F: BankFormula, S: Storage<T>> ParametricBank<T, F, 
         output: &mut [T],
         samples: usize,
     ) -> Result<(), BankError> {
-        let n = self.channels();
-        let expected = n.saturating_mul(samples);
-        if samples == 0 || input.len() != expected || output.len() != expected {
-            return self.process_block(input, output, samples);
-        }
+        self.check_block(input, output, samples)?;
         self.run_par(input, output, samples, true)
     }
 
