@@ -32,7 +32,8 @@ struct State<V> {
     ln_k2: V,
     m_star: V,
     ln_a: V,
-    /// Inverse: −k2 (fixed) and s M* = s k1 − (β0 − α0) (eq. 4; changes only at reversals).
+    /// Inverse: −k2 s (its sign is −s; `sign` is not kept up to date) and s M* = s k1 − (β0 − α0)
+    /// (eq. 4); both change only at reversals.
     neg_k2: V,
     sm: V,
 }
@@ -78,14 +79,30 @@ fn direct_cache<V: Simd>(st: &State<V>) -> (V, V) {
 
 /// Definition 2.1's memory update: a step against the direction s ((x − x_last) s < 0) reverses
 /// it and makes the last point the reversal point (α0, β0); a zero step keeps everything.
-/// Returns the lanes that reversed.
+/// Returns the lanes that reversed. The inverse kernel keeps s only inside −k2 s (one vector
+/// fewer a chunk in registers), whose sign is −s.
 #[inline(always)]
-fn observe<V: Simd>(st: &mut State<V>, x: V) -> V::M {
-    let reversed = ((x - st.lin) * st.sign).less(V::c(0.0));
+fn observe<V: Simd, F: BankFormula>(st: &mut State<V>, x: V) -> V::M {
+    let step = x - st.lin;
+    let reversed = if F::DIRECT {
+        (step * st.sign).less(V::c(0.0))
+    } else {
+        V::c(0.0).less(step * st.neg_k2)
+    };
     st.rin = V::select(reversed, st.lin, st.rin);
     st.rout = V::select(reversed, st.lout, st.rout);
-    st.sign = V::select(reversed, -st.sign, st.sign);
+    if F::DIRECT {
+        st.sign = V::select(reversed, -st.sign, st.sign);
+    } else {
+        st.neg_k2 = V::select(reversed, -st.neg_k2, st.neg_k2);
+    }
     reversed
+}
+
+/// The inverse kernel's s from −k2 s (k2 > 0).
+#[inline(always)]
+fn sign_of<V: Simd>(neg_k2_s: V) -> V {
+    V::select(neg_k2_s.less(V::c(0.0)), V::c(1.0), V::c(-1.0))
 }
 
 /// Eq. (4) with the transformation folded in: v = (x − α0 + β0) + (1 − e^(−k2 ũd)) · s M*,
@@ -93,15 +110,15 @@ fn observe<V: Simd>(st: &mut State<V>, x: V) -> V::M {
 #[inline(always)]
 fn inverse_output<V: Simd>(st: &State<V>, x: V) -> V {
     let d = x - st.rin;
-    // −k2 ũd as ((x − α0) s) (−k2): the scalar operator's −(k2 ũd), bit for bit.
-    let e = exp((d * st.sign) * st.neg_k2);
+    // −k2 ũd as (x − α0) (−k2 s): the scalar operator's −(k2 ũd), bit for bit (s = ±1).
+    let e = exp(d * st.neg_k2);
     (V::c(1.0) - e).fma(st.sm, d + st.rout)
 }
 
 /// s M* = s k1 − (β0 − α0) of eq. (4), from the memory.
 #[inline(always)]
 fn inverse_cache<V: Simd>(st: &State<V>) -> V {
-    st.k1.fma(st.sign, st.rin - st.rout)
+    st.k1.fma(sign_of(st.neg_k2), st.rin - st.rout)
 }
 
 /// Eq. (2): ũ = ṽ − M* + ω(y) / k2 with y = ln(k2 M*) + k2 (M* − ṽ) (W0(k2 M* e^(k2 (M* − ṽ)))
@@ -245,7 +262,7 @@ fn tick<V: Simd, F: BankFormula>(
     width: usize,
     changed: &mut bool,
 ) -> Result<V, BankError> {
-    let reversed = observe(st, x);
+    let reversed = observe::<V, F>(st, x);
     let any_reversed = V::any(reversed);
     *changed |= any_reversed;
     if F::DIRECT && any_reversed {
@@ -262,11 +279,15 @@ fn tick<V: Simd, F: BankFormula>(
     };
     // One test on the hot path, also false for NaN and ±∞.
     if !V::all((y - x).magnitude().less_eq(st.k1)) {
+        if !F::DIRECT {
+            st.sign = sign_of(st.neg_k2);
+        }
         [y, st.rin, st.rout, st.sign] = repair::<V, F>(*st, x, y, start, width)?;
         *changed = true;
         if F::DIRECT {
             (st.m_star, st.ln_a) = direct_cache(st);
         } else {
+            st.neg_k2 = -(st.k2 * st.sign);
             st.sm = inverse_cache(st);
         }
     }
@@ -335,7 +356,12 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
             if changed {
                 put(cols.reversal_input, start, width, st.rin);
                 put(cols.reversal_output, start, width, st.rout);
-                put(cols.sign, start, width, st.sign);
+                let sign = if F::DIRECT {
+                    st.sign
+                } else {
+                    sign_of(st.neg_k2)
+                };
+                put(cols.sign, start, width, sign);
                 if F::DIRECT {
                     put(cols.m_star, start, width, st.m_star);
                     put(cols.ln_a, start, width, st.ln_a);
@@ -504,7 +530,7 @@ fn load<V: Simd, F: BankFormula>(
             st.ln_a = V::select(valid, st.ln_a, ln_a);
         }
     } else {
-        st.neg_k2 = -st.k2;
+        st.neg_k2 = -(st.k2 * st.sign);
         st.sm = inverse_cache(&st);
     }
     (st, fresh)
