@@ -7,6 +7,10 @@
 //! as computed in floating point (rounding at the band's edge, or a value that is not finite
 //! because an intermediate overflowed), the scalar operator computes that lane from the same
 //! memory, and the output is put inside the band (the rare path, [`repair`]).
+//!
+//! The large functions here are `#[inline(always)]` only when optimising: the kernels need them
+//! inlined into their `#[target_feature]` entry points, but in debug builds the unoptimised
+//! frames of all of them inlined together need more than a thread's 2 MiB of stack.
 
 use super::lanes::{exp, fsc_step, ln, omega_series, omega_start, omega_v, Lane};
 use super::simd::Simd;
@@ -68,7 +72,7 @@ fn put<V: Simd>(s: &mut [V::T], start: usize, width: usize, v: V) {
 }
 
 /// M* of eq. (2) (M + k1 clamped into [0, 2 k1]) and ln(k2 M*) = ln k2 + ln M* (−∞ at M* = 0).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn direct_cache<V: Simd>(st: &State<V>) -> (V, V) {
     let zero = V::c(0.0);
     let two_k1 = st.k1 + st.k1;
@@ -81,7 +85,7 @@ fn direct_cache<V: Simd>(st: &State<V>) -> (V, V) {
 /// it and makes the last point the reversal point (α0, β0); a zero step keeps everything.
 /// Returns the lanes that reversed. The inverse kernel keeps s only inside −k2 s (one vector
 /// fewer a chunk in registers), whose sign is −s.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn observe<V: Simd, F: BankFormula>(st: &mut State<V>, x: V) -> V::M {
     let step = x - st.lin;
     let reversed = if F::DIRECT {
@@ -107,7 +111,7 @@ fn sign_of<V: Simd>(neg_k2_s: V) -> V {
 
 /// Eq. (4) with the transformation folded in: v = (x − α0 + β0) + (1 − e^(−k2 ũd)) · s M*,
 /// ũd = s (x − α0), s M* = s k1 − (β0 − α0).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn inverse_output<V: Simd>(st: &State<V>, x: V) -> V {
     let d = x - st.rin;
     // −k2 ũd as (x − α0) (−k2 s): the scalar operator's −(k2 ũd), bit for bit (s = ±1).
@@ -129,7 +133,7 @@ fn inverse_cache<V: Simd>(st: &State<V>) -> V {
 /// ([`omega_start`]) and one Fritsch–Shafer–Crowley step, with [`omega_v`] for a lane whose
 /// start was not close enough (none is known; the test keeps the step honest). Each part runs
 /// only when some lane of the chunk needs it.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn direct_output<V: Simd>(st: &State<V>, x: V) -> V
 where
     V::T: Lane,
@@ -254,7 +258,7 @@ fn within_band<T: Lane>(y: T, x: T, k1: T) -> T {
 }
 
 /// One tick of a chunk: memory update, formula, band check (rare path [`repair`]), last point.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn tick<V: Simd, F: BankFormula>(
     st: &mut State<V>,
     x: V,
@@ -311,7 +315,7 @@ const TILE: usize = 16;
 /// # Errors
 /// What the scalar operator refuses on the rare path (an output beyond the float range); some
 /// channels have then run further than others (the caller restores the memory).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn run<V: Simd, F: BankFormula>(
     cols: &mut ColumnsMut<'_, V::T>,
     block: &mut Block<'_, V::T>,
@@ -379,7 +383,7 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
 
 /// The first tick of `t0..t1` with a sample whose magnitude is not below `limit` (NaN, ±∞ or
 /// near the end of the float range), a vector at a time over the tile.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn first_beyond<V: Simd>(
     input: &[V::T],
     at: &Layout,
@@ -481,7 +485,7 @@ fn scatter<V: Simd>(output: &mut [V::T], at: &Layout, start: usize, width: usize
 /// A chunk's state from the columns, and whether it differs from them in more than the last
 /// point; a channel without history (last input NaN) starts at rest at its first sample `x0`
 /// on the line output = input, rising (its first output is then exactly x0).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn load<V: Simd, F: BankFormula>(
     cols: &ColumnsMut<'_, V::T>,
     start: usize,

@@ -16,6 +16,9 @@
 //!   polynomial in s²); error ≤ 1 ulp for normal positive x.
 //! - ω(y) = W0(eʸ), the solution of ω + ln ω = y: see [`omega`] and the direct kernel.
 //!
+//! The functions are `#[inline(always)]` only when optimising (see the kernel module: debug
+//! builds' stack).
+//!
 //! # References
 //! - W. J. Cody, W. Waite, *Software Manual for the Elementary Functions* (1980).
 //! - Sun Microsystems, fdlibm 5.3, `e_log.c`, `e_logf.c`.
@@ -229,7 +232,7 @@ fn poly_pairs<V: Simd>(x: V, coefficients: &[f64]) -> V {
 }
 
 /// eˣ on every lane (see the module documentation).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn exp<V: Simd>(x: V) -> V
 where
     V::T: Lane,
@@ -260,7 +263,7 @@ where
 
 /// ln x for positive normal x (no special cases: 0, subnormals, ∞ and NaN give wrong finite
 /// values or NaN; the callers select those lanes away).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn ln_pos<V: Simd>(x: V) -> V
 where
     V::T: Lane,
@@ -281,7 +284,7 @@ where
 }
 
 /// ln x with its special values: −∞ at 0, +∞ at +∞, NaN below 0 and for NaN.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn ln<V: Simd>(x: V) -> V
 where
     V::T: Lane,
@@ -339,7 +342,7 @@ pub(crate) fn omega_series<V: Simd>(t: V) -> V {
 /// [`omega_series`] is kept): the fits above on [−3, 12] and the asymptotic expansion
 /// y − L + (L / y)(1 + (L − 2) / (2y) + (2L² − 9L + 6) / (6y²)), L = ln y, above 12. Each piece is
 /// evaluated only when some lane needs it.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn omega_start<V: Simd>(y: V, series: V) -> V
 where
     V::T: Lane,
@@ -371,7 +374,7 @@ where
 
 /// One Fritsch–Shafer–Crowley step for ω + ln ω = y from w (fourth order), with the residual
 /// r = y − w − ln w it started from. Written so that nothing overflows for large w.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn fsc_step<V: Simd>(w: V, y: V) -> (V, V)
 where
     V::T: Lane,
@@ -389,7 +392,7 @@ where
 /// ω(y) = W0(eʸ) from scratch on every lane: Winitzki's start L (1 − ln(1 + L) / (2 + L)),
 /// L = ln(1 + eʸ), refined by two fourth-order Fritsch–Shafer–Crowley steps; t − t² (t = eʸ)
 /// below [`Lane::OMEGA_SMALL`]. ω(−∞) = 0.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn omega_v<V: Simd>(y: V) -> V
 where
     V::T: Lane,
