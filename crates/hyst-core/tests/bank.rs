@@ -1,9 +1,17 @@
 //! The channel bank against the scalar operator: same memory rule, outputs within a stated
-//! number of ulp, over ≥ 1e7 random samples and parameters; its `exp`, `ln` and ω against the
-//! platform's and the scalar ones.
+//! number of ulp for every kernel this processor runs (AVX-512, AVX2 + FMA, portable), over
+//! ≥ 1e7 random samples and parameters per kernel in release builds; errors and memory on bad
+//! input as the scalar operator's; its `exp`, `ln` and ω against the platform's and the scalar
+//! ones.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use hyst_core::bank::lanes::{omega, Lane};
-use hyst_core::{DirectBank, Hysteresis, InverseBank, InverseHysteresis, Operator};
+use hyst_core::bank::{force_isa, isa, Isa};
+use hyst_core::{BankError, BankVec, Direct, DirectBank, Error, Inverse, Memory, Operator};
+use std::sync::Mutex;
+
+/// Tests that force a kernel or depend on which one runs hold this (the choice is global).
+static ISA_LOCK: Mutex<()> = Mutex::new(());
 
 /// A small deterministic generator (xorshift64*), so the tests need no dependency.
 struct Rng(u64);
@@ -103,142 +111,401 @@ fn scale(x: f64, out: f64, k1: f64, memory: Option<hyst_core::Memory<f64>>) -> f
     x.abs().max(out.abs()).max(k1).max(m)
 }
 
-/// Runs `N` random operators through bank and scalar from the same memory at every tick (the
-/// scalar operator gets the bank's memory first, so differences do not accumulate), and
-/// returns the worst difference in ulp of [`scale`].
-fn compare_f64<const N: usize>(seed: u64, ticks: usize, direct: bool) -> f64 {
-    let mut rng = Rng(seed);
-    let k1: [f64; N] = core::array::from_fn(|_| rng.log_uniform(1e-3, 10.0));
-    let k2: [f64; N] = core::array::from_fn(|_| rng.log_uniform(1e-2, 1e6));
-    let amp: [f64; N] = core::array::from_fn(|c| k1[c] * rng.log_uniform(0.1, 100.0));
-    let mut x = [0.0; N];
-    let mut y = [0.0; N];
-    let mut worst = 0.0_f64;
-    if direct {
-        let mut bank = DirectBank::<f64, N>::new(k1, k2).unwrap();
-        let mut ops: Vec<_> = (0..N)
-            .map(|c| Hysteresis::new(k1[c], k2[c]).unwrap())
-            .collect();
-        for _ in 0..ticks {
-            for c in 0..N {
-                x[c] = amp[c] * (2.0 * rng.next() - 1.0) * if rng.next() < 0.1 { 1.0 } else { 0.3 };
-                ops[c].set_memory(bank.memory(c)).unwrap();
-            }
-            let before: Vec<_> = (0..N).map(|c| bank.memory(c)).collect();
-            bank.step(&x, &mut y).unwrap();
-            for c in 0..N {
-                let s = ops[c].step(x[c]);
-                worst = worst.max(ulps_f64(y[c], s, scale(x[c], s, k1[c], before[c])));
-            }
-        }
-    } else {
-        let mut bank = InverseBank::<f64, N>::new(k1, k2).unwrap();
-        let mut ops: Vec<_> = (0..N)
-            .map(|c| InverseHysteresis::new(k1[c], k2[c]).unwrap())
-            .collect();
-        for _ in 0..ticks {
-            for c in 0..N {
-                x[c] = amp[c] * (2.0 * rng.next() - 1.0);
-                ops[c].set_memory(bank.memory(c)).unwrap();
-            }
-            let before: Vec<_> = (0..N).map(|c| bank.memory(c)).collect();
-            bank.step(&x, &mut y).unwrap();
-            for c in 0..N {
-                let s = ops[c].step(x[c]);
-                worst = worst.max(ulps_f64(y[c], s, scale(x[c], s, k1[c], before[c])));
-            }
-        }
-    }
-    worst
-}
-
-/// Ticks per comparison: 64 channels × 80,000 ticks × 2 formulas × 2 precisions > 2e7 samples
-/// in the release run of scripts/test-all (`cargo test --release -p hyst-core --test bank`);
-/// a tenth of it in the debug run of `cargo test`.
-const TICKS: usize = if cfg!(debug_assertions) {
-    8_000
-} else {
-    80_000
-};
-
-/// Agreement of the bank with the scalar operator, in ulp of [`scale`]: the inverse's one
-/// `exp` against the platform's; the direct operator's ω against the scalar's W0, which is
-/// Fukushima's 50-bit approximation of W0(k2 M* e^b) after two roundings, so the scalar side
-/// carries most of this.
+/// Stated agreement of the bank with the scalar operator, in ulp (T::EPSILON) of [`scale`], for
+/// every kernel. Inverse: the bank's `exp` against the platform's (≤ 2 ulp each) and fused
+/// multiply-adds. Direct: the bank's ω (one fourth-order step from a start within 2.2e-5)
+/// against the scalar's W0 (Fukushima's 50-bit approximation after two roundings), so the
+/// scalar side carries most of it; the sum ṽ − M* + ω/k2 then cancels down to the output.
 const INVERSE_ULP: f64 = 4.0;
 const DIRECT_ULP: f64 = 16.0;
 
-#[test]
-fn bank_agrees_with_the_scalar_operator_f64() {
-    let inv = compare_f64::<64>(1, TICKS, false);
-    let dir = compare_f64::<64>(2, TICKS, true);
-    eprintln!(
-        "f64: inverse {inv:.2} ulp, direct {dir:.2} ulp over {} samples each",
-        64 * TICKS
-    );
-    assert!(inv <= INVERSE_ULP, "inverse: {inv} ulp");
-    assert!(dir <= DIRECT_ULP, "direct: {dir} ulp");
-}
+/// Ticks per comparison of 67 channels (not a multiple of any vector width, so the padded
+/// remainder chunk runs too): 67 × 40,000 × 4 (two formulas, two precisions) = 1.07e7 samples
+/// per kernel in release builds (`cargo test --release -p hyst-core --test bank`, ~1 s per
+/// kernel); a tenth in debug builds.
+const TICKS: usize = if cfg!(debug_assertions) {
+    4_000
+} else {
+    40_000
+};
+const CHANNELS: usize = 67;
 
-fn compare_f32<const N: usize>(seed: u64, ticks: usize, direct: bool) -> f64 {
+/// Runs `CHANNELS` random operators of formula `F` through the bank and through the scalar
+/// operator from the same memory at every tick (the scalar operator gets the bank's memory
+/// first, so differences do not accumulate; `set_memory` also checks that the bank's memory
+/// lies in the band), and returns the worst difference in ulp of [`scale`].
+fn compare<T, F>(seed: u64, ticks: usize) -> f64
+where
+    T: LaneEps,
+    F: hyst_core::bank::BankFormula,
+{
     let mut rng = Rng(seed);
-    let k1: [f32; N] = core::array::from_fn(|_| rng.log_uniform(1e-2, 10.0) as f32);
-    let k2: [f32; N] = core::array::from_fn(|_| rng.log_uniform(1e-2, 1e4) as f32);
-    let amp: [f32; N] = core::array::from_fn(|c| k1[c] * rng.log_uniform(0.1, 100.0) as f32);
-    let mut x = [0.0_f32; N];
-    let mut y = [0.0_f32; N];
-    let mut worst = 0.0_f64;
-    let ulp = |a: f32, b: f32, x: f32, k1: f32, m: Option<hyst_core::Memory<f32>>| {
-        let m = m.map(|m| hyst_core::Memory {
-            reversal_input: f64::from(m.reversal_input),
-            reversal_output: f64::from(m.reversal_output),
-            direction: m.direction,
-            last_input: f64::from(m.last_input),
-            last_output: f64::from(m.last_output),
-        });
-        let sc = scale(f64::from(x), f64::from(b), f64::from(k1), m);
-        f64::from((a - b).abs()) / (sc * f64::from(f32::EPSILON))
-    };
-    macro_rules! run {
-        ($bank:expr, $op:expr) => {{
-            let mut bank = $bank;
-            let mut ops: Vec<_> = (0..N).map(|c| $op(k1[c], k2[c]).unwrap()).collect();
-            for _ in 0..ticks {
-                for c in 0..N {
-                    x[c] = amp[c] * (2.0 * rng.next() as f32 - 1.0);
-                    ops[c].set_memory(bank.memory(c)).unwrap();
-                }
-                let before: Vec<_> = (0..N).map(|c| bank.memory(c)).collect();
-                bank.step(&x, &mut y).unwrap();
-                for c in 0..N {
-                    let s = ops[c].step(x[c]);
-                    worst = worst.max(ulp(y[c], s, x[c], k1[c], before[c]));
-                }
+    let wide = T::EPSILON_F64 < 1e-10;
+    let (k2_hi, amp_hi) = if wide { (1e6, 100.0) } else { (1e4, 100.0) };
+    let k1: Vec<f64> = (0..CHANNELS).map(|_| rng.log_uniform(1e-3, 10.0)).collect();
+    let k2: Vec<f64> = (0..CHANNELS)
+        .map(|_| rng.log_uniform(1e-2, k2_hi))
+        .collect();
+    let amp: Vec<f64> = k1
+        .iter()
+        .map(|k| k * rng.log_uniform(0.1, amp_hi))
+        .collect();
+    // Half the channels swing around an offset far from 0 (rounding at the band's edge).
+    let offset: Vec<f64> = k1
+        .iter()
+        .map(|k| {
+            if rng.next() < 0.5 {
+                k * 100.0 * (2.0 * rng.next() - 1.0)
+            } else {
+                0.0
             }
-        }};
-    }
-    if direct {
-        run!(
-            DirectBank::<f32, N>::new(k1, k2).unwrap(),
-            Hysteresis::<f32>::new
-        );
-    } else {
-        run!(
-            InverseBank::<f32, N>::new(k1, k2).unwrap(),
-            InverseHysteresis::<f32>::new
-        );
+        })
+        .collect();
+    let t = |v: f64| T::from_f64(v);
+    let mut bank = BankVec::<T, F>::from_vecs(
+        k1.iter().map(|v| t(*v)).collect(),
+        k2.iter().map(|v| t(*v)).collect(),
+    )
+    .unwrap();
+    let mut ops: Vec<_> = (0..CHANNELS)
+        .map(|c| {
+            hyst_core::ParametricHysteresis::<T, hyst_core::ConstantK2<T>, F>::new(
+                bank.k1()[c],
+                bank.k2()[c],
+            )
+            .unwrap()
+        })
+        .collect();
+    let mut x = vec![T::zero(); CHANNELS];
+    let mut y = vec![T::zero(); CHANNELS];
+    let mut worst = 0.0_f64;
+    for _ in 0..ticks {
+        for c in 0..CHANNELS {
+            let big = if rng.next() < 0.1 { 1.0 } else { 0.3 };
+            x[c] = t(offset[c] + amp[c] * (2.0 * rng.next() - 1.0) * big);
+            ops[c]
+                .set_memory(bank.memory(c))
+                .unwrap_or_else(|e| panic!("channel {c}: the bank's memory is refused: {e}"));
+        }
+        let before: Vec<_> = (0..CHANNELS).map(|c| bank.memory(c)).collect();
+        bank.step(&x, &mut y).unwrap();
+        for c in 0..CHANNELS {
+            let s = ops[c].step(x[c]);
+            let m = before[c].map(|m| Memory {
+                reversal_input: m.reversal_input.as_f64(),
+                reversal_output: m.reversal_output.as_f64(),
+                direction: m.direction,
+                last_input: m.last_input.as_f64(),
+                last_output: m.last_output.as_f64(),
+            });
+            let sc = scale(x[c].as_f64(), s.as_f64(), k1[c], m);
+            let d = (y[c].as_f64() - s.as_f64()).abs() / (sc * T::EPSILON_F64);
+            worst = worst.max(d);
+        }
     }
     worst
 }
 
+/// The machine epsilon of a lane type as an `f64`.
+trait Epsilon {
+    const EPSILON_F64: f64;
+}
+impl Epsilon for f64 {
+    const EPSILON_F64: f64 = f64::EPSILON;
+}
+impl Epsilon for f32 {
+    const EPSILON_F64: f64 = f32::EPSILON as f64;
+}
+trait LaneEps: Lane + Epsilon {}
+impl<T: Lane + Epsilon> LaneEps for T {}
+
 #[test]
-fn bank_agrees_with_the_scalar_operator_f32() {
-    let inv = compare_f32::<64>(3, TICKS, false);
-    let dir = compare_f32::<64>(4, TICKS, true);
-    eprintln!(
-        "f32: inverse {inv:.2} ulp, direct {dir:.2} ulp over {} samples each",
-        64 * TICKS
-    );
-    assert!(inv <= INVERSE_ULP, "inverse: {inv} ulp");
-    assert!(dir <= DIRECT_ULP, "direct: {dir} ulp");
+fn every_kernel_agrees_with_the_scalar_operator() {
+    let _guard = ISA_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let mut ran = 0;
+    for kernel in Isa::ALL {
+        if force_isa(Some(kernel)).is_err() {
+            eprintln!("{}: not available here", kernel.name());
+            continue;
+        }
+        assert_eq!(isa(), kernel);
+        ran += 1;
+        let r = [
+            compare::<f64, Inverse>(1, TICKS),
+            compare::<f64, Direct>(2, TICKS),
+            compare::<f32, Inverse>(3, TICKS),
+            compare::<f32, Direct>(4, TICKS),
+        ];
+        eprintln!(
+            "{}: f64 inverse {:.2}, direct {:.2}; f32 inverse {:.2}, direct {:.2} ulp ({} samples each)",
+            kernel.name(),
+            r[0],
+            r[1],
+            r[2],
+            r[3],
+            CHANNELS * TICKS
+        );
+        force_isa(None).unwrap();
+        for (what, worst, bound) in [
+            ("f64 inverse", r[0], INVERSE_ULP),
+            ("f64 direct", r[1], DIRECT_ULP),
+            ("f32 inverse", r[2], INVERSE_ULP),
+            ("f32 direct", r[3], DIRECT_ULP),
+        ] {
+            assert!(
+                worst <= bound,
+                "{}: {what} {worst} ulp > {bound}",
+                kernel.name()
+            );
+        }
+    }
+    assert!(ran >= 1);
+}
+
+fn memories<F: hyst_core::bank::BankFormula>(bank: &BankVec<f64, F>) -> Vec<Option<Memory<f64>>> {
+    (0..bank.channels()).map(|c| bank.memory(c)).collect()
+}
+
+/// A non-finite sample is an error naming its channel, in every layout: in one tick no
+/// channel's memory changes; in a block the ticks before the failing one are done (the memory
+/// is as after them) and the rest are not. Slices of the wrong length are errors, never panics.
+#[test]
+fn bad_input_is_an_error_that_leaves_every_memory_as_before_the_tick() {
+    let n = 11;
+    let mut bank = BankVec::<f64, Direct>::from_vecs(vec![0.2; n], vec![8.0; n]).unwrap();
+    let ticks: Vec<f64> = (0..3 * n).map(|i| (i as f64 * 0.37).sin()).collect();
+    let mut out = vec![0.0; 3 * n];
+    bank.process_ticks(&ticks, &mut out).unwrap();
+    let before = memories(&bank);
+    // The same bank after two more good ticks (what a block failing at its third tick leaves).
+    let mut two = bank.clone();
+    two.process_ticks(&ticks[..2 * n], &mut out[..2 * n])
+        .unwrap();
+    let after_two = memories(&two);
+    let mut one = bank.clone();
+    let first: Vec<f64> = (0..n).map(|c| ticks[c * 3]).collect();
+    one.step(&first, &mut out[..n]).unwrap();
+    let after_one = memories(&one);
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let mut x: Vec<f64> = (0..n).map(|c| c as f64 * 0.01).collect();
+        x[7] = bad;
+        let e = bank.step(&x, &mut out[..n]).unwrap_err();
+        assert_eq!(e.channel, 7);
+        assert!(matches!(e.error, Error::NonFiniteInput { .. }));
+        assert_eq!(memories(&bank), before);
+
+        let mut b = bank.clone();
+        let mut block = ticks.clone();
+        block[2 * n + 5] = bad; // tick 2, channel 5, time-major
+        assert_eq!(b.process_ticks(&block, &mut out).unwrap_err().channel, 5);
+        assert_eq!(memories(&b), after_two);
+
+        let mut b = bank.clone();
+        let block: Vec<f64> = (0..n)
+            .flat_map(|c| (0..3).map(move |t| (c, t)))
+            .map(|(c, t)| {
+                if c == 4 && t == 1 {
+                    bad
+                } else {
+                    ticks[c * 3 + t]
+                }
+            })
+            .collect(); // channel 4, tick 1, channel-major
+        let e = b.process_block(&block, &mut out, 3).unwrap_err();
+        assert_eq!(e.channel, 4);
+        assert_eq!(memories(&b), after_one);
+    }
+    // Lengths: errors, not panics, and nothing changes.
+    let short = vec![0.0; n - 1];
+    let mut o = vec![0.0; n];
+    assert!(matches!(
+        bank.step(&short, &mut o).unwrap_err().error,
+        Error::LengthMismatch { .. }
+    ));
+    assert!(bank.step(&o.clone(), &mut o[..2]).is_err());
+    assert!(bank
+        .process_ticks(&vec![0.0; n + 1], &mut vec![0.0; n + 1])
+        .is_err());
+    assert!(bank
+        .process_block(&vec![0.0; 2 * n], &mut vec![0.0; 2 * n], 3)
+        .is_err());
+    assert!(bank.process_block(&[], &mut [], usize::MAX).is_err());
+    assert_eq!(memories(&bank), before);
+    assert!(bank.memory(n).is_none());
+    assert!(bank.set_memory(n, None).is_err());
+    // Parameters the scalar operator refuses, with their channel.
+    let e = BankVec::<f64, Inverse>::from_vecs(vec![0.1, 0.1, 0.1], vec![1.0, 1e-320, 1.0]);
+    assert_eq!(e.unwrap_err().channel, 1);
+    let e = BankVec::<f64, Inverse>::from_vecs(vec![0.1, f64::MAX], vec![1.0, 1.0]);
+    assert_eq!(e.unwrap_err().channel, 1);
+    assert!(BankVec::<f64, Inverse>::from_vecs(vec![0.1], vec![1.0, 2.0]).is_err());
+}
+
+/// Samples at the end of the float range: the bank gives the scalar operator's outputs (its
+/// overflow-free forms) or, where the scalar operator refuses a sample, the same error naming
+/// the channel, with every memory as before the block.
+#[test]
+fn the_end_of_the_float_range_is_handled_like_the_scalar_operator() {
+    fn run<F: hyst_core::bank::BankFormula>() -> (usize, usize) {
+        let (mut fine, mut refused) = (0, 0);
+        let k1 = [1e300, 0.5, 1e307, 2.0];
+        let k2 = [1e-290, 8.0, 1.0, 1e6];
+        let seq = [
+            [0.0, 1.0, 0.0, 0.0],
+            [1e308, -1.0, -1.7e308, 1e308],
+            [-1e308, 1e300, 1.7e308, -1e308],
+            [-f64::MAX, -f64::MAX, 1.0, f64::MAX],
+            [-f64::MAX, 0.0, 1.0, f64::MAX],
+        ];
+        let mut bank = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+        let mut ops: Vec<_> = (0..4)
+            .map(|c| {
+                hyst_core::ParametricHysteresis::<f64, hyst_core::ConstantK2<f64>, F>::new(
+                    k1[c], k2[c],
+                )
+                .unwrap()
+            })
+            .collect();
+        let mut out = [0.0; 4];
+        for x in seq {
+            let before = memories(&bank);
+            let scalar: Vec<_> = (0..4).map(|c| ops[c].try_step(x[c])).collect();
+            match bank.step(&x, &mut out) {
+                Ok(()) => {
+                    fine += 1;
+                    for c in 0..4 {
+                        let s = scalar[c].unwrap();
+                        assert!(out[c].is_finite());
+                        assert!((out[c] - x[c]).abs() <= k1[c]);
+                        let tol = 16.0 * f64::EPSILON * x[c].abs().max(s.abs()).max(k1[c]);
+                        assert!((out[c] - s).abs() <= tol, "{c}: {} vs {s}", out[c]);
+                    }
+                }
+                Err(BankError { channel, error }) => {
+                    refused += 1;
+                    assert!(matches!(error, Error::NonFiniteOutput { .. }));
+                    assert!(scalar[channel].is_err(), "channel {channel}");
+                    assert_eq!(memories(&bank), before);
+                    // The scalar operators step on: put the bank where they are.
+                    for (c, op) in ops.iter().enumerate() {
+                        bank.set_memory(c, op.memory()).unwrap();
+                    }
+                }
+            }
+        }
+        (fine, refused)
+    }
+    let _guard = ISA_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    for kernel in Isa::ALL {
+        if force_isa(Some(kernel)).is_ok() {
+            // The inverse falling to −max on channel 0 (k1 = 1e300) has its output beyond the
+            // float range; the direct operator's output lies between the input and the
+            // reversal point's side, so it never leaves the range.
+            let (fine, refused) = run::<Inverse>();
+            assert!(
+                fine >= 1 && refused >= 1,
+                "inverse: {fine} ticks, {refused} refused"
+            );
+            let (fine, _) = run::<Direct>();
+            assert!(fine >= 4, "direct: {fine} ticks");
+        }
+    }
+    force_isa(None).unwrap();
+
+    // In a block, a refused tick stops it there: the ticks before are done.
+    let mut bank = BankVec::<f64, Inverse>::from_vecs(vec![1e300, 0.5], vec![1e-290, 8.0]).unwrap();
+    let block = [0.0, 0.0, -1e308, 1.0, -f64::MAX, 2.0, 0.0, 3.0];
+    let mut out = [0.0; 8];
+    let mut two = bank.clone();
+    two.process_ticks(&block[..4], &mut out[..4]).unwrap();
+    let e = bank.process_ticks(&block, &mut out).unwrap_err();
+    assert_eq!(e.channel, 0);
+    assert!(matches!(e.error, Error::NonFiniteOutput { .. }));
+    assert_eq!(memories(&bank), memories(&two));
+}
+
+/// One tick at a time, a time-major block and a channel-major block give the same outputs and
+/// memories, bit for bit, with arrays or vectors as storage, for a channel count that is not a
+/// multiple of the vector width.
+#[test]
+fn layouts_and_storage_agree() {
+    const N: usize = 13;
+    const T: usize = 37;
+    let k1: [f64; N] = core::array::from_fn(|c| 0.05 + 0.03 * c as f64);
+    let k2: [f64; N] = core::array::from_fn(|c| 0.5 + 3.0 * c as f64);
+    let x = |c: usize, t: usize| (0.21 * t as f64 + c as f64).sin() * (1.0 + 0.1 * c as f64);
+    let mut by_tick = DirectBank::<f64, N>::new(k1, k2).unwrap();
+    let mut ticks = BankVec::<f64, Direct>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    let mut block = BankVec::<f64, Direct>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    let mut one = vec![0.0; N * T];
+    for t in 0..T {
+        let row: [f64; N] = core::array::from_fn(|c| x(c, t));
+        let mut y = [0.0; N];
+        by_tick.step(&row, &mut y).unwrap();
+        one[t * N..(t + 1) * N].copy_from_slice(&y);
+    }
+    let time_major: Vec<f64> = (0..T).flat_map(|t| (0..N).map(move |c| x(c, t))).collect();
+    let mut two = vec![0.0; N * T];
+    ticks.process_ticks(&time_major, &mut two).unwrap();
+    let channel_major: Vec<f64> = (0..N).flat_map(|c| (0..T).map(move |t| x(c, t))).collect();
+    let mut three = vec![0.0; N * T];
+    block.process_block(&channel_major, &mut three, T).unwrap();
+    for c in 0..N {
+        for t in 0..T {
+            assert_eq!(one[t * N + c].to_bits(), two[t * N + c].to_bits());
+            assert_eq!(one[t * N + c].to_bits(), three[c * T + t].to_bits());
+        }
+        assert_eq!(by_tick.memory(c), ticks.memory(c));
+        assert_eq!(by_tick.memory(c), block.memory(c));
+    }
+    // reset and set_memory: back to the start, or to a saved memory.
+    let saved = memories(&ticks);
+    ticks.reset();
+    assert!(ticks.memory(0).is_none());
+    for (c, m) in saved.iter().enumerate() {
+        ticks.set_memory(c, *m).unwrap();
+    }
+    assert_eq!(memories(&ticks), saved);
+    let mut a = vec![0.0; N];
+    let mut b = vec![0.0; N];
+    let row: Vec<f64> = (0..N).map(|c| x(c, T)).collect();
+    ticks.step(&row, &mut a).unwrap();
+    block.step(&row, &mut b).unwrap();
+    assert_eq!(a, b);
+}
+
+/// Threads: `step_par` and `process_block_par` give the sequential outputs and memories bit for
+/// bit (1,000 channels: parts of whole chunks plus a remainder), and bad input is the
+/// sequential error.
+#[cfg(feature = "rayon")]
+#[test]
+fn threads_agree_with_one_thread() {
+    const N: usize = 1000;
+    const T: usize = 20;
+    let k1: Vec<f64> = (0..N).map(|c| 0.05 + 0.001 * c as f64).collect();
+    let k2: Vec<f64> = (0..N).map(|c| 0.5 + 0.01 * c as f64).collect();
+    let x = |c: usize, t: usize| (0.3 * t as f64 + 0.1 * c as f64).sin() * 1.3;
+    let mut seq = BankVec::<f64, Direct>::from_vecs(k1.clone(), k2.clone()).unwrap();
+    let mut par = seq.clone();
+    for t in 0..T {
+        let row: Vec<f64> = (0..N).map(|c| x(c, t)).collect();
+        let (mut a, mut b) = (vec![0.0; N], vec![0.0; N]);
+        seq.step(&row, &mut a).unwrap();
+        par.step_par(&row, &mut b).unwrap();
+        assert_eq!(a, b);
+    }
+    let block: Vec<f64> = (0..N)
+        .flat_map(|c| (0..T).map(move |t| x(c, t + T)))
+        .collect();
+    let (mut a, mut b) = (vec![0.0; N * T], vec![0.0; N * T]);
+    seq.process_block(&block, &mut a, T).unwrap();
+    par.process_block_par(&block, &mut b, T).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(memories(&seq), memories(&par));
+    let mut bad: Vec<f64> = (0..N).map(|c| x(c, 0)).collect();
+    bad[777] = f64::NAN;
+    let e = par.step_par(&bad, &mut vec![0.0; N]).unwrap_err();
+    assert_eq!(e.channel, 777);
+    assert_eq!(memories(&seq), memories(&par));
+    assert!(par.step_par(&bad[1..], &mut vec![0.0; N - 1]).is_err());
 }

@@ -1,16 +1,23 @@
-//! Branch-free `exp`, `ln` and Wright ω for the channel bank: straight-line code (selects, no
-//! branches, no calls into libm) that the compiler vectorises across channels.
+//! Branch-free `exp`, `ln` and Wright ω for the channel bank, written once for every vector
+//! width ([`Simd`]: one lane of `f32`/`f64`, SSE2, AVX2, AVX-512) as straight-line code: selects, no
+//! branches per lane, no calls into libm.
 //!
-//! - `exp`: Cody–Waite reduction x = n ln 2 + r, |r| ≤ ln 2 / 2, a degree-13 (f64) or degree-7
-//!   (f32) Taylor polynomial evaluated by Estrin's scheme, and 2ⁿ built from its bits in two factors (so subnormal results
-//!   and overflow to +∞ come out right without a branch). Error ≤ 2 ulp (tested against the
-//!   platform's `exp` in `tests/bank.rs`).
+//! - `exp`: Cody–Waite reduction x = n ln 2 + r, |r| ≤ ln 2 / 2, the Taylor polynomial of e^r
+//!   to degree 13 (f64) or 7 (f32) evaluated in pairs (c₂ᵢ + c₂ᵢ₊₁ r, then Horner in r²), and
+//!   2ⁿ built from its bits; results below the smallest normal float (x < −708.39 for f64,
+//!   −87.33 for f32) are 0, and above 709.43 (f64) / 88.37 (f32) +∞, a factor of at most 2
+//!   before the float range ends (the bank's callers hand such samples to the scalar operator).
+//!   AVX-512 reduces by ln 2 / 8 (f64) or ln 2 / 16 (f32) instead, with the table of 2^(j/8) or
+//!   2^(j/16) in one register (one permute), degree 8 or 4, and `vscalefpd`, which gets
+//!   subnormal results and the end of the range right. Error ≤ 2 ulp for normal results
+//!   (tested against the platform's `exp` in `tests/bank.rs` and, per kernel, in the unit tests
+//!   of the `x86` module).
 //! - `ln`: fdlibm's `e_log.c` / `e_logf.c` (x = 2ᵏ m, √½ ≤ m < √2, s = f / (2 + f), minimax
 //!   polynomial in s²); error ≤ 1 ulp for normal positive x.
-//! - ω(y) = W0(eʸ), the solution of ω + ln ω = y: for y < −20 (f64; −10 for f32) t − t² with
-//!   t = eʸ (the next term, 1.5 t³, is below an ulp); elsewhere Winitzki's start
-//!   L (1 − ln(1 + L) / (2 + L)), L = ln(1 + eʸ), refined by two fourth-order
-//!   Fritsch–Shafer–Crowley steps, as the scalar [`crate::lambert::omega`] does for large y.
+//! - ω(y) = W0(eʸ), the solution of ω + ln ω = y: see [`omega`] and the direct kernel.
+//!
+//! The functions are `#[inline(always)]` only when optimising (see the kernel module: debug
+//! builds' stack).
 //!
 //! # References
 //! - W. J. Cody, W. Waite, *Software Manual for the Elementary Functions* (1980).
@@ -18,204 +25,280 @@
 //! - S. Winitzki, "Uniform approximations for transcendental functions", ICCSA 2003.
 //! - F. N. Fritsch, R. E. Shafer, W. P. Crowley, Comm. ACM 16 (1973), Algorithm 443.
 
+use super::simd::Simd;
 use crate::Real;
 
-/// A float type the bank vectorises: `f64` (8 lanes per chunk) or `f32` (16 lanes).
-pub trait Lane: Real + super::RunBlock {
-    /// Channels per chunk: one AVX-512 register (8 × f64, 16 × f32), two AVX2 registers.
-    const LANES: usize;
-    /// Below this y, ω(y) = t − t² with t = eʸ to within an ulp.
+/// A float type the bank runs: `f32` or `f64`, with the constants of its elementary functions.
+pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
+    /// Below this y, the five-term series of ω in t = eʸ (`omega_series`) is exact to
+    /// rounding (its first omitted term, 10.8 t⁶, is below half an ulp of t).
+    const OMEGA_SERIES: Self;
+    /// Below this y, ω(y) = t − t² (t = eʸ) to within an ulp (used by [`omega`]).
     const OMEGA_SMALL: Self;
-    /// A first FSC step from the previous sample's ω is accepted when its residual
-    /// |y − w − ln w| is below this (the step's fourth order then leaves less than an ulp).
+    /// One Fritsch–Shafer–Crowley step from the bank's start is accepted when the residual
+    /// |y − w − ln w| of the start is below this (the step's fourth order then leaves less
+    /// than an ulp); otherwise [`omega`] evaluates the lane from scratch.
     const RESIDUAL_OK: Self;
-    /// `exp`, branch-free.
-    fn exp_l(self) -> Self;
-    /// `if m { a } else { b }` as a bit blend. Written as a plain `if` over values loaded from
-    /// memory, the compiler turns the choice into a choice of addresses and stops vectorising
-    /// the loop; the blend keeps it a vector operation.
-    fn select(m: bool, a: Self, b: Self) -> Self;
-    /// `ln` for normal positive values, branch-free (−∞ at 0, NaN below).
-    fn ln_l(self) -> Self;
-}
+    /// Above this `exp` returns +∞.
+    const EXP_HI: Self;
+    /// Below this `exp` returns 0.
+    const EXP_LO: Self;
+    /// 1.5 · 2^(mantissa bits): adding it rounds to an integer, left in the low bits.
+    const SHIFT: Self;
+    /// ln 2 in two parts for `exp`'s reduction (high part with trailing zero bits).
+    const EXP_LN2: (f64, f64);
+    /// ln 2 in two parts for `ln`.
+    const LOG_LN2: (f64, f64);
+    /// How many of [`INV_FACTORIALS`] `exp` uses: e^r = 1 + r + r² Σ cᵢ rⁱ, |r| ≤ ln 2 / 2.
+    const EXP_TERMS: usize;
+    /// fdlibm's odd-indexed (Lg1, Lg3, …) and even-indexed (Lg2, Lg4, …) log coefficients.
+    const LOG_POLY: (&'static [f64], &'static [f64]);
+    /// The bits b of `exp`'s table reduction (see [`Simd::EXP_TABLE`]): 3 for f64, 4 for f32.
+    const EXP_TABLE_BITS: u32;
+    /// 2^(j / 2^b), j = 0 … 2^b − 1, rounded to this type.
+    const EXP_TABLE: &'static [f64];
+    /// How many of [`INV_FACTORIALS`] the table reduction uses (|r| ≤ ln 2 / 2^(b+1)).
+    const EXP_TABLE_TERMS: usize;
+    /// The low bits of the value's representation (the table index of `exp`).
+    fn low_bits(self) -> usize;
+    /// The next float towards −∞ (finite values).
+    fn next_below(self) -> Self;
+    /// The next float towards +∞ (finite values).
+    fn next_above(self) -> Self;
 
-/// 1.5 · 2⁵²: adding it rounds an f64 of magnitude < 2⁵¹ to an integer (ties to even).
-const SHIFT_F64: f64 = 6_755_399_441_055_744.0;
-/// 1.5 · 2²³, the same for f32.
-const SHIFT_F32: f32 = 12_582_912.0;
-
-/// 2ⁿ for −1022 ≤ n ≤ 1023 from its bits.
-#[inline(always)]
-fn pow2_f64(n: i64) -> f64 {
-    f64::from_bits(((n + 1023) as u64) << 52)
-}
-
-/// 2ⁿ for −126 ≤ n ≤ 127 from its bits.
-#[inline(always)]
-fn pow2_f32(n: i32) -> f32 {
-    f32::from_bits(((n + 127) as u32) << 23)
-}
-
-impl Lane for f64 {
-    const LANES: usize = 8;
-
+    /// eˣ, branch-free (see the module documentation for its range and error).
     #[inline(always)]
-    fn select(m: bool, a: Self, b: Self) -> Self {
-        let mask = u64::from(m).wrapping_neg();
-        f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
+    fn exp_l(self) -> Self {
+        exp(self)
     }
+
+    /// ln x for normal positive x, branch-free (−∞ at 0, +∞ at +∞, NaN below 0 and for NaN).
+    #[inline(always)]
+    fn ln_l(self) -> Self {
+        ln(self)
+    }
+}
+
+/// 1/k!, k = 2 … 13: the Taylor coefficients of (e^r − 1 − r) / r².
+pub const INV_FACTORIALS: [f64; 12] = [
+    1.0 / 2.0,
+    1.0 / 6.0,
+    1.0 / 24.0,
+    1.0 / 120.0,
+    1.0 / 720.0,
+    1.0 / 5_040.0,
+    1.0 / 40_320.0,
+    1.0 / 362_880.0,
+    1.0 / 3_628_800.0,
+    1.0 / 39_916_800.0,
+    1.0 / 479_001_600.0,
+    1.0 / 6_227_020_800.0,
+];
+
+/// The first `n` of [`INV_FACTORIALS`].
+#[inline(always)]
+fn inv_factorials(n: usize) -> &'static [f64] {
+    INV_FACTORIALS.get(..n).unwrap_or(&INV_FACTORIALS)
+}
+
+/// The bit-level items of [`Lane`], the same for both types.
+macro_rules! lane_bits {
+    ($t:ty) => {
+        #[inline(always)]
+        fn low_bits(self) -> usize {
+            self.to_bits() as usize
+        }
+        #[inline]
+        fn next_below(self) -> Self {
+            <$t>::next_down(self)
+        }
+        #[inline]
+        fn next_above(self) -> Self {
+            <$t>::next_up(self)
+        }
+    };
+}
+
+// fdlibm's constants as published (more digits than an f64 holds; they round to it).
+#[allow(clippy::excessive_precision)]
+impl Lane for f64 {
+    const EXP_TERMS: usize = 12;
+    const OMEGA_SERIES: Self = -9.2;
     const OMEGA_SMALL: Self = -20.0;
     const RESIDUAL_OK: Self = 1e-4;
-
-    #[inline(always)]
-    fn exp_l(self) -> Self {
-        const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
-        const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
-        const INV_LN2: f64 = core::f64::consts::LOG2_E;
-        // Beyond these e^x is +∞ or rounds to 0; clamping keeps n in the range of the two
-        // factors below (NaN stays NaN through the arithmetic: `max`/`min` are not used on it).
-        let x = if self > 709.8 {
-            709.8
-        } else if self < -745.2 {
-            -745.2
-        } else {
-            self
-        };
-        let t = x * INV_LN2 + SHIFT_F64;
-        let n = t - SHIFT_F64;
-        let r = (x - n * LN2_HI) - n * LN2_LO;
-        // e^r = 1 + r + r² P(r), P the Taylor coefficients 1/k!, k = 2 … 13, by Estrin's
-        // scheme (four levels instead of a chain of eleven: the loop is latency-bound).
-        let r2 = r * r;
-        let r4 = r2 * r2;
-        let p01 = 1.0 / 2.0 + r * (1.0 / 6.0);
-        let p23 = 1.0 / 24.0 + r * (1.0 / 120.0);
-        let p45 = 1.0 / 720.0 + r * (1.0 / 5_040.0);
-        let p67 = 1.0 / 40_320.0 + r * (1.0 / 362_880.0);
-        let p89 = 1.0 / 3_628_800.0 + r * (1.0 / 39_916_800.0);
-        let p1011 = 1.0 / 479_001_600.0 + r * (1.0 / 6_227_020_800.0);
-        let q0 = p01 + r2 * p23;
-        let q1 = p45 + r2 * p67;
-        let q2 = p89 + r2 * p1011;
-        let p = q0 + r4 * (q1 + r4 * q2);
-        let e = 1.0 + (r + r2 * p);
-        // n sits in the low bits of t; split 2ⁿ in two factors so that n ∈ [−1075, 1024]
-        // needs no branch (subnormal results, overflow to +∞).
-        let ni = (t.to_bits() as i64).wrapping_sub(SHIFT_F64.to_bits() as i64);
-        let n1 = ni >> 1;
-        e * pow2_f64(n1) * pow2_f64(ni - n1)
-    }
-
-    #[inline(always)]
-    fn ln_l(self) -> Self {
-        const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
-        const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
-        const LG1: f64 = 6.666_666_666_666_735_130e-1;
-        const LG2: f64 = 3.999_999_999_940_941_908e-1;
-        const LG3: f64 = 2.857_142_874_366_239_149e-1;
-        const LG4: f64 = 2.222_219_843_214_978_396e-1;
-        const LG5: f64 = 1.818_357_216_161_805_012e-1;
-        const LG6: f64 = 1.531_383_769_920_937_332e-1;
-        const LG7: f64 = 1.479_819_860_511_658_591e-1;
-        let bits = self.to_bits();
-        let exponent = ((bits >> 52) & 0x7ff) as i64 - 1023;
-        let m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
-        let big = m > core::f64::consts::SQRT_2;
-        let m = if big { 0.5 * m } else { m };
-        let k = (exponent + i64::from(big)) as f64;
-        let f = m - 1.0;
-        let hfsq = 0.5 * f * f;
-        let s = f / (2.0 + f);
-        let z = s * s;
-        let w = z * z;
-        let t1 = w * (LG2 + w * (LG4 + w * LG6));
-        let t2 = z * (LG1 + w * (LG3 + w * (LG5 + w * LG7)));
-        let r = t2 + t1;
-        let ln = k * LN2_HI - ((hfsq - (s * (hfsq + r) + k * LN2_LO)) - f);
-        if self == 0.0 {
-            f64::NEG_INFINITY
-        } else if self > 0.0 && self < f64::INFINITY {
-            ln
-        } else if self == f64::INFINITY {
-            self
-        } else {
-            f64::NAN
-        }
-    }
+    const EXP_HI: Self = 709.43;
+    const EXP_LO: Self = -708.396;
+    const SHIFT: Self = 6_755_399_441_055_744.0;
+    const EXP_LN2: (f64, f64) = (
+        6.931_471_803_691_238_164_90e-1,
+        1.908_214_929_270_587_700_02e-10,
+    );
+    const LOG_LN2: (f64, f64) = (
+        6.931_471_803_691_238_164_90e-1,
+        1.908_214_929_270_587_700_02e-10,
+    );
+    const LOG_POLY: (&'static [f64], &'static [f64]) = (
+        &[
+            6.666_666_666_666_735_130e-1,
+            2.857_142_874_366_239_149e-1,
+            1.818_357_216_161_805_012e-1,
+            1.479_819_860_511_658_591e-1,
+        ],
+        &[
+            3.999_999_999_940_941_908e-1,
+            2.222_219_843_214_978_396e-1,
+            1.531_383_769_920_937_332e-1,
+        ],
+    );
+    const EXP_TABLE_BITS: u32 = 3;
+    const EXP_TABLE: &'static [f64] = &[
+        1.0,
+        1.090_507_732_665_257_7,
+        1.189_207_115_002_721,
+        1.296_839_554_651_009_6,
+        core::f64::consts::SQRT_2,
+        1.542_210_825_407_940_7,
+        1.681_792_830_507_429,
+        1.834_008_086_409_342_4,
+    ];
+    // |r| ≤ ln 2 / 16: the first omitted term r⁹/9! is below 1.5e-18.
+    const EXP_TABLE_TERMS: usize = 7;
+    lane_bits!(f64);
 }
 
+#[allow(clippy::excessive_precision)]
 impl Lane for f32 {
-    const LANES: usize = 16;
-
-    #[inline(always)]
-    fn select(m: bool, a: Self, b: Self) -> Self {
-        let mask = u32::from(m).wrapping_neg();
-        f32::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
-    }
+    const EXP_TERMS: usize = 6;
+    const OMEGA_SERIES: Self = -4.0;
     const OMEGA_SMALL: Self = -10.0;
     const RESIDUAL_OK: Self = 1e-2;
+    const EXP_HI: Self = 88.37;
+    const EXP_LO: Self = -87.336;
+    const SHIFT: Self = 12_582_912.0;
+    const EXP_LN2: (f64, f64) = (6.931_457_5e-1, 1.428_606_8e-6);
+    const LOG_LN2: (f64, f64) = (6.931_381_2e-1, 9.058_001e-6);
+    const LOG_POLY: (&'static [f64], &'static [f64]) = (
+        &[0.666_666_626_93, 0.284_987_866_88],
+        &[0.400_009_721_52, 0.242_790_788_41],
+    );
+    const EXP_TABLE_BITS: u32 = 4;
+    const EXP_TABLE: &'static [f64] = &[
+        1.0,
+        1.044_273_734_092_712_4,
+        1.090_507_745_742_797_9,
+        1.138_788_580_894_470_2,
+        1.189_207_077_026_367_2,
+        1.241_857_767_105_102_5,
+        1.296_839_594_841_003_4,
+        1.354_255_557_060_241_7,
+        1.414_213_538_169_860_8,
+        1.476_826_190_948_486_3,
+        1.542_210_817_337_036_1,
+        1.610_490_322_113_037,
+        1.681_792_855_262_756_3,
+        1.756_252_169_609_069_8,
+        1.834_008_097_648_620_6,
+        1.915_206_551_551_818_8,
+    ];
+    // |r| ≤ ln 2 / 32: the first omitted term r⁵/5! is below 4e-11.
+    const EXP_TABLE_TERMS: usize = 3;
+    lane_bits!(f32);
+}
 
-    #[inline(always)]
-    fn exp_l(self) -> Self {
-        const LN2_HI: f32 = 6.931_457_5e-1;
-        const LN2_LO: f32 = 1.428_606_8e-6;
-        const INV_LN2: f32 = core::f32::consts::LOG2_E;
-        let x = if self > 88.8 {
-            88.8
-        } else if self < -104.0 {
-            -104.0
-        } else {
-            self
+/// Σ cᵢ xⁱ by Horner's scheme.
+#[inline(always)]
+fn horner<V: Simd>(x: V, coefficients: &[f64]) -> V {
+    let mut p = V::c(0.0);
+    for c in coefficients.iter().rev() {
+        p = p.fma(x, V::c(*c));
+    }
+    p
+}
+
+/// Σ cᵢ xⁱ in pairs: qⱼ = c₂ⱼ + c₂ⱼ₊₁ x (independent), then Horner in x² (half the chain).
+#[inline(always)]
+fn poly_pairs<V: Simd>(x: V, coefficients: &[f64]) -> V {
+    let x2 = x * x;
+    let mut p = V::c(0.0);
+    for pair in coefficients.chunks(2).rev() {
+        let q = match pair {
+            [a, b] => x.fma(V::c(*b), V::c(*a)),
+            [a] => V::c(*a),
+            _ => V::c(0.0),
         };
-        let t = x * INV_LN2 + SHIFT_F32;
-        let n = t - SHIFT_F32;
-        let r = (x - n * LN2_HI) - n * LN2_LO;
-        // e^r = 1 + r + r² P(r), P of degree 5 (1/k!, k = 2 … 7) by Estrin's scheme.
-        let r2 = r * r;
-        let r4 = r2 * r2;
-        let p01 = 1.0 / 2.0 + r * (1.0 / 6.0);
-        let p23 = 1.0 / 24.0 + r * (1.0 / 120.0);
-        let p45 = 1.0 / 720.0 + r * (1.0 / 5_040.0);
-        let p = p01 + r2 * p23 + r4 * p45;
-        let e = 1.0 + (r + r2 * p);
-        let ni = (t.to_bits() as i32).wrapping_sub(SHIFT_F32.to_bits() as i32);
-        let n1 = ni >> 1;
-        e * pow2_f32(n1) * pow2_f32(ni - n1)
+        p = p.fma(x2, q);
     }
+    p
+}
 
-    #[inline(always)]
-    fn ln_l(self) -> Self {
-        const LN2_HI: f32 = 6.931_381_2e-1;
-        const LN2_LO: f32 = 9.058_001e-6;
-        const LG1: f32 = 0.666_666_626_93;
-        const LG2: f32 = 0.400_009_721_52;
-        const LG3: f32 = 0.284_987_866_88;
-        const LG4: f32 = 0.242_790_788_41;
-        let bits = self.to_bits();
-        let exponent = ((bits >> 23) & 0xff) as i32 - 127;
-        let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
-        let big = m > core::f32::consts::SQRT_2;
-        let m = if big { 0.5 * m } else { m };
-        let k = (exponent + i32::from(big)) as f32;
-        let f = m - 1.0;
-        let hfsq = 0.5 * f * f;
-        let s = f / (2.0 + f);
-        let z = s * s;
-        let w = z * z;
-        let t1 = w * (LG2 + w * LG4);
-        let t2 = z * (LG1 + w * LG3);
-        let r = t2 + t1;
-        let ln = k * LN2_HI - ((hfsq - (s * (hfsq + r) + k * LN2_LO)) - f);
-        if self == 0.0 {
-            f32::NEG_INFINITY
-        } else if self > 0.0 && self < f32::INFINITY {
-            ln
-        } else if self == f32::INFINITY {
-            self
-        } else {
-            f32::NAN
-        }
+/// eˣ on every lane (see the module documentation).
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn exp<V: Simd>(x: V) -> V
+where
+    V::T: Lane,
+{
+    let shift = V::splat(<V::T as Lane>::SHIFT);
+    let (ln2_hi, ln2_lo) = <V::T as Lane>::EXP_LN2;
+    if V::EXP_TABLE {
+        // x = (8 n + j) ln 2 / 8 + r (f64; 16 for f32), eˣ = 2ⁿ 2^(j/8) eʳ.
+        let k = f64::from(1_u32 << <V::T as Lane>::EXP_TABLE_BITS);
+        let xr = V::exp_arg(x);
+        let t = xr.fma(V::c(k * core::f64::consts::LOG2_E), shift);
+        let m = t - shift;
+        let r = m.fma(V::c(-ln2_hi / k), xr);
+        let r = m.fma(V::c(-ln2_lo / k), r);
+        let p = poly_pairs(r, inv_factorials(<V::T as Lane>::EXP_TABLE_TERMS));
+        let e = (r * r).fma(p, r) + V::c(1.0);
+        return V::scale(e * V::exp2_frac(t), m * V::c(1.0 / k));
     }
+    let xr = V::exp_arg(x);
+    let t = xr.fma(V::c(core::f64::consts::LOG2_E), shift);
+    let n = t - shift;
+    let r = n.fma(V::c(-ln2_hi), xr);
+    let r = n.fma(V::c(-ln2_lo), r);
+    let p = poly_pairs(r, inv_factorials(<V::T as Lane>::EXP_TERMS));
+    let e = (r * r).fma(p, r) + V::c(1.0);
+    V::exp_tail(e, t, n, x)
+}
+
+/// ln x for positive normal x (no special cases: 0, subnormals, ∞ and NaN give wrong finite
+/// values or NaN; the callers select those lanes away).
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn ln_pos<V: Simd>(x: V) -> V
+where
+    V::T: Lane,
+{
+    let (m, k) = x.split_exponent();
+    let big = V::c(core::f64::consts::SQRT_2).less(m);
+    let m = V::select(big, m * V::c(0.5), m);
+    let k = V::select(big, k + V::c(1.0), k);
+    let (ln2_hi, ln2_lo) = <V::T as Lane>::LOG_LN2;
+    let (odd, even) = <V::T as Lane>::LOG_POLY;
+    let f = m - V::c(1.0);
+    let hfsq = V::c(0.5) * f * f;
+    let s = f / (V::c(2.0) + f);
+    let z = s * s;
+    let w = z * z;
+    let r = z * horner(w, odd) + w * horner(w, even);
+    k * V::c(ln2_hi) - ((hfsq - (s * (hfsq + r) + k * V::c(ln2_lo))) - f)
+}
+
+/// ln x with its special values: −∞ at 0, +∞ at +∞, NaN below 0 and for NaN.
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn ln<V: Simd>(x: V) -> V
+where
+    V::T: Lane,
+{
+    let inf = V::splat(<V::T as num_traits::Float>::infinity());
+    let zero = V::c(0.0);
+    let inside = V::and(zero.less(x), x.less(inf));
+    let v = V::select(
+        inside,
+        ln_pos(x),
+        V::splat(<V::T as num_traits::Float>::nan()),
+    );
+    let v = V::select(x.equal(zero), -inf, v);
+    V::select(x.equal(inf), inf, v)
 }
 
 /// Chebyshev fits of ω(y) (relative error ≤ 2.2e-5 on [−3, 3], ≤ 7.2e-6 on [3, 12]), in powers
@@ -244,72 +327,101 @@ const OMEGA_HIGH: [f64; 7] = [
     0.003_541_166_858_665_075_8,
 ];
 
+/// The series ω = t − t² + 3/2 t³ − 8/3 t⁴ + 125/24 t⁵ in t = eʸ (W0's series at 0): exact to
+/// rounding below [`Lane::OMEGA_SERIES`], a start within 3.4e-6 below y = −3.
 #[inline(always)]
-fn horner<T: Lane>(x: T, coefficients: &[f64]) -> T {
-    let mut p = T::zero();
-    for c in coefficients.iter().rev() {
-        p = p * x + T::from_f64(*c);
-    }
-    p
+pub(crate) fn omega_series<V: Simd>(t: V) -> V {
+    let one = V::c(1.0);
+    let inner = t.fma(-V::c(125.0 / 24.0), V::c(8.0 / 3.0));
+    let inner = (-t).fma(inner, V::c(1.5));
+    let inner = (-t).fma(inner, one);
+    t * (-t).fma(inner, one)
 }
 
-/// A start for ω(y) within 2.2e-5 (relative) for every y, without iteration: the series
-/// t − t² + 1.5 t³ − 8/3 t⁴ + 125/24 t⁵ in t = eʸ below −3 (`t` is eʸ, passed in), the fits
-/// above on [−3, 12], and the asymptotic expansion y − L + (L / y)(1 + (L − 2) / (2y) +
-/// (2L² − 9L + 6) / (6y²)), L = ln y, above 12 (`ln_y` is ln y, passed in; only read there).
-/// One FSC step from it is within an ulp.
-#[inline(always)]
-pub fn omega_start<T: Lane>(y: T, t: T, ln_y: T) -> T {
-    let one = T::one();
-    let c = T::from_f64;
-    let series = t * (one - t * (one - t * (c(1.5) - t * (c(8.0 / 3.0) - t * c(125.0 / 24.0)))));
-    let mid = horner(y * c(1.0 / 3.0), &OMEGA_MID);
-    let high = horner(y * c(2.0 / 9.0) - c(15.0 / 9.0), &OMEGA_HIGH);
-    let iy = one / y;
-    let asymptotic = y - ln_y
-        + ln_y
-            * iy
-            * (one
-                + iy * (c(0.5) * (ln_y - c(2.0))
-                    + iy * ((c(2.0) * ln_y - c(9.0)) * ln_y + c(6.0)) * c(1.0 / 6.0)));
-    T::select(
-        y < c(-3.0),
-        series,
-        T::select(y <= c(3.0), mid, T::select(y <= c(12.0), high, asymptotic)),
-    )
+/// A start for ω(y) within 2.2e-5 (relative) for every y ≥ −3 (below, `series` from
+/// [`omega_series`] is kept): the fits above on [−3, 12] and the asymptotic expansion
+/// y − L + (L / y)(1 + (L − 2) / (2y) + (2L² − 9L + 6) / (6y²)), L = ln y, above 12. Each piece is
+/// evaluated only when some lane needs it.
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn omega_start<V: Simd>(y: V, series: V) -> V
+where
+    V::T: Lane,
+{
+    let mut start = series;
+    let mid_on = V::c(-3.0).less_eq(y);
+    if V::any(mid_on) {
+        start = V::select(mid_on, horner(y * V::c(1.0 / 3.0), &OMEGA_MID), start);
+    }
+    let high_on = V::c(3.0).less(y);
+    if V::any(high_on) {
+        let x = y.fma(V::c(2.0 / 9.0), V::c(-15.0 / 9.0));
+        start = V::select(high_on, horner(x, &OMEGA_HIGH), start);
+    }
+    let asym_on = V::c(12.0).less(y);
+    if V::any(asym_on) {
+        let one = V::c(1.0);
+        // Lanes below 12 would take ln of anything; 12 keeps them finite.
+        let ys = V::select(asym_on, y, V::c(12.0));
+        let l = ln_pos(ys);
+        let iy = one / ys;
+        let c2 = (V::c(2.0) * l - V::c(9.0)).fma(l, V::c(6.0)) * V::c(1.0 / 6.0);
+        let c1 = V::c(0.5) * (l - V::c(2.0));
+        let asym = ys - l + l * iy * iy.fma(iy.fma(c2, c1), one);
+        start = V::select(asym_on, asym, start);
+    }
+    start
 }
 
 /// One Fritsch–Shafer–Crowley step for ω + ln ω = y from w (fourth order), with the residual
-/// r = y − w − ln w it started from. Two divisions.
-#[inline(always)]
-pub fn fsc_step<T: Lane>(w: T, y: T) -> (T, T) {
-    let one = T::one();
-    let r = y - w - w.ln_l();
+/// r = y − w − ln w it started from. Written so that nothing overflows for large w.
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn fsc_step<V: Simd>(w: V, y: V) -> (V, V)
+where
+    V::T: Lane,
+{
+    let one = V::c(1.0);
+    let r = y - w - ln_pos(w);
     let iq = one / (one + w);
     let rq = r * iq;
-    let t = one + T::from_f64(2.0 / 3.0) * rq;
-    let num = t - T::from_f64(0.5) * rq * iq;
-    let den = t - rq * iq;
-    (w * (one + rq * (num / den)), r)
+    let t = rq.fma(V::c(2.0 / 3.0), one);
+    let num = (V::c(-0.5) * rq).fma(iq, t);
+    let den = (-rq).fma(iq, t);
+    (w * (rq * (num / den)) + w, r)
 }
 
-/// ω(y) = W0(eʸ) from scratch (Winitzki's start and two FSC steps; the small-y series below
-/// [`Lane::OMEGA_SMALL`]). ω(−∞) = 0.
-#[inline(always)]
-pub fn omega<T: Lane>(y: T) -> T {
-    let one = T::one();
-    let zero = T::zero();
-    let t = y.exp_l();
+/// ω(y) = W0(eʸ) from scratch on every lane: Winitzki's start L (1 − ln(1 + L) / (2 + L)),
+/// L = ln(1 + eʸ), refined by two fourth-order Fritsch–Shafer–Crowley steps; t − t² (t = eʸ)
+/// below [`Lane::OMEGA_SMALL`]. ω(−∞) = 0.
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn omega_v<V: Simd>(y: V) -> V
+where
+    V::T: Lane,
+{
+    let one = V::c(1.0);
+    let zero = V::c(0.0);
+    let t = exp(y);
+    let positive = zero.less(y);
     // L = ln(1 + eʸ) without overflow: max(y, 0) + ln(1 + e^(−|y|)).
-    let neg_abs = if y > zero { -y } else { y };
-    let l = (if y > zero { y } else { zero }) + (one + neg_abs.exp_l()).ln_l();
-    let mut w = l * (one - (one + l).ln_l() / (T::from_f64(2.0) + l));
+    let l = V::select(positive, y, zero) + ln_pos(one + exp(-y.magnitude()));
+    let mut w = l * (one - ln_pos(one + l) / (V::c(2.0) + l));
     for _ in 0..2 {
         w = fsc_step(w, y).0;
     }
-    if y < T::OMEGA_SMALL {
-        t - t * t
-    } else {
-        w
-    }
+    V::select(y.less(V::splat(<V::T as Lane>::OMEGA_SMALL)), t - t * t, w)
+}
+
+/// ω(y) = W0(eʸ), the Wright omega function, for one value, as the bank evaluates it from
+/// scratch: Winitzki's start L (1 − ln(1 + L) / (2 + L)), L = ln(1 + eʸ), refined by two
+/// fourth-order Fritsch–Shafer–Crowley steps; t − t² (t = eʸ) below [`Lane::OMEGA_SMALL`].
+/// ω(−∞) = 0. For tests and comparisons with [`crate::lambert::omega`].
+///
+/// # Examples
+/// ```
+/// use hyst_core::bank::lanes::omega;
+/// let w = omega(1.0_f64); // W(e) = 1
+/// assert!((w - 1.0).abs() < 1e-15);
+/// ```
+#[must_use]
+pub fn omega<T: Lane>(y: T) -> T {
+    omega_v(y)
 }

@@ -2,26 +2,41 @@
 //! (Definition 2.1), stepped together — a deformable mirror's actuators, the axes of a stage.
 //!
 //! The state is a structure of arrays over storage `S` (`[T; N]` arrays without allocation, or
-//! `Vec<T>` with `std`), and the channels are computed in chunks of [`Lane::LANES`] (8 × f64,
-//! 16 × f32) by branch-free code ([`lanes`]) that the compiler vectorises. With `std`, the
-//! chunk loop is compiled for AVX-512, AVX2 + FMA and the x86-64 baseline (SSE2) and the best
-//! one the processor has is chosen at run time (the `multiversion` crate; docs/performance.md
-//! says why); without `std` it is compiled for the target's own features.
+//! `Vec<T>` with `std`). The channels run in chunks of four vector registers (AVX-512: 32 × f64,
+//! 64 × f32) whose state stays in registers while the ticks go by (four independent dependency
+//! chains per tick, which the processor overlaps), in branch-free code written once against a
+//! small vector trait ([`lanes`] has the elementary functions). With `std` on x86-64 the
+//! instruction set is chosen at run time: AVX-512, else AVX2 + FMA, else SSE2 (x86-64's
+//! baseline); other targets and `no_std` builds run the portable code (plain floats, four
+//! channels at a time). [`isa`] tells which runs, [`force_isa`] chooses one. docs/performance.md
+//! has the measurements behind these choices.
 //!
-//! Every clone does the same arithmetic (no fused multiply-add is introduced), so a bank's
-//! results do not depend on the processor. They agree with the scalar operator
-//! ([`crate::Hysteresis`], [`crate::InverseHysteresis`]) to a few ulp, not bit for bit: the
-//! bank has its own `exp`, `ln` and ω where the scalar operator calls the platform's `exp` and
-//! the `lambert_w` crate (the bound is stated and tested in `tests/bank.rs`).
+//! The results agree with the scalar operator ([`crate::Hysteresis`],
+//! [`crate::InverseHysteresis`]) to a few ulp, not bit for bit: the bank has its own `exp`, `ln`
+//! and ω where the scalar operator calls the platform's `exp` and the `lambert_w` crate, and the
+//! AVX2 and AVX-512 kernels fuse multiply-adds (so they also differ from the SSE2 and portable
+//! kernels in the last bits). For every kernel, |bank − scalar| ≤ 4 ulp (inverse) and 16 ulp
+//! (direct) of max(|input|, |output|, k1, |memory points|), tested in `tests/bank.rs`.
 //!
+//! Guarantees shared with the scalar operator: every output satisfies |output − input| ≤ k1 as
+//! computed in floating point (so a saved memory always passes [`Memory::validate`]); a lane
+//! whose output would leave that band or not be finite is computed by the scalar operator from
+//! the same memory. A non-finite input, or a finite one whose output is beyond the float range,
+//! is an error naming the channel; the ticks before it are done and every channel's memory is
+//! as after them (for [`ParametricBank::step`]: unchanged).
+//!
+//! Inverse operator (eq. 4): v = (x − α0 + β0) + (1 − e^(−k2 ũd)) s M*, s M* cached per channel.
 //! Direct operator (eq. 2): ũ = ṽ − M* + ω(y)/k2 with y = ln(k2 M*) + k2 (M* − ṽ) (the scalar
 //! operator's W0(k2 M* e^(k2 (M* − ṽ))) in the log domain, so nothing overflows), and
-//! ũ = (ln(k2 M*) − ln ω)/k2 where e^y would overflow. ω starts from the previous sample's ω
-//! extrapolated along dω/dy = ω/(1 + ω), one fourth-order step; when any channel of a chunk is
-//! too far for that (after a reversal, a jump of the input), the chunk takes the full
-//! evaluation of [`lanes::omega`].
+//! ũ = (ln(k2 M*) − ln ω)/k2 where e^y would overflow. M* and ln(k2 M*) change only at reversals
+//! and are cached per channel.
 
+mod kernel;
 pub mod lanes;
+#[doc(hidden)]
+pub mod simd;
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+mod x86;
 
 use core::marker::PhantomData;
 
@@ -58,16 +73,107 @@ pub struct Columns<S> {
     reversal_output: S,
     /// s = ±1 of Definition 2.1.
     sign: S,
+    /// NaN before the channel's first sample (no history).
     last_input: S,
     last_output: S,
-    /// 1 once the channel has a history, 0 before its first sample.
-    started: S,
-    /// Direct operator: the last ω and its y (the next sample's start).
-    omega: S,
-    omega_y: S,
-    /// ln k2 and 1 / k2, fixed.
-    ln_k2: S,
+    /// Direct operator: 1 / k2 and ln k2 (fixed), and M* (eq. 2) and ln(k2 M*), which change
+    /// only at reversals (NaN: to be computed from the memory when the channel next runs).
     inv_k2: S,
+    ln_k2: S,
+    m_star: S,
+    ln_a: S,
+}
+
+/// The columns of a range of channels, borrowed: what a kernel runs on (a whole bank, or one
+/// thread's part of it). Public only as a parameter of the sealed [`RunBlock`].
+#[doc(hidden)]
+pub struct ColumnsMut<'a, T> {
+    k1: &'a [T],
+    k2: &'a [T],
+    inv_k2: &'a [T],
+    ln_k2: &'a [T],
+    reversal_input: &'a mut [T],
+    reversal_output: &'a mut [T],
+    sign: &'a mut [T],
+    last_input: &'a mut [T],
+    last_output: &'a mut [T],
+    m_star: &'a mut [T],
+    ln_a: &'a mut [T],
+}
+
+impl<S> Columns<S> {
+    /// All channels' columns, borrowed.
+    fn view<T>(&mut self) -> ColumnsMut<'_, T>
+    where
+        S: AsRef<[T]> + AsMut<[T]>,
+    {
+        ColumnsMut {
+            k1: self.k1.as_ref(),
+            k2: self.k2.as_ref(),
+            inv_k2: self.inv_k2.as_ref(),
+            ln_k2: self.ln_k2.as_ref(),
+            reversal_input: self.reversal_input.as_mut(),
+            reversal_output: self.reversal_output.as_mut(),
+            sign: self.sign.as_mut(),
+            last_input: self.last_input.as_mut(),
+            last_output: self.last_output.as_mut(),
+            m_star: self.m_star.as_mut(),
+            ln_a: self.ln_a.as_mut(),
+        }
+    }
+}
+
+#[cfg(feature = "rayon")]
+impl<'a, T> ColumnsMut<'a, T> {
+    /// Channels `..mid` and `mid..` (all of them and none when `mid` is beyond the channels).
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        fn cut<T>(x: &[T], mid: usize) -> (&[T], &[T]) {
+            x.split_at(mid.min(x.len()))
+        }
+        fn cut_mut<T>(x: &mut [T], mid: usize) -> (&mut [T], &mut [T]) {
+            let mid = mid.min(x.len());
+            x.split_at_mut(mid)
+        }
+        let (k1a, k1b) = cut(self.k1, mid);
+        let (k2a, k2b) = cut(self.k2, mid);
+        let (ia, ib) = cut(self.inv_k2, mid);
+        let (la, lb) = cut(self.ln_k2, mid);
+        let (ria, rib) = cut_mut(self.reversal_input, mid);
+        let (roa, rob) = cut_mut(self.reversal_output, mid);
+        let (sa, sb) = cut_mut(self.sign, mid);
+        let (lia, lib) = cut_mut(self.last_input, mid);
+        let (loa, lob) = cut_mut(self.last_output, mid);
+        let (ma, mb) = cut_mut(self.m_star, mid);
+        let (aa, ab) = cut_mut(self.ln_a, mid);
+        (
+            Self {
+                k1: k1a,
+                k2: k2a,
+                inv_k2: ia,
+                ln_k2: la,
+                reversal_input: ria,
+                reversal_output: roa,
+                sign: sa,
+                last_input: lia,
+                last_output: loa,
+                m_star: ma,
+                ln_a: aa,
+            },
+            Self {
+                k1: k1b,
+                k2: k2b,
+                inv_k2: ib,
+                ln_k2: lb,
+                reversal_input: rib,
+                reversal_output: rob,
+                sign: sb,
+                last_input: lib,
+                last_output: lob,
+                m_star: mb,
+                ln_a: ab,
+            },
+        )
+    }
 }
 
 /// N operators of formula `F` ([`Direct`]: eq. 2, [`Inverse`]: eq. 4) stepped together, state
@@ -75,6 +181,8 @@ pub struct Columns<S> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParametricBank<T, F, S> {
     columns: Columns<S>,
+    /// Inputs with |x| above this (or not finite) take the checked path (see `input_limit`).
+    limit: T,
     formula: PhantomData<(T, F)>,
 }
 
@@ -107,7 +215,9 @@ impl<T: Copy> Storage<T> for std::vec::Vec<T> {
     }
 }
 
-fn check<T: Lane>(k1: &[T], k2: &[T]) -> Result<(), BankError> {
+/// Checks each channel's parameters as [`crate::ParametricHysteresis::new`] does for one
+/// operator (the bank accepts exactly the channels the scalar operator accepts).
+fn check<T: Lane, F: BankFormula>(k1: &[T], k2: &[T]) -> Result<(), BankError> {
     if k1.len() != k2.len() {
         return Err(BankError {
             channel: k1.len().min(k2.len()),
@@ -118,11 +228,20 @@ fn check<T: Lane>(k1: &[T], k2: &[T]) -> Result<(), BankError> {
         });
     }
     for (channel, (a, b)) in k1.iter().zip(k2).enumerate() {
-        let wrap = |error| BankError { channel, error };
-        crate::error::positive("k1", *a).map_err(wrap)?;
-        crate::error::positive("k2", *b).map_err(wrap)?;
+        crate::ParametricHysteresis::<T, crate::ConstantK2<T>, F>::new(*a, *b)
+            .map_err(|error| BankError { channel, error })?;
     }
     Ok(())
+}
+
+/// The largest |input| for which no channel's output can leave the float range: every output
+/// lies within 3 k1 of its input (eqs. 2 and 4 on a memory in the band, or their overflow-free
+/// forms), so below T::MAX − 4 max k1 the scalar operator never refuses a finite sample.
+fn input_limit<T: Lane>(k1: &[T]) -> T {
+    let max = k1
+        .iter()
+        .fold(T::zero(), |m, v| if *v > m { *v } else { m });
+    T::max_value() - T::from_f64(4.0) * max
 }
 
 impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
@@ -130,9 +249,26 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// every channel without history (its first sample lies on the line output = input).
     ///
     /// # Errors
-    /// The first invalid parameter, with its channel; k1 and k2 of different lengths.
+    /// The first channel whose k1, k2 [`crate::ParametricHysteresis::new`] refuses (each
+    /// finite, positive and normal, k1 at most a quarter of the largest float, k1 k2 not below
+    /// the subnormal range), with its channel; k1 and k2 of different lengths
+    /// ([`Error::LengthMismatch`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use hyst_core::{InverseBank, InverseHysteresis, Operator};
+    /// let mut bank = InverseBank::<f64, 3>::new([0.1, 0.2, 0.3], [8.0, 8.0, 2.0])?;
+    /// let mut out = [0.0; 3];
+    /// bank.step(&[0.0, 0.0, 0.0], &mut out)?;
+    /// bank.step(&[0.5, -0.5, 1.0], &mut out)?;
+    /// // Channel 1 is H⁻¹(0.2, 8) on its own input.
+    /// let mut one = InverseHysteresis::new(0.2, 8.0)?;
+    /// one.step(0.0);
+    /// assert!((out[1] - one.step(-0.5)).abs() < 1e-14);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(k1: S, k2: S) -> Result<Self, BankError> {
-        check(k1.as_ref(), k2.as_ref())?;
+        check::<T, F>(k1.as_ref(), k2.as_ref())?;
         let zero = |v| S::filled(&k1, v);
         let map = |s: &S, f: fn(T) -> T| {
             let mut out = s.clone();
@@ -142,17 +278,17 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
             out
         };
         Ok(Self {
+            limit: input_limit(k1.as_ref()),
             columns: Columns {
                 reversal_input: zero(T::zero()),
                 reversal_output: zero(T::zero()),
                 sign: zero(T::one()),
-                last_input: zero(T::zero()),
+                last_input: zero(T::nan()),
                 last_output: zero(T::zero()),
-                started: zero(T::zero()),
-                omega: zero(T::zero()),
-                omega_y: zero(T::neg_infinity()),
-                ln_k2: map(&k2, |v| v.ln_l()),
                 inv_k2: map(&k2, |v| T::one() / v),
+                ln_k2: map(&k2, |v| v.ln_l()),
+                m_star: zero(T::nan()),
+                ln_a: zero(T::nan()),
                 k1,
                 k2,
             },
@@ -180,8 +316,8 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
 
     /// Forgets every channel's history.
     pub fn reset(&mut self) {
-        for v in self.columns.started.as_mut() {
-            *v = T::zero();
+        for v in self.columns.last_input.as_mut() {
+            *v = T::nan();
         }
     }
 
@@ -191,7 +327,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     pub fn memory(&self, channel: usize) -> Option<Memory<T>> {
         let c = &self.columns;
         let get = |s: &S| s.as_ref().get(channel).copied();
-        if get(&c.started)? == T::zero() {
+        if get(&c.last_input)?.is_nan() {
             return None;
         }
         Some(Memory {
@@ -238,15 +374,14 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
             }
         };
         match memory {
-            None => put(&mut c.started, T::zero()),
+            None => put(&mut c.last_input, T::nan()),
             Some(m) => {
                 put(&mut c.reversal_input, m.reversal_input);
                 put(&mut c.reversal_output, m.reversal_output);
                 put(&mut c.sign, m.direction.sign());
                 put(&mut c.last_input, m.last_input);
                 put(&mut c.last_output, m.last_output);
-                put(&mut c.started, T::one());
-                put(&mut c.omega_y, T::neg_infinity());
+                put(&mut c.m_star, T::nan());
             }
         }
         Ok(())
@@ -255,8 +390,11 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// One tick: `input[c]` is channel c's new sample, `output[c]` receives its output.
     ///
     /// # Errors
-    /// Slices of another length than the bank ([`Error::LengthMismatch`]), or a non-finite
-    /// sample ([`Error::NonFiniteInput`], with its channel); the memory is then untouched.
+    /// Slices of another length than the bank ([`Error::LengthMismatch`]), a non-finite sample
+    /// ([`Error::NonFiniteInput`], with its channel), or a finite sample whose output is beyond
+    /// the float range ([`Error::NonFiniteOutput`], with its channel: only possible within
+    /// 4 k1 of the largest float). No channel's memory changes then; the contents of `output`
+    /// are unspecified.
     pub fn step(&mut self, input: &[T], output: &mut [T]) -> Result<(), BankError> {
         self.process_ticks(input, output)
     }
@@ -265,16 +403,23 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// shape (channels, samples)): `input[c * samples + t]` is channel c at tick t.
     ///
     /// # Errors
-    /// As [`ParametricBank::step`]; the non-finite sample is reported by channel (and nothing
-    /// is processed).
+    /// As [`ParametricBank::step`], for the first tick that fails (with its first failing
+    /// channel): the ticks before it are processed (their outputs written, every channel's
+    /// memory as after them), that tick and the later ones are not (their outputs are
+    /// unspecified). Lengths are checked before anything runs.
     pub fn process_block(
         &mut self,
         input: &[T],
         output: &mut [T],
         samples: usize,
     ) -> Result<(), BankError> {
-        let n = self.channels();
-        let expected = n.checked_mul(samples).unwrap_or(usize::MAX);
+        self.check_block(input, output, samples)?;
+        self.run_checked(input, output, samples, true)
+    }
+
+    /// Checks the lengths of a channel-major block of `samples` ticks.
+    fn check_block(&self, input: &[T], output: &[T], samples: usize) -> Result<(), BankError> {
+        let expected = self.channels().saturating_mul(samples);
         if input.len() != expected || output.len() != expected {
             return Err(BankError {
                 channel: 0,
@@ -284,13 +429,6 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 },
             });
         }
-        if let Some((i, x)) = input.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-            return Err(BankError {
-                channel: i / samples.max(1),
-                error: Error::NonFiniteInput { value: x.as_f64() },
-            });
-        }
-        T::run::<F, S>(&mut self.columns, input, output, samples, true);
         Ok(())
     }
 
@@ -299,10 +437,10 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// transposition. `input.len()` must be a multiple of the channel count.
     ///
     /// # Errors
-    /// As [`ParametricBank::step`]; nothing is processed on error.
+    /// As [`ParametricBank::process_block`].
     pub fn process_ticks(&mut self, input: &[T], output: &mut [T]) -> Result<(), BankError> {
         let n = self.channels();
-        if n == 0 || input.len() % n != 0 || output.len() != input.len() {
+        if n == 0 || !input.len().is_multiple_of(n) || output.len() != input.len() {
             return Err(BankError {
                 channel: 0,
                 error: Error::LengthMismatch {
@@ -311,13 +449,69 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
                 },
             });
         }
-        if let Some((i, x)) = input.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-            return Err(BankError {
-                channel: i % n,
-                error: Error::NonFiniteInput { value: x.as_f64() },
-            });
+        self.run_checked(input, output, input.len() / n, false)
+    }
+
+    /// Runs a block whose lengths are checked. The kernel checks each tile of ticks against
+    /// the input limit before running it and stops before the first tick with a sample at or
+    /// beyond the limit; that tick is an error if a sample is not finite, and otherwise runs
+    /// alone on the memory with a copy to put back should the scalar operator refuse a sample
+    /// (an output beyond the float range). Either way the ticks before the failing one are
+    /// done and the memory is as after them.
+    fn run_checked(
+        &mut self,
+        input: &[T],
+        output: &mut [T],
+        samples: usize,
+        channel_major: bool,
+    ) -> Result<(), BankError> {
+        let n = self.channels().max(1);
+        let mut begin = 0;
+        while begin < samples {
+            let mut block = Block {
+                input,
+                output: &mut *output,
+                samples,
+                channel_major,
+                begin,
+                end: samples,
+                limit: Some(self.limit),
+            };
+            let Some(bad) = T::run::<F>(&mut self.columns.view(), &mut block)? else {
+                return Ok(());
+            };
+            let sample = |c: usize| {
+                let i = if channel_major {
+                    c * samples + bad
+                } else {
+                    bad * n + c
+                };
+                input.get(i).copied().unwrap_or_else(T::zero)
+            };
+            if let Some(channel) = (0..n).find(|c| !sample(*c).is_finite()) {
+                return Err(BankError {
+                    channel,
+                    error: Error::NonFiniteInput {
+                        value: sample(channel).as_f64(),
+                    },
+                });
+            }
+            let before = self.columns.clone();
+            let mut block = Block {
+                input,
+                output: &mut *output,
+                samples,
+                channel_major,
+                begin: bad,
+                end: bad + 1,
+                limit: None,
+            };
+            if let Err(e) = T::run::<F>(&mut self.columns.view(), &mut block) {
+                self.columns = before;
+                return Err(e);
+            }
+            begin = bad + 1;
         }
-        T::run::<F, S>(&mut self.columns, input, output, input.len() / n, false);
         Ok(())
     }
 }
@@ -333,358 +527,239 @@ impl<T: Lane, F: BankFormula> ParametricBank<T, F, std::vec::Vec<T>> {
     }
 }
 
-/// One chunk of `L` channels' state, in registers while it runs through the ticks.
-#[derive(Clone, Copy)]
-struct Chunk<T, const L: usize> {
-    k1: [T; L],
-    k2: [T; L],
-    rin: [T; L],
-    rout: [T; L],
-    sign: [T; L],
-    lin: [T; L],
-    lout: [T; L],
-    started: [T; L],
-    omega: [T; L],
-    omega_y: [T; L],
-    ln_k2: [T; L],
-    inv_k2: [T; L],
-}
-
-/// The formula of a bank: eq. (2) or eq. (4) on a chunk of channels.
-pub trait BankFormula: Formula {
-    /// Whether the chunk output is ũ of Definition 2.1 (to be untransformed: the direct
-    /// formula) or the output itself (the inverse formula, which folds the transformation in).
-    #[doc(hidden)]
-    const TRANSFORMED: bool;
-    /// One tick of a chunk: the memory update of Definition 2.1 done, computes the outputs.
-    #[doc(hidden)]
-    fn chunk_output<T: Lane, const L: usize>(
-        c: &mut ChunkRef<'_, T, L>,
-        x: &[T; L],
-        reversal: &[bool; L],
-    ) -> [T; L];
-}
-
-/// A chunk's state as the formulas see it (public only for the sealed [`BankFormula`]).
-#[doc(hidden)]
-pub struct ChunkRef<'a, T, const L: usize>(&'a mut Chunk<T, L>);
-
-// Lane loops index `[T; L]` arrays with `i < L`: in bounds by construction, and the compiler
-// drops the checks; iterator chains over eleven arrays would hide the arithmetic.
-#[allow(clippy::indexing_slicing)]
-mod kernels {
-    use super::{BankFormula, Chunk, ChunkRef, Columns, Lane, Storage};
-    use crate::{Direct, Inverse};
-
-    /// M* of the direct formula: M + k1 clamped into the band [0, 2 k1].
-    #[inline(always)]
-    fn direct_m_star<T: Lane>(rin: T, rout: T, sign: T, k1: T) -> T {
-        let m = (rout - rin) * sign + k1;
-        let two_k1 = k1 + k1;
-        T::select(m < T::zero(), T::zero(), T::select(m > two_k1, two_k1, m))
+/// Threads: the channels split into parts of whole chunks, one part per task (rayon).
+#[cfg(feature = "rayon")]
+impl<T: Lane + Send + Sync, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
+    /// [`ParametricBank::step`] with the channels split over rayon's threads: the same outputs,
+    /// bit for bit. Worth it for banks of many thousands of channels (a tick of 1,024 channels
+    /// takes about a microsecond on one core, the order of a task's overhead).
+    ///
+    /// # Errors
+    /// As [`ParametricBank::step`] (a tick with a sample the threads' kernels would have to
+    /// refuse runs on this thread instead).
+    pub fn step_par(&mut self, input: &[T], output: &mut [T]) -> Result<(), BankError> {
+        let n = self.channels();
+        if n == 0 || input.len() != n || output.len() != n {
+            return self.step(input, output);
+        }
+        self.run_par(input, output, 1, true)
     }
 
-    impl BankFormula for Inverse {
-        const TRANSFORMED: bool = false;
-        #[inline(always)]
-        fn chunk_output<T: Lane, const L: usize>(
-            c: &mut ChunkRef<'_, T, L>,
-            x: &[T; L],
-            _reversal: &[bool; L],
-        ) -> [T; L] {
-            let c = &mut *c.0;
-            let one = T::one();
-            let mut y = [T::zero(); L];
-            for i in 0..L {
-                let s = c.sign[i];
-                let m_star = c.k1[i] - (c.rout[i] - c.rin[i]) * s;
-                let ud = (x[i] - c.rin[i]) * s;
-                let along = ud * s + c.rout[i];
-                y[i] = along + (one - (-(c.k2[i] * ud)).exp_l()) * (m_star * s);
-            }
-            y
-        }
+    /// [`ParametricBank::process_block`] (channel-major) with the channels split over rayon's
+    /// threads: the same outputs, bit for bit.
+    ///
+    /// # Errors
+    /// As [`ParametricBank::process_block`] (a block with a sample the threads' kernels would
+    /// have to refuse runs on this thread instead).
+    pub fn process_block_par(
+        &mut self,
+        input: &[T],
+        output: &mut [T],
+        samples: usize,
+    ) -> Result<(), BankError> {
+        self.check_block(input, output, samples)?;
+        self.run_par(input, output, samples, true)
     }
 
-    impl BankFormula for Direct {
-        const TRANSFORMED: bool = true;
-        #[inline(always)]
-        fn chunk_output<T: Lane, const L: usize>(
-            c: &mut ChunkRef<'_, T, L>,
-            x: &[T; L],
-            _reversal: &[bool; L],
-        ) -> [T; L] {
-            let c = &mut *c.0;
-            let zero = T::zero();
-            let mut m_star = [zero; L];
-            let mut vt = [zero; L];
-            let mut ln_a = [zero; L];
-            let mut y = [zero; L];
-            for i in 0..L {
-                m_star[i] = direct_m_star(c.rin[i], c.rout[i], c.sign[i], c.k1[i]);
-                vt[i] = (x[i] - c.rin[i]) * c.sign[i];
-                ln_a[i] = c.ln_k2[i] + m_star[i].ln_l();
-                y[i] = ln_a[i] + c.k2[i] * (m_star[i] - vt[i]);
-            }
-            // ω(y): a start within 2.2e-5, then one FSC step. eʸ and ln y only where some
-            // channel of the chunk needs them.
-            let mut t = [zero; L];
-            if y.iter().any(|v| *v < T::from_f64(-3.0)) {
-                for i in 0..L {
-                    t[i] = y[i].exp_l();
-                }
-            }
-            let mut ln_y = [zero; L];
-            if y.iter().any(|v| *v > T::from_f64(12.0)) {
-                for i in 0..L {
-                    ln_y[i] = y[i].ln_l();
-                }
-            }
-            let mut w = [zero; L];
-            let mut accepted = [false; L];
-            for i in 0..L {
-                let start = super::lanes::omega_start(y[i], t[i], ln_y[i]);
-                let (w1, r) = super::lanes::fsc_step(start, y[i]);
-                let small = y[i] < T::OMEGA_SMALL;
-                w[i] = T::select(small, t[i] - t[i] * t[i], w1);
-                accepted[i] = small || r.abs() <= T::RESIDUAL_OK;
-            }
-            // The start is good everywhere; should a channel still miss (a rounding corner),
-            // the full evaluation, for that channel alone.
-            for i in 0..L {
-                if !accepted[i] {
-                    w[i] = super::lanes::omega(y[i]);
-                }
-            }
-            let mut out = [zero; L];
-            for i in 0..L {
-                let plain = vt[i] - m_star[i] + w[i] * c.inv_k2[i];
-                out[i] = T::select(vt[i] == zero, zero, plain);
-            }
-            // Where e^y overflows, the scalar operator's log form (no cancellation of huge terms).
-            if y.iter().any(|v| *v > T::EXP_ARG_MAX) {
-                for i in 0..L {
-                    let log_form = (ln_a[i] - w[i].ln_l()) * c.inv_k2[i];
-                    out[i] = T::select(y[i] > T::EXP_ARG_MAX && vt[i] != zero, log_form, out[i]);
-                }
-            }
-            out
-        }
-    }
-
-    /// Definition 2.1's memory update on a chunk (selects, no branches), then the formula, then
-    /// the output kept in the band [x − k1, x + k1] as the scalar operator keeps it.
-    #[inline(always)]
-    pub(super) fn tick<T: Lane, F: BankFormula, const L: usize>(
-        c: &mut Chunk<T, L>,
-        x: &[T; L],
-    ) -> [T; L] {
-        let (zero, one) = (T::zero(), T::one());
-        let mut reversal = [false; L];
-        for i in 0..L {
-            // A channel's first sample: at rest on the line output = input, rising.
-            let xi = x[i];
-            let fresh = c.started[i] == zero;
-            let lin = T::select(fresh, xi, c.lin[i]);
-            let lout = T::select(fresh, xi, c.lout[i]);
-            let sign = T::select(fresh, one, c.sign[i]);
-            let rin = T::select(fresh, xi, c.rin[i]);
-            let rout = T::select(fresh, xi, c.rout[i]);
-            let new_sign = T::select(xi > lin, one, T::select(xi < lin, -one, sign));
-            reversal[i] = (new_sign != sign) | fresh;
-            c.rin[i] = T::select(reversal[i], lin, rin);
-            c.rout[i] = T::select(reversal[i], lout, rout);
-            c.sign[i] = new_sign;
-            c.started[i] = one;
-        }
-        let u_tilde = F::chunk_output(&mut ChunkRef(c), x, &reversal);
-        let mut y = [zero; L];
-        for i in 0..L {
-            // The direct formula returns ũ (untransformed here); the inverse returns v itself.
-            let raw = if F::TRANSFORMED {
-                u_tilde[i] * c.sign[i] + c.rout[i]
-            } else {
-                u_tilde[i]
-            };
-            let (lo, hi) = (x[i] - c.k1[i], x[i] + c.k1[i]);
-            y[i] = T::select(raw < lo, lo, T::select(raw > hi, hi, raw));
-            c.lin[i] = x[i];
-            c.lout[i] = y[i];
-        }
-        y
-    }
-
-    /// Ticks per tile: the samples of a chunk's channels copied into a time-major buffer.
-    const TILE: usize = 16;
-
-    /// Runs the channels of `cols` in chunks of `L` through `samples` ticks of `input` into
-    /// `output`, channel c at tick t at `c * samples + t` (`channel_major`) or at
-    /// `t * channels + c`. Each chunk's state stays local while the ticks go by; channel-major
-    /// data is transposed through a time-major tile of [`TILE`] ticks (contiguous stores, one
-    /// strided load per value).
-    #[inline(always)]
-    pub(super) fn run_block<T: Lane, F: BankFormula, S: Storage<T>, const L: usize>(
-        cols: &mut Columns<S>,
+    /// Runs `samples` ticks, channel-major (one tick is both layouts), in parts of whole chunks
+    /// on rayon's threads, when every sample is below the input limit (then no channel can
+    /// fail); otherwise on this thread through the checked path.
+    fn run_par(
+        &mut self,
         input: &[T],
         output: &mut [T],
         samples: usize,
         channel_major: bool,
-    ) {
-        let n = cols.k1.as_ref().len();
-        let mut start = 0;
-        while start < n {
-            let width = (n - start).min(L);
-            let mut chunk = load::<T, S, L>(cols, start, width);
-            if !channel_major {
-                for t in 0..samples {
-                    let row = &input[t * n + start..t * n + start + width];
-                    let mut x = [T::zero(); L];
-                    x[..width].copy_from_slice(row);
-                    let y = tick::<T, F, L>(&mut chunk, &x);
-                    output[t * n + start..t * n + start + width].copy_from_slice(&y[..width]);
-                }
-            } else {
-                let mut t0 = 0;
-                while t0 < samples {
-                    let len = (samples - t0).min(TILE);
-                    let mut xs = [[T::zero(); L]; TILE];
-                    for (k, x) in xs.iter_mut().enumerate().take(len) {
-                        for (i, xi) in x.iter_mut().enumerate().take(width) {
-                            *xi = input[(start + i) * samples + t0 + k];
-                        }
-                    }
-                    for (k, x) in xs.iter().enumerate().take(len) {
-                        let y = tick::<T, F, L>(&mut chunk, x);
-                        for (i, yi) in y.iter().enumerate().take(width) {
-                            output[(start + i) * samples + t0 + k] = *yi;
-                        }
-                    }
-                    t0 += len;
-                }
-            }
-            store::<T, S, L>(cols, &chunk, start, width);
-            start += width;
+    ) -> Result<(), BankError> {
+        use rayon::prelude::*;
+        let limit = self.limit;
+        if !input
+            .par_iter()
+            .all(|x| num_traits::Float::abs(*x) <= limit)
+        {
+            return self.run_checked(input, output, samples, channel_major);
         }
-    }
-
-    fn load<T: Lane, S: Storage<T>, const L: usize>(
-        cols: &Columns<S>,
-        start: usize,
-        width: usize,
-    ) -> Chunk<T, L> {
-        let col = |s: &S, fill: T| -> [T; L] {
-            let mut a = [fill; L];
-            a[..width].copy_from_slice(&s.as_ref()[start..start + width]);
-            a
-        };
-        let (zero, one) = (T::zero(), T::one());
-        Chunk {
-            // Padding lanes get harmless parameters; their outputs are dropped.
-            k1: col(&cols.k1, one),
-            k2: col(&cols.k2, one),
-            rin: col(&cols.reversal_input, zero),
-            rout: col(&cols.reversal_output, zero),
-            sign: col(&cols.sign, one),
-            lin: col(&cols.last_input, zero),
-            lout: col(&cols.last_output, zero),
-            started: col(&cols.started, zero),
-            omega: col(&cols.omega, zero),
-            omega_y: col(&cols.omega_y, T::neg_infinity()),
-            ln_k2: col(&cols.ln_k2, zero),
-            inv_k2: col(&cols.inv_k2, one),
+        let n = self.channels();
+        // Parts of whole 64-channel chunks, about four per thread.
+        let parts = 4 * rayon::current_num_threads().max(1);
+        let size = n.div_ceil(parts).div_ceil(64).max(1) * 64;
+        let mut jobs = std::vec::Vec::new();
+        let (mut cols, mut inp, mut out) = (self.columns.view(), input, output);
+        while cols.k1.len() > size {
+            let (head, tail) = cols.split_at(size);
+            let at = (size * samples).min(inp.len()).min(out.len());
+            let (i_head, i_tail) = inp.split_at(at);
+            let (o_head, o_tail) = out.split_at_mut(at);
+            jobs.push((head, i_head, o_head));
+            (cols, inp, out) = (tail, i_tail, o_tail);
         }
-    }
-
-    fn store<T: Lane, S: Storage<T>, const L: usize>(
-        cols: &mut Columns<S>,
-        c: &Chunk<T, L>,
-        start: usize,
-        width: usize,
-    ) {
-        let put = |s: &mut S, a: &[T; L]| {
-            s.as_mut()[start..start + width].copy_from_slice(&a[..width]);
-        };
-        put(&mut cols.reversal_input, &c.rin);
-        put(&mut cols.reversal_output, &c.rout);
-        put(&mut cols.sign, &c.sign);
-        put(&mut cols.last_input, &c.lin);
-        put(&mut cols.last_output, &c.lout);
-        put(&mut cols.started, &c.started);
-        put(&mut cols.omega, &c.omega);
-        put(&mut cols.omega_y, &c.omega_y);
+        jobs.push((cols, inp, out));
+        jobs.into_par_iter()
+            .map(|(mut cols, input, output)| {
+                let mut block = Block {
+                    input,
+                    output,
+                    samples,
+                    channel_major,
+                    begin: 0,
+                    end: samples,
+                    limit: None,
+                };
+                T::run::<F>(&mut cols, &mut block).map(|_| ())
+            })
+            .collect::<Result<(), BankError>>()
     }
 }
 
-/// How a float type runs a block: its chunk width, and the dispatch to the best instruction set.
+/// The formula of a bank: eq. (2) or eq. (4). Implemented by [`Direct`] and [`Inverse`].
+pub trait BankFormula: Formula {
+    /// Whether this is the direct formula (eq. 2).
+    #[doc(hidden)]
+    const DIRECT: bool;
+}
+
+impl BankFormula for Direct {
+    const DIRECT: bool = true;
+}
+
+impl BankFormula for Inverse {
+    const DIRECT: bool = false;
+}
+
+/// An instruction set the bank's kernels are compiled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Isa {
+    /// AVX-512F, 512-bit vectors (8 × f64, 16 × f32) with fused multiply-add (x86-64, `std`).
+    Avx512,
+    /// AVX2 + FMA, 256-bit vectors (4 × f64, 8 × f32) (x86-64, `std`).
+    Avx2,
+    /// SSE2, 128-bit vectors (2 × f64, 4 × f32), no fused multiply-add: x86-64's baseline
+    /// (`std`).
+    Sse2,
+    /// Portable code, plain floats (every target).
+    Portable,
+}
+
+impl Isa {
+    /// Every instruction set, best first.
+    pub const ALL: [Isa; 4] = [Isa::Avx512, Isa::Avx2, Isa::Sse2, Isa::Portable];
+
+    /// "avx512", "avx2", "sse2" or "portable".
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Avx512 => "avx512",
+            Isa::Avx2 => "avx2",
+            Isa::Sse2 => "sse2",
+            Isa::Portable => "portable",
+        }
+    }
+
+    /// Whether this processor (and build) can run it.
+    #[must_use]
+    pub fn available(self) -> bool {
+        match self {
+            Isa::Portable => true,
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            Isa::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            Isa::Sse2 => true,
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            Isa::Avx2 => {
+                std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma")
+            }
+            #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+            _ => false,
+        }
+    }
+}
+
+/// The forced instruction set: 0 none, else 1 + its index in `ISAS`.
+static FORCED: core::sync::atomic::AtomicU8 = core::sync::atomic::AtomicU8::new(0);
+const ISAS: [Isa; 4] = Isa::ALL;
+
+/// Chooses the instruction set of every bank in the process (`None`: the best available, the
+/// default) — for measurements and for testing each kernel against the scalar operator.
+///
+/// # Errors
+/// `Err(isa)` when this processor or build cannot run `isa`; nothing changes then.
+pub fn force_isa(isa: Option<Isa>) -> Result<(), Isa> {
+    let code = match isa {
+        None => 0,
+        Some(i) if i.available() => match i {
+            Isa::Avx512 => 1,
+            Isa::Avx2 => 2,
+            Isa::Sse2 => 3,
+            Isa::Portable => 4,
+        },
+        Some(i) => return Err(i),
+    };
+    FORCED.store(code, core::sync::atomic::Ordering::Relaxed);
+    Ok(())
+}
+
+/// The instruction set the banks run on now: the forced one ([`force_isa`]), else the best
+/// available (AVX-512, AVX2 + FMA, SSE2, portable, in that order).
+#[must_use]
+pub fn isa() -> Isa {
+    let forced = FORCED.load(core::sync::atomic::Ordering::Relaxed);
+    if let Some(i) = ISAS.get(usize::from(forced).wrapping_sub(1)) {
+        return *i;
+    }
+    ISAS.into_iter()
+        .find(|i| i.available())
+        .unwrap_or(Isa::Portable)
+}
+
+/// The samples a kernel runs: `samples` ticks of all channels, channel c at tick t at
+/// `c * samples + t` (`channel_major`) or `t * channels + c`, of which ticks `begin..end` run;
+/// with a `limit`, only while every sample's magnitude is below it. Public only as a parameter
+/// of the sealed [`RunBlock`].
+#[doc(hidden)]
+pub struct Block<'a, T> {
+    input: &'a [T],
+    output: &'a mut [T],
+    samples: usize,
+    channel_major: bool,
+    begin: usize,
+    end: usize,
+    limit: Option<T>,
+}
+
+/// How a float type runs a block: the dispatch to the kernel of the chosen instruction set.
 /// Implemented for `f32` and `f64` only.
 pub trait RunBlock: Sized {
-    /// Runs `samples` ticks of the channel-major `input` through every channel of `cols`.
+    /// Runs the ticks of `block` through every channel of `cols`; `Ok(Some(t))` when tick `t`
+    /// has a sample beyond the block's limit (the ticks before it have run, tick `t` has not).
     #[doc(hidden)]
-    fn run<F: BankFormula, S: Storage<Self>>(
-        cols: &mut Columns<S>,
-        input: &[Self],
-        output: &mut [Self],
-        samples: usize,
-        channel_major: bool,
-    );
+    fn run<F: BankFormula>(
+        cols: &mut ColumnsMut<'_, Self>,
+        block: &mut Block<'_, Self>,
+    ) -> Result<Option<usize>, BankError>;
 }
 
-/// Runs a block, compiled once per instruction set (AVX-512, AVX2 + FMA, baseline) with the
-/// best one chosen at run time when `std` is on.
-#[cfg_attr(
-    feature = "std",
-    multiversion::multiversion(targets(
-        "x86_64+avx512f+avx512dq+avx512vl+avx512bw",
-        "x86_64+avx2+fma",
-    ))
-)]
-fn dispatch_f64<F: BankFormula, S: Storage<f64>>(
-    cols: &mut Columns<S>,
-    input: &[f64],
-    output: &mut [f64],
-    samples: usize,
-    channel_major: bool,
-) {
-    kernels::run_block::<f64, F, S, 64>(cols, input, output, samples, channel_major);
+macro_rules! run_block {
+    ($t:ty, $entry:ident) => {
+        impl RunBlock for $t {
+            fn run<F: BankFormula>(
+                cols: &mut ColumnsMut<'_, Self>,
+                block: &mut Block<'_, Self>,
+            ) -> Result<Option<usize>, BankError> {
+                #[cfg(all(feature = "std", target_arch = "x86_64"))]
+                {
+                    let isa = isa();
+                    if isa != Isa::Portable {
+                        if let Some(r) = x86::$entry::<F>(isa, cols, block) {
+                            return r;
+                        }
+                    }
+                }
+                kernel::run::<simd::Pair<simd::Pair<$t>>, F>(cols, block)
+            }
+        }
+    };
 }
 
-#[cfg_attr(
-    feature = "std",
-    multiversion::multiversion(targets(
-        "x86_64+avx512f+avx512dq+avx512vl+avx512bw",
-        "x86_64+avx2+fma",
-    ))
-)]
-fn dispatch_f32<F: BankFormula, S: Storage<f32>>(
-    cols: &mut Columns<S>,
-    input: &[f32],
-    output: &mut [f32],
-    samples: usize,
-    channel_major: bool,
-) {
-    kernels::run_block::<f32, F, S, 64>(cols, input, output, samples, channel_major);
-}
-
-impl RunBlock for f64 {
-    fn run<F: BankFormula, S: Storage<Self>>(
-        cols: &mut Columns<S>,
-        input: &[Self],
-        output: &mut [Self],
-        samples: usize,
-        channel_major: bool,
-    ) {
-        dispatch_f64::<F, S>(cols, input, output, samples, channel_major);
-    }
-}
-
-impl RunBlock for f32 {
-    fn run<F: BankFormula, S: Storage<Self>>(
-        cols: &mut Columns<S>,
-        input: &[Self],
-        output: &mut [Self],
-        samples: usize,
-        channel_major: bool,
-    ) {
-        dispatch_f32::<F, S>(cols, input, output, samples, channel_major);
-    }
-}
+run_block!(f64, run_f64);
+run_block!(f32, run_f32);

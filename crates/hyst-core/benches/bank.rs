@@ -1,0 +1,177 @@
+//! The bank's speed goals of issue 13 as ratios measured in one run (`cargo bench -p hyst-core
+//! --bench bank`; docs/performance.md records the figures): 1,024 channels, f64 (and f32), ns
+//! per channel-sample, each figure the fastest of interleaved rounds (on a shared machine the
+//! slower rounds measure the neighbours).
+//!
+//! Three ways of running, each against the scalar operators run the same way:
+//! - tick by tick (the controller's loop: `step` with one sample per channel; the scalar
+//!   operators stepped once each per tick) — the data (8 KiB a tick) stays in L1;
+//! - blocks of 32 ticks (`process_ticks`, time-major; the scalar operators each `process`
+//!   their channel's 32 samples) — 256 KiB in and out for f64, in L2;
+//! - a block of 256 ticks — 2 MiB in and 2 MiB out for f64, more than L2 holds, so the bank's
+//!   time there is partly memory bandwidth, shared with whatever else the machine runs (f32
+//!   moves half the bytes).
+//!
+//! `HYST_BANK_ISA=avx512|avx2|sse2|portable` forces one kernel.
+#![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use hyst_core::bank::{force_isa, BankFormula, Isa, Lane};
+use hyst_core::{BankVec, ConstantK2, Direct, Inverse, Operator, ParametricHysteresis};
+
+const CHANNELS: usize = 1024;
+const TICKS: usize = 256;
+/// Ticks per block of the L2-resident blocks.
+const SHORT: usize = 32;
+const ROUNDS: usize = 60;
+
+/// Channel c's signal at tick t: a sum of sines with many reversals, each channel shifted in
+/// phase.
+fn signal(c: usize, t: usize) -> f64 {
+    let tt = t as f64 * 0.05 + c as f64 * 0.01;
+    1.5 * tt.sin() * (0.37 * tt).cos() + 0.3 * (7.1 * tt).sin()
+}
+
+type Job<'a> = (String, Box<dyn FnMut() + 'a>);
+
+/// The six jobs of one precision and formula: bank and scalar, tick by tick, in blocks of
+/// [`SHORT`] ticks and in one block of [`TICKS`] ticks.
+fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str) -> Vec<Job<'a>> {
+    let (k1, k2) = (T::from_f64(0.2), T::from_f64(8.0));
+    let ticks: Vec<T> = (0..TICKS)
+        .flat_map(|t| (0..CHANNELS).map(move |c| T::from_f64(signal(c, t))))
+        .collect();
+    let channels: Vec<T> = (0..CHANNELS)
+        .flat_map(|c| (0..TICKS).map(move |t| T::from_f64(signal(c, t))))
+        .collect();
+    let bank = || BankVec::<T, F>::from_vecs(vec![k1; CHANNELS], vec![k2; CHANNELS]).unwrap();
+    let ops = || -> Vec<ParametricHysteresis<T, ConstantK2<T>, F>> {
+        (0..CHANNELS)
+            .map(|_| ParametricHysteresis::new(k1, k2).unwrap())
+            .collect()
+    };
+    let (mut b1, mut b2, mut s1, mut s2) = (bank(), bank(), ops(), ops());
+    let (mut b3, mut s3) = (bank(), ops());
+    let (t1, t2, t3, t5, c4) = (
+        ticks.clone(),
+        ticks.clone(),
+        ticks.clone(),
+        ticks,
+        channels.clone(),
+    );
+    let mut o5 = vec![T::zero(); CHANNELS * TICKS].into_boxed_slice();
+    let mut o6 = vec![T::zero(); CHANNELS * SHORT].into_boxed_slice();
+    let mut o1 = vec![T::zero(); CHANNELS];
+    let mut o2 = vec![T::zero(); CHANNELS * TICKS];
+    let mut o3 = [T::zero(); CHANNELS];
+    let mut o4 = vec![T::zero(); CHANNELS * TICKS];
+    vec![
+        (
+            format!("tick  bank   {name}"),
+            Box::new(move || {
+                for row in t1.chunks_exact(CHANNELS) {
+                    b1.step(black_box(row), &mut o1).unwrap();
+                }
+            }),
+        ),
+        (
+            format!("block bank   {name}"),
+            Box::new(move || b2.process_ticks(black_box(&t2), &mut o2).unwrap()),
+        ),
+        (
+            format!("short bank   {name}"),
+            Box::new(move || {
+                for (block, out) in t5
+                    .chunks_exact(CHANNELS * SHORT)
+                    .zip(o5.chunks_exact_mut(CHANNELS * SHORT))
+                {
+                    b3.process_ticks(black_box(block), out).unwrap();
+                }
+            }),
+        ),
+        (
+            format!("tick  scalar {name}"),
+            Box::new(move || {
+                for row in t3.chunks_exact(CHANNELS) {
+                    for ((op, y), x) in s1.iter_mut().zip(o3.iter_mut()).zip(black_box(row)) {
+                        *y = op.step(*x);
+                    }
+                }
+            }),
+        ),
+        (
+            format!("block scalar {name}"),
+            Box::new(move || {
+                let (input, output) = (black_box(&c4), &mut o4);
+                for (c, op) in s2.iter_mut().enumerate() {
+                    let r = c * TICKS..(c + 1) * TICKS;
+                    op.process(&input[r.clone()], &mut output[r]).unwrap();
+                }
+            }),
+        ),
+        (
+            format!("short scalar {name}"),
+            Box::new(move || {
+                // The same samples in blocks of SHORT ticks, each channel's block contiguous.
+                for b in 0..TICKS / SHORT {
+                    for (c, op) in s3.iter_mut().enumerate() {
+                        let r = c * TICKS + b * SHORT..c * TICKS + (b + 1) * SHORT;
+                        let o = c * SHORT..(c + 1) * SHORT;
+                        op.process(black_box(&channels[r]), &mut o6[o]).unwrap();
+                    }
+                }
+            }),
+        ),
+    ]
+}
+
+fn main() {
+    if let Ok(name) = std::env::var("HYST_BANK_ISA") {
+        let isa = Isa::ALL.into_iter().find(|i| i.name() == name);
+        if let Some(Ok(())) = isa.map(|i| force_isa(Some(i))) {
+        } else {
+            eprintln!(
+                "HYST_BANK_ISA={name}: not one this processor runs (avx512, avx2, sse2, portable)"
+            );
+            std::process::exit(2);
+        }
+    }
+    let mut all: Vec<Job> = Vec::new();
+    all.extend(jobs::<f64, Inverse>("inverse f64"));
+    all.extend(jobs::<f64, Direct>("direct f64"));
+    all.extend(jobs::<f32, Inverse>("inverse f32"));
+    all.extend(jobs::<f32, Direct>("direct f32"));
+    let mut best = vec![f64::INFINITY; all.len()];
+    for _ in 0..ROUNDS {
+        for (b, (_, job)) in best.iter_mut().zip(all.iter_mut()) {
+            let start = Instant::now();
+            job();
+            let ns = start.elapsed().as_secs_f64() * 1e9 / (CHANNELS * TICKS) as f64;
+            *b = b.min(ns);
+        }
+    }
+    for ((name, _), ns) in all.iter().zip(&best) {
+        println!("{name:<26} {ns:>7.3} ns/channel-sample");
+    }
+    // Per (formula, precision), 6 jobs: bank tick, block, short; scalar tick, block, short.
+    for (mode, k) in [
+        ("tick by tick", 0),
+        ("block of 256", 1),
+        ("blocks of 32", 2),
+    ] {
+        let (inv, dir, inv32) = (best[k], best[6 + k], best[12 + k]);
+        let (sinv, sdir) = (best[3 + k], best[9 + k]);
+        println!(
+            "{mode}: inverse {:.3} x scalar (goal <= 0.25), direct {:.3} x scalar (goal <= 0.33), \
+             f32 inverse {:.3} x f64 (goal <= 0.5), f32 inverse {:.0} M channel-samples/s \
+             (goal >= 500)",
+            inv / sinv,
+            dir / sdir,
+            inv32 / inv,
+            1e3 / inv32
+        );
+    }
+    println!("kernel: {}", hyst_core::bank::isa().name());
+}
