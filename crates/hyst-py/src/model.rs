@@ -345,9 +345,7 @@ impl Model {
         self.file.write(&path).map_err(errors::fit)
     }
 
-    fn __reduce__<'py>(
-        slf: &Bound<'py, Self>,
-    ) -> PyResult<(Bound<'py, PyAny>, Pickled)> {
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Pickled)> {
         let me = slf.borrow();
         let restore = slf.py().import("hyst._hyst")?.getattr("_model_from_toml")?;
         Ok((
