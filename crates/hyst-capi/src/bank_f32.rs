@@ -156,25 +156,33 @@ pub unsafe extern "C" fn hyst_bank_channels_f32(bank: *const hyst_bank_f32) -> u
 }
 
 /// `process_ticks`, and an output beyond the float range refused as `hyst_operator_step`
-/// refuses it (`HYST_ERR_OVERFLOW`, every memory as before the call). Only inputs or k1 near
-/// the float range can overflow (outputs lie within k1 of a line through earlier samples); only
-/// then are the memories saved first.
+/// refuses it (`HYST_ERR_OVERFLOW`), with every memory as before the call on any error. The
+/// core stops a block at its first failing tick with the ticks before it processed, and only a
+/// non-finite sample, or an input or k1 near the float range (outputs lie within k1 of a line
+/// through earlier samples), can fail: only then are the memories saved first.
 fn process<F: BankFormula>(
     b: &mut BankVec<f32, F>,
     x: &[f32],
     y: &mut [f32],
 ) -> Result<(), BankError> {
-    let near = |v: &f32| v.abs() > f32::MAX / 8.0;
-    let saved: Option<Vec<_>> = (x.iter().any(near) || b.k1().iter().any(near))
+    // NaN, infinite, or near the float range.
+    let risky = |v: &f32| !(v.abs() <= f32::MAX / 8.0);
+    let saved: Option<Vec<_>> = (x.iter().any(risky) || b.k1().iter().any(risky))
         .then(|| (0..b.channels()).map(|c| b.memory(c)).collect());
-    b.process_ticks(x, y)?;
+    let restore = |b: &mut BankVec<f32, F>, saved: Option<Vec<_>>| {
+        for (c, m) in saved.into_iter().flatten().enumerate() {
+            // Memories the channels were in: valid.
+            let _ = b.set_memory(c, m);
+        }
+    };
+    if let Err(e) = b.process_ticks(x, y) {
+        restore(b, saved);
+        return Err(e);
+    }
     let Some(i) = y.iter().position(|v| !v.is_finite()) else {
         return Ok(());
     };
-    for (c, m) in saved.into_iter().flatten().enumerate() {
-        // Memories the channels were in: valid.
-        let _ = b.set_memory(c, m);
-    }
+    restore(b, saved);
     Err(BankError {
         channel: i % b.channels().max(1),
         error: Error::NonFiniteOutput {

@@ -217,9 +217,10 @@ fn errors_name_the_channel_and_leave_the_memories() {
     assert_eq!((s, channel), (HYST_ERR_NON_FINITE, 29));
     assert_eq!(memories(bank), before);
     assert!(memories(bank) == before, "memories changed");
-    // An output beyond the float range on channel 1 (k1 = 1e308): refused, every memory as
+    // An output beyond the float range on channel 1 (k1 = 4e307, the largest the core takes is
+    // max/4): refused, every memory as
     // before the call.
-    let (big_k1, big_k2) = ([0.2, 1e308], [8.0, 8.0]);
+    let (big_k1, big_k2) = ([0.2, 4e307], [8.0, 8.0]);
     let mut big = ptr::null_mut();
     unsafe {
         assert_eq!(
