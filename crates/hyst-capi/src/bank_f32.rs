@@ -166,7 +166,7 @@ fn process<F: BankFormula>(
     y: &mut [f32],
 ) -> Result<(), BankError> {
     // NaN, infinite, or near the float range.
-    let risky = |v: &f32| !(v.abs() <= f32::MAX / 8.0);
+    let risky = |v: &f32| !v.is_finite() || v.abs() > f32::MAX / 8.0;
     let saved: Option<Vec<_>> = (x.iter().any(risky) || b.k1().iter().any(risky))
         .then(|| (0..b.channels()).map(|c| b.memory(c)).collect());
     let restore = |b: &mut BankVec<f32, F>, saved: Option<Vec<_>>| {
@@ -226,10 +226,20 @@ pub unsafe extern "C" fn hyst_bank_process_f32(
             if x.is_null() || y.is_null() {
                 return HYST_ERR_NULL_POINTER;
             }
-            // The inputs are copied first: `y` may be `x`.
-            let input = std::slice::from_raw_parts(x, n).to_vec();
+            // `y` may be `x` (or overlap it): then the inputs are copied first. Otherwise they
+            // are read in place, so a control loop's tick allocates nothing.
+            let bytes = n * std::mem::size_of::<f32>();
+            let (xs, ys) = (x as usize, y as usize);
+            let overlap = xs < ys.saturating_add(bytes) && ys < xs.saturating_add(bytes);
+            let copy;
+            let input = if overlap {
+                copy = std::slice::from_raw_parts(x, n).to_vec();
+                &copy[..]
+            } else {
+                std::slice::from_raw_parts(x, n)
+            };
             let output = std::slice::from_raw_parts_mut(y, n);
-            match each!(c, b => process(b, &input, output)) {
+            match each!(c, b => process(b, input, output)) {
                 Ok(()) => HYST_OK,
                 Err(e) => failed(&e, channel),
             }
