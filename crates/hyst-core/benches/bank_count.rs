@@ -4,6 +4,7 @@
 //! ```text
 //! cargo bench -p hyst-core --bench bank_count --no-run
 //! valgrind --tool=callgrind <the bench binary> bank inverse f64   # or: scalar / direct / f32
+//! valgrind --tool=callgrind <the bench binary> step inverse f64   # the bank by `step`, tick by tick
 //! ```
 //!
 //! It runs 1,024 channels for 256 ticks (time-major `process_ticks` for the bank, each channel's
@@ -25,7 +26,7 @@ fn signal(c: usize, t: usize) -> f64 {
     1.5 * tt.sin() * (0.37 * tt).cos() + 0.3 * (7.1 * tt).sin()
 }
 
-fn run<T: Lane, F: BankFormula>(bank: bool, repeats: usize) {
+fn run<T: Lane, F: BankFormula>(bank: bool, step: bool, repeats: usize) {
     let (k1, k2) = (T::from_f64(0.2), T::from_f64(8.0));
     let mut out = vec![T::zero(); CHANNELS * TICKS];
     if bank {
@@ -34,7 +35,16 @@ fn run<T: Lane, F: BankFormula>(bank: bool, repeats: usize) {
             .collect();
         let mut b = BankVec::<T, F>::from_vecs(vec![k1; CHANNELS], vec![k2; CHANNELS]).unwrap();
         for _ in 0..repeats {
-            b.process_ticks(black_box(&ticks), &mut out).unwrap();
+            if step {
+                for (row, o) in ticks
+                    .chunks_exact(CHANNELS)
+                    .zip(out.chunks_exact_mut(CHANNELS))
+                {
+                    b.step(black_box(row), o).unwrap();
+                }
+            } else {
+                b.process_ticks(black_box(&ticks), &mut out).unwrap();
+            }
         }
         eprintln!("kernel: {}", hyst_core::bank::isa().name());
     } else {
@@ -64,12 +74,12 @@ fn main() {
         [w, f, p, n] => (*w, *f, *p, n.parse().unwrap()),
         _ => return,
     };
-    let bank = who == "bank";
+    let (bank, step) = (who != "scalar", who == "step");
     match (formula, precision) {
-        ("inverse", "f64") => run::<f64, Inverse>(bank, repeats),
-        ("direct", "f64") => run::<f64, Direct>(bank, repeats),
-        ("inverse", "f32") => run::<f32, Inverse>(bank, repeats),
-        ("direct", "f32") => run::<f32, Direct>(bank, repeats),
-        _ => panic!("usage: bank_count bank|scalar inverse|direct f64|f32 [repeats]"),
+        ("inverse", "f64") => run::<f64, Inverse>(bank, step, repeats),
+        ("direct", "f64") => run::<f64, Direct>(bank, step, repeats),
+        ("inverse", "f32") => run::<f32, Inverse>(bank, step, repeats),
+        ("direct", "f32") => run::<f32, Direct>(bank, step, repeats),
+        _ => panic!("usage: bank_count bank|step|scalar inverse|direct f64|f32 [repeats]"),
     }
 }

@@ -46,7 +46,9 @@ struct State<V> {
 #[inline(always)]
 fn column<V: Simd>(s: &[V::T], start: usize, width: usize, fill: V::T) -> V {
     if width == V::LANES {
-        return V::load(s.get(start..).unwrap_or(&[]));
+        // An exact range: the slice's length is then the constant V::LANES, so the vector
+        // loads inside (a `Pair` splits it) need no length checks of their own.
+        return V::load(s.get(start..start + V::LANES).unwrap_or(&[]));
     }
     let mut buf = [fill; MAX_LANES];
     for (b, v) in buf.iter_mut().zip(s.iter().skip(start).take(width)) {
@@ -59,7 +61,7 @@ fn column<V: Simd>(s: &[V::T], start: usize, width: usize, fill: V::T) -> V {
 #[inline(always)]
 fn put<V: Simd>(s: &mut [V::T], start: usize, width: usize, v: V) {
     if width == V::LANES {
-        if let Some(slot) = s.get_mut(start..) {
+        if let Some(slot) = s.get_mut(start..start + V::LANES) {
             v.store(slot);
         }
         return;
@@ -320,6 +322,10 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
     cols: &mut ColumnsMut<'_, V::T>,
     block: &mut Block<'_, V::T>,
 ) -> Result<Option<usize>, BankError> {
+    // Every column cut to the same length `n` here, once a call: a chunk's loads and stores
+    // then share one range check (`start + LANES <= n`) instead of one per column, which
+    // mattered for `step` (one tick a call, so these checks are not spread over a tile).
+    let cols = &mut cols.cut(cols.k1.len());
     let n = cols.k1.len();
     let layout = Layout {
         n,
@@ -454,7 +460,8 @@ impl Layout {
 #[inline(always)]
 fn gather<V: Simd>(input: &[V::T], at: &Layout, start: usize, width: usize, t: usize) -> V {
     if !at.channel_major && width == V::LANES {
-        return V::load(input.get(t * at.n + start..).unwrap_or(&[]));
+        let i = t * at.n + start;
+        return V::load(input.get(i..i + V::LANES).unwrap_or(&[]));
     }
     let zero = <V::T as crate::Real>::ZERO;
     let mut buf = [zero; MAX_LANES];
@@ -468,7 +475,8 @@ fn gather<V: Simd>(input: &[V::T], at: &Layout, start: usize, width: usize, t: u
 #[inline(always)]
 fn scatter<V: Simd>(output: &mut [V::T], at: &Layout, start: usize, width: usize, t: usize, y: V) {
     if !at.channel_major && width == V::LANES {
-        if let Some(slot) = output.get_mut(t * at.n + start..) {
+        let i = t * at.n + start;
+        if let Some(slot) = output.get_mut(i..i + V::LANES) {
             y.store(slot);
         }
         return;

@@ -123,6 +123,47 @@ impl<S> Columns<S> {
     }
 }
 
+impl<T> ColumnsMut<'_, T> {
+    /// Every column's first `n` values (all of a shorter column): with `n` at most every
+    /// column's length, the compiler knows that all have length `n`.
+    fn cut(&mut self, n: usize) -> ColumnsMut<'_, T> {
+        let n = [
+            self.k2.len(),
+            self.inv_k2.len(),
+            self.ln_k2.len(),
+            self.reversal_input.len(),
+            self.reversal_output.len(),
+            self.sign.len(),
+            self.last_input.len(),
+            self.last_output.len(),
+            self.m_star.len(),
+            self.ln_a.len(),
+        ]
+        .into_iter()
+        .fold(n.min(self.k1.len()), usize::min);
+        fn c<T>(s: &[T], n: usize) -> &[T] {
+            s.split_at(n.min(s.len())).0
+        }
+        fn m<T>(s: &mut [T], n: usize) -> &mut [T] {
+            let n = n.min(s.len());
+            s.split_at_mut(n).0
+        }
+        ColumnsMut {
+            k1: c(self.k1, n),
+            k2: c(self.k2, n),
+            inv_k2: c(self.inv_k2, n),
+            ln_k2: c(self.ln_k2, n),
+            reversal_input: m(self.reversal_input, n),
+            reversal_output: m(self.reversal_output, n),
+            sign: m(self.sign, n),
+            last_input: m(self.last_input, n),
+            last_output: m(self.last_output, n),
+            m_star: m(self.m_star, n),
+            ln_a: m(self.ln_a, n),
+        }
+    }
+}
+
 #[cfg(feature = "rayon")]
 impl<'a, T> ColumnsMut<'a, T> {
     /// Channels `..mid` and `mid..` (all of them and none when `mid` is beyond the channels).
