@@ -138,13 +138,19 @@ fn ticks<T: Lane, F: BankFormula>(
         let value = x.get(i).map_or(f64::NAN, |v| v.as_f64());
         return Err(refuse(i, Error::NonFiniteInput { value }));
     }
-    b.process_ticks(x, y)
-        .map_err(|BankError { channel, error }| Refusal::Sample {
-            tick: first,
-            channel,
-            value: x.get(channel).map_or(f64::NAN, |v| v.as_f64()),
-            error,
-        })?;
+    // With the inputs finite, only an input or k1 near the float range can fail (an output
+    // beyond it). The core stops a block at its failing tick without naming the tick, so such
+    // ticks run one by one: `step` refuses a tick with every memory unchanged.
+    let near = |v: &T| v.abs() > T::max_value() / T::from_f64(8.0);
+    if x.iter().any(near) || b.k1().iter().any(near) {
+        for (t, (row, out)) in x.chunks(n).zip(y.chunks_mut(n)).enumerate() {
+            b.step(row, out)
+                .map_err(|BankError { channel, error }| refuse(t * n + channel, error))?;
+        }
+    } else {
+        b.process_ticks(x, y)
+            .map_err(|BankError { channel, error }| refuse(channel, error))?;
+    }
     if let Some(i) = y.iter().position(|v| !v.is_finite()) {
         let output = y.get(i).map_or(f64::NAN, |v| v.as_f64());
         let input = x.get(i).map_or(f64::NAN, |v| v.as_f64());
