@@ -525,10 +525,32 @@ impl<F: BankFormula> Banked<F> {
         self.xs.extend(xs.iter().map(Jet::value));
         self.ys.clear();
         self.ys.resize(self.xs.len(), 0.0);
-        if let Err(e) = self.bank.process_ticks(&self.xs, &mut self.ys) {
-            // The reader gives finite numbers only: the bank has no reason to refuse them.
+        // The reader gives finite numbers only, so the bank can only refuse an output beyond
+        // the float range, from an input or k1 near it. The core stops a block at such a tick
+        // without naming it: those blocks run tick by tick, so the message names the row.
+        let near = |v: &f64| v.abs() > f64::MAX / 8.0;
+        let result = if self.xs.iter().any(near) || self.bank.k1().iter().any(near) {
+            self.xs
+                .chunks(k.max(1))
+                .zip(self.ys.chunks_mut(k.max(1)))
+                .enumerate()
+                .try_for_each(|(t, (row, out))| {
+                    self.bank.step(row, out).map_err(|mut e| {
+                        e.channel += t * k;
+                        e
+                    })
+                })
+        } else {
+            self.bank.process_ticks(&self.xs, &mut self.ys)
+        };
+        if let Err(e) = result {
+            // `e.channel` is the failing sample's index in the block here.
             let x = self.xs.get(e.channel).copied().unwrap_or(f64::NAN);
-            bail!("{}: {}", place.at(line(e.channel), e.channel, x), e.error);
+            bail!(
+                "{}: {}",
+                place.at(line(e.channel), e.channel % k.max(1), x),
+                e.error
+            );
         }
         if let Some(i) = self.ys.iter().position(|y| !y.is_finite()) {
             bail!(

@@ -309,6 +309,23 @@ fn errors_name_the_file_line_column_and_value() {
         "a,a_d1,b\n1,2,3\n",
         &["--derivatives 1 needs the column \"b_d1\""],
     );
+    // The bank (plain operators) gives an output beyond the float range on the second column
+    // of row 5 (line 6); the message names that row, not the block's first.
+    fails(
+        &[
+            "--k1",
+            "4e307",
+            "--k2",
+            "8",
+            "--inverse",
+            "--column",
+            "a",
+            "--column",
+            "b",
+        ],
+        "a,b\n1,2\n3,1\n0,0\n1,2\n2,1.7e308\n4,5\n",
+        &["data.csv:6: column 2 (\"b\")", "1.7e308"],
+    );
     // The model gives an output beyond the float range on the second column.
     let smooth = corpus("smooth.toml");
     fails(
