@@ -12,7 +12,7 @@
 //! inlined into their `#[target_feature]` entry points, but in debug builds the unoptimised
 //! frames of all of them inlined together need more than a thread's 2 MiB of stack.
 
-use super::lanes::{exp, fsc_step, ln, omega_series, omega_start, omega_v, Lane};
+use super::lanes::{decay, exp, fsc_step, ln, omega_series, omega_start, omega_v, Lane};
 use super::simd::Simd;
 use super::{BankError, BankFormula, Block, ColumnsMut};
 use crate::{ConstantK2, Direction, Memory, Operator, ParametricHysteresis};
@@ -40,6 +40,8 @@ struct State<V> {
     /// (eq. 4); both change only at reversals.
     neg_k2: V,
     sm: V,
+    /// Inverse: s k1 (the band edge the output approaches, eq. 4 far from the reversal point).
+    ks: V,
 }
 
 /// A column's values for `start .. start + width` into a vector, padding with `fill`.
@@ -101,6 +103,7 @@ fn observe<V: Simd, F: BankFormula>(st: &mut State<V>, x: V) -> V::M {
         st.sign = V::select(reversed, -st.sign, st.sign);
     } else {
         st.neg_k2 = V::select(reversed, -st.neg_k2, st.neg_k2);
+        st.ks = V::select(reversed, -st.ks, st.ks);
     }
     reversed
 }
@@ -112,19 +115,21 @@ fn sign_of<V: Simd>(neg_k2_s: V) -> V {
 }
 
 /// Eq. (4) with the transformation folded in: v = (x − α0 + β0) + (1 − e^(−k2 ũd)) · s M*,
-/// ũd = s (x − α0), s M* = s k1 − (β0 − α0).
+/// ũd = s (x − α0), s M* = s k1 − (β0 − α0), which is v = x + s k1 − e^(−k2 ũd) s M*.
 #[cfg_attr(not(debug_assertions), inline(always))]
-fn inverse_output<V: Simd>(st: &State<V>, x: V) -> V {
-    let d = x - st.rin;
+fn inverse_output<V: Simd>(st: &State<V>, x: V) -> V
+where
+    V::T: Lane,
+{
     // −k2 ũd as (x − α0) (−k2 s): the scalar operator's −(k2 ũd), bit for bit (s = ±1).
-    let e = exp(d * st.neg_k2);
-    (V::c(1.0) - e).fma(st.sm, d + st.rout)
+    let e = decay((x - st.rin) * st.neg_k2);
+    x + (-e).fma(st.sm, st.ks)
 }
 
 /// s M* = s k1 − (β0 − α0) of eq. (4), from the memory.
 #[inline(always)]
 fn inverse_cache<V: Simd>(st: &State<V>) -> V {
-    st.k1.fma(sign_of(st.neg_k2), st.rin - st.rout)
+    st.ks + (st.rin - st.rout)
 }
 
 /// Eq. (2): ũ = ṽ − M* + ω(y) / k2 with y = ln(k2 M*) + k2 (M* − ṽ) (W0(k2 M* e^(k2 (M* − ṽ)))
@@ -294,6 +299,7 @@ fn tick<V: Simd, F: BankFormula>(
             (st.m_star, st.ln_a) = direct_cache(st);
         } else {
             st.neg_k2 = -(st.k2 * st.sign);
+            st.ks = st.k1 * st.sign;
             st.sm = inverse_cache(st);
         }
     }
@@ -519,6 +525,7 @@ fn load<V: Simd, F: BankFormula>(
         ln_a: one,
         neg_k2: one,
         sm: one,
+        ks: one,
     };
     let mut fresh = !V::all(started);
     if fresh {
@@ -543,6 +550,7 @@ fn load<V: Simd, F: BankFormula>(
         }
     } else {
         st.neg_k2 = -(st.k2 * st.sign);
+        st.ks = st.k1 * st.sign;
         st.sm = inverse_cache(&st);
     }
     (st, fresh)

@@ -60,6 +60,11 @@ pub trait Simd:
     fn pow2_shifted(t: Self) -> Self;
     /// (m, k) with self = 2ᵏ · m, m ∈ [1, 2), k as a float, for positive normal values.
     fn split_exponent(self) -> (Self, Self);
+    /// 2ⁿ for `t` = n + bias + 1.5 · 2^p (bias 1023 and p = 52 for f64, 127 and 23 for f32), n in
+    /// [−1022, 1023] (f64) or [−126, 127] (f32): t's low bits shifted into the exponent field.
+    fn pow2_bits(t: Self) -> Self;
+    /// The larger of `self` and `b`; `b` where `self` is NaN (x86's `maxpd` with `b` second).
+    fn max_or(self, b: Self) -> Self;
 
     /// Whether `exp` reduces by ln 2 / 8 (f64) or ln 2 / 16 (f32) with a table of 2^(j/8) or
     /// 2^(j/16) ([`Simd::exp2_frac`], [`Simd::scale`]) and a shorter polynomial, instead of by
@@ -205,6 +210,18 @@ macro_rules! scalar_simd {
                 <$t>::from_bits(t.to_bits().wrapping_add($bias) << $mant)
             }
             #[inline(always)]
+            fn pow2_bits(t: Self) -> Self {
+                <$t>::from_bits(t.to_bits() << $mant)
+            }
+            #[inline(always)]
+            fn max_or(self, b: Self) -> Self {
+                if self > b {
+                    self
+                } else {
+                    b
+                }
+            }
+            #[inline(always)]
             fn split_exponent(self) -> (Self, Self) {
                 let bits = self.to_bits();
                 let k = (bits >> $mant) as i64 - $bias as i64;
@@ -322,6 +339,14 @@ impl<V: Simd> Simd for Pair<V> {
     #[inline(always)]
     fn pow2_shifted(t: Self) -> Self {
         Pair(V::pow2_shifted(t.0), V::pow2_shifted(t.1))
+    }
+    #[inline(always)]
+    fn pow2_bits(t: Self) -> Self {
+        Pair(V::pow2_bits(t.0), V::pow2_bits(t.1))
+    }
+    #[inline(always)]
+    fn max_or(self, b: Self) -> Self {
+        Pair(self.0.max_or(b.0), self.1.max_or(b.1))
     }
     #[inline(always)]
     fn split_exponent(self) -> (Self, Self) {

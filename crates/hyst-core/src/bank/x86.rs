@@ -266,6 +266,10 @@ macro_rules! bits {
             )))))
         }
         #[inline(always)]
+        fn pow2_bits(t: Self) -> Self {
+            Self(arch!($from_int($shl::<$mant>($to_int(t.0)))))
+        }
+        #[inline(always)]
         fn split_exponent(self) -> (Self, Self) {
             let bits = arch!($to_int(self.0));
             let m = arch!($or($and(bits, $set1_int($mant_mask)), $set1_int($one)));
@@ -278,7 +282,7 @@ macro_rules! bits {
 /// [`Simd`] for an AVX2 or SSE2 vector (vector masks).
 macro_rules! avx2_simd {
     ($name:ident, $t:ty, $raw:ty, $lanes:expr, $full:expr, $cmp:ident, $blend:ident, $and:ident,
-     $or:ident, $andnot:ident, $movemask:ident, $set1:ident, [$($bits:tt)*]) => {
+     $or:ident, $andnot:ident, $movemask:ident, $set1:ident, $max:ident, [$($bits:tt)*]) => {
         impl Simd for $name {
             type M = $raw;
             common!($t, $lanes);
@@ -322,6 +326,10 @@ macro_rules! avx2_simd {
             fn magnitude(self) -> Self {
                 Self(arch!($andnot($set1(-0.0), self.0)))
             }
+            #[inline(always)]
+            fn max_or(self, b: Self) -> Self {
+                Self(arch!($max(self.0, b.0)))
+            }
             bits!($($bits)*);
         }
     };
@@ -340,6 +348,7 @@ avx2_simd!(
     _mm256_andnot_pd,
     _mm256_movemask_pd,
     _mm256_set1_pd,
+    _mm256_max_pd,
     [
         __m256d,
         _mm256_castpd_si256,
@@ -370,6 +379,7 @@ avx2_simd!(
     _mm256_andnot_ps,
     _mm256_movemask_ps,
     _mm256_set1_ps,
+    _mm256_max_ps,
     [
         __m256,
         _mm256_castps_si256,
@@ -457,6 +467,10 @@ macro_rules! avx512_simd {
             #[inline(always)]
             fn magnitude(self) -> Self {
                 Self(arch!($abs(self.0)))
+            }
+            #[inline(always)]
+            fn max_or(self, b: Self) -> Self {
+                Self(arch!($max(self.0, b.0)))
             }
             bits!($($bits)*);
         }
@@ -656,6 +670,7 @@ avx2_simd!(
     _mm_andnot_pd,
     _mm_movemask_pd,
     _mm_set1_pd,
+    _mm_max_pd,
     [
         __m128d,
         _mm_castpd_si128,
@@ -686,6 +701,7 @@ avx2_simd!(
     _mm_andnot_ps,
     _mm_movemask_ps,
     _mm_set1_ps,
+    _mm_max_ps,
     [
         __m128,
         _mm_castps_si128,
@@ -766,7 +782,7 @@ dispatch!(run_f32, f32, f32_avx512, f32_avx2, f32_sse2);
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bank::lanes::{exp, ln};
+    use crate::bank::lanes::{decay, exp, ln};
 
     /// The i-th point of the golden-ratio sequence in [0, 1) (evenly spread, deterministic).
     fn spread(i: usize) -> f64 {
@@ -800,6 +816,79 @@ mod tests {
             }
         }
         (e, l)
+    }
+
+    /// The worst absolute error of `decay` on vector `V` against the platform's `exp`, in ulp
+    /// of 1, over 2e5 arguments in [−760, 0] (beyond the clamp too), and whether NaN gives a
+    /// value below an ulp of 1.
+    fn worst_decay<V: Simd>(to: impl Fn(f64) -> V::T, from: impl Fn(V::T) -> f64, eps: f64) -> f64
+    where
+        V::T: crate::bank::lanes::Lane,
+    {
+        let n = V::LANES;
+        let mut worst = 0.0_f64;
+        for k in 0..200_000 / n {
+            // Half the arguments near 0, where e^z is near 1 and every bit counts.
+            let z = |i: usize| {
+                let u = spread(k * n + i);
+                if i.is_multiple_of(2) {
+                    -760.0 * u
+                } else {
+                    -4.0 * u
+                }
+            };
+            let zs: std::vec::Vec<V::T> = (0..n).map(|i| to(z(i))).collect();
+            let mut out = std::vec![to(0.0); n];
+            decay(V::load(&zs)).store(&mut out);
+            for i in 0..n {
+                let r = from(zs[i]).exp();
+                worst = worst.max((from(out[i]) - r).abs() / eps);
+            }
+        }
+        let mut out = std::vec![to(1.0); n];
+        decay(V::load(&std::vec![to(f64::NAN); n])).store(&mut out);
+        assert!(
+            out.iter().all(|&v| from(v) >= 0.0 && from(v) < eps),
+            "decay(NaN)"
+        );
+        worst
+    }
+
+    #[test]
+    fn every_vector_decay_is_within_an_ulp_of_1() {
+        let f64s = |v: f64| v;
+        let f32s = |v: f64| v as f32;
+        let f32eps = f64::from(f32::EPSILON);
+        let mut all = std::vec![
+            (
+                "portable f64",
+                worst_decay::<f64>(f64s, f64::from, f64::EPSILON)
+            ),
+            ("portable f32", worst_decay::<f32>(f32s, f64::from, f32eps)),
+            (
+                "sse2 f64",
+                worst_decay::<F64x2>(f64s, f64::from, f64::EPSILON)
+            ),
+            ("sse2 f32", worst_decay::<F32x4>(f32s, f64::from, f32eps)),
+        ];
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            all.push((
+                "avx2 f64",
+                worst_decay::<F64x4>(f64s, f64::from, f64::EPSILON),
+            ));
+            all.push(("avx2 f32", worst_decay::<F32x8>(f32s, f64::from, f32eps)));
+        }
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            all.push((
+                "avx512 f64",
+                worst_decay::<F64x8>(f64s, f64::from, f64::EPSILON),
+            ));
+            all.push(("avx512 f32", worst_decay::<F32x16>(f32s, f64::from, f32eps)));
+        }
+        for (what, ulp) in all {
+            assert!(ulp <= 1.0, "{what}: decay {ulp} ulp of 1");
+        }
     }
 
     #[test]
