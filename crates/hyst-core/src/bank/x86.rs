@@ -722,7 +722,7 @@ avx2_simd!(
 
 /// The vectors a chunk of each kernel is made of (measured: docs/performance.md).
 type Avx2F64 = Pair<Pair<F64x4>>;
-type Avx2F32 = Pair<Pair<F32x8>>;
+type Avx2F32 = Pair<F32x8>;
 type Avx512F64 = Pair<Pair<F64x8>>;
 type Avx512F32 = Pair<Pair<F32x16>>;
 type Sse2F64 = Pair<Pair<F64x2>>;
