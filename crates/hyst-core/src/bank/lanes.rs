@@ -277,11 +277,18 @@ fn poly_pairs<V: Simd>(x: V, coefficients: &[f64]) -> V {
 /// e^z a relative n · 2⁻⁵⁵, absolutely below 2⁻⁵⁵), [`Lane::DECAY_POLY`] in pairs, and 2ⁿ from
 /// the bits of the rounded argument. 17 vector operations (f64), no range selects. NaN gives
 /// e^DECAY_MIN; ±∞ is not an argument the bank gives it (z = −k2 ũd with finite factors).
+///
+/// Vectors with a table [`exp`] (AVX-512: `vpermpd` table, `vscalefpd`, no range selects
+/// either) use that instead: it was measured there (docs/performance.md) and this was not,
+/// as the development machine of this function has no AVX-512.
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn decay<V: Simd>(z: V) -> V
 where
     V::T: Lane,
 {
+    if V::EXP_TABLE {
+        return exp(z);
+    }
     let z = z.max_or(V::splat(<V::T as Lane>::DECAY_MIN));
     let shift = V::splat(<V::T as Lane>::DECAY_SHIFT);
     let t = z.fma(V::c(core::f64::consts::LOG2_E), shift);
