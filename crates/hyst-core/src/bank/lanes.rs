@@ -12,6 +12,9 @@
 //!   subnormal results and the end of the range right. Error ≤ 2 ulp for normal results
 //!   (tested against the platform's `exp` in `tests/bank.rs` and, per kernel, in the unit tests
 //!   of the `x86` module).
+//! - `decay`: e^z for z ≤ 0 to an absolute ulp of 1, all eq. (4) needs of its e^(−k2 ũd): the
+//!   argument raised to the float range's end, one-constant ln 2 reduction, an interpolant at
+//!   the Chebyshev nodes (degree 11 / 6), 2ⁿ from its bits, no range selects (AVX-512: `exp`).
 //! - `ln`: fdlibm's `e_log.c` / `e_logf.c` (x = 2ᵏ m, √½ ≤ m < √2, s = f / (2 + f), minimax
 //!   polynomial in s²); error ≤ 1 ulp for normal positive x.
 //! - ω(y) = W0(eʸ), the solution of ω + ln ω = y: see [`omega`] and the direct kernel.
