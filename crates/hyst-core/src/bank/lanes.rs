@@ -62,13 +62,13 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
     const EXP_TABLE: &'static [f64];
     /// How many of [`INV_FACTORIALS`] the table reduction uses (|r| ≤ ln 2 / 2^(b+1)).
     const EXP_TABLE_TERMS: usize;
-    /// [`decay`]'s arguments are raised to this (e^z is then at least the smallest normal float
-    /// times 2, so 2ⁿ is built from its bits without a range check).
+    /// The bank's `decay` raises its arguments to this (e^z is then at least the smallest normal
+    /// float times 2, so 2ⁿ is built from its bits without a range check).
     const DECAY_MIN: Self;
     /// [`Lane::SHIFT`] plus the exponent bias: adding it leaves n + bias in the low bits.
     const DECAY_SHIFT: Self;
-    /// [`decay`]'s polynomial: e^r ≈ Σ cᵢ rⁱ on |r| ≤ ln 2 / 2, interpolated at the Chebyshev
-    /// nodes of that interval (degree 11 for f64, 6 for f32; error with the coefficients rounded
+    /// The bank's `decay` polynomial: e^r ≈ Σ cᵢ rⁱ on |r| ≤ ln 2 / 2, interpolated at the
+    /// Chebyshev nodes of that interval (degree 11 for f64, 6 for f32; error with the coefficients rounded
     /// to the type: 0.15 ulp for f64, 0.34 ulp for f32; `scripts/decay-coefficients` computes
     /// them).
     const DECAY_POLY: &'static [f64];
