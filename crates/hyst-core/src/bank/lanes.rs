@@ -68,9 +68,9 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
     /// [`Lane::SHIFT`] plus the exponent bias: adding it leaves n + bias in the low bits.
     const DECAY_SHIFT: Self;
     /// The bank's `decay` polynomial: e^r ≈ Σ cᵢ rⁱ on |r| ≤ ln 2 / 2, interpolated at the
-    /// Chebyshev nodes of that interval (degree 11 for f64, 6 for f32; error with the coefficients rounded
-    /// to the type: 0.15 ulp for f64, 0.34 ulp for f32; `scripts/decay-coefficients` computes
-    /// them).
+    /// Chebyshev nodes of that interval (degree 11 for f64, 6 for f32; error with the
+    /// coefficients rounded to the type: 0.15 ulp for f64, 0.34 ulp for f32;
+    /// `scripts/decay-coefficients` computes them).
     const DECAY_POLY: &'static [f64];
     /// The low bits of the value's representation (the table index of `exp`).
     fn low_bits(self) -> usize;
