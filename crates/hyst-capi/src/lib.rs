@@ -6,7 +6,7 @@
 //!   (`hyst_compensator_*`) or of a shaped model (`hyst_shaped_compensator_*`), in `double` and, with
 //!   the suffix `_f32`, in `float`. Every state lives in caller memory (an opaque, copyable block
 //!   of fixed size); every fallible call returns a status (`HYST_OK` = 0), explained by
-//!   [`hyst_status_message`].
+//!   [`hyst_status_message`](status::hyst_status_message).
 //! - **Host part** (feature `std`, the default): fitted model files, the same as `hyst run
 //!   --model` and bit-identical to it (`hyst_model_load`, `hyst_model_process`,
 //!   `hyst_model_reset`, `hyst_model_free`); banks of N operators stepped together in SIMD

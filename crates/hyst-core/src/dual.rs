@@ -23,7 +23,7 @@
 //! combine: `Jet<Dual<f64, N>, M>` is a jet whose coefficients carry their gradients.
 //!
 //! # Examples
-//! ∂u/∂k1 and ∂u/∂k2 of the direct operator u = H(k1, k2)[v] along a history with a reversal,
+//! ∂u/∂k1 and ∂u/∂k2 of the direct operator u = H(k1, k2)\[v\] along a history with a reversal,
 //! checked against central finite differences:
 //! ```
 //! use hyst_core::{Dual, Hysteresis, Operator};

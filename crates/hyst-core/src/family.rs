@@ -1,7 +1,7 @@
 //! Families of operators (Definition 2.8, eqs. 9–10) and their error bounds: Δa of
 //! Proposition 3.2 (eqs. 12–14, with the corrected denominator of eq. 13), Δb ≤ Δa of
 //! Proposition 3.3 (eq. 15), the bound after an output shaping function, the parameter deviation
-//! Δk2 of Proposition 4.3, the envelope Υ(RH)[v] of a family along an input signal, and a check
+//! Δk2 of Proposition 4.3, the envelope Υ(RH)\[v\] of a family along an input signal, and a check
 //! that measured data is reproducible by a family.
 //!
 //! # The bound as implemented
@@ -57,7 +57,7 @@ pub fn corner_value<T: Real>(k1: T, k1_bar: T, k2: T, k2_bar: T) -> T {
 /// The bound of Proposition 3.2 for one family RH(k1, Δk1, k2, Δk2) with constant k2.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bound<T> {
-    /// Δa (eq. 12): the largest |H⁻¹(k̄1, k̄2)[ud] − H⁻¹(k1, k2)[ud]| over the family, in the
+    /// Δa (eq. 12): the largest |H⁻¹(k̄1, k̄2)\[ud\] − H⁻¹(k1, k2)\[ud\]| over the family, in the
     /// output units of H⁻¹ (the input units of H). Also the bound on Δb (eq. 15).
     pub delta_a: T,
     /// Δx1..Δx4 of eq. (13), at the corners (k1 − Δk1, k2 − Δk2), (k1 − Δk1, k2 + Δk2),
@@ -451,7 +451,7 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
         (0..grid).flat_map(move |i| (0..grid).map(move |j| (pos(i), pos(j))))
     }
 
-    /// The envelope Υ(RH)[v] of the family along the input signal `input` (Section 3): for each
+    /// The envelope Υ(RH)\[v\] of the family along the input signal `input` (Section 3): for each
     /// sample, the smallest and the largest output over the `grid` × `grid` [`Family::lattice`]
     /// of members, all started without history. Writes into `lower` and `upper` (same length as
     /// `input`); no allocation.

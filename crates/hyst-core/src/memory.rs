@@ -1,7 +1,7 @@
 //! The memory of Definition 2.1: the last reversal point (α0, β0) and the direction of the input.
 //!
 //! In discrete time (Section 4.2, "Causality") the direction is the sign of the last non-zero input
-//! step x[k] − x[k−1]; a zero step keeps the current direction, and at a change of direction the
+//! step x\[k\] − x[k−1]; a zero step keeps the current direction, and at a change of direction the
 //! previous sample becomes the reversal point. For a [`Jet`](crate::Jet) input whose value does
 //! not move, the sign of its lowest-order non-zero derivative decides instead, so that a
 //! continuous-time trajectory starting at a turning point gets the right mode from the start.

@@ -17,12 +17,12 @@
 //! evaluator of `hyst-fit`. The simulator, the fitting code and the `hyst` tool step operators
 //! only through this trait; rustdoc's "Implementors" list below is the complete list.
 //!
-//! A sample is a plain number or a [`Jet`] (a value and its first N time derivatives): the same
+//! A sample is a plain number or a [`Jet`](crate::Jet) (a value and its first N time derivatives): the same
 //! [`Operator::try_step`] gives the output's derivatives when it is given the input's.
 
 use crate::{Error, Real, Sample};
 
-/// A causal operator with memory: one output sample per input sample, plain or [`Jet`].
+/// A causal operator with memory: one output sample per input sample, plain or [`Jet`](crate::Jet).
 ///
 /// Implementors provide [`Operator::try_step`] (every evaluation goes through it),
 /// [`Operator::last_output`], [`Operator::reset`] and the memory accessors; the block and
@@ -56,7 +56,7 @@ pub trait Operator<T: Real> {
     /// Definition 2.1, `None` before the first sample).
     type Memory: Clone + core::fmt::Debug + PartialEq;
 
-    /// One sample, plain or a [`Jet`]: the output, with its time derivatives when the input
+    /// One sample, plain or a [`Jet`](crate::Jet): the output, with its time derivatives when the input
     /// carries them (Proposition 2.7 and beyond).
     ///
     /// # Errors

@@ -34,12 +34,12 @@ pub trait Formula: sealed::Sealed + Copy + core::fmt::Debug {
     fn output_wide<T: Real>(memory: &Memory<T>, x: T, m_star: T, k2: T) -> T;
 }
 
-/// Marker for the direct operator u = H(k1, k2)[v] of eq. (2).
+/// Marker for the direct operator u = H(k1, k2)\[v\] of eq. (2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct Direct;
 
-/// Marker for the inverse operator v = H⁻¹(k1, k2)[u_d] of eq. (4).
+/// Marker for the inverse operator v = H⁻¹(k1, k2)\[u_d\] of eq. (4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct Inverse;
@@ -228,7 +228,7 @@ pub struct ParametricHysteresis<T, K, F> {
     formula: PhantomData<F>,
 }
 
-/// The direct parametric hysteresis operator u = H(k1, k2)[v] (Definition 2.2, eq. 2).
+/// The direct parametric hysteresis operator u = H(k1, k2)\[v\] (Definition 2.2, eq. 2).
 ///
 /// # Examples
 /// ```
@@ -241,7 +241,7 @@ pub struct ParametricHysteresis<T, K, F> {
 /// ```
 pub type Hysteresis<T, K = ConstantK2<T>> = ParametricHysteresis<T, K, Direct>;
 
-/// The inverse parametric hysteresis operator v = H⁻¹(k1, k2)[u_d] (Definition 2.5, eq. 4),
+/// The inverse parametric hysteresis operator v = H⁻¹(k1, k2)\[u_d\] (Definition 2.5, eq. 4),
 /// the exact left and right inverse of [`Hysteresis`] with the same parameters and initial
 /// state (Proposition 4.1).
 ///

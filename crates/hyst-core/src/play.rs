@@ -1,7 +1,7 @@
 //! The play operator (a hard backlash): the limit of the parametric operator as k2 → ∞, the
 //! truth of the paper's Example 3, and the building block of the Prandtl–Ishlinskii operator.
 //!
-//! play_r[x](k) = max(x(k) − r, min(x(k) + r, play_r[x](k − 1))), the first sample at rest on the
+//! play_r\[x\](k) = max(x(k) − r, min(x(k) + r, play_r\[x\](k − 1))), the first sample at rest on the
 //! line output = input. The output follows the input at a distance r once the play is taken up,
 //! and holds still while the input moves inside the gap.
 

@@ -2,7 +2,7 @@
 //! inverse: a weighted sum of play (backlash) operators,
 //!
 //! y = c + w0 (x − b) + Σ_{i=1..n} w_i p_i,   p_i = play_{r_i}[x − b],
-//! play_r[x](k) = max(x(k) − r, min(x(k) + r, play_r[x](k − 1))),
+//! play_r\[x\](k) = max(x(k) − r, min(x(k) + r, play_r\[x\](k − 1))),
 //!
 //! with thresholds 0 < r_1 < … < r_n, the identity weight w0 > 0, and cumulative weights
 //! W_i = w0 + w_1 + … + w_i > 0 (the slope of the loading curve between r_i and r_{i+1}), which
@@ -19,10 +19,10 @@
 //!
 //! [`ShapedPrandtlIshlinskii`] follows the sum with a monotone output polynomial P (degree ≤ 3,
 //! strictly increasing on its domain, continued by tangents outside: [`Polynomial`]):
-//! y = P(PI[x]). Its inverse [`InverseShapedPrandtlIshlinskii`] is PI⁻¹ ∘ P⁻¹: the analytic PI
+//! y = P(PI\[x\]). Its inverse [`InverseShapedPrandtlIshlinskii`] is PI⁻¹ ∘ P⁻¹: the analytic PI
 //! inverse above after the polynomial's inverse ([`Shaping::invert`]), so it stays exact.
 //!
-//! Time derivatives ([`PrandtlIshlinskii::eval`] on a [`crate::Jet`]) are value-exact and
+//! Time derivatives ([`PrandtlIshlinskii::try_step`](crate::Operator::try_step) on a [`crate::Jet`]) are value-exact and
 //! piecewise: a play at the edge of its band that the input pushes (the lowest-order non-zero
 //! derivative of the input points outwards) moves with the input, every other play is stuck, so
 //! every derivative of the output is (w0 + Σ_{moving} w_i) times the input's.
@@ -56,7 +56,7 @@ pub struct PrandtlIshlinskii<T, const N: usize> {
 }
 
 impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
-    /// A direct operator y = `offset` + w0 x + Σ w_i play_{r_i}[x] with no history.
+    /// A direct operator y = `offset` + w0 x + Σ w_i play_{r_i}\[x\] with no history.
     ///
     /// # Errors
     /// [`Error::LengthMismatch`] when `thresholds` and `weights` differ in length or exceed `N`;
@@ -357,7 +357,7 @@ impl<T: Real, const N: usize> Operator<T> for PrandtlIshlinskii<T, N> {
 }
 
 /// A Prandtl–Ishlinskii operator followed by a strictly increasing output polynomial:
-/// y = P(PI[x]) (see the module docs). Copy, no allocation.
+/// y = P(PI\[x\]) (see the module docs). Copy, no allocation.
 ///
 /// # Examples
 /// ```
@@ -420,7 +420,7 @@ impl<T: Real, const N: usize> ShapedPrandtlIshlinskii<T, N> {
 impl<T: Real, const N: usize> Operator<T> for ShapedPrandtlIshlinskii<T, N> {
     type Memory = PlayMemory<T, N>;
 
-    /// One sample, plain or a jet: P(PI[x]) with the derivatives of the PI sum carried
+    /// One sample, plain or a jet: P(PI\[x\]) with the derivatives of the PI sum carried
     /// through P.
     ///
     /// # Errors

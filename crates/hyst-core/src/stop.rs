@@ -1,11 +1,11 @@
-//! The stop form out = ψ_out(v − H(k1, k2)[v]) + c·v, v = ψ_in(in): the operator's distance
-//! from its own input, a smooth stop (elastic–plastic) operator bounded by |v − H[v]| ≤ k1.
+//! The stop form out = ψ_out(v − H(k1, k2)\[v\]) + c·v, v = ψ_in(in): the operator's distance
+//! from its own input, a smooth stop (elastic–plastic) operator bounded by |v − H\[v\]| ≤ k1.
 //!
-//! Where H's loop runs counterclockwise (its output lags the input), v − H[v] runs clockwise:
+//! Where H's loop runs counterclockwise (its output lags the input), v − H\[v\] runs clockwise:
 //! positive while the input rises, negative while it falls, reaching ±k1 after a travel of a few
 //! 1/k2 past each reversal. That is friction against position (a Dahl-like model: pre-sliding
 //! displacement, then sliding at the Coulomb level), and any clockwise loop; the linear term c·v
-//! carries a stiffness or a trend (with c = −gain it is −gain · H[v], the operator loop upside
+//! carries a stiffness or a trend (with c = −gain it is −gain · H\[v\], the operator loop upside
 //! down).
 
 #[cfg(feature = "serde")]
@@ -43,7 +43,7 @@ pub struct Stop<T, I = Identity, K = ConstantK2<T>, O = Identity> {
 }
 
 impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Stop<T, I, K, O> {
-    /// Composes ψ_out(v − H[v]) + c·v with v = ψ_in(in).
+    /// Composes ψ_out(v − H\[v\]) + c·v with v = ψ_in(in).
     ///
     /// # Errors
     /// The shaping functions' own validation errors; [`Error::InvalidParameter`] for a
@@ -92,7 +92,7 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Stop<T,
     /// The memory of the operator H (Definition 2.1, on the operator's input and output).
     type Memory = Option<Memory<T>>;
 
-    /// One sample (plain or jet): ψ_out(v − H[v]) + c·v, v = ψ_in(x).
+    /// One sample (plain or jet): ψ_out(v − H\[v\]) + c·v, v = ψ_in(x).
     ///
     /// # Errors
     /// As [`Hysteresis`]'s [`Operator::try_step`], and [`Error::NonFiniteOutput`] when the
