@@ -42,6 +42,7 @@ pub mod modelfile;
 pub mod orientation;
 pub mod pi;
 pub mod pi_fit;
+mod race;
 pub mod reduction;
 pub mod report;
 pub mod smooth;

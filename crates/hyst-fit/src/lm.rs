@@ -489,15 +489,50 @@ fn norm(v: &[f64]) -> f64 {
 }
 
 /// JᵀJ (row-major) and Jᵀr from a column-major J.
+///
+/// Each entry is a dot product summed in row order, as `iter().sum()` sums it; the products
+/// are taken four dot products at a time over the rows, so that four independent sums are in
+/// flight instead of one sum waiting on the previous addition (same numbers, bit for bit).
 fn normal_equations(jac: &[f64], r: &[f64], n: usize, p: usize, jtj: &mut [f64], g: &mut [f64]) {
+    let column = |a: usize| jac.get(a * n..(a + 1) * n).unwrap_or(&[]);
+    // (row of JᵀJ or p for g, column, the two vectors).
+    let mut pairs: Vec<(usize, usize, &[f64], &[f64])> = Vec::with_capacity(p * (p + 3) / 2);
     for a in 0..p {
-        let ca = &jac[a * n..(a + 1) * n];
-        g[a] = ca.iter().zip(r).map(|(x, y)| x * y).sum();
+        pairs.push((p, a, column(a), r));
         for b in a..p {
-            let cb = &jac[b * n..(b + 1) * n];
-            let s: f64 = ca.iter().zip(cb).map(|(x, y)| x * y).sum();
-            jtj[a * p + b] = s;
-            jtj[b * p + a] = s;
+            pairs.push((a, b, column(a), column(b)));
+        }
+    }
+    for group in pairs.chunks(4) {
+        // −0 is the neutral element of a float sum (as `Sum` starts).
+        let mut sums = [-0.0_f64; 4];
+        match group {
+            [(.., x0, y0), (.., x1, y1), (.., x2, y2), (.., x3, y3)] => {
+                let rows = x0
+                    .iter()
+                    .zip(*y0)
+                    .zip(x1.iter().zip(*y1))
+                    .zip(x2.iter().zip(*y2).zip(x3.iter().zip(*y3)));
+                for (((a0, b0), (a1, b1)), ((a2, b2), (a3, b3))) in rows {
+                    sums[0] += a0 * b0;
+                    sums[1] += a1 * b1;
+                    sums[2] += a2 * b2;
+                    sums[3] += a3 * b3;
+                }
+            }
+            _ => {
+                for (sum, (.., x, y)) in sums.iter_mut().zip(group) {
+                    *sum = x.iter().zip(*y).map(|(u, v)| u * v).sum();
+                }
+            }
+        }
+        for (&(a, b, ..), s) in group.iter().zip(sums) {
+            if a == p {
+                g[b] = s;
+            } else {
+                jtj[a * p + b] = s;
+                jtj[b * p + a] = s;
+            }
         }
     }
 }

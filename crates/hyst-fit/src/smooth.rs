@@ -10,16 +10,13 @@
 //! through their one code path. One dual run per record gives every column at the cost of a
 //! few plain runs; any structure `Layout::model` builds gets its Jacobian this way.
 
-use std::ops::ControlFlow;
 use std::time::Instant;
 
 use hyst_core::{Dual, Shaping};
 use serde::Serialize;
 
 use crate::data::History;
-use crate::lm::{
-    Infeasible, LevenbergMarquardt, Observer, Problem, Progress, Solution, Termination,
-};
+use crate::lm::{Infeasible, LevenbergMarquardt, Observer, Problem, Termination};
 use crate::model::FitReal;
 use crate::structure::{Layout, Normalisation, Structure};
 use crate::widths::{family_widths, FamilyWidths};
@@ -285,6 +282,29 @@ impl<'a> SmoothProblem<'a> {
     }
 }
 
+impl SmoothProblem<'_> {
+    /// Σ r² at θ given the operator output `z` = H[ψ_in(in)] per residual of a point with the
+    /// same k1, k2 law and ψ_in (θ differs only in ψ_out and the linear term): the residuals
+    /// [`Problem::residuals`] computes, from the same per-sample arithmetic
+    /// ([`SmoothModel::output`] of ψ_in(in) and z), without running the operator again.
+    /// `None` when θ is infeasible (as `residuals` says).
+    fn cost_from_operator(&self, theta: &[f64], z: &[f64]) -> Option<f64> {
+        let m = self.model(theta).ok()?;
+        let mut y = vec![0.0; self.n];
+        let inputs = self.data.training().flat_map(|r| r.input.iter());
+        for ((slot, x), u) in y.iter_mut().zip(inputs).zip(z) {
+            let out = m.output(m.input_shaping.apply(*x), *u);
+            if !out.is_finite() {
+                return None;
+            }
+            *slot = out;
+        }
+        let mut r = vec![0.0; self.n];
+        self.to_residuals(&y, &mut r).ok()?;
+        Some(r.iter().map(|v| v * v).sum())
+    }
+}
+
 impl Problem for SmoothProblem<'_> {
     fn parameters(&self) -> usize {
         self.layout.len()
@@ -373,39 +393,6 @@ impl SmoothProblem<'_> {
         } else {
             Err(Infeasible)
         }
-    }
-}
-
-/// Tags progress with the start number.
-/// Also abandons a start that lags: after [`RACE_AFTER`] iterations, a cost above
-/// [`RACE_RATIO`] times the best start's final cost (so far) is a different, worse basin, and
-/// the rest of its iterations would only polish a point that will be discarded.
-struct Tagged<'a> {
-    inner: &'a mut dyn Observer,
-    start: usize,
-    /// The best final cost of the starts before this one.
-    best: f64,
-    /// Set when this start was abandoned (not the user's interruption).
-    abandoned: bool,
-}
-
-/// Iterations a start runs before it can be abandoned.
-const RACE_AFTER: usize = 10;
-/// A start whose cost is above this multiple of the best so far after [`RACE_AFTER`]
-/// iterations is abandoned.
-const RACE_RATIO: f64 = 1.25;
-
-impl Observer for Tagged<'_> {
-    fn observe(&mut self, progress: &Progress) -> ControlFlow<()> {
-        self.inner.observe(&Progress {
-            start: self.start,
-            ..*progress
-        })?;
-        if progress.iteration >= RACE_AFTER && progress.cost > RACE_RATIO * self.best {
-            self.abandoned = true;
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
     }
 }
 
@@ -502,22 +489,10 @@ pub fn fit_smooth(
         }
         None => options.method,
     };
-    let mut best: Option<Solution> = None;
-    for (start, (_, theta0)) in candidates.iter().enumerate() {
-        let mut tagged = Tagged {
-            inner: &mut *observer,
-            start,
-            best: best.as_ref().map_or(f64::INFINITY, |b| b.cost),
-            abandoned: false,
-        };
-        let s = match method.minimize(&problem, theta0, &mut tagged) {
-            Err(FitError::Interrupted) if tagged.abandoned => continue,
-            result => result?,
-        };
-        if best.as_ref().is_none_or(|b| s.cost < b.cost) {
-            best = Some(s);
-        }
-    }
+    // The starts on the machine's threads, with the result of running them in order (each
+    // raced against the best before it: `crate::race`).
+    let starts: Vec<Vec<f64>> = candidates.into_iter().map(|(_, theta)| theta).collect();
+    let best = crate::race::best_of(&method, &problem, &starts, crate::race::threads(), observer)?;
     let best = best
         .filter(|b| b.cost.is_finite())
         .ok_or_else(|| FitError::NoConvergence("no starting point gave a finite cost".into()))?;
@@ -725,10 +700,14 @@ fn start_candidates(
     options: &FitOptions,
     observer: &mut dyn Observer,
 ) -> Result<Vec<(f64, Vec<f64>)>, FitError> {
-    // Starting points: a grid over (k1, k2), each with the least-squares output gain and offset.
-    let mut candidates: Vec<(f64, Vec<f64>)> = Vec::new();
-    for k1 in [0.02_f64, 0.05, 0.1, 0.2, 0.4] {
-        for k2 in [1.0_f64, 3.0, 10.0, 30.0] {
+    // Starting points: a grid over (k1, k2), each with the least-squares output gain and offset,
+    // evaluated on the machine's threads (in grid order, as one after the other).
+    let grid: Vec<(f64, f64)> = [0.02_f64, 0.05, 0.1, 0.2, 0.4]
+        .into_iter()
+        .flat_map(|k1| [1.0_f64, 3.0, 10.0, 30.0].map(|k2| (k1, k2)))
+        .collect();
+    let mut candidates: Vec<(f64, Vec<f64>)> =
+        crate::race::map(&grid, crate::race::threads(), |&(k1, k2)| {
             let mut theta = layout.start();
             if let Some(i) = layout.index("k1") {
                 theta[i] = k1.ln();
@@ -736,17 +715,13 @@ fn start_candidates(
             if let Some(i) = layout.index("k2") {
                 theta[i] = k2.ln();
             }
-            if let Some(theta) = linear_output_start(problem, theta) {
-                let mut r = vec![0.0; problem.n];
-                if problem.residuals(&theta, &mut r).is_ok() {
-                    let cost: f64 = r.iter().map(|v| v * v).sum();
-                    if cost.is_finite() {
-                        candidates.push((cost, theta));
-                    }
-                }
-            }
-        }
-    }
+            let (theta, z) = linear_output_start(problem, theta)?;
+            let cost = problem.cost_from_operator(&theta, &z)?;
+            cost.is_finite().then_some((cost, theta))
+        })
+        .into_iter()
+        .flatten()
+        .collect();
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
     // The optimum of the simpler structure this one contains, as the first start: the fit then
     // never ends worse than that simpler fit (local minima of the richer one aside). It counts
@@ -948,9 +923,13 @@ impl ParameterLimit {
 }
 
 /// Sets the output gain (and offset, and the stop form's linear term) of θ by linear least
-/// squares on the shaped operator output (the rest of θ fixed). `None` when the point is
-/// infeasible.
-fn linear_output_start(problem: &SmoothProblem<'_>, mut theta: Vec<f64>) -> Option<Vec<f64>> {
+/// squares on the shaped operator output (the rest of θ fixed), and returns it with the
+/// operator output H[ψ_in(in)] per residual (which the new θ leaves as it is). `None` when the
+/// point is infeasible.
+fn linear_output_start(
+    problem: &SmoothProblem<'_>,
+    mut theta: Vec<f64>,
+) -> Option<(Vec<f64>, Vec<f64>)> {
     let layout = problem.layout;
     // The overall gain: ψ_out's, a saturating ψ_out's slope at the centre, or the stop form's
     // level (gain × k1); the offset: ψ_out's, or a saturating ψ_out's level at the centre
@@ -968,8 +947,8 @@ fn linear_output_start(problem: &SmoothProblem<'_>, mut theta: Vec<f64>) -> Opti
         theta[k] = 0.0;
     }
     let m = problem.model(&theta).ok()?;
-    let mut s = vec![0.0; problem.n];
-    problem.simulate(&m, &mut s, None).ok()?;
+    let (mut s, mut z) = (vec![0.0; problem.n], vec![0.0; problem.n]);
+    problem.simulate(&m, &mut s, Some(&mut z)).ok()?;
     // Columns: the shaped output (gain 1), then v = ψ_in(in) for the linear term, then 1.
     let p = 1 + usize::from(li.is_some()) + usize::from(oi.is_some());
     let (mut a, mut b) = (vec![0.0; p * p], vec![0.0; p]);
@@ -1005,7 +984,7 @@ fn linear_output_start(problem: &SmoothProblem<'_>, mut theta: Vec<f64>) -> Opti
     for (k, index) in (1..).zip([li, oi].into_iter().flatten()) {
         theta[index] = if coef[k].is_finite() { coef[k] } else { 0.0 };
     }
-    Some(theta)
+    Some((theta, z))
 }
 
 /// The output of `model` on every record of `data` (record order), each history run from its

@@ -13,7 +13,7 @@
 use std::ops::ControlFlow;
 
 use hyst_core::family::{delta_a_over_k2_range, shaped_bound};
-use hyst_core::{AnyK2Law, Family, K2Law, Reproducibility, Shaping};
+use hyst_core::{AnyK2Law, Family, K2Law, Operator, Reproducibility, ScaledShaping, Shaping};
 use serde::{Deserialize, Serialize};
 
 use crate::lm::{Observer, Progress};
@@ -49,12 +49,17 @@ pub struct FamilyWidths {
 
 /// Histories at least this long share the family's members among threads (below it, starting
 /// the threads would cost more than they save).
-const PARALLEL_FROM: usize = 20_000;
+const PARALLEL_FROM: usize = 4_000;
 
-/// Scratch envelopes for [`coverage`], one (lower, upper) pair per worker thread, reused across
-/// histories and calls.
+/// What [`coverage`] keeps across its calls for one model on one dataset (with the same
+/// starts): scratch envelopes, one (lower, upper) pair per worker thread, and per history the
+/// operator input ψ_in(in) and the output of the family's centre member (the model itself,
+/// whatever the widths).
 struct Scratch {
     envelopes: Vec<(Vec<f64>, Vec<f64>)>,
+    /// Per history: ψ_in(in) (empty when the history starts from an estimated band, which
+    /// looks at the input itself) and the centre member's output (empty until computed).
+    histories: Vec<(Vec<f64>, Vec<f64>)>,
 }
 
 impl Scratch {
@@ -63,8 +68,33 @@ impl Scratch {
         let workers = std::thread::available_parallelism().map_or(1, |n| n.get().min(9));
         Self {
             envelopes: vec![(Vec::new(), Vec::new()); workers],
+            histories: Vec::new(),
         }
     }
+}
+
+/// The distinct members among the lattice positions `members` of `family` (positions giving the
+/// same k1 and k2 shift run the same operator: all nine when both widths are 0, three when one
+/// is), without the centre's (the model itself, run once by [`coverage`]).
+fn distinct_members(
+    family: &Family<f64, AnyK2Law<f64>>,
+    members: impl IntoIterator<Item = (f64, f64)>,
+) -> Vec<(f64, f64)> {
+    // Bit patterns, with −0 as +0 (k2 + (−0) = k2 + 0).
+    let key = |(a, b): (f64, f64)| {
+        let (k1, shift) = family.member_params(a, b);
+        ((k1 + 0.0).to_bits(), (shift + 0.0).to_bits())
+    };
+    let mut seen = vec![key((0.0, 0.0))];
+    let mut kept = Vec::new();
+    for m in members {
+        let k = key(m);
+        if !seen.contains(&k) {
+            seen.push(k);
+            kept.push(m);
+        }
+    }
+    kept
 }
 
 /// Fraction of samples (weight > 0, all records) inside the envelope of the family
@@ -74,6 +104,11 @@ impl Scratch {
 /// `starts` or the start rule ([`SmoothModel::shaped_from`]). On a long history the members are
 /// shared among the threads of `scratch` ([`Family::envelope_of`]); the result does not depend
 /// on how many there are.
+///
+/// Each distinct member runs once (see [`distinct_members`]), and the centre member (the model)
+/// once for all calls with the same `scratch`. With the start rule, ψ_in(in) is computed once
+/// per history too: the members run inside the identity in its place on the operator input
+/// (the same numbers each member's ψ_in would give).
 ///
 /// # Errors
 /// The core's error when the family is invalid (`d1` ≥ k1, a negative or non-finite width) or a
@@ -87,7 +122,12 @@ fn coverage(
     scratch: &mut Scratch,
 ) -> Result<f64, hyst_core::Error> {
     let family = Family::with_k2_law(model.k1, d1, model.k2, d2)?;
-    let members: Vec<(f64, f64)> = Family::<f64, AnyK2Law<f64>>::lattice(3).collect();
+    let members = distinct_members(&family, Family::<f64, AnyK2Law<f64>>::lattice(3));
+    // The model with ψ_in taken out, for histories run on ψ_in(in).
+    let hoisted = SmoothModel {
+        input_shaping: ScaledShaping::identity(),
+        ..*model
+    };
     let mut inside = 0usize;
     let mut samples = 0usize;
     // Each history whole: a segment starts where the one before it ended.
@@ -97,14 +137,50 @@ fn coverage(
         }
         let band = starts.and_then(|s| s.get(index).copied());
         let n = h.input.len();
+        if scratch.histories.len() <= index {
+            scratch
+                .histories
+                .resize(index + 1, (Vec::new(), Vec::new()));
+        }
+        let (operator_input, centre) =
+            scratch
+                .histories
+                .get_mut(index)
+                .ok_or(hyst_core::Error::LengthMismatch {
+                    input: n,
+                    output: 0,
+                })?;
+        // ψ_in(in), once (not with an estimated band: its direction looks at the input).
+        if band.is_none() && operator_input.len() != n {
+            operator_input.clear();
+            operator_input.extend(h.input.iter().map(|x| model.input_shaping.apply(*x)));
+        }
+        let (input, shaped_model): (&[f64], &SmoothModel) = if band.is_none() {
+            (operator_input, &hoisted)
+        } else {
+            (&h.input, model)
+        };
+        // The centre member's output, once.
+        if centre.len() != n {
+            let mut m = shaped_model.shaped_from(family.member(0.0, 0.0)?, input, band)?;
+            centre.clear();
+            for x in input {
+                // As `Family::envelope_of` runs a member.
+                centre.push(match m.try_step(*x) {
+                    Ok(y) => y,
+                    Err(hyst_core::Error::NonFiniteInput { .. }) => f64::NAN,
+                    Err(e) => return Err(e),
+                });
+            }
+        }
         let workers = if n >= PARALLEL_FROM {
-            scratch.envelopes.len()
+            scratch.envelopes.len().min(members.len()).max(1)
         } else {
             1
         };
         let envelope = |mine: Vec<(f64, f64)>, lower: &mut [f64], upper: &mut [f64]| {
-            family.envelope_of(mine, &h.input, lower, upper, |member| {
-                model.shaped_from(member, &h.input, band)
+            family.envelope_of(mine, input, lower, upper, |member| {
+                shaped_model.shaped_from(member, input, band)
             })
         };
         let share = |w: usize| -> Vec<(f64, f64)> {
@@ -146,7 +222,12 @@ fn coverage(
             own
         })?;
         let (lower, upper) = (&mut first.0[..n], &mut first.1[..n]);
-        for (l, u) in others.iter().take(workers - 1) {
+        for (l, u) in others
+            .iter()
+            .take(workers - 1)
+            .map(|(l, u)| (&l[..n], &u[..n]))
+            .chain(std::iter::once((&centre[..], &centre[..])))
+        {
             for ((lo, hi), (l, u)) in lower.iter_mut().zip(upper.iter_mut()).zip(l.iter().zip(u)) {
                 *lo = lo.min(*l);
                 *hi = hi.max(*u);
