@@ -75,8 +75,13 @@ pub struct Identified {
 /// whole run of the model to the fit.
 const TIMED_SAMPLES: usize = 1 << 16;
 
+/// How long [`ns_per_sample`] repeats the model: the report prints 3 digits, and 10 ms of runs
+/// (over 10⁵ samples on a slow machine) hold them within the load's noise; 50 ms cost a tenth
+/// of an 8k fit.
+const TIMED_FOR: Duration = Duration::from_millis(10);
+
 /// Mean evaluation time per sample of `run` over the records' first [`TIMED_SAMPLES`] samples
-/// (repeated to ≥ 50 ms), in ns.
+/// (repeated for ≥ [`TIMED_FOR`] and ≥ 3 rounds), in ns.
 fn ns_per_sample(data: &Dataset, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> f64 {
     let mut budget = TIMED_SAMPLES;
     let mut inputs: Vec<&[f64]> = Vec::new();
@@ -90,7 +95,7 @@ fn ns_per_sample(data: &Dataset, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> f6
     let samples: usize = inputs.iter().map(|x| x.len()).sum();
     let started = Instant::now();
     let mut rounds = 0usize;
-    while rounds == 0 || started.elapsed() < Duration::from_millis(50) {
+    while rounds < 3 || started.elapsed() < TIMED_FOR {
         for x in &inputs {
             std::hint::black_box(run(std::hint::black_box(x)));
         }
