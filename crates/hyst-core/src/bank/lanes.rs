@@ -65,8 +65,6 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
     /// The bank's `decay` raises its arguments to this (e^z is then at least the smallest normal
     /// float times 2, so 2ⁿ is built from its bits without a range check).
     const DECAY_MIN: Self;
-    /// [`Lane::SHIFT`] plus the exponent bias: adding it leaves n + bias in the low bits.
-    const DECAY_SHIFT: Self;
     /// The bank's `decay` polynomial: e^r ≈ Σ cᵢ rⁱ on |r| ≤ ln 2 / 2, interpolated at the
     /// Chebyshev nodes of that interval (degree 11 for f64, 6 for f32; error with the
     /// coefficients rounded to the type: 0.15 ulp for f64, 0.34 ulp for f32;
@@ -177,7 +175,6 @@ impl Lane for f64 {
     // |r| ≤ ln 2 / 16: the first omitted term r⁹/9! is below 1.5e-18.
     const EXP_TABLE_TERMS: usize = 7;
     const DECAY_MIN: Self = -708.0;
-    const DECAY_SHIFT: Self = 6_755_399_441_055_744.0 + 1023.0;
     const DECAY_POLY: &'static [f64] = &[
         1.0,
         1.0,
@@ -232,7 +229,6 @@ impl Lane for f32 {
     // |r| ≤ ln 2 / 32: the first omitted term r⁵/5! is below 4e-11.
     const EXP_TABLE_TERMS: usize = 3;
     const DECAY_MIN: Self = -87.0;
-    const DECAY_SHIFT: Self = 12_582_912.0 + 127.0;
     const DECAY_POLY: &'static [f64] = &[
         1.0,
         1.0,
@@ -293,11 +289,11 @@ where
         return exp(z);
     }
     let z = z.max_or(V::splat(<V::T as Lane>::DECAY_MIN));
-    let shift = V::splat(<V::T as Lane>::DECAY_SHIFT);
+    let shift = V::splat(<V::T as Lane>::SHIFT);
     let t = z.fma(V::c(core::f64::consts::LOG2_E), shift);
     let n = t - shift;
     let r = n.fma(V::c(-core::f64::consts::LN_2), z);
-    poly_pairs(r, <V::T as Lane>::DECAY_POLY) * V::pow2_bits(t)
+    poly_pairs(r, <V::T as Lane>::DECAY_POLY) * V::pow2_shifted(t)
 }
 
 /// eˣ on every lane (see the module documentation).

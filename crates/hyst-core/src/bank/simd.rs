@@ -60,9 +60,6 @@ pub trait Simd:
     fn pow2_shifted(t: Self) -> Self;
     /// (m, k) with self = 2ᵏ · m, m ∈ [1, 2), k as a float, for positive normal values.
     fn split_exponent(self) -> (Self, Self);
-    /// 2ⁿ for `t` = n + bias + 1.5 · 2^p (bias 1023 and p = 52 for f64, 127 and 23 for f32), n in
-    /// [−1022, 1023] (f64) or [−126, 127] (f32): t's low bits shifted into the exponent field.
-    fn pow2_bits(t: Self) -> Self;
     /// The larger of `self` and `b`; `b` where `self` is NaN (x86's `maxpd` with `b` second).
     fn max_or(self, b: Self) -> Self;
 
@@ -210,10 +207,6 @@ macro_rules! scalar_simd {
                 <$t>::from_bits(t.to_bits().wrapping_add($bias) << $mant)
             }
             #[inline(always)]
-            fn pow2_bits(t: Self) -> Self {
-                <$t>::from_bits(t.to_bits() << $mant)
-            }
-            #[inline(always)]
             fn max_or(self, b: Self) -> Self {
                 if self > b {
                     self
@@ -339,10 +332,6 @@ impl<V: Simd> Simd for Pair<V> {
     #[inline(always)]
     fn pow2_shifted(t: Self) -> Self {
         Pair(V::pow2_shifted(t.0), V::pow2_shifted(t.1))
-    }
-    #[inline(always)]
-    fn pow2_bits(t: Self) -> Self {
-        Pair(V::pow2_bits(t.0), V::pow2_bits(t.1))
     }
     #[inline(always)]
     fn max_or(self, b: Self) -> Self {

@@ -266,10 +266,6 @@ macro_rules! bits {
             )))))
         }
         #[inline(always)]
-        fn pow2_bits(t: Self) -> Self {
-            Self(arch!($from_int($shl::<$mant>($to_int(t.0)))))
-        }
-        #[inline(always)]
         fn split_exponent(self) -> (Self, Self) {
             let bits = arch!($to_int(self.0));
             let m = arch!($or($and(bits, $set1_int($mant_mask)), $set1_int($one)));
