@@ -13,7 +13,7 @@
 use std::ops::ControlFlow;
 
 use hyst_core::family::{delta_a_over_k2_range, shaped_bound};
-use hyst_core::{AnyK2Law, Family, K2Law, Operator, Reproducibility, ScaledShaping, Shaping};
+use hyst_core::{AnyK2Law, Family, K2Law, Reproducibility, ScaledShaping, Shaping};
 use serde::{Deserialize, Serialize};
 
 use crate::lm::{Observer, Progress};
@@ -58,8 +58,9 @@ const PARALLEL_FROM: usize = 4_000;
 struct Scratch {
     envelopes: Vec<(Vec<f64>, Vec<f64>)>,
     /// Per history: ψ_in(in) (empty when the history starts from an estimated band, which
-    /// looks at the input itself) and the centre member's output (empty until computed).
-    histories: Vec<(Vec<f64>, Vec<f64>)>,
+    /// looks at the input itself) and the centre member's envelope, lower and upper (its
+    /// output; empty until computed).
+    histories: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>,
 }
 
 impl Scratch {
@@ -140,9 +141,9 @@ fn coverage(
         if scratch.histories.len() <= index {
             scratch
                 .histories
-                .resize(index + 1, (Vec::new(), Vec::new()));
+                .resize(index + 1, (Vec::new(), Vec::new(), Vec::new()));
         }
-        let (operator_input, centre) =
+        let (operator_input, centre_lower, centre_upper) =
             scratch
                 .histories
                 .get_mut(index)
@@ -160,28 +161,21 @@ fn coverage(
         } else {
             (&h.input, model)
         };
-        // The centre member's output, once.
-        if centre.len() != n {
-            let mut m = shaped_model.shaped_from(family.member(0.0, 0.0)?, input, band)?;
-            centre.clear();
-            for x in input {
-                // As `Family::envelope_of` runs a member.
-                centre.push(match m.try_step(*x) {
-                    Ok(y) => y,
-                    Err(hyst_core::Error::NonFiniteInput { .. }) => f64::NAN,
-                    Err(e) => return Err(e),
-                });
-            }
+        let envelope = |mine: Vec<(f64, f64)>, lower: &mut [f64], upper: &mut [f64]| {
+            family.envelope_of(mine, input, lower, upper, |member| {
+                shaped_model.shaped_from(member, input, band)
+            })
+        };
+        // The centre member's envelope (its output), once.
+        if centre_lower.len() != n {
+            centre_lower.resize(n, 0.0);
+            centre_upper.resize(n, 0.0);
+            envelope(std::vec![(0.0, 0.0)], centre_lower, centre_upper)?;
         }
         let workers = if n >= PARALLEL_FROM {
             scratch.envelopes.len().min(members.len()).max(1)
         } else {
             1
-        };
-        let envelope = |mine: Vec<(f64, f64)>, lower: &mut [f64], upper: &mut [f64]| {
-            family.envelope_of(mine, input, lower, upper, |member| {
-                shaped_model.shaped_from(member, input, band)
-            })
         };
         let share = |w: usize| -> Vec<(f64, f64)> {
             members.iter().copied().skip(w).step_by(workers).collect()
@@ -226,7 +220,7 @@ fn coverage(
             .iter()
             .take(workers - 1)
             .map(|(l, u)| (&l[..n], &u[..n]))
-            .chain(std::iter::once((&centre[..], &centre[..])))
+            .chain(std::iter::once((&centre_lower[..], &centre_upper[..])))
         {
             for ((lo, hi), (l, u)) in lower.iter_mut().zip(upper.iter_mut()).zip(l.iter().zip(u)) {
                 *lo = lo.min(*l);
