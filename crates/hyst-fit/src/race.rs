@@ -259,46 +259,6 @@ pub(crate) fn best_of<P: Problem + Sync + ?Sized>(
         .and_then(|r| r.solution))
 }
 
-/// `f` over `items` on up to `threads` threads (item i on thread i mod `threads`), the results
-/// in the order of `items`: the same as a sequential map.
-pub(crate) fn map<I: Sync, R: Send>(
-    items: &[I],
-    threads: usize,
-    f: impl Fn(&I) -> R + Sync,
-) -> Vec<R> {
-    let threads = threads.clamp(1, items.len().max(1));
-    if threads == 1 {
-        return items.iter().map(f).collect();
-    }
-    let f = &f;
-    let share = |w: usize| -> Vec<(usize, R)> {
-        items
-            .iter()
-            .enumerate()
-            .skip(w)
-            .step_by(threads)
-            .map(|(i, x)| (i, f(x)))
-            .collect()
-    };
-    let mut parts: Vec<(usize, R)> = std::thread::scope(|scope| {
-        let running: Vec<_> = (1..threads)
-            .map(|w| scope.spawn(move || share(w)))
-            .collect();
-        let mut all = share(0);
-        for handle in running {
-            // A worker's panic is resumed here, as it would have unwound without threads.
-            all.extend(
-                handle
-                    .join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
-            );
-        }
-        all
-    });
-    parts.sort_by_key(|(i, _)| *i);
-    parts.into_iter().map(|(_, r)| r).collect()
-}
-
 /// The threads the machine offers (1 when it does not say).
 pub(crate) fn threads() -> usize {
     std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)

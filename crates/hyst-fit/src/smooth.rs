@@ -13,6 +13,7 @@
 use std::time::Instant;
 
 use hyst_core::{Dual, Shaping};
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::data::History;
@@ -706,8 +707,9 @@ fn start_candidates(
         .into_iter()
         .flat_map(|k1| [1.0_f64, 3.0, 10.0, 30.0].map(|k2| (k1, k2)))
         .collect();
-    let mut candidates: Vec<(f64, Vec<f64>)> =
-        crate::race::map(&grid, crate::race::threads(), |&(k1, k2)| {
+    let mut candidates: Vec<(f64, Vec<f64>)> = grid
+        .par_iter()
+        .filter_map(|&(k1, k2)| {
             let mut theta = layout.start();
             if let Some(i) = layout.index("k1") {
                 theta[i] = k1.ln();
@@ -719,8 +721,6 @@ fn start_candidates(
             let cost = problem.cost_from_operator(&theta, &z)?;
             cost.is_finite().then_some((cost, theta))
         })
-        .into_iter()
-        .flatten()
         .collect();
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
     // The optimum of the simpler structure this one contains, as the first start: the fit then
