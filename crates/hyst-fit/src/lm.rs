@@ -77,6 +77,12 @@ pub enum Termination {
     /// step could still gain is negligible against the residuals' noise (see
     /// [`LevenbergMarquardt::with_relative_offset`]).
     SmallOffset,
+    /// The cost decreases of the last three accepted steps shrink geometrically so fast that
+    /// all the steps to come, fading at the same rate, could not lower the cost by what the
+    /// relative-offset test counts as negligible (see [`LevenbergMarquardt::with_relative_offset`]):
+    /// the crawl toward a parameter at infinity, where the Gauss–Newton prediction behind the
+    /// offset test stays large but is never realised.
+    FadingDecrease,
     /// The iteration limit was reached.
     MaxIterations,
     /// No damping made a feasible step that lowers the cost.
@@ -223,6 +229,15 @@ impl LevenbergMarquardt {
     /// tending to its exponential or hyperbolic limit, say). In [0, 1); 0 disables the test,
     /// which also needs n > p.
     ///
+    /// The same tolerance also ends a crawl the prediction misses ([`Termination::FadingDecrease`]):
+    /// toward a parameter at infinity (a saturating shape tending to its linear limit, say) the
+    /// linearisation keeps promising a gain that the steps never realise, and the offset stays
+    /// large while each step gains less than the one before. When the last three accepted
+    /// steps' decreases d₁ > d₂ > d₃ shrink by at most q = max(d₂/d₁, d₃/d₂) < 1 per step, the
+    /// steps to come, fading at that rate, gain d₃ q / (1 − q) in all; once that is below the
+    /// negligible gain ‖r‖² p/(n − p) · `offset`², the method stops. A crawl whose steps keep
+    /// their size (q near 1) goes on.
+    ///
     /// Reference: D. M. Bates and D. G. Watts, "A relative offset orthogonality convergence
     /// criterion for nonlinear least squares", Technometrics 23 (1981) 179–183.
     ///
@@ -313,6 +328,8 @@ impl LevenbergMarquardt {
         let mut termination = Termination::MaxIterations;
         let mut iterations = 0;
         let mut need_jacobian = true;
+        // The cost decreases of the last three accepted steps, oldest first (0: none yet).
+        let mut decreases = [0.0_f64; 3];
         if observer
             .observe(&Progress {
                 iteration: 0,
@@ -384,6 +401,7 @@ impl LevenbergMarquardt {
                     let decrease = (cost - new_cost) / cost.max(1e-300);
                     std::mem::swap(&mut theta, &mut trial);
                     std::mem::swap(&mut r, &mut r_trial);
+                    decreases = [decreases[1], decreases[2], cost - new_cost];
                     cost = new_cost;
                     need_jacobian = true;
                     let f = 1.0 - (2.0 * rho - 1.0).powi(3);
@@ -412,6 +430,10 @@ impl LevenbergMarquardt {
                         }
                     } else {
                         small_decreases = 0;
+                    }
+                    if fading(decreases, negligible_gain(cost, n, p, self.offset)) {
+                        termination = Termination::FadingDecrease;
+                        break 'outer;
                     }
                     break;
                 }
@@ -478,6 +500,28 @@ fn relative_offset(jtj: &[f64], g: &[f64], cost: f64, n: usize, p: usize) -> f64
     } else {
         f64::INFINITY
     }
+}
+
+/// The cost decrease the relative-offset test counts as negligible: ‖r‖² p/(n − p) · `offset`²
+/// (a relative offset of `offset`); 0 when the test is off (`offset` = 0) or cannot be
+/// evaluated (n ≤ p).
+fn negligible_gain(cost: f64, n: usize, p: usize, offset: f64) -> f64 {
+    if n <= p {
+        return 0.0;
+    }
+    cost * p as f64 / (n - p) as f64 * offset * offset
+}
+
+/// Whether the decreases `d` = [d₁, d₂, d₃] of the last three accepted steps (oldest first)
+/// fade so fast that the steps to come gain at most `negligible` in all: each dᵢ > 0, the
+/// slower ratio q = max(d₂/d₁, d₃/d₂) < 1, and d₃ q / (1 − q) ≤ `negligible` (the sum of the
+/// geometric series d₃ q + d₃ q² + …). See [`Termination::FadingDecrease`].
+fn fading(d: [f64; 3], negligible: f64) -> bool {
+    if !(negligible > 0.0 && d.iter().all(|x| *x > 0.0)) {
+        return false;
+    }
+    let q = (d[1] / d[0]).max(d[2] / d[1]);
+    q < 1.0 && d[2] * q / (1.0 - q) <= negligible
 }
 
 fn sum_sq(r: &[f64]) -> f64 {
@@ -578,6 +622,76 @@ mod tests {
         assert!((s.theta[0] - 2.5).abs() < 1e-10, "{:?}", s.theta);
         assert!((s.theta[1] + 1.3).abs() < 1e-10, "{:?}", s.theta);
         Ok(())
+    }
+
+    /// A curved valley whose floor falls toward infinity: r = (10 (θ1 − θ0²), e^(−θ0), and
+    /// ten residuals of 0.3 that no parameter moves). The infimum 0.9 lies at θ0 → ∞ along the
+    /// parabola θ1 = θ0², approached by ever smaller gains while the valley's curvature keeps
+    /// the Gauss–Newton prediction from coming true (a parameter at infinity with a curved
+    /// valley, as a saturating shape's scale and centre give).
+    struct FallingValley;
+    impl FallingValley {
+        const INFIMUM: f64 = 0.9;
+    }
+    impl Problem for FallingValley {
+        fn parameters(&self) -> usize {
+            2
+        }
+        fn residual_count(&self) -> usize {
+            12
+        }
+        fn residuals(&self, t: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
+            r[0] = 10.0 * (t[1] - t[0] * t[0]);
+            r[1] = (-t[0]).exp();
+            r[2..].fill(0.3);
+            Ok(())
+        }
+        fn jacobian(&self, t: &[f64], _r: &[f64], j: &mut [f64]) -> Result<(), Infeasible> {
+            // Column-major: column 0 is ∂r/∂θ0, column 1 is ∂r/∂θ1.
+            j.fill(0.0);
+            j[0] = -20.0 * t[0];
+            j[1] = -(-t[0]).exp();
+            j[12] = 10.0;
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_crawl_whose_gains_keep_their_size_is_not_cut_short() -> Result<(), FitError> {
+        // Each step along the falling valley gains a little less than the one before (q near 1)
+        // but more than the negligible gain: the rule must let it go on, exactly as the method
+        // without any offset test does.
+        let method = LevenbergMarquardt::new();
+        let s = method.minimize(&FallingValley, &[0.0, 1.0], &mut Silent)?;
+        let without =
+            method
+                .with_relative_offset(0.0)?
+                .minimize(&FallingValley, &[0.0, 1.0], &mut Silent)?;
+        assert_ne!(s.termination, Termination::FadingDecrease, "{s:?}");
+        assert_eq!(
+            (s.iterations, s.cost.to_bits()),
+            (without.iterations, without.cost.to_bits())
+        );
+        assert!(s.cost - FallingValley::INFIMUM < 1e-4, "{s:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn only_geometrically_fading_decreases_stop_the_method() {
+        // Halving: the rest gains d₃ = 1 in all.
+        assert!(fading([4.0, 2.0, 1.0], 1.0));
+        assert!(!fading([4.0, 2.0, 1.0], 0.99));
+        // The slower ratio counts: q = 0.9 gives 9 d₃ = 8.1.
+        assert!(!fading([10.0, 1.0, 0.9], 8.0));
+        assert!(fading([10.0, 1.0, 0.9], 8.2));
+        // Steps that keep their size, or grow, never stop it; nor fewer than three steps.
+        assert!(!fading([1.0, 1.0, 1.0], 1e300));
+        assert!(!fading([1.0, 2.0, 1.0], 1e300));
+        assert!(!fading([0.0, 2.0, 1.0], 1e300));
+        // Off when the offset test is.
+        assert!(!fading([4.0, 2.0, 1e-300], 0.0));
+        assert_eq!(negligible_gain(2.0, 10, 2, 1e-3), 2.0 * 2.0 / 8.0 * 1e-6);
+        assert_eq!(negligible_gain(2.0, 2, 2, 1e-3), 0.0);
     }
 
     /// Rosenbrock's valley as least squares: r = (10 (θ1 − θ0²), 1 − θ0), minimum 0 at (1, 1).

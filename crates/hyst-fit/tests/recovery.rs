@@ -2,7 +2,7 @@
 //! reported standard errors with noise. The truth is a member of the fitted structure.
 
 mod common;
-use common::normals;
+use common::{loops_input as input, normals};
 use hyst_fit::lm::Silent;
 use hyst_fit::smooth::normalisation;
 use hyst_fit::structure::Layout;
@@ -10,17 +10,6 @@ use hyst_fit::{
     fit_smooth, Dataset, FitError, FitOptions, InitialState, K2Kind, ShapingKind, SmoothModel,
     Structure,
 };
-
-/// An input that sweeps loops of growing then shrinking amplitude around an offset (volts, say).
-fn input(n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|k| {
-            let t = k as f64 / n as f64;
-            let amp = 0.3 + 1.5 * (std::f64::consts::PI * t).sin();
-            2.0 + amp * (40.0 * t).sin() + 0.2 * (97.0 * t).sin()
-        })
-        .collect()
-}
 
 /// The truth: `values` by parameter name, laid out for the data's normalisation.
 fn truth(

@@ -15,3 +15,16 @@ pub fn normals(n: usize, mut seed: u64) -> Vec<f64> {
         })
         .collect()
 }
+
+/// An input that sweeps loops of growing then shrinking amplitude around an offset (volts,
+/// say): `n` samples.
+#[allow(dead_code)] // not every test file that shares this module sweeps loops
+pub fn loops_input(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| {
+            let t = k as f64 / n as f64;
+            let amp = 0.3 + 1.5 * (std::f64::consts::PI * t).sin();
+            2.0 + amp * (40.0 * t).sin() + 0.2 * (97.0 * t).sin()
+        })
+        .collect()
+}
