@@ -241,6 +241,37 @@ impl<T: FitReal> SmoothModel<T> {
         }
     }
 
+    /// The envelope of the outputs [`SmoothModel::output`] from the envelope [`lower`, `upper`]
+    /// of operator outputs u at the operator inputs `v`, in place: ψ_out is strictly increasing
+    /// (every shaping function is, with positive gains), so the output is increasing in u in the
+    /// operator form, ψ_out(u), and decreasing in the stop form, ψ_out(v − u) + c v; the
+    /// smallest and largest outputs of any set of operators at a sample are those of its
+    /// smallest and largest u. Non-finite u (a non-finite input) stay NaN.
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteOutput`] (naming the operator input v) when an output of a finite u is
+    /// not finite (ψ_out beyond the float range, as stepping the shaped model reports it).
+    pub fn output_envelope(&self, v: &[T], lower: &mut [T], upper: &mut [T]) -> Result<(), Error> {
+        for ((v, lo), hi) in v.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
+            if !(lo.is_finite() && hi.is_finite()) {
+                (*lo, *hi) = (T::nan(), T::nan());
+                continue;
+            }
+            let (at_lo, at_hi) = (self.output(*v, *lo), self.output(*v, *hi));
+            if let Some(y) = [at_lo, at_hi].into_iter().find(|y| !y.is_finite()) {
+                return Err(Error::NonFiniteOutput {
+                    input: v.as_f64(),
+                    output: y.as_f64(),
+                });
+            }
+            (*lo, *hi) = match self.form {
+                Form::Operator => (at_lo, at_hi),
+                Form::Stop => (at_hi, at_lo),
+            };
+        }
+        Ok(())
+    }
+
     /// The range of ψ_out's argument over the operator inputs [v_lo, v_hi]: the operator output
     /// (within k1 of its input), or the stop value v − H[v] ∈ [−k1, k1].
     #[must_use]
@@ -285,7 +316,7 @@ impl<T: FitReal> SmoothModel<T> {
     /// `operator` started for a record with inputs `input`: by the start rule, or, with a
     /// `band` fraction b ∈ [−1, 1] (an estimated start), at rest at a reversal at the first
     /// sample with the operator output v0 + b · k1, heading the way the input first moves.
-    fn start_in<K: K2Law<T>>(
+    pub(crate) fn start_in<K: K2Law<T>>(
         &self,
         operator: Hysteresis<T, K>,
         input: &[f64],
@@ -536,5 +567,69 @@ impl SmoothModel {
         let mut out = vec![0.0; input.len()];
         self.simulate(input, None, &mut out)?;
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use hyst_core::{AnyShaping, Langevin};
+
+    #[test]
+    fn the_output_envelope_is_the_envelope_of_the_outputs() {
+        let psi_out = ScaledShaping::new(
+            0.8,
+            0.3,
+            AnyShaping::Langevin(Langevin::new(1.0, 1.0).unwrap()),
+            2.5,
+            -1.0,
+        )
+        .unwrap();
+        for form in [Form::Operator, Form::Stop] {
+            let model = SmoothModel {
+                k1: 0.2,
+                k2: AnyK2Law::Constant { value: 6.0 },
+                input_shaping: ScaledShaping::identity(),
+                output_shaping: psi_out,
+                initial_state: InitialState::Rising,
+                form,
+                linear: if form == Form::Stop { 0.7 } else { 0.0 },
+            };
+            let v: Vec<f64> = (0..50).map(|i| (f64::from(i) * 0.37).sin()).collect();
+            // Five operator outputs per sample around v.
+            let members: Vec<Vec<f64>> = (0..5)
+                .map(|m| {
+                    v.iter()
+                        .enumerate()
+                        .map(|(i, x)| x + 0.2 * ((f64::from(m) * 1.3 + i as f64 * 0.7).cos()))
+                        .collect()
+                })
+                .collect();
+            let mut lower: Vec<f64> = (0..v.len())
+                .map(|i| members.iter().map(|u| u[i]).fold(f64::INFINITY, f64::min))
+                .collect();
+            let mut upper: Vec<f64> = (0..v.len())
+                .map(|i| {
+                    members
+                        .iter()
+                        .map(|u| u[i])
+                        .fold(f64::NEG_INFINITY, f64::max)
+                })
+                .collect();
+            lower[3] = f64::NAN;
+            model.output_envelope(&v, &mut lower, &mut upper).unwrap();
+            for i in 0..v.len() {
+                let outputs = members.iter().map(|u| model.output(v[i], u[i]));
+                let (lo, hi) = outputs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+                    (a.min(y), b.max(y))
+                });
+                if i == 3 {
+                    assert!(lower[i].is_nan() && upper[i].is_nan());
+                } else {
+                    assert_eq!((lower[i], upper[i]), (lo, hi), "{form:?}, sample {i}");
+                }
+            }
+        }
     }
 }

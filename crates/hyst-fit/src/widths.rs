@@ -13,7 +13,7 @@
 use std::ops::ControlFlow;
 
 use hyst_core::family::{delta_a_over_k2_range, shaped_bound};
-use hyst_core::{AnyK2Law, Family, K2Law, Reproducibility, ScaledShaping, Shaping};
+use hyst_core::{AnyK2Law, Family, K2Law, Reproducibility, Shaping};
 use serde::{Deserialize, Serialize};
 
 use crate::lm::{Observer, Progress};
@@ -53,13 +53,12 @@ const PARALLEL_FROM: usize = 4_000;
 
 /// What [`coverage`] keeps across its calls for one model on one dataset (with the same
 /// starts): scratch envelopes, one (lower, upper) pair per worker thread, and per history the
-/// operator input ψ_in(in) and the output of the family's centre member (the model itself,
-/// whatever the widths).
+/// operator input ψ_in(in) and the operator output of the family's centre member (the model
+/// itself, whatever the widths).
 struct Scratch {
     envelopes: Vec<(Vec<f64>, Vec<f64>)>,
-    /// Per history: ψ_in(in) (empty when the history starts from an estimated band, which
-    /// looks at the input itself) and the centre member's envelope, lower and upper (its
-    /// output; empty until computed).
+    /// Per history: ψ_in(in) and the centre member's envelope, lower and upper (its operator
+    /// output H[ψ_in(in)]; empty until computed).
     histories: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>,
 }
 
@@ -102,18 +101,20 @@ fn distinct_members(
 /// RH(k1, `d1`, k2 law, `d2`) around `model`: at each sample the smallest and largest output of
 /// the [`Family::lattice`] of 3 × 3 members, each run over each whole history (a record, or a
 /// record cut into segments) inside the fitted shaping, from the history's estimated start
-/// `starts` or the start rule ([`SmoothModel::shaped_from`]). On a long history the members are
-/// shared among the threads of `scratch` ([`Family::envelope_of`]); the result does not depend
-/// on how many there are.
+/// `starts` or the start rule (as [`SmoothModel::shaped_from`] starts them). On a long history
+/// the members are shared among the threads of `scratch` ([`Family::envelope_of`]); the result
+/// does not depend on how many there are.
 ///
 /// Each distinct member runs once (see [`distinct_members`]), and the centre member (the model)
-/// once for all calls with the same `scratch`. With the start rule, ψ_in(in) is computed once
-/// per history too: the members run inside the identity in its place on the operator input
-/// (the same numbers each member's ψ_in would give).
+/// once for all calls with the same `scratch`. ψ_in(in) is computed once per history, and the
+/// members run as bare operators on it: the envelope is taken over the operator outputs H[v]
+/// and mapped to the output once per sample ([`SmoothModel::output_envelope`]; ψ_out is
+/// strictly increasing), instead of every member's output going through ψ_out.
 ///
 /// # Errors
-/// The core's error when the family is invalid (`d1` ≥ k1, a negative or non-finite width) or a
-/// member cannot run a record.
+/// The core's error when the family is invalid (`d1` ≥ k1, a negative or non-finite width), a
+/// member cannot run a record, or the output of the envelope is not finite
+/// ([`hyst_core::Error::NonFiniteOutput`], as a member's output would have been).
 fn coverage(
     data: &Dataset,
     model: &SmoothModel,
@@ -124,11 +125,6 @@ fn coverage(
 ) -> Result<f64, hyst_core::Error> {
     let family = Family::with_k2_law(model.k1, d1, model.k2, d2)?;
     let members = distinct_members(&family, Family::<f64, AnyK2Law<f64>>::lattice(3));
-    // The model with ψ_in taken out, for histories run on ψ_in(in).
-    let hoisted = SmoothModel {
-        input_shaping: ScaledShaping::identity(),
-        ..*model
-    };
     let mut inside = 0usize;
     let mut samples = 0usize;
     // Each history whole: a segment starts where the one before it ended.
@@ -151,22 +147,20 @@ fn coverage(
                     input: n,
                     output: 0,
                 })?;
-        // ψ_in(in), once (not with an estimated band: its direction looks at the input).
-        if band.is_none() && operator_input.len() != n {
+        // ψ_in(in), once.
+        if operator_input.len() != n {
             operator_input.clear();
             operator_input.extend(h.input.iter().map(|x| model.input_shaping.apply(*x)));
         }
-        let (input, shaped_model): (&[f64], &SmoothModel) = if band.is_none() {
-            (operator_input, &hoisted)
-        } else {
-            (&h.input, model)
-        };
+        let input: &[f64] = operator_input;
+        // Each member started as the model starts a history (its start looks at the record's
+        // own input), then stepped on ψ_in(in).
         let envelope = |mine: Vec<(f64, f64)>, lower: &mut [f64], upper: &mut [f64]| {
             family.envelope_of(mine, input, lower, upper, |member| {
-                shaped_model.shaped_from(member, input, band)
+                model.start_in(member, &h.input, band)
             })
         };
-        // The centre member's envelope (its output), once.
+        // The centre member's envelope (its operator output), once.
         if centre_lower.len() != n {
             centre_lower.resize(n, 0.0);
             centre_upper.resize(n, 0.0);
@@ -227,6 +221,7 @@ fn coverage(
                 *hi = hi.max(*u);
             }
         }
+        model.output_envelope(input, lower, upper)?;
         let r = Reproducibility::compare(&h.output, Some(&h.weight), lower, upper, 0.0);
         inside += r.inside;
         samples += r.samples;
