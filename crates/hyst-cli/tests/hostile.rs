@@ -417,6 +417,16 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         (ratio - expected).abs() <= 1e-12 * expected,
         "{ratio} vs {expected}"
     );
+    // The f32 bank against the f64 bank, its rate, and one verdict over the four bank goals.
+    let f32_ns = json["bank_inverse_f32_ns"].as_f64().unwrap();
+    let f32_over_f64 = json["bank_inverse_f32_over_bank_inverse"].as_f64().unwrap();
+    let expected = f32_ns / json["bank_inverse_ns"].as_f64().unwrap();
+    assert!((f32_over_f64 - expected).abs() <= 1e-12 * expected);
+    let rate = json["bank_inverse_f32_channel_samples_per_s"]
+        .as_f64()
+        .unwrap();
+    assert!((rate * f32_ns - 1e9).abs() <= 1e-3, "{rate} x {f32_ns}");
+    assert!(json["bank_goals_met"].is_boolean());
     let text = hyst()
         .args(["bench", "--seconds", "0.05"])
         .output()
@@ -426,6 +436,8 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         "bank of 1024 H^-1, f64",
         "bank of 1024 H, f64",
         "bank H f64 / scalar H:",
+        "bank H^-1 f32 / bank H^-1 f64:",
+        "goal bank H^-1 f32 >= 500 M channel-samples/s",
     ] {
         assert!(text.contains(row), "{text}");
     }
