@@ -236,7 +236,10 @@ fn ctrl_c_during_fit_exits_130_and_writes_no_model() {
         let mut w = std::io::BufWriter::new(fs::File::create(d.join("d.csv")).unwrap());
         writeln!(w, "u,y").unwrap();
         let mut h = hyst_core::Hysteresis::new(0.2, 8.0).unwrap();
-        for k in 0..200_000 {
+        // 10^6 rows: a fit of several seconds, so that the signal 0.7 s in still finds it
+        // running on a loaded machine (with 2·10^5 rows it took about 1 s, and a sleep
+        // overshooting under load let it finish first).
+        for k in 0..1_000_000 {
             let u = (k as f64 * 0.003).sin() * (1.0 + 0.3 * (k as f64 * 1e-4).cos());
             writeln!(w, "{u},{}", hyst_core::Operator::step(&mut h, u) * 2.0).unwrap();
         }

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use crate::degeneracy::diagnose;
 use crate::lm::Observer;
 use crate::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT, MIN_VERSION};
-use crate::orientation::{loops, FormChoice};
+use crate::orientation::{loops, FormChoice, Orientation};
 use crate::pi::PiOutputKind;
 use crate::pi_fit::{fit_pi_with, PiFit};
 use crate::report::{sig, Findings, Report, Summary};
@@ -122,9 +122,21 @@ pub fn identify(
     mut provenance: Provenance,
 ) -> Result<Identified, FitError> {
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
-    let want_pi = request.kind == ModelKind::PrandtlIshlinskii || request.compare;
     let found = loops(data);
-    if want_pi && found.gap > PI_CLOCKWISE_GAP {
+    let mut notes = Vec::new();
+    // A comparison does not lose the smooth fit over a Prandtl–Ishlinskii model that cannot
+    // describe the data: it is left out, with a note.
+    let pi_cannot = found.gap > PI_CLOCKWISE_GAP;
+    let want_pi = request.kind == ModelKind::PrandtlIshlinskii
+        || (request.compare && !(pi_cannot && request.kind == ModelKind::Smooth));
+    if request.compare && !want_pi {
+        notes.push(format!(
+            "no Prandtl–Ishlinskii comparison: the loops run clockwise (rising minus falling \
+             branch {} % of the output span), which a Prandtl–Ishlinskii model cannot make",
+            sig(100.0 * found.gap, 3)
+        ));
+    }
+    if want_pi && pi_cannot {
         return Err(FitError::Invalid(format!(
             "the loops in {} run clockwise (the output leads the input: rising minus falling \
              branch {:+.3} % of the output span, as friction against position); a \
@@ -152,7 +164,6 @@ pub fn identify(
         None
     };
     // Did the requested model find hysteresis at all?
-    let mut notes = Vec::new();
     let diagnosis = match (request.kind, &smooth, &pi) {
         (ModelKind::Smooth, Some(f), _) => {
             let limit = ParameterLimit::of(&f.model);
@@ -177,9 +188,14 @@ pub fn identify(
             diagnose(
                 data,
                 &f.outputs,
+                &|x| f.model.run(x).ok(),
                 Some(&f.estimates),
                 limit.map_or(&[][..], ParameterLimit::unidentified),
                 found.orientation,
+                match f.model.form {
+                    crate::Form::Operator => Orientation::Counterclockwise,
+                    crate::Form::Stop => Orientation::Clockwise,
+                },
             )
         }
         (_, _, Some(f)) => diagnose(
@@ -187,9 +203,11 @@ pub fn identify(
             &data
                 .run_histories(|x| f.model.run(x).ok())
                 .unwrap_or_default(),
+            &|x| f.model.run(x).ok(),
             None,
             &[],
             found.orientation,
+            Orientation::Counterclockwise,
         ),
         _ => {
             return Err(FitError::Invalid(
