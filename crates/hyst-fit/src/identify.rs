@@ -8,12 +8,12 @@ use std::time::{Duration, Instant};
 use crate::degeneracy::diagnose;
 use crate::lm::Observer;
 use crate::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT, MIN_VERSION};
-use crate::orientation::{loops, FormChoice, Orientation};
+use crate::orientation::{loops, FormChoice, Orientation, StartChoice};
 use crate::pi::PiOutputKind;
 use crate::pi_fit::{fit_pi_with, PiFit};
 use crate::report::{sig, Findings, Report, Summary};
 use crate::smooth::{fit_smooth, FitOptions, ParameterLimit, SmoothFit};
-use crate::{Dataset, FitError, ModelFile, Structure};
+use crate::{Dataset, FitError, InitialState, ModelFile, Structure};
 
 /// The branch gap (fraction of the output span) above which the data's loops are clockwise
 /// beyond doubt, and a Prandtl–Ishlinskii fit (counterclockwise only) is refused.
@@ -30,6 +30,9 @@ pub struct Request {
     pub structure: Structure,
     /// The smooth model's form: from the data's loop orientation (`Auto`), or given.
     pub form: FormChoice,
+    /// How each record starts: from the data (`Auto`: `falling` for records that only rise),
+    /// or given; it replaces the structure's `initial_state`.
+    pub start: StartChoice,
     /// Keep a fit that found no hysteresis ([`crate::degeneracy`]) instead of failing with
     /// [`FitError::Degenerate`]; the report then says `degenerate`.
     pub keep_degenerate: bool,
@@ -50,6 +53,7 @@ impl Default for Request {
             compare: false,
             structure: Structure::default(),
             form: FormChoice::Auto,
+            start: StartChoice::Auto,
             keep_degenerate: false,
             options: FitOptions::default(),
             operators: 16,
@@ -146,8 +150,24 @@ pub fn identify(
             100.0 * found.gap
         )));
     }
+    let (initial_state, one_way) = request.start.resolve(data);
+    if one_way {
+        let (moves, after) = match initial_state {
+            InitialState::Falling => ("rises", "a long fall"),
+            _ => ("falls", "a long rise"),
+        };
+        notes.push(format!(
+            "every record only {moves} (first-order reversal curves, say): each starts at a \
+             reversal, as after {after} (--initial-state {}; give --initial-state to choose)",
+            match initial_state {
+                InitialState::Falling => "falling",
+                _ => "rising",
+            }
+        ));
+    }
     let structure = Structure {
         form: request.form.resolve(found.orientation),
+        initial_state,
         ..request.structure
     };
     let smooth = if want_smooth {

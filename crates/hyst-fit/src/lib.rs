@@ -23,7 +23,7 @@
 //!   asks for, the model file, the [`report`]), shared by `hyst fit` and the Python binding.
 //!
 //! The optional feature `clap` derives `clap::ValueEnum` for the choices a command line offers
-//! ([`ShapingKind`], [`K2Kind`], [`InitialState`], [`FormChoice`], [`pi::PiOutputKind`],
+//! ([`ShapingKind`], [`K2Kind`], [`InitialState`], [`FormChoice`], [`StartChoice`], [`pi::PiOutputKind`],
 //! [`modelfile::ModelKind`]).
 
 #![forbid(unsafe_code)]
@@ -55,6 +55,6 @@ pub use evaluator::{Evaluator, Saturated};
 pub use identify::identify;
 pub use model::{FitReal, Form, InitialState, SmoothModel};
 pub use modelfile::ModelFile;
-pub use orientation::{FormChoice, Orientation};
+pub use orientation::{FormChoice, Orientation, StartChoice};
 pub use smooth::{fit_smooth, ErrorStats, Estimate, FitOptions, SmoothFit};
 pub use structure::{K2Kind, ShapingKind, Structure};

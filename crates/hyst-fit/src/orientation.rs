@@ -1,4 +1,5 @@
-//! Which way the data's loops run, and the model form that follows from it.
+//! Which way the data's loops run, and the model form that follows from it; and, for records
+//! that move one way only (first-order reversal curves), the start rule that follows from that.
 //!
 //! A loop runs counterclockwise in the (input, output) plane when the output is lower while the
 //! input rises than while it falls at the same input (the output lags: the operator's own
@@ -11,7 +12,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Dataset, Form};
+use crate::{Dataset, Form, InitialState};
 
 /// The direction of the data's hysteresis loops in the (input, output) plane.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -136,6 +137,69 @@ impl FormChoice {
     }
 }
 
+/// Which way every training record of `data` moves, when each moves one way only (at most 1 %
+/// of its moving samples the other way) and all the same way: `Some(true)` rising, `Some(false)`
+/// falling. First-order reversal curves rise only; no loop can show in such data, whatever the
+/// material does.
+#[must_use]
+pub fn one_way(data: &Dataset) -> Option<bool> {
+    let mut way = None;
+    for r in data.training() {
+        let (mut up, mut down) = (0usize, 0usize);
+        for w in r.input.windows(2) {
+            if w[1] > w[0] {
+                up += 1;
+            } else if w[1] < w[0] {
+                down += 1;
+            }
+        }
+        if up + down == 0 || up.min(down) * 100 > up + down {
+            return None;
+        }
+        let rising = up > down;
+        if way.is_some_and(|w| w != rising) {
+            return None;
+        }
+        way = Some(rising);
+    }
+    way
+}
+
+/// How each record starts, as the user asks for it: chosen from the data, or given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum StartChoice {
+    /// `falling` when every record only rises (first-order reversal curves: each starts at a
+    /// reversal after a fall from saturation), `rising` when every record only falls, `rising`
+    /// otherwise.
+    #[default]
+    Auto,
+    /// As after a long rise: on the lower asymptote output = input − k1, heading up.
+    Rising,
+    /// As after a long fall: on the upper asymptote output = input + k1, heading down.
+    Falling,
+    /// No history: the first sample is a reversal point on the anhysteretic line.
+    Line,
+}
+
+impl StartChoice {
+    /// The start rule for `data`, and whether `Auto` chose it because the records move one way.
+    #[must_use]
+    pub fn resolve(self, data: &Dataset) -> (InitialState, bool) {
+        match self {
+            StartChoice::Rising => (InitialState::Rising, false),
+            StartChoice::Falling => (InitialState::Falling, false),
+            StartChoice::Line => (InitialState::Line, false),
+            StartChoice::Auto => match one_way(data) {
+                Some(true) => (InitialState::Falling, true),
+                Some(false) => (InitialState::Rising, true),
+                None => (InitialState::Rising, false),
+            },
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
@@ -182,5 +246,52 @@ mod tests {
         assert_eq!(FormChoice::Auto.resolve(Counterclockwise), Form::Operator);
         assert_eq!(FormChoice::Operator.resolve(Clockwise), Form::Operator);
         assert_eq!(FormChoice::Stop.resolve(Counterclockwise), Form::Stop);
+    }
+
+    #[test]
+    fn records_that_only_rise_start_as_after_a_fall() {
+        let rise: Vec<f64> = (0..50).map(|i| f64::from(i) * 0.1).collect();
+        let fall: Vec<f64> = rise.iter().rev().copied().collect();
+        let records = |inputs: &[&Vec<f64>]| {
+            let template = Dataset::single(&[0.0], &[0.0]);
+            let records = inputs
+                .iter()
+                .enumerate()
+                .map(|(id, x)| crate::Record {
+                    id: id as i64,
+                    input: (*x).clone(),
+                    output: (*x).clone(),
+                    weight: vec![1.0; x.len()],
+                    rows: (0..x.len()).collect(),
+                    validation: false,
+                    continues: false,
+                })
+                .collect();
+            Dataset::from_records("d.csv", template.columns, records)
+        };
+        let forc = records(&[&rise, &rise]);
+        assert_eq!(one_way(&forc), Some(true));
+        assert_eq!(
+            StartChoice::Auto.resolve(&forc),
+            (InitialState::Falling, true)
+        );
+        assert_eq!(
+            StartChoice::Auto.resolve(&records(&[&fall])),
+            (InitialState::Rising, true)
+        );
+        // Records moving both ways, or one rising and one falling: the rising rule, as before.
+        let both: Vec<f64> = rise.iter().chain(&fall).copied().collect();
+        for data in [records(&[&both]), records(&[&rise, &fall])] {
+            assert_eq!(one_way(&data), None);
+            assert_eq!(
+                StartChoice::Auto.resolve(&data),
+                (InitialState::Rising, false)
+            );
+        }
+        // A given rule is kept.
+        assert_eq!(
+            StartChoice::Line.resolve(&forc),
+            (InitialState::Line, false)
+        );
     }
 }

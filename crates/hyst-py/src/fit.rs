@@ -13,7 +13,7 @@ use hyst_fit::pi::PiOutputKind;
 use hyst_fit::report::{text_report, Findings, Report, Summary};
 use hyst_fit::{
     identify, DataOptions, Dataset, FitError, FitOptions, FormChoice, InitialState, K2Kind,
-    ModelFile, ShapingKind, Structure,
+    ModelFile, ShapingKind, StartChoice, Structure,
 };
 use hyst_io::Table;
 use pyo3::prelude::*;
@@ -74,7 +74,8 @@ impl Observer for Signals {
 /// (an array of record ids, one per sample: each record starts from its own initial state),
 /// `weight` (an array of weights ≥ 0), `validate` (record ids held out), `validate_every`,
 /// `coverage`, `operators`, `pi_output`, `compare`, `input_offset`, `output_offset`,
-/// `initial_state` ("rising", "falling", "line"), `estimate_initial_states` (estimate each
+/// `initial_state` ("auto": "falling" when every record only rises, as first-order reversal
+/// curves; "rising", "falling", "line"), `estimate_initial_states` (estimate each
 /// record's start from its data), `form` ("auto": the stop form for clockwise
 /// loops such as friction, else the operator form; "operator"; "stop"), `keep_degenerate`
 /// (keep a fit that found no hysteresis instead of raising ValueError), `input_name`, `output_name`, `input_unit`,
@@ -87,7 +88,7 @@ impl Observer for Signals {
     model_kind = "smooth", starts = 3, segment = None, segments = None, record = None,
     weight = None, validate = None, validate_every = None, coverage = 0.99, operators = 16,
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
-    initial_state = "rising", estimate_initial_states = false, form = "auto",
+    initial_state = "auto", estimate_initial_states = false, form = "auto",
     keep_degenerate = false, input_name = "u", output_name = "y", input_unit = "",
     output_unit = ""
 ))]
@@ -139,7 +140,7 @@ pub fn fit(
         output_shaping: choice::<ShapingKind>("output_shaping", output_shaping)?,
         input_offset,
         output_offset,
-        initial_state: choice::<InitialState>("initial_state", initial_state)?,
+        initial_state: InitialState::Rising,
         form: hyst_fit::Form::Operator,
     };
     let request = Request {
@@ -147,6 +148,7 @@ pub fn fit(
         compare,
         structure,
         form: choice::<FormChoice>("form", form)?,
+        start: choice::<StartChoice>("initial_state", initial_state)?,
         keep_degenerate,
         options: FitOptions {
             starts,

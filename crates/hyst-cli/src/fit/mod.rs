@@ -21,7 +21,7 @@ use hyst_fit::pi::PiOutputKind;
 use hyst_fit::report::text_report;
 use hyst_fit::{
     identify, DataOptions, Dataset, FitOptions, FormChoice, InitialState, K2Kind, ShapingKind,
-    Structure,
+    StartChoice, Structure,
 };
 use hyst_io::Table;
 
@@ -85,9 +85,11 @@ pub struct Args {
     /// mid-history.
     #[arg(long)]
     pub estimate_initial_states: bool,
-    /// How each record starts.
-    #[arg(long, value_enum, default_value_t = InitialState::Rising)]
-    pub initial_state: InitialState,
+    /// How each record starts (the model's rule for new data too). `auto`: `falling` when every
+    /// record only rises (first-order reversal curves, each starting at a reversal after a fall
+    /// from saturation), `rising` when every record only falls, `rising` otherwise.
+    #[arg(long, value_enum, default_value_t = StartChoice::Auto)]
+    pub initial_state: StartChoice,
     /// Record column (default: `loop`, `curve_index` or `record` if present).
     #[arg(long)]
     pub record: Option<String>,
@@ -156,7 +158,7 @@ pub fn main(args: Args) -> Result<()> {
         output_shaping: args.output_shaping,
         input_offset: if args.input_offset { Some(true) } else { None },
         output_offset: !args.no_output_offset,
-        initial_state: args.initial_state,
+        initial_state: InitialState::Rising,
         form: hyst_fit::Form::Operator,
     };
     let fit_options = FitOptions {
@@ -170,6 +172,7 @@ pub fn main(args: Args) -> Result<()> {
         compare: args.compare,
         structure,
         form: args.form,
+        start: args.initial_state,
         keep_degenerate: args.keep_degenerate,
         options: fit_options,
         operators: args.operators,
