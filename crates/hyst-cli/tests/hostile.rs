@@ -384,6 +384,68 @@ fn fits_on_data_beyond_the_float_range_fail_with_the_line() {
     assert_eq!(entries(d), ["outlier.csv", "scaled.csv"]);
 }
 
+/// Data whose span is below 1e-100 squared to zero in the fit (1e-300: "RMS 0 … standard error
+/// NaN"; 1e-160: the output offset unidentified): refused, symmetric to the upper limit. A
+/// constant output and the same column as input and output are refused too.
+#[test]
+fn tiny_constant_and_repeated_columns_are_refused_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut tiny = String::from("u,y\n");
+    let mut flat = String::from("u,y\n");
+    let mut h = hyst_core::Hysteresis::new(0.2, 8.0).unwrap();
+    for k in 0..400 {
+        let u = (k as f64 * 0.05).sin();
+        let y = hyst_core::Operator::step(&mut h, u);
+        tiny.push_str(&format!("{u},{:e}\n", y * 1e-300));
+        flat.push_str(&format!("{u},2.5\n"));
+    }
+    fs::write(d.join("tiny.csv"), tiny).unwrap();
+    fs::write(d.join("flat.csv"), flat).unwrap();
+    let o = run(
+        &[
+            "fit", "tiny.csv", "--input", "u", "--output", "y", "-o", "m.toml",
+        ],
+        d,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.starts_with("error: tiny.csv: column \"y\" spans only ")
+            && e.contains("e-300 (from ")
+            && e.contains(
+                "too small for the fit (the span must be at least 1e-100, or squared residuals \
+                 underflow): rescale the column (other units)"
+            ),
+        "{e}"
+    );
+    let o = run(
+        &[
+            "fit", "flat.csv", "--input", "u", "--output", "y", "-o", "m.toml",
+        ],
+        d,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "error: flat.csv: column \"y\" (the output) is constant (2.5) over all 400 training \
+         samples: a hysteresis model needs an output that moves\n"
+    );
+    let o = run(
+        &[
+            "fit", "flat.csv", "--input", "u", "--output", "u", "-o", "m.toml",
+        ],
+        d,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "error: flat.csv: the input and the output are the same column \"u\": a hysteresis \
+         model needs an output measured apart from its input\n"
+    );
+    assert_eq!(entries(d), ["flat.csv", "tiny.csv"]);
+}
+
 #[test]
 fn bench_says_what_its_time_means_and_is_short_by_default() {
     let help = hyst().args(["bench", "--help"]).output().unwrap();

@@ -13,6 +13,12 @@ use crate::FitError;
 /// infinite RMS; one 1e308 outlier a meaningless k1 with NaN standard errors).
 pub const MAX_MAGNITUDE: f64 = 1e100;
 
+/// The smallest span (max − min) of an input or output column the fit accepts: 1e-100,
+/// symmetric to [`MAX_MAGNITUDE`]. Below it, squared residuals and their sums underflow (data
+/// scaled by 1e-300 fitted with a zero RMS and NaN standard errors; at 1e-160 the output
+/// offset was already unidentified).
+pub const MIN_SPAN: f64 = 1e-100;
+
 /// One independent record (a loop, a reversal curve, an experiment): the model starts afresh
 /// at its first sample.
 #[derive(Clone, Debug, PartialEq)]
@@ -130,6 +136,28 @@ impl Dataset {
                     column: name.clone(),
                     value: column[row],
                     limit: MAX_MAGNITUDE,
+                });
+            }
+        }
+        if options.input == options.output {
+            return Err(FitError::Invalid(format!(
+                "{}: the input and the output are the same column {:?}: a hysteresis model \
+                 needs an output measured apart from its input",
+                table.source(),
+                options.input
+            )));
+        }
+        for (name, column) in [(&options.input, input), (&options.output, output)] {
+            let (min, max) = range(column.iter());
+            let span = max - min;
+            if span > 0.0 && span < MIN_SPAN {
+                return Err(FitError::SpanTooSmall {
+                    file: table.source().to_string(),
+                    column: name.clone(),
+                    span,
+                    min,
+                    max,
+                    limit: MIN_SPAN,
                 });
             }
         }
@@ -384,7 +412,8 @@ impl Dataset {
     /// takes either sign), an output that rises with the input.
     ///
     /// # Errors
-    /// [`FitError::ConstantInput`], [`FitError::TooFewSamples`], [`FitError::DecreasingOutput`].
+    /// [`FitError::ConstantInput`], [`FitError::ConstantOutput`], [`FitError::TooFewSamples`],
+    /// [`FitError::DecreasingOutput`].
     pub fn check(&self, parameters: usize, increasing: bool) -> Result<(), FitError> {
         let samples = self.training_samples();
         let (lo, hi) = range(self.training().flat_map(|r| r.input.iter()));
@@ -393,6 +422,15 @@ impl Dataset {
                 file: self.source.clone(),
                 column: self.columns.input.clone(),
                 value: lo,
+                samples,
+            });
+        }
+        let (ylo, yhi) = range(self.training().flat_map(|r| r.output.iter()));
+        if yhi.is_nan() || yhi <= ylo {
+            return Err(FitError::ConstantOutput {
+                file: self.source.clone(),
+                column: self.columns.output.clone(),
+                value: ylo,
                 samples,
             });
         }

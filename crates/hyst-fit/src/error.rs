@@ -28,6 +28,44 @@ pub enum FitError {
         samples: usize,
     },
 
+    /// The output column does not vary: there is nothing to fit.
+    #[error(
+        "{file}: column {column:?} (the output) is constant ({value}) over all {samples} \
+         training samples: a hysteresis model needs an output that moves"
+    )]
+    ConstantOutput {
+        /// The data file.
+        file: String,
+        /// The output column.
+        column: String,
+        /// Its only value.
+        value: f64,
+        /// How many samples were looked at.
+        samples: usize,
+    },
+
+    /// A column's span is too small for the fit: squared residuals and their sums underflow
+    /// (data in units where values are near 1e-300).
+    #[error(
+        "{file}: column {column:?} spans only {span:e} (from {min:e} to {max:e}): too small for \
+         the fit (the span must be at least {limit:e}, or squared residuals underflow): rescale \
+         the column (other units)"
+    )]
+    SpanTooSmall {
+        /// The data file.
+        file: String,
+        /// The column name.
+        column: String,
+        /// Its span (max − min).
+        span: f64,
+        /// Its smallest value.
+        min: f64,
+        /// Its largest value.
+        max: f64,
+        /// The smallest span accepted ([`crate::data::MIN_SPAN`]).
+        limit: f64,
+    },
+
     /// Fewer training samples than free parameters.
     #[error(
         "{file}: {samples} training samples but the model has {parameters} free parameters: \

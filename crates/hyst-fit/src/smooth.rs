@@ -426,6 +426,26 @@ pub fn fit_smooth(
     options: &FitOptions,
     observer: &mut dyn Observer,
 ) -> Result<SmoothFit, FitError> {
+    fit_smooth_with(data, structure, options, observer, &mut Vec::new()).map(|(fit, _)| fit)
+}
+
+/// The fits of the structures a richer one contains, on one dataset with one set of options
+/// (each with its cost Σ r²), so that a structure reached along two paths of the lattice
+/// (`--k2 affine` with two shapings) is fitted once.
+type Contained = Vec<(Structure, SmoothFit, f64)>;
+
+/// Points θ, each with a cost (NaN when not known).
+type Starts = Vec<(f64, Vec<f64>)>;
+
+/// [`fit_smooth`], with the fits of contained structures done so far, and the cost Σ r² of
+/// the fit's training residuals (in units of the output half-span).
+fn fit_smooth_with(
+    data: &Dataset,
+    structure: Structure,
+    options: &FitOptions,
+    observer: &mut dyn Observer,
+    contained: &mut Contained,
+) -> Result<(SmoothFit, f64), FitError> {
     let started = Instant::now();
     if options.starts == 0 {
         return Err(FitError::InvalidSetting {
@@ -451,6 +471,7 @@ pub fn fit_smooth(
     } else {
         crate::reduction::reduce(data)
     };
+    let mut limits = Vec::new();
     let candidates = if let Some(small) = &reduced {
         let search = FitOptions {
             widths: false,
@@ -470,7 +491,11 @@ pub fn fit_smooth(
         let f = fit_smooth(data, structure, &rule, observer)?;
         vec![(f64::NAN, f.theta)]
     } else {
-        start_candidates(data, structure, &layout, &problem, options, observer)?
+        let (candidates, at_limit) = start_candidates(
+            data, structure, &layout, &problem, options, observer, contained,
+        )?;
+        limits = at_limit;
+        candidates
     };
     // The polish after a search on the reduction stops once a full Gauss–Newton step would
     // lower χ² = cost / s² by less than 0.1 (Bates and Watts' relative offset below
@@ -494,9 +519,25 @@ pub fn fit_smooth(
     // raced against the best before it: `crate::race`).
     let starts: Vec<Vec<f64>> = candidates.into_iter().map(|(_, theta)| theta).collect();
     let best = crate::race::best_of(&method, &problem, &starts, crate::race::threads(), observer)?;
-    let best = best
+    let mut best = best
         .filter(|b| b.cost.is_finite())
         .ok_or_else(|| FitError::NoConvergence("no starting point gave a finite cost".into()))?;
+    // A contained structure that fitted better than every start of this one did: its optimum
+    // is (up to a saturating shape's limit of infinite scale) a point of this structure, but
+    // the starts from it ended higher (the limit's start at scale 30 costs more than the
+    // contained fit, and the descent from there crawls toward the infinite scale and stops
+    // on its statistical tests before it gets back to the contained cost). Then the fit
+    // descends from the contained optimum placed at that limit, where it costs the same to
+    // rounding, and keeps the result if it is lower: a richer structure never ends worse than
+    // one it contains.
+    for (cost, theta) in limits {
+        if cost < best.cost {
+            let f = crate::race::best_of(&method, &problem, &[theta], 1, observer)?;
+            if let Some(f) = f.filter(|f| f.cost < best.cost) {
+                best = f;
+            }
+        }
+    }
     let model = layout.model(&best.theta, problem.input_range)?;
 
     // Standard errors: cov θ = s² (JᵀJ)⁻¹, s² = Σ r² / (n − p); value = f(θ). In a parameter
@@ -506,7 +547,13 @@ pub fn fit_smooth(
     let p = layout.len();
     let dof = (problem.n - p).max(1) as f64;
     let s2 = best.cost / dof * layout.norm.output_half_span.powi(2);
-    let unidentified = ParameterLimit::of(&model).map_or(&[][..], ParameterLimit::unidentified);
+    let mut unidentified: Vec<&str> = ParameterLimit::of(&model)
+        .map_or(&[][..], ParameterLimit::unidentified)
+        .to_vec();
+    // A saturating shape at its linear limit (the fallback above, or a start from a contained
+    // fit that ended there) is a line on the data: its scale and its argument at the centre
+    // have no effect there (their columns of J vanish).
+    unidentified.extend(linear_limit_parameters(&layout, &best.theta));
     let mut kept: Vec<usize> = (0..p)
         .filter(|&j| !unidentified.contains(&layout.params[j].name.as_str()))
         .collect();
@@ -596,7 +643,8 @@ pub fn fit_smooth(
         validation.as_ref(),
         estimates.iter().map(|e| (e.name.as_str(), e.value)),
     )?;
-    Ok(SmoothFit {
+    let cost = best.cost;
+    let fit = SmoothFit {
         model,
         layout,
         theta: best.theta.clone(),
@@ -609,7 +657,8 @@ pub fn fit_smooth(
         starts,
         seconds: started.elapsed().as_secs_f64(),
         outputs,
-    })
+    };
+    Ok((fit, cost))
 }
 
 /// The minimum of `f` on [a, b] by Brent's method (golden sections with parabolic steps),
@@ -690,9 +739,13 @@ fn reduced_inverse(a: &[f64], p: usize, kept: &[usize]) -> Option<Vec<f64>> {
     crate::linalg::spd_inverse(&reduced, q)
 }
 
-/// The starts of the least-squares method: the best `options.starts` points of a grid over
-/// (k1, k2), each with the least-squares output gain and offset, and first the optimum of the
-/// simpler structure `structure` contains ([`simpler`]).
+/// The starts of the least-squares method: first the optimum of the simpler structure
+/// `structure` contains ([`simpler`]), then the best points of a grid over (k1, k2), each with
+/// the least-squares output gain and offset (`options.starts` in all), then the optima of the
+/// other structures it contains ([`contained`]). Also, for each contained structure, its cost
+/// and its optimum at the limit where this structure reproduces it to rounding (for the
+/// fallback of [`fit_smooth_with`]).
+#[allow(clippy::too_many_arguments)]
 fn start_candidates(
     data: &Dataset,
     structure: Structure,
@@ -700,7 +753,8 @@ fn start_candidates(
     problem: &SmoothProblem<'_>,
     options: &FitOptions,
     observer: &mut dyn Observer,
-) -> Result<Vec<(f64, Vec<f64>)>, FitError> {
+    contained_fits: &mut Contained,
+) -> Result<(Starts, Starts), FitError> {
     // Starting points: a grid over (k1, k2), each with the least-squares output gain and offset,
     // evaluated on the machine's threads (in grid order, as one after the other).
     let grid: Vec<(f64, f64)> = [0.02_f64, 0.05, 0.1, 0.2, 0.4]
@@ -723,23 +777,92 @@ fn start_candidates(
         })
         .collect();
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // The optimum of the simpler structure this one contains, as the first start: the fit then
-    // never ends worse than that simpler fit (local minima of the richer one aside). It counts
-    // as one of the `starts`, the best of the grid fill the rest.
-    let mut nested = None;
-    if let Some(simple) = simpler(structure) {
-        let inner = FitOptions {
-            widths: false,
-            ..*options
+    // The optima of the simpler structures this one contains: the first (along the chain of
+    // [`simpler`]) is the first start, the others follow the grid's. The fit then never ends
+    // worse than those simpler fits (local minima of the richer one aside; the limits below
+    // take care of a saturating shape's). The first counts as one of the `starts`, the best of
+    // the grid fill the rest.
+    let inner = FitOptions {
+        widths: false,
+        ..*options
+    };
+    let mut nested = Vec::new();
+    let mut limits = Vec::new();
+    for simple in contained(structure) {
+        let known = contained_fits.iter().position(|(s, _, _)| *s == simple);
+        let at = if let Some(at) = known {
+            at
+        } else {
+            let (f, cost) = fit_smooth_with(data, simple, &inner, observer, contained_fits)?;
+            contained_fits.push((simple, f, cost));
+            contained_fits.len() - 1
         };
-        let f = fit_smooth(data, simple, &inner, observer)?;
-        nested = embed(layout, &f, problem.input_range);
+        let Some((_, f, cost)) = contained_fits.get(at) else {
+            continue;
+        };
+        if let Some(theta) = embed(layout, f, problem.input_range, NESTED_SCALE) {
+            nested.push(theta);
+        }
+        if let Some(theta) = embed(layout, f, problem.input_range, LIMIT_SCALE) {
+            limits.push((*cost, theta));
+        }
     }
-    candidates.truncate(options.starts - usize::from(nested.is_some() && options.starts > 1));
-    if let Some(theta) = nested {
+    let first = !nested.is_empty();
+    candidates.truncate(options.starts - usize::from(first && options.starts > 1));
+    let mut nested = nested.into_iter();
+    if let Some(theta) = nested.next() {
         candidates.insert(0, (f64::NAN, theta));
     }
-    Ok(candidates)
+    candidates.extend(nested.map(|theta| (f64::NAN, theta)));
+    Ok((candidates, limits))
+}
+
+/// The scale (in units of its argument's reach on the data) of a saturating shape in the
+/// nested start from an affine one: linear to 1 part in 2,700 there, yet curved enough for the
+/// descent to find a curvature the data calls for.
+const NESTED_SCALE: f64 = 30.0;
+
+/// The parameters of the saturating shapes of θ that sit at their linear limit (a scale of at
+/// least a hundredth of [`LIMIT_SCALE`]): the scale and the argument at the centre, which the
+/// data cannot tell apart there.
+fn linear_limit_parameters(layout: &Layout, theta: &[f64]) -> Vec<&'static str> {
+    let mut out = Vec::new();
+    for (scale, arg) in [
+        ("in.scale", "in.arg_at_centre"),
+        ("out.scale", "out.arg_at_centre"),
+    ] {
+        let wide = layout
+            .index(scale)
+            .and_then(|i| Some(layout.params.get(i)?.transform.value(*theta.get(i)?)))
+            .is_some_and(|v| v >= 0.01 * LIMIT_SCALE);
+        if wide {
+            out.push(scale);
+            if layout.index(arg).is_some() {
+                out.push(arg);
+            }
+        }
+    }
+    out
+}
+
+/// The scale of a saturating shape at the limit where it reproduces an affine one to rounding:
+/// its deviation from the line, (reach / scale)² / 3 relative (tanh; Langevin /15), is 3e-17.
+const LIMIT_SCALE: f64 = 1e8;
+
+/// The structures `structure` contains one step down the lattice: constant k2 for affine k2,
+/// the next simpler ψ_in, the next simpler ψ_out (those that exist, in this order; the first is
+/// [`simpler`]'s). A structure with affine k2 and two shapings contains three; each of them is
+/// also contained in others, so the fit of one structure fits each structure below it once.
+#[must_use]
+pub fn contained(structure: Structure) -> Vec<Structure> {
+    [
+        simpler_k2(structure),
+        simpler_input(structure),
+        simpler_output(structure),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
 }
 
 /// The simpler structure that `structure` contains, whose optimum is an exact (or, for a
@@ -750,42 +873,53 @@ fn start_candidates(
 /// simplest structures (and for a quad-exp ψ_in, whose limit rescales k1 and k2).
 #[must_use]
 pub fn simpler(structure: Structure) -> Option<Structure> {
-    use crate::{K2Kind, ShapingKind};
-    if structure.k2 == K2Kind::Affine {
-        return Some(Structure {
-            k2: K2Kind::Constant,
-            ..structure
-        });
-    }
-    let input = match structure.input_shaping {
-        ShapingKind::Poly3 => Some(ShapingKind::Poly2),
-        ShapingKind::Poly2 => Some(ShapingKind::Affine),
-        ShapingKind::Tanh | ShapingKind::Langevin => Some(ShapingKind::Affine),
-        ShapingKind::Affine | ShapingKind::QuadExp => None,
+    simpler_k2(structure)
+        .or_else(|| simpler_input(structure))
+        .or_else(|| simpler_output(structure))
+}
+
+/// `structure` with constant k2, if its k2 is affine.
+fn simpler_k2(structure: Structure) -> Option<Structure> {
+    (structure.k2 == crate::K2Kind::Affine).then_some(Structure {
+        k2: crate::K2Kind::Constant,
+        ..structure
+    })
+}
+
+/// `structure` with the next simpler ψ_in, if there is one.
+fn simpler_input(structure: Structure) -> Option<Structure> {
+    use crate::ShapingKind;
+    let input_shaping = match structure.input_shaping {
+        ShapingKind::Poly3 => ShapingKind::Poly2,
+        ShapingKind::Poly2 | ShapingKind::Tanh | ShapingKind::Langevin => ShapingKind::Affine,
+        ShapingKind::Affine | ShapingKind::QuadExp => return None,
     };
-    if let Some(input_shaping) = input {
-        let saturating = matches!(
-            structure.input_shaping,
-            ShapingKind::Tanh | ShapingKind::Langevin
-        );
-        return Some(Structure {
-            input_shaping,
-            // A saturating ψ_in's offset (its argument at the centre) has no affine
-            // counterpart: the affine ψ_in gets its default (none).
-            input_offset: if saturating {
-                None
-            } else {
-                structure.input_offset
-            },
-            ..structure
-        });
-    }
-    let output = match structure.output_shaping {
-        ShapingKind::Poly3 => Some(ShapingKind::Poly2),
-        ShapingKind::Poly2 | ShapingKind::Tanh | ShapingKind::Langevin => Some(ShapingKind::Affine),
-        ShapingKind::Affine | ShapingKind::QuadExp => None,
+    let saturating = matches!(
+        structure.input_shaping,
+        ShapingKind::Tanh | ShapingKind::Langevin
+    );
+    Some(Structure {
+        input_shaping,
+        // A saturating ψ_in's offset (its argument at the centre) has no affine
+        // counterpart: the affine ψ_in gets its default (none).
+        input_offset: if saturating {
+            None
+        } else {
+            structure.input_offset
+        },
+        ..structure
+    })
+}
+
+/// `structure` with the next simpler ψ_out, if there is one.
+fn simpler_output(structure: Structure) -> Option<Structure> {
+    use crate::ShapingKind;
+    let output_shaping = match structure.output_shaping {
+        ShapingKind::Poly3 => ShapingKind::Poly2,
+        ShapingKind::Poly2 | ShapingKind::Tanh | ShapingKind::Langevin => ShapingKind::Affine,
+        ShapingKind::Affine | ShapingKind::QuadExp => return None,
     };
-    output.map(|output_shaping| Structure {
+    Some(Structure {
         output_shaping,
         ..structure
     })
@@ -797,7 +931,12 @@ pub fn simpler(structure: Structure) -> Option<Structure> {
 /// input units) with its argument 0 at the centre; a tanh or Langevin ψ_out of a scale 30 times
 /// its argument's reach, argument 0 at the centre, with the affine ψ_out's slope and its level
 /// at the centre). `None` when the point is not feasible.
-fn embed(layout: &Layout, simple: &SmoothFit, input_range: (f64, f64)) -> Option<Vec<f64>> {
+fn embed(
+    layout: &Layout,
+    simple: &SmoothFit,
+    input_range: (f64, f64),
+    wide: f64,
+) -> Option<Vec<f64>> {
     use crate::ShapingKind;
     let value = |name: &str| {
         simple
@@ -825,13 +964,13 @@ fn embed(layout: &Layout, simple: &SmoothFit, input_range: (f64, f64)) -> Option
         crate::Form::Operator => a_lo.abs().max(a_hi.abs()),
         crate::Form::Stop => 1.0,
     };
-    let scale = 30.0 * reach;
+    let scale = wide * reach;
     // The affine ψ_out's level at the centre of its argument's range.
     let level = simple.model.output_shaping.apply(0.5 * (a_lo + a_hi));
     let mut theta = Vec::with_capacity(layout.len());
     for spec in &layout.params {
         let v = match (spec.name.as_str(), saturating, saturating_input) {
-            ("in.scale", _, true) => 30.0,
+            ("in.scale", _, true) => wide,
             ("in.arg_at_centre", _, true) | ("out.arg_at_centre", true, _) => 0.0,
             ("out.scale", true, _) => scale,
             ("out.slope", true, _) => value("out.gain")?,
