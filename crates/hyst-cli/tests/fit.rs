@@ -610,3 +610,35 @@ fn plots_are_written_and_a_bad_time_column_is_named() -> R {
     );
     Ok(())
 }
+
+/// The asked coverage is printed with the digits it was given (never rounded to another
+/// number: 0.9999 is not "100 %"), the reached one rounded towards zero.
+#[test]
+fn the_asked_coverage_is_printed_as_given() -> R {
+    let dir = tempfile::tempdir()?;
+    let model = dir.path().join("m.toml");
+    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    for (coverage, shown) in [("0.1806", "18.06"), ("0.9999", "99.99"), ("1", "100")] {
+        let out = hyst(&[
+            "fit",
+            data.to_str().ok_or("path")?,
+            "--input",
+            "u_actuator_V",
+            "--output",
+            "y_capsensor_um",
+            "--coverage",
+            coverage,
+            "-o",
+            model.to_str().ok_or("path")?,
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let report = text(&out.stdout);
+        assert!(
+            report.contains(&format!(
+                "family RH(k1, Δk1, k2, Δk2) reproducing {shown} % of the samples"
+            )),
+            "{report}"
+        );
+    }
+    Ok(())
+}

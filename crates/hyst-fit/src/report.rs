@@ -95,6 +95,30 @@ pub fn percent_floor(fraction: f64, decimals: usize) -> String {
     format!("{v:.decimals$}")
 }
 
+/// A fraction the user gave (a `--coverage`), as a percentage with exactly its digits: the
+/// decimal point of its shortest round-trip form moved two places (0.1806 → "18.06", 0.9999 →
+/// "99.99", 1 → "100"), so that an asked value is never shown as a different number.
+#[must_use]
+pub fn percent_given(fraction: f64) -> String {
+    if !fraction.is_finite() {
+        return format!("{}", 100.0 * fraction);
+    }
+    // `{}` never takes exponent form for f64: "0.000015", "1", "0.1806".
+    let s = format!("{}", fraction.abs());
+    let (int, frac) = s.split_once('.').unwrap_or((&s, ""));
+    let mut digits = format!("{int}{frac:0<2}");
+    let point = int.len() + 2;
+    let (whole, decimals) = digits.split_at_mut(point);
+    let whole = whole.trim_start_matches('0');
+    let whole = if whole.is_empty() { "0" } else { whole };
+    let sign = if fraction < 0.0 { "-" } else { "" };
+    if decimals.is_empty() {
+        format!("{sign}{whole}")
+    } else {
+        format!("{sign}{whole}.{decimals}")
+    }
+}
+
 fn unit(u: &str) -> String {
     if u.is_empty() {
         String::new()
@@ -240,7 +264,7 @@ pub fn text_report(r: &Report) -> String {
     if let Some(w) = &m.family {
         s += &format!(
             "\nfamily RH(k1, Δk1, k2, Δk2) reproducing {} % of the samples (Definition 2.8):\n",
-            sig(100.0 * w.coverage_target, 3)
+            percent_given(w.coverage_target)
         );
         if w.reachable {
             s += &format!(
@@ -329,6 +353,18 @@ mod tests {
         assert_eq!(sig(9.99996, 4), "10.00");
         assert_eq!(sig(0.0, 4), "0");
         assert_eq!(sig(f64::NAN, 4), "NaN");
+    }
+
+    #[test]
+    fn an_asked_percentage_keeps_the_digits_it_was_given() {
+        assert_eq!(percent_given(0.1806), "18.06");
+        assert_eq!(percent_given(0.9999), "99.99");
+        assert_eq!(percent_given(0.9995), "99.95");
+        assert_eq!(percent_given(1.0), "100");
+        assert_eq!(percent_given(0.99), "99");
+        assert_eq!(percent_given(0.5), "50");
+        assert_eq!(percent_given(0.123456789), "12.3456789");
+        assert_eq!(percent_given(0.000015), "0.0015");
     }
 
     #[test]
