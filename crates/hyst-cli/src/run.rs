@@ -83,12 +83,17 @@ pub fn main(args: Args) -> Result<()> {
              output shaping saturates"
         );
     }
-    let mut rows = CsvReader::open(&args.input)?;
+    // The data is opened only once the model is known to do what is asked.
+    let open = || CsvReader::open(&args.input);
     let mut columns: Vec<Option<&str>> = args.column.iter().map(|c| Some(c.as_str())).collect();
     match args.source.chosen()? {
         Chosen::Model(path) => {
             let model = hyst_fit::ModelFile::read(path)?;
             let inverse = args.source.inverse;
+            if inverse {
+                refuse_stop_form(&model, path)?;
+            }
+            let mut rows = open()?;
             if columns.is_empty() {
                 columns.push(Some(if inverse {
                     model.columns.output.as_str()
@@ -118,6 +123,7 @@ pub fn main(args: Args) -> Result<()> {
             })
         }
         Chosen::Parameters { k1, k2 } if columns.len() > 1 && args.derivatives == 0 => {
+            let mut rows = open()?;
             // Several plain operators: one bank, stepped together.
             let n = columns.len();
             if args.source.inverse {
@@ -133,6 +139,7 @@ pub fn main(args: Args) -> Result<()> {
             }
         }
         Chosen::Parameters { k1, k2 } => {
+            let mut rows = open()?;
             if columns.is_empty() {
                 columns.push(None);
             }
@@ -149,6 +156,28 @@ pub fn main(args: Args) -> Result<()> {
             }
         }
     }
+}
+
+/// `--inverse` of a stop-form (friction) model: refused before any data is read, since that
+/// model maps position to force and has no inverse; friction is compensated by feeding the
+/// predicted force forward instead (docs/fitting.md, "Compensating friction").
+fn refuse_stop_form(model: &hyst_fit::ModelFile, path: &std::path::Path) -> Result<()> {
+    let stop = model.kind == hyst_fit::modelfile::ModelKind::Smooth
+        && model
+            .smooth
+            .as_ref()
+            .is_some_and(|m| m.invertible().is_err());
+    if stop {
+        bail!(
+            "--inverse: the model {} is a stop-form (friction) model: it predicts the output \
+             (force) from the input (position) and has no inverse. Friction is compensated by \
+             feed-forward of the predicted force: run the model without --inverse on the \
+             position (measured or desired) and add its output to the actuator command \
+             (docs/fitting.md, \"Compensating friction\")",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 /// What the compensator of a model with a saturating output shaping may be asked for, and
