@@ -4,7 +4,7 @@
 
 use anyhow::{Context, Result};
 use hyst_core::family::delta_a;
-use hyst_fit::report::sig;
+use hyst_fit::report::{shortest, sig};
 
 /// Arguments of `hyst bound`.
 #[derive(clap::Args, Debug)]
@@ -39,17 +39,17 @@ pub fn main(args: Args) -> Result<()> {
                 "--output-gain {}: the gain must be finite and > 0 (the slope of an \
                  increasing output shaping; for a decreasing sensor give the magnitude of its \
                  gain, the bound is the same)",
-                given(gain)
+                shortest(gain)
             );
         }
     }
     let b = delta_a(args.k1, args.dk1, args.k2, args.dk2).with_context(|| {
         format!(
             "invalid family RH(k1 = {}, dk1 = {}, k2 = {}, dk2 = {})",
-            given(args.k1),
-            given(args.dk1),
-            given(args.k2),
-            given(args.dk2)
+            shortest(args.k1),
+            shortest(args.dk1),
+            shortest(args.k2),
+            shortest(args.dk2)
         )
     })?;
     let gain = args.output_gain.unwrap_or(1.0);
@@ -78,17 +78,6 @@ pub fn main(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// A number the user gave, as given: its shortest round-trip digits, in exponent form below
-/// 1e-3 and from 1e6 as [`sig`] prints (so `--k1 2e-6` reads "2e-6", not "0.000002").
-fn given(x: f64) -> String {
-    let a = x.abs();
-    if a == 0.0 || !a.is_finite() || (1e-3..1e6).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
 /// A computed value with 4 significant digits, its sign always shown.
 fn signed(x: f64) -> String {
     let s = sig(x, 4);
@@ -104,10 +93,10 @@ fn signed(x: f64) -> String {
 fn text(args: &Args, b: &hyst_core::family::Bound<f64>, gain: f64) -> String {
     let mut s = format!(
         "family RH(k1 = {}, dk1 = {}, k2 = {}, dk2 = {})\n",
-        given(args.k1),
-        given(args.dk1),
-        given(args.k2),
-        given(args.dk2)
+        shortest(args.k1),
+        shortest(args.dk1),
+        shortest(args.k2),
+        shortest(args.dk2)
     );
     s += "corner values of eq. (13) (denominator corrected to k2bar - k2):\n";
     for (i, ((k1b, k2b), (value, at))) in b
@@ -136,7 +125,7 @@ fn text(args: &Args, b: &hyst_core::family::Bound<f64>, gain: f64) -> String {
     if args.output_gain.is_some() {
         s += &format!(
             "after the output shaping (gain {}): delta_b <= {}\n",
-            given(gain),
+            shortest(gain),
             sig(b.delta_a * gain, 4)
         );
     }

@@ -86,6 +86,18 @@ pub fn sig(x: f64, digits: usize) -> String {
     }
 }
 
+/// `x` with exactly its shortest round-trip digits, in the notation of [`sig`] (fixed for
+/// 1e-3 ≤ |x| < 1e6, exponent form outside): for numbers shown as given ("2e-6", "0.14", "2.5").
+#[must_use]
+pub fn shortest(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() || (1e-3..1e6).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// A fraction as a percentage with `decimals` decimals, rounded towards zero, so that a value
 /// below a threshold is never printed at or above it (0.98997 → "98.99", not "99.00").
 #[must_use]
@@ -353,6 +365,15 @@ mod tests {
         assert_eq!(sig(9.99996, 4), "10.00");
         assert_eq!(sig(0.0, 4), "0");
         assert_eq!(sig(f64::NAN, 4), "NaN");
+    }
+
+    #[test]
+    fn shortest_keeps_all_the_digits_given() {
+        assert_eq!(shortest(2e-6), "2e-6");
+        assert_eq!(shortest(0.14), "0.14");
+        assert_eq!(shortest(1e300), "1e300");
+        assert_eq!(shortest(500_000.0), "500000");
+        assert_eq!(shortest(0.0), "0");
     }
 
     #[test]
