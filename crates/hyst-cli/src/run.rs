@@ -32,6 +32,7 @@ use crate::source::{Chosen, Source};
 use hyst_core::bank::BankFormula;
 use hyst_core::{BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Sample};
 use hyst_fit::modelfile::{Saturation, SATURATION_FRACTION};
+use hyst_fit::report::sig;
 use hyst_io::{CsvReader, CsvWriter};
 
 /// The most time derivatives `--derivatives` accepts.
@@ -291,11 +292,11 @@ fn run<R: Read>(
              range ({}, {}) of the model's {} output shaping); the first on {}:{} (value {})",
             clamped.rows,
             clamped.of,
-            Num(s.limits.0),
-            Num(s.limits.1),
+            sig(s.limits.0, 7),
+            sig(s.limits.1, 7),
             100.0 * SATURATION_FRACTION,
-            Num(s.range.0),
-            Num(s.range.1),
+            sig(s.range.0, 7),
+            sig(s.range.1, 7),
             s.shaping,
             rows.source(),
             first.0,
@@ -446,11 +447,11 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>> Scalar<E, S> {
                  {}] ({} % of the range)",
                 place.column(line, k),
                 Num(v),
-                Num(s.range.0),
-                Num(s.range.1),
+                sig(s.range.0, 7),
+                sig(s.range.1, 7),
                 s.shaping,
-                Num(lo),
-                Num(hi),
+                sig(lo, 7),
+                sig(hi, 7),
                 100.0 * SATURATION_FRACTION
             );
         }
