@@ -38,7 +38,7 @@ pub const HYST_ERR_OVERFLOW: i32 = 13;
 /// The status of a core error.
 pub(crate) fn of(error: &Error) -> i32 {
     match error {
-        Error::InvalidParameter { .. } => HYST_ERR_INVALID_PARAMETER,
+        Error::InvalidParameter { .. } | Error::SmallK1K2 { .. } => HYST_ERR_INVALID_PARAMETER,
         Error::NonFiniteInput { .. } => HYST_ERR_NON_FINITE,
         Error::StateOutsideBand { .. } => HYST_ERR_STATE_OUTSIDE_BAND,
         Error::NotMonotone { .. } => HYST_ERR_NOT_MONOTONE,

@@ -4,6 +4,7 @@
 
 use anyhow::{Context, Result};
 use hyst_core::family::delta_a;
+use hyst_fit::report::{shortest, sig};
 
 /// Arguments of `hyst bound`.
 #[derive(clap::Args, Debug)]
@@ -35,16 +36,20 @@ pub fn main(args: Args) -> Result<()> {
     if let Some(gain) = args.output_gain {
         if !(gain.is_finite() && gain > 0.0) {
             anyhow::bail!(
-                "--output-gain {gain}: the gain must be finite and > 0 (the slope of an \
+                "--output-gain {}: the gain must be finite and > 0 (the slope of an \
                  increasing output shaping; for a decreasing sensor give the magnitude of its \
-                 gain, the bound is the same)"
+                 gain, the bound is the same)",
+                shortest(gain)
             );
         }
     }
     let b = delta_a(args.k1, args.dk1, args.k2, args.dk2).with_context(|| {
         format!(
             "invalid family RH(k1 = {}, dk1 = {}, k2 = {}, dk2 = {})",
-            args.k1, args.dk1, args.k2, args.dk2
+            shortest(args.k1),
+            shortest(args.dk1),
+            shortest(args.k2),
+            shortest(args.dk2)
         )
     })?;
     let gain = args.output_gain.unwrap_or(1.0);
@@ -69,36 +74,60 @@ pub fn main(args: Args) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&out)?);
         return Ok(());
     }
-    println!(
-        "family RH(k1 = {}, dk1 = {}, k2 = {}, dk2 = {})",
-        args.k1, args.dk1, args.k2, args.dk2
+    print!("{}", text(&args, &b, gain));
+    Ok(())
+}
+
+/// A computed value with 4 significant digits, its sign always shown.
+fn signed(x: f64) -> String {
+    let s = sig(x, 4);
+    if s.starts_with('-') {
+        s
+    } else {
+        format!("+{s}")
+    }
+}
+
+/// The text output: every computed number with 4 significant digits (docs/fitting.md, "The
+/// report"), the parameters as given.
+fn text(args: &Args, b: &hyst_core::family::Bound<f64>, gain: f64) -> String {
+    let mut s = format!(
+        "family RH(k1 = {}, dk1 = {}, k2 = {}, dk2 = {})\n",
+        shortest(args.k1),
+        shortest(args.dk1),
+        shortest(args.k2),
+        shortest(args.dk2)
     );
-    println!("corner values of eq. (13) (denominator corrected to k2bar - k2):");
+    s += "corner values of eq. (13) (denominator corrected to k2bar - k2):\n";
     for (i, ((k1b, k2b), (value, at))) in b
         .corner_params
         .iter()
         .zip(b.corners.iter().zip(b.corner_points.iter()))
         .enumerate()
     {
-        println!(
-            "  dx{} = {:+.4}   at k1bar = {:.6}, k2bar = {:.6}, ud~ = {:.4}",
+        s += &format!(
+            "  dx{} = {}   at k1bar = {}, k2bar = {}, ud~ = {}\n",
             i + 1,
-            value,
-            k1b,
-            k2b,
-            at
+            signed(*value),
+            sig(*k1b, 4),
+            sig(*k2b, 4),
+            sig(*at, 4)
         );
     }
-    println!("delta_a = {:.4}  (Proposition 3.2, eq. 12)", b.delta_a);
-    println!(
-        "delta_b <= delta_a = {:.4}  (Proposition 3.3, eq. 15)",
-        b.delta_a
+    s += &format!(
+        "delta_a = {}  (Proposition 3.2, eq. 12)\n",
+        sig(b.delta_a, 4)
+    );
+    s += &format!(
+        "delta_b <= delta_a = {}  (Proposition 3.3, eq. 15)\n",
+        sig(b.delta_a, 4)
     );
     if args.output_gain.is_some() {
-        println!(
-            "after the output shaping (gain {gain}): delta_b <= {:.4}",
-            delta_b_max
+        s += &format!(
+            "after the output shaping (gain {}): delta_b <= {}\n",
+            shortest(gain),
+            sig(b.delta_a * gain, 4)
         );
     }
-    Ok(())
+    s
 }

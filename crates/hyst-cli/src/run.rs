@@ -32,6 +32,7 @@ use crate::source::{Chosen, Source};
 use hyst_core::bank::BankFormula;
 use hyst_core::{BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Sample};
 use hyst_fit::modelfile::{Saturation, SATURATION_FRACTION};
+use hyst_fit::report::sig;
 use hyst_io::{CsvReader, CsvWriter};
 
 /// The most time derivatives `--derivatives` accepts.
@@ -83,12 +84,17 @@ pub fn main(args: Args) -> Result<()> {
              output shaping saturates"
         );
     }
-    let mut rows = CsvReader::open(&args.input)?;
+    // The data is opened only once the model is known to do what is asked.
+    let open = || CsvReader::open(&args.input);
     let mut columns: Vec<Option<&str>> = args.column.iter().map(|c| Some(c.as_str())).collect();
     match args.source.chosen()? {
         Chosen::Model(path) => {
             let model = hyst_fit::ModelFile::read(path)?;
             let inverse = args.source.inverse;
+            if inverse {
+                refuse_stop_form(&model, path)?;
+            }
+            let mut rows = open()?;
             if columns.is_empty() {
                 columns.push(Some(if inverse {
                     model.columns.output.as_str()
@@ -118,6 +124,7 @@ pub fn main(args: Args) -> Result<()> {
             })
         }
         Chosen::Parameters { k1, k2 } if columns.len() > 1 && args.derivatives == 0 => {
+            let mut rows = open()?;
             // Several plain operators: one bank, stepped together.
             let n = columns.len();
             if args.source.inverse {
@@ -133,6 +140,7 @@ pub fn main(args: Args) -> Result<()> {
             }
         }
         Chosen::Parameters { k1, k2 } => {
+            let mut rows = open()?;
             if columns.is_empty() {
                 columns.push(None);
             }
@@ -149,6 +157,28 @@ pub fn main(args: Args) -> Result<()> {
             }
         }
     }
+}
+
+/// `--inverse` of a stop-form (friction) model: refused before any data is read, since that
+/// model maps position to force and has no inverse; friction is compensated by feeding the
+/// predicted force forward instead (docs/fitting.md, "Compensating friction").
+fn refuse_stop_form(model: &hyst_fit::ModelFile, path: &std::path::Path) -> Result<()> {
+    let stop = model.kind == hyst_fit::modelfile::ModelKind::Smooth
+        && model
+            .smooth
+            .as_ref()
+            .is_some_and(|m| m.invertible().is_err());
+    if stop {
+        bail!(
+            "--inverse: the model {} is a stop-form (friction) model: it predicts the output \
+             (force) from the input (position) and has no inverse. Friction is compensated by \
+             feed-forward of the predicted force: run the model without --inverse on the \
+             position (measured or desired) and add its output to the actuator command \
+             (docs/fitting.md, \"Compensating friction\")",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 /// What the compensator of a model with a saturating output shaping may be asked for, and
@@ -262,11 +292,11 @@ fn run<R: Read>(
              range ({}, {}) of the model's {} output shaping); the first on {}:{} (value {})",
             clamped.rows,
             clamped.of,
-            Num(s.limits.0),
-            Num(s.limits.1),
+            sig(s.limits.0, 7),
+            sig(s.limits.1, 7),
             100.0 * SATURATION_FRACTION,
-            Num(s.range.0),
-            Num(s.range.1),
+            sig(s.range.0, 7),
+            sig(s.range.1, 7),
             s.shaping,
             rows.source(),
             first.0,
@@ -417,11 +447,11 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>> Scalar<E, S> {
                  {}] ({} % of the range)",
                 place.column(line, k),
                 Num(v),
-                Num(s.range.0),
-                Num(s.range.1),
+                sig(s.range.0, 7),
+                sig(s.range.1, 7),
                 s.shaping,
-                Num(lo),
-                Num(hi),
+                sig(lo, 7),
+                sig(hi, 7),
                 100.0 * SATURATION_FRACTION
             );
         }

@@ -117,3 +117,38 @@ fn a_given_gain_is_always_reported() {
     let out = hyst(&EXAMPLE1);
     assert!(!String::from_utf8_lossy(&out.stdout).contains("after the output shaping"));
 }
+
+/// Text output: significant digits at every scale, never fixed decimals (docs/fitting.md, "The
+/// report"): tiny and huge parameters print their digits, not "0.0000" or 300-digit numbers.
+#[test]
+fn text_prints_significant_digits_at_any_scale() {
+    let out = hyst(&[
+        "bound", "--k1", "2e-6", "--dk1", "2e-7", "--k2", "5e5", "--dk2", "5e4",
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("family RH(k1 = 2e-6, dk1 = 2e-7, k2 = 500000, dk2 = 50000)\n"),
+        "{text}"
+    );
+    let v = json(&[
+        "bound", "--k1", "2e-6", "--dk1", "2e-7", "--k2", "5e5", "--dk2", "5e4", "--json",
+    ]);
+    let delta_a = num(&v["delta_a"]);
+    assert!(delta_a > 0.0 && delta_a < 1e-6, "{v}");
+    let shown = format!("delta_a = {:.3e}  (Proposition 3.2", delta_a);
+    assert!(text.contains(&shown), "{shown} in {text}");
+    assert!(!text.contains("0.0000"), "{text}");
+    assert!(text.contains("k1bar = 1.800e-6, k2bar = 450000,"), "{text}");
+    let out = hyst(&[
+        "bound", "--k1", "1e-300", "--dk1", "1e-301", "--k2", "1e300", "--dk2", "1e299",
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("family RH(k1 = 1e-300, dk1 = 1e-301, k2 = 1e300, dk2 = 1e299)\n"),
+        "{text}"
+    );
+    assert!(text.lines().all(|l| l.len() < 120), "{text}");
+    assert!(text.contains("k2bar = 9.000e299"), "{text}");
+}

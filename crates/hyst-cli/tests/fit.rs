@@ -257,7 +257,7 @@ fn operator_count_out_of_range_names_the_flag() -> R {
             &["--model-kind", "pi", "--operators", n],
         )?;
         assert!(
-            err.contains(&format!("--operators: operators = {n}: expected 1 to 128")),
+            err.contains(&format!("--operators {n}: expected 1 to 128")),
             "{err}"
         );
     }
@@ -607,6 +607,102 @@ fn plots_are_written_and_a_bad_time_column_is_named() -> R {
     assert!(
         svg.contains("t_s"),
         "residuals are drawn over the time column"
+    );
+    Ok(())
+}
+
+/// The asked coverage is printed with the digits it was given (never rounded to another
+/// number: 0.9999 is not "100 %"), the reached one rounded towards zero.
+#[test]
+fn the_asked_coverage_is_printed_as_given() -> R {
+    let dir = tempfile::tempdir()?;
+    let model = dir.path().join("m.toml");
+    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    for (coverage, shown) in [("0.1806", "18.06"), ("0.9999", "99.99"), ("1", "100")] {
+        let out = hyst(&[
+            "fit",
+            data.to_str().ok_or("path")?,
+            "--input",
+            "u_actuator_V",
+            "--output",
+            "y_capsensor_um",
+            "--coverage",
+            coverage,
+            "-o",
+            model.to_str().ok_or("path")?,
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let report = text(&out.stdout);
+        assert!(
+            report.contains(&format!(
+                "family RH(k1, Δk1, k2, Δk2) reproducing {shown} % of the samples"
+            )),
+            "{report}"
+        );
+    }
+    Ok(())
+}
+
+/// Record ids beyond the integers a float holds are said to be so, with significant digits (not
+/// "1000…000 (301 digits) is not an integer"); a `--validate` that is not an id says what the
+/// option takes.
+#[test]
+fn record_ids_out_of_range_and_bad_validate_ids_are_explained() -> R {
+    let mut csv = String::from("record,x,y\n");
+    for (k, row) in good_rows(40).lines().enumerate() {
+        let id = if k < 20 { "0" } else { "1e300" };
+        csv += &format!("{id},{row}\n");
+    }
+    let err = fails(&csv, &[])?;
+    assert!(
+        err.contains(
+            "bad.csv:22: column \"record\": record id 1.000e300 is beyond the range of record \
+             ids (integers within ±9.0e15, which a float holds exactly)"
+        ),
+        "{err}"
+    );
+    let err = fails(&format!("x,y\n{}", good_rows(50)), &["--validate", "0.5"])?;
+    assert!(
+        err.contains(
+            "invalid value '0.5' for '--validate <VALIDATE>': --validate takes the integer ids \
+             of the records to hold out for validation"
+        ),
+        "{err}"
+    );
+    Ok(())
+}
+
+/// The clockwise refusal of the Prandtl–Ishlinskii model gives the gap with 3 significant
+/// digits, not 3 fixed decimals.
+#[test]
+fn the_clockwise_gap_has_significant_digits() -> R {
+    let csv: String = std::iter::once("x,y\n".to_string())
+        .chain((0..400).map(|k| {
+            let t = k as f64 * 0.05;
+            format!("{},{}\n", t.sin(), (t + 0.6).sin())
+        }))
+        .collect();
+    let err = fails(&csv, &["--model-kind", "pi"])?;
+    let from = err.find("falling branch +").ok_or("no gap")? + "falling branch +".len();
+    let gap = &err[from..from + err[from..].find(" %").ok_or("no %")?];
+    assert_eq!(
+        gap.replace('.', "").trim_start_matches('0').len(),
+        3,
+        "{err}"
+    );
+    Ok(())
+}
+
+/// `--operators 0` names the option once, with its value.
+#[test]
+fn a_bad_operator_count_names_the_option_once() -> R {
+    let err = fails(
+        &format!("x,y\n{}", good_rows(50)),
+        &["--model-kind", "pi", "--operators", "0"],
+    )?;
+    assert_eq!(
+        err,
+        "error: --operators 0: expected 1 to 128 play operators\n"
     );
     Ok(())
 }

@@ -347,6 +347,26 @@ fn a_subnormal_k2_is_refused_with_the_reason() {
 }
 
 #[test]
+fn a_k1_k2_product_below_the_float_range_is_named_with_its_factors() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("f.csv"), DATA).unwrap();
+    let o = run(
+        &[
+            "run", "--k1", "1e-300", "--k2", "1e-300", "f.csv", "-o", "o.csv",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "error: --k1/--k2: invalid parameters k1 = 1e-300 and k2 = 1e-300: their product k1·k2 \
+         = 1e-600 is below 2.0e-292 for f64 (9.9e-32 for f32), where k2 M* turns subnormal and \
+         the output loses its precision; express the input in other units\n"
+    );
+    assert_eq!(entries(dir.path()), ["f.csv"]);
+}
+
+#[test]
 fn fits_on_data_beyond_the_float_range_fail_with_the_line() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

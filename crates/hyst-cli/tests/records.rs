@@ -320,6 +320,19 @@ fn beyond_a_saturating_shaping_is_one_clear_error_by_default() {
         );
         assert!(err.contains("of the model's tanh output shaping"), "{err}");
         assert!(err.contains("--saturate clamps"), "{err}");
+        // The range and the limits with 7 significant digits, not 17.
+        let numbers = |open: &str, close: char| -> Vec<String> {
+            let from = err.find(open).unwrap() + open.len();
+            let to = from + err[from..].find(close).unwrap();
+            err[from..to].split(", ").map(str::to_string).collect()
+        };
+        for n in numbers("outside the range (", ')')
+            .into_iter()
+            .chain(numbers("clamps such values into [", ']'))
+        {
+            let digits = n.split('e').next().unwrap().replace(['-', '.'], "");
+            assert_eq!(digits.trim_start_matches('0').len(), 7, "{n} in {err}");
+        }
         // Said once.
         assert_eq!(err.matches("outside the range").count(), 1, "{err}");
         assert_eq!(err.lines().count(), 1, "{err}");

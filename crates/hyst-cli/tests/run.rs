@@ -281,3 +281,118 @@ fn standard_output_gets_nothing_from_a_run_that_fails_early() {
         assert!(String::from_utf8_lossy(&out.stderr).contains(expected));
     }
 }
+
+/// A stop-form (friction) model, as `hyst fit` writes it for clockwise data.
+const STOP_MODEL: &str = r#"format = "hyst-model"
+version = 3
+kind = "smooth"
+
+[columns]
+input = "x_mm"
+output = "F_N"
+
+[units]
+input = ""
+output = ""
+
+[[parameters]]
+name = "k1"
+value = 0.2
+std_error = 0.01
+unit = "operator units"
+
+[metrics]
+parameters = 5
+fit_seconds = 0.1
+ns_per_sample = 37.0
+
+[metrics.training]
+samples = 8000
+rms = 15.6
+max_abs = 40.0
+rms_pct_span = 7.68
+max_pct_span = 19.6
+
+[structure]
+k2 = "constant"
+input_shaping = "affine"
+output_shaping = "affine"
+output_offset = true
+initial_state = "rising"
+form = "stop"
+
+[smooth]
+k1 = 0.2
+initial_state = "rising"
+form = "stop"
+linear = -7.4
+
+[smooth.k2]
+law = "constant"
+value = 40.0
+
+[smooth.input_shaping]
+pre_gain = 0.046
+pre_offset = 0.045
+shape = "identity"
+post_gain = 1.0
+post_offset = 0.0
+
+[smooth.output_shaping]
+pre_gain = 1.0
+pre_offset = 0.0
+shape = "identity"
+post_gain = 65.4
+post_offset = 6.0
+
+[provenance]
+file = "friction.csv"
+bytes = 213469
+fnv1a64 = "1f2bc370a98ac8a0"
+rows = 8000
+records = 1
+validation_records = []
+command = "hyst fit friction.csv --input x_mm --output F_N -o fric.toml"
+hyst_version = "0.1.0"
+created_unix = 1795614884
+"#;
+
+/// `--inverse` of a stop-form model is refused before any data is read (the data file here does
+/// not even exist), naming the model and saying what to do instead.
+#[test]
+fn the_inverse_of_a_stop_form_model_is_refused_before_the_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("fric.toml"), STOP_MODEL).unwrap();
+    // Without --inverse the model runs (feed-forward of the predicted force).
+    std::fs::write(d.join("x.csv"), "x_mm\n0\n0.5\n1\n0.2\n").unwrap();
+    let o = hyst()
+        .args(["run", "--model", "fric.toml", "x.csv", "-o", "f.csv"])
+        .current_dir(d)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = hyst()
+        .args([
+            "run",
+            "--model",
+            "fric.toml",
+            "--inverse",
+            "none.csv",
+            "-o",
+            "o.csv",
+        ])
+        .current_dir(d)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr),
+        "error: --inverse: the model fric.toml is a stop-form (friction) model: it predicts the \
+         output (force) from the input (position) and has no inverse. Friction is compensated by \
+         feed-forward of the predicted force: run the model without --inverse on the position \
+         (measured or desired) and add its output to the actuator command (docs/fitting.md, \
+         \"Compensating friction\")\n"
+    );
+    assert!(!d.join("o.csv").exists());
+}

@@ -17,6 +17,15 @@ pub enum Error {
         /// What the value must be, e.g. "finite and > 0".
         expected: &'static str,
     },
+    /// k1 times the smallest k2 is too small (below `T::MIN_POSITIVE / T::EPSILON`): k2 M* in
+    /// eq. (2) would be subnormal and the output would lose its precision. The product may lie
+    /// beyond the float range (1e-300 × 1e-300), so both factors are carried.
+    SmallK1K2 {
+        /// k1.
+        k1: f64,
+        /// k2 (the smallest k2 of an input-dependent law).
+        k2: f64,
+    },
     /// An input sample is NaN or infinite. The operator's memory is left untouched.
     NonFiniteInput {
         /// The sample.
@@ -89,6 +98,15 @@ impl fmt::Display for Error {
                 "invalid parameter {name} = {}: must be {expected}",
                 Num(value)
             ),
+            Error::SmallK1K2 { k1, k2 } => write!(
+                f,
+                "invalid parameters k1 = {} and k2 = {}: their product k1·k2 = {} is below \
+                 2.0e-292 for f64 (9.9e-32 for f32), where k2 M* turns subnormal and the output \
+                 loses its precision; express the input in other units",
+                Num(k1),
+                Num(k2),
+                Product(k1, k2)
+            ),
             Error::NonFiniteInput { value } => {
                 write!(f, "input sample {} is not finite", Num(value))
             }
@@ -151,6 +169,43 @@ impl fmt::Display for Num {
         } else {
             write!(f, "{:e}", self.0)
         }
+    }
+}
+
+/// The product of two positive numbers in an error message, even where it lies beyond the
+/// float range (1e-300 × 1e-300 = "1e-600"): a mantissa of 4 significant digits (trailing
+/// zeros dropped) and a decimal exponent.
+struct Product(f64, f64);
+
+impl fmt::Display for Product {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (a, b) = (self.0, self.1);
+        if !(a.is_normal() && b.is_normal()) {
+            return write!(f, "{}", Num(a * b));
+        }
+        // Each factor as m · 10^e with m in [1, 10), then the product of the mantissas.
+        let split = |x: f64| {
+            let e = libm::floor(libm::log10(x.abs()));
+            (x / libm::pow(10.0, e), e)
+        };
+        let (ma, ea) = split(a);
+        let (mb, eb) = split(b);
+        let (mut m, mut e) = (ma * mb, ea + eb);
+        while m.abs() >= 10.0 {
+            m /= 10.0;
+            e += 1.0;
+        }
+        while m.abs() < 1.0 {
+            m *= 10.0;
+            e -= 1.0;
+        }
+        // 4 significant digits; the rounding may carry into a new digit (9.9996 → 10).
+        let mut m = libm::round(m * 1000.0) / 1000.0;
+        if m.abs() >= 10.0 {
+            m /= 10.0;
+            e += 1.0;
+        }
+        write!(f, "{m}e{e}")
     }
 }
 

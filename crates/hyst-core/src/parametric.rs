@@ -265,7 +265,7 @@ impl<T: Real, F: Formula> ParametricHysteresis<T, ConstantK2<T>, F> {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming `k1` or `k2` unless both are finite, > 0 and normal
-    /// floats, or naming `k1*k2` when their product is too small (see
+    /// floats, [`Error::SmallK1K2`] when their product is too small (see
     /// [`ParametricHysteresis::with_k2_law`]).
     pub fn new(k1: T, k2: T) -> Result<Self, Error> {
         Self::with_k2_law(k1, ConstantK2(k2))
@@ -285,11 +285,12 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
     /// [`Error::InvalidParameter`] naming
     /// - `k1` unless it is finite, > 0, a normal float (not subnormal) and at most a quarter of
     ///   the largest float;
-    /// - the law's parameter from its own check (a constant `k2` must be finite, > 0 and normal);
-    /// - `k1*k2` when k1 times the law's smallest k2 ([`K2Law::min_k2`]) is below
-    ///   `T::MIN_POSITIVE / T::EPSILON` (2.0e-292 for f64, 9.9e-32 for f32): then k2 M* in
-    ///   eq. (2) is subnormal for every M* that matters and the output loses its precision.
-    ///   Such a loop is below the float resolution anyway; express the input in other units.
+    /// - the law's parameter from its own check (a constant `k2` must be finite, > 0 and normal).
+    ///
+    /// [`Error::SmallK1K2`] when k1 times the law's smallest k2 ([`K2Law::min_k2`]) is below
+    /// `T::MIN_POSITIVE / T::EPSILON` (2.0e-292 for f64, 9.9e-32 for f32): then k2 M* in eq. (2)
+    /// is subnormal for every M* that matters and the output loses its precision. Such a loop is
+    /// below the float resolution anyway; express the input in other units.
     ///
     /// Large products k1 k2 (beyond the float range: `new(1e300, 1e300)`) are accepted: the
     /// operator then evaluates eq. (2) in an overflow-free form (see [`Operator::try_step`]).
@@ -307,11 +308,9 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         if let Some(k2) = law.min_k2() {
             let product = k1 * k2;
             if product < T::min_positive_value() / T::epsilon() {
-                return Err(Error::InvalidParameter {
-                    name: "k1*k2",
-                    value: k1.as_f64() * k2.as_f64(),
-                    expected: ">= 2.0e-292 for f64, >= 9.9e-32 for f32 (below, k2 M* is \
-                               subnormal and the output loses precision; use other input units)",
+                return Err(Error::SmallK1K2 {
+                    k1: k1.as_f64(),
+                    k2: k2.as_f64(),
                 });
             }
         }

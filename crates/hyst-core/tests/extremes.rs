@@ -101,9 +101,24 @@ fn subnormal_and_tiny_parameters_are_refused_with_the_reason() {
     assert!(err.to_string().contains("k1 = 1e-310"), "{err}");
     let err = Hysteresis::new(1e-150_f64, 1e-150).unwrap_err();
     assert!(
-        err.to_string().starts_with("invalid parameter k1*k2"),
+        err.to_string().starts_with(
+            "invalid parameters k1 = 1e-150 and k2 = 1e-150: their product k1·k2 = 1e-300 is \
+             below 2.0e-292 for f64"
+        ),
         "{err}"
     );
+    // A product below the float range is named with its factors and its value, not as 0.
+    let err = Hysteresis::new(1e-300_f64, 1e-300).unwrap_err();
+    assert!(
+        err.to_string().starts_with(
+            "invalid parameters k1 = 1e-300 and k2 = 1e-300: their product k1·k2 = 1e-600 is"
+        ),
+        "{err}"
+    );
+    let err = Hysteresis::new(3e-160_f64, 7e-170).unwrap_err();
+    assert!(err.to_string().contains("k1·k2 = 2.1e-329 is"), "{err}");
+    let err = Hysteresis::new(1e-30_f32, 1e-30).unwrap_err();
+    assert!(err.to_string().contains("k1·k2 = 1e-60 is"), "{err}");
     let err = Hysteresis::new(1e308_f64, 1.0).unwrap_err();
     assert!(
         err.to_string().contains("quarter of the largest float"),

@@ -8,6 +8,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::FitError;
 
+/// The largest magnitude of a record id: beyond, a float no longer holds every integer
+/// (2⁵³ ≈ 9.007e15), so neighbouring ids would merge.
+pub const MAX_RECORD_ID: f64 = 9.0e15;
+
 /// The largest magnitude of an input or output value the fit accepts: 1e100. Beyond it, squared
 /// residuals, their sums and the Jacobian's products can overflow (data scaled by 1e300 gave an
 /// infinite RMS; one 1e308 outlier a meaningless k1 with NaN standard errors).
@@ -187,7 +191,7 @@ impl Dataset {
             let id = match record {
                 Some(col) => {
                     let v = col[row];
-                    if v.fract() != 0.0 || v.abs() > 9.0e15 {
+                    if v.fract() != 0.0 || v.abs() > MAX_RECORD_ID {
                         return Err(FitError::BadRecordId {
                             file,
                             line: table.line_of_row(row),

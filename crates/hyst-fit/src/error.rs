@@ -93,8 +93,9 @@ pub enum FitError {
         value: f64,
     },
 
-    /// The record id is not an integer.
-    #[error("{file}:{line}: column {column:?}: record id {value} is not an integer")]
+    /// The record id is not an integer, or beyond the integers a float holds exactly
+    /// ([`crate::data::MAX_RECORD_ID`]).
+    #[error("{file}:{line}: column {column:?}: record id {}", record_id_problem(*value))]
     BadRecordId {
         /// The data file.
         file: String,
@@ -208,6 +209,22 @@ impl From<hyst_core::Error> for FitError {
     }
 }
 
+/// What is wrong with a record id: beyond the range (printed with significant digits, not as
+/// its 301 digits) or not an integer (printed with all its digits, so the fraction shows).
+fn record_id_problem(value: f64) -> String {
+    use crate::report::{shortest, sig};
+    if value.is_finite() && value.abs() > crate::data::MAX_RECORD_ID {
+        format!(
+            "{} is beyond the range of record ids (integers within ±{}, which a float holds \
+             exactly)",
+            sig(value, 4),
+            sig(crate::data::MAX_RECORD_ID, 2)
+        )
+    } else {
+        format!("{} is not an integer", shortest(value))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -234,6 +251,25 @@ mod tests {
         assert_eq!(
             chain(&e),
             "model: 2 is outside the range (-1, 1) of the tanh shaping function"
+        );
+    }
+
+    #[test]
+    fn a_record_id_beyond_the_range_is_said_so_with_significant_digits() {
+        let bad = |value| FitError::BadRecordId {
+            file: "r.csv".into(),
+            line: 7,
+            column: "record".into(),
+            value,
+        };
+        assert_eq!(
+            bad(1e300).to_string(),
+            "r.csv:7: column \"record\": record id 1.000e300 is beyond the range of record ids \
+             (integers within ±9.0e15, which a float holds exactly)"
+        );
+        assert_eq!(
+            bad(-2.5).to_string(),
+            "r.csv:7: column \"record\": record id -2.5 is not an integer"
         );
     }
 }

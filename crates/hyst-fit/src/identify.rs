@@ -143,11 +143,11 @@ pub fn identify(
     if want_pi && pi_cannot {
         return Err(FitError::Invalid(format!(
             "the loops in {} run clockwise (the output leads the input: rising minus falling \
-             branch {:+.3} % of the output span, as friction against position); a \
+             branch +{} % of the output span, as friction against position); a \
              Prandtl–Ishlinskii model only makes counterclockwise loops: fit the smooth model, \
              whose stop form fits clockwise loops (--model-kind smooth)",
             data.source,
-            100.0 * found.gap
+            sig(100.0 * found.gap, 3)
         )));
     }
     let (initial_state, one_way) = request.start.resolve(data);

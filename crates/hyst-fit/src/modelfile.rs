@@ -205,9 +205,16 @@ impl ModelFile {
             Some(other) => {
                 let at = top_level_line(text, "version")
                     .map_or_else(String::new, |line| format!("line {line}: "));
+                // The hint fits what was written: "1" needs its quotes removed, 1.0 its
+                // decimal point.
+                let hint = match other {
+                    toml::Value::String(_) => ", no quotes",
+                    toml::Value::Float(_) => ", no decimal point",
+                    _ => "",
+                };
                 return Err(bad(format!(
                     "{at}`version = {other}` is a {}: the format version is an integer \
-                     (`version = {MIN_VERSION}`, no quotes)",
+                     (`version = {MIN_VERSION}`{hint})",
                     other.type_str()
                 )));
             }

@@ -307,6 +307,18 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
              (`version = 1`, no quotes)"
         )
     );
+    // A float is not told to drop quotes it does not have.
+    let float = older.replace("version = 1", "version = 1.0");
+    let err = hyst_fit::ModelFile::from_toml(&float, std::path::Path::new("m.toml"))
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(
+        err.as_deref(),
+        Some(
+            "m.toml: line 3: `version = 1.0` is a float: the format version is an integer \
+             (`version = 1`, no decimal point)"
+        )
+    );
     // A Langevin output shaping saturates: the range and the limits of `--saturate`.
     let missing = |what: &str| FitError::Invalid(format!("the test model has no {what}"));
     let sat = file

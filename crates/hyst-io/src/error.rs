@@ -120,8 +120,12 @@ pub enum IoError {
         value: String,
     },
 
-    /// A data cell does not parse as a number.
-    #[error("{file}:{line}: column {column} ({name:?}): cannot parse {value:?} as a number")]
+    /// A data cell does not parse as a number. A cell with a ';' adds that the file seems to
+    /// use ';' as its separator, where hyst reads comma-separated values.
+    #[error(
+        "{file}:{line}: column {column} ({name:?}): cannot parse {value:?} as a number{}",
+        semicolon_hint(value)
+    )]
     Parse {
         /// The file (path or source name).
         file: String,
@@ -288,12 +292,22 @@ pub enum IoError {
     Write {
         /// The destination path.
         path: PathBuf,
-        /// What was being done, e.g. `create a temporary file in "out"`.
+        /// What was being done, e.g. `create a file in its directory`.
         action: String,
         /// The underlying OS error.
         #[source]
         source: std::io::Error,
     },
+}
+
+/// The hint of [`IoError::Parse`] for a cell that holds a ';'.
+fn semicolon_hint(value: &str) -> &'static str {
+    if value.contains(';') {
+        " (the file seems to use ';' as the separator; hyst reads comma-separated values with a \
+         '.' decimal point)"
+    } else {
+        ""
+    }
 }
 
 /// Formats names or cells as `"a", "b", "c"` (each in Rust debug quoting).

@@ -379,6 +379,11 @@ mod tests {
             err_str("x,y\n1,2 3\n"),
             r#"data.csv:2: column 2 ("y"): cannot parse "2 3" as a number"#
         );
+        // A ';'-separated file: the cell holds the whole row; said why.
+        assert_eq!(
+            err_str("t;x;y\n0;50;11.5\n"),
+            r#"data.csv:2: column 1 ("t;x;y"): cannot parse "0;50;11.5" as a number (the file seems to use ';' as the separator; hyst reads comma-separated values with a '.' decimal point)"#
+        );
         assert_eq!(
             err_str("x,y\n1,1,5\n"),
             r#"data.csv:2: expected 2 cells (one per column of the header on line 1), found 3: "1", "1", "5""#
@@ -899,7 +904,7 @@ mod tests {
         let err = t.write_atomic(&missing).unwrap_err();
         assert!(matches!(err, IoError::Write { .. }), "{err:?}");
         assert!(err.to_string().starts_with(&format!(
-            "{}: cannot create a temporary file in ",
+            "{}: cannot create a file in its directory: ",
             missing.display()
         )));
         assert_eq!(files_in(dir.path()), Vec::<String>::new());

@@ -103,7 +103,12 @@ pub struct Args {
     #[arg(long, value_name = "N")]
     pub segment: Option<usize>,
     /// Hold out these record ids for validation (comma-separated).
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_negative_numbers = true,
+        value_parser = record_id
+    )]
     pub validate: Vec<i64>,
     /// Hold out every K-th record for validation.
     #[arg(long, value_name = "K", conflicts_with = "validate")]
@@ -131,6 +136,17 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+/// One id of `--validate`: an integer, with a message that says what the option takes (clap's
+/// own said only "invalid digit found in string" for `--validate 0.5`).
+fn record_id(s: &str) -> Result<i64, String> {
+    s.trim().parse::<i64>().map_err(|_| {
+        "--validate takes the integer ids of the records to hold out for validation (values of \
+         the record column), comma-separated, e.g. --validate 2,5; for every K-th record use \
+         --validate-every K"
+            .to_string()
+    })
 }
 
 /// Runs `hyst fit`.
@@ -212,10 +228,12 @@ pub fn main(args: Args) -> Result<()> {
         (identified, hashed)
     });
     let identified = identified.map_err(|e| match e {
-        // The library names its parameter; the user knows it as the flag.
-        e @ hyst_fit::FitError::InvalidSetting {
-            name: "operators", ..
-        } => anyhow::Error::new(e).context("--operators"),
+        // The library names its parameter; the user knows it as the flag (named once).
+        hyst_fit::FitError::InvalidSetting {
+            name: "operators",
+            expected,
+            ..
+        } => anyhow::anyhow!("--operators {}: expected {expected}", args.operators),
         e => e.into(),
     })?;
     drop(observer);
