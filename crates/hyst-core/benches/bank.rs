@@ -12,7 +12,9 @@
 //!   time there is partly memory bandwidth, shared with whatever else the machine runs (f32
 //!   moves half the bytes).
 //!
-//! `HYST_BANK_ISA=avx512|avx2|sse2|portable` forces one kernel.
+//! `HYST_BANK_ISA=avx512|avx2|sse2|portable` forces one kernel. `HYST_BANK_WORKLOAD=mixed` gives
+//! every channel its own k1 and k2 (log-uniform in [1e-3, 10] and [1e-2, 1e6], signals of 20 k1:
+//! most ticks far past the reversal point, where the outputs sit at the band's edge).
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use std::hint::black_box;
@@ -38,18 +40,43 @@ type Job<'a> = (String, Box<dyn FnMut() + 'a>);
 
 /// The six jobs of one precision and formula: bank and scalar, tick by tick, in blocks of
 /// [`SHORT`] ticks and in one block of [`TICKS`] ticks.
-fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str) -> Vec<Job<'a>> {
-    let (k1, k2) = (T::from_f64(0.2), T::from_f64(8.0));
+fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a>> {
+    // Each channel's k1, k2 and the factor of its signal: k1 = 0.2, k2 = 8 and the signal as it
+    // is; or (`mixed`) k1 log-uniform in [1e-3, 10], k2 in [1e-2, 1e6] and the signal times
+    // 20 k1, the ranges of tests/bank.rs, where most ticks are far past the reversal point.
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut uniform = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let params: Vec<(f64, f64, f64)> = (0..CHANNELS)
+        .map(|_| {
+            if mixed {
+                let k1 = 1e-3 * 1e4f64.powf(uniform());
+                (k1, 1e-2 * 1e8f64.powf(uniform()), 20.0 * k1)
+            } else {
+                (0.2, 8.0, 1.0)
+            }
+        })
+        .collect();
+    let p = params.clone();
     let ticks: Vec<T> = (0..TICKS)
-        .flat_map(|t| (0..CHANNELS).map(move |c| T::from_f64(signal(c, t))))
+        .flat_map(|t| (0..CHANNELS).map(move |c| (c, t)))
+        .map(|(c, t)| T::from_f64(p[c].2 * signal(c, t)))
         .collect();
     let channels: Vec<T> = (0..CHANNELS)
-        .flat_map(|c| (0..TICKS).map(move |t| T::from_f64(signal(c, t))))
+        .flat_map(|c| (0..TICKS).map(move |t| (c, t)))
+        .map(|(c, t)| T::from_f64(p[c].2 * signal(c, t)))
         .collect();
-    let bank = || BankVec::<T, F>::from_vecs(vec![k1; CHANNELS], vec![k2; CHANNELS]).unwrap();
+    let k1s: Vec<T> = params.iter().map(|p| T::from_f64(p.0)).collect();
+    let k2s: Vec<T> = params.iter().map(|p| T::from_f64(p.1)).collect();
+    let bank = || BankVec::<T, F>::from_vecs(k1s.clone(), k2s.clone()).unwrap();
     let ops = || -> Vec<ParametricHysteresis<T, ConstantK2<T>, F>> {
-        (0..CHANNELS)
-            .map(|_| ParametricHysteresis::new(k1, k2).unwrap())
+        k1s.iter()
+            .zip(&k2s)
+            .map(|(&k1, &k2)| ParametricHysteresis::new(k1, k2).unwrap())
             .collect()
     };
     let (mut b1, mut b2, mut s1, mut s2) = (bank(), bank(), ops(), ops());
@@ -138,11 +165,13 @@ fn main() {
             std::process::exit(2);
         }
     }
+    // HYST_BANK_WORKLOAD=mixed: every channel its own k1 and k2 over the tested ranges.
+    let mixed = std::env::var("HYST_BANK_WORKLOAD").is_ok_and(|w| w == "mixed");
     let mut all: Vec<Job> = Vec::new();
-    all.extend(jobs::<f64, Inverse>("inverse f64"));
-    all.extend(jobs::<f64, Direct>("direct f64"));
-    all.extend(jobs::<f32, Inverse>("inverse f32"));
-    all.extend(jobs::<f32, Direct>("direct f32"));
+    all.extend(jobs::<f64, Inverse>("inverse f64", mixed));
+    all.extend(jobs::<f64, Direct>("direct f64", mixed));
+    all.extend(jobs::<f32, Inverse>("inverse f32", mixed));
+    all.extend(jobs::<f32, Direct>("direct f32", mixed));
     let mut best = vec![f64::INFINITY; all.len()];
     for _ in 0..ROUNDS {
         for (b, (_, job)) in best.iter_mut().zip(all.iter_mut()) {

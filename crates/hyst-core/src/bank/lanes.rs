@@ -70,6 +70,11 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
     /// coefficients rounded to the type: 0.15 ulp for f64, 0.34 ulp for f32;
     /// `scripts/decay-coefficients` computes them).
     const DECAY_POLY: &'static [f64];
+    /// u + 2u², u the unit roundoff (2⁻⁵³, 2⁻²⁴): for a normal v, v − |v| · this rounds to the
+    /// next float towards −∞ and v + |v| · this to the next towards +∞ (one rounding, by FMA: the
+    /// product is above half the spacing next to v and below one and a half), the vector form of
+    /// [`Lane::next_below`] / [`Lane::next_above`] that the kernel's band clamp uses.
+    const ONE_STEP: Self;
     /// The low bits of the value's representation (the table index of `exp`).
     fn low_bits(self) -> usize;
     /// The next float towards −∞ (finite values).
@@ -175,6 +180,7 @@ impl Lane for f64 {
     // |r| ≤ ln 2 / 16: the first omitted term r⁹/9! is below 1.5e-18.
     const EXP_TABLE_TERMS: usize = 7;
     const DECAY_MIN: Self = -708.0;
+    const ONE_STEP: Self = 1.1102230246251568e-16; // 2⁻⁵³ + 2⁻¹⁰⁵
     const DECAY_POLY: &'static [f64] = &[
         1.0,
         1.0,
@@ -229,6 +235,7 @@ impl Lane for f32 {
     // |r| ≤ ln 2 / 32: the first omitted term r⁵/5! is below 4e-11.
     const EXP_TABLE_TERMS: usize = 3;
     const DECAY_MIN: Self = -87.0;
+    const ONE_STEP: Self = 5.9604652e-8; // 2⁻²⁴ + 2⁻⁴⁷
     const DECAY_POLY: &'static [f64] = &[
         1.0,
         1.0,
