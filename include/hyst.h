@@ -814,7 +814,8 @@ size_t hyst_bank_channels_f32(const struct hyst_bank_f32 *bank);
 // them) and `y` receives the outputs in the same layout (`y` may be `x`). `ticks` = 1 is one
 // control period: see `hyst_bank_step_f32`.
 //
-// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (channels × ticks overflows),
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (channels × ticks values would
+// take more bytes than an array can hold),
 // `HYST_ERR_NON_FINITE` for a NaN or infinite sample (nothing is processed), or
 // `HYST_ERR_OVERFLOW` for a finite sample whose output is beyond the float range: `*channel`
 // (when `channel` is not NULL) receives its channel, and every memory is as before the call.
@@ -856,8 +857,9 @@ int32_t hyst_bank_get_memory_f32(struct hyst_bank_f32 *bank,
 // saved by `hyst_bank_get_memory_f32` (or `hyst_operator_get_memory`: the same memory).
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` for a channel beyond the bank,
-// `HYST_ERR_NON_FINITE` or `HYST_ERR_STATE_OUTSIDE_BAND` for a memory the channel cannot be in
-// (checked against its k1; nothing changes then).
+// `HYST_ERR_INVALID_PARAMETER` (non-finite values, a direction other than ±1) or
+// `HYST_ERR_STATE_OUTSIDE_BAND` (a point outside the band |output − input| ≤ k1) for a memory
+// the channel cannot be in, as `hyst_operator_set_memory` (nothing changes then).
 //
 // # Safety
 // `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed; `memory` is NULL or readable.
@@ -901,7 +903,8 @@ size_t hyst_bank_channels(const struct hyst_bank *bank);
 // them) and `y` receives the outputs in the same layout (`y` may be `x`). `ticks` = 1 is one
 // control period: see `hyst_bank_step`.
 //
-// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (channels × ticks overflows),
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (channels × ticks values would
+// take more bytes than an array can hold),
 // `HYST_ERR_NON_FINITE` for a NaN or infinite sample (nothing is processed), or
 // `HYST_ERR_OVERFLOW` for a finite sample whose output is beyond the float range: `*channel`
 // (when `channel` is not NULL) receives its channel, and every memory is as before the call.
@@ -941,8 +944,9 @@ int32_t hyst_bank_get_memory(struct hyst_bank *bank, size_t channel, struct hyst
 // saved by `hyst_bank_get_memory` (or `hyst_operator_get_memory`: the same memory).
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` for a channel beyond the bank,
-// `HYST_ERR_NON_FINITE` or `HYST_ERR_STATE_OUTSIDE_BAND` for a memory the channel cannot be in
-// (checked against its k1; nothing changes then).
+// `HYST_ERR_INVALID_PARAMETER` (non-finite values, a direction other than ±1) or
+// `HYST_ERR_STATE_OUTSIDE_BAND` (a point outside the band |output − input| ≤ k1) for a memory
+// the channel cannot be in, as `hyst_operator_set_memory` (nothing changes then).
 //
 // # Safety
 // `bank` is NULL or a bank from `hyst_bank_create` not yet freed; `memory` is NULL or readable.

@@ -83,7 +83,10 @@ unsafe fn slice<'a>(p: *const f32, n: usize) -> Result<&'a [f32], i32> {
     if p.is_null() {
         return Err(HYST_ERR_NULL_POINTER);
     }
-    // SAFETY: non-NULL, valid for n reads (caller's contract).
+    if n > isize::MAX.unsigned_abs() / std::mem::size_of::<f32>() {
+        return Err(HYST_ERR_LENGTH);
+    }
+    // SAFETY: non-NULL, valid for n reads (caller's contract), n values within isize::MAX bytes.
     Ok(unsafe { std::slice::from_raw_parts(p, n) })
 }
 
@@ -197,7 +200,8 @@ fn process<F: BankFormula>(
 /// them) and `y` receives the outputs in the same layout (`y` may be `x`). `ticks` = 1 is one
 /// control period: see `hyst_bank_step_f32`.
 ///
-/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (channels × ticks overflows),
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (channels × ticks values would
+/// take more bytes than an array can hold),
 /// `HYST_ERR_NON_FINITE` for a NaN or infinite sample (nothing is processed), or
 /// `HYST_ERR_OVERFLOW` for a finite sample whose output is beyond the float range: `*channel`
 /// (when `channel` is not NULL) receives its channel, and every memory is as before the call.
@@ -217,7 +221,12 @@ pub unsafe extern "C" fn hyst_bank_process_f32(
     unsafe {
         with_bank(bank, |c| {
             let channels = each!(&*c, b => b.channels());
-            let Some(n) = channels.checked_mul(ticks) else {
+            // No array holds more than isize::MAX bytes: a count beyond that is a wrong length
+            // (checked before any slice is made of it).
+            let Some(n) = channels
+                .checked_mul(ticks)
+                .filter(|&n| n <= isize::MAX.unsigned_abs() / std::mem::size_of::<f32>())
+            else {
                 return HYST_ERR_LENGTH;
             };
             if n == 0 {
@@ -311,8 +320,9 @@ pub unsafe extern "C" fn hyst_bank_get_memory_f32(
 /// saved by `hyst_bank_get_memory_f32` (or `hyst_operator_get_memory`: the same memory).
 ///
 /// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` for a channel beyond the bank,
-/// `HYST_ERR_NON_FINITE` or `HYST_ERR_STATE_OUTSIDE_BAND` for a memory the channel cannot be in
-/// (checked against its k1; nothing changes then).
+/// `HYST_ERR_INVALID_PARAMETER` (non-finite values, a direction other than ±1) or
+/// `HYST_ERR_STATE_OUTSIDE_BAND` (a point outside the band |output − input| ≤ k1) for a memory
+/// the channel cannot be in, as `hyst_operator_set_memory` (nothing changes then).
 ///
 /// # Safety
 /// `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed; `memory` is NULL or readable.

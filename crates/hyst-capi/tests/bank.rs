@@ -248,6 +248,19 @@ fn errors_name_the_channel_and_leave_the_memories() {
     assert_eq!(unsafe { hyst_bank_get_memory(big, 1, &mut after) }, HYST_OK);
     assert_eq!(after, first);
     unsafe { hyst_bank_free(big) };
+    // A tick count whose values would take more bytes than any array holds (channels × ticks
+    // itself does not overflow): a length error, checked before a slice is made of it (it
+    // panicked in an allocation and was reported as an internal error).
+    let s = unsafe {
+        hyst_bank_process(
+            bank,
+            block.as_ptr(),
+            out.as_mut_ptr(),
+            usize::MAX / 8 / CHANNELS,
+            &mut channel,
+        )
+    };
+    assert_eq!(s, HYST_ERR_LENGTH);
     // Channels beyond the bank, NULLs.
     let mut m = hyst_memory::default();
     assert_eq!(
