@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use crate::degeneracy::diagnose;
 use crate::lm::Observer;
 use crate::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT, MIN_VERSION};
-use crate::orientation::{loops, FormChoice, Orientation, StartChoice};
+use crate::orientation::{against_trend, loops, FormChoice, Orientation, StartChoice};
 use crate::pi::PiOutputKind;
 use crate::pi_fit::{fit_pi_with, PiFit};
 use crate::report::{sig, Findings, Report, Summary};
@@ -18,6 +18,15 @@ use crate::{Dataset, FitError, InitialState, ModelFile, Structure};
 /// The branch gap (fraction of the output span) above which the data's loops are clockwise
 /// beyond doubt, and a Prandtl–Ishlinskii fit (counterclockwise only) is refused.
 const PI_CLOCKWISE_GAP: f64 = 0.005;
+
+/// Above this share of the output span going back against its trend along the branches
+/// ([`against_trend`]), counterclockwise or loop-free data is not monotone: refused. Measured:
+/// 0 on every counterclockwise record tried (piezo, FORC, B-H loops, backlash, creep), 0.05 on
+/// pure noise; butterflies 0.29–0.97 (the less, the more the field is biased to one side).
+pub const FOLD_LIMIT: f64 = 0.2;
+
+/// The same for clockwise loops (friction's branches are flat with stiction peaks).
+pub const FOLD_LIMIT_CLOCKWISE: f64 = 0.8;
 
 /// What to identify: the model kind with its structure, and the fit's options.
 #[derive(Clone, Debug)]
@@ -128,6 +137,36 @@ pub fn identify(
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
     let found = loops(data);
     let mut notes = Vec::new();
+    // An output that goes back against its trend along each branch (a butterfly loop) is no
+    // loop the model makes, whichever form: refused unless kept, rather than fitted with a
+    // confident report. Friction's branches are flat with a stiction peak and rate effects
+    // (up to 0.36 of the span measured on LuGre seals), hence the higher limit for clockwise
+    // loops.
+    let folded = against_trend(data);
+    let fold_limit = if found.orientation == Orientation::Clockwise {
+        FOLD_LIMIT_CLOCKWISE
+    } else {
+        FOLD_LIMIT
+    };
+    let not_monotone = folded > fold_limit;
+    if not_monotone {
+        let message = format!(
+            "the output of {} is not monotone along the input: along each branch it goes back \
+             by {} % of the output span against its trend (a butterfly loop, as \
+             magnetostriction's strain, even in the field; or a sensor that folds), which no \
+             hysteresis model here makes (each branch of theirs is monotone): fit against a \
+             quantity the output is monotone in (|input| or input² for an even response, or \
+             one side of the range)",
+            data.source,
+            sig(100.0 * folded, 3)
+        );
+        if !request.keep_degenerate {
+            return Err(FitError::Degenerate(format!(
+                "{message}. No model file was written; pass --keep-degenerate to fit it anyway"
+            )));
+        }
+        notes.push(message);
+    }
     // A comparison does not lose the smooth fit over a Prandtl–Ishlinskii model that cannot
     // describe the data: it is left out, with a note.
     let pi_cannot = found.gap > PI_CLOCKWISE_GAP;
@@ -310,7 +349,7 @@ pub fn identify(
             findings: Findings {
                 orientation: found.orientation,
                 loop_gap: found.gap,
-                degenerate: diagnosis.degenerate,
+                degenerate: diagnosis.degenerate || not_monotone,
                 notes,
             },
             comparison,

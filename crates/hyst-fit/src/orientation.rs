@@ -137,6 +137,67 @@ impl FormChoice {
     }
 }
 
+/// How far the output goes against its own trend along the input, as a fraction of the output
+/// span. For the rising and the falling samples apart (the direction by the central
+/// difference, as [`loops`]), the mean output in each of [`BINS`] input bins, and the largest
+/// fall of that curve below an earlier peak (for an overall rise) or rise above an earlier
+/// trough (for an overall fall); the smaller of the two branches' values (a branch with samples
+/// in fewer than two bins does not count; 0 when neither does). Each branch of a hysteresis
+/// loop is monotone (near 0 however wide the loop); a butterfly loop (magnetostriction, whose
+/// output is even in the field) or a sensor that folds gives a large value on both.
+#[must_use]
+pub fn against_trend(data: &Dataset) -> f64 {
+    let (xlo, xhi) = data.input_range();
+    let (ylo, yhi) = data.output_range();
+    let xs = (xhi - xlo).max(f64::MIN_POSITIVE);
+    let ys = (yhi - ylo).max(f64::MIN_POSITIVE);
+    // Per direction (0 rising, 1 falling) and bin: Σw, Σw·y.
+    let mut sums = [[(0.0_f64, 0.0_f64); BINS]; 2];
+    for r in data.training() {
+        let n = r.input.len();
+        for i in 0..n {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let dx = r.input[b] - r.input[a];
+            let w = r.weight[i];
+            if dx == 0.0 || w <= 0.0 {
+                continue;
+            }
+            let bin =
+                (((r.input[i] - xlo) / xs * BINS as f64).floor().max(0.0) as usize).min(BINS - 1);
+            if let Some(s) = sums[usize::from(dx < 0.0)].get_mut(bin) {
+                s.0 += w;
+                s.1 += w * (r.output[i] - ylo) / ys;
+            }
+        }
+    }
+    let branch = |sums: &[(f64, f64); BINS]| -> Option<f64> {
+        let means: Vec<f64> = sums
+            .iter()
+            .filter(|s| s.0 > 0.0)
+            .map(|s| s.1 / s.0)
+            .collect();
+        if means.len() < 2 {
+            return None;
+        }
+        let sign = if means[means.len() - 1] >= means[0] {
+            1.0
+        } else {
+            -1.0
+        };
+        let (mut peak, mut worst) = (f64::NEG_INFINITY, 0.0_f64);
+        for m in &means {
+            peak = peak.max(sign * m);
+            worst = worst.max(peak - sign * m);
+        }
+        Some(worst)
+    };
+    match (branch(&sums[0]), branch(&sums[1])) {
+        (Some(a), Some(b)) => a.min(b),
+        (Some(a), None) | (None, Some(a)) => a,
+        (None, None) => 0.0,
+    }
+}
+
 /// Which way every training record of `data` moves, when each moves one way only (at most 1 %
 /// of its moving samples the other way) and all the same way: `Some(true)` rising, `Some(false)`
 /// falling. First-order reversal curves rise only; no loop can show in such data, whatever the
@@ -293,5 +354,28 @@ mod tests {
             StartChoice::Line.resolve(&forc),
             (InitialState::Line, false)
         );
+    }
+
+    #[test]
+    fn a_butterfly_goes_against_its_trend_and_a_loop_does_not() {
+        // x sweeps ±1 three times; a loop's branches (x ∓ 0.3 tanh-like offset) are monotone, a
+        // butterfly's (x², shifted between the branches) fall and rise again.
+        let x: Vec<f64> = (0..3000)
+            .map(|k| (k as f64 * 2.0 * std::f64::consts::PI / 1000.0).sin())
+            .collect();
+        let rising = |i: usize| i + 1 < x.len() && x[i + 1] > x[i];
+        let looped: Vec<f64> = (0..x.len())
+            .map(|i| x[i] + if rising(i) { -0.3 } else { 0.3 })
+            .collect();
+        let butterfly: Vec<f64> = (0..x.len())
+            .map(|i| {
+                let s = if rising(i) { 0.1 } else { -0.1 };
+                (x[i] + s) * (x[i] + s)
+            })
+            .collect();
+        assert!(against_trend(&Dataset::single(&x, &looped)) < 0.01);
+        let b = against_trend(&Dataset::single(&x, &butterfly));
+        assert!(b > 0.6, "{b}");
+        assert_eq!(against_trend(&Dataset::single(&[1.0], &[2.0])), 0.0);
     }
 }

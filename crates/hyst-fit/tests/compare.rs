@@ -68,3 +68,45 @@ fn compare_on_clockwise_loops_keeps_the_smooth_fit() -> Result<(), FitError> {
     assert!(err.to_string().contains("run clockwise"), "{err}");
     Ok(())
 }
+
+/// A butterfly (magnetostriction's strain, even in the field, shifted between the branches),
+/// with the field biased so that the output rises overall: refused as not monotone, not fitted
+/// with a confident report; kept on request, marked degenerate.
+#[test]
+fn a_butterfly_is_refused_unless_kept() -> Result<(), FitError> {
+    let h: Vec<f64> = (0..4000)
+        .map(|k| 0.2 + (k as f64 * 2.0 * std::f64::consts::PI / 1000.0).sin())
+        .collect();
+    let strain: Vec<f64> = (0..h.len())
+        .map(|i| {
+            let rising = i + 1 < h.len() && h[i + 1] > h[i];
+            // Rising below falling on the larger (positive) side: counterclockwise overall.
+            let s = if rising { -0.1 } else { 0.1 };
+            1000.0 * (h[i] + s) * (h[i] + s)
+        })
+        .collect();
+    let data = Dataset::single(&h, &strain);
+    let Err(err) = identify(
+        &data,
+        &Request::default(),
+        &mut Silent,
+        &|| false,
+        Provenance::default(),
+    ) else {
+        return Err(FitError::Invalid("a butterfly was fitted".into()));
+    };
+    assert!(matches!(err, FitError::Degenerate(_)), "{err}");
+    assert!(err.to_string().contains("not monotone"), "{err}");
+    let kept = identify(
+        &data,
+        &Request {
+            keep_degenerate: true,
+            ..Request::default()
+        },
+        &mut Silent,
+        &|| false,
+        Provenance::default(),
+    )?;
+    assert!(kept.report.findings.degenerate);
+    Ok(())
+}
