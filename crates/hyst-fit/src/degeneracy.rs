@@ -62,6 +62,62 @@ pub struct Diagnosis {
     /// change (the signed central difference) explains, in [0, 1]: rate-dependent behaviour
     /// (viscous friction, creep, eddy currents) that no rate-independent model represents.
     pub rate_share: f64,
+    /// The share of the residuals' variance that a straight line in time (the sample index)
+    /// within each training record explains beyond a line in the input, in [0, 1]: drift,
+    /// creep or a temperature change, which no rate-independent model represents.
+    #[serde(default)]
+    pub drift_share: f64,
+}
+
+/// Above this [`Diagnosis::drift_share`], the report notes drift.
+pub const DRIFT_NOTE: f64 = 0.1;
+
+/// The share of the residual variance that a least-squares line in the sample index explains
+/// within each training record beyond what a line in the input explains (each record's own
+/// means removed, so an offset per record is not counted; weighted). Beyond the input: a
+/// record whose input moves one way in time (a first-order reversal curve) has residuals that
+/// follow its input, which is misfit, not drift.
+fn drift_share(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
+    let (mut explained, mut total) = (0.0, 0.0);
+    for (r, y) in training(data, outputs) {
+        let n = r.input.len().min(y.len()).min(r.weight.len());
+        let (mut sw, mut st, mut sx, mut se) = (0.0, 0.0, 0.0, 0.0);
+        for i in 0..n {
+            let w = r.weight[i];
+            sw += w;
+            st += w * i as f64;
+            sx += w * r.input[i];
+            se += w * (r.output[i] - y[i]);
+        }
+        if sw <= 0.0 {
+            continue;
+        }
+        let (tm, xm, em) = (st / sw, sx / sw, se / sw);
+        let [mut stt, mut stx, mut sxx, mut ste, mut sxe, mut see] = [0.0; 6];
+        for i in 0..n {
+            let w = r.weight[i];
+            let (t, x, e) = (i as f64 - tm, r.input[i] - xm, r.output[i] - y[i] - em);
+            stt += w * t * t;
+            stx += w * t * x;
+            sxx += w * x * x;
+            ste += w * t * e;
+            sxe += w * x * e;
+            see += w * e * e;
+        }
+        total += see;
+        // Explained by [t, x] together, less what x alone explains.
+        let det = stt * sxx - stx * stx;
+        if sxx > 0.0 && det > 1e-9 * stt * sxx {
+            let a = (sxx * ste - stx * sxe) / det;
+            let b = (stt * sxe - stx * ste) / det;
+            explained += (a * ste + b * sxe - sxe * sxe / sxx).max(0.0);
+        }
+    }
+    if total > 0.0 {
+        (explained / total).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
 }
 
 /// Above this [`Diagnosis::rate_share`], the report notes rate dependence.
@@ -351,6 +407,7 @@ pub fn diagnose(
         swept_gap: swept,
         line_rms: line,
         rate_share: rate_share(data, outputs),
+        drift_share: drift_share(data, outputs),
     }
 }
 
@@ -455,6 +512,7 @@ mod tests {
             Orientation::Counterclockwise,
         );
         assert!(d.rate_share < 1e-6, "{d:?}");
+        assert!(d.drift_share < 1e-6, "{d:?}");
     }
 
     #[test]
@@ -621,5 +679,45 @@ mod tests {
             advice.contains("as this structure's do") && !advice.contains("--form"),
             "{advice}"
         );
+    }
+
+    #[test]
+    fn residuals_that_drift_over_time_are_found() {
+        let x = input();
+        let model = operator_model();
+        let y = model.run(&x).unwrap();
+        // Creep: the output drifts by 0.2 over the record, with a wiggle that is no trend.
+        let measured: Vec<f64> = y
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v + 0.2 * i as f64 / x.len() as f64 + 0.01 * (i as f64 * 0.3).sin())
+            .collect();
+        let data = Dataset::single(&x, &measured);
+        let d = diagnose(
+            &data,
+            std::slice::from_ref(&y),
+            &|v| model.run(v).ok(),
+            None,
+            &[],
+            Orientation::Counterclockwise,
+            Orientation::Counterclockwise,
+        );
+        assert!(d.drift_share > 0.9, "{d:?}");
+        // A record whose input only rises in time, with residuals that follow the input: misfit,
+        // not drift.
+        let x: Vec<f64> = (0..500).map(|i| f64::from(i) / 500.0).collect();
+        let fitted: Vec<f64> = x.iter().map(|v| 2.0 * v).collect();
+        let measured: Vec<f64> = x.iter().map(|v| 2.0 * v + 0.3 * v * v).collect();
+        let data = Dataset::single(&x, &measured);
+        let d = diagnose(
+            &data,
+            &[fitted],
+            &|v| Some(v.iter().map(|v| 2.0 * v).collect()),
+            None,
+            &[],
+            Orientation::None,
+            Orientation::Counterclockwise,
+        );
+        assert!(d.drift_share < 0.01, "{d:?}");
     }
 }

@@ -275,6 +275,14 @@ pub fn identify(
         }
     };
     notes.extend(diagnosis.notes.iter().cloned());
+    if diagnosis.drift_share > crate::degeneracy::DRIFT_NOTE {
+        notes.push(format!(
+            "{} % of the residuals' variance is a straight line in time within the records: \
+             drift, creep or a temperature change, which a rate-independent model cannot \
+             represent; the model fits the rest (remove the trend, or fit shorter records)",
+            sig(100.0 * diagnosis.drift_share, 2)
+        ));
+    }
     if diagnosis.rate_share > crate::degeneracy::RATE_NOTE {
         notes.push(format!(
             "{} % of the residuals' variance follows the input's rate of change: the data holds \
