@@ -22,6 +22,18 @@ pub const LOOP_SHARE: f64 = 0.1;
 /// fit found no hysteresis.
 pub const HYSTERESIS_PARAMETERS: [&str; 3] = ["k1", "k2", "k2.slope"];
 
+/// The scales of the saturating shapings, whose standard error [`VAGUE`] times their value
+/// gets a note.
+pub const SCALE_PARAMETERS: [&str; 2] = ["in.scale", "out.scale"];
+
+/// The arguments at the centre of the saturating shapings (dimensionless), whose standard
+/// error above [`VAGUE`] gets a note.
+pub const ARGUMENT_PARAMETERS: [&str; 2] = ["in.arg_at_centre", "out.arg_at_centre"];
+
+/// A scale whose standard error is above this multiple of its value, or an argument whose
+/// standard error is above this, is hardly identified.
+pub const VAGUE: f64 = 10.0;
+
 /// Below this gap between its rising and falling branches (fraction of the output span), a
 /// model has no loop: 0.1 %, about the resolution of a 10-bit sensor.
 pub const MIN_GAP: f64 = 1e-3;
@@ -373,6 +385,42 @@ pub fn diagnose(
                 shaping.join(", ")
             ));
         }
+        // A saturating shape's scale known only to within many times itself: the shape sits
+        // deep in saturation or at its linear limit, where the data cannot place it; its
+        // inverse then loses digits (a compensator round trip 1e-8 instead of 1e-15).
+        let vague: Vec<String> = estimates
+            .iter()
+            .filter(|e| {
+                // A scale relative to itself; the argument at the centre (dimensionless, in
+                // units of the scale: saturated beyond a few) in absolute terms.
+                let bound = if SCALE_PARAMETERS.contains(&e.name.as_str()) {
+                    VAGUE * e.value.abs()
+                } else if ARGUMENT_PARAMETERS.contains(&e.name.as_str()) {
+                    VAGUE
+                } else {
+                    return false;
+                };
+                e.std_error.is_finite() && e.std_error > bound
+            })
+            .map(|e| {
+                format!(
+                    "{} = {} ± {}",
+                    e.name,
+                    crate::report::sig(e.value, 4),
+                    crate::report::sig(e.std_error, 2)
+                )
+            })
+            .collect();
+        if !vague.is_empty() {
+            notes.push(format!(
+                "the data hardly identifies {} (a scale's standard error above {VAGUE} times \
+                 its value, or an argument's above {VAGUE}): \
+                 the shaping sits deep in saturation or at its linear limit on this data; a \
+                 simpler shaping (affine or a polynomial) fits about as well and inverts with \
+                 more digits",
+                vague.join(", ")
+            ));
+        }
     }
     if !reasons.is_empty() && !found_loop {
         let direction = data_orientation.name();
@@ -719,5 +767,42 @@ mod tests {
             Orientation::Counterclockwise,
         );
         assert!(d.drift_share < 0.01, "{d:?}");
+    }
+
+    #[test]
+    fn a_shaping_the_data_hardly_places_gets_a_note() {
+        let x = input();
+        let model = operator_model();
+        let y = model.run(&x).unwrap();
+        let data = Dataset::single(&x, &y);
+        let with = |scale_se: f64, arg_se: f64| {
+            let mut scale = estimate("out.scale", scale_se);
+            scale.value = 20.0;
+            let estimates = [
+                estimate("k1", 0.01),
+                estimate("k2", 0.5),
+                scale,
+                estimate("out.arg_at_centre", arg_se),
+            ];
+            diagnose(
+                &data,
+                std::slice::from_ref(&y),
+                &|v| model.run(v).ok(),
+                Some(&estimates),
+                &[],
+                Orientation::Counterclockwise,
+                Orientation::Counterclockwise,
+            )
+        };
+        let d = with(5.0, 0.5);
+        assert!(d.notes.is_empty(), "{d:?}");
+        let d = with(1e5, 0.5);
+        assert!(!d.degenerate, "{d:?}");
+        assert!(
+            d.notes[0].contains("hardly identifies out.scale = 20.00 ± 100000"),
+            "{d:?}"
+        );
+        let d = with(5.0, 1e4);
+        assert!(d.notes[0].contains("out.arg_at_centre"), "{d:?}");
     }
 }
