@@ -141,8 +141,9 @@ impl FormChoice {
 /// span. For the rising and the falling samples apart (the direction by the central
 /// difference, as [`loops`]), the mean output in each of [`BINS`] input bins, and the largest
 /// fall of that curve below an earlier peak (for an overall rise) or rise above an earlier
-/// trough (for an overall fall); the smaller of the two branches' values (a branch with samples
-/// in fewer than two bins does not count; 0 when neither does). Each branch of a hysteresis
+/// trough (for an overall fall); the smaller of the two branches' values (bins of fewer than
+/// five samples are left out, and a branch with fewer than two bins left does not count; 0 when
+/// neither does). Each branch of a hysteresis
 /// loop is monotone (near 0 however wide the loop); a butterfly loop (magnetostriction, whose
 /// output is even in the field) or a sensor that folds gives a large value on both.
 #[must_use]
@@ -151,8 +152,8 @@ pub fn against_trend(data: &Dataset) -> f64 {
     let (ylo, yhi) = data.output_range();
     let xs = (xhi - xlo).max(f64::MIN_POSITIVE);
     let ys = (yhi - ylo).max(f64::MIN_POSITIVE);
-    // Per direction (0 rising, 1 falling) and bin: Σw, Σw·y.
-    let mut sums = [[(0.0_f64, 0.0_f64); BINS]; 2];
+    // Per direction (0 rising, 1 falling) and bin: Σw, Σw·y, samples.
+    let mut sums = [[(0.0_f64, 0.0_f64, 0_usize); BINS]; 2];
     for r in data.training() {
         let n = r.input.len();
         for i in 0..n {
@@ -167,13 +168,16 @@ pub fn against_trend(data: &Dataset) -> f64 {
             if let Some(s) = sums[usize::from(dx < 0.0)].get_mut(bin) {
                 s.0 += w;
                 s.1 += w * (r.output[i] - ylo) / ys;
+                s.2 += 1;
             }
         }
     }
-    let branch = |sums: &[(f64, f64); BINS]| -> Option<f64> {
+    let branch = |sums: &[(f64, f64, usize); BINS]| -> Option<f64> {
+        // Bins of fewer than MIN_BIN_SAMPLES samples are left out: one noisy sample is no
+        // trend.
         let means: Vec<f64> = sums
             .iter()
-            .filter(|s| s.0 > 0.0)
+            .filter(|s| s.0 > 0.0 && s.2 >= MIN_BIN_SAMPLES)
             .map(|s| s.1 / s.0)
             .collect();
         if means.len() < 2 {
@@ -197,6 +201,9 @@ pub fn against_trend(data: &Dataset) -> f64 {
         (None, None) => 0.0,
     }
 }
+
+/// Samples a bin of one branch needs to count in [`against_trend`].
+const MIN_BIN_SAMPLES: usize = 5;
 
 /// Which way every training record of `data` moves, when each moves one way only (at most 1 %
 /// of its moving samples the other way) and all the same way: `Some(true)` rising, `Some(false)`
@@ -377,5 +384,21 @@ mod tests {
         let b = against_trend(&Dataset::single(&x, &butterfly));
         assert!(b > 0.6, "{b}");
         assert_eq!(against_trend(&Dataset::single(&[1.0], &[2.0])), 0.0);
+        // A short, noisy loop (120 samples, noise a tenth of the span, bins of one or two
+        // samples): under the limit of 0.2.
+        let mut seed = 7_u64;
+        let mut noise = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.6
+        };
+        let (xs, ys): (Vec<f64>, Vec<f64>) = (0..120)
+            .map(|i| {
+                let x = (i as f64 * 2.0 * std::f64::consts::PI / 60.0).sin();
+                let rising = (i as f64 * 2.0 * std::f64::consts::PI / 60.0).cos() > 0.0;
+                (x, x + if rising { -0.3 } else { 0.3 } + noise())
+            })
+            .unzip();
+        let noisy = against_trend(&Dataset::single(&xs, &ys));
+        assert!(noisy < 0.2, "{noisy}");
     }
 }
