@@ -319,28 +319,29 @@ fn tick<V: Simd, F: BankFormula>(
         inverse_output(st, x)
     };
     // One test on the hot path, also false for NaN and ±∞.
-    if !V::all((y - x).magnitude().less_eq(st.k1)) {
+    let k1 = st.k1;
+    let in_band = |y: V| V::all((y - x).magnitude().less_eq(k1));
+    if !in_band(y) {
         // Usually an output that rounding put an ulp outside the band: far from the reversal
         // point the output is x ± k1 as rounded (e^(−k2 ũd) vanishes: large k2 or large
         // excursions, most ticks then). Clamped here in vector code; the rare path only for
         // what that does not mend (not finite, or further out than rounding explains).
-        let clamped = into_band(y, x, st.k1);
-        if V::all((clamped - x).magnitude().less_eq(st.k1)) && V::all(near_band(st, x, y)) {
-            st.lin = x;
-            st.lout = clamped;
-            return Ok(clamped);
-        }
-        if !F::DIRECT {
-            st.sign = sign_of(st.neg_k2);
-        }
-        [y, st.rin, st.rout, st.sign] = repair::<V, F>(*st, x, y, start, width)?;
-        *changed = true;
-        if F::DIRECT {
-            (st.m_star, st.ln_a) = direct_cache(st);
+        let clamped = into_band(y, x, k1);
+        if in_band(clamped) && V::all(near_band(st, x, y)) {
+            y = clamped;
         } else {
-            st.neg_k2 = -(st.k2 * st.sign);
-            st.ks = st.k1 * st.sign;
-            st.sm = inverse_cache(st);
+            if !F::DIRECT {
+                st.sign = sign_of(st.neg_k2);
+            }
+            [y, st.rin, st.rout, st.sign] = repair::<V, F>(*st, x, y, start, width)?;
+            *changed = true;
+            if F::DIRECT {
+                (st.m_star, st.ln_a) = direct_cache(st);
+            } else {
+                st.neg_k2 = -(st.k2 * st.sign);
+                st.ks = st.k1 * st.sign;
+                st.sm = inverse_cache(st);
+            }
         }
     }
     st.lin = x;
