@@ -54,31 +54,54 @@ pub struct Loops {
 /// Input bins of the branch comparison.
 const BINS: usize = 32;
 
-/// The orientation of the loops in the training records of `data`.
-#[must_use]
-pub fn loops(data: &Dataset) -> Loops {
+/// A training sample that moves, with its direction and input bin; input and output
+/// normalised to [0, 1] over their ranges.
+struct Directed {
+    falling: bool,
+    bin: usize,
+    x: f64,
+    y: f64,
+    weight: f64,
+}
+
+/// The training samples of `data` of positive weight whose input moves (the direction by the
+/// central difference, one-sided at the ends), each in its bin of [`BINS`] over the input
+/// range: what [`loops`] and [`against_trend`] sum.
+fn directed(data: &Dataset) -> impl Iterator<Item = Directed> + '_ {
     let (xlo, xhi) = data.input_range();
     let (ylo, yhi) = data.output_range();
     let xs = (xhi - xlo).max(f64::MIN_POSITIVE);
     let ys = (yhi - ylo).max(f64::MIN_POSITIVE);
-    // Per bin and direction (0 rising, 1 falling): n, Σx, Σy, Σx², Σxy, in normalised units.
-    let mut sums = [[[0.0_f64; 5]; 2]; BINS];
-    for r in data.training() {
+    data.training().flat_map(move |r| {
         let n = r.input.len();
-        for i in 0..n {
-            // The direction by the central difference (one-sided at the ends).
+        (0..n).filter_map(move |i| {
             let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
             let dx = r.input[b] - r.input[a];
-            if dx == 0.0 || r.weight[i] <= 0.0 {
-                continue;
+            let weight = r.weight[i];
+            if dx == 0.0 || weight <= 0.0 {
+                return None;
             }
             let x = (r.input[i] - xlo) / xs;
-            let bin = ((x * BINS as f64).floor().max(0.0) as usize).min(BINS - 1);
-            let y = (r.output[i] - ylo) / ys;
-            let s = &mut sums[bin][usize::from(dx < 0.0)];
-            for (acc, v) in s.iter_mut().zip([1.0, x, y, x * x, x * y]) {
-                *acc += v;
-            }
+            Some(Directed {
+                falling: dx < 0.0,
+                bin: ((x * BINS as f64).floor().max(0.0) as usize).min(BINS - 1),
+                x,
+                y: (r.output[i] - ylo) / ys,
+                weight,
+            })
+        })
+    })
+}
+
+/// The orientation of the loops in the training records of `data`.
+#[must_use]
+pub fn loops(data: &Dataset) -> Loops {
+    // Per bin and direction (0 rising, 1 falling): n, Σx, Σy, Σx², Σxy, in normalised units.
+    let mut sums = [[[0.0_f64; 5]; 2]; BINS];
+    for d in directed(data) {
+        let s = &mut sums[d.bin][usize::from(d.falling)];
+        for (acc, v) in s.iter_mut().zip([1.0, d.x, d.y, d.x * d.x, d.x * d.y]) {
+            *acc += v;
         }
     }
     // In each bin, both branches as lines of one common slope: the gap is the difference of
@@ -148,28 +171,13 @@ impl FormChoice {
 /// output is even in the field) or a sensor that folds gives a large value on both.
 #[must_use]
 pub fn against_trend(data: &Dataset) -> f64 {
-    let (xlo, xhi) = data.input_range();
-    let (ylo, yhi) = data.output_range();
-    let xs = (xhi - xlo).max(f64::MIN_POSITIVE);
-    let ys = (yhi - ylo).max(f64::MIN_POSITIVE);
     // Per direction (0 rising, 1 falling) and bin: Σw, Σw·y, samples.
     let mut sums = [[(0.0_f64, 0.0_f64, 0_usize); BINS]; 2];
-    for r in data.training() {
-        let n = r.input.len();
-        for i in 0..n {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-            let dx = r.input[b] - r.input[a];
-            let w = r.weight[i];
-            if dx == 0.0 || w <= 0.0 {
-                continue;
-            }
-            let bin =
-                (((r.input[i] - xlo) / xs * BINS as f64).floor().max(0.0) as usize).min(BINS - 1);
-            if let Some(s) = sums[usize::from(dx < 0.0)].get_mut(bin) {
-                s.0 += w;
-                s.1 += w * (r.output[i] - ylo) / ys;
-                s.2 += 1;
-            }
+    for d in directed(data) {
+        if let Some(s) = sums[usize::from(d.falling)].get_mut(d.bin) {
+            s.0 += d.weight;
+            s.1 += d.weight * d.y;
+            s.2 += 1;
         }
     }
     let branch = |sums: &[(f64, f64, usize); BINS]| -> Option<f64> {
