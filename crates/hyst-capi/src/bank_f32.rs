@@ -72,6 +72,10 @@ unsafe fn with_bank(b: *mut hyst_bank_f32, f: impl FnOnce(&mut Channels) -> i32)
     catch_unwind(AssertUnwindSafe(|| f(&mut bank.inner))).unwrap_or(HYST_ERR_INTERNAL)
 }
 
+/// The most values an array can hold: no array holds more than isize::MAX bytes, so a count
+/// beyond this is a wrong length (checked before any slice is made of it).
+const MAX_VALUES: usize = isize::MAX.unsigned_abs() / std::mem::size_of::<f32>();
+
 /// `n` values at `p` as a slice (NULL only when n = 0).
 ///
 /// # Safety
@@ -83,7 +87,7 @@ unsafe fn slice<'a>(p: *const f32, n: usize) -> Result<&'a [f32], i32> {
     if p.is_null() {
         return Err(HYST_ERR_NULL_POINTER);
     }
-    if n > isize::MAX.unsigned_abs() / std::mem::size_of::<f32>() {
+    if n > MAX_VALUES {
         return Err(HYST_ERR_LENGTH);
     }
     // SAFETY: non-NULL, valid for n reads (caller's contract), n values within isize::MAX bytes.
@@ -221,12 +225,7 @@ pub unsafe extern "C" fn hyst_bank_process_f32(
     unsafe {
         with_bank(bank, |c| {
             let channels = each!(&*c, b => b.channels());
-            // No array holds more than isize::MAX bytes: a count beyond that is a wrong length
-            // (checked before any slice is made of it).
-            let Some(n) = channels
-                .checked_mul(ticks)
-                .filter(|&n| n <= isize::MAX.unsigned_abs() / std::mem::size_of::<f32>())
-            else {
+            let Some(n) = channels.checked_mul(ticks).filter(|&n| n <= MAX_VALUES) else {
                 return HYST_ERR_LENGTH;
             };
             if n == 0 {
