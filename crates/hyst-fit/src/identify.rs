@@ -191,17 +191,13 @@ pub fn identify(
     }
     let (initial_state, one_way) = request.start.resolve(data);
     if one_way {
-        let (moves, after) = match initial_state {
-            InitialState::Falling => ("rises", "a long fall"),
-            _ => ("falls", "a long rise"),
+        let (moves, after, rule) = match initial_state {
+            InitialState::Falling => ("rises", "a long fall", "falling"),
+            _ => ("falls", "a long rise", "rising"),
         };
         notes.push(format!(
             "every record only {moves} (first-order reversal curves, say): each starts at a \
-             reversal, as after {after} (--initial-state {}; give --initial-state to choose)",
-            match initial_state {
-                InitialState::Falling => "falling",
-                _ => "rising",
-            }
+             reversal, as after {after} (--initial-state {rule}; give --initial-state to choose)"
         ));
     }
     let structure = Structure {

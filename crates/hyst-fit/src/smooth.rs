@@ -925,12 +925,13 @@ fn simpler_output(structure: Structure) -> Option<Structure> {
     })
 }
 
-/// The fit `simple` of the structure [`simpler`] gave, as θ of `layout`: shared parameters
-/// keep their values, the new ones take the values that reproduce the simpler model (a k2
-/// slope and polynomial coefficients of 0; a tanh or Langevin ψ_in of scale 30 (normalised
-/// input units) with its argument 0 at the centre; a tanh or Langevin ψ_out of a scale 30 times
-/// its argument's reach, argument 0 at the centre, with the affine ψ_out's slope and its level
-/// at the centre). `None` when the point is not feasible.
+/// The fit `simple` of a structure `layout`'s contains ([`contained`]), as θ of `layout`:
+/// shared parameters keep their values, the new ones take the values that reproduce the simpler
+/// model (a k2 slope and polynomial coefficients of 0; a tanh or Langevin ψ_in of scale `wide`
+/// (normalised input units) with its argument 0 at the centre; a tanh or Langevin ψ_out of a
+/// scale `wide` times its argument's reach, argument 0 at the centre, with the affine ψ_out's
+/// slope and its level at the centre; `wide` is [`NESTED_SCALE`] for a start, [`LIMIT_SCALE`]
+/// at the limit). `None` when the point is not feasible.
 fn embed(
     layout: &Layout,
     simple: &SmoothFit,
