@@ -164,9 +164,9 @@ impl<T> ColumnsMut<'_, T> {
     }
 }
 
-#[cfg(feature = "rayon")]
 impl<'a, T> ColumnsMut<'a, T> {
-    /// Channels `..mid` and `mid..` (all of them and none when `mid` is beyond the channels).
+    /// Channels `..mid` and `mid..` (all of them and none when `mid` is beyond the channels):
+    /// the parts of rayon's tasks, and `step`'s whole chunks and the rest.
     fn split_at(self, mid: usize) -> (Self, Self) {
         fn cut<T>(x: &[T], mid: usize) -> (&[T], &[T]) {
             x.split_at(mid.min(x.len()))

@@ -25,6 +25,9 @@ pub trait Simd:
     type T: Lane;
     /// A lane mask (the result of a comparison).
     type M: Copy;
+    /// One vector of the machine (`Self` but for [`Pair`]s): what a tick by tick `step` runs
+    /// on, whose few live values then stay in registers.
+    type One: Simd<T = Self::T>;
     /// Lanes per vector.
     const LANES: usize;
     /// Every lane `v`.
@@ -139,6 +142,7 @@ macro_rules! scalar_simd {
         impl Simd for $t {
             type T = $t;
             type M = bool;
+            type One = Self;
             const LANES: usize = 1;
             #[inline(always)]
             fn splat(v: $t) -> Self {
@@ -268,6 +272,7 @@ impl<V: Simd> Neg for Pair<V> {
 impl<V: Simd> Simd for Pair<V> {
     type T = V::T;
     type M = (V::M, V::M);
+    type One = V::One;
     const LANES: usize = 2 * V::LANES;
     const EXP_TABLE: bool = V::EXP_TABLE;
     #[inline(always)]

@@ -124,6 +124,7 @@ vector!(F32x16, f32, __m512, __mmask16, 16,
 macro_rules! common {
     ($t:ty, $lanes:expr) => {
         type T = $t;
+        type One = Self;
         const LANES: usize = $lanes;
         #[inline(always)]
         fn splat(v: $t) -> Self {
