@@ -13,7 +13,7 @@
 //! frames of all of them inlined together need more than a thread's 2 MiB of stack.
 
 use super::lanes::{decay, exp, fsc_step, ln, omega_series, omega_start, omega_v, Lane};
-use super::simd::{Pair, Simd};
+use super::simd::Simd;
 use super::{BankError, BankFormula, Block, ColumnsMut};
 use crate::{ConstantK2, Direction, Memory, Operator, ParametricHysteresis};
 
@@ -386,9 +386,7 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
     let cols = &mut cols.cut(cols.k1.len());
     let n = cols.k1.len();
     if block.samples == 1 && block.begin == 0 && block.end >= 1 {
-        // A chunk of two machine vectors, not the tiles' four: a visit's state then stays in
-        // registers (measured: docs/performance.md, "Where a tick of `step` goes").
-        return one_tick::<Pair<V::One>, F>(cols, block);
+        return one_tick::<V::Tick, F>(cols, block);
     }
     let layout = Layout {
         n,

@@ -25,9 +25,11 @@ pub trait Simd:
     type T: Lane;
     /// A lane mask (the result of a comparison).
     type M: Copy;
-    /// One vector of the machine (`Self` but for [`Pair`]s): what a tick by tick `step` runs
-    /// on, whose few live values then stay in registers.
-    type One: Simd<T = Self::T>;
+    /// The chunk a one-tick `step` runs on: two vectors where the instruction set has 16
+    /// vector registers of 256 or 512 bits, four otherwise (as blocks do). Fewer than a block's
+    /// four, because a visit of one tick holds all its state in registers at once (measured:
+    /// docs/performance.md, "Where a tick of `step` goes").
+    type Tick: Simd<T = Self::T>;
     /// Lanes per vector.
     const LANES: usize;
     /// Every lane `v`.
@@ -142,7 +144,7 @@ macro_rules! scalar_simd {
         impl Simd for $t {
             type T = $t;
             type M = bool;
-            type One = Self;
+            type Tick = Pair<Pair<Self>>;
             const LANES: usize = 1;
             #[inline(always)]
             fn splat(v: $t) -> Self {
@@ -272,7 +274,7 @@ impl<V: Simd> Neg for Pair<V> {
 impl<V: Simd> Simd for Pair<V> {
     type T = V::T;
     type M = (V::M, V::M);
-    type One = V::One;
+    type Tick = V::Tick;
     const LANES: usize = 2 * V::LANES;
     const EXP_TABLE: bool = V::EXP_TABLE;
     #[inline(always)]

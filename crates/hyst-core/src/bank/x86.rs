@@ -122,9 +122,9 @@ vector!(F32x16, f32, __m512, __mmask16, 16,
 
 /// The parts every implementation of [`Simd`] here shares.
 macro_rules! common {
-    ($t:ty, $lanes:expr) => {
+    ($t:ty, $lanes:expr, $tick:ty) => {
         type T = $t;
-        type One = Self;
+        type Tick = $tick;
         const LANES: usize = $lanes;
         #[inline(always)]
         fn splat(v: $t) -> Self {
@@ -278,11 +278,11 @@ macro_rules! bits {
 
 /// [`Simd`] for an AVX2 or SSE2 vector (vector masks).
 macro_rules! avx2_simd {
-    ($name:ident, $t:ty, $raw:ty, $lanes:expr, $full:expr, $cmp:ident, $blend:ident, $and:ident,
+    ($name:ident, $tick:ty, $t:ty, $raw:ty, $lanes:expr, $full:expr, $cmp:ident, $blend:ident, $and:ident,
      $or:ident, $andnot:ident, $movemask:ident, $set1:ident, $max:ident, [$($bits:tt)*]) => {
         impl Simd for $name {
             type M = $raw;
-            common!($t, $lanes);
+            common!($t, $lanes, $tick);
             #[inline(always)]
             fn less(self, b: Self) -> $raw {
                 arch!($cmp::<_CMP_LT_OQ>(self.0, b.0))
@@ -334,6 +334,7 @@ macro_rules! avx2_simd {
 
 avx2_simd!(
     F64x4,
+    Pair<F64x4>,
     f64,
     __m256d,
     4,
@@ -365,6 +366,7 @@ avx2_simd!(
 );
 avx2_simd!(
     F32x8,
+    Pair<F32x8>,
     f32,
     __m256,
     8,
@@ -398,12 +400,12 @@ avx2_simd!(
 /// [`Simd`] for an AVX-512 vector (mask registers), with `exp` by the table of
 /// [`super::lanes::Lane::EXP_TABLE`] in one register (`vpermpd`) and `vscalefpd`.
 macro_rules! avx512_simd {
-    ($name:ident, $t:ty, $raw:ty, $mask:ty, $lanes:expr, $full:expr, $cmp:ident, $blend:ident,
+    ($name:ident, $tick:ty, $t:ty, $raw:ty, $mask:ty, $lanes:expr, $full:expr, $cmp:ident, $blend:ident,
      $abs:ident, $min:ident, $max:ident, $scalef:ident, $permute:ident, $to_int:ident,
      [$($bits:tt)*]) => {
         impl Simd for $name {
             type M = $mask;
-            common!($t, $lanes);
+            common!($t, $lanes, $tick);
             const EXP_TABLE: bool = true;
             #[inline(always)]
             fn exp_arg(x: Self) -> Self {
@@ -476,6 +478,7 @@ macro_rules! avx512_simd {
 
 avx512_simd!(
     F64x8,
+    Pair<F64x8>,
     f64,
     __m512d,
     __mmask8,
@@ -508,6 +511,7 @@ avx512_simd!(
 );
 avx512_simd!(
     F32x16,
+    Pair<F32x16>,
     f32,
     __m512,
     __mmask16,
@@ -656,6 +660,7 @@ exponent_f32!(
 
 avx2_simd!(
     F64x2,
+    Pair<Pair<F64x2>>,
     f64,
     __m128d,
     2,
@@ -687,6 +692,7 @@ avx2_simd!(
 );
 avx2_simd!(
     F32x4,
+    Pair<Pair<F32x4>>,
     f32,
     __m128,
     4,
