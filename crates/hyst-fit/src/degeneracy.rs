@@ -8,6 +8,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::orientation::{loops, one_way, Orientation};
+use crate::structure::{IN_ARG_AT_CENTRE, IN_SCALE, OUT_ARG_AT_CENTRE, OUT_SCALE};
 use crate::{Dataset, Estimate, Record};
 
 /// A model whose RMS error is above this fraction of the straight line's does no better than
@@ -24,11 +25,11 @@ pub const HYSTERESIS_PARAMETERS: [&str; 3] = ["k1", "k2", "k2.slope"];
 
 /// The scales of the saturating shapings, whose standard error [`VAGUE`] times their value
 /// gets a note.
-pub const SCALE_PARAMETERS: [&str; 2] = ["in.scale", "out.scale"];
+pub const SCALE_PARAMETERS: [&str; 2] = [IN_SCALE, OUT_SCALE];
 
 /// The arguments at the centre of the saturating shapings (dimensionless), whose standard
 /// error above [`VAGUE`] gets a note.
-pub const ARGUMENT_PARAMETERS: [&str; 2] = ["in.arg_at_centre", "out.arg_at_centre"];
+pub const ARGUMENT_PARAMETERS: [&str; 2] = [IN_ARG_AT_CENTRE, OUT_ARG_AT_CENTRE];
 
 /// A scale whose standard error is above this multiple of its value, or an argument whose
 /// standard error is above this, is hardly identified.
@@ -776,13 +777,13 @@ mod tests {
         let y = model.run(&x).unwrap();
         let data = Dataset::single(&x, &y);
         let with = |scale_se: f64, arg_se: f64| {
-            let mut scale = estimate("out.scale", scale_se);
+            let mut scale = estimate(OUT_SCALE, scale_se);
             scale.value = 20.0;
             let estimates = [
                 estimate("k1", 0.01),
                 estimate("k2", 0.5),
                 scale,
-                estimate("out.arg_at_centre", arg_se),
+                estimate(OUT_ARG_AT_CENTRE, arg_se),
             ];
             diagnose(
                 &data,
@@ -803,6 +804,6 @@ mod tests {
             "{d:?}"
         );
         let d = with(5.0, 1e4);
-        assert!(d.notes[0].contains("out.arg_at_centre"), "{d:?}");
+        assert!(d.notes[0].contains(OUT_ARG_AT_CENTRE), "{d:?}");
     }
 }

@@ -19,7 +19,9 @@ use serde::Serialize;
 use crate::data::History;
 use crate::lm::{Infeasible, LevenbergMarquardt, Observer, Problem, Termination};
 use crate::model::FitReal;
-use crate::structure::{Layout, Normalisation, Structure};
+use crate::structure::{
+    Layout, Normalisation, Structure, IN_ARG_AT_CENTRE, IN_SCALE, OUT_ARG_AT_CENTRE, OUT_SCALE,
+};
 use crate::widths::{family_widths, FamilyWidths};
 use crate::{Dataset, FitError, SmoothModel};
 
@@ -827,10 +829,7 @@ const NESTED_SCALE: f64 = 30.0;
 /// data cannot tell apart there.
 fn linear_limit_parameters(layout: &Layout, theta: &[f64]) -> Vec<&'static str> {
     let mut out = Vec::new();
-    for (scale, arg) in [
-        ("in.scale", "in.arg_at_centre"),
-        ("out.scale", "out.arg_at_centre"),
-    ] {
+    for (scale, arg) in [(IN_SCALE, IN_ARG_AT_CENTRE), (OUT_SCALE, OUT_ARG_AT_CENTRE)] {
         let wide = layout
             .index(scale)
             .and_then(|i| Some(layout.params.get(i)?.transform.value(*theta.get(i)?)))
@@ -971,9 +970,9 @@ fn embed(
     let mut theta = Vec::with_capacity(layout.len());
     for spec in &layout.params {
         let v = match (spec.name.as_str(), saturating, saturating_input) {
-            ("in.scale", _, true) => wide,
-            ("in.arg_at_centre", _, true) | ("out.arg_at_centre", true, _) => 0.0,
-            ("out.scale", true, _) => scale,
+            (IN_SCALE, _, true) => wide,
+            (IN_ARG_AT_CENTRE, _, true) | (OUT_ARG_AT_CENTRE, true, _) => 0.0,
+            (OUT_SCALE, true, _) => scale,
             ("out.slope", true, _) => value("out.gain")?,
             ("out.level_at_centre", true, _) => level,
             (name, _, _) => value(name).unwrap_or(0.0),

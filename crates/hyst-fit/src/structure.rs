@@ -16,6 +16,15 @@ use crate::model::{FitReal, Form, InitialState};
 use crate::SmoothModel;
 use hyst_core::ScaledShaping;
 
+/// The scale of the saturating input shaping ψ_in (the model file's and the report's name).
+pub const IN_SCALE: &str = "in.scale";
+/// ψ_in's argument at the centre of the input range (dimensionless).
+pub const IN_ARG_AT_CENTRE: &str = "in.arg_at_centre";
+/// The scale of the saturating output shaping ψ_out.
+pub const OUT_SCALE: &str = "out.scale";
+/// ψ_out's argument at the centre of its range (dimensionless).
+pub const OUT_ARG_AT_CENTRE: &str = "out.arg_at_centre";
+
 /// A shaping function family for ψ_in or ψ_out. Its kebab-case name (`affine`, `poly2`, `poly3`,
 /// `tanh`, `langevin`, `quad-exp`) is the model file's and the command line's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -239,8 +248,8 @@ impl Layout {
                 add("in.p2", "1", Linear, Op, 0.0);
                 add("in.p3", "1", Linear, Op, 0.0);
             }
-            ShapingKind::Tanh => add("in.scale", "normalised input", Log, Op, 1.0),
-            ShapingKind::Langevin => add("in.scale", "normalised input", Log, Op, 0.3),
+            ShapingKind::Tanh => add(IN_SCALE, "normalised input", Log, Op, 1.0),
+            ShapingKind::Langevin => add(IN_SCALE, "normalised input", Log, Op, 0.3),
             ShapingKind::QuadExp => {
                 add("in.a", "1", Log, Op, 0.01);
                 add("in.b", "1", Linear, Op, 6.0);
@@ -253,7 +262,7 @@ impl Layout {
         if input_offset && structure.input_shaping.saturating() {
             // A saturating ψ_in is normalised at the input's centre (value 0, slope 1 there):
             // its offset is the argument of the shape at the centre.
-            add("in.arg_at_centre", "1", Linear, Op, 0.0);
+            add(IN_ARG_AT_CENTRE, "1", Linear, Op, 0.0);
         } else if input_offset {
             add("in.offset", "normalised input", Linear, Op, 0.0);
         }
@@ -273,8 +282,8 @@ impl Layout {
                     (ShapingKind::Tanh, Form::Stop) => (2.0, "k1"),
                     (_, Form::Stop) => (0.5, "k1"),
                 };
-                add("out.scale", unit, Log, Out, scale);
-                add("out.arg_at_centre", "1", Linear, Out, 0.0);
+                add(OUT_SCALE, unit, Log, Out, scale);
+                add(OUT_ARG_AT_CENTRE, "1", Linear, Out, 0.0);
             }
             ShapingKind::QuadExp => {
                 add("out.a", "1", Log, Out, 0.01);
@@ -411,8 +420,8 @@ impl Layout {
             )?),
             ShapingKind::Tanh | ShapingKind::Langevin => {
                 return self.saturating_input_shaping(
-                    get("in.scale"),
-                    get("in.arg_at_centre"),
+                    get(IN_SCALE),
+                    get(IN_ARG_AT_CENTRE),
                     pre_gain,
                     pre_offset,
                 );
@@ -448,7 +457,7 @@ impl Layout {
         let post_offset = -(gain * value);
         if !(gain.is_finite() && gain > T::zero() && post_offset.is_finite()) {
             return Err(hyst_core::Error::InvalidParameter {
-                name: "in.arg_at_centre",
+                name: IN_ARG_AT_CENTRE,
                 value: arg_at_centre.as_f64(),
                 expected: "an argument where the shape is not flat",
             });
@@ -504,8 +513,8 @@ impl Layout {
             };
             let centre = (v_range.0 + v_range.1) * c(0.5);
             return self.saturating_output_shaping(
-                get("out.scale"),
-                get("out.arg_at_centre"),
+                get(OUT_SCALE),
+                get(OUT_ARG_AT_CENTRE),
                 slope,
                 level,
                 (unit, centre),
@@ -576,7 +585,7 @@ impl Layout {
         let offset = level.map_or_else(T::zero, |l| l - gain * value);
         if !(gain.is_finite() && gain > T::zero() && offset.is_finite()) {
             return Err(hyst_core::Error::InvalidParameter {
-                name: "out.arg_at_centre",
+                name: OUT_ARG_AT_CENTRE,
                 value: arg_at_centre.as_f64(),
                 expected: "an argument where the shape is not flat",
             });

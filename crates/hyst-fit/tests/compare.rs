@@ -2,9 +2,10 @@
 //! loops, which a Prandtl–Ishlinskii model cannot make: the smooth fit is kept, with a note,
 //! instead of the whole command failing on the baseline.
 
-use hyst_fit::identify::{identify, Request};
-use hyst_fit::lm::Silent;
-use hyst_fit::modelfile::{ModelKind, Provenance};
+mod common;
+use common::identify;
+use hyst_fit::identify::Request;
+use hyst_fit::modelfile::ModelKind;
 use hyst_fit::{Dataset, FitError};
 
 /// Dahl friction (N) along a stroke of two sines (mm): dF = σ dx (1 − F/Fc · sign dx).
@@ -38,13 +39,7 @@ fn compare_on_clockwise_loops_keeps_the_smooth_fit() -> Result<(), FitError> {
         compare: true,
         ..Request::default()
     };
-    let done = identify(
-        &data,
-        &request,
-        &mut Silent,
-        &|| false,
-        Provenance::default(),
-    )?;
+    let done = identify(&data, &request)?;
     assert_eq!(done.report.model.kind, ModelKind::Smooth);
     assert!(done.pi.is_none());
     assert_eq!(done.report.comparison.len(), 1);
@@ -62,7 +57,7 @@ fn compare_on_clockwise_loops_keeps_the_smooth_fit() -> Result<(), FitError> {
         kind: ModelKind::PrandtlIshlinskii,
         ..Request::default()
     };
-    let Err(err) = identify(&data, &pi, &mut Silent, &|| false, Provenance::default()) else {
+    let Err(err) = identify(&data, &pi) else {
         return Err(FitError::Invalid("PI fitted a clockwise loop".into()));
     };
     assert!(err.to_string().contains("run clockwise"), "{err}");
@@ -86,13 +81,7 @@ fn a_butterfly_is_refused_unless_kept() -> Result<(), FitError> {
         })
         .collect();
     let data = Dataset::single(&h, &strain);
-    let Err(err) = identify(
-        &data,
-        &Request::default(),
-        &mut Silent,
-        &|| false,
-        Provenance::default(),
-    ) else {
+    let Err(err) = identify(&data, &Request::default()) else {
         return Err(FitError::Invalid("a butterfly was fitted".into()));
     };
     assert!(matches!(err, FitError::Degenerate(_)), "{err}");
@@ -103,9 +92,6 @@ fn a_butterfly_is_refused_unless_kept() -> Result<(), FitError> {
             keep_degenerate: true,
             ..Request::default()
         },
-        &mut Silent,
-        &|| false,
-        Provenance::default(),
     )?;
     assert!(kept.report.findings.degenerate);
     Ok(())

@@ -3,10 +3,10 @@
 //! fit starts each record as after a fall (`StartChoice::Auto`), finds the loop and is not
 //! refused as "no hysteresis".
 
+mod common;
+use common::identify;
 use hyst_core::{Hysteresis, Operator};
-use hyst_fit::identify::{identify, Request};
-use hyst_fit::lm::Silent;
-use hyst_fit::modelfile::Provenance;
+use hyst_fit::identify::Request;
 use hyst_fit::{Dataset, FitError, InitialState, Record, ShapingKind, Structure};
 
 /// 20 curves of m = tanh(2 H(0.3, 6)[h]): each falls from saturation (h = 1.5) to its reversal
@@ -48,13 +48,7 @@ fn curves_that_only_rise_start_as_after_a_fall_and_keep_their_loop() -> Result<(
         },
         ..Request::default()
     };
-    let done = identify(
-        &data,
-        &request,
-        &mut Silent,
-        &|| false,
-        Provenance::default(),
-    )?;
+    let done = identify(&data, &request)?;
     let fit = done
         .smooth
         .ok_or(FitError::Invalid("no smooth fit".into()))?;

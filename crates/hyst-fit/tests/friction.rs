@@ -5,29 +5,16 @@
 //! data is reported as degenerate instead of returned as a line.
 
 mod common;
+use common::identify;
 use common::normals;
-use hyst_fit::identify::{identify, Request};
-use hyst_fit::lm::Silent;
-use hyst_fit::modelfile::Provenance;
+use hyst_fit::identify::Request;
 use hyst_fit::orientation::{loops, FormChoice, Orientation};
 use hyst_fit::{Dataset, FitError, Form, ModelFile};
 use hyst_sim::LuGre;
 
 /// A piston stroke: three sines of incommensurate frequencies (mm), 1 kHz, 8 s.
 fn stroke(seed: u64) -> Vec<f64> {
-    let r = normals(9, seed);
-    (0..8000)
-        .map(|k| {
-            let t = k as f64 * 1e-3;
-            (0..3)
-                .map(|i| {
-                    let amp = 4.0 + 2.0 * r[3 * i].abs();
-                    let f = 0.3 + 0.4 * r[3 * i + 1].abs();
-                    amp * (2.0 * std::f64::consts::PI * f * t + r[3 * i + 2]).sin()
-                })
-                .sum()
-        })
-        .collect()
+    common::stroke(8000, seed, 0.3, 0.4)
 }
 
 /// Friction of a seal (N) along the stroke, with 0.5 N of sensor noise.
@@ -121,13 +108,7 @@ fn default_fit_of_seal_friction_takes_the_stop_form_within_six_percent() -> Resu
     for (k, seal) in seals().into_iter().enumerate() {
         let data = record(seal, 11 + k as u64)?;
         assert_eq!(loops(&data).orientation, Orientation::Clockwise);
-        let done = identify(
-            &data,
-            &Request::default(),
-            &mut Silent,
-            &|| false,
-            Provenance::default(),
-        )?;
+        let done = identify(&data, &Request::default())?;
         let fit = done
             .smooth
             .ok_or(FitError::Invalid("no smooth fit".into()))?;
@@ -174,13 +155,7 @@ fn the_operator_form_forced_onto_friction_is_reported_degenerate() -> Result<(),
         form: FormChoice::Operator,
         ..Request::default()
     };
-    let Err(err) = identify(
-        &data,
-        &request,
-        &mut Silent,
-        &|| false,
-        Provenance::default(),
-    ) else {
+    let Err(err) = identify(&data, &request) else {
         return Err(FitError::Invalid(
             "the operator form fitted friction".into(),
         ));
@@ -199,9 +174,6 @@ fn the_operator_form_forced_onto_friction_is_reported_degenerate() -> Result<(),
             keep_degenerate: true,
             ..request
         },
-        &mut Silent,
-        &|| false,
-        Provenance::default(),
     )?;
     assert!(kept.report.findings.degenerate);
     assert!(kept.report.findings.notes[0].starts_with("no hysteresis found"));

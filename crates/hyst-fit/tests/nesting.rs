@@ -25,19 +25,7 @@ const SAMPLES: usize = if FULL { 3000 } else { 1500 };
 
 /// A seal's friction (N) along a stroke of three sines (mm), 1 kHz, 0.5 N of noise.
 fn friction() -> Result<Dataset, FitError> {
-    let r = normals(9, 5);
-    let x: Vec<f64> = (0..SAMPLES)
-        .map(|k| {
-            let t = k as f64 * 1e-3;
-            (0..3)
-                .map(|i| {
-                    let amp = 4.0 + 2.0 * r[3 * i].abs();
-                    let f = 0.6 + 0.8 * r[3 * i + 1].abs();
-                    amp * (2.0 * std::f64::consts::PI * f * t + r[3 * i + 2]).sin()
-                })
-                .sum()
-        })
-        .collect();
+    let x = common::stroke(SAMPLES, 5, 0.6, 0.8);
     let seal = LuGre {
         sigma0: 200.0,
         sigma1: 0.5,
