@@ -61,6 +61,18 @@ pub fn as_dtype<'py>(
             "{name}: complex samples; pass the real part (x.real) if that is what is meant"
         )));
     }
+    // numpy reads None as NaN, which the operators would then report as a NaN sample: name the
+    // missing value instead. Only inputs that are not already numeric arrays can hold one.
+    if !matches!(kind.as_deref(), Some("f" | "i" | "u" | "b")) {
+        if x.is_none() {
+            return Err(value_error(format!("{name}: got None, expected numbers")));
+        }
+        if let Some(at) = first_none(x)? {
+            return Err(value_error(format!(
+                "{name}: {at} is None (a missing value); drop or fill the missing samples first"
+            )));
+        }
+    }
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", dtype)?;
     py.import("numpy")?
@@ -70,6 +82,37 @@ pub fn as_dtype<'py>(
                 "{name}: cannot be read as an array of numbers: {e}"
             ))
         })
+}
+
+/// Where `x` (a list, a tuple or an object array, any shape) holds None: "sample i" in one
+/// dimension, "element (i, j, …)" in more; `None` when it holds none or cannot be read as an
+/// array of objects (the conversion that follows then gives its own error).
+fn first_none(x: &Bound<'_, PyAny>) -> PyResult<Option<String>> {
+    let np = x.py().import("numpy")?;
+    let kwargs = PyDict::new(x.py());
+    kwargs.set_item("dtype", "object")?;
+    let Ok(objects) = np.call_method("asarray", (x,), Some(&kwargs)) else {
+        return Ok(None);
+    };
+    let Ok(mask) = np.call_method1("equal", (&objects, x.py().None())) else {
+        return Ok(None);
+    };
+    let at: Vec<Vec<usize>> = np
+        .call_method1("argwhere", (mask,))
+        .and_then(|w| w.call_method0("tolist"))
+        .and_then(|w| w.extract())
+        .unwrap_or_default();
+    Ok(at.first().map(|index| match index.as_slice() {
+        [i] => format!("sample {i}"),
+        [] => "the argument".into(),
+        more => format!(
+            "element ({})",
+            more.iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }))
 }
 
 /// The `shape` of an array, as Python prints it ("?" if it has none).

@@ -85,3 +85,22 @@ def test_fit_survives_odd_data():
     no_panic(hyst.load_model, "\0")
     no_panic(hyst.Compensator, hyst.Hysteresis(0.2, 8.0), np.nan, [1.0])
     no_panic(hyst.Compensator, hyst.Hysteresis(0.2, 8.0), 1.0, [np.inf])
+
+
+def test_missing_values_are_named_not_reported_as_nan():
+    """numpy reads None as NaN; the error names the missing value and where it is."""
+    op = hyst.InverseHysteresis(0.2, 8.0)
+    for x, where in (([0.0, 0.5, None, 1.0], "sample 2"),
+                     (np.array([0.0, None], dtype=object), "sample 1"),
+                     ((None,), "sample 0")):
+        with pytest.raises(ValueError, match=f"{where} is None") as e:
+            op.process(x)
+        assert "NaN" not in str(e.value)
+    with pytest.raises(ValueError, match="got None"):
+        op.process(None)
+    bank = hyst.Bank([0.2, 0.1], [8.0, 1.0])
+    with pytest.raises(ValueError, match=r"element \(1, 0\) is None"):
+        bank.process([[0.0, 0.1], [None, 0.2]])
+    # A real NaN is still a NaN.
+    with pytest.raises(ValueError, match="NaN|nan"):
+        op.process(np.array([0.0, np.nan]))
