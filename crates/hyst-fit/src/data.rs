@@ -94,7 +94,8 @@ pub struct DataOptions {
     pub input: String,
     /// Output column.
     pub output: String,
-    /// Record column; `None` looks for a column called `loop`, `curve_index` or `record`.
+    /// Record column; `None` looks for a column called `loop`, `curve_index`, `record` or
+    /// `segment`.
     pub record: Option<String>,
     /// Use no record column even if one of the usual names exists.
     pub no_record: bool,
@@ -120,7 +121,10 @@ pub struct Dataset {
 }
 
 /// Column names recognised as record columns when none is named.
-pub const RECORD_COLUMNS: [&str; 3] = ["loop", "curve_index", "record"];
+/// (`segment` too: a file of several experiments often labels them so; a column of that name
+/// that is not a record id gets the error naming its line, and `--no-record` reads the file as
+/// one record.)
+pub const RECORD_COLUMNS: [&str; 4] = ["loop", "curve_index", "record", "segment"];
 
 impl Dataset {
     /// Builds a dataset from a table read by `hyst_io` (which has already refused non-numeric
@@ -483,5 +487,34 @@ fn abbreviate(items: &[String]) -> String {
             items[..6].join(", "),
             items[items.len() - 3..].join(", ")
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two experiments labelled by a `segment` column: two records, found without `--record`;
+    /// `no_record` reads them as one.
+    #[test]
+    fn a_segment_column_splits_the_file_unless_told_not_to() -> Result<(), FitError> {
+        let table = Table::parse(b"u,y,segment\n0,0,1\n1,1,1\n0,0.5,2\n1,1.5,2\n", "s.csv")?;
+        let options = DataOptions {
+            input: "u".into(),
+            output: "y".into(),
+            ..DataOptions::default()
+        };
+        let data = Dataset::from_table(&table, &options)?;
+        assert_eq!(data.records.len(), 2);
+        assert_eq!(data.columns.record.as_deref(), Some("segment"));
+        let one = Dataset::from_table(
+            &table,
+            &DataOptions {
+                no_record: true,
+                ..options
+            },
+        )?;
+        assert_eq!(one.records.len(), 1);
+        Ok(())
     }
 }

@@ -3,7 +3,8 @@
 //!
 //! Contract:
 //! - DATA is a CSV file with a header; `--input` and `--output` name the columns. A column
-//!   `loop`, `curve_index` or `record` (or `--record NAME`) splits it into independent records.
+//!   `loop`, `curve_index`, `record` or `segment` (or `--record NAME`) splits it into independent
+//!   records.
 //! - The model file (`-o`, TOML, docs/formats.md) is written atomically after the fit: an error
 //!   or Ctrl-C leaves no file behind (and an existing file untouched).
 //! - The report goes to stdout (text, or JSON with `--json`); progress to stderr.
@@ -90,7 +91,7 @@ pub struct Args {
     /// from saturation), `rising` when every record only falls, `rising` otherwise.
     #[arg(long, value_enum, default_value_t = StartChoice::Auto)]
     pub initial_state: StartChoice,
-    /// Record column (default: `loop`, `curve_index` or `record` if present).
+    /// Record column (default: `loop`, `curve_index`, `record` or `segment` if present).
     #[arg(long)]
     pub record: Option<String>,
     /// Treat the file as one record even if it has a record column.
