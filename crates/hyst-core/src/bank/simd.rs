@@ -25,10 +25,11 @@ pub trait Simd:
     type T: Lane;
     /// A lane mask (the result of a comparison).
     type M: Copy;
-    /// The chunk a one-tick `step` runs on: two vectors where the instruction set has 16
-    /// vector registers of 256 or 512 bits, four otherwise (as blocks do). Fewer than a block's
-    /// four, because a visit of one tick holds all its state in registers at once (measured:
-    /// docs/performance.md, "Where a tick of `step` goes").
+    /// The chunk a one-tick `step` runs on: one vector for AVX-512 f64, two for AVX-512 f32 and
+    /// AVX2, four for SSE2 and the portable kernel (as blocks do). Fewer than a block's four,
+    /// because `step` holds the state of two chunks in registers at once (it loads the next
+    /// chunk before storing this one; measured: docs/performance.md, "Where a tick of `step`
+    /// goes").
     type Tick: Simd<T = Self::T>;
     /// Lanes per vector.
     const LANES: usize;

@@ -478,7 +478,7 @@ macro_rules! avx512_simd {
 
 avx512_simd!(
     F64x8,
-    Pair<F64x8>,
+    F64x8,
     f64,
     __m512d,
     __mmask8,
