@@ -384,8 +384,7 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
     block: &mut Block<'_, V::T>,
 ) -> Result<Option<usize>, BankError> {
     // Every column cut to the same length `n` here, once a call: a chunk's loads and stores
-    // then share one range check (`start + LANES <= n`) instead of one per column, which
-    // mattered for `step` (one tick a call, so these checks are not spread over a tile).
+    // then share one range check (`start + LANES <= n`) instead of one per column.
     let cols = &mut cols.cut(cols.k1.len());
     let n = cols.k1.len();
     if block.samples == 1 && block.begin == 0 && block.end >= 1 {
@@ -423,24 +422,7 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
                 }
                 scatter(block.output, &layout, start, width, t, y);
             }
-            put(cols.last_input, start, width, st.lin);
-            put(cols.last_output, start, width, st.lout);
-            // The reversal point, the sign and the direct formula's cache change only at
-            // reversals (and at a channel's first sample): most calls of a few ticks skip them.
-            if changed {
-                put(cols.reversal_input, start, width, st.rin);
-                put(cols.reversal_output, start, width, st.rout);
-                let sign = if F::DIRECT {
-                    st.sign
-                } else {
-                    sign_of(st.neg_k2)
-                };
-                put(cols.sign, start, width, sign);
-                if F::DIRECT {
-                    put(cols.m_star, start, width, st.m_star);
-                    put(cols.ln_a, start, width, st.ln_a);
-                }
-            }
+            put_state::<V, F>(cols, start, width, &st, changed);
             start += width;
         }
         if stop.is_some() {
@@ -532,21 +514,15 @@ fn one_tick<V: Simd, F: BankFormula>(
         let (mut st, mut changed) = load::<V, F>(&one, 0, l, x);
         loop {
             let y = tick::<V, F>(&mut st, x, start, l, &mut changed)?;
-            let next = chunks.next();
-            let ahead = match &next {
-                Some((_, c, i, _)) => {
-                    let x = column::<V>(i, 0, l, zero);
-                    Some((x, load::<V, F>(c, 0, l, x)))
-                }
-                None => None,
+            let Some((next_start, next, next_input, next_output)) = chunks.next() else {
+                store::<V, F>(&mut one, output, 0, l, &st, y, changed);
+                break;
             };
+            let next_x = column::<V>(next_input, 0, l, zero);
+            let (next_st, next_changed) = load::<V, F>(&next, 0, l, next_x);
             store::<V, F>(&mut one, output, 0, l, &st, y, changed);
-            match (next, ahead) {
-                (Some((s, c, _, o)), Some((xn, (stn, chn)))) => {
-                    (start, one, output, x, st, changed) = (s, c, o, xn, stn, chn);
-                }
-                _ => break,
-            }
+            (start, one, output) = (next_start, next, next_output);
+            (x, st, changed) = (next_x, next_st, next_changed);
         }
     }
     if full < n {
@@ -573,8 +549,7 @@ fn visit<V: Simd, F: BankFormula>(
     Ok(())
 }
 
-/// A chunk's outputs `y` and state after a tick into its columns: the last point, and the
-/// reversal point, the sign and the direct formula's cache when some lane `changed` them.
+/// A chunk's outputs `y` of one tick and its state after it into its columns.
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn store<V: Simd, F: BankFormula>(
     cols: &mut ColumnsMut<'_, V::T>,
@@ -586,6 +561,21 @@ fn store<V: Simd, F: BankFormula>(
     changed: bool,
 ) {
     put(output, start, width, y);
+    put_state::<V, F>(cols, start, width, st, changed);
+}
+
+/// A chunk's state into its columns (channels `start .. start + width`): the last point, and
+/// the reversal point, the sign and the direct formula's cache only when some lane `changed`
+/// them (they change only at reversals and at a channel's first sample: most calls of a few
+/// ticks skip them).
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn put_state<V: Simd, F: BankFormula>(
+    cols: &mut ColumnsMut<'_, V::T>,
+    start: usize,
+    width: usize,
+    st: &State<V>,
+    changed: bool,
+) {
     put(cols.last_input, start, width, st.lin);
     put(cols.last_output, start, width, st.lout);
     if changed {
