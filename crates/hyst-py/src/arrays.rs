@@ -49,7 +49,6 @@ pub fn as_dtype<'py>(
     name: &str,
     dtype: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let py = x.py();
     // numpy would drop the imaginary part with only a warning.
     let kind: Option<String> = x
         .getattr("dtype")
@@ -73,15 +72,20 @@ pub fn as_dtype<'py>(
             )));
         }
     }
-    let kwargs = PyDict::new(py);
+    asarray(x, dtype).map_err(|e| {
+        value_error(format!(
+            "{name}: cannot be read as an array of numbers: {e}"
+        ))
+    })
+}
+
+/// `numpy.asarray(x, dtype=dtype)`.
+fn asarray<'py>(x: &Bound<'py, PyAny>, dtype: &str) -> PyResult<Bound<'py, PyAny>> {
+    let kwargs = PyDict::new(x.py());
     kwargs.set_item("dtype", dtype)?;
-    py.import("numpy")?
+    x.py()
+        .import("numpy")?
         .call_method("asarray", (x,), Some(&kwargs))
-        .map_err(|e| {
-            value_error(format!(
-                "{name}: cannot be read as an array of numbers: {e}"
-            ))
-        })
 }
 
 /// Where `x` (a list, a tuple or an object array, any shape) holds None: "sample i" in one
@@ -89,9 +93,7 @@ pub fn as_dtype<'py>(
 /// array of objects (the conversion that follows then gives its own error).
 fn first_none(x: &Bound<'_, PyAny>) -> PyResult<Option<String>> {
     let np = x.py().import("numpy")?;
-    let kwargs = PyDict::new(x.py());
-    kwargs.set_item("dtype", "object")?;
-    let Ok(objects) = np.call_method("asarray", (x,), Some(&kwargs)) else {
+    let Ok(objects) = asarray(x, "object") else {
         return Ok(None);
     };
     let Ok(mask) = np.call_method1("equal", (&objects, x.py().None())) else {
