@@ -120,10 +120,9 @@ pub struct Dataset {
     pub records: Vec<Record>,
 }
 
-/// Column names recognised as record columns when none is named.
-/// (`segment` too: a file of several experiments often labels them so; a column of that name
-/// that is not a record id gets the error naming its line, and `--no-record` reads the file as
-/// one record.)
+/// Column names recognised as record columns when none is named. `segment` is one because a
+/// file of several experiments often labels them so; a column of that name that is not a
+/// record id gets the error naming its line, and `--no-record` reads the file as one record.
 pub const RECORD_COLUMNS: [&str; 4] = ["loop", "curve_index", "record", "segment"];
 
 impl Dataset {

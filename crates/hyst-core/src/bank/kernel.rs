@@ -502,7 +502,7 @@ fn one_tick<V: Simd, F: BankFormula>(
     // that no load waits on an older store to an address equal modulo 4 KiB (the columns are
     // separate allocations; whether two of them alias depends on where they lie).
     // Measured (docs/performance.md): `step` inverse 6–12 % faster, f32 8–18 %, and the f64
-    // direct operator 2–3 %; the f32 direct operator, whose chunks of two vectors of 16 or 8
+    // direct operator 1–3 %; the f32 direct operator, whose chunks of two vectors of 16 or 8
     // lanes with its larger state spill registers when two chunks are live, 6 % slower.
     if F::DIRECT && core::mem::size_of::<V::T>() != 8 {
         for (start, mut one, input, output) in chunks {
