@@ -499,11 +499,13 @@ fn one_tick<V: Simd, F: BankFormula>(
         (start, one, input, output)
     });
     // Software-pipelined: the next chunk's state is loaded before this chunk's is stored, so
-    // that no load waits on an older store to an address equal modulo 4 KiB (the columns are
-    // separate allocations; whether two of them alias depends on where they lie).
-    // Measured (docs/performance.md): `step` inverse 6–12 % faster, f32 8–18 %, and the f64
-    // direct operator 1–3 %; the f32 direct operator, whose chunks of two vectors of 16 or 8
-    // lanes with its larger state spill registers when two chunks are live, 6 % slower.
+    // that no load waits on the store just before it to an address equal modulo 4 KiB (a
+    // `Vec` bank spreads its columns modulo 4 KiB, which keeps older stores apart; an array
+    // bank's columns may agree there). Measured with the columns in separate allocations
+    // (docs/performance.md): `step` inverse 6–12 % faster, f32 8–18 %, and the f64 direct
+    // operator 1–3 %; the f32 direct operator, whose chunks of two vectors of 16 or 8 lanes
+    // with its larger state spill registers when two chunks are live, 6 % slower (and in
+    // one run with the spread columns the f32 inverse took 0.968 ns pipelined, 1.023 not).
     if F::DIRECT && core::mem::size_of::<V::T>() != 8 {
         for (start, mut one, input, output) in chunks {
             visit::<V, F>(&mut one, input, output, start, l)?;
