@@ -3,9 +3,14 @@
 //! per channel-sample, each figure the fastest of interleaved rounds (on a shared machine the
 //! slower rounds measure the neighbours).
 //!
-//! Three ways of running, each against the scalar operators run the same way:
+//! Four ways of running, each against the scalar operators run the same way:
 //! - tick by tick (the controller's loop: `step` with one sample per channel; the scalar
-//!   operators stepped once each per tick) — the data (8 KiB a tick) stays in L1;
+//!   operators stepped once each per tick), each tick's row (8 KiB for f64) read from a block of
+//!   256 rows that the other workloads push out of the caches between rounds: rows that arrive
+//!   cold, as from a sensor's DMA;
+//! - tick by tick with the rows in cache (`hot`): the same, over eight rows (the first eight
+//!   ticks, in the order 0, 1, …, 7, 6, …, 1, 0, 1, …), as when the controller has just computed
+//!   the row it passes;
 //! - blocks of 32 ticks (`process_ticks`, time-major; the scalar operators each `process`
 //!   their channel's 32 samples) — 256 KiB in and out for f64, in L2;
 //! - a block of 256 ticks — 2 MiB in and 2 MiB out for f64, more than L2 holds, so the bank's
@@ -81,6 +86,16 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a
     };
     let (mut b1, mut b2, mut s1, mut s2) = (bank(), bank(), ops(), ops());
     let (mut b3, mut s3) = (bank(), ops());
+    // Eight rows, back and forth: row i of the `hot` workloads.
+    let hot: Vec<T> = ticks[..8 * CHANNELS].to_vec();
+    let hot_row = |i: usize| {
+        let m = i % 14;
+        let r = if m < 8 { m } else { 14 - m };
+        r * CHANNELS..(r + 1) * CHANNELS
+    };
+    let (h1, h2) = (hot.clone(), hot);
+    let (mut b4, mut s4) = (bank(), ops());
+    let (mut o7, mut o8) = (vec![T::zero(); CHANNELS], vec![T::zero(); CHANNELS]);
     let (t1, t2, t3, t5, c4) = (
         ticks.clone(),
         ticks.clone(),
@@ -119,6 +134,14 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a
             }),
         ),
         (
+            format!("hot   bank   {name}"),
+            Box::new(move || {
+                for i in 0..TICKS {
+                    b4.step(black_box(&h1[hot_row(i)]), &mut o7).unwrap();
+                }
+            }),
+        ),
+        (
             format!("tick  scalar {name}"),
             Box::new(move || {
                 for row in t3.chunks_exact(CHANNELS) {
@@ -147,6 +170,17 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a
                         let r = c * TICKS + b * SHORT..c * TICKS + (b + 1) * SHORT;
                         let o = c * SHORT..(c + 1) * SHORT;
                         op.process(black_box(&channels[r]), &mut o6[o]).unwrap();
+                    }
+                }
+            }),
+        ),
+        (
+            format!("hot   scalar {name}"),
+            Box::new(move || {
+                for i in 0..TICKS {
+                    let row = &h2[hot_row(i)];
+                    for ((op, y), x) in s4.iter_mut().zip(o8.iter_mut()).zip(black_box(row)) {
+                        *y = op.step(*x);
                     }
                 }
             }),
@@ -184,14 +218,15 @@ fn main() {
     for ((name, _), ns) in all.iter().zip(&best) {
         println!("{name:<26} {ns:>7.3} ns/channel-sample");
     }
-    // Per (formula, precision), 6 jobs: bank tick, block, short; scalar tick, block, short.
+    // Per (formula, precision), 8 jobs: bank tick, block, short, hot; scalar the same.
     for (mode, k) in [
         ("tick by tick", 0),
         ("block of 256", 1),
         ("blocks of 32", 2),
+        ("tick by tick, rows in cache", 3),
     ] {
-        let (inv, dir, inv32) = (best[k], best[6 + k], best[12 + k]);
-        let (sinv, sdir) = (best[3 + k], best[9 + k]);
+        let (inv, dir, inv32) = (best[k], best[8 + k], best[16 + k]);
+        let (sinv, sdir) = (best[4 + k], best[12 + k]);
         println!(
             "{mode}: inverse {:.3} x scalar (goal <= 0.25), direct {:.3} x scalar (goal <= 0.33), \
              f32 inverse {:.3} x f64 (goal <= 0.5), f32 inverse {:.0} M channel-samples/s \
