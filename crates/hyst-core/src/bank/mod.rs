@@ -3,10 +3,12 @@
 //!
 //! The state is a structure of arrays over storage `S` (`[T; N]` arrays without allocation, or
 //! with `std` one `Vec<T>` whose columns start five cache lines apart modulo 4 KiB, see
-//! [`Storage`]). The channels run in chunks of four vector registers (AVX-512: 32 × f64,
-//! 64 × f32) whose state stays in registers while the ticks go by (four independent dependency
-//! chains per tick, which the processor overlaps), in branch-free code written once against a
-//! small vector trait ([`lanes`] has the elementary functions). With `std` on x86-64 the
+//! [`Storage`]). In blocks the channels run in chunks of four vector registers (AVX-512:
+//! 32 × f64, 64 × f32) whose state stays in registers while the ticks go by (four independent
+//! dependency chains per tick, which the processor overlaps); one tick ([`ParametricBank::step`])
+//! runs chunks of one or two vectors (four with SSE2 and the portable code), the next chunk's
+//! state loaded before this one's is stored. The code is branch-free over lanes, written once
+//! against a small vector trait ([`lanes`] has the elementary functions). With `std` on x86-64 the
 //! instruction set is chosen at run time: AVX-512, else AVX2 + FMA, else SSE2 (x86-64's
 //! baseline); other targets and `no_std` builds run the portable code (plain floats, four
 //! channels at a time). [`isa`] tells which runs, [`force_isa`] chooses one. docs/performance.md
@@ -85,8 +87,9 @@ const COLUMNS: usize = 11;
 /// one's modulo 4 KiB, so that a load of one column never waits on an older store to another
 /// column at an address equal modulo 4 KiB (4K aliasing: the processor compares only the low
 /// 12 bits of addresses before it knows whether they differ). Eleven columns at 320 bytes keep
-/// any two at least five lines apart modulo 4 KiB. Measured (docs/performance.md): `step`
-/// direct f64 5 % faster, f32 16 %, than columns in separate allocations.
+/// any two at least five lines apart modulo 4 KiB. Measured (docs/performance.md), against
+/// columns in separate allocations: `step` direct f64 6–7 % faster, direct f32 8 %, inverse
+/// f64 4–6 %.
 const SPREAD: usize = 320;
 
 /// The bytes of the 4 KiB that addresses are compared in for 4K aliasing.
