@@ -60,9 +60,14 @@ pub fn as_dtype<'py>(
             "{name}: complex samples; pass the real part (x.real) if that is what is meant"
         )));
     }
+    let converted = asarray(x, dtype);
     // numpy reads None as NaN, which the operators would then report as a NaN sample: name the
-    // missing value instead. Only inputs that are not already numeric arrays can hold one.
-    if !matches!(kind.as_deref(), Some("f" | "i" | "u" | "b")) {
+    // missing value instead. Only inputs that are not already numeric arrays can hold one, and
+    // only a conversion that failed or holds a NaN is searched for it (the search converts the
+    // input once more, to objects).
+    if !matches!(kind.as_deref(), Some("f" | "i" | "u" | "b"))
+        && converted.as_ref().map_or(true, has_nan)
+    {
         if x.is_none() {
             return Err(value_error(format!("{name}: got None, expected numbers")));
         }
@@ -72,11 +77,21 @@ pub fn as_dtype<'py>(
             )));
         }
     }
-    asarray(x, dtype).map_err(|e| {
+    converted.map_err(|e| {
         value_error(format!(
             "{name}: cannot be read as an array of numbers: {e}"
         ))
     })
+}
+
+/// Whether the numeric array `a` holds a NaN (true when that cannot be told).
+fn has_nan(a: &Bound<'_, PyAny>) -> bool {
+    a.py()
+        .import("numpy")
+        .and_then(|np| np.call_method1("isnan", (a,)))
+        .and_then(|m| m.call_method0("any"))
+        .and_then(|b| b.extract())
+        .unwrap_or(true)
 }
 
 /// `numpy.asarray(x, dtype=dtype)`.
