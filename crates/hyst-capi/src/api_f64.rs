@@ -2,7 +2,7 @@
 //! `scripts/gen-capi-f32`: edit this one). No allocation, no standard library; every state lives in
 //! caller memory.
 
-use hyst_core::{ConstantK2, Identity, InverseHysteresis, Model};
+use hyst_core::{ConstantK2, Identity, InverseHysteresis, ShapedModel};
 
 use crate::engine::{self, Comp, MemoryFields, Pair, PlainComp, Shaped, ShapedComp};
 use crate::slot;
@@ -120,7 +120,7 @@ pub struct hyst_model_params {
 }
 
 impl hyst_model_params {
-    fn model(&self) -> Result<engine::ShapedModel<f64>, hyst_core::Error> {
+    fn model(&self) -> Result<engine::AnyShapedModel<f64>, hyst_core::Error> {
         let k2 = &self.k2;
         let law = engine::k2_law(k2.kind, k2.value, k2.slope, k2.min, k2.max)?;
         let s = |s: &hyst_shaping| {
@@ -586,7 +586,7 @@ unsafe fn plant(
 
 /// Builds the compensator of `inverse` for the plant read by [`plant`].
 fn build<I, K, O>(
-    inverse: hyst_core::InverseModel<f64, I, K, O>,
+    inverse: hyst_core::InverseShapedModel<f64, I, K, O>,
     b: f64,
     plant: &(
         [f64; engine::HYST_MAX_ORDER + 1],
@@ -721,8 +721,8 @@ pub unsafe extern "C" fn hyst_compensator_init(
         Err(s) => return s,
     };
     let built = InverseHysteresis::new(k1, k2)
-        .and_then(|h| Model::new(Identity, h.direct(), Identity))
-        .and_then(|m: Model<f64, Identity, ConstantK2<f64>, Identity>| {
+        .and_then(|h| ShapedModel::new(Identity, h.direct(), Identity))
+        .and_then(|m: ShapedModel<f64, Identity, ConstantK2<f64>, Identity>| {
             build(m.inverse(), b, &plant, n)
         });
     match built {

@@ -162,7 +162,7 @@ pub unsafe extern "C" fn hyst_bank_channels(bank: *const hyst_bank) -> usize {
     each!(unsafe { &(*bank).inner }, b => b.channels())
 }
 
-/// `process_ticks`, and an output beyond the float range refused as `hyst_operator_step`
+/// `process`, and an output beyond the float range refused as `hyst_operator_step`
 /// refuses it (`HYST_ERR_OVERFLOW`), with every memory as before the call on any error. The
 /// core stops a block at its first failing tick with the ticks before it processed, and only a
 /// non-finite sample, or an input or k1 near the float range (outputs lie within k1 of a line
@@ -182,7 +182,7 @@ fn process<F: BankFormula>(
             let _ = b.set_memory(c, m);
         }
     };
-    if let Err(e) = b.process_ticks(x, y) {
+    if let Err(e) = b.process(x, y) {
         restore(b, saved);
         return Err(e);
     }

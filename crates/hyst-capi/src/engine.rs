@@ -5,8 +5,8 @@ use core::ptr;
 
 use hyst_core::{
     AffineK2, AnyK2Law, AnyShaping, Compensator, ConstantK2, Direction, Error, Hysteresis,
-    Identity, InverseHysteresis, InverseModel, Jet, Langevin, Memory, Model, Operator, Polynomial,
-    QuadraticExp, Real, ScaledShaping, Tanh,
+    Identity, InverseHysteresis, InverseShapedModel, Jet, Langevin, Memory, Operator, Polynomial,
+    QuadraticExp, Real, ScaledShaping, ShapedModel, Tanh,
 };
 
 use crate::status::{self, HYST_ERR_LENGTH, HYST_ERR_NULL_POINTER, HYST_OK};
@@ -14,6 +14,9 @@ use crate::status::{self, HYST_ERR_LENGTH, HYST_ERR_NULL_POINTER, HYST_OK};
 /// The highest time-derivative order of the `_step_derivatives` functions and the highest plant
 /// order n of the compensator.
 pub const HYST_MAX_ORDER: usize = 4;
+
+// One limit on every surface: the core's (cbindgen needs the literal above).
+const _: () = assert!(HYST_MAX_ORDER == hyst_core::compensator::MAX_ORDER);
 
 /// The parametric operator, direct (eq. 2) or inverse (eq. 4).
 #[derive(Clone, Copy, Debug)]
@@ -25,15 +28,16 @@ pub(crate) enum Pair<T: Real> {
 /// The shaped model ψ_out ∘ H ∘ ψ_in, or its exact inverse.
 pub(crate) type Shaping<T> = ScaledShaping<T>;
 /// A shaped model with run-time shaping functions and k2 law.
-pub(crate) type ShapedModel<T> = Model<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
+pub(crate) type AnyShapedModel<T> = ShapedModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
 /// Its exact compensator.
-pub(crate) type ShapedInverse<T> = InverseModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
+pub(crate) type AnyInverseShapedModel<T> =
+    InverseShapedModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
 
 /// The shaped model, direct or inverse.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Shaped<T: Real> {
-    Direct(ShapedModel<T>),
-    Inverse(ShapedInverse<T>),
+    Direct(AnyShapedModel<T>),
+    Inverse(AnyInverseShapedModel<T>),
 }
 
 /// The Lemma 5.1 compensator for plant orders n = 0 … 4 chosen at run time (one
@@ -345,8 +349,8 @@ pub(crate) fn shaped_model<T: Real>(
     law: AnyK2Law<T>,
     input: Shaping<T>,
     output: Shaping<T>,
-) -> Result<ShapedModel<T>, Error> {
-    Model::new(input, Hysteresis::with_k2_law(k1, law)?, output)
+) -> Result<AnyShapedModel<T>, Error> {
+    ShapedModel::new(input, Hysteresis::with_k2_law(k1, law)?, output)
 }
 
 /// The plain operator.
@@ -361,7 +365,7 @@ pub(crate) fn pair<T: Real>(k1: T, k2: T, inverse: bool) -> Result<Pair<T>, Erro
 /// Checks the compensator's plant coefficients and builds it for the order n = `a.len()` ≤ 4,
 /// with the integrators at `state` (n values) or at rest.
 pub(crate) fn compensator<T: Real, I, K, O>(
-    inverse: InverseModel<T, I, K, O>,
+    inverse: InverseShapedModel<T, I, K, O>,
     b: T,
     a: &[T],
     state: Option<&[T]>,
@@ -418,6 +422,6 @@ where
 
     /// The memory of the compensator's inverse model.
     pub(crate) fn memory(&self) -> Option<Memory<T>> {
-        Operator::memory(self.0.inverse_model())
+        Operator::memory(self.0.inverse())
     }
 }

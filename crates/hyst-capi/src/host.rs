@@ -6,8 +6,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 use std::ptr;
 
+use ::hyst_model::{Evaluator, ModelError, ModelFile, Saturated};
 use hyst_core::Operator;
-use hyst_fit::{Evaluator, ModelFile, Saturated};
 
 use crate::status::{
     self, HYST_ERR_INTERNAL, HYST_ERR_INVALID_PARAMETER, HYST_ERR_MODEL_FILE,
@@ -129,7 +129,7 @@ pub unsafe extern "C" fn hyst_model_process(
             let first = Saturated::new((), limits).clamp(first).unwrap_or(first);
             match model.file.evaluator(first, inverse) {
                 Ok(e) => *slot = Some(Saturated::new(e, limits)),
-                Err(hyst_fit::FitError::Core(e)) => return status::of(&e),
+                Err(ModelError::Core(e)) => return status::of(&e),
                 Err(_) => return HYST_ERR_MODEL_FILE,
             }
         }

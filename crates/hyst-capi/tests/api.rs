@@ -12,8 +12,8 @@ use hyst::host::*;
 use hyst::status::*;
 use hyst::{HYST_K2_CONSTANT, HYST_SHAPING_AFFINE, HYST_SHAPING_IDENTITY, HYST_SHAPING_POLYNOMIAL};
 use hyst_core::{
-    Affine, AnyShaping, Compensator, Hysteresis, InverseHysteresis, Jet, Model, Operator,
-    Polynomial, ScaledShaping,
+    Affine, AnyShaping, Compensator, Hysteresis, InverseHysteresis, Jet, Operator, Polynomial,
+    ScaledShaping, ShapedModel,
 };
 
 fn signal(k: usize) -> f64 {
@@ -294,7 +294,8 @@ fn params() -> hyst_model_params {
     p
 }
 
-fn core_model() -> Model<f64, ScaledShaping<f64>, hyst_core::AnyK2Law<f64>, ScaledShaping<f64>> {
+fn core_model() -> ShapedModel<f64, ScaledShaping<f64>, hyst_core::AnyK2Law<f64>, ScaledShaping<f64>>
+{
     let input = ScaledShaping::new(
         0.5,
         0.1,
@@ -312,7 +313,7 @@ fn core_model() -> Model<f64, ScaledShaping<f64>, hyst_core::AnyK2Law<f64>, Scal
     )
     .unwrap();
     let law = hyst_core::AnyK2Law::Constant { value: 8.0 };
-    Model::new(input, Hysteresis::with_k2_law(0.105, law).unwrap(), output).unwrap()
+    ShapedModel::new(input, Hysteresis::with_k2_law(0.105, law).unwrap(), output).unwrap()
 }
 
 #[test]
@@ -388,7 +389,7 @@ fn compensator_equals_the_core_lemma_5_1() {
         .unwrap();
     // The const-order Compensator<_, 2> agrees to rounding: the shaping's Newton inverse on a
     // jet takes one step per order, so order 4 may move the last bit.
-    let mut core2 = Compensator::from_model(&core_model(), 1.0, a)
+    let mut core2 = Compensator::from_shaped_model(&core_model(), 1.0, a)
         .unwrap()
         .with_state(v0)
         .unwrap();
@@ -496,13 +497,13 @@ fn plain_compensator_equals_the_core_and_the_shaped_one_with_identity_shaping() 
             HYST_ERR_NOT_INITIALISED
         );
     }
-    let model = Model::new(
+    let model = ShapedModel::new(
         hyst_core::Identity,
         Hysteresis::new(0.2, 8.0).unwrap(),
         hyst_core::Identity,
     )
     .unwrap();
-    let mut core = Compensator::from_model(&model, 1.0, a).unwrap();
+    let mut core = Compensator::from_shaped_model(&model, 1.0, a).unwrap();
     for k in 0..3000 {
         let u_new = 2.0 * (k as f64 * 0.004).sin();
         let (mut u, mut w) = (0.0, 0.0);
@@ -523,31 +524,38 @@ fn plain_compensator_equals_the_core_and_the_shaped_one_with_identity_shaping() 
 
 fn fitted_model_file(dir: &std::path::Path) -> std::path::PathBuf {
     // A small smooth model file, as `hyst fit` writes it (docs/formats.md).
-    let data: Vec<f64> = (0..600).map(signal).collect();
-    let mut h = Hysteresis::new(0.2, 6.0).unwrap();
-    let out: Vec<f64> = data.iter().map(|x| 3.0 * h.step(*x) + 1.0).collect();
-    let dataset = hyst_fit::Dataset::single(&data, &out);
-    let fit = hyst_fit::fit_smooth(
-        &dataset,
-        hyst_fit::Structure::default(),
-        &hyst_fit::FitOptions::default(),
-        &mut hyst_fit::lm::Silent,
-    )
-    .unwrap();
-    let file = hyst_fit::ModelFile {
-        format: hyst_fit::modelfile::FORMAT.into(),
+    // The operator the data would come from, as a fitted smooth model: y = 3 H(0.2, 6)[x] + 1,
+    // starting as after a rise (a fit of that data recovers it).
+    let model = ::hyst_model::SmoothModel {
+        k1: 0.2,
+        k2: hyst_core::AnyK2Law::Constant { value: 6.0 },
+        input_shaping: hyst_core::ScaledShaping::identity(),
+        output_shaping: hyst_core::ScaledShaping::new(
+            1.0,
+            0.0,
+            hyst_core::AnyShaping::Identity,
+            3.0,
+            1.0,
+        )
+        .unwrap(),
+        initial_state: ::hyst_model::InitialState::Rising,
+        form: ::hyst_model::Form::Operator,
+        linear: 0.0,
+    };
+    let file = ::hyst_model::ModelFile {
+        format: ::hyst_model::file::FORMAT.into(),
         version: 1,
-        kind: hyst_fit::modelfile::ModelKind::Smooth,
-        columns: hyst_fit::Columns {
+        kind: ::hyst_model::ModelKind::Smooth,
+        columns: ::hyst_model::Columns {
             input: "x".into(),
             output: "y".into(),
             ..Default::default()
         },
         units: Default::default(),
-        parameters: fit.estimates.clone(),
+        parameters: Vec::new(),
         metrics: Default::default(),
-        structure: Some(hyst_fit::Structure::default()),
-        smooth: Some(fit.model),
+        structure: Some(::hyst_model::Structure::default()),
+        smooth: Some(model),
         prandtl_ishlinskii: None,
         family: None,
         provenance: Default::default(),
@@ -561,7 +569,7 @@ fn fitted_model_file(dir: &std::path::Path) -> std::path::PathBuf {
 fn host_model_runs_like_the_evaluator_in_one_block_or_many() {
     let dir = tempfile_dir("blocks");
     let path = fitted_model_file(&dir);
-    let file = hyst_fit::ModelFile::read(&path).unwrap();
+    let file = ::hyst_model::ModelFile::read(&path).unwrap();
     let cpath = CString::new(path.to_str().unwrap()).unwrap();
     let mut error = [0 as std::ffi::c_char; 256];
     let m = unsafe { hyst_model_load(cpath.as_ptr(), error.as_mut_ptr(), error.len()) };
@@ -641,7 +649,7 @@ fn tempfile_dir(name: &str) -> std::path::PathBuf {
 fn host_model_saturate_clamps_the_compensators_desired_outputs() {
     let dir = tempfile_dir("saturate");
     let affine = fitted_model_file(&dir);
-    let mut file = hyst_fit::ModelFile::read(&affine).unwrap();
+    let mut file = ::hyst_model::ModelFile::read(&affine).unwrap();
     // The same model with an output saturating at ±2 (tanh).
     if let Some(m) = file.smooth.as_mut() {
         m.output_shaping = hyst_core::ScaledShaping {

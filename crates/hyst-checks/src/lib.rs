@@ -16,8 +16,8 @@ pub mod operators;
 
 pub use operators::check_operators;
 
-use hyst_fit::ModelFile;
 use hyst_io::Table;
+use hyst_model::ModelFile;
 
 /// An error message must be one line (the tools print it after `error: `).
 fn one_line(what: &str, message: &str) -> Result<(), String> {

@@ -19,7 +19,8 @@
 //! 6. The compensator of Lemma 5.1 and jets: no panic, finite outputs or an error.
 
 use hyst_core::{
-    Affine, Compensator, Error, Hysteresis, InverseHysteresis, Jet, Memory, Model, Operator, Real,
+    Affine, Compensator, Error, Hysteresis, InverseHysteresis, Jet, Memory, Operator, Real,
+    ShapedModel,
 };
 
 /// The tolerance of H(H⁻¹(x)) = x in units of ε · s · √(1 + r), r the number of reversals of
@@ -251,7 +252,7 @@ fn check_model<T: Real>(k1: T, k2: T, gains: [T; 4], inputs: &[T]) -> Result<(),
     ) else {
         return Ok(());
     };
-    let Ok(mut model) = Model::new(psi_in, h, psi_out) else {
+    let Ok(mut model) = ShapedModel::new(psi_in, h, psi_out) else {
         return Ok(());
     };
     let mut compensator = model.inverse();
@@ -321,10 +322,10 @@ fn check_dynamic<T: Real>(k1: T, k2: T, coefficients: [T; 3], inputs: &[T]) -> R
     let Ok(h) = Hysteresis::new(k1, k2) else {
         return Ok(());
     };
-    let Ok(model) = Model::new(hyst_core::Identity, h, hyst_core::Identity) else {
+    let Ok(model) = ShapedModel::new(hyst_core::Identity, h, hyst_core::Identity) else {
         return Ok(());
     };
-    if let Ok(mut c) = Compensator::from_model(&model, b, [a1, a2]) {
+    if let Ok(mut c) = Compensator::from_shaped_model(&model, b, [a1, a2]) {
         let dt = T::from_f64(1e-3);
         for &u in inputs {
             match c.try_step(u, dt) {

@@ -4,7 +4,7 @@
 
 use anyhow::{Context, Result};
 use hyst_core::family::delta_a;
-use hyst_fit::report::{shortest, sig};
+use hyst_io::number::{shortest, sig};
 
 /// Arguments of `hyst bound`.
 #[derive(clap::Args, Debug)]

@@ -22,8 +22,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use crate::source::{Chosen, Source};
 use anyhow::{bail, Context, Result};
-use hyst_fit::modelfile::ModelKind;
-use hyst_fit::ModelFile;
+use hyst_model::ModelFile;
+use hyst_model::ModelKind;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipWriter};
 

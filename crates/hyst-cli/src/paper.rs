@@ -185,9 +185,10 @@ pub fn main(args: Args) -> Result<()> {
     let e2_force_err = max_abs(&e2.force_error);
     let e2_force = max_abs(&e2.force);
     let t2 = &e2.trace.t;
-    // Model loop along the same current.
+    // ShapedModel loop along the same current.
     let psi = hyst_core::QuadraticExp::<f64>::example2()?;
-    let mut model = hyst_core::Model::new(hyst_core::Identity, Hysteresis::new(0.06, 5.0)?, psi)?;
+    let mut model =
+        hyst_core::ShapedModel::new(hyst_core::Identity, Hysteresis::new(0.06, 5.0)?, psi)?;
     let model_loop: Vec<f64> = e2.trace.x1.iter().map(|i| model.step(*i)).collect();
     figures.extend(
         Figure::row(vec![

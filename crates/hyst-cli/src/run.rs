@@ -31,12 +31,11 @@ use anyhow::{bail, Context, Result};
 use crate::source::{Chosen, Source};
 use hyst_core::bank::BankFormula;
 use hyst_core::{BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Sample};
-use hyst_fit::modelfile::{Saturation, SATURATION_FRACTION};
-use hyst_fit::report::sig;
+use hyst_io::number::sig;
 use hyst_io::{CsvReader, CsvWriter};
+use hyst_model::saturation::{Saturation, SATURATION_FRACTION};
 
-/// The most time derivatives `--derivatives` accepts.
-pub const MAX_DERIVATIVES: usize = 8;
+use hyst_core::compensator::MAX_ORDER;
 
 /// Arguments of `hyst run`.
 #[derive(clap::Args, Debug)]
@@ -52,7 +51,7 @@ pub struct Args {
     #[arg(long, value_name = "NAME")]
     pub column: Vec<String>,
     /// Also propagate N time derivatives (columns <column>_d1 … <column>_dN in, y_d1 … out).
-    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=MAX_DERIVATIVES as i64))]
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=MAX_ORDER as i64))]
     pub derivatives: u8,
     /// Restart the operator wherever the value of COLUMN changes (FORC curves, B-H loops): each
     /// record starts by the start rule (--model: the model's initial_state at the record's first
@@ -89,7 +88,7 @@ pub fn main(args: Args) -> Result<()> {
     let mut columns: Vec<Option<&str>> = args.column.iter().map(|c| Some(c.as_str())).collect();
     match args.source.chosen()? {
         Chosen::Model(path) => {
-            let model = hyst_fit::ModelFile::read(path)?;
+            let model = hyst_model::ModelFile::read(path)?;
             let inverse = args.source.inverse;
             if inverse {
                 refuse_stop_form(&model, path)?;
@@ -162,8 +161,8 @@ pub fn main(args: Args) -> Result<()> {
 /// `--inverse` of a stop-form (friction) model: refused before any data is read, since that
 /// model maps position to force and has no inverse; friction is compensated by feeding the
 /// predicted force forward instead (docs/fitting.md, "Compensating friction").
-fn refuse_stop_form(model: &hyst_fit::ModelFile, path: &std::path::Path) -> Result<()> {
-    let stop = model.kind == hyst_fit::modelfile::ModelKind::Smooth
+fn refuse_stop_form(model: &hyst_model::ModelFile, path: &std::path::Path) -> Result<()> {
+    let stop = model.kind == hyst_model::ModelKind::Smooth
         && model
             .smooth
             .as_ref()
@@ -412,11 +411,11 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>> Scalar<E, S> {
             ($($n:literal)*) => {
                 match order {
                     $($n => stream::<R, Self, $n>(self, rows, columns, out),)*
-                    n => bail!("--derivatives {n}: at most {MAX_DERIVATIVES} are supported"),
+                    n => bail!("--derivatives {n}: at most {MAX_ORDER} are supported"),
                 }
             };
         }
-        let clamped = with_order!(0 1 2 3 4 5 6 7 8)?;
+        let clamped = with_order!(0 1 2 3 4)?;
         Ok(Clamped { limits, ..clamped })
     }
 
@@ -571,7 +570,7 @@ impl<F: BankFormula> Banked<F> {
                     })
                 })
         } else {
-            self.bank.process_ticks(&self.xs, &mut self.ys)
+            self.bank.process(&self.xs, &mut self.ys)
         };
         if let Err(e) = result {
             // `e.channel` is the failing sample's index in the block here.

@@ -12,8 +12,8 @@ use std::hint::black_box;
 
 use hyst_core::bank::{BankFormula, Lane};
 use hyst_core::{
-    Affine, BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Model, Operator,
-    Polynomial, Real as _,
+    Affine, BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Polynomial,
+    Real as _, ShapedModel,
 };
 
 /// Samples per workload call.
@@ -188,7 +188,7 @@ impl Inputs {
 /// time, whereas the scalar workloads' sums overlap their operators' own dependency chains.
 fn bank<T: Lane, F: BankFormula>(bank: &mut BankVec<T, F>, x: &[T], y: &mut [T]) -> Option<f64> {
     bank.reset();
-    bank.process_ticks(black_box(x), y).ok()?;
+    bank.process(black_box(x), y).ok()?;
     let y = black_box(&*y);
     Some(y.first()?.as_f64() + y.last()?.as_f64())
 }
@@ -200,12 +200,12 @@ impl Default for Inputs {
 }
 
 /// The shaped model of the `model` workload.
-type ExampleModel = Model<f64, Polynomial<f64>, hyst_core::ConstantK2<f64>, Affine<f64>>;
+type ExampleModel = ShapedModel<f64, Polynomial<f64>, hyst_core::ConstantK2<f64>, Affine<f64>>;
 
 /// Example 1's shaped model: ψ_out(H(0.105, 8)[ψ_in(in)]) with ψ_in(in) = in − 0.098 in² and
 /// ψ_out(out) = 2.02 out.
 fn example_model() -> Option<ExampleModel> {
     let psi_in = Polynomial::new([0.0, 1.0, -0.098, 0.0], -5.0, 5.0).ok()?;
     let psi_out = Affine::new(2.02, 0.0).ok()?;
-    Model::new(psi_in, Hysteresis::new(0.105, 8.0).ok()?, psi_out).ok()
+    ShapedModel::new(psi_in, Hysteresis::new(0.105, 8.0).ok()?, psi_out).ok()
 }

@@ -156,7 +156,7 @@ fn pi_baseline_and_comparison() -> R {
         "B_T",
         "--model-kind",
         "pi",
-        "--operators",
+        "--plays",
         "12",
         "--compare",
         "--validate",
@@ -254,10 +254,10 @@ fn operator_count_out_of_range_names_the_flag() -> R {
     for n in ["0", "129"] {
         let err = fails(
             &format!("x,y\n{}", good_rows(50)),
-            &["--model-kind", "pi", "--operators", n],
+            &["--model-kind", "pi", "--plays", n],
         )?;
         assert!(
-            err.contains(&format!("--operators {n}: expected 1 to 128")),
+            err.contains(&format!("--plays {n}: expected 1 to 128")),
             "{err}"
         );
     }
@@ -273,7 +273,7 @@ fn fewer_samples_than_parameters_is_refused() -> R {
     );
     let err = fails(
         &format!("x,y\n{}", good_rows(10)),
-        &["--model-kind", "pi", "--operators", "12"],
+        &["--model-kind", "pi", "--plays", "12"],
     )?;
     assert!(err.contains("14 free parameters"), "{err}");
     Ok(())
@@ -693,16 +693,13 @@ fn the_clockwise_gap_has_significant_digits() -> R {
     Ok(())
 }
 
-/// `--operators 0` names the option once, with its value.
+/// `--plays 0` names the option once, with its value.
 #[test]
 fn a_bad_operator_count_names_the_option_once() -> R {
     let err = fails(
         &format!("x,y\n{}", good_rows(50)),
-        &["--model-kind", "pi", "--operators", "0"],
+        &["--model-kind", "pi", "--plays", "0"],
     )?;
-    assert_eq!(
-        err,
-        "error: --operators 0: expected 1 to 128 play operators\n"
-    );
+    assert_eq!(err, "error: --plays 0: expected 1 to 128 plays\n");
     Ok(())
 }

@@ -11,7 +11,7 @@
 //! - tick by tick with the rows in cache (`hot`): the same, over eight rows (the first eight
 //!   ticks, in the order 0, 1, …, 7, 6, …, 1, 0, 1, …), as when the controller has just computed
 //!   the row it passes;
-//! - blocks of 32 ticks (`process_ticks`, time-major; the scalar operators each `process`
+//! - blocks of 32 ticks (`process`, time-major; the scalar operators each `process`
 //!   their channel's 32 samples) — 256 KiB in and out for f64, in L2;
 //! - a block of 256 ticks — 2 MiB in and 2 MiB out for f64, more than L2 holds, so the bank's
 //!   time there is partly memory bandwidth, shared with whatever else the machine runs (f32
@@ -120,7 +120,7 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a
         ),
         (
             format!("block bank   {name}"),
-            Box::new(move || b2.process_ticks(black_box(&t2), &mut o2).unwrap()),
+            Box::new(move || b2.process(black_box(&t2), &mut o2).unwrap()),
         ),
         (
             format!("short bank   {name}"),
@@ -129,7 +129,7 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a
                     .chunks_exact(CHANNELS * SHORT)
                     .zip(o5.chunks_exact_mut(CHANNELS * SHORT))
                 {
-                    b3.process_ticks(black_box(block), out).unwrap();
+                    b3.process(black_box(block), out).unwrap();
                 }
             }),
         ),

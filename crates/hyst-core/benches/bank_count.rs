@@ -7,7 +7,7 @@
 //! valgrind --tool=callgrind <the bench binary> step inverse f64   # the bank by `step`, tick by tick
 //! ```
 //!
-//! It runs 1,024 channels for 256 ticks (time-major `process_ticks` for the bank, each channel's
+//! It runs 1,024 channels for 256 ticks (time-major `process` for the bank, each channel's
 //! `process` for the scalar operators) twice; the second run's instructions per channel-sample
 //! are the difference of two runs' totals divided by 262,144 (docs/performance.md). Valgrind
 //! hides AVX-512 from the program, so the bank runs its AVX2 kernel there.
@@ -43,7 +43,7 @@ fn run<T: Lane, F: BankFormula>(bank: bool, step: bool, repeats: usize) {
                     b.step(black_box(row), o).unwrap();
                 }
             } else {
-                b.process_ticks(black_box(&ticks), &mut out).unwrap();
+                b.process(black_box(&ticks), &mut out).unwrap();
             }
         }
         eprintln!("kernel: {}", hyst_core::bank::isa().name());

@@ -15,21 +15,29 @@
 //! No allocation, no panics, `f32` or `f64`, `no_std`; one [`Compensator::step`] per sample.
 
 use crate::{
-    ConstantK2, Error, Identity, InverseModel, Jet, K2Law, Model, Operator, Real, Shaping,
+    ConstantK2, Error, Identity, InverseShapedModel, Jet, K2Law, Operator, Real, ShapedModel,
+    Shaping,
 };
 
+/// The highest plant order n (Lemma 5.1) and the highest time-derivative order that hyst's
+/// bindings and tools take: the C API (`HYST_MAX_ORDER`), Python (`hyst.MAX_ORDER`), `hyst run
+/// --derivatives`. It covers the plants of the paper's examples (n ≤ 2) and the model files'
+/// dynamics (n ≤ 4), and sizes the jets of the firmware's compensator state. Rust code chooses
+/// any `N` itself.
+pub const MAX_ORDER: usize = 4;
+
 /// The Lemma 5.1 compensator for a plant of order n ≤ `N` (the paper's Example 2 has n = 1,
-/// Example 3 has n = 2). [`Compensator::from_model`] and [`Compensator::new`] take n = N;
+/// Example 3 has n = 2). [`Compensator::from_shaped_model`] and [`Compensator::new`] take n = N;
 /// [`Compensator::with_order`] takes any n ≤ N chosen at run time, with the same results for
 /// the first n derivatives (jets carry N, the derivatives above n of v are 0), so one type
-/// serves every order up to N (the C API uses N = 4).
+/// serves every order up to N (the bindings use N = [`MAX_ORDER`]).
 ///
 /// # Examples
 /// Example 3's compensator, F = Ḧ⁻¹ + 0.9 Ḣ⁻¹ + H⁻¹ for m ẍ = F − 0.9 ẋ − x:
 /// ```
-/// use hyst_core::{compensator::Compensator, Hysteresis, Identity, Model, Operator};
-/// let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
-/// let mut comp = Compensator::from_model(&model, 1.0, [0.9, 1.0])?;
+/// use hyst_core::{compensator::Compensator, Hysteresis, Identity, ShapedModel, Operator};
+/// let model = ShapedModel::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+/// let mut comp = Compensator::from_shaped_model(&model, 1.0, [0.9, 1.0])?;
 /// // Start at rest at v = 0: F = H⁻¹ + 0.9 Ḣ⁻¹ + Ḧ⁻¹ = 0 + 0 + (dH⁻¹/dv) v̈. On the line
 /// // (first sample) dH⁻¹/dv = 1 + k1 k2 = 2.6 (eq. 4 at ũd = 0), so u_new = v̈ = 0.5 gives 1.3.
 /// let force = comp.step(0.5, 1e-3);
@@ -44,7 +52,7 @@ use crate::{
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Compensator<T, const N: usize, I = Identity, K = ConstantK2<T>, O = Identity> {
-    inverse: InverseModel<T, I, K, O>,
+    inverse: InverseShapedModel<T, I, K, O>,
     b: T,
     a: [T; N],
     order: usize,
@@ -66,15 +74,19 @@ where
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] when b is zero or not finite, or a coefficient is not finite.
-    pub fn from_model(model: &Model<T, I, K, O>, b: T, a: [T; N]) -> Result<Self, Error> {
+    pub fn from_shaped_model(
+        model: &ShapedModel<T, I, K, O>,
+        b: T,
+        a: [T; N],
+    ) -> Result<Self, Error> {
         Self::new(model.inverse(), b, a)
     }
 
-    /// As [`Compensator::from_model`], from the inverse model directly.
+    /// As [`Compensator::from_shaped_model`], from the inverse model directly.
     ///
     /// # Errors
-    /// As [`Compensator::from_model`].
-    pub fn new(inverse: InverseModel<T, I, K, O>, b: T, a: [T; N]) -> Result<Self, Error> {
+    /// As [`Compensator::from_shaped_model`].
+    pub fn new(inverse: InverseShapedModel<T, I, K, O>, b: T, a: [T; N]) -> Result<Self, Error> {
         Self::with_order(inverse, b, &a)
     }
 
@@ -82,8 +94,12 @@ where
     /// `a = [a_1, …, a_n]`, at rest at v = 0.
     ///
     /// # Errors
-    /// [`Error::LengthMismatch`] when n > N; otherwise as [`Compensator::from_model`].
-    pub fn with_order(inverse: InverseModel<T, I, K, O>, b: T, a: &[T]) -> Result<Self, Error> {
+    /// [`Error::LengthMismatch`] when n > N; otherwise as [`Compensator::from_shaped_model`].
+    pub fn with_order(
+        inverse: InverseShapedModel<T, I, K, O>,
+        b: T,
+        a: &[T],
+    ) -> Result<Self, Error> {
         if a.len() > N {
             return Err(Error::LengthMismatch {
                 input: a.len(),
@@ -150,7 +166,7 @@ where
 
     /// The inverse model (with its memory).
     #[must_use]
-    pub fn inverse_model(&self) -> &InverseModel<T, I, K, O> {
+    pub fn inverse(&self) -> &InverseShapedModel<T, I, K, O> {
         &self.inverse
     }
 
@@ -317,7 +333,7 @@ where
     /// after it.
     fn pass_turning_points(
         n: usize,
-        inverse: &mut InverseModel<T, I, K, O>,
+        inverse: &mut InverseShapedModel<T, I, K, O>,
         v: &[T; N],
         u_new: T,
         until: T,
@@ -435,8 +451,8 @@ mod tests {
 
     #[test]
     fn integrator_chain_is_exact_for_polynomials() -> Result<(), Error> {
-        let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
-        let mut c = Compensator::from_model(&model, 1.0, [0.0, 0.0, 0.0])?;
+        let model = ShapedModel::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+        let mut c = Compensator::from_shaped_model(&model, 1.0, [0.0, 0.0, 0.0])?;
         // v''' = 6 from rest: v = t³, v' = 3t², v'' = 6t.
         for _ in 0..10 {
             let _ = c.try_step(6.0, 0.1)?;
@@ -448,8 +464,8 @@ mod tests {
 
     #[test]
     fn static_case_is_the_inverse_model() -> Result<(), Error> {
-        let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
-        let mut c = Compensator::from_model(&model, 2.0, [])?;
+        let model = ShapedModel::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+        let mut c = Compensator::from_shaped_model(&model, 2.0, [])?;
         let mut inv = model.inverse();
         for k in 0..50 {
             let r = (k as f64 * 0.2).sin();
@@ -463,11 +479,12 @@ mod tests {
     fn a_run_time_order_equals_the_const_order() -> Result<(), Error> {
         // Compensator<_, 4> with n = 1 or 2 chosen at run time gives the const-order results bit
         // for bit (jets of order 4 whose derivatives above n are 0 leave the first n unchanged).
-        let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
-        let mut c2 = Compensator::from_model(&model, 1.5, [0.9, 1.0])?.with_state([0.1, 0.0])?;
+        let model = ShapedModel::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+        let mut c2 =
+            Compensator::from_shaped_model(&model, 1.5, [0.9, 1.0])?.with_state([0.1, 0.0])?;
         let mut c4 = Compensator::<f64, 4>::with_order(model.inverse(), 1.5, &[0.9, 1.0])?
             .with_state([0.1, 0.0, 7.0, 7.0])?;
-        let mut c1 = Compensator::from_model(&model, 1.5, [0.9])?;
+        let mut c1 = Compensator::from_shaped_model(&model, 1.5, [0.9])?;
         let mut c4_1 = Compensator::<f64, 4>::with_order(model.inverse(), 1.5, &[0.9])?;
         assert_eq!((c4.order(), c4_1.order()), (2, 1));
         assert_eq!(c4.state(), [0.1, 0.0, 0.0, 0.0]); // entries from n on are ignored
@@ -492,8 +509,8 @@ mod tests {
     #[test]
     fn order_zero_is_the_static_inverse_of_u_new() -> Result<(), Error> {
         // n = 0: no integrator, v = u_new, u = H⁻¹[v] / b, through step() as well as track().
-        let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
-        let mut c = Compensator::from_model(&model, 2.0, [])?;
+        let model = ShapedModel::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+        let mut c = Compensator::from_shaped_model(&model, 2.0, [])?;
         let mut inv = model.inverse();
         for k in 0..50 {
             let r = 0.7 * (k as f64 * 0.2).sin() + 0.1;
@@ -507,14 +524,14 @@ mod tests {
 
     #[test]
     fn bad_input_leaves_state_alone() -> Result<(), Error> {
-        let model = Model::new(Identity, Hysteresis::new(0.2_f32, 8.0)?, Identity)?;
-        let mut c = Compensator::from_model(&model, 1.0, [0.1])?;
+        let model = ShapedModel::new(Identity, Hysteresis::new(0.2_f32, 8.0)?, Identity)?;
+        let mut c = Compensator::from_shaped_model(&model, 1.0, [0.1])?;
         let u = c.step(1.0, 0.01);
         let s = c.state();
         assert!(c.try_step(f32::NAN, 0.01).is_err());
         assert_eq!(c.step(f32::INFINITY, 0.01), u);
         assert_eq!(c.state(), s);
-        assert!(Compensator::from_model(&model, 0.0, [0.1]).is_err());
+        assert!(Compensator::from_shaped_model(&model, 0.0, [0.1]).is_err());
         Ok(())
     }
 }

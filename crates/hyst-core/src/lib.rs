@@ -123,7 +123,6 @@ pub mod jet;
 pub mod k2law;
 pub mod lambert;
 pub mod memory;
-pub mod model;
 pub mod operator;
 pub mod parametric;
 pub mod play;
@@ -131,6 +130,7 @@ pub mod prandtl_ishlinskii;
 pub mod real;
 pub mod sample;
 pub mod scaled_shaping;
+pub mod shaped_model;
 pub mod shaping;
 pub mod stop;
 
@@ -144,7 +144,6 @@ pub use family::{Bound, Family, RangeBound, Reproducibility, ShiftedK2};
 pub use jet::Jet;
 pub use k2law::{AffineK2, AnyK2Law, ConstantK2, K2Law};
 pub use memory::{Direction, Memory};
-pub use model::{InverseModel, Model};
 pub use operator::Operator;
 pub use parametric::{
     Direct, Formula, Hysteresis, Inverse, InverseHysteresis, ParametricHysteresis,
@@ -156,6 +155,7 @@ pub use prandtl_ishlinskii::{
 pub use real::Real;
 pub use sample::Sample;
 pub use scaled_shaping::ScaledShaping;
+pub use shaped_model::{InverseShapedModel, ShapedModel};
 pub use shaping::{
     Affine, AnyShaping, Identity, Langevin, Polynomial, QuadraticExp, Shaping, Tanh,
 };

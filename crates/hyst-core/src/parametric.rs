@@ -468,7 +468,7 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         Ok(y.max(v - k1).min(v + k1))
     }
 
-    /// One step of a model built around this operator (the shaped [`crate::Model`], the
+    /// One step of a model built around this operator (the shaped [`crate::ShapedModel`], the
     /// [`crate::Stop`] form): steps on `v` and maps the operator output to the model's output
     /// with `output`. When that is not finite, the memory is put back (cheaper than stepping a
     /// copy: the restore is off the hot path) and the error names the model's input `x`.

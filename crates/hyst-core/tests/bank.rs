@@ -275,12 +275,11 @@ fn bad_input_is_an_error_that_leaves_every_memory_as_before_the_tick() {
     let mut bank = BankVec::<f64, Direct>::from_vecs(vec![0.2; n], vec![8.0; n]).unwrap();
     let ticks: Vec<f64> = (0..3 * n).map(|i| (i as f64 * 0.37).sin()).collect();
     let mut out = vec![0.0; 3 * n];
-    bank.process_ticks(&ticks, &mut out).unwrap();
+    bank.process(&ticks, &mut out).unwrap();
     let before = memories(&bank);
     // The same bank after two more good ticks (what a block failing at its third tick leaves).
     let mut two = bank.clone();
-    two.process_ticks(&ticks[..2 * n], &mut out[..2 * n])
-        .unwrap();
+    two.process(&ticks[..2 * n], &mut out[..2 * n]).unwrap();
     let after_two = memories(&two);
     let mut one = bank.clone();
     let first: Vec<f64> = (0..n).map(|c| ticks[c * 3]).collect();
@@ -297,7 +296,7 @@ fn bad_input_is_an_error_that_leaves_every_memory_as_before_the_tick() {
         let mut b = bank.clone();
         let mut block = ticks.clone();
         block[2 * n + 5] = bad; // tick 2, channel 5, time-major
-        assert_eq!(b.process_ticks(&block, &mut out).unwrap_err().channel, 5);
+        assert_eq!(b.process(&block, &mut out).unwrap_err().channel, 5);
         assert_eq!(memories(&b), after_two);
 
         let mut b = bank.clone();
@@ -324,7 +323,7 @@ fn bad_input_is_an_error_that_leaves_every_memory_as_before_the_tick() {
     ));
     assert!(bank.step(&o.clone(), &mut o[..2]).is_err());
     assert!(bank
-        .process_ticks(&vec![0.0; n + 1], &mut vec![0.0; n + 1])
+        .process(&vec![0.0; n + 1], &mut vec![0.0; n + 1])
         .is_err());
     assert!(bank
         .process_block(&vec![0.0; 2 * n], &mut vec![0.0; 2 * n], 3)
@@ -417,8 +416,8 @@ fn the_end_of_the_float_range_is_handled_like_the_scalar_operator() {
     let block = [0.0, 0.0, -1e308, 1.0, -f64::MAX, 2.0, 0.0, 3.0];
     let mut out = [0.0; 8];
     let mut two = bank.clone();
-    two.process_ticks(&block[..4], &mut out[..4]).unwrap();
-    let e = bank.process_ticks(&block, &mut out).unwrap_err();
+    two.process(&block[..4], &mut out[..4]).unwrap();
+    let e = bank.process(&block, &mut out).unwrap_err();
     assert_eq!(e.channel, 0);
     assert!(matches!(e.error, Error::NonFiniteOutput { .. }));
     assert_eq!(memories(&bank), memories(&two));
@@ -446,7 +445,7 @@ fn layouts_and_storage_agree() {
     }
     let time_major: Vec<f64> = (0..T).flat_map(|t| (0..N).map(move |c| x(c, t))).collect();
     let mut two = vec![0.0; N * T];
-    ticks.process_ticks(&time_major, &mut two).unwrap();
+    ticks.process(&time_major, &mut two).unwrap();
     let channel_major: Vec<f64> = (0..N).flat_map(|c| (0..T).map(move |t| x(c, t))).collect();
     let mut three = vec![0.0; N * T];
     block.process_block(&channel_major, &mut three, T).unwrap();

@@ -6,7 +6,8 @@
 use hyst_core::family::{delta_a, Family};
 use hyst_core::Operator;
 use hyst_core::{
-    Affine, Compensator, Error, Hysteresis, Identity, Jet, K2Law, Model, QuadraticExp, Shaping,
+    Affine, Compensator, Error, Hysteresis, Identity, Jet, K2Law, QuadraticExp, ShapedModel,
+    Shaping,
 };
 
 /// Denominators (τ s + 1)ⁿ written as [a_1, …, a_n], for n = 1..4.
@@ -134,18 +135,18 @@ where
 /// Algebraic check: along the compensator's own trajectory, the target x = H⁻¹[v] satisfies
 /// the plant equation with the command (b u = x + Σ a_i x⁽ⁱ⁾) and H[x] = v, to round-off.
 fn algebraic<const N: usize>(a: [f64; N]) -> Result<f64, Error> {
-    let model = Model::new(
+    let model = ShapedModel::new(
         Affine::new(0.8, 0.1)?,
         Hysteresis::new(0.2_f64, 8.0)?,
         Affine::new(1.5, -0.05)?,
     )?;
     let b = 2.5;
-    let mut comp = Compensator::from_model(&model, b, a)?;
+    let mut comp = Compensator::from_shaped_model(&model, b, a)?;
     let mut worst = 0.0_f64;
     for k in 0..20_000 {
         let t = k as f64 * 1e-3;
         // The direct model with the compensator's memory mirrored (Proposition 4.1).
-        let mirror = comp.inverse_model().operator().direct();
+        let mirror = comp.inverse().operator().direct();
         let u = comp.try_step(u_new(t), 1e-3)?;
         let x = comp.last_target();
         let d = x.derivatives();
@@ -189,7 +190,7 @@ fn compensated_plant_is_n_integrators_to_round_off() -> Result<(), Error> {
 #[test]
 fn simulated_plant_with_exact_model_tracks_v() -> Result<(), Error> {
     fn run<const N: usize>(a: [f64; N], dt: f64, flat: bool) -> Result<f64, Error> {
-        let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+        let model = ShapedModel::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
         let mut truth = model;
         let samples = (20.0 / dt) as usize;
         let (out, state) = if flat {
@@ -197,7 +198,7 @@ fn simulated_plant_with_exact_model_tracks_v() -> Result<(), Error> {
             // the maximum t = π/2 at rest.
             let t0 = core::f64::consts::FRAC_PI_2;
             let v0: f64 = 0.75 * t0.sin() + (3.0 * t0).sin() / 12.0;
-            let mut comp = Compensator::from_model(&model, 1.0, a)?
+            let mut comp = Compensator::from_shaped_model(&model, 1.0, a)?
                 .with_state(core::array::from_fn(|i| if i == 0 { v0 } else { 0.0 }))?;
             let _ = truth.try_step(v0)?;
             let x0 = core::array::from_fn(|i| if i == 0 { v0 } else { 0.0 });
@@ -217,7 +218,7 @@ fn simulated_plant_with_exact_model_tracks_v() -> Result<(), Error> {
                 input,
             )?
         } else {
-            let mut comp = Compensator::from_model(&model, 1.0, a)?;
+            let mut comp = Compensator::from_shaped_model(&model, 1.0, a)?;
             simulate(&mut comp, &a, 1.0, |x| truth.step(x), dt, samples)?
         };
         eprintln!("n = {N}, dt = {dt}, flat reversals {flat}: worst |x2 − v| {out:.3e}, |x1 − H⁻¹[v]| {state:.3e}");
@@ -257,7 +258,7 @@ fn family_members_stay_within_delta_a() -> Result<(), Error> {
     let bound = delta_a(k1, dk1, k2, dk2)?.delta_a;
     let family = Family::new(k1, dk1, k2, dk2)?;
     let psi = QuadraticExp::<f64>::example2()?;
-    let model = Model::new(Identity, Hysteresis::new(k1, k2)?, psi)?;
+    let model = ShapedModel::new(Identity, Hysteresis::new(k1, k2)?, psi)?;
     let mut seen = 0.0_f64;
     for &(pa, pb) in &[
         (-1.0, -1.0),
@@ -267,7 +268,7 @@ fn family_members_stay_within_delta_a() -> Result<(), Error> {
         (0.4, -0.6),
     ] {
         // n = 1 (Example 2's RL circuit: b = 1/R, a_1 = L/R).
-        let mut comp = Compensator::from_model(&model, 1.0, [0.1])?;
+        let mut comp = Compensator::from_shaped_model(&model, 1.0, [0.1])?;
         let mut member = family.member(pa, pb)?;
         // The error at the operator level: H̄[x1] − ψ⁻¹(v) (Δb of eq. 15).
         let truth = |x: f64| -> f64 {
@@ -318,9 +319,9 @@ fn family_members_stay_within_delta_a() -> Result<(), Error> {
     // n = 2 (Example 3's mass-spring-damper), unshaped family around H(0.2, 8).
     let fam3 = Family::new(0.2, 0.02, 8.0, 3.0)?;
     let bound3 = fam3.bound().delta_a;
-    let model3 = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+    let model3 = ShapedModel::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
     for &(pa, pb) in &[(-1.0, -1.0), (1.0, 1.0), (1.0, -1.0), (-1.0, 1.0)] {
-        let mut comp = Compensator::from_model(&model3, 1.0, A2)?;
+        let mut comp = Compensator::from_shaped_model(&model3, 1.0, A2)?;
         let mut member = fam3.member(pa, pb)?;
         let (worst, _) = simulate(&mut comp, &A2, 1.0, |x| member.step(x), 1e-3, 20_000)?;
         assert!(
@@ -335,9 +336,9 @@ fn family_members_stay_within_delta_a() -> Result<(), Error> {
 /// and stays close otherwise (n = 2: the integrator mode places the reversal at the extremum).
 #[test]
 fn reference_mode_matches_integrator_mode() -> Result<(), Error> {
-    let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
-    let mut chain = Compensator::from_model(&model, 1.0, A1)?;
-    let mut direct = Compensator::from_model(&model, 1.0, A1)?;
+    let model = ShapedModel::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+    let mut chain = Compensator::from_shaped_model(&model, 1.0, A1)?;
+    let mut direct = Compensator::from_shaped_model(&model, 1.0, A1)?;
     for k in 0..5_000 {
         let un = u_new(k as f64 * 1e-3);
         let [v] = chain.state();
@@ -345,8 +346,8 @@ fn reference_mode_matches_integrator_mode() -> Result<(), Error> {
         let u_ref = direct.track(Jet::from_derivatives(v, [un]))?;
         assert!((u_chain - u_ref).abs() <= 1e-12 * (1.0 + u_ref.abs()));
     }
-    let mut chain = Compensator::from_model(&model, 1.0, A2)?;
-    let mut direct = Compensator::from_model(&model, 1.0, A2)?;
+    let mut chain = Compensator::from_shaped_model(&model, 1.0, A2)?;
+    let mut direct = Compensator::from_shaped_model(&model, 1.0, A2)?;
     let mut worst = 0.0_f64;
     for k in 0..5_000 {
         let un = u_new(k as f64 * 1e-3);
@@ -365,11 +366,11 @@ fn reference_mode_matches_integrator_mode() -> Result<(), Error> {
 fn input_dependent_k2_and_f32_work() -> Result<(), Error> {
     let law = hyst_core::AffineK2::new(9.0_f32, -2.0, 5.0, 12.0)?;
     assert!(law.k2(0.0_f32) == 9.0);
-    let model = Model::new(Identity, Hysteresis::with_k2_law(0.105_f32, law)?, Identity)?;
+    let model = ShapedModel::new(Identity, Hysteresis::with_k2_law(0.105_f32, law)?, Identity)?;
     let bound = Family::with_k2_law(0.105_f32, 0.0, law, 0.0)?
         .bound_on(-0.2, 1.0, true, 33)?
         .delta_a;
-    let mut comp = Compensator::from_model(&model, 1.0, [0.1_f32, 0.01])?;
+    let mut comp = Compensator::from_shaped_model(&model, 1.0, [0.1_f32, 0.01])?;
     let mut direct = model;
     let mut worst = 0.0_f32;
     for k in 0..4_000 {

@@ -220,7 +220,7 @@ fn shaped_model_and_compensator_jets_match_finite_differences() {
             0.1,
             0.01,
         );
-        let model = hyst_core::Model::new(psi_in, op, psi_out).unwrap();
+        let model = hyst_core::ShapedModel::new(psi_in, op, psi_out).unwrap();
         let peek = |x: f64| {
             let mut m = model;
             m.step(x)

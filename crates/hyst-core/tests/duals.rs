@@ -7,8 +7,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use hyst_core::{
-    AffineK2, AnyK2Law, AnyShaping, Direction, Dual, Error, Hysteresis, Langevin, Model, Operator,
-    Polynomial, Real, ScaledShaping, Shaping, Tanh,
+    AffineK2, AnyK2Law, AnyShaping, Direction, Dual, Error, Hysteresis, Langevin, Operator,
+    Polynomial, Real, ScaledShaping, ShapedModel, Shaping, Tanh,
 };
 use proptest::prelude::*;
 
@@ -16,7 +16,7 @@ use proptest::prelude::*;
 /// initial state (fraction of k1 below the line), ψ_out gain.
 const P: usize = 8;
 
-type Shaped<T> = Model<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
+type Shaped<T> = ShapedModel<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
 
 #[derive(Clone, Copy, Debug)]
 struct Case {
@@ -62,7 +62,7 @@ fn build<T: Real>(case: Case, p: &[T; P], first_input: T) -> Result<Shaped<T>, E
         v0 - k1 * start,
         Direction::Rising,
     )?;
-    Model::new(input, h, output)
+    ShapedModel::new(input, h, output)
 }
 
 /// Outputs of the model (and of its exact inverse fed with `desired`) for parameters `p`.

@@ -3,7 +3,7 @@
 //! |output − input| ≤ k1 holds in floating point even when k1 is below the input's spacing.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
-use hyst_core::{Affine, Error, Hysteresis, InverseHysteresis, Memory, Model, Operator};
+use hyst_core::{Affine, Error, Hysteresis, InverseHysteresis, Memory, Operator, ShapedModel};
 use proptest::prelude::*;
 
 fn memory_is_finite<T: hyst_core::Real>(m: Option<Memory<T>>) -> bool {
@@ -71,7 +71,7 @@ fn an_output_beyond_the_float_range_is_an_error_that_leaves_the_memory_alone() {
     assert!(v.is_finite() && v < -1e307);
     assert!(memory_is_finite(inv.memory()));
     // ψ_out overflowing in a model: an error, memory unchanged (the C API's HYST_ERR_OVERFLOW).
-    let mut m = Model::new(
+    let mut m = ShapedModel::new(
         Affine::new(1.0, 0.0).unwrap(),
         Hysteresis::new(0.2_f64, 8.0).unwrap(),
         Affine::new(1e300, 0.0).unwrap(),

@@ -5,8 +5,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use hyst_core::{
-    Affine, AffineK2, Error, Hysteresis, InverseHysteresis, Jet, Model, Operator, Play, Polynomial,
-    PrandtlIshlinskii, ShapedPrandtlIshlinskii, Tanh,
+    Affine, AffineK2, Error, Hysteresis, InverseHysteresis, Jet, Operator, Play, Polynomial,
+    PrandtlIshlinskii, ShapedModel, ShapedPrandtlIshlinskii, Tanh,
 };
 
 /// A signal with growing amplitude and minor loops.
@@ -112,19 +112,19 @@ fn every_core_operator_keeps_the_contract() -> Result<(), Error> {
         1.0,
     );
     check("near-backlash Hysteresis", Hysteresis::new(0.2, 1e9)?, 1.0);
-    let model = Model::new(
+    let model = ShapedModel::new(
         Polynomial::new([0.0, 1.0, -0.098, 0.0], -5.0, 5.0)?,
         Hysteresis::new(0.105, 8.0)?,
         Affine::new(2.02, 0.1)?,
     )?;
-    check("Model", model, 1.0);
-    check("InverseModel", model.inverse(), 1.0);
-    let saturating = Model::new(
+    check("ShapedModel", model, 1.0);
+    check("InverseShapedModel", model.inverse(), 1.0);
+    let saturating = ShapedModel::new(
         Affine::new(1.0, 0.0)?,
         Hysteresis::new(0.1, 5.0)?,
         Tanh::new(3.0, 2.0)?,
     )?;
-    check("InverseModel through tanh", saturating.inverse(), 1.0);
+    check("InverseShapedModel through tanh", saturating.inverse(), 1.0);
     check("Play", Play::new(0.15)?, 1.0);
     let pi = PrandtlIshlinskii::<f64, 8>::new(0.4, &[0.1, 0.25, 0.5], &[0.5, 0.3, 0.2], 0.1)?;
     check("PrandtlIshlinskii", pi, 1.0);

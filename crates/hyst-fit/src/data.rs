@@ -4,9 +4,10 @@
 use std::collections::BTreeMap;
 
 use hyst_io::Table;
-use serde::{Deserialize, Serialize};
 
-use crate::FitError;
+use hyst_model::Columns;
+
+use crate::error::FitError;
 
 /// The largest magnitude of a record id: beyond, a float no longer holds every integer
 /// (2⁵³ ≈ 9.007e15), so neighbouring ids would merge.
@@ -70,21 +71,6 @@ impl Record {
     pub fn is_empty(&self) -> bool {
         self.input.is_empty()
     }
-}
-
-/// Which columns hold what, and where the data came from.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
-pub struct Columns {
-    /// Input column name.
-    pub input: String,
-    /// Output column name.
-    pub output: String,
-    /// Record column name, if the file is segmented.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub record: Option<String>,
-    /// Weight column name, if any.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub weight: Option<String>,
 }
 
 /// How to read a dataset from a table.
@@ -200,6 +186,7 @@ impl Dataset {
                             line: table.line_of_row(row),
                             column: record_name.clone().unwrap_or_default(),
                             value: v,
+                            limit: MAX_RECORD_ID,
                         });
                     }
                     v as i64

@@ -7,9 +7,12 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::orientation::{loops, one_way, Orientation};
-use crate::structure::{IN_ARG_AT_CENTRE, IN_SCALE, OUT_ARG_AT_CENTRE, OUT_SCALE};
-use crate::{Dataset, Estimate, Record};
+use hyst_io::number::sig;
+use hyst_model::Estimate;
+
+use crate::data::{Dataset, Record};
+use crate::layout::{IN_ARG_AT_CENTRE, IN_SCALE, OUT_ARG_AT_CENTRE, OUT_SCALE};
+use crate::orientation::{loops, one_way, Orientation, MIN_GAP};
 
 /// A model whose RMS error is above this fraction of the straight line's does no better than
 /// a line.
@@ -34,10 +37,6 @@ pub const ARGUMENT_PARAMETERS: [&str; 2] = [IN_ARG_AT_CENTRE, OUT_ARG_AT_CENTRE]
 /// A scale whose standard error is above this multiple of its value, or an argument whose
 /// standard error is above this, is hardly identified.
 pub const VAGUE: f64 = 10.0;
-
-/// Below this gap between its rising and falling branches (fraction of the output span), a
-/// model has no loop: 0.1 %, about the resolution of a 10-bit sensor.
-pub const MIN_GAP: f64 = 1e-3;
 
 /// A model whose loop on the training inputs is at least this share of a loop the data visibly
 /// has (a branch gap of at least [`MIN_GAP`]) has found that loop, however small both are.
@@ -176,8 +175,8 @@ impl Diagnosis {
                 "no hysteresis found in"
             },
             self.reasons.join("; "),
-            crate::report::sig(self.line_rms, 3),
-            crate::report::sig(100.0 * self.line_rms / span, 3),
+            sig(self.line_rms, 3),
+            sig(100.0 * self.line_rms / span, 3),
         )
     }
 }
@@ -316,14 +315,14 @@ pub fn diagnose(
             } else {
                 "counterclockwise"
             },
-            crate::report::sig(100.0 * gap, 2),
-            crate::report::sig(100.0 * data_gap, 2),
+            sig(100.0 * gap, 2),
+            sig(100.0 * data_gap, 2),
         ));
     } else if !has_loop {
         reasons.push(format!(
             "the fitted model has no loop (its rising and falling branches are {} % of the \
              output span apart on a full sweep of the input range, below {} %)",
-            crate::report::sig(100.0 * if swept.is_nan() { gap } else { swept }.abs(), 2),
+            sig(100.0 * if swept.is_nan() { gap } else { swept }.abs(), 2),
             100.0 * MIN_GAP,
         ));
     }
@@ -347,15 +346,15 @@ pub fn diagnose(
             reasons.push(format!(
                 "the fitted model does no better than a straight line (RMS {} against the \
                  line's {})",
-                crate::report::sig(model_rms, 3),
-                crate::report::sig(line, 3),
+                sig(model_rms, 3),
+                sig(line, 3),
             ));
         } else if gap.abs() < LOOP_SHARE * data_gap.abs() {
             reasons.push(format!(
                 "the fitted model is a line in effect (its loop is {} % of the data's, and its \
                  RMS {} is no better than a straight line's)",
-                crate::report::sig(100.0 * gap.abs() / data_gap.abs(), 2),
-                crate::report::sig(model_rms, 3),
+                sig(100.0 * gap.abs() / data_gap.abs(), 2),
+                sig(model_rms, 3),
             ));
         }
     }
@@ -367,7 +366,7 @@ pub fn diagnose(
                 .iter()
                 .filter(|e| e.std_error.is_nan() && !unidentified_ok.contains(&e.name.as_str()))
                 .filter(|e| HYSTERESIS_PARAMETERS.contains(&e.name.as_str()) == hysteresis)
-                .map(|e| format!("{} = {}", e.name, crate::report::sig(e.value, 4)))
+                .map(|e| format!("{} = {}", e.name, sig(e.value, 4)))
                 .collect()
         };
         let (core, shaping) = (lost(true), lost(false));
@@ -403,14 +402,7 @@ pub fn diagnose(
                 };
                 e.std_error.is_finite() && e.std_error > bound
             })
-            .map(|e| {
-                format!(
-                    "{} = {} ± {}",
-                    e.name,
-                    crate::report::sig(e.value, 4),
-                    crate::report::sig(e.std_error, 2)
-                )
-            })
+            .map(|e| format!("{} = {} ± {}", e.name, sig(e.value, 4), sig(e.std_error, 2)))
             .collect();
         if !vague.is_empty() {
             notes.push(format!(
@@ -436,7 +428,7 @@ pub fn diagnose(
             _ if data_orientation == used => format!(
                 "the data's loops run {direction} as this structure's do, but their branch gap \
                  ({} % of the output span) is not resolved by this fit",
-                crate::report::sig(100.0 * data_gap.abs(), 2)
+                sig(100.0 * data_gap.abs(), 2)
             ),
             Orientation::Clockwise => {
                 "the data's loops run clockwise: the stop form (--form stop or auto) fits those"
@@ -464,8 +456,8 @@ pub fn diagnose(
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use crate::{InitialState, SmoothModel};
     use hyst_core::{AnyK2Law, ScaledShaping};
+    use hyst_model::{InitialState, SmoothModel};
 
     fn operator_model() -> SmoothModel {
         SmoothModel {
@@ -474,7 +466,7 @@ mod tests {
             input_shaping: ScaledShaping::identity(),
             output_shaping: ScaledShaping::identity(),
             initial_state: InitialState::Rising,
-            form: crate::Form::Operator,
+            form: hyst_model::Form::Operator,
             linear: 0.0,
         }
     }

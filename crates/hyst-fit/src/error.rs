@@ -2,6 +2,9 @@
 
 use std::path::PathBuf;
 
+use hyst_io::number::{shortest, sig};
+use hyst_model::ModelError;
+
 /// Everything that can go wrong while preparing data, fitting, or reading a model file. Messages
 /// name the file, the line and the column where there is one.
 #[derive(Debug, thiserror::Error)]
@@ -94,8 +97,8 @@ pub enum FitError {
     },
 
     /// The record id is not an integer, or beyond the integers a float holds exactly
-    /// ([`crate::data::MAX_RECORD_ID`]).
-    #[error("{file}:{line}: column {column:?}: record id {}", record_id_problem(*value))]
+    /// (`limit`, [`crate::data::MAX_RECORD_ID`]).
+    #[error("{file}:{line}: column {column:?}: record id {}", record_id_problem(*value, *limit))]
     BadRecordId {
         /// The data file.
         file: String,
@@ -105,6 +108,8 @@ pub enum FitError {
         column: String,
         /// The value.
         value: f64,
+        /// The largest magnitude of a record id.
+        limit: f64,
     },
 
     /// The options ask for something that cannot be done with this data (an unknown validation
@@ -209,16 +214,29 @@ impl From<hyst_core::Error> for FitError {
     }
 }
 
+/// A model runtime error as the fit's: the same variant for the same fault (a core refusal, a
+/// model file, an invalid request, a write), so every message reads as before.
+impl From<ModelError> for FitError {
+    fn from(e: ModelError) -> Self {
+        match e {
+            ModelError::Core(e) => FitError::Core(e),
+            ModelError::File { path, message } => FitError::ModelFile { path, message },
+            ModelError::Io(e) => FitError::Io(e),
+            ModelError::Invalid(message) => FitError::Invalid(message),
+            other => FitError::Invalid(other.to_string()),
+        }
+    }
+}
+
 /// What is wrong with a record id: beyond the range (printed with significant digits, not as
 /// its 301 digits) or not an integer (printed with all its digits, so the fraction shows).
-fn record_id_problem(value: f64) -> String {
-    use crate::report::{shortest, sig};
-    if value.is_finite() && value.abs() > crate::data::MAX_RECORD_ID {
+fn record_id_problem(value: f64, limit: f64) -> String {
+    if value.is_finite() && value.abs() > limit {
         format!(
             "{} is beyond the range of record ids (integers within ±{}, which a float holds \
              exactly)",
             sig(value, 4),
-            sig(crate::data::MAX_RECORD_ID, 2)
+            sig(limit, 2)
         )
     } else {
         format!("{} is not an integer", shortest(value))
@@ -261,6 +279,7 @@ mod tests {
             line: 7,
             column: "record".into(),
             value,
+            limit: crate::data::MAX_RECORD_ID,
         };
         assert_eq!(
             bad(1e300).to_string(),

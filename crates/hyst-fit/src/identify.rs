@@ -5,15 +5,20 @@
 
 use std::time::{Duration, Instant};
 
-use crate::degeneracy::diagnose;
+use hyst_io::number::sig;
+use hyst_model::file::{FORMAT, MIN_VERSION};
+use hyst_model::{
+    Columns, Form, InitialState, Metrics, ModelFile, ModelKind, Provenance, Structure, Units,
+};
+
+use crate::data::Dataset;
+use crate::degeneracy::{diagnose, DRIFT_NOTE, RATE_NOTE};
+use crate::error::FitError;
 use crate::lm::Observer;
-use crate::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT, MIN_VERSION};
 use crate::orientation::{against_trend, loops, FormChoice, Orientation, StartChoice};
-use crate::pi::PiOutputKind;
-use crate::pi_fit::{fit_pi_with, PiFit};
-use crate::report::{sig, Findings, Report, Summary};
+use crate::pi_fit::{fit_pi_with, PiFit, PiOutputKind};
+use crate::report::{Findings, Report, Summary};
 use crate::smooth::{fit_smooth, FitOptions, ParameterLimit, SmoothFit};
-use crate::{Dataset, FitError, InitialState, ModelFile, Structure};
 
 /// The branch gap (fraction of the output span) above which the data's loops are clockwise
 /// beyond doubt, and a Prandtl–Ishlinskii fit (counterclockwise only) is refused.
@@ -47,8 +52,8 @@ pub struct Request {
     pub keep_degenerate: bool,
     /// The smooth fit's options (starts, coverage of the family widths, …).
     pub options: FitOptions,
-    /// Play operators of the Prandtl–Ishlinskii model (1 ..= [`crate::pi::MAX_OPERATORS`]).
-    pub operators: usize,
+    /// Plays of the Prandtl–Ishlinskii model (1 ..= [`hyst_model::pi::MAX_PLAYS`]).
+    pub plays: usize,
     /// The Prandtl–Ishlinskii model's output polynomial.
     pub pi_output: PiOutputKind,
     /// Units of the input and output columns (for the model file and the report).
@@ -65,7 +70,7 @@ impl Default for Request {
             start: StartChoice::Auto,
             keep_degenerate: false,
             options: FitOptions::default(),
-            operators: 16,
+            plays: 16,
             pi_output: PiOutputKind::None,
             units: Units::default(),
         }
@@ -126,7 +131,7 @@ fn ns_per_sample(data: &Dataset, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> f6
 ///
 /// # Errors
 /// The fits' errors (bad data, invalid settings, [`FitError::Interrupted`]); for the
-/// Prandtl–Ishlinskii fit, an invalid `operators` names the setting `operators`.
+/// Prandtl–Ishlinskii fit, an invalid `plays` names the setting `plays`.
 pub fn identify(
     data: &Dataset,
     request: &Request,
@@ -214,7 +219,7 @@ pub fn identify(
         return Err(FitError::Interrupted);
     }
     let pi = if want_pi {
-        Some(fit_pi_with(data, request.operators, request.pi_output)?)
+        Some(fit_pi_with(data, request.plays, request.pi_output)?)
     } else {
         None
     };
@@ -248,8 +253,8 @@ pub fn identify(
                 limit.map_or(&[][..], ParameterLimit::unidentified),
                 found.orientation,
                 match f.model.form {
-                    crate::Form::Operator => Orientation::Counterclockwise,
-                    crate::Form::Stop => Orientation::Clockwise,
+                    Form::Operator => Orientation::Counterclockwise,
+                    Form::Stop => Orientation::Clockwise,
                 },
             )
         }
@@ -271,7 +276,7 @@ pub fn identify(
         }
     };
     notes.extend(diagnosis.notes.iter().cloned());
-    if diagnosis.drift_share > crate::degeneracy::DRIFT_NOTE {
+    if diagnosis.drift_share > DRIFT_NOTE {
         notes.push(format!(
             "{} % of the residuals' variance is a straight line in time within the records: \
              drift, creep or a temperature change, which a rate-independent model cannot \
@@ -279,7 +284,7 @@ pub fn identify(
             sig(100.0 * diagnosis.drift_share, 2)
         ));
     }
-    if diagnosis.rate_share > crate::degeneracy::RATE_NOTE {
+    if diagnosis.rate_share > RATE_NOTE {
         notes.push(format!(
             "{} % of the residuals' variance follows the input's rate of change: the data holds \
              rate-dependent behaviour (viscous friction, creep, eddy currents) that a \
@@ -365,7 +370,7 @@ pub fn identify(
 fn smooth_file(
     f: &SmoothFit,
     summary: Option<&Summary>,
-    columns: crate::Columns,
+    columns: Columns,
     units: Units,
     provenance: Provenance,
 ) -> ModelFile {
@@ -397,7 +402,7 @@ fn smooth_file(
 fn pi_file(
     f: &PiFit,
     summary: Option<&Summary>,
-    columns: crate::Columns,
+    columns: Columns,
     units: Units,
     provenance: Provenance,
 ) -> ModelFile {

@@ -9,8 +9,8 @@
 
 use std::ops::ControlFlow;
 
+use crate::error::FitError;
 use crate::linalg::cholesky_solve;
-use crate::FitError;
 
 /// A point the problem cannot evaluate (parameters outside their bounds).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

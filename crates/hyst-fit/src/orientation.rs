@@ -12,7 +12,13 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Dataset, Form, InitialState};
+use hyst_model::{Form, InitialState};
+
+use crate::data::Dataset;
+
+/// Below this gap between its rising and falling branches (fraction of the output span), a
+/// model has no loop: 0.1 %, about the resolution of a 10-bit sensor.
+pub const MIN_GAP: f64 = 1e-3;
 
 /// The direction of the data's hysteresis loops in the (input, output) plane.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -22,7 +28,7 @@ pub enum Orientation {
     Counterclockwise,
     /// The output leads the input (friction against position): the stop form.
     Clockwise,
-    /// No loop: the branches are less than [`crate::degeneracy::MIN_GAP`] of the output span
+    /// No loop: the branches are less than [`MIN_GAP`] of the output span
     /// apart (a curve, or noise around one).
     None,
 }
@@ -43,7 +49,7 @@ impl Orientation {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Loops {
     /// The orientation of the mean gap ([`Orientation::None`] when it is below
-    /// [`crate::degeneracy::MIN_GAP`]).
+    /// [`MIN_GAP`]).
     pub orientation: Orientation,
     /// The mean output while rising minus while falling at the same input, as a fraction of the
     /// output span: positive for clockwise, near 0 for data without loops (noise and rate
@@ -121,7 +127,7 @@ pub fn loops(data: &Dataset) -> Loops {
     }
     let gap = if weight > 0.0 { gap / weight } else { 0.0 };
     Loops {
-        orientation: if gap.abs() < crate::degeneracy::MIN_GAP {
+        orientation: if gap.abs() < MIN_GAP {
             Orientation::None
         } else if gap > 0.0 {
             Orientation::Clockwise
@@ -280,6 +286,7 @@ impl StartChoice {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+    use crate::data::Record;
 
     fn circle(clockwise: bool) -> Dataset {
         let n = 400;
@@ -333,7 +340,7 @@ mod tests {
             let records = inputs
                 .iter()
                 .enumerate()
-                .map(|(id, x)| crate::Record {
+                .map(|(id, x)| Record {
                     id: id as i64,
                     input: (*x).clone(),
                     output: (*x).clone(),

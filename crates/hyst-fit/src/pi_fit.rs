@@ -13,9 +13,37 @@ use std::time::Instant;
 use hyst_core::{play, Polynomial, Shaping};
 
 use crate::linalg::{cholesky_solve, spd_inverse};
-use crate::pi::{PiModel, PiOutput, PiOutputKind, MAX_OPERATORS};
-use crate::smooth::{error_stats, ErrorStats, Estimate};
-use crate::{Dataset, FitError, Record};
+use hyst_model::pi::MAX_PLAYS;
+use hyst_model::{ErrorStats, Estimate, PiModel, PiOutput};
+
+use crate::data::{Dataset, Record};
+use crate::error::FitError;
+use crate::smooth::{check_finite, error_stats};
+
+/// Which output polynomial follows the Prandtl–Ishlinskii sum (`none`, `poly2`, `poly3`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum PiOutputKind {
+    /// No output polynomial: y = PI[x].
+    #[default]
+    None,
+    /// y = P(PI[x]), P quadratic and increasing on the data.
+    Poly2,
+    /// y = P(PI[x]), P cubic and increasing on the data.
+    Poly3,
+}
+
+impl PiOutputKind {
+    /// The polynomial degree (1 for none: the PI's own affine output).
+    #[must_use]
+    pub fn degree(self) -> usize {
+        match self {
+            PiOutputKind::None => 1,
+            PiOutputKind::Poly2 => 2,
+            PiOutputKind::Poly3 => 3,
+        }
+    }
+}
 
 /// A fitted Prandtl–Ishlinskii model.
 #[derive(Clone, Debug)]
@@ -35,7 +63,7 @@ pub struct PiFit {
 
 /// Play outputs of one record for thresholds `r` (plays at rest at the first sample), by the
 /// core's play update.
-fn plays(input: &[f64], r: &[f64]) -> Vec<Vec<f64>> {
+fn play_outputs(input: &[f64], r: &[f64]) -> Vec<Vec<f64>> {
     let mut state: Vec<f64> = r
         .iter()
         .map(|_| input.first().copied().unwrap_or(0.0))
@@ -50,50 +78,46 @@ fn plays(input: &[f64], r: &[f64]) -> Vec<Vec<f64>> {
     cols
 }
 
-/// Fits a Prandtl–Ishlinskii model with `operators` plays (no output polynomial) to the
+/// Fits a Prandtl–Ishlinskii model with `plays` plays (no output polynomial) to the
 /// training records.
 ///
 /// # Errors
 /// As [`fit_pi_with`].
-pub fn fit_pi(data: &Dataset, operators: usize) -> Result<PiFit, FitError> {
-    fit_pi_with(data, operators, PiOutputKind::None)
+pub fn fit_pi(data: &Dataset, plays: usize) -> Result<PiFit, FitError> {
+    fit_pi_with(data, plays, PiOutputKind::None)
 }
 
-/// Fits a Prandtl–Ishlinskii model with `operators` plays and the chosen output polynomial to
+/// Fits a Prandtl–Ishlinskii model with `plays` plays and the chosen output polynomial to
 /// the training records (see the module docs for the method).
 ///
 /// # Errors
-/// [`FitError::InvalidSetting`] naming `operators` when it is outside 1..=[`MAX_OPERATORS`];
+/// [`FitError::InvalidSetting`] naming `plays` when it is outside 1..=[`MAX_PLAYS`];
 /// bad data ([`Dataset::check`]); [`FitError::NoConvergence`] when the output polynomial cannot
 /// be fitted.
-pub fn fit_pi_with(
-    data: &Dataset,
-    operators: usize,
-    output: PiOutputKind,
-) -> Result<PiFit, FitError> {
+pub fn fit_pi_with(data: &Dataset, plays: usize, output: PiOutputKind) -> Result<PiFit, FitError> {
     let started = Instant::now();
-    if operators == 0 || operators > MAX_OPERATORS {
+    if plays == 0 || plays > MAX_PLAYS {
         return Err(FitError::InvalidSetting {
-            name: "operators",
-            value: operators as f64,
-            expected: format!("1 to {MAX_OPERATORS} play operators"),
+            name: "plays",
+            value: plays as f64,
+            expected: format!("1 to {MAX_PLAYS} plays"),
         });
     }
-    data.check(operators + 1 + output.degree(), true)?;
+    data.check(plays + 1 + output.degree(), true)?;
     let (lo, hi) = data.input_range();
     let span = hi - lo;
-    let r: Vec<f64> = (1..=operators)
-        .map(|i| span * i as f64 / (2.0 * (operators + 1) as f64))
+    let r: Vec<f64> = (1..=plays)
+        .map(|i| span * i as f64 / (2.0 * (plays + 1) as f64))
         .collect();
-    let m = operators + 1; // identity + plays
-                           // Weighted means, then the centred Gram matrix (the free offset is eliminated exactly).
+    let m = plays + 1; // identity + plays
+                       // Weighted means, then the centred Gram matrix (the free offset is eliminated exactly).
     let mut sw = 0.0;
     let mut mean = vec![0.0; m];
     let mut ymean = 0.0;
     let mut columns: Vec<(Vec<Vec<f64>>, &Record)> = Vec::new();
     for rec in data.training() {
         let mut cols = vec![rec.input.clone()];
-        cols.extend(plays(&rec.input, &r));
+        cols.extend(play_outputs(&rec.input, &r));
         for (i, w) in rec.weight.iter().enumerate() {
             sw += w;
             ymean += w * rec.output[i];
@@ -182,7 +206,7 @@ pub fn fit_pi_with(
         (model, estimates)
     };
     let (training, validation) = error_stats(data, |x| model.run(x).ok())?;
-    crate::smooth::check_finite(
+    check_finite(
         &data.source,
         &training,
         validation.as_ref(),
@@ -725,7 +749,7 @@ mod tests {
             })
     }
 
-    /// The thresholds the fit uses for 4 operators on the range of `x`.
+    /// The thresholds the fit uses for 4 plays on the range of `x`.
     fn four_thresholds(x: &[f64]) -> Vec<f64> {
         let (lo, hi) = range(x);
         (1..=4).map(|i| (hi - lo) * i as f64 / 10.0).collect()

@@ -21,8 +21,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Mutex, PoisonError};
 
+use crate::error::FitError;
 use crate::lm::{LevenbergMarquardt, Observer, Problem, Progress, Solution};
-use crate::FitError;
 
 /// Iterations a start runs before it can be abandoned.
 pub(crate) const RACE_AFTER: usize = 10;

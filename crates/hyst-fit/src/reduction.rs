@@ -18,7 +18,7 @@
 //! turning point at almost every sample and is not reduced: the method needs no assumption on
 //! the data, it only gains less.
 
-use crate::{Dataset, Record};
+use crate::data::{Dataset, Record};
 
 /// Records with fewer training samples than this are fitted whole.
 pub const REDUCE_ABOVE: usize = 100_000;
@@ -111,8 +111,8 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
-    use crate::{InitialState, SmoothModel};
     use hyst_core::{AnyK2Law, ScaledShaping};
+    use hyst_model::{InitialState, SmoothModel};
 
     fn sweep(n: usize) -> Vec<f64> {
         (0..n)
@@ -132,7 +132,7 @@ mod tests {
             input_shaping: ScaledShaping::identity(),
             output_shaping: ScaledShaping::identity(),
             initial_state: InitialState::Rising,
-            form: crate::Form::Operator,
+            form: hyst_model::Form::Operator,
             linear: 0.0,
         };
         let y = model.run(&x).unwrap();

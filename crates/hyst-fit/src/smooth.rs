@@ -14,16 +14,22 @@ use std::time::Instant;
 
 use hyst_core::{Dual, Shaping};
 use rayon::prelude::*;
-use serde::Serialize;
 
-use crate::data::History;
-use crate::lm::{Infeasible, LevenbergMarquardt, Observer, Problem, Termination};
-use crate::model::FitReal;
-use crate::structure::{
-    Layout, Normalisation, Structure, IN_ARG_AT_CENTRE, IN_SCALE, OUT_ARG_AT_CENTRE, OUT_SCALE,
+use hyst_io::number::sig;
+use hyst_model::smooth::FitReal;
+use hyst_model::{ErrorStats, Estimate, FamilyWidths, Form, K2Kind, ShapingKind};
+use hyst_model::{SmoothModel, Structure};
+
+use crate::data::{Dataset, History};
+use crate::error::FitError;
+use crate::layout::{
+    Layout, Normalisation, IN_ARG_AT_CENTRE, IN_SCALE, OUT_ARG_AT_CENTRE, OUT_SCALE,
 };
-use crate::widths::{family_widths, FamilyWidths};
-use crate::{Dataset, FitError, SmoothModel};
+use crate::linalg::{cholesky_solve, spd_inverse};
+use crate::lm::{Infeasible, LevenbergMarquardt, Observer, Problem, Termination};
+use crate::race::{best_of, threads};
+use crate::reduction::reduce;
+use crate::widths::{confirm, family_widths};
 
 /// Options of the fit.
 #[derive(Clone, Copy, Debug)]
@@ -54,56 +60,6 @@ impl Default for FitOptions {
             coverage: 0.99,
             widths: true,
             estimate_starts: false,
-        }
-    }
-}
-
-/// A fitted parameter with its standard error.
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
-pub struct Estimate {
-    /// Name ("k1", "out.gain", …).
-    pub name: String,
-    /// Value.
-    pub value: f64,
-    /// Standard error from the covariance σ² (JᵀJ)⁻¹ (NaN when the parameter is not
-    /// identifiable from the data). Assumes independent residuals: correlated measurement
-    /// noise makes it optimistic.
-    pub std_error: f64,
-    /// Units.
-    pub unit: String,
-}
-
-/// Error statistics of a model on a set of records.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize, Default)]
-pub struct ErrorStats {
-    /// Samples used (weight > 0).
-    pub samples: usize,
-    /// Root mean square error (output units).
-    pub rms: f64,
-    /// Largest absolute error (output units).
-    pub max_abs: f64,
-    /// RMS as % of the output span of the whole dataset.
-    pub rms_pct_span: f64,
-    /// Max error as % of the output span.
-    pub max_pct_span: f64,
-}
-
-impl ErrorStats {
-    /// Statistics of `errors` against an output span.
-    #[must_use]
-    pub fn new(errors: &[f64], span: f64) -> Self {
-        if errors.is_empty() {
-            return Self::default();
-        }
-        let n = errors.len();
-        let rms = (errors.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt();
-        let max_abs = errors.iter().fold(0.0_f64, |m, e| m.max(e.abs()));
-        Self {
-            samples: n,
-            rms,
-            max_abs,
-            rms_pct_span: 100.0 * rms / span,
-            max_pct_span: 100.0 * max_abs / span,
         }
     }
 }
@@ -463,7 +419,7 @@ fn fit_smooth_with(
         )));
     }
     let layout = Layout::new(structure, normalisation(data));
-    data.check(layout.len(), structure.form == crate::Form::Operator)?;
+    data.check(layout.len(), structure.form == Form::Operator)?;
     let problem = SmoothProblem::new(&layout, data, options.estimate_starts);
 
     // A long record is searched on its reduction (turning points and every k-th sample, exact
@@ -471,7 +427,7 @@ fn fit_smooth_with(
     let reduced = if options.estimate_starts {
         None
     } else {
-        crate::reduction::reduce(data)
+        reduce(data)
     };
     let mut limits = Vec::new();
     let candidates = if let Some(small) = &reduced {
@@ -520,7 +476,7 @@ fn fit_smooth_with(
     // The starts on the machine's threads, with the result of running them in order (each
     // raced against the best before it: `crate::race`).
     let starts: Vec<Vec<f64>> = candidates.into_iter().map(|(_, theta)| theta).collect();
-    let best = crate::race::best_of(&method, &problem, &starts, crate::race::threads(), observer)?;
+    let best = best_of(&method, &problem, &starts, threads(), observer)?;
     let mut best = best
         .filter(|b| b.cost.is_finite())
         .ok_or_else(|| FitError::NoConvergence("no starting point gave a finite cost".into()))?;
@@ -534,7 +490,7 @@ fn fit_smooth_with(
     // one it contains.
     for (cost, theta) in limits {
         if cost < best.cost {
-            let f = crate::race::best_of(&method, &problem, &[theta], 1, observer)?;
+            let f = best_of(&method, &problem, &[theta], 1, observer)?;
             if let Some(f) = f.filter(|f| f.cost < best.cost) {
                 best = f;
             }
@@ -636,7 +592,7 @@ fn fit_smooth_with(
         // Searched on the reduction, then checked (and widened if need be) on the full data.
         (true, Some(small)) => {
             let found = family_widths(small, &model, None, options.coverage, observer)?;
-            Some(crate::widths::confirm(data, &model, found, observer)?)
+            Some(confirm(data, &model, found, observer)?)
         }
     };
     check_finite(
@@ -738,7 +694,7 @@ fn reduced_inverse(a: &[f64], p: usize, kept: &[usize]) -> Option<Vec<f64>> {
             reduced[x * q + y] = a[i * p + j];
         }
     }
-    crate::linalg::spd_inverse(&reduced, q)
+    spd_inverse(&reduced, q)
 }
 
 /// The starts of the least-squares method: first the optimum of the simpler structure
@@ -869,7 +825,7 @@ pub fn contained(structure: Structure) -> Vec<Structure> {
 /// ⊃ affine ψ_in; tanh and Langevin ψ_in ⊃ affine in the limit of a wide scale (a saturating
 /// ψ_in has slope 1 at the input's centre, so k1 and k2 carry over); poly3 ψ_out ⊃ poly2 ⊃
 /// affine; tanh and Langevin ψ_out ⊃ affine in the limit of a wide scale. `None` for the
-/// simplest structures (and for a quad-exp ψ_in, whose limit rescales k1 and k2).
+/// simplest structures (and for a quadratic-exp ψ_in, whose limit rescales k1 and k2).
 #[must_use]
 pub fn simpler(structure: Structure) -> Option<Structure> {
     simpler_k2(structure)
@@ -879,19 +835,18 @@ pub fn simpler(structure: Structure) -> Option<Structure> {
 
 /// `structure` with constant k2, if its k2 is affine.
 fn simpler_k2(structure: Structure) -> Option<Structure> {
-    (structure.k2 == crate::K2Kind::Affine).then_some(Structure {
-        k2: crate::K2Kind::Constant,
+    (structure.k2 == K2Kind::Affine).then_some(Structure {
+        k2: K2Kind::Constant,
         ..structure
     })
 }
 
 /// `structure` with the next simpler ψ_in, if there is one.
 fn simpler_input(structure: Structure) -> Option<Structure> {
-    use crate::ShapingKind;
     let input_shaping = match structure.input_shaping {
         ShapingKind::Poly3 => ShapingKind::Poly2,
         ShapingKind::Poly2 | ShapingKind::Tanh | ShapingKind::Langevin => ShapingKind::Affine,
-        ShapingKind::Affine | ShapingKind::QuadExp => return None,
+        ShapingKind::Affine | ShapingKind::QuadraticExp => return None,
     };
     let saturating = matches!(
         structure.input_shaping,
@@ -912,11 +867,10 @@ fn simpler_input(structure: Structure) -> Option<Structure> {
 
 /// `structure` with the next simpler ψ_out, if there is one.
 fn simpler_output(structure: Structure) -> Option<Structure> {
-    use crate::ShapingKind;
     let output_shaping = match structure.output_shaping {
         ShapingKind::Poly3 => ShapingKind::Poly2,
         ShapingKind::Poly2 | ShapingKind::Tanh | ShapingKind::Langevin => ShapingKind::Affine,
-        ShapingKind::Affine | ShapingKind::QuadExp => return None,
+        ShapingKind::Affine | ShapingKind::QuadraticExp => return None,
     };
     Some(Structure {
         output_shaping,
@@ -937,7 +891,6 @@ fn embed(
     input_range: (f64, f64),
     wide: f64,
 ) -> Option<Vec<f64>> {
-    use crate::ShapingKind;
     let value = |name: &str| {
         simple
             .estimates
@@ -961,8 +914,8 @@ fn embed(
         SmoothModel::output_argument_range(simple.model.form, simple.model.k1, v_lo, v_hi);
     // In the stop form ψ_out sees (v − H[v]) / k1 ∈ [−1, 1].
     let reach = match simple.model.form {
-        crate::Form::Operator => a_lo.abs().max(a_hi.abs()),
-        crate::Form::Stop => 1.0,
+        Form::Operator => a_lo.abs().max(a_hi.abs()),
+        Form::Stop => 1.0,
     };
     let scale = wide * reach;
     // The affine ψ_out's level at the centre of its argument's range.
@@ -1018,7 +971,7 @@ impl ParameterLimit {
             hyst_core::AnyK2Law::Constant { value } => (value, value),
             hyst_core::AnyK2Law::Affine(law) => (law.min, law.max),
         };
-        if model.form == crate::Form::Stop && model.k1 * hi < DAHL_LIMIT {
+        if model.form == Form::Stop && model.k1 * hi < DAHL_LIMIT {
             Some(Self::Dahl { k2: hi })
         } else if model.k1 * lo > BACKLASH_LIMIT {
             Some(Self::Backlash { k2: lo })
@@ -1039,7 +992,6 @@ impl ParameterLimit {
     /// The report's note on the limit for a model of half-width `k1`.
     #[must_use]
     pub fn note(self, k1: f64) -> String {
-        use crate::report::sig;
         match self {
             Self::Dahl { k2 } => format!(
                 "k1 · k2 = {} < {DAHL_LIMIT}: the stop form's Dahl limit (after each reversal the \
@@ -1112,7 +1064,7 @@ fn linear_output_start(
             i += 1;
         }
     }
-    let coef = crate::linalg::cholesky_solve(&a, &b, p).unwrap_or_else(|| vec![f64::NAN; p]);
+    let coef = cholesky_solve(&a, &b, p).unwrap_or_else(|| vec![f64::NAN; p]);
     let gain = coef[0];
     let gain = if gain.is_finite() && gain > 0.0 {
         gain
@@ -1219,8 +1171,8 @@ pub fn check_finite<'a>(
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
-    use crate::structure::{K2Kind, ShapingKind};
-    use crate::{Columns, Form, Record};
+    use crate::data::Record;
+    use hyst_model::{Columns, Form, K2Kind, ShapingKind};
 
     /// Three records: the second continues the first (one history), the third is held out in
     /// between so the residual rows skip it, and a fourth starts afresh.
@@ -1302,7 +1254,7 @@ mod tests {
             theta[0] = 0.3_f64.ln();
             theta[1] = 4.0_f64.ln();
             for (j, spec) in layout.params.iter().enumerate().skip(2) {
-                if spec.transform == crate::structure::Transform::Linear && spec.start == 0.0 {
+                if spec.transform == crate::layout::Transform::Linear && spec.start == 0.0 {
                     theta[j] = 0.01 * (j as f64);
                 }
             }

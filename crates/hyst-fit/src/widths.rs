@@ -14,38 +14,12 @@ use std::ops::ControlFlow;
 
 use hyst_core::family::{delta_a_over_k2_range, shaped_bound};
 use hyst_core::{AnyK2Law, Family, K2Law, Reproducibility, Shaping};
-use serde::{Deserialize, Serialize};
 
+use hyst_model::{FamilyWidths, SmoothModel};
+
+use crate::data::Dataset;
+use crate::error::FitError;
 use crate::lm::{Observer, Progress};
-use crate::{Dataset, FitError, SmoothModel};
-
-/// The family that reproduces the data, and its bound.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FamilyWidths {
-    /// The coverage asked for (fraction of samples inside the envelope).
-    pub coverage_target: f64,
-    /// Whether some family inside the limits reached it.
-    pub reachable: bool,
-    /// Δk1 (operator units).
-    pub delta_k1: f64,
-    /// Δk2 (1 / operator units), around the fitted k2 (or k2 law).
-    pub delta_k2: f64,
-    /// The coverage reached with these widths.
-    pub coverage: f64,
-    /// Proposition 4.3's extra Δk2* = sup|φ'| k1 for an input-dependent k2 (0 for constant k2).
-    pub delta_k2_law: f64,
-    /// Range of the nominal k2 over the data (equal ends for constant k2).
-    pub k2_range: (f64, f64),
-    /// Δa of Proposition 3.2 for RH(k1, Δk1, k2, Δk2 + Δk2*), the worst over the k2 range
-    /// (operator units); Δb ≤ Δa (Proposition 3.3). `None` when the coverage is not
-    /// reachable: no family within the limits reproduces the data, so no bound holds for it.
-    pub delta_a: Option<f64>,
-    /// The bound in output units: Δa times the Lipschitz constant of ψ_out on the data
-    /// (`None` when not reachable).
-    pub output_bound: Option<f64>,
-    /// `output_bound` as % of the output span (`None` when not reachable).
-    pub output_bound_pct_span: Option<f64>,
-}
 
 /// Histories at least this long share the family's members among threads (below it, starting
 /// the threads would cost more than they save).
@@ -522,9 +496,9 @@ mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
     use crate::lm::Silent;
-    use crate::InitialState;
     use hyst_core::AnyShaping;
     use hyst_core::ScaledShaping;
+    use hyst_model::InitialState;
 
     fn model() -> SmoothModel {
         let identity = AnyShaping::Identity;
@@ -534,7 +508,7 @@ mod tests {
             input_shaping: ScaledShaping::new(0.5, 0.1, identity, 1.0, 0.0).unwrap(),
             output_shaping: ScaledShaping::new(1.0, 0.0, identity, 2.0, 0.3).unwrap(),
             initial_state: InitialState::Falling,
-            form: crate::Form::Operator,
+            form: hyst_model::Form::Operator,
             linear: 0.0,
         }
     }

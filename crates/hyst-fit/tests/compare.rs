@@ -5,8 +5,8 @@
 mod common;
 use common::identify;
 use hyst_fit::identify::Request;
-use hyst_fit::modelfile::ModelKind;
 use hyst_fit::{Dataset, FitError};
+use hyst_model::ModelKind;
 
 /// Dahl friction (N) along a stroke of two sines (mm): dF = σ dx (1 − F/Fc · sign dx).
 fn dahl() -> Dataset {

@@ -5,10 +5,11 @@
 
 mod common;
 use common::{loops_input as input, normals};
+use hyst_fit::layout::Layout;
 use hyst_fit::lm::{LevenbergMarquardt, Silent, Termination};
 use hyst_fit::smooth::normalisation;
-use hyst_fit::structure::Layout;
-use hyst_fit::{fit_smooth, Dataset, FitError, FitOptions, ShapingKind, Structure};
+use hyst_fit::{fit_smooth, Dataset, FitError, FitOptions};
+use hyst_model::{ShapingKind, Structure};
 
 #[test]
 fn a_langevin_input_shaping_on_data_it_cannot_bend_to_stops_when_its_gains_fade(

@@ -7,7 +7,8 @@ mod common;
 use common::identify;
 use hyst_core::{Hysteresis, Operator};
 use hyst_fit::identify::Request;
-use hyst_fit::{Dataset, FitError, InitialState, Record, ShapingKind, Structure};
+use hyst_fit::{Dataset, FitError, Record};
+use hyst_model::{InitialState, ShapingKind, Structure};
 
 /// 20 curves of m = tanh(2 H(0.3, 6)[h]): each falls from saturation (h = 1.5) to its reversal
 /// field (not recorded), then rises back (recorded, 60 points).

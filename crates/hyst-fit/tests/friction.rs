@@ -9,7 +9,8 @@ use common::identify;
 use common::normals;
 use hyst_fit::identify::Request;
 use hyst_fit::orientation::{loops, FormChoice, Orientation};
-use hyst_fit::{Dataset, FitError, Form, ModelFile};
+use hyst_fit::{Dataset, FitError};
+use hyst_model::{Form, ModelFile};
 use hyst_sim::LuGre;
 
 /// A piston stroke: three sines of incommensurate frequencies (mm), 1 kHz, 8 s.

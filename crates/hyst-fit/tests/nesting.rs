@@ -1,6 +1,6 @@
 //! A richer structure never ends worse than a structure it contains (docs/fitting.md, "Nested
 //! starts"), in the stop form too: on a clockwise LuGre friction record, for every k2 law and
-//! every pair of input and output shapings the command line offers (quad-exp aside, which
+//! every pair of input and output shapings the command line offers (quadratic-exp aside, which
 //! contains nothing), the training cost is at most that of each structure one step simpler
 //! (`hyst_fit::smooth::contained`). Before, a tanh or Langevin shape started from an affine
 //! optimum at scale 30 (which costs more than the affine fit) and crawled toward its linear
@@ -11,9 +11,8 @@ mod common;
 use common::normals;
 use hyst_fit::lm::Silent;
 use hyst_fit::smooth::contained;
-use hyst_fit::{
-    fit_smooth, Dataset, FitError, FitOptions, Form, K2Kind, ShapingKind, SmoothFit, Structure,
-};
+use hyst_fit::{fit_smooth, Dataset, FitError, FitOptions, SmoothFit};
+use hyst_model::{Form, K2Kind, ShapingKind, Structure};
 use hyst_sim::LuGre;
 
 /// Samples of the record, and whether every structure is checked: in release builds 3,000 and

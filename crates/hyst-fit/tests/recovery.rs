@@ -3,13 +3,11 @@
 
 mod common;
 use common::{loops_input as input, normals};
+use hyst_fit::layout::Layout;
 use hyst_fit::lm::Silent;
 use hyst_fit::smooth::normalisation;
-use hyst_fit::structure::Layout;
-use hyst_fit::{
-    fit_smooth, Dataset, FitError, FitOptions, InitialState, K2Kind, ShapingKind, SmoothModel,
-    Structure,
-};
+use hyst_fit::{fit_smooth, Dataset, FitError, FitOptions};
+use hyst_model::{InitialState, K2Kind, ShapingKind, SmoothModel, Structure};
 
 /// The truth: `values` by parameter name, laid out for the data's normalisation.
 fn truth(
@@ -231,7 +229,7 @@ fn noisy_data_recovers_within_the_reported_standard_errors() -> Result<(), FitEr
 
 #[test]
 fn model_file_reads_back_exactly() -> Result<(), FitError> {
-    use hyst_fit::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT, VERSION};
+    use hyst_model::{file::FORMAT, file::VERSION, Metrics, ModelKind, Provenance, Units};
     let structure = Structure {
         k2: K2Kind::Affine,
         input_shaping: ShapingKind::Poly3,
@@ -250,11 +248,11 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
             ("in.p3", 0.05),
         ],
     )?;
-    let file = hyst_fit::ModelFile {
+    let file = hyst_model::ModelFile {
         format: FORMAT.into(),
         version: VERSION,
         kind: ModelKind::Smooth,
-        columns: hyst_fit::Columns::default(),
+        columns: hyst_model::Columns::default(),
         units: Units::default(),
         parameters: Vec::new(),
         metrics: Metrics::default(),
@@ -265,7 +263,7 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
         provenance: Provenance::default(),
     };
     let text = file.to_toml()?;
-    let back = hyst_fit::ModelFile::from_toml(&text, std::path::Path::new("m.toml"))?;
+    let back = hyst_model::ModelFile::from_toml(&text, std::path::Path::new("m.toml"))?;
     assert_eq!(back, file);
     let a = file.run(&x)?;
     let b = back.run(&x)?;
@@ -277,18 +275,18 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
         &format!("version = {VERSION}"),
         &format!("version = {}", VERSION + 1),
     );
-    let err = hyst_fit::ModelFile::from_toml(&newer, std::path::Path::new("m.toml"));
+    let err = hyst_model::ModelFile::from_toml(&newer, std::path::Path::new("m.toml"));
     assert!(
-        matches!(&err, Err(FitError::ModelFile { message, .. }) if message.contains(&format!("versions 1 to {VERSION}"))),
+        matches!(&err, Err(hyst_model::ModelError::File { message, .. }) if message.contains(&format!("versions 1 to {VERSION}"))),
         "{err:?}"
     );
     assert_eq!(file.required_version(), 1);
     let older = text.replace(&format!("version = {VERSION}"), "version = 1");
-    let back = hyst_fit::ModelFile::from_toml(&older, std::path::Path::new("m.toml"))?;
+    let back = hyst_model::ModelFile::from_toml(&older, std::path::Path::new("m.toml"))?;
     assert_eq!(back.version, 1);
     // The comment above `version` names the version written, not the newest one known.
     assert!(text.starts_with(&format!("# hyst model file, format version {VERSION} ")));
-    let written_as_1 = hyst_fit::ModelFile {
+    let written_as_1 = hyst_model::ModelFile {
         version: 1,
         ..file.clone()
     }
@@ -297,7 +295,7 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
     assert!(written_as_1.contains("\nversion = 1\n"));
     // A version of the wrong type is named with its value and line, not reported missing.
     let quoted = older.replace("version = 1", "version = \"1\"");
-    let err = hyst_fit::ModelFile::from_toml(&quoted, std::path::Path::new("m.toml"))
+    let err = hyst_model::ModelFile::from_toml(&quoted, std::path::Path::new("m.toml"))
         .err()
         .map(|e| e.to_string());
     assert_eq!(
@@ -309,7 +307,7 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
     );
     // A float is not told to drop quotes it does not have.
     let float = older.replace("version = 1", "version = 1.0");
-    let err = hyst_fit::ModelFile::from_toml(&float, std::path::Path::new("m.toml"))
+    let err = hyst_model::ModelFile::from_toml(&float, std::path::Path::new("m.toml"))
         .err()
         .map(|e| e.to_string());
     assert_eq!(
@@ -345,7 +343,7 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
     assert!(
         matches!(
             refused,
-            Err(FitError::Core(hyst_core::Error::OutOfRange { value, min, max, .. }))
+            Err(hyst_model::ModelError::Core(hyst_core::Error::OutOfRange { value, min, max, .. }))
                 if (value, min, max) == (hi, lo, hi)
         ),
         "{refused:?}"
@@ -355,17 +353,17 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
 
 #[test]
 fn pi_model_file_with_output_polynomial_reads_back_exactly() -> Result<(), FitError> {
-    use hyst_fit::modelfile::{Metrics, ModelKind, Provenance, Units, FORMAT};
-    use hyst_fit::pi::PiOutputKind;
     use hyst_fit::pi_fit::fit_pi_with;
+    use hyst_fit::pi_fit::PiOutputKind;
+    use hyst_model::{file::FORMAT, Metrics, ModelKind, Provenance, Units};
     let x = input(3000);
     let y: Vec<f64> = x.iter().map(|v| (1.5 * v).tanh() + 0.05 * v).collect();
     let fit = fit_pi_with(&Dataset::single(&x, &y), 8, PiOutputKind::Poly3)?;
-    let mut file = hyst_fit::ModelFile {
+    let mut file = hyst_model::ModelFile {
         format: FORMAT.into(),
         version: 1,
         kind: ModelKind::PrandtlIshlinskii,
-        columns: hyst_fit::Columns::default(),
+        columns: hyst_model::Columns::default(),
         units: Units::default(),
         parameters: fit.estimates.clone(),
         metrics: Metrics::default(),
@@ -378,15 +376,15 @@ fn pi_model_file_with_output_polynomial_reads_back_exactly() -> Result<(), FitEr
     assert_eq!(file.required_version(), 2);
     // Written as version 1 it would be misread by a version-1 reader: refused, naming why.
     let wrong = file.to_toml()?;
-    let err = hyst_fit::ModelFile::from_toml(&wrong, std::path::Path::new("m.toml"));
+    let err = hyst_model::ModelFile::from_toml(&wrong, std::path::Path::new("m.toml"));
     assert!(
-        matches!(&err, Err(FitError::ModelFile { message, .. }) if message.contains("[prandtl-ishlinskii.output]")),
+        matches!(&err, Err(hyst_model::ModelError::File { message, .. }) if message.contains("[prandtl-ishlinskii.output]")),
         "{err:?}"
     );
     file.version = file.required_version();
     let text = file.to_toml()?;
     assert!(text.contains("[prandtl-ishlinskii.output]"), "{text}");
-    let back = hyst_fit::ModelFile::from_toml(&text, std::path::Path::new("m.toml"))?;
+    let back = hyst_model::ModelFile::from_toml(&text, std::path::Path::new("m.toml"))?;
     assert_eq!(back, file);
     let a = file.run(&x)?;
     let b = back.run(&x)?;

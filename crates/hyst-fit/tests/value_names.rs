@@ -4,9 +4,9 @@
 #![cfg(feature = "clap")]
 
 use clap::ValueEnum;
-use hyst_fit::modelfile::ModelKind;
-use hyst_fit::pi::PiOutputKind;
-use hyst_fit::{InitialState, K2Kind, ShapingKind};
+use hyst_fit::pi_fit::PiOutputKind;
+use hyst_model::ModelKind;
+use hyst_model::{InitialState, K2Kind, ShapingKind};
 
 /// The command-line names of every variant, in the order `--help` lists them.
 fn names<E: ValueEnum>() -> Vec<String> {
@@ -29,12 +29,19 @@ fn serde_name<E: serde::Serialize>(value: &E) -> String {
 fn command_line_names_are_the_contract() {
     assert_eq!(
         names::<ShapingKind>(),
-        ["affine", "poly2", "poly3", "tanh", "langevin", "quad-exp"]
+        [
+            "affine",
+            "poly2",
+            "poly3",
+            "tanh",
+            "langevin",
+            "quadratic-exp"
+        ]
     );
     assert_eq!(names::<K2Kind>(), ["constant", "affine"]);
     assert_eq!(names::<InitialState>(), ["rising", "falling", "line"]);
     assert_eq!(names::<PiOutputKind>(), ["none", "poly2", "poly3"]);
-    assert_eq!(names::<ModelKind>(), ["smooth", "pi"]);
+    assert_eq!(names::<ModelKind>(), ["smooth", "prandtl-ishlinskii"]);
 }
 
 #[test]
@@ -56,13 +63,29 @@ fn command_line_and_model_file_agree() {
             s.to_possible_value().map(|p| p.get_name().into())
         );
     }
-    // The one deliberate difference: the file says what the CLI abbreviates.
+    // The file and the command line say the same; the command line also takes the short `pi`.
     assert_eq!(
         serde_name(&ModelKind::PrandtlIshlinskii),
         "prandtl-ishlinskii"
     );
+    for name in ["prandtl-ishlinskii", "pi"] {
+        assert_eq!(
+            ModelKind::from_str(name, false),
+            Ok(ModelKind::PrandtlIshlinskii)
+        );
+    }
+}
+
+#[test]
+fn the_old_spelling_of_quadratic_exp_still_reads() {
+    // Model files and scripts of earlier versions wrote `quad-exp` (docs/formats.md).
     assert_eq!(
-        ModelKind::from_str("pi", false),
-        Ok(ModelKind::PrandtlIshlinskii)
+        ShapingKind::from_str("quad-exp", false),
+        Ok(ShapingKind::QuadraticExp)
     );
+    let old: toml::Table = toml::from_str("s = \"quad-exp\"").unwrap_or_default();
+    let kind: Result<ShapingKind, _> = old["s"].clone().try_into();
+    assert_eq!(kind.ok(), Some(ShapingKind::QuadraticExp));
+    // New files write the one spelling.
+    assert_eq!(serde_name(&ShapingKind::QuadraticExp), "quadratic-exp");
 }

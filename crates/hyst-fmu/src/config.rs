@@ -16,8 +16,8 @@
 use std::path::{Path, PathBuf};
 
 use hyst_core::{Hysteresis, InverseHysteresis};
-use hyst_fit::modelfile::Saturation;
-use hyst_fit::ModelFile;
+use hyst_model::ModelFile;
+use hyst_model::Saturation;
 use serde::Deserialize;
 
 /// `format` of fmu.toml.
@@ -53,7 +53,7 @@ pub struct Config {
     /// The operator or the model.
     pub kind: Kind,
     /// `saturate = true`: the output range of the model's saturating output shaping and the
-    /// limits ([`hyst_fit::modelfile::SATURATION_FRACTION`] of it) that desired outputs are
+    /// limits ([`hyst_model::saturation::SATURATION_FRACTION`] of it) that desired outputs are
     /// clamped into before the compensator sees them, as `hyst run --saturate` clamps them.
     /// `None`: a desired output beyond the range is refused.
     pub saturation: Option<Saturation>,

@@ -2,7 +2,7 @@
 //! evaluator, run through `hyst_core::Operator` only (no formula is written here).
 
 use hyst_core::{Error, Hysteresis, InverseHysteresis, Operator};
-use hyst_fit::{Evaluator, ModelFile};
+use hyst_model::{Evaluator, ModelFile};
 
 use crate::state::History;
 

@@ -32,9 +32,9 @@
 //! checked by the core through `Operator::set_memory` (see `Instance::engine_for`).
 
 use hyst_core::{Direction, Memory, PlayMemory};
-use hyst_fit::evaluator::EvaluatorMemory;
-use hyst_fit::modelfile::fnv1a64;
-use hyst_fit::pi::MAX_OPERATORS;
+use hyst_model::file::fnv1a64;
+use hyst_model::pi::MAX_PLAYS;
+use hyst_model::EvaluatorMemory;
 
 /// The first 8 bytes of a serialised state.
 pub const MAGIC: [u8; 8] = *b"hystFMUs";
@@ -333,10 +333,10 @@ pub fn decode(bytes: &[u8], owner: &Owner) -> Result<FmuState, String> {
         (3, true) => {
             let first = r.f64("the model's first input")?;
             let n = r.u32("the number of plays")?;
-            if usize::try_from(n).ok() != Some(MAX_OPERATORS) {
-                return Err(format!("{n} plays: must be {MAX_OPERATORS}"));
+            if usize::try_from(n).ok() != Some(MAX_PLAYS) {
+                return Err(format!("{n} plays: must be {MAX_PLAYS}"));
             }
-            let mut plays = [0.0; MAX_OPERATORS];
+            let mut plays = [0.0; MAX_PLAYS];
             for p in &mut plays {
                 *p = r.f64("a play output")?;
             }
@@ -396,7 +396,7 @@ mod tests {
 
     #[test]
     fn every_history_round_trips_and_only_for_its_owner() {
-        let mut plays = [0.0; MAX_OPERATORS];
+        let mut plays = [0.0; MAX_PLAYS];
         plays[0] = 0.5;
         plays[1] = -1.5;
         let cases = [

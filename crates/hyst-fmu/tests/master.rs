@@ -19,12 +19,12 @@ use std::ptr;
 use hyst_core::{
     AnyK2Law, AnyShaping, Hysteresis, InverseHysteresis, Operator, ScaledShaping, Tanh,
 };
-use hyst_fit::modelfile::{fnv1a64, ModelKind, FORMAT};
-use hyst_fit::pi::PiModel;
-use hyst_fit::{InitialState, ModelFile, SmoothModel};
 use hyst_fmu::fmi2::*;
 use hyst_fmu::instance::{VR_K1, VR_K2, VR_X, VR_Y};
 use hyst_fmu::*;
+use hyst_model::PiModel;
+use hyst_model::{file::fnv1a64, file::FORMAT, ModelKind};
+use hyst_model::{InitialState, ModelFile, SmoothModel};
 
 use fmi2Status::{
     fmi2Discard as DISCARD, fmi2Error as ERROR, fmi2OK as OK, fmi2Warning as WARNING,
@@ -135,7 +135,7 @@ fn model_file(smooth: Option<SmoothModel>, pi: Option<PiModel>) -> ModelFile {
         } else {
             ModelKind::PrandtlIshlinskii
         },
-        columns: hyst_fit::Columns {
+        columns: hyst_model::Columns {
             input: "x".into(),
             output: "y".into(),
             ..Default::default()
@@ -143,7 +143,7 @@ fn model_file(smooth: Option<SmoothModel>, pi: Option<PiModel>) -> ModelFile {
         units: Default::default(),
         parameters: Vec::new(),
         metrics: Default::default(),
-        structure: smooth.as_ref().map(|_| hyst_fit::Structure::default()),
+        structure: smooth.as_ref().map(|_| hyst_model::Structure::default()),
         smooth,
         prandtl_ishlinskii: pi,
         family: None,
@@ -151,20 +151,27 @@ fn model_file(smooth: Option<SmoothModel>, pi: Option<PiModel>) -> ModelFile {
     }
 }
 
-/// A smooth model as `hyst fit` makes it (fitted to data of a known operator).
+/// A smooth model as `hyst fit` makes it from data of a known operator.
 fn fitted_model() -> ModelFile {
-    let data: Vec<f64> = (0..600).map(signal).collect();
-    let mut h = Hysteresis::new(0.2, 6.0).unwrap();
-    let out: Vec<f64> = data.iter().map(|x| 3.0 * h.step(*x) + 1.0).collect();
-    let dataset = hyst_fit::Dataset::single(&data, &out);
-    let fit = hyst_fit::fit_smooth(
-        &dataset,
-        hyst_fit::Structure::default(),
-        &hyst_fit::FitOptions::default(),
-        &mut hyst_fit::lm::Silent,
-    )
-    .unwrap();
-    model_file(Some(fit.model), None)
+    // The operator the data would come from, as a fitted smooth model: y = 3 H(0.2, 6)[x] + 1,
+    // starting as after a rise (a fit of that data recovers it).
+    let model = hyst_model::SmoothModel {
+        k1: 0.2,
+        k2: hyst_core::AnyK2Law::Constant { value: 6.0 },
+        input_shaping: hyst_core::ScaledShaping::identity(),
+        output_shaping: hyst_core::ScaledShaping::new(
+            1.0,
+            0.0,
+            hyst_core::AnyShaping::Identity,
+            3.0,
+            1.0,
+        )
+        .unwrap(),
+        initial_state: hyst_model::InitialState::Rising,
+        form: hyst_model::Form::Operator,
+        linear: 0.0,
+    };
+    model_file(Some(model), None)
 }
 
 /// A Prandtl–Ishlinskii model (its memory is the plays).
@@ -196,7 +203,7 @@ fn saturating_model() -> ModelFile {
                 post_offset: 0.0,
             },
             initial_state: InitialState::Line,
-            form: hyst_fit::Form::Operator,
+            form: hyst_model::Form::Operator,
             linear: 0.0,
         }),
         None,

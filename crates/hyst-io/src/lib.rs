@@ -9,6 +9,8 @@
 //!   TOML, PNG, SVG, ...); both replace the destination atomically (a
 //!   [`tempfile`] in the same directory, then a rename) and never leave a
 //!   half-written or temporary file behind.
+//! - [`number`]: numbers as every report and message prints them ([`number::sig`],
+//!   [`number::shortest`], percentages).
 //! - [`IoError`] messages name the file, line, column (index and name) and the
 //!   offending value, e.g.
 //!   `data.csv:17: column 2 ("y"): cannot parse "1.2.3" as a number`.
@@ -40,6 +42,7 @@
 
 mod atomic;
 mod error;
+pub mod number;
 mod reader;
 mod table;
 mod writer;

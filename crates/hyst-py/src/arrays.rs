@@ -15,8 +15,7 @@ use pyo3::types::PyDict;
 
 use crate::errors::value_error;
 
-/// The most time derivatives a `derivatives=` array may carry (as `hyst run --derivatives`).
-pub const MAX_DERIVATIVES: usize = 8;
+use hyst_core::compensator::MAX_ORDER;
 
 /// A 1-D array of samples, read in place.
 pub enum Samples<'py> {
@@ -173,7 +172,7 @@ pub fn samples_f64(x: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
 }
 
 /// Reads `d` as the time derivatives of `n` samples: shape (n, N) with 1 ≤ N ≤
-/// [`MAX_DERIVATIVES`] (a 1-D array of length n is the first derivative alone). Returns the
+/// [`MAX_ORDER`] (a 1-D array of length n is the first derivative alone). Returns the
 /// array (float64) and whether it was 1-D.
 ///
 /// # Errors
@@ -209,9 +208,9 @@ pub fn derivatives<'py>(
             rows.unwrap_or(0)
         )));
     }
-    if !(1..=MAX_DERIVATIVES).contains(&cols.unwrap_or(0)) {
+    if !(1..=MAX_ORDER).contains(&cols.unwrap_or(0)) {
         return Err(value_error(format!(
-            "derivatives: {} columns; give 1 to {MAX_DERIVATIVES} time derivatives per sample",
+            "derivatives: {} columns; give 1 to {MAX_ORDER} time derivatives per sample",
             cols.unwrap_or(0)
         )));
     }
@@ -437,7 +436,7 @@ fn run_order<T: Real, X: Real, O: Operator<T>, const N: usize>(
 
 /// Runs `op` over the jets (x, d): outputs and their time derivatives (row-major, N per
 /// sample), by the core's Taylor arithmetic (Proposition 2.7 and beyond). `d` has been checked
-/// by [`derivatives`] (1 ≤ N ≤ [`MAX_DERIVATIVES`] columns, one row per sample).
+/// by [`derivatives`] (1 ≤ N ≤ [`MAX_ORDER`] columns, one row per sample).
 ///
 /// # Errors
 /// The first refused sample, or a signal handler's exception (the memory is then restored).
@@ -450,12 +449,12 @@ pub fn run_jets<T: Real, X: Real, O: Operator<T>>(
         ($($n:literal)*) => {
             match d.ncols() {
                 $($n => run_order::<T, X, O, $n>(op, x, d),)*
-                // derivatives() admits 1 ..= MAX_DERIVATIVES columns only.
+                // derivatives() admits 1 ..= MAX_ORDER columns only.
                 _ => Ok((Vec::new(), Vec::new())),
             }
         };
     }
-    orders!(1 2 3 4 5 6 7 8)
+    orders!(1 2 3 4)
 }
 
 /// A result vector as a numpy array (the array takes the `Vec`; no copy).

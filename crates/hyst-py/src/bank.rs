@@ -3,7 +3,7 @@
 //!
 //! Arrays: `.step(x)` takes a 1-D array of one value per channel; `.process(X)` a 2-D array of
 //! shape (ticks, channels), row t being tick t. A C-contiguous array of the bank's dtype is
-//! read in place and goes straight to the core's time-major `process_ticks`; any other layout
+//! read in place and goes straight to the core's time-major `process`; any other layout
 //! (Fortran order, strided views) is read tick block by tick block into a time-major buffer.
 //! Results are in the bank's dtype.
 
@@ -148,7 +148,7 @@ fn ticks<T: Lane, F: BankFormula>(
                 .map_err(|BankError { channel, error }| refuse(t * n + channel, error))?;
         }
     } else {
-        b.process_ticks(x, y)
+        b.process(x, y)
             .map_err(|BankError { channel, error }| refuse(channel, error))?;
     }
     if let Some(i) = y.iter().position(|v| !v.is_finite()) {

@@ -2,9 +2,9 @@
 //! the hysteresis (Lemma 5.1, eqs. 18–20).
 
 use hyst_core::compensator::Compensator as CoreCompensator;
-use hyst_core::{AnyK2Law, Hysteresis as CoreHysteresis, Model as CoreModel, ScaledShaping};
-use hyst_fit::model::CoreInverse;
-use hyst_fit::modelfile::ModelKind;
+use hyst_core::{AnyK2Law, Hysteresis as CoreHysteresis, ScaledShaping, ShapedModel};
+use hyst_model::smooth::CoreInverseShapedModel;
+use hyst_model::ModelKind;
 use numpy::ndarray::ArrayView1;
 use pyo3::prelude::*;
 
@@ -13,14 +13,14 @@ use crate::errors::{core, value_error};
 use crate::model::Model;
 use crate::operator::{Hysteresis, InverseHysteresis};
 
-/// The most plant order n the compensator takes.
-pub const MAX_ORDER: usize = 8;
+pub use hyst_core::compensator::MAX_ORDER;
 
 type Shaping = ScaledShaping<f64>;
 type Small = CoreCompensator<f64, 2, Shaping, AnyK2Law<f64>, Shaping>;
 type Large = CoreCompensator<f64, MAX_ORDER, Shaping, AnyK2Law<f64>, Shaping>;
 
-/// The core compensator: jets of 2 derivatives for n ≤ 2 (the paper's examples), of 8 above.
+/// The core compensator: jets of 2 derivatives for n ≤ 2 (the paper's examples), of
+/// [`MAX_ORDER`] above.
 #[derive(Clone, Debug)]
 enum Inner {
     Small(Box<Small>),
@@ -40,7 +40,7 @@ macro_rules! each {
 /// followed by the hysteresis `model` (a smooth `Model`, or `Hysteresis(k1, k2)`).
 ///
 /// `Compensator(model, b, a, state=None)`: `b` ≠ 0 is the plant gain, `a = [a_1, …, a_n]` the
-/// denominator coefficients (n ≤ 8; n = 0 is a static plant), `state` the integrators' start
+/// denominator coefficients (n ≤ `hyst.MAX_ORDER` = 4; n = 0 is a static plant), `state` the integrators' start
 /// (v, v̇, …, v⁽ⁿ⁻¹⁾) (default 0). Each `step(u_new, dt)` takes the new input u_new = v⁽ⁿ⁾
 /// (the n-th derivative of the desired output v), evaluates the exact inverse model on the jet
 /// (v, …, v⁽ⁿ⁾) and returns the plant command of eq. (19), u = (1/b)(x + a_1 ẋ + … + a_n x⁽ⁿ⁾);
@@ -53,7 +53,7 @@ pub struct Compensator {
     a: Vec<f64>,
 }
 
-fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverse> {
+fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverseShapedModel> {
     if let Ok(m) = model.cast::<Model>() {
         let m = m.borrow();
         let smooth = match (m.file.kind, &m.file.smooth) {
@@ -66,11 +66,11 @@ fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverse> {
                 )))
             }
         };
-        return smooth.compensator_from_desired(v0).map_err(|e| match e {
-            hyst_fit::FitError::Core(e) => {
+        return smooth.inverse_from_desired(v0).map_err(|e| match e {
+            hyst_model::ModelError::Core(e) => {
                 core(format!("state: v = {v0} is not reachable by the model"), e)
             }
-            e => crate::errors::fit(e),
+            e => crate::errors::model(e),
         });
     }
     let (k1, k2) = if let Ok(h) = model.cast::<Hysteresis>() {
@@ -90,7 +90,7 @@ fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverse> {
     };
     let operator = CoreHysteresis::with_k2_law(k1, AnyK2Law::Constant { value: k2 })
         .map_err(|e| core("model", e))?;
-    CoreModel::new(Shaping::identity(), operator, Shaping::identity())
+    ShapedModel::new(Shaping::identity(), operator, Shaping::identity())
         .map(|m| m.inverse())
         .map_err(|e| core("model", e))
 }

@@ -8,6 +8,7 @@ use std::path::Path;
 
 use hyst_fit::FitError;
 use hyst_io::IoError;
+use hyst_model::ModelError;
 use pyo3::exceptions::{
     PyFileExistsError, PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError,
     PyValueError,
@@ -54,4 +55,9 @@ pub fn fit(error: FitError) -> PyErr {
         }
         _ => value_error(error),
     }
+}
+
+/// A [`ModelError`] (reading, checking or running a model): as the same fault of a fit.
+pub fn model(error: ModelError) -> PyErr {
+    fit(FitError::from(error))
 }

@@ -8,14 +8,12 @@ use std::time::{Duration, Instant};
 use clap::ValueEnum;
 use hyst_fit::identify::Request;
 use hyst_fit::lm::{Observer, Progress};
-use hyst_fit::modelfile::{fnv1a64, ModelKind, Provenance, Units};
-use hyst_fit::pi::PiOutputKind;
+use hyst_fit::pi_fit::PiOutputKind;
 use hyst_fit::report::{text_report, Findings, Report, Summary};
-use hyst_fit::{
-    identify, DataOptions, Dataset, FitError, FitOptions, FormChoice, InitialState, K2Kind,
-    ModelFile, ShapingKind, StartChoice, Structure,
-};
+use hyst_fit::{identify, DataOptions, Dataset, FitError, FitOptions, FormChoice, StartChoice};
 use hyst_io::Table;
+use hyst_model::{file::fnv1a64, ModelKind, Provenance, Units};
+use hyst_model::{InitialState, K2Kind, ModelFile, ShapingKind, Structure};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -69,11 +67,11 @@ impl Observer for Signals {
 ///
 /// The options mirror `hyst fit`'s flags, with the same names and values (docs/fitting.md):
 /// `output_shaping`, `input_shaping` ("affine", "poly2", "poly3", "tanh", "langevin",
-/// "quad-exp"), `k2` ("constant", "affine"), `model_kind` ("smooth", "pi"), `starts`,
+/// "quadratic-exp"), `k2` ("constant", "affine"), `model_kind` ("smooth", "prandtl-ishlinskii" or "pi"), `starts`,
 /// `segment` (or `segments`: cut every record into segments of that many samples), `record`
 /// (an array of record ids, one per sample: each record starts from its own initial state),
 /// `weight` (an array of weights ≥ 0), `validate` (record ids held out), `validate_every`,
-/// `coverage`, `operators`, `pi_output`, `compare`, `input_offset`, `output_offset`,
+/// `coverage`, `plays`, `pi_output`, `compare`, `input_offset`, `output_offset`,
 /// `initial_state` ("auto": "falling" when every record only rises, as first-order reversal
 /// curves; "rising", "falling", "line"), `estimate_initial_states` (estimate each
 /// record's start from its data), `form` ("auto": the stop form for clockwise
@@ -86,7 +84,7 @@ impl Observer for Signals {
     u, y, *,
     output_shaping = "affine", input_shaping = "affine", k2 = "constant",
     model_kind = "smooth", starts = 3, segment = None, segments = None, record = None,
-    weight = None, validate = None, validate_every = None, coverage = 0.99, operators = 16,
+    weight = None, validate = None, validate_every = None, coverage = 0.99, plays = 16,
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
     initial_state = "auto", estimate_initial_states = false, form = "auto",
     keep_degenerate = false, input_name = "u", output_name = "y", input_unit = "",
@@ -109,7 +107,7 @@ pub fn fit(
     validate: Option<Vec<i64>>,
     validate_every: Option<usize>,
     coverage: f64,
-    operators: usize,
+    plays: usize,
     pi_output: &str,
     compare: bool,
     input_offset: Option<bool>,
@@ -141,7 +139,7 @@ pub fn fit(
         input_offset,
         output_offset,
         initial_state: InitialState::Rising,
-        form: hyst_fit::Form::Operator,
+        form: hyst_model::Form::Operator,
     };
     let request = Request {
         kind: choice::<ModelKind>("model_kind", model_kind)?,
@@ -156,7 +154,7 @@ pub fn fit(
             estimate_starts: estimate_initial_states,
             ..FitOptions::default()
         },
-        operators,
+        plays,
         pi_output: choice::<PiOutputKind>("pi_output", pi_output)?,
         units: Units {
             input: input_unit.into(),
@@ -406,7 +404,7 @@ impl FitResult {
             .py()
             .import("hyst._hyst")?
             .getattr("_fit_result_from_json")?;
-        let toml = me.file().to_toml().map_err(errors::fit)?;
+        let toml = me.file().to_toml().map_err(errors::model)?;
         let comparison = serde_json::to_string(&me.report.comparison).map_err(value_error)?;
         let findings = serde_json::to_string(&me.report.findings).map_err(value_error)?;
         Ok((restore, (toml, me.report.output_span, comparison, findings)))
@@ -440,7 +438,7 @@ pub fn fit_result_from_json(
     comparison: &str,
     findings: &str,
 ) -> PyResult<FitResult> {
-    let model = ModelFile::from_toml(toml, Path::new("<pickle>")).map_err(errors::fit)?;
+    let model = ModelFile::from_toml(toml, Path::new("<pickle>")).map_err(errors::model)?;
     let comparison: Vec<Summary> = serde_json::from_str(comparison).map_err(value_error)?;
     let findings: Findings = serde_json::from_str(findings).map_err(value_error)?;
     FitResult::new(

@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use hyst_fit::modelfile::ModelKind;
-use hyst_fit::widths::FamilyWidths;
-use hyst_fit::{Estimate, Evaluator, ModelFile, Saturated};
+use hyst_model::FamilyWidths;
+use hyst_model::ModelKind;
+use hyst_model::{Estimate, Evaluator, ModelFile, Saturated};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -223,7 +223,7 @@ impl Model {
     fn inverse(&self, saturate: bool) -> PyResult<Self> {
         if let Some(m) = &self.file.smooth {
             // The model's own refusal, so that the words are the CLI's.
-            m.invertible().map_err(errors::fit)?;
+            m.invertible().map_err(errors::model)?;
         }
         if saturate && self.file.saturation().is_none() {
             return Err(value_error(
@@ -336,13 +336,13 @@ impl Model {
 
     /// The model file's text (TOML, docs/formats.md).
     fn to_toml(&self) -> PyResult<String> {
-        self.file.to_toml().map_err(errors::fit)
+        self.file.to_toml().map_err(errors::model)
     }
 
     /// Writes the model file to `path` (atomically: a failed write leaves no partial file and
     /// an existing file untouched). Raises OSError when it cannot be written.
     fn save(&self, path: PathBuf) -> PyResult<()> {
-        self.file.write(&path).map_err(errors::fit)
+        self.file.write(&path).map_err(errors::model)
     }
 
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Pickled)> {
@@ -374,7 +374,7 @@ impl Model {
 #[pyfunction]
 pub fn load_model(path: PathBuf) -> PyResult<Model> {
     let text = std::fs::read_to_string(&path).map_err(|e| errors::io(&path, "read", &e))?;
-    let file = ModelFile::from_toml(&text, &path).map_err(errors::fit)?;
+    let file = ModelFile::from_toml(&text, &path).map_err(errors::model)?;
     Ok(Model::new(file, false, path.display().to_string()))
 }
 
@@ -387,7 +387,7 @@ pub fn model_from_toml(
     source: String,
     saturate: bool,
 ) -> PyResult<Model> {
-    let file = ModelFile::from_toml(text, Path::new(&source)).map_err(errors::fit)?;
+    let file = ModelFile::from_toml(text, Path::new(&source)).map_err(errors::model)?;
     let mut model = Model::new(file, inverse, source);
     model.saturate = inverse && saturate;
     Ok(model)

@@ -84,8 +84,8 @@ def test_compensator_with_a_fitted_model_and_errors(piezo):
     # n = 0 (a static plant of gain 1): the commands are the model's exact inverse, and the
     # model started at the first command by the same rule gives the desired output back.
     assert np.allclose(r.model.process(commands), desired, rtol=0, atol=1e-9)
-    with pytest.raises(ValueError, match="at most 8"):
-        hyst.Compensator(r.model, 1.0, [1.0] * 9)
+    with pytest.raises(ValueError, match="at most 4"):
+        hyst.Compensator(r.model, 1.0, [1.0] * 5)
     with pytest.raises(ValueError, match="b"):
         hyst.Compensator(r.model, 0.0, [1.0])
     with pytest.raises(ValueError, match="state"):

@@ -35,7 +35,7 @@ def test_same_model_as_the_cli(cli, piezo, piezo_path, tmp_path):
 def test_options_mirror_the_cli(piezo):
     u, y = piezo
     u, y = u[:3000], y[:3000]
-    pi = hyst.fit(u, y, model_kind="pi", operators=8, pi_output="poly2")
+    pi = hyst.fit(u, y, model_kind="pi", plays=8, pi_output="poly2")
     assert pi.model.kind == "prandtl-ishlinskii" and pi.delta_a is None and pi.family is None
     both = hyst.fit(u, y, compare=True)
     assert [c["kind"] for c in both.comparison] == ["smooth", "prandtl-ishlinskii"]
@@ -77,7 +77,7 @@ def test_unreached_family_gives_none():
         ({"coverage": 1.5}, "coverage"),
         ({"segment": 1}, "segment"),
         ({"validate": [99]}, "no record 99"),
-        ({"model_kind": "pi", "operators": 0}, "operators"),
+        ({"model_kind": "pi", "plays": 0}, "plays"),
         ({"segment": 100, "segments": 200}, "segment"),
     ],
 )

@@ -47,7 +47,7 @@ const MAX_PIECES: usize = 5;
 /// the piece after it starts on the new one). RK4's fourth order is kept that way: with the exact
 /// model as the truth, x1 − x and x2 − v shrink 16-fold when dt is halved (n = 1, 2).
 ///
-/// The truth is any [`Operator`] (the exact [`hyst_core::Model`], a fitted model, a
+/// The truth is any [`Operator`] (the exact [`hyst_core::ShapedModel`], a fitted model, a
 /// [`hyst_core::Play`], a [`crate::Drifting`] member, a [`crate::Preisach`] model). It is
 /// stepped once per sample with x1(t_k), and once more with x1 at each turning point inside a
 /// sample (n ≥ 2 only), so that its reversal point is the extremum and not the nearest sample;

@@ -5,8 +5,8 @@
 
 use hyst_core::family::{delta_a, delta_a_over_k2_range, delta_k2_prop43};
 use hyst_core::{
-    Affine, AffineK2, Compensator, Error, Family, Hysteresis, Identity, Model, Operator, Play,
-    Polynomial, QuadraticExp, Shaping,
+    Affine, AffineK2, Compensator, Error, Family, Hysteresis, Identity, Operator, Play, Polynomial,
+    QuadraticExp, ShapedModel, Shaping,
 };
 
 use crate::{simulate_compensated, Drifting, SimError, StateSpace, Trace};
@@ -19,9 +19,9 @@ pub mod example1 {
     use super::*;
 
     /// The linear-shaping model type: out = ψ_out(H(k1, k2)[ψ_in(in)]) with affine ψ.
-    pub type LinearModel = Model<f64, Affine<f64>, hyst_core::ConstantK2<f64>, Affine<f64>>;
+    pub type LinearModel = ShapedModel<f64, Affine<f64>, hyst_core::ConstantK2<f64>, Affine<f64>>;
     /// The nonlinear-shaping model type: polynomial ψ_in, k2 = φ(v), affine ψ_out.
-    pub type NonlinearModel = Model<f64, Polynomial<f64>, AffineK2<f64>, Affine<f64>>;
+    pub type NonlinearModel = ShapedModel<f64, Polynomial<f64>, AffineK2<f64>, Affine<f64>>;
 
     /// Input range of Example 1 (in units of `in`): φ(v) ∈ [5, 12] needs v ∈ [−1.5, 2].
     pub const INPUT_RANGE: (f64, f64) = (-1.4, 1.9);
@@ -31,7 +31,7 @@ pub mod example1 {
     /// # Errors
     /// Never in practice.
     pub fn linear_model() -> Result<LinearModel, Error> {
-        Model::new(
+        ShapedModel::new(
             Affine::new(0.2, 0.0)?,
             Hysteresis::new(0.14, 8.0)?,
             Affine::new(1.4, 0.0)?,
@@ -59,7 +59,7 @@ pub mod example1 {
     /// # Errors
     /// Never in practice.
     pub fn nonlinear_model() -> Result<NonlinearModel, Error> {
-        Model::new(
+        ShapedModel::new(
             psi_in()?,
             Hysteresis::with_k2_law(0.105, phi()?)?,
             Affine::new(2.02, 0.0)?,
@@ -213,7 +213,7 @@ pub mod example2 {
     /// From the compensator (a flux outside ψ's range).
     pub fn run(seconds: f64, dt: f64) -> Result<Results, SimError> {
         let psi = QuadraticExp::<f64>::example2()?;
-        let model = Model::new(Identity, Hysteresis::new(0.06, 5.0)?, psi)?;
+        let model = ShapedModel::new(Identity, Hysteresis::new(0.06, 5.0)?, psi)?;
         let plant = StateSpace::from_transfer_function(&[1.0 / R], &[L / R, 1.0])?;
         // Desired flux v(t) = 1 − A(t) cos(ω t), A from 0.3 to 0.95, plus a minor loop term.
         let omega = 2.0 * std::f64::consts::PI * 0.5;
@@ -228,7 +228,8 @@ pub mod example2 {
                 + 0.25 * omega * (5.0 * omega * t).cos()
         };
         let v0 = v_of(0.0);
-        let mut comp = Compensator::from_model(&model, 1.0 / R, [L / R])?.with_state([v0])?;
+        let mut comp =
+            Compensator::from_shaped_model(&model, 1.0 / R, [L / R])?.with_state([v0])?;
         let i0 = psi.invert(v0)?; // first sample: H⁻¹ on the line
         let drift_period = 7.0 / dt;
         let family = Family::new(0.06, 0.005, 5.0, 2.5)?;
@@ -298,8 +299,8 @@ pub mod example3 {
     /// # Errors
     /// From the compensator (never in practice).
     pub fn run(seconds: f64, dt: f64) -> Result<Results, SimError> {
-        let model = Model::new(Identity, Hysteresis::new(0.2, 8.0)?, Identity)?;
-        let mut comp = Compensator::from_model(&model, 1.0, [0.9, 1.0])?;
+        let model = ShapedModel::new(Identity, Hysteresis::new(0.2, 8.0)?, Identity)?;
+        let mut comp = Compensator::from_shaped_model(&model, 1.0, [0.9, 1.0])?;
         let plant = StateSpace::from_transfer_function(&[1.0], &[1.0, 0.9, 1.0])?;
         let mut truth = Play::new(0.5 * BACKLASH_WIDTH)?;
         let samples = (seconds / dt) as usize;

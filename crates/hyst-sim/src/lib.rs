@@ -15,7 +15,7 @@
 //! - [`error`]: the error type, [`SimError`].
 //!
 //! The simulator steps every truth through the one stepping trait of the workspace,
-//! [`hyst_core::Operator`]`<f64>`: the exact [`hyst_core::Model`], a fitted model, the hard
+//! [`hyst_core::Operator`]`<f64>`: the exact [`hyst_core::ShapedModel`], a fitted model, the hard
 //! backlash [`hyst_core::Play`] (Example 3), [`Drifting`] and [`Preisach`] alike.
 //!
 //! Times are in seconds; every other quantity is in the units of the signal it belongs to (the

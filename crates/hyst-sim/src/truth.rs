@@ -8,7 +8,7 @@
 //!   with (Fig. 3).
 //!
 //! Every truth is a [`hyst_core::Operator`]`<f64>`, like the exact model
-//! ([`hyst_core::Model`]), a fitted model and the hard backlash ([`hyst_core::Play`], Example 3)
+//! ([`hyst_core::ShapedModel`]), a fitted model and the hard backlash ([`hyst_core::Play`], Example 3)
 //! that the simulator also takes as truths.
 
 use hyst_core::{ConstantK2, Error, Family, K2Law, Memory, Operator, Sample, Shaping};
@@ -397,7 +397,7 @@ mod tests {
             hyst_core::Affine::new(3.0, 0.0)?,
         );
         let mut truth = Drifting::new(psi_in, psi_out, family, |_: usize, _: f64| (1.0, -1.0));
-        let mut model = hyst_core::Model::new(
+        let mut model = hyst_core::ShapedModel::new(
             psi_in,
             Hysteresis::with_k2_law(
                 0.12,

@@ -3,7 +3,7 @@
 //! reversals of v (where the command has a kink for n = 1 and a jump for n ≥ 2), so the error
 //! must fall at RK4's fourth order: about 16-fold per halving of the step.
 
-use hyst_core::{Compensator, Hysteresis, Identity, Model};
+use hyst_core::{Compensator, Hysteresis, Identity, ShapedModel};
 use hyst_sim::{simulate_compensated, SimError, StateSpace};
 
 /// A new input that makes v reverse at several amplitudes within 20 s.
@@ -14,8 +14,8 @@ fn u_new(t: f64) -> f64 {
 /// Worst |x1 − x| (plant state against the compensator's target H⁻¹[v]) and worst |x2 − v|
 /// over 20 s, for the plant 1 / (a_n sⁿ + … + a_1 s + 1) with a = [a_1, …, a_n].
 fn errors<const N: usize>(a: [f64; N], dt: f64) -> Result<(f64, f64), SimError> {
-    let model = Model::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
-    let mut comp = Compensator::from_model(&model, 1.0, a)?;
+    let model = ShapedModel::new(Identity, Hysteresis::new(0.2_f64, 8.0)?, Identity)?;
+    let mut comp = Compensator::from_shaped_model(&model, 1.0, a)?;
     let mut den: Vec<f64> = a.iter().rev().copied().collect();
     den.push(1.0);
     let plant = StateSpace::from_transfer_function(&[1.0], &den)?;

@@ -17,14 +17,12 @@ use std::time::Instant;
 
 use anyhow::Result;
 use hyst_fit::identify::Request;
-use hyst_fit::modelfile::{fnv1a64, ModelKind, Provenance, Units};
-use hyst_fit::pi::PiOutputKind;
+use hyst_fit::pi_fit::PiOutputKind;
 use hyst_fit::report::text_report;
-use hyst_fit::{
-    identify, DataOptions, Dataset, FitOptions, FormChoice, InitialState, K2Kind, ShapingKind,
-    StartChoice, Structure,
-};
+use hyst_fit::{identify, DataOptions, Dataset, FitOptions, FormChoice, StartChoice};
 use hyst_io::Table;
+use hyst_model::{file::fnv1a64, ModelKind, Provenance, Units};
+use hyst_model::{InitialState, K2Kind, ShapingKind, Structure};
 
 use plots::{draw, time_column};
 use progress::ProgressObserver;
@@ -46,9 +44,9 @@ pub struct Args {
     /// Which model to fit.
     #[arg(long, value_enum, default_value_t = ModelKind::Smooth)]
     pub model_kind: ModelKind,
-    /// Number of play operators of the Prandtl–Ishlinskii model.
-    #[arg(long, default_value_t = 16)]
-    pub operators: usize,
+    /// Number of plays (play operators) of the Prandtl–Ishlinskii model.
+    #[arg(long, default_value_t = 16, alias = "operators")]
+    pub plays: usize,
     /// Monotone output polynomial after the Prandtl–Ishlinskii sum (its inverse stays exact).
     #[arg(long, value_enum, default_value_t = PiOutputKind::None)]
     pub pi_output: PiOutputKind,
@@ -176,7 +174,7 @@ pub fn main(args: Args) -> Result<()> {
         input_offset: if args.input_offset { Some(true) } else { None },
         output_offset: !args.no_output_offset,
         initial_state: InitialState::Rising,
-        form: hyst_fit::Form::Operator,
+        form: hyst_model::Form::Operator,
     };
     let fit_options = FitOptions {
         starts: args.starts,
@@ -192,7 +190,7 @@ pub fn main(args: Args) -> Result<()> {
         start: args.initial_state,
         keep_degenerate: args.keep_degenerate,
         options: fit_options,
-        operators: args.operators,
+        plays: args.plays,
         pi_output: args.pi_output,
         units: Units {
             input: args.input_unit.clone(),
@@ -231,10 +229,10 @@ pub fn main(args: Args) -> Result<()> {
     let identified = identified.map_err(|e| match e {
         // The library names its parameter; the user knows it as the flag (named once).
         hyst_fit::FitError::InvalidSetting {
-            name: "operators",
+            name: "plays",
             expected,
             ..
-        } => anyhow::anyhow!("--operators {}: expected {expected}", args.operators),
+        } => anyhow::anyhow!("--plays {}: expected {expected}", args.plays),
         e => e.into(),
     })?;
     drop(observer);

@@ -531,7 +531,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// 4 k1 of the largest float). No channel's memory changes then; the contents of `output`
     /// are unspecified.
     pub fn step(&mut self, input: &[T], output: &mut [T]) -> Result<(), BankError> {
-        self.process_ticks(input, output)
+        self.process(input, output)
     }
 
     /// A block of `samples` ticks, channel-major ("channels × time", a C-ordered 2-D array of
@@ -573,7 +573,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     ///
     /// # Errors
     /// As [`ParametricBank::process_block`].
-    pub fn process_ticks(&mut self, input: &[T], output: &mut [T]) -> Result<(), BankError> {
+    pub fn process(&mut self, input: &[T], output: &mut [T]) -> Result<(), BankError> {
         let n = self.channels();
         if n == 0 || !input.len().is_multiple_of(n) || output.len() != input.len() {
             return Err(BankError {

@@ -59,6 +59,6 @@ pub fn identify(
         request,
         &mut hyst_fit::lm::Silent,
         &|| false,
-        hyst_fit::modelfile::Provenance::default(),
+        hyst_model::Provenance::default(),
     )
 }

@@ -176,7 +176,7 @@ class FitResult:
     def report(self) -> str: ...
     def to_json(self) -> str: ...
 
-Shaping = Literal["affine", "poly2", "poly3", "tanh", "langevin", "quad-exp"]
+Shaping = Literal["affine", "poly2", "poly3", "tanh", "langevin", "quadratic-exp"]
 
 def fit(
     u: ArrayLike,
@@ -185,7 +185,7 @@ def fit(
     output_shaping: Shaping = "affine",
     input_shaping: Shaping = "affine",
     k2: Literal["constant", "affine"] = "constant",
-    model_kind: Literal["smooth", "pi"] = "smooth",
+    model_kind: Literal["smooth", "prandtl-ishlinskii", "pi"] = "smooth",
     starts: int = 3,
     segment: Optional[int] = None,
     segments: Optional[int] = None,
@@ -194,7 +194,7 @@ def fit(
     validate: Optional[Sequence[int]] = None,
     validate_every: Optional[int] = None,
     coverage: float = 0.99,
-    operators: int = 16,
+    plays: int = 16,
     pi_output: Literal["none", "poly2", "poly3"] = "none",
     compare: bool = False,
     input_offset: Optional[bool] = None,

@@ -10,12 +10,14 @@ use std::path::Path;
 use hyst_core::{Hysteresis, K2Law, Operator, Shaping};
 use serde::{Deserialize, Serialize};
 
+use crate::error::ModelError;
 use crate::evaluator::Evaluator;
-use crate::model::Form;
+use crate::family::FamilyWidths;
 use crate::pi::PiModel;
-use crate::smooth::{ErrorStats, Estimate};
-use crate::widths::FamilyWidths;
-use crate::{Columns, FitError, SmoothModel, Structure};
+use crate::provenance::{Columns, Estimate, Metrics, Provenance, Units};
+use crate::saturation::{Saturation, SATURATION_FRACTION};
+use crate::smooth::{Form, SmoothModel};
+use crate::structure::Structure;
 
 /// The value of the `format` key.
 pub const FORMAT: &str = "hyst-model";
@@ -28,27 +30,8 @@ pub const VERSION: u32 = 3;
 /// The oldest format version this crate reads.
 pub const MIN_VERSION: u32 = 1;
 
-/// The fraction of a saturating output shaping's range, about its centre, that
-/// [`ModelFile::saturation`] lets the compensator ask for: a tanh reaches 99.9 % of its
-/// saturation level at atanh(0.999) ≈ 3.8 times its scale, so the command stays finite and
-/// moderate, while the last 0.1 % would need a command growing without bound.
-pub const SATURATION_FRACTION: f64 = 0.999;
-
-/// What a saturating output shaping lets the compensator reach (see [`ModelFile::saturation`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Saturation {
-    /// The output shaping function ("tanh", "langevin").
-    pub shaping: &'static str,
-    /// The open range (lo, hi) of the model's output: no command produces lo, hi or beyond.
-    pub range: (f64, f64),
-    /// The desired outputs a compensator may be asked for: [`SATURATION_FRACTION`] of `range`
-    /// about its centre. Clamping a desired output into these limits keeps the command finite
-    /// and the map from desired output to command monotone.
-    pub limits: (f64, f64),
-}
-
 /// Which model the file holds: `smooth` (section `[smooth]`) or `prandtl-ishlinskii` (section
-/// `[prandtl-ishlinskii]`; `pi` on the command line).
+/// `[prandtl-ishlinskii]`; the command line also takes `pi` for it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
@@ -56,57 +39,8 @@ pub enum ModelKind {
     /// The smooth parametric operator with shaping functions.
     Smooth,
     /// The Prandtl–Ishlinskii baseline.
-    #[cfg_attr(feature = "clap", value(name = "pi"))]
+    #[cfg_attr(feature = "clap", value(alias = "pi"))]
     PrandtlIshlinskii,
-}
-
-/// Units of the data columns (free text, e.g. "V", "um").
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub struct Units {
-    /// Input units.
-    pub input: String,
-    /// Output units.
-    pub output: String,
-}
-
-/// Fit metrics.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
-pub struct Metrics {
-    /// Number of free parameters.
-    pub parameters: usize,
-    /// Errors on the training records.
-    pub training: ErrorStats,
-    /// Errors on the validation records.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub validation: Option<ErrorStats>,
-    /// Wall time of the fit (s).
-    pub fit_seconds: f64,
-    /// Time to evaluate the model, ns per sample (measured after the fit).
-    pub ns_per_sample: f64,
-}
-
-/// Where the data came from.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
-pub struct Provenance {
-    /// The data file as given on the command line.
-    pub file: String,
-    /// Its size in bytes.
-    pub bytes: u64,
-    /// FNV-1a 64-bit hash of its bytes (hex), to recognise the exact file.
-    pub fnv1a64: String,
-    /// Data rows read.
-    pub rows: usize,
-    /// Number of records.
-    pub records: usize,
-    /// Record ids held out for validation.
-    #[serde(default)]
-    pub validation_records: Vec<i64>,
-    /// The command that made the file.
-    pub command: String,
-    /// hyst version.
-    pub hyst_version: String,
-    /// Creation time, seconds since the Unix epoch.
-    pub created_unix: u64,
 }
 
 /// A model file (see `docs/formats.md`).
@@ -150,10 +84,10 @@ impl ModelFile {
     /// Serialises to TOML.
     ///
     /// # Errors
-    /// [`FitError::Invalid`] if a value cannot be written (never for fitted models).
-    pub fn to_toml(&self) -> Result<String, FitError> {
+    /// [`ModelError::Invalid`] if a value cannot be written (never for fitted models).
+    pub fn to_toml(&self) -> Result<String, ModelError> {
         let body = toml::to_string(self)
-            .map_err(|e| FitError::Invalid(format!("cannot write the model file: {e}")))?;
+            .map_err(|e| ModelError::Invalid(format!("cannot write the model file: {e}")))?;
         // The version this file says it is (`hyst fit` writes the lowest that holds it), not
         // the newest this crate knows.
         Ok(format!(
@@ -167,7 +101,7 @@ impl ModelFile {
     ///
     /// # Errors
     /// As [`ModelFile::to_toml`], or the write error (naming the path).
-    pub fn write(&self, path: &Path) -> Result<(), FitError> {
+    pub fn write(&self, path: &Path) -> Result<(), ModelError> {
         let text = self.to_toml()?;
         hyst_io::write_atomic(path, text.as_bytes())?;
         Ok(())
@@ -176,10 +110,10 @@ impl ModelFile {
     /// Parses and checks a model file's text (`path` names it in errors).
     ///
     /// # Errors
-    /// [`FitError::ModelFile`] for TOML errors, a wrong format or version, a missing model
+    /// [`ModelError::File`] for TOML errors, a wrong format or version, a missing model
     /// section, or parameters the core refuses.
-    pub fn from_toml(text: &str, path: &Path) -> Result<Self, FitError> {
-        let bad = |message: String| FitError::ModelFile {
+    pub fn from_toml(text: &str, path: &Path) -> Result<Self, ModelError> {
+        let bad = |message: String| ModelError::File {
             path: path.to_path_buf(),
             message,
         };
@@ -277,22 +211,22 @@ impl ModelFile {
     /// rest at the first sample.
     ///
     /// # Errors
-    /// [`FitError::Core`] for parameters the core refuses or a first desired output the model
+    /// [`ModelError::Core`] for parameters the core refuses or a first desired output the model
     /// cannot produce.
-    pub fn evaluator(&self, first: f64, inverse: bool) -> Result<Evaluator, FitError> {
+    pub fn evaluator(&self, first: f64, inverse: bool) -> Result<Evaluator, ModelError> {
         match (&self.smooth, &self.prandtl_ishlinskii) {
             (Some(m), _) if self.kind == ModelKind::Smooth => {
                 if inverse {
                     return Ok(Evaluator::SmoothInverse(Box::new(
-                        m.compensator_from_desired(first)?,
+                        m.inverse_from_desired(first)?,
                     )));
                 }
                 let operator = Hysteresis::with_k2_law(m.k1, m.k2)?;
                 Ok(Evaluator::Smooth(Box::new(m.shaped(operator, first)?)))
             }
-            (_, Some(p)) if inverse => Ok(p.inverse_operator()?),
-            (_, Some(p)) => Ok(p.operator()?),
-            _ => Err(FitError::Invalid("the model file holds no model".into())),
+            (_, Some(p)) if inverse => Ok(Evaluator::Pi(Box::new(p.inverse_operator()?))),
+            (_, Some(p)) => Ok(Evaluator::Pi(Box::new(p.operator()?))),
+            _ => Err(ModelError::Invalid("the model file holds no model".into())),
         }
     }
 
@@ -321,9 +255,9 @@ impl ModelFile {
     /// Reads and checks a model file.
     ///
     /// # Errors
-    /// [`FitError::ModelFile`] when it cannot be read or is invalid.
-    pub fn read(path: &Path) -> Result<Self, FitError> {
-        let text = std::fs::read_to_string(path).map_err(|e| FitError::ModelFile {
+    /// [`ModelError::File`] when it cannot be read or is invalid.
+    pub fn read(path: &Path) -> Result<Self, ModelError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ModelError::File {
             path: path.to_path_buf(),
             message: format!("cannot read: {e}"),
         })?;
@@ -333,12 +267,12 @@ impl ModelFile {
     /// Runs the model (direct) over one record of input samples.
     ///
     /// # Errors
-    /// [`FitError::Core`] when the model cannot run the input (a non-finite sample).
-    pub fn run(&self, input: &[f64]) -> Result<Vec<f64>, FitError> {
+    /// [`ModelError::Core`] when the model cannot run the input (a non-finite sample).
+    pub fn run(&self, input: &[f64]) -> Result<Vec<f64>, ModelError> {
         match (&self.smooth, &self.prandtl_ishlinskii) {
             (Some(m), _) if self.kind == ModelKind::Smooth => Ok(m.run(input)?),
             (_, Some(p)) => Ok(p.run(input)?),
-            _ => Err(FitError::Invalid("the model file holds no model".into())),
+            _ => Err(ModelError::Invalid("the model file holds no model".into())),
         }
     }
 
@@ -347,9 +281,9 @@ impl ModelFile {
     /// implies for the first desired output.
     ///
     /// # Errors
-    /// [`FitError::Core`] for a desired output the model cannot produce (beyond a saturating
+    /// [`ModelError::Core`] for a desired output the model cannot produce (beyond a saturating
     /// output shaping, say) or a non-finite sample; the message names the sample.
-    pub fn run_inverse(&self, desired: &[f64]) -> Result<Vec<f64>, FitError> {
+    pub fn run_inverse(&self, desired: &[f64]) -> Result<Vec<f64>, ModelError> {
         let Some(&y0) = desired.first() else {
             return Ok(Vec::new());
         };
@@ -359,7 +293,7 @@ impl ModelFile {
             .enumerate()
             .map(|(i, y)| {
                 comp.try_step(*y).map_err(|e| {
-                    FitError::Invalid(format!("sample {} (desired output {y}): {e}", i + 1))
+                    ModelError::Invalid(format!("sample {} (desired output {y}): {e}", i + 1))
                 })
             })
             .collect()

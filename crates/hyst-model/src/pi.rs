@@ -1,39 +1,74 @@
-//! The Prandtl–Ishlinskii baseline model: y = c + w0 x + Σ w_i play_{r_i}[x] (play operators of
+//! The Prandtl–Ishlinskii baseline model: y = c + w0 x + Σ w_i play_{r_i}\[x\] (play operators of
 //! half-widths r_i, see `hyst_core::prandtl_ishlinskii`), optionally followed by a monotone
-//! output polynomial P: y = P(PI[x]), whose inverse PI⁻¹ ∘ P⁻¹ is still exact. Here the model
-//! is plain data (model files) that becomes the core's runnable operators; [`crate::pi_fit`]
-//! identifies it from data.
+//! output polynomial P: y = P(PI\[x\]), whose inverse PI⁻¹ ∘ P⁻¹ is still exact. Here the model
+//! is plain data (model files) that becomes the core's runnable operators ([`PiOperator`]);
+//! hyst-fit's `pi_fit` identifies it from data.
 
-use hyst_core::{Error, Operator, Polynomial};
+use hyst_core::{
+    Error, InverseShapedPrandtlIshlinskii, Operator, PlayMemory, Polynomial, PrandtlIshlinskii,
+    Sample, ShapedPrandtlIshlinskii,
+};
 use serde::{Deserialize, Serialize};
 
-use crate::evaluator::{CorePi, CoreShapedPi, Evaluator};
+/// The largest number of plays (the core type's capacity).
+pub const MAX_PLAYS: usize = 128;
 
-/// The largest number of play operators (the core type's capacity).
-pub const MAX_OPERATORS: usize = 128;
+/// The core Prandtl–Ishlinskii sum used for the baseline.
+pub type CorePi = PrandtlIshlinskii<f64, MAX_PLAYS>;
+/// The core type of a PI model with an output polynomial, y = P(PI\[x\]).
+pub type CoreShapedPi = ShapedPrandtlIshlinskii<f64, MAX_PLAYS>;
+/// Its exact inverse PI⁻¹ ∘ P⁻¹.
+pub type CoreShapedPiInverse = InverseShapedPrandtlIshlinskii<f64, MAX_PLAYS>;
 
-/// Which output polynomial follows the Prandtl–Ishlinskii sum (`none`, `poly2`, `poly3`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-pub enum PiOutputKind {
-    /// No output polynomial: y = PI[x].
-    #[default]
-    None,
-    /// y = P(PI[x]), P quadratic and increasing on the data.
-    Poly2,
-    /// y = P(PI[x]), P cubic and increasing on the data.
-    Poly3,
+/// A Prandtl–Ishlinskii model or its exact inverse, ready to run (see [`PiModel::operator`]).
+#[derive(Clone, Debug)]
+pub enum PiOperator {
+    /// The Prandtl–Ishlinskii sum PI\[x\]; as its own inverse type, PI⁻¹\[y\] too.
+    Plain(CorePi),
+    /// P(PI\[x\]).
+    Shaped(CoreShapedPi),
+    /// PI⁻¹\[P⁻¹(y)\].
+    ShapedInverse(CoreShapedPiInverse),
 }
 
-impl PiOutputKind {
-    /// The polynomial degree (1 for none: the PI's own affine output).
-    #[must_use]
-    pub fn degree(self) -> usize {
-        match self {
-            PiOutputKind::None => 1,
-            PiOutputKind::Poly2 => 2,
-            PiOutputKind::Poly3 => 3,
+/// Forwards one call to whichever core operator a [`PiOperator`] holds.
+macro_rules! each {
+    ($self:expr, $op:ident => $e:expr) => {
+        match $self {
+            PiOperator::Plain($op) => $e,
+            PiOperator::Shaped($op) => $e,
+            PiOperator::ShapedInverse($op) => $e,
         }
+    };
+}
+
+impl Operator<f64> for PiOperator {
+    type Memory = PlayMemory<f64, MAX_PLAYS>;
+
+    /// One sample: the output (or command), with time derivatives when `x` is a jet.
+    ///
+    /// # Errors
+    /// The core's error for this sample (the memory is then unchanged).
+    fn try_step<S: Sample<f64>>(&mut self, x: S) -> Result<S, Error> {
+        each!(self, op => op.try_step(x))
+    }
+
+    fn last_output(&self) -> Option<f64> {
+        each!(self, op => op.last_output())
+    }
+
+    fn reset(&mut self) {
+        each!(self, op => op.reset());
+    }
+
+    fn memory(&self) -> Self::Memory {
+        each!(self, op => op.memory())
+    }
+
+    /// # Errors
+    /// The core's check of the memory.
+    fn set_memory(&mut self, memory: Self::Memory) -> Result<(), Error> {
+        each!(self, op => op.set_memory(memory))
     }
 }
 
@@ -91,7 +126,7 @@ pub struct PiModel {
     pub weights: Vec<f64>,
     /// Output offset c (output units).
     pub offset: f64,
-    /// The optional output polynomial P: y = P(PI[x]) (model file format version 2).
+    /// The optional output polynomial P: y = P(PI\[x\]) (model file format version 2).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub output: Option<PiOutput>,
 }
@@ -101,7 +136,7 @@ impl PiModel {
     /// output polynomial.
     ///
     /// # Errors
-    /// Invalid parameters (the core's checks), more than [`MAX_OPERATORS`] plays.
+    /// Invalid parameters (the core's checks), more than [`MAX_PLAYS`] plays.
     pub fn core(&self) -> Result<CorePi, Error> {
         CorePi::new(
             self.identity_weight,
@@ -116,14 +151,11 @@ impl PiModel {
     ///
     /// # Errors
     /// As [`PiModel::core`] and [`PiOutput::polynomial`].
-    pub fn operator(&self) -> Result<Evaluator, Error> {
+    pub fn operator(&self) -> Result<PiOperator, Error> {
         let pi = self.core()?;
         match &self.output {
-            None => Ok(Evaluator::Pi(Box::new(pi))),
-            Some(o) => Ok(Evaluator::ShapedPi(Box::new(CoreShapedPi::new(
-                pi,
-                o.polynomial()?,
-            )?))),
+            None => Ok(PiOperator::Plain(pi)),
+            Some(o) => Ok(PiOperator::Shaped(CoreShapedPi::new(pi, o.polynomial()?)?)),
         }
     }
 
@@ -131,13 +163,13 @@ impl PiModel {
     ///
     /// # Errors
     /// As [`PiModel::operator`].
-    pub fn inverse_operator(&self) -> Result<Evaluator, Error> {
+    pub fn inverse_operator(&self) -> Result<PiOperator, Error> {
         let pi = self.core()?;
         match &self.output {
-            None => Ok(Evaluator::Pi(Box::new(pi.inverse()?))),
-            Some(o) => Ok(Evaluator::ShapedPiInverse(Box::new(
+            None => Ok(PiOperator::Plain(pi.inverse()?)),
+            Some(o) => Ok(PiOperator::ShapedInverse(
                 CoreShapedPi::new(pi, o.polynomial()?)?.inverse()?,
-            ))),
+            )),
         }
     }
 

@@ -1,4 +1,4 @@
-//! The shaped model out = ψ_out(H(k1, k2)[ψ_in(in)]) (Section 4.3) and its exact compensator
+//! The shaped model out = ψ_out(H(k1, k2)[ψ_in(in)]) (Section 4.3) and its exact inverse
 //! in = ψ_in⁻¹(H⁻¹(k1, k2)[ψ_out⁻¹(out_desired)]).
 
 #[cfg(feature = "serde")]
@@ -15,8 +15,8 @@ use crate::{
 /// # Examples
 /// Example 1 of the paper with linear shaping, out = 1.4 · H(0.14, 8)[0.2 · in]:
 /// ```
-/// use hyst_core::{Affine, Hysteresis, Model, Operator};
-/// let mut model = Model::new(
+/// use hyst_core::{Affine, Hysteresis, ShapedModel, Operator};
+/// let mut model = ShapedModel::new(
 ///     Affine::new(0.2_f64, 0.0)?,
 ///     Hysteresis::new(0.14, 8.0)?,
 ///     Affine::new(1.4, 0.0)?,
@@ -31,23 +31,23 @@ use crate::{
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-pub struct Model<T, I = Identity, K = ConstantK2<T>, O = Identity> {
+pub struct ShapedModel<T, I = Identity, K = ConstantK2<T>, O = Identity> {
     input: I,
     operator: Hysteresis<T, K>,
     output: O,
 }
 
-/// The exact inverse of a [`Model`]: the feed-forward compensator that turns a desired output
+/// The exact inverse of a [`ShapedModel`]: the feed-forward compensator that turns a desired output
 /// into the command that produces it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-pub struct InverseModel<T, I = Identity, K = ConstantK2<T>, O = Identity> {
+pub struct InverseShapedModel<T, I = Identity, K = ConstantK2<T>, O = Identity> {
     input: I,
     operator: InverseHysteresis<T, K>,
     output: O,
 }
 
-impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Model<T, I, K, O> {
+impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> ShapedModel<T, I, K, O> {
     /// Composes ψ_out ∘ H ∘ ψ_in.
     ///
     /// # Errors
@@ -79,7 +79,7 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Model<T, I, K, O> {
     }
 }
 
-impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Model<T, I, K, O> {
+impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for ShapedModel<T, I, K, O> {
     /// The memory of the operator H (Definition 2.1, on the operator's input and output).
     type Memory = Option<Memory<T>>;
 
@@ -103,12 +103,14 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Model<T
     forward_memory!(operator, Option<Memory<T>>);
 }
 
-impl<T: Real, I: Shaping<T> + Clone, K: K2Law<T> + Clone, O: Shaping<T> + Clone> Model<T, I, K, O> {
+impl<T: Real, I: Shaping<T> + Clone, K: K2Law<T> + Clone, O: Shaping<T> + Clone>
+    ShapedModel<T, I, K, O>
+{
     /// The exact compensator of this model, with the operator's memory mirrored so that from
     /// here on `model.step(compensator.step(y))` = y (Proposition 4.1 through the shaping).
     #[must_use]
-    pub fn inverse(&self) -> InverseModel<T, I, K, O> {
-        InverseModel {
+    pub fn inverse(&self) -> InverseShapedModel<T, I, K, O> {
+        InverseShapedModel {
             input: self.input.clone(),
             operator: self.operator.inverse(),
             output: self.output.clone(),
@@ -116,7 +118,7 @@ impl<T: Real, I: Shaping<T> + Clone, K: K2Law<T> + Clone, O: Shaping<T> + Clone>
     }
 }
 
-impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> InverseModel<T, I, K, O> {
+impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> InverseShapedModel<T, I, K, O> {
     /// Puts back a memory saved from this compensator (no check: it was its own).
     pub(crate) fn restore(&mut self, memory: Option<Memory<T>>) {
         self.operator.restore(memory);
@@ -129,7 +131,9 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> InverseModel<T, I, K, O
     }
 }
 
-impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for InverseModel<T, I, K, O> {
+impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T>
+    for InverseShapedModel<T, I, K, O>
+{
     /// The memory of the inverse operator H⁻¹ (on its input u_d and output v).
     type Memory = Option<Memory<T>>;
 

@@ -1,16 +1,15 @@
-//! The fitted smooth model out = ψ_out(H(k1, k2)[ψ_in(in)]) (Section 4.3), or its stop form
-//! out = ψ_out(v − H(k1, k2)[v]) + c·v, v = ψ_in(in), for clockwise loops, as plain data: built
+//! The fitted smooth model out = ψ_out(H(k1, k2)\[ψ_in(in)\]) (Section 4.3), or its stop form
+//! out = ψ_out(v − H(k1, k2)\[v\]) + c·v, v = ψ_in(in), for clockwise loops, as plain data: built
 //! from the core's types, run over records, and turned into the core's exact compensator.
 
+use hyst_core::ScaledShaping;
 use hyst_core::{
-    AnyK2Law, Direction, Dual, Error, Hysteresis, InverseModel, K2Law, Model, Operator, Real,
-    Shaping, Stop,
+    AnyK2Law, Direction, Dual, Error, Hysteresis, InverseShapedModel, K2Law, Operator, Real,
+    ShapedModel, Shaping, Stop,
 };
 use serde::{Deserialize, Serialize};
 
-use crate::FitError;
-
-use hyst_core::ScaledShaping;
+use crate::error::ModelError;
 
 /// Where each record starts (Definition 2.1 needs a first reversal point). The default,
 /// [`InitialState::Rising`], suits a device switched on and driven up to its first value, and a
@@ -34,11 +33,11 @@ pub enum InitialState {
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum Form {
-    /// out = ψ_out(H[ψ_in(in)]): the operator's counterclockwise loop (the output lags the
+    /// out = ψ_out(H\[ψ_in(in)\]): the operator's counterclockwise loop (the output lags the
     /// input: piezo stacks, magnetisation, most actuators).
     #[default]
     Operator,
-    /// out = ψ_out(v − H[v]) + c·v, v = ψ_in(in): the smooth stop operator's clockwise loop
+    /// out = ψ_out(v − H\[v\]) + c·v, v = ψ_in(in): the smooth stop operator's clockwise loop
     /// (friction against position, a Dahl-like model; any loop whose output leads the input).
     Stop,
 }
@@ -115,7 +114,7 @@ fn on_asymptote_value(v: f64, d: f64) -> f64 {
     u
 }
 
-/// A smooth model out = ψ_out(H(k1, k2)[ψ_in(in)]) (or its stop form, [`Form::Stop`]) with its
+/// A smooth model out = ψ_out(H(k1, k2)\[ψ_in(in)\]) (or its stop form, [`Form::Stop`]) with its
 /// start rule.
 ///
 /// `T` is `f64` for a model as such; the fit evaluates the same model on [`Dual`] numbers
@@ -146,16 +145,16 @@ pub struct SmoothModel<T = f64> {
 }
 
 /// The core model type a [`SmoothModel`] becomes.
-pub type CoreModel<T = f64> = Model<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
+pub type CoreShapedModel<T = f64> = ShapedModel<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
 /// The core type of a stop-form [`SmoothModel`].
 pub type CoreStop<T = f64> = Stop<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
 /// A model of either form around an operator with any k2 law (a family member, say): what
 /// [`SmoothModel::shaped`] builds, run through the core's [`Operator`] trait.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shaped<K> {
-    /// ψ_out(H[ψ_in(·)]).
-    Operator(Model<f64, ScaledShaping<f64>, K, ScaledShaping<f64>>),
-    /// ψ_out(v − H[v]) + c·v.
+    /// ψ_out(H\[ψ_in(·)\]).
+    Operator(ShapedModel<f64, ScaledShaping<f64>, K, ScaledShaping<f64>>),
+    /// ψ_out(v − H\[v\]) + c·v.
     Stop(Stop<f64, ScaledShaping<f64>, K, ScaledShaping<f64>>),
 }
 
@@ -195,7 +194,8 @@ impl<K: K2Law<f64>> Operator<f64> for Shaped<K> {
 }
 
 /// Its exact compensator.
-pub type CoreInverse = InverseModel<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
+pub type CoreInverseShapedModel =
+    InverseShapedModel<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
 
 impl<T: FitReal> SmoothModel<T> {
     /// Checks every parameter through the core's constructors.
@@ -216,7 +216,7 @@ impl<T: FitReal> SmoothModel<T> {
         Ok(())
     }
 
-    /// The stop form ψ_out(v − H[v]) + c·v of this model's parts, for a record whose first
+    /// The stop form ψ_out(v − H\[v\]) + c·v of this model's parts, for a record whose first
     /// input sample is `first_input` (whatever [`SmoothModel::form`] says).
     ///
     /// # Errors
@@ -230,7 +230,7 @@ impl<T: FitReal> SmoothModel<T> {
         )
     }
 
-    /// The model output for the operator input v = ψ_in(in) and the operator output u = H[v]:
+    /// The model output for the operator input v = ψ_in(in) and the operator output u = H\[v\]:
     /// ψ_out(u), or ψ_out(v − u) + c·v in the stop form.
     #[must_use]
     #[inline]
@@ -273,7 +273,7 @@ impl<T: FitReal> SmoothModel<T> {
     }
 
     /// The range of ψ_out's argument over the operator inputs [v_lo, v_hi]: the operator output
-    /// (within k1 of its input), or the stop value v − H[v] ∈ [−k1, k1].
+    /// (within k1 of its input), or the stop value v − H\[v\] ∈ [−k1, k1].
     #[must_use]
     pub fn output_argument_range(form: Form, k1: T, v_lo: T, v_hi: T) -> (T, T) {
         match form {
@@ -316,7 +316,7 @@ impl<T: FitReal> SmoothModel<T> {
     /// `operator` started for a record with inputs `input`: by the start rule, or, with a
     /// `band` fraction b ∈ [−1, 1] (an estimated start), at rest at a reversal at the first
     /// sample with the operator output v0 + b · k1, heading the way the input first moves.
-    pub(crate) fn start_in<K: K2Law<T>>(
+    pub fn start_in<K: K2Law<T>>(
         &self,
         operator: Hysteresis<T, K>,
         input: &[f64],
@@ -345,13 +345,13 @@ impl<T: FitReal> SmoothModel<T> {
         operator.with_initial_state(v0, on_asymptote(v0, k1 * T::from_f64(b)), direction)
     }
 
-    /// The core model ψ_out(H[ψ_in(·)]) for a record starting at `first_input` (use it to run
+    /// The core model ψ_out(H\[ψ_in(·)\]) for a record starting at `first_input` (use it to run
     /// the model).
     ///
     /// # Errors
     /// As [`SmoothModel::operator`], and the shaping functions' own validation errors.
-    pub fn core(&self, first_input: T) -> Result<CoreModel<T>, Error> {
-        Model::new(
+    pub fn core(&self, first_input: T) -> Result<CoreShapedModel<T>, Error> {
+        ShapedModel::new(
             self.input_shaping,
             self.operator(first_input)?,
             self.output_shaping,
@@ -445,7 +445,7 @@ impl SmoothModel {
     ) -> Result<Shaped<K>, Error> {
         let operator = self.start_in(operator, input, band)?;
         Ok(match self.form {
-            Form::Operator => Shaped::Operator(Model::new(
+            Form::Operator => Shaped::Operator(ShapedModel::new(
                 self.input_shaping,
                 operator,
                 self.output_shaping,
@@ -460,7 +460,7 @@ impl SmoothModel {
     }
 
     /// Any operator with no history (a member of a family around this model, say) inside this
-    /// model's shaping and form, ψ_out(operator[ψ_in(·)]) or its stop form, started by this
+    /// model's shaping and form, ψ_out(operator\[ψ_in(·)\]) or its stop form, started by this
     /// model's start rule for a record whose first input sample is `first_input` (on the
     /// asymptotes of the operator's own k1).
     ///
@@ -477,12 +477,12 @@ impl SmoothModel {
     /// Whether the model has an inverse: the operator form does; the stop form does not.
     ///
     /// # Errors
-    /// [`FitError::Invalid`] for the stop form, saying how friction is compensated instead
+    /// [`ModelError::Invalid`] for the stop form, saying how friction is compensated instead
     /// (feed-forward of its predicted force, docs/fitting.md).
-    pub fn invertible(&self) -> Result<(), FitError> {
+    pub fn invertible(&self) -> Result<(), ModelError> {
         match self.form {
             Form::Operator => Ok(()),
-            Form::Stop => Err(FitError::Invalid(
+            Form::Stop => Err(ModelError::Invalid(
                 "this is a stop-form (friction) model: it predicts the output (force) from the \
                  input (position) and has no inverse; compensate by feeding the predicted force \
                  forward (docs/fitting.md)"
@@ -495,21 +495,24 @@ impl SmoothModel {
     /// would be `first_input`; with [`InitialState::Line`] the start is immaterial.
     ///
     /// # Errors
-    /// Invalid parameters ([`FitError::Core`]); the stop form's refusal
+    /// Invalid parameters ([`ModelError::Core`]); the stop form's refusal
     /// ([`SmoothModel::invertible`]).
-    pub fn compensator(&self, first_input: f64) -> Result<CoreInverse, FitError> {
+    pub fn inverse(&self, first_input: f64) -> Result<CoreInverseShapedModel, ModelError> {
         self.invertible()?;
         Ok(self.core(first_input)?.inverse())
     }
 
     /// The exact compensator for a record whose first *desired output* is `first_desired`,
     /// started where the model's start rule puts the model that produces it: the command x0
-    /// with ψ_out(H[ψ_in(x0)]) = `first_desired` on the start rule's asymptote (or line).
+    /// with ψ_out(H\[ψ_in(x0)\]) = `first_desired` on the start rule's asymptote (or line).
     ///
     /// # Errors
     /// A desired output beyond a saturating output shaping's range, or invalid parameters
-    /// ([`FitError::Core`]); the stop form's refusal ([`SmoothModel::invertible`]).
-    pub fn compensator_from_desired(&self, first_desired: f64) -> Result<CoreInverse, FitError> {
+    /// ([`ModelError::Core`]); the stop form's refusal ([`SmoothModel::invertible`]).
+    pub fn inverse_from_desired(
+        &self,
+        first_desired: f64,
+    ) -> Result<CoreInverseShapedModel, ModelError> {
         self.invertible()?;
         let u0 = self.output_shaping.invert(first_desired)?;
         // The start point in operator units, built from u0 itself: the compensator's memory then
@@ -534,7 +537,7 @@ impl SmoothModel {
         if let Some(m) = operator.memory() {
             self.input_shaping.invert(m.last_input)?;
         }
-        Ok(Model::new(self.input_shaping, operator, self.output_shaping)?.inverse())
+        Ok(ShapedModel::new(self.input_shaping, operator, self.output_shaping)?.inverse())
     }
 
     /// The open range (lo, hi) of the model's output when ψ_out saturates (tanh, Langevin): the

@@ -1,5 +1,6 @@
-//! The model structure the user chooses (k2 law, shaping functions, offsets, start rule) and its
-//! parameterisation: a vector θ of unconstrained numbers mapped to a [`SmoothModel`].
+//! The parameterisation of a model structure ([`hyst_model::Structure`]: k2 law, shaping
+//! functions, offsets, start rule): a vector θ of unconstrained numbers mapped to a
+//! [`SmoothModel`].
 //!
 //! Gauge: H(k1, k2) commutes with shifts (H[v + b] = H[v] + b) and with scaling
 //! (H(k1, k2)[s v] = s H(k1/s, k2 s)[v]), so a gain of ψ_in against a gain of ψ_out, and an
@@ -12,9 +13,9 @@ use hyst_core::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::model::{FitReal, Form, InitialState};
-use crate::SmoothModel;
 use hyst_core::ScaledShaping;
+use hyst_model::smooth::FitReal;
+use hyst_model::{Form, K2Kind, ShapingKind, SmoothModel, Structure};
 
 /// The scale of the saturating input shaping ψ_in (the model file's and the report's name).
 pub const IN_SCALE: &str = "in.scale";
@@ -24,109 +25,6 @@ pub const IN_ARG_AT_CENTRE: &str = "in.arg_at_centre";
 pub const OUT_SCALE: &str = "out.scale";
 /// ψ_out's argument at the centre of its range (dimensionless).
 pub const OUT_ARG_AT_CENTRE: &str = "out.arg_at_centre";
-
-/// A shaping function family for ψ_in or ψ_out. Its kebab-case name (`affine`, `poly2`, `poly3`,
-/// `tanh`, `langevin`, `quad-exp`) is the model file's and the command line's.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-#[serde(rename_all = "kebab-case")]
-pub enum ShapingKind {
-    /// Affine (ψ_in: the fixed normalisation of the input; ψ_out: gain and offset).
-    #[default]
-    Affine,
-    /// Quadratic polynomial x + p2 x², monotone on the data.
-    Poly2,
-    /// Cubic polynomial x + p2 x² + p3 x³, monotone on the data.
-    Poly3,
-    /// tanh(x / σ + c): saturation.
-    Tanh,
-    /// Langevin function L(x / σ + c): the classical anhysteretic curve.
-    Langevin,
-    /// Example 2's x − a x² − e^(−(b + c x)).
-    QuadExp,
-}
-
-impl ShapingKind {
-    /// All kinds, with their command-line names.
-    pub const ALL: [(&'static str, ShapingKind); 6] = [
-        ("affine", ShapingKind::Affine),
-        ("poly2", ShapingKind::Poly2),
-        ("poly3", ShapingKind::Poly3),
-        ("tanh", ShapingKind::Tanh),
-        ("langevin", ShapingKind::Langevin),
-        ("quad-exp", ShapingKind::QuadExp),
-    ];
-
-    /// Parses a command-line name.
-    #[must_use]
-    pub fn parse(name: &str) -> Option<Self> {
-        Self::ALL.iter().find(|(n, _)| *n == name).map(|(_, k)| *k)
-    }
-
-    /// The command-line name.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        Self::ALL
-            .iter()
-            .find(|(_, k)| *k == self)
-            .map_or("?", |(n, _)| n)
-    }
-
-    fn saturating(self) -> bool {
-        matches!(self, ShapingKind::Tanh | ShapingKind::Langevin)
-    }
-}
-
-/// The k2 law to fit: constant, or affine in the operator input (Proposition 4.3).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-#[serde(rename_all = "kebab-case")]
-pub enum K2Kind {
-    /// k2 constant.
-    #[default]
-    Constant,
-    /// k2 = a + b v, affine in the operator input v (Proposition 4.3).
-    Affine,
-}
-
-/// The model structure chosen by the user.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Structure {
-    /// k2 law.
-    pub k2: K2Kind,
-    /// ψ_in family.
-    pub input_shaping: ShapingKind,
-    /// ψ_out family.
-    pub output_shaping: ShapingKind,
-    /// Fit an offset of the input before ψ_in (`None`: only where it is identifiable, i.e. for
-    /// tanh and Langevin input shaping).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub input_offset: Option<bool>,
-    /// Fit an offset of the output (a sensor offset).
-    pub output_offset: bool,
-    /// How each record starts.
-    pub initial_state: InitialState,
-    /// The form: the operator (counterclockwise loops) or its stop form (clockwise loops,
-    /// friction), with the linear term `out.linear`.
-    #[serde(default, skip_serializing_if = "Form::is_operator")]
-    pub form: Form,
-}
-
-impl Default for Structure {
-    /// k1, constant k2, affine shaping (normalised input, output gain), output offset, records
-    /// starting as after a rise.
-    fn default() -> Self {
-        Self {
-            k2: K2Kind::Constant,
-            input_shaping: ShapingKind::Affine,
-            output_shaping: ShapingKind::Affine,
-            input_offset: None,
-            output_offset: true,
-            initial_state: InitialState::Rising,
-            form: Form::Operator,
-        }
-    }
-}
 
 /// How θ_j maps to the parameter's value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -214,7 +112,7 @@ pub struct Layout {
     input_offset: bool,
 }
 
-/// Margin of the polynomial and quad-exp domains beyond the data (normalised units).
+/// Margin of the polynomial and quadratic-exp domains beyond the data (normalised units).
 const DOMAIN_MARGIN: f64 = 0.05;
 
 impl Layout {
@@ -250,7 +148,7 @@ impl Layout {
             }
             ShapingKind::Tanh => add(IN_SCALE, "normalised input", Log, Op, 1.0),
             ShapingKind::Langevin => add(IN_SCALE, "normalised input", Log, Op, 0.3),
-            ShapingKind::QuadExp => {
+            ShapingKind::QuadraticExp => {
                 add("in.a", "1", Log, Op, 0.01);
                 add("in.b", "1", Linear, Op, 6.0);
                 add("in.c", "1", Log, Op, 1.0);
@@ -285,7 +183,7 @@ impl Layout {
                 add(OUT_SCALE, unit, Log, Out, scale);
                 add(OUT_ARG_AT_CENTRE, "1", Linear, Out, 0.0);
             }
-            ShapingKind::QuadExp => {
+            ShapingKind::QuadraticExp => {
                 add("out.a", "1", Log, Out, 0.01);
                 add("out.b", "1", Linear, Out, 6.0);
                 add("out.c", "1", Log, Out, 1.0);
@@ -426,7 +324,7 @@ impl Layout {
                     pre_offset,
                 );
             }
-            ShapingKind::QuadExp => AnyShaping::QuadraticExp(QuadraticExp::new(
+            ShapingKind::QuadraticExp => AnyShaping::QuadraticExp(QuadraticExp::new(
                 get("in.a"),
                 get("in.b"),
                 get("in.c"),
@@ -550,7 +448,7 @@ impl Layout {
             ShapingKind::Tanh | ShapingKind::Langevin => {
                 (unit_shape(self.structure.output_shaping)?, c(1.0), c(0.0))
             }
-            ShapingKind::QuadExp => (
+            ShapingKind::QuadraticExp => (
                 AnyShaping::QuadraticExp(QuadraticExp::new(
                     get("out.a"),
                     get("out.b"),

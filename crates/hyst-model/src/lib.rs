@@ -1,0 +1,41 @@
+//! The model runtime of hyst: everything needed to *run* a fitted model, nothing needed to fit
+//! one. hyst-fit writes what this crate reads; the C API, the FMU, `hyst run` and the Python
+//! package run models through it.
+//!
+//! - [`ModelFile`] (module [`file`](mod@file)): the versioned TOML model file (`docs/formats.md`), read,
+//!   checked, written atomically.
+//! - [`SmoothModel`] (module [`smooth`]): the fitted smooth model y = ψ_out(H(k1, k2)\[ψ_in(x)\])
+//!   or its stop form, with its start rule ([`InitialState`]) and [`Form`]; its exact inverse.
+//! - [`PiModel`] (module [`pi`]): the Prandtl–Ishlinskii baseline, with its optional output
+//!   polynomial, and its exact inverse.
+//! - [`Evaluator`]: any of them (or its inverse) behind the core's one stepping interface
+//!   [`hyst_core::Operator`]; [`Saturated`]: an inverse whose desired outputs are clamped into a
+//!   saturating model's limits ([`Saturation`]).
+//! - [`Structure`]: the structure a model was fitted with; [`FamilyWidths`]: the family that
+//!   reproduces the data and its bound Δa; [`provenance`]: what the file records of the data
+//!   and the fit.
+//!
+//! The optional feature `clap` derives `clap::ValueEnum` for the choices a command line offers
+//! ([`ShapingKind`], [`K2Kind`], [`InitialState`], [`Form`], [`ModelKind`]).
+
+#![forbid(unsafe_code)]
+
+pub mod error;
+pub mod evaluator;
+pub mod family;
+pub mod file;
+pub mod pi;
+pub mod provenance;
+pub mod saturation;
+pub mod smooth;
+pub mod structure;
+
+pub use error::ModelError;
+pub use evaluator::{Evaluator, EvaluatorMemory};
+pub use family::FamilyWidths;
+pub use file::{ModelFile, ModelKind};
+pub use pi::{PiModel, PiOperator, PiOutput};
+pub use provenance::{Columns, ErrorStats, Estimate, Metrics, Provenance, Units};
+pub use saturation::{Saturated, Saturation};
+pub use smooth::{Form, InitialState, SmoothModel};
+pub use structure::{K2Kind, ShapingKind, Structure};

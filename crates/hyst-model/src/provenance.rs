@@ -1,0 +1,118 @@
+//! What a model file records beside the model: the data's columns, units and provenance, the
+//! fitted parameters with their standard errors, and the fit's error statistics and metrics.
+
+use serde::{Deserialize, Serialize};
+
+/// Which columns hold what, and where the data came from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub struct Columns {
+    /// Input column name.
+    pub input: String,
+    /// Output column name.
+    pub output: String,
+    /// Record column name, if the file is segmented.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub record: Option<String>,
+    /// Weight column name, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weight: Option<String>,
+}
+
+/// Units of the data columns (free text, e.g. "V", "um").
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub struct Units {
+    /// Input units.
+    pub input: String,
+    /// Output units.
+    pub output: String,
+}
+
+/// Fit metrics.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub struct Metrics {
+    /// Number of free parameters.
+    pub parameters: usize,
+    /// Errors on the training records.
+    pub training: ErrorStats,
+    /// Errors on the validation records.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub validation: Option<ErrorStats>,
+    /// Wall time of the fit (s).
+    pub fit_seconds: f64,
+    /// Time to evaluate the model, ns per sample (measured after the fit).
+    pub ns_per_sample: f64,
+}
+
+/// Where the data came from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub struct Provenance {
+    /// The data file as given on the command line.
+    pub file: String,
+    /// Its size in bytes.
+    pub bytes: u64,
+    /// FNV-1a 64-bit hash of its bytes (hex), to recognise the exact file.
+    pub fnv1a64: String,
+    /// Data rows read.
+    pub rows: usize,
+    /// Number of records.
+    pub records: usize,
+    /// Record ids held out for validation.
+    #[serde(default)]
+    pub validation_records: Vec<i64>,
+    /// The command that made the file.
+    pub command: String,
+    /// hyst version.
+    pub hyst_version: String,
+    /// Creation time, seconds since the Unix epoch.
+    pub created_unix: u64,
+}
+
+/// A fitted parameter with its standard error.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Estimate {
+    /// Name ("k1", "out.gain", …).
+    pub name: String,
+    /// Value.
+    pub value: f64,
+    /// Standard error from the covariance σ² (JᵀJ)⁻¹ (NaN when the parameter is not
+    /// identifiable from the data). Assumes independent residuals: correlated measurement
+    /// noise makes it optimistic.
+    pub std_error: f64,
+    /// Units.
+    pub unit: String,
+}
+
+/// Error statistics of a model on a set of records.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub struct ErrorStats {
+    /// Samples used (weight > 0).
+    pub samples: usize,
+    /// Root mean square error (output units).
+    pub rms: f64,
+    /// Largest absolute error (output units).
+    pub max_abs: f64,
+    /// RMS as % of the output span of the whole dataset.
+    pub rms_pct_span: f64,
+    /// Max error as % of the output span.
+    pub max_pct_span: f64,
+}
+
+impl ErrorStats {
+    /// Statistics of `errors` against an output span.
+    #[must_use]
+    pub fn new(errors: &[f64], span: f64) -> Self {
+        if errors.is_empty() {
+            return Self::default();
+        }
+        let n = errors.len();
+        let rms = (errors.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt();
+        let max_abs = errors.iter().fold(0.0_f64, |m, e| m.max(e.abs()));
+        Self {
+            samples: n,
+            rms,
+            max_abs,
+            rms_pct_span: 100.0 * rms / span,
+            max_pct_span: 100.0 * max_abs / span,
+        }
+    }
+}

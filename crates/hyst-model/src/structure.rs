@@ -1,0 +1,109 @@
+//! The model structure the user chooses: the k2 law, the shaping functions ψ_in and ψ_out,
+//! the offsets, the start rule and the form. A model file records it (`[structure]`); the fit
+//! (hyst-fit's `Layout`) turns it into free parameters.
+
+use serde::{Deserialize, Serialize};
+
+use crate::smooth::{Form, InitialState};
+
+/// A shaping function family for ψ_in or ψ_out. Its kebab-case name (`affine`, `poly2`, `poly3`,
+/// `tanh`, `langevin`, `quadratic-exp`) is the model file's and the command line's. Files and
+/// command lines of hyst before 0.1 wrote `quad-exp`; it still reads as `quadratic-exp`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum ShapingKind {
+    /// Affine (ψ_in: the fixed normalisation of the input; ψ_out: gain and offset).
+    #[default]
+    Affine,
+    /// Quadratic polynomial x + p2 x², monotone on the data.
+    Poly2,
+    /// Cubic polynomial x + p2 x² + p3 x³, monotone on the data.
+    Poly3,
+    /// tanh(x / σ + c): saturation.
+    Tanh,
+    /// Langevin function L(x / σ + c): the classical anhysteretic curve.
+    Langevin,
+    /// Example 2's x − a x² − e^(−(b + c x)).
+    #[serde(alias = "quad-exp")]
+    #[cfg_attr(feature = "clap", value(alias = "quad-exp"))]
+    QuadraticExp,
+}
+
+impl ShapingKind {
+    /// All kinds, with their command-line names.
+    pub const ALL: [(&'static str, ShapingKind); 6] = [
+        ("affine", ShapingKind::Affine),
+        ("poly2", ShapingKind::Poly2),
+        ("poly3", ShapingKind::Poly3),
+        ("tanh", ShapingKind::Tanh),
+        ("langevin", ShapingKind::Langevin),
+        ("quadratic-exp", ShapingKind::QuadraticExp),
+    ];
+
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(_, k)| *k == self)
+            .map_or("?", |(n, _)| n)
+    }
+
+    /// Whether the shape saturates (tanh, Langevin): its range is bounded.
+    #[must_use]
+    pub fn saturating(self) -> bool {
+        matches!(self, ShapingKind::Tanh | ShapingKind::Langevin)
+    }
+}
+
+/// The k2 law to fit: constant, or affine in the operator input (Proposition 4.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum K2Kind {
+    /// k2 constant.
+    #[default]
+    Constant,
+    /// k2 = a + b v, affine in the operator input v (Proposition 4.3).
+    Affine,
+}
+
+/// The model structure chosen by the user.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Structure {
+    /// k2 law.
+    pub k2: K2Kind,
+    /// ψ_in family.
+    pub input_shaping: ShapingKind,
+    /// ψ_out family.
+    pub output_shaping: ShapingKind,
+    /// Fit an offset of the input before ψ_in (`None`: only where it is identifiable, i.e. for
+    /// tanh and Langevin input shaping).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub input_offset: Option<bool>,
+    /// Fit an offset of the output (a sensor offset).
+    pub output_offset: bool,
+    /// How each record starts.
+    pub initial_state: InitialState,
+    /// The form: the operator (counterclockwise loops) or its stop form (clockwise loops,
+    /// friction), with the linear term `out.linear`.
+    #[serde(default, skip_serializing_if = "Form::is_operator")]
+    pub form: Form,
+}
+
+impl Default for Structure {
+    /// k1, constant k2, affine shaping (normalised input, output gain), output offset, records
+    /// starting as after a rise.
+    fn default() -> Self {
+        Self {
+            k2: K2Kind::Constant,
+            input_shaping: ShapingKind::Affine,
+            output_shaping: ShapingKind::Affine,
+            input_offset: None,
+            output_offset: true,
+            initial_state: InitialState::Rising,
+            form: Form::Operator,
+        }
+    }
+}
