@@ -2,19 +2,19 @@
 """Fit many actuator records in parallel on Dask: one model file per record and a summary CSV.
 
     # measured records, one CSV per actuator:
-    python examples/python/fleet_fit.py records/*.csv --input u --output y --out models/
+    python examples/python/fleet_fit.py records/*.csv --input x --output y --out models/
     # synthetic actuators with known parameters (a check of the whole chain):
     python examples/python/fleet_fit.py --synthetic 64 --out models/
     # on a running cluster instead of a LocalCluster on this machine:
-    python examples/python/fleet_fit.py records/*.csv --input u --output y --scheduler tcp://host:8786
+    python examples/python/fleet_fit.py records/*.csv --input x --output y --scheduler tcp://host:8786
 
 Each task runs `hyst.fit` on one record on a worker (the fit releases the GIL; one thread per
 worker process is right). Records travel to the workers as arrays and models come back as
 model-file text, so the workers need no shared file system. Any extra `--option value` pairs
 after `--` are passed to `hyst.fit` (e.g. `-- --output_shaping poly2 --k2 affine`).
 
-Synthetic actuators: y = gain * H(k1, k2)[u] + offset + noise, u spanning [-1, 1] exactly (so the
-fit's normalised input units are the truth's units) and starting without history (the fit's
+Synthetic actuators: y = gain * H(k1, k2)[x] + offset + noise, the input x spanning [-1, 1]
+exactly (so the fit's normalised input units are the truth's units) and starting without history (the fit's
 `initial_state="line"`). The summary then holds each true value and its z-score
 (estimate - truth) / standard error.
 """
@@ -44,26 +44,26 @@ def synthetic_truth(seed: int) -> Dict[str, float]:
 
 
 def synthetic_record(seed: int, samples: int, noise: float) -> Tuple[Any, Any, Dict[str, float]]:
-    """(u, y, truth) of synthetic actuator `seed`: a decaying sine with minor loops through the
+    """(x, y, truth) of synthetic actuator `seed`: a decaying sine with minor loops through the
     truth operator, plus white noise of `noise` output units."""
     import hyst
 
     truth = synthetic_truth(seed)
     rng = np.random.default_rng(seed + 1_000_003)
     t = np.linspace(0.0, 1.0, samples)
-    u = np.sin(2 * np.pi * 3 * t) * (1.0 - 0.7 * t) + 0.25 * np.sin(2 * np.pi * 17 * t + seed)
-    u = 2.0 * (u - u.min()) / (u.max() - u.min()) - 1.0
+    x = np.sin(2 * np.pi * 3 * t) * (1.0 - 0.7 * t) + 0.25 * np.sin(2 * np.pi * 17 * t + seed)
+    x = 2.0 * (x - x.min()) / (x.max() - x.min()) - 1.0
     h = hyst.Hysteresis(truth["k1"], truth["k2"])
-    y = truth["out.gain"] * h.process(u) + truth["out.offset"] + noise * rng.standard_normal(samples)
-    return u, y, truth
+    y = truth["out.gain"] * h.process(x) + truth["out.offset"] + noise * rng.standard_normal(samples)
+    return x, y, truth
 
 
-def fit_one(name: str, u: Any, y: Any, options: Dict[str, Any]) -> Tuple[Dict[str, Any], Optional[str]]:
+def fit_one(name: str, x: Any, y: Any, options: Dict[str, Any]) -> Tuple[Dict[str, Any], Optional[str]]:
     """Runs on a worker: fits one record, returns the summary row and the model file text."""
     import hyst
 
     try:
-        r = hyst.fit(u, y, **options)
+        r = hyst.fit(x, y, **options)
     except ValueError as e:  # a record the model cannot represent: reported, not fatal
         return {"record": name, "error": str(e)}, None
     row: Dict[str, Any] = {"record": name, "rms": r.rms, "rms_percent": r.rms_percent, "delta_a": r.delta_a}
@@ -75,8 +75,8 @@ def fit_one(name: str, u: Any, y: Any, options: Dict[str, Any]) -> Tuple[Dict[st
 
 def fit_synthetic(seed: int, samples: int, noise: float, options: Dict[str, Any]) -> Tuple[Dict[str, Any], Optional[str]]:
     """Runs on a worker: makes synthetic actuator `seed` there (nothing to ship) and fits it."""
-    u, y, truth = synthetic_record(seed, samples, noise)
-    row, toml = fit_one(f"synthetic-{seed:04d}", u, y, options)
+    x, y, truth = synthetic_record(seed, samples, noise)
+    row, toml = fit_one(f"synthetic-{seed:04d}", x, y, options)
     for p, v in truth.items():
         row[p + ".true"] = v
         if p in row and row.get(p + ".stderr"):
@@ -147,9 +147,9 @@ def main(argv: Optional[List[str]] = None) -> int:
                 for col in (args.input, args.output):
                     if rows and col not in rows[0]:
                         raise SystemExit(f"{path}: no column {col!r} (columns: {', '.join(rows[0])})")
-                u = np.array([float(r[args.input]) for r in rows])
+                x = np.array([float(r[args.input]) for r in rows])
                 y = np.array([float(r[args.output]) for r in rows])
-                futures.append(client.submit(fit_one, path.stem, u, y, options, pure=False))
+                futures.append(client.submit(fit_one, path.stem, x, y, options, pure=False))
         results = client.gather(futures)
     finally:
         client.close()

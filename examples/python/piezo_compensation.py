@@ -4,9 +4,10 @@ trajectory, and plot data, model and command to a PNG.
 
     python examples/python/piezo_compensation.py [--data CSV] [--out DIR]
 
-The model is the smooth operator y = psi_out(H(k1, k2)[psi_in(u)]) (eq. 2 inside affine
-shaping); the command is its exact inverse (eq. 4) applied to the desired output, so the model
-driven by the command reproduces the desired output to rounding. The family bound delta_a
+The model maps its input x (the actuator voltage) to its output y (the displacement):
+y = psi_out(H(k1, k2)[psi_in(x)]) (eq. 2 inside affine shaping). The command is its exact
+inverse (eq. 4 inside the shaping) applied to the desired output, so the model driven by the
+command reproduces the desired output to rounding. The family bound delta_a
 says how far the real actuator may still be from it (Propositions 3.2, 3.3).
 """
 
@@ -34,10 +35,10 @@ def main(argv: Optional[List[str]] = None) -> int:
 
     with open(args.data, newline="") as f:
         rows = list(csv.DictReader(f))
-    u = np.array([float(r[args.input]) for r in rows])
+    x = np.array([float(r[args.input]) for r in rows])
     y = np.array([float(r[args.output]) for r in rows])
 
-    fit = hyst.fit(u, y, input_name=args.input, output_name=args.output, input_unit="V", output_unit="um")
+    fit = hyst.fit(x, y, input_name=args.input, output_name=args.output, input_unit="V", output_unit="um")
     print(fit.report())
 
     # A desired trajectory inside the measured range: two tones, 2 s at the record's rate.
@@ -45,9 +46,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     t = np.linspace(0.0, 2.0, 2000)
     desired = 0.5 * (lo + hi) + 0.45 * (hi - lo) * (0.8 * np.sin(2 * np.pi * 1.0 * t) + 0.2 * np.sin(2 * np.pi * 3.7 * t))
 
-    command = fit.model.inverse().process(desired)        # exact compensator (eq. 4)
+    command = fit.model.inverse().process(desired)        # the exact inverse (eq. 4)
     achieved = fit.model.process(command)                   # the model driven by it
-    gain, offset = np.polyfit(u, y, 1)                      # what a linear inverse would send
+    gain, offset = np.polyfit(x, y, 1)                      # what a linear inverse would send
     linear_command = (desired - offset) / gain
     linear_achieved = fit.model.process(linear_command)
 
@@ -66,9 +67,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
-    ax[0].plot(u, y, ".", ms=1.5, color="0.6", label="measured")
-    ax[0].plot(u, fit.model.process(u), lw=0.8, color="C0", label="model")
-    ax[0].set(xlabel="u (V)", ylabel="y (um)", title=f"fit: RMS {fit.rms_percent:.2f} % of span")
+    ax[0].plot(x, y, ".", ms=1.5, color="0.6", label="measured")
+    ax[0].plot(x, fit.model.process(x), lw=0.8, color="C0", label="model")
+    ax[0].set(xlabel="x (V)", ylabel="y (um)", title=f"fit: RMS {fit.rms_percent:.2f} % of span")
     ax[0].legend()
     ax[1].plot(t, desired, color="k", lw=2, label="desired")
     ax[1].plot(t, achieved, "--", color="C0", label="with hyst compensation")
@@ -77,7 +78,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     ax[1].legend()
     ax[2].plot(t, command, color="C0", label="hyst command")
     ax[2].plot(t, linear_command, color="C3", lw=0.8, label="linear command")
-    ax[2].set(xlabel="t (s)", ylabel="u (V)", title="command")
+    ax[2].set(xlabel="t (s)", ylabel="x (V)", title="command")
     ax[2].legend()
     fig.tight_layout()
     png = args.out / "piezo_compensation.png"

@@ -210,7 +210,8 @@ pub fn derivatives<'py>(
     }
     if !(1..=MAX_ORDER).contains(&cols.unwrap_or(0)) {
         return Err(value_error(format!(
-            "derivatives: {} columns; give 1 to {MAX_ORDER} time derivatives per sample",
+            "derivatives: {} columns; give 1 to hyst.MAX_ORDER = {MAX_ORDER} time derivatives \
+             per sample",
             cols.unwrap_or(0)
         )));
     }

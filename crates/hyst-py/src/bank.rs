@@ -489,7 +489,7 @@ impl Bank {
         PyArray1::from_vec(py, self.parameters(false))
     }
 
-    /// Whether the channels are the inverse operators H⁻¹ (the compensators).
+    /// Whether the channels are the inverse operators H⁻¹ (eq. 4).
     #[getter]
     fn inverse(&self) -> bool {
         matches!(self.engine, Engine::I64(_) | Engine::I32(_))

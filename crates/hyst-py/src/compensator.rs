@@ -37,15 +37,19 @@ macro_rules! each {
 }
 
 /// The Lemma 5.1 compensator for the plant x1(s)/u(s) = b / (a_n sⁿ + … + a_1 s + 1) (eq. 18)
-/// followed by the hysteresis `model` (a smooth `Model`, or `Hysteresis(k1, k2)`).
+/// followed by the hysteresis `model` (a smooth `Model`, `Hysteresis(k1, k2)` or
+/// `InverseHysteresis(k1, k2)`, which stands for the same H(k1, k2)).
 ///
 /// `Compensator(model, b, a, state=None)`: `b` ≠ 0 is the plant gain, `a = [a_1, …, a_n]` the
-/// denominator coefficients (n ≤ `hyst.MAX_ORDER` = 4; n = 0 is a static plant), `state` the integrators' start
-/// (v, v̇, …, v⁽ⁿ⁻¹⁾) (default 0). Each `step(u_new, dt)` takes the new input u_new = v⁽ⁿ⁾
-/// (the n-th derivative of the desired output v), evaluates the exact inverse model on the jet
-/// (v, …, v⁽ⁿ⁾) and returns the plant command of eq. (19), u = (1/b)(x + a_1 ẋ + … + a_n x⁽ⁿ⁾);
-/// then it integrates u_new over `dt` (s, ≥ 0). With the exact model the plant output follows v
-/// (eq. 20 with Δ = 0); with a hysteresis reproduced by a family, within the family's Δa.
+/// denominator coefficients (n ≤ `hyst.MAX_ORDER`; n = 0 is a static plant), `state` the
+/// integrators' start (v, v̇, …, v⁽ⁿ⁻¹⁾) (default 0). Each `step(u_new, dt)` takes the new
+/// input u_new = v⁽ⁿ⁾ (the n-th derivative of the reference v, the desired output), evaluates
+/// the exact inverse model on the jet (v, …, v⁽ⁿ⁾), which gives the target x1 and its
+/// derivatives, and returns the plant command of eq. (19),
+/// u = (1/b)(x1 + a_1 ẋ1 + … + a_n x1⁽ⁿ⁾); then it integrates u_new over `dt` (s, ≥ 0). With
+/// the exact model the plant output follows v (eq. 20 with Δ = 0); with a hysteresis
+/// reproduced by a family, within the family's Δa. `last_reference`, `last_target` and
+/// `last_command` are v, x1 and u of the last step.
 #[pyclass(module = "hyst")]
 pub struct Compensator {
     inner: Inner,
@@ -107,7 +111,8 @@ impl Compensator {
     ) -> PyResult<Self> {
         if a.len() > MAX_ORDER {
             return Err(value_error(format!(
-                "a has {} coefficients: the plant order n = len(a) must be at most {MAX_ORDER}",
+                "a has {} coefficients: the plant order n = len(a) must be at most \
+                 hyst.MAX_ORDER = {MAX_ORDER}",
                 a.len()
             )));
         }
@@ -261,24 +266,23 @@ impl Compensator {
         }
     }
 
-    /// The reference v of the last step: the plant output the command aims at.
+    /// The reference v of the last step: the plant output the command aims at (u_new
+    /// integrated n times; u_new itself for n = 0).
     #[getter]
-    fn reference(&self) -> f64 {
+    fn last_reference(&self) -> f64 {
         each!(&self.inner, c => c.last_reference())
     }
 
-    /// The target x = H⁻¹-model[v] of the last step: the plant input (x1) that gives v.
+    /// The target x1 of the last step: the hysteresis input (the plant state x1 of eq. 18)
+    /// that the exact inverse model gives for the reference v, x1 = ψ_in⁻¹(H⁻¹[ψ_out⁻¹(v)]).
     #[getter]
-    fn target(&self) -> f64 {
-        match &self.inner {
-            Inner::Small(c) => c.last_target().value(),
-            Inner::Large(c) => c.last_target().value(),
-        }
+    fn last_target(&self) -> f64 {
+        each!(&self.inner, c => c.last_target().value())
     }
 
-    /// The command of the last step.
+    /// The command u of the last step (eq. 19): the plant input.
     #[getter]
-    fn command(&self) -> f64 {
+    fn last_command(&self) -> f64 {
         each!(&self.inner, c => c.last_command())
     }
 

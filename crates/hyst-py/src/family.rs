@@ -22,6 +22,21 @@ pub struct Family {
     inner: CoreFamily<f64>,
 }
 
+impl Family {
+    /// The parameters (k1 + a Δk1, k2 + b Δk2) of the member at (a, b) ∈ [−1, 1]², for
+    /// `method` (named in the error for a position outside the square).
+    fn member_k(&self, method: &str, a: f64, b: f64) -> PyResult<(f64, f64)> {
+        if !(-1.0..=1.0).contains(&a) || !(-1.0..=1.0).contains(&b) {
+            return Err(value_error(format!(
+                "{method}({a}, {b}): the position must lie in [-1, 1] x [-1, 1]"
+            )));
+        }
+        // The member's k1 and the shift of k2 from the nominal k2 (eq. 9).
+        let (k1, shift) = self.inner.member_params(a, b);
+        Ok((k1, self.inner.k2() + shift))
+    }
+}
+
 #[pymethods]
 impl Family {
     #[new]
@@ -85,15 +100,24 @@ impl Family {
     /// The member H(k1 + a Δk1, k2 + b Δk2) at the position (a, b) ∈ [−1, 1]², no history.
     #[pyo3(signature = (a, b, dtype=None))]
     fn member(&self, a: f64, b: f64, dtype: Option<&Bound<'_, PyAny>>) -> PyResult<Hysteresis> {
-        if !(-1.0..=1.0).contains(&a) || !(-1.0..=1.0).contains(&b) {
-            return Err(value_error(format!(
-                "member({a}, {b}): the position must lie in [-1, 1] x [-1, 1]"
-            )));
-        }
-        // The member's k1 and the shift of k2 from the nominal k2 (eq. 9).
-        let (k1, shift) = self.inner.member_params(a, b);
-        let k2 = self.inner.k2() + shift;
+        let (k1, k2) = self.member_k("member", a, b)?;
         Ok(Hysteresis {
+            engine: Engine::new(k1, k2, Precision::from_dtype(dtype)?)?,
+        })
+    }
+
+    /// The member's inverse H⁻¹(k1 + a Δk1, k2 + b Δk2) (eq. 4) at the position
+    /// (a, b) ∈ [−1, 1]², no history. `inverse_member(0, 0)` is the nominal inverse, whose
+    /// error on any member of the family is at most `delta_a` (Proposition 3.2).
+    #[pyo3(signature = (a, b, dtype=None))]
+    fn inverse_member(
+        &self,
+        a: f64,
+        b: f64,
+        dtype: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<InverseHysteresis> {
+        let (k1, k2) = self.member_k("inverse_member", a, b)?;
+        Ok(InverseHysteresis {
             engine: Engine::new(k1, k2, Precision::from_dtype(dtype)?)?,
         })
     }
@@ -102,15 +126,6 @@ impl Family {
     #[pyo3(signature = (dtype=None))]
     fn nominal(&self, dtype: Option<&Bound<'_, PyAny>>) -> PyResult<Hysteresis> {
         self.member(0.0, 0.0, dtype)
-    }
-
-    /// The nominal compensator H⁻¹(k1, k2) (eq. 4), no history: its error on any member of
-    /// the family is at most `delta_a`.
-    #[pyo3(signature = (dtype=None))]
-    fn compensator(&self, dtype: Option<&Bound<'_, PyAny>>) -> PyResult<InverseHysteresis> {
-        Ok(InverseHysteresis {
-            engine: Engine::new(self.k1(), self.k2(), Precision::from_dtype(dtype)?)?,
-        })
     }
 
     /// The envelope of the family along the input `x` (Section 3): `(lower, upper)`, the

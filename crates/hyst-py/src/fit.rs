@@ -1,4 +1,4 @@
-//! `hyst.fit(u, y, **options)` and `hyst.FitResult`: the identification of `hyst fit`
+//! `hyst.fit(x, y, **options)` and `hyst.FitResult`: the identification of `hyst fit`
 //! (`hyst_fit::identify`) on arrays, with the same options, numbers and report.
 
 use std::ops::ControlFlow;
@@ -62,38 +62,40 @@ impl Observer for Signals {
     }
 }
 
-/// Identifies a hysteresis model from the input samples `u` and the measured output `y`
-/// (1-D arrays of the same length), as `hyst fit` does, and returns a `FitResult`.
+/// Identifies a hysteresis model from the model's input samples `x` and the measured output
+/// `y` (1-D arrays of the same length), as `hyst fit` does, and returns a `FitResult`.
 ///
 /// The options mirror `hyst fit`'s flags, with the same names and values (docs/fitting.md):
 /// `output_shaping`, `input_shaping` ("affine", "poly2", "poly3", "tanh", "langevin",
-/// "quadratic-exp"), `k2` ("constant", "affine"), `model_kind` ("smooth", "prandtl-ishlinskii" or "pi"), `starts`,
-/// `segment` (or `segments`: cut every record into segments of that many samples), `record`
-/// (an array of record ids, one per sample: each record starts from its own initial state),
-/// `weight` (an array of weights ≥ 0), `validate` (record ids held out), `validate_every`,
-/// `coverage`, `plays`, `pi_output`, `compare`, `input_offset`, `output_offset`,
+/// "quadratic-exp"), `k2` ("constant", "affine"), `model_kind` ("smooth",
+/// "prandtl-ishlinskii", or "pi" for short), `starts`, `segment` (or `segments`: cut every
+/// record into segments of that many samples), `record` (an array of record ids, one per
+/// sample: each record starts from its own initial state), `weight` (an array of weights
+/// ≥ 0), `validate` (record ids held out), `validate_every`, `coverage`, `plays` (of a
+/// Prandtl–Ishlinskii model), `pi_output`, `compare`, `input_offset`, `output_offset`,
 /// `initial_state` ("auto": "falling" when every record only rises, as first-order reversal
-/// curves; "rising", "falling", "line"), `estimate_initial_states` (estimate each
-/// record's start from its data), `form` ("auto": the stop form for clockwise
-/// loops such as friction, else the operator form; "operator"; "stop"), `keep_degenerate`
-/// (keep a fit that found no hysteresis instead of raising ValueError), `input_name`, `output_name`, `input_unit`,
-/// `output_unit`. Raises ValueError with the CLI's words for bad options or data; Ctrl-C
-/// stops the fit with KeyboardInterrupt. The GIL is released while it runs.
+/// curves, else "rising"; "rising", "falling", "line"), `estimate_initial_states` (estimate
+/// each record's start from its data), `form` ("auto": the stop form for clockwise loops
+/// such as friction, else the operator form; "operator"; "stop"), `keep_degenerate` (keep a
+/// fit that found no hysteresis instead of raising ValueError), `input_name`, `output_name`
+/// (the columns' names in the model file), `input_unit`, `output_unit`. Raises ValueError
+/// with the CLI's words for bad options or data; Ctrl-C stops the fit with
+/// KeyboardInterrupt. The GIL is released while it runs.
 #[pyfunction]
 #[pyo3(signature = (
-    u, y, *,
+    x, y, *,
     output_shaping = "affine", input_shaping = "affine", k2 = "constant",
     model_kind = "smooth", starts = 3, segment = None, segments = None, record = None,
     weight = None, validate = None, validate_every = None, coverage = 0.99, plays = 16,
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
     initial_state = "auto", estimate_initial_states = false, form = "auto",
-    keep_degenerate = false, input_name = "u", output_name = "y", input_unit = "",
+    keep_degenerate = false, input_name = "x", output_name = "y", input_unit = "",
     output_unit = ""
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
     py: Python<'_>,
-    u: &Bound<'_, PyAny>,
+    x: &Bound<'_, PyAny>,
     y: &Bound<'_, PyAny>,
     output_shaping: &str,
     input_shaping: &str,
@@ -124,112 +126,231 @@ pub fn fit(
     if starts == 0 {
         return Err(value_error("starts = 0: expected at least 1 start"));
     }
-    let segment = match (segment, segments) {
-        (Some(a), Some(b)) if a != b => {
-            return Err(value_error(format!(
-                "segment = {a} and segments = {b}: give one (they are the same option)"
-            )))
-        }
-        (a, b) => a.or(b),
-    };
-    let structure = Structure {
-        k2: choice::<K2Kind>("k2", k2)?,
-        input_shaping: choice::<ShapingKind>("input_shaping", input_shaping)?,
-        output_shaping: choice::<ShapingKind>("output_shaping", output_shaping)?,
+    let options = Options {
+        output_shaping,
+        input_shaping,
+        k2,
+        model_kind,
+        starts,
+        segment: one_segment(segment, segments)?,
+        validate: validate.unwrap_or_default(),
+        validate_every,
+        coverage,
+        plays,
+        pi_output,
+        compare,
         input_offset,
         output_offset,
-        initial_state: InitialState::Rising,
-        form: hyst_model::Form::Operator,
-    };
-    let request = Request {
-        kind: choice::<ModelKind>("model_kind", model_kind)?,
-        compare,
-        structure,
-        form: choice::<FormChoice>("form", form)?,
-        start: choice::<StartChoice>("initial_state", initial_state)?,
+        initial_state,
+        estimate_initial_states,
+        form,
         keep_degenerate,
-        options: FitOptions {
-            starts,
-            coverage,
-            estimate_starts: estimate_initial_states,
-            ..FitOptions::default()
-        },
-        plays,
-        pi_output: choice::<PiOutputKind>("pi_output", pi_output)?,
-        units: Units {
-            input: input_unit.into(),
-            output: output_unit.into(),
-        },
+        input_name,
+        output_name,
+        input_unit,
+        output_unit,
     };
+    let request = options.request()?;
+    let columns = Columns::read(x, y, record, weight, input_name, output_name)?;
+    let data = options.data_options(&columns);
+    let provenance = provenance(&columns.values);
+    let table = Table::new(columns.names, columns.values).map_err(|e| errors::fit(e.into()))?;
+    let report = identify_without_gil(py, &table, &data, &request, provenance)?;
+    FitResult::new(py, report)
+}
 
-    let u = samples_f64(u, "u")?;
-    let y = samples_f64(y, "y")?;
-    let mut names = vec![input_name.to_string(), output_name.to_string()];
-    if names[0] == names[1] {
-        return Err(value_error(format!(
-            "input_name and output_name are both {input_name:?}: name the columns apart"
-        )));
+/// `segment` and its alias `segments`: the one given, or ValueError when both are, apart.
+fn one_segment(segment: Option<usize>, segments: Option<usize>) -> PyResult<Option<usize>> {
+    match (segment, segments) {
+        (Some(a), Some(b)) if a != b => Err(value_error(format!(
+            "segment = {a} and segments = {b}: give one (they are the same option)"
+        ))),
+        (a, b) => Ok(a.or(b)),
     }
-    let mut columns = vec![u, y];
-    let record_name = "record".to_string();
-    let weight_name = "weight".to_string();
-    for (values, name, array) in [
-        (record, &record_name, "record"),
-        (weight, &weight_name, "weight"),
-    ] {
-        if let Some(v) = values.filter(|v| !v.is_none()) {
-            if names.contains(name) {
-                return Err(value_error(format!(
-                    "{array}: the column name {name:?} is taken by u or y; rename them"
-                )));
-            }
-            names.push(name.clone());
-            columns.push(samples_f64(v, array)?);
+}
+
+/// The options of `hyst.fit` other than its arrays, as given (`segment` merged with its
+/// alias, `validate` defaulted to no record).
+struct Options<'a> {
+    output_shaping: &'a str,
+    input_shaping: &'a str,
+    k2: &'a str,
+    model_kind: &'a str,
+    starts: usize,
+    segment: Option<usize>,
+    validate: Vec<i64>,
+    validate_every: Option<usize>,
+    coverage: f64,
+    plays: usize,
+    pi_output: &'a str,
+    compare: bool,
+    input_offset: Option<bool>,
+    output_offset: bool,
+    initial_state: &'a str,
+    estimate_initial_states: bool,
+    form: &'a str,
+    keep_degenerate: bool,
+    input_name: &'a str,
+    output_name: &'a str,
+    input_unit: &'a str,
+    output_unit: &'a str,
+}
+
+impl Options<'_> {
+    /// What to identify, as `hyst fit` builds it from its flags: the choices by their
+    /// command-line names (ValueError naming the option for another name).
+    fn request(&self) -> PyResult<Request> {
+        let structure = Structure {
+            k2: choice::<K2Kind>("k2", self.k2)?,
+            input_shaping: choice::<ShapingKind>("input_shaping", self.input_shaping)?,
+            output_shaping: choice::<ShapingKind>("output_shaping", self.output_shaping)?,
+            input_offset: self.input_offset,
+            output_offset: self.output_offset,
+            initial_state: InitialState::Rising,
+            form: hyst_model::Form::Operator,
+        };
+        Ok(Request {
+            kind: choice::<ModelKind>("model_kind", self.model_kind)?,
+            compare: self.compare,
+            structure,
+            form: choice::<FormChoice>("form", self.form)?,
+            start: choice::<StartChoice>("initial_state", self.initial_state)?,
+            keep_degenerate: self.keep_degenerate,
+            options: FitOptions {
+                starts: self.starts,
+                coverage: self.coverage,
+                estimate_starts: self.estimate_initial_states,
+                ..FitOptions::default()
+            },
+            plays: self.plays,
+            pi_output: choice::<PiOutputKind>("pi_output", self.pi_output)?,
+            units: Units {
+                input: self.input_unit.into(),
+                output: self.output_unit.into(),
+            },
+        })
+    }
+
+    /// Which columns of `columns` hold what, and how to cut and hold out records.
+    fn data_options(&self, columns: &Columns) -> DataOptions {
+        DataOptions {
+            input: self.input_name.into(),
+            output: self.output_name.into(),
+            record: columns.record.then(|| RECORD.to_string()),
+            no_record: !columns.record,
+            weight: columns.weight.then(|| WEIGHT.to_string()),
+            segment: self.segment,
+            validate: self.validate.clone(),
+            validate_every: self.validate_every,
         }
     }
-    let n = columns[0].len();
-    for (name, c) in ["u", "y", "record", "weight"].iter().zip(&columns).skip(1) {
-        if c.len() != n {
+}
+
+/// The names of the columns that hold the arrays `record` and `weight`.
+const RECORD: &str = "record";
+const WEIGHT: &str = "weight";
+
+/// The arrays of a fit as the named columns of a table, as `hyst fit` reads them from a CSV
+/// file: x and y under `input_name` and `output_name`, then the record ids and the weights
+/// when given.
+struct Columns {
+    names: Vec<String>,
+    values: Vec<Vec<f64>>,
+    /// Whether there is a record column.
+    record: bool,
+    /// Whether there is a weight column.
+    weight: bool,
+}
+
+impl Columns {
+    /// Reads the arrays (1-D, finite or not: the dataset checks the values) and checks their
+    /// names apart and their lengths equal.
+    fn read(
+        x: &Bound<'_, PyAny>,
+        y: &Bound<'_, PyAny>,
+        record: Option<&Bound<'_, PyAny>>,
+        weight: Option<&Bound<'_, PyAny>>,
+        input_name: &str,
+        output_name: &str,
+    ) -> PyResult<Self> {
+        let x = samples_f64(x, "x")?;
+        let y = samples_f64(y, "y")?;
+        let mut names = vec![input_name.to_string(), output_name.to_string()];
+        if names[0] == names[1] {
             return Err(value_error(format!(
-                "{name} has {} samples but u has {n}",
-                c.len()
+                "input_name and output_name are both {input_name:?}: name the columns apart"
             )));
         }
+        let mut values = vec![x, y];
+        for (array, name) in [(record, RECORD), (weight, WEIGHT)] {
+            if let Some(v) = array.filter(|v| !v.is_none()) {
+                if names.iter().any(|n| n == name) {
+                    return Err(value_error(format!(
+                        "{name}: the column name {name:?} is taken by x or y; rename them"
+                    )));
+                }
+                names.push(name.to_string());
+                values.push(samples_f64(v, name)?);
+            }
+        }
+        let n = values[0].len();
+        // The arrays by their argument names ("record" and "weight" are also their columns').
+        let arguments = ["x", "y"]
+            .into_iter()
+            .chain(names.iter().skip(2).map(String::as_str));
+        for (name, c) in arguments.zip(&values).skip(1) {
+            if c.len() != n {
+                return Err(value_error(format!(
+                    "{name} has {} samples but x has {n}",
+                    c.len()
+                )));
+            }
+        }
+        let record = names.iter().any(|n| n == RECORD);
+        let weight = names.iter().any(|n| n == WEIGHT);
+        Ok(Self {
+            names,
+            values,
+            record,
+            weight,
+        })
     }
-    let has_record = names.contains(&record_name);
-    let has_weight = names.contains(&weight_name);
-    // The bytes of the data, for the model file's provenance.
-    let mut bytes = Vec::with_capacity(16 * n);
-    for c in &columns {
+}
+
+/// The model file's provenance of data given as arrays: the size and FNV-1a hash of the
+/// columns' bytes (little-endian float64, column after column) and the number of rows.
+fn provenance(columns: &[Vec<f64>]) -> Provenance {
+    let mut bytes = Vec::with_capacity(8 * columns.len() * columns.first().map_or(0, Vec::len));
+    for c in columns {
         for v in c {
             bytes.extend_from_slice(&v.to_le_bytes());
         }
     }
-    let table = Table::new(names, columns).map_err(|e| errors::fit(e.into()))?;
-    let options = DataOptions {
-        input: input_name.into(),
-        output: output_name.into(),
-        record: has_record.then(|| record_name.clone()),
-        no_record: !has_record,
-        weight: has_weight.then(|| weight_name.clone()),
-        segment,
-        validate: validate.unwrap_or_default(),
-        validate_every,
-    };
-    let provenance = Provenance {
+    Provenance {
         file: "<arrays>".into(),
         bytes: bytes.len() as u64,
         fnv1a64: format!("{:016x}", fnv1a64(&bytes)),
-        rows: n,
+        rows: columns.first().map_or(0, Vec::len),
         command: "hyst.fit (Python)".into(),
         hyst_version: env!("CARGO_PKG_VERSION").to_string(),
         created_unix: std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_secs()),
         ..Provenance::default()
-    };
+    }
+}
+
+/// Reads the dataset from `table` and identifies the model without the GIL, as `hyst fit`
+/// does; the report. A signal (Ctrl-C) during the fit stops it and raises its exception.
+fn identify_without_gil(
+    py: Python<'_>,
+    table: &Table,
+    options: &DataOptions,
+    request: &Request,
+    provenance: Provenance,
+) -> PyResult<Report> {
     let (result, raised) = py.detach(|| {
-        let data = match Dataset::from_table(&table, &options) {
+        let data = match Dataset::from_table(table, options) {
             Ok(d) => d,
             Err(e) => return (Err(e), None),
         };
@@ -237,17 +358,18 @@ pub fn fit(
             last: Instant::now(),
             raised: None,
         };
-        let result = identify(&data, &request, &mut observer, &|| false, provenance);
+        let result = identify(&data, request, &mut observer, &|| false, provenance);
         (result, observer.raised)
     });
     if let Some(e) = raised {
         return Err(e);
     }
-    let identified = result.map_err(|e| match e {
-        FitError::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
-        e => errors::fit(e),
-    })?;
-    FitResult::new(py, identified.report)
+    result
+        .map(|identified| identified.report)
+        .map_err(|e| match e {
+            FitError::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
+            e => errors::fit(e),
+        })
 }
 
 /// The result of `hyst.fit`: the model, its parameters with standard errors, the errors of the

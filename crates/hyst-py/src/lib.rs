@@ -12,6 +12,7 @@
 //! | `fit`, `FitResult` ([`fit`]) | `hyst_fit::identify` (what `hyst fit` runs) |
 //! | `Family` ([`family`]) | `hyst_core::Family` (Definition 2.8, Proposition 3.2) |
 //! | `Compensator` ([`compensator`]) | `hyst_core::compensator::Compensator` (Lemma 5.1) |
+//! | `MAX_ORDER` | `hyst_core::compensator::MAX_ORDER`: the largest plant order n of `Compensator` and the most time derivatives of `process(x, derivatives)` |
 //!
 //! Arrays ([`arrays`]): any 1-D array-like in; float32 stays float32 and float64 stays float64;
 //! contiguous input is read in place; results are numpy arrays that own a Rust `Vec` (no copy);
@@ -19,6 +20,11 @@
 //! `OSError` for files) with the CLI's words; nothing here panics on user input (the workspace
 //! denies `unwrap`, `expect` and `panic!`), and PyO3 would turn a panic into an exception
 //! rather than abort the interpreter.
+
+// The doc comments of the Python classes are their docstrings, written in the paper's
+// notation (u = H(k1, k2)[v], k1[c]): brackets there are no intra-doc links, and escaping
+// them would put backslashes into Python's help().
+#![allow(rustdoc::broken_intra_doc_links)]
 
 use pyo3::prelude::*;
 
@@ -35,6 +41,9 @@ pub mod operator;
 #[pymodule]
 fn _hyst(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // The largest plant order n of `Compensator` and the most derivative columns of
+    // `process(x, derivatives)`.
+    m.add("MAX_ORDER", hyst_core::compensator::MAX_ORDER)?;
     m.add_class::<operator::Hysteresis>()?;
     m.add_class::<operator::InverseHysteresis>()?;
     m.add_class::<operator::Memory>()?;

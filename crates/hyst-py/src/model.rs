@@ -50,20 +50,20 @@ pub fn reached(file: &ModelFile) -> Option<&FamilyWidths> {
     file.family.as_ref().filter(|w| w.reachable)
 }
 
-/// A fitted model (smooth or Prandtl–Ishlinskii) from a model file, direct or as its exact
-/// compensator.
+/// A fitted model (smooth or Prandtl–Ishlinskii) from a model file, direct (input x, output
+/// y) or as its exact inverse (desired output in, command out).
 ///
 /// `process(x)` runs it over a record: the first sample starts it by the model's start rule,
 /// exactly as `hyst run --model FILE` does (bit-identical results). `inverse()` gives the
-/// compensator (desired output in, command out; `hyst run --model FILE --inverse`).
+/// exact inverse (desired output in, command out; `hyst run --model FILE --inverse`).
 #[pyclass(module = "hyst")]
 #[derive(Clone, Debug)]
 pub struct Model {
     pub(crate) file: ModelFile,
     pub(crate) inverse: bool,
-    /// Where it came from, for messages ("<fit>" for a fit's result).
+    /// Where it came from, for messages (`"<fit>"` for a fit's result).
     pub(crate) source: String,
-    /// The compensator clamps desired outputs into the saturation limits (`inverse(saturate=True)`).
+    /// The inverse clamps desired outputs into the saturation limits (`inverse(saturate=True)`).
     pub(crate) saturate: bool,
     evaluator: Option<Saturated<Evaluator>>,
 }
@@ -81,7 +81,7 @@ impl Model {
         }
     }
 
-    /// The clamp limits of the compensator with `saturate` (`None`: nothing is clamped).
+    /// The clamp limits of the inverse with `saturate` (`None`: nothing is clamped).
     fn limits(&self) -> Option<(f64, f64)> {
         if self.inverse && self.saturate {
             self.file.saturation().map(|s| s.limits)
@@ -126,9 +126,10 @@ fn first_of(xs: &Samples<'_>) -> Option<f64> {
 #[pymethods]
 impl Model {
     /// Runs the model over the samples `x` (any 1-D array-like; float32 stays float32) and
-    /// returns its outputs; with `derivatives` of shape (n, N), returns `(y, dy)` with the
-    /// outputs' time derivatives (as `hyst run --model FILE --derivatives N`). The first sample
-    /// ever (or after `reset()`) starts the model by its start rule; later calls continue.
+    /// returns its outputs; with `derivatives` of shape (n, N) (N ≤ `hyst.MAX_ORDER`; a 1-D
+    /// array is the first derivative), returns `(y, dy)` with the outputs' time derivatives
+    /// (as `hyst run --model FILE --derivatives N`). The first sample ever (or after
+    /// `reset()`) starts the model by its start rule; later calls continue.
     ///
     /// Raises ValueError at the first sample the model refuses (NaN, infinity, a desired
     /// output beyond a saturating shaping's range), naming its index; the model is then as it
@@ -211,7 +212,7 @@ impl Model {
         self.evaluator = None;
     }
 
-    /// The model's exact compensator ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y_d)]) (eq. 4 inside the shaping;
+    /// The model's exact inverse ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y_d)]) (eq. 4 inside the shaping;
     /// PI⁻¹ for a Prandtl–Ishlinskii model): desired output in, command out. No history.
     /// Raises ValueError for a stop-form (friction) model, which has no inverse.
     ///
@@ -252,14 +253,14 @@ impl Model {
         Ok(Some(d))
     }
 
-    /// Whether the compensator clamps desired outputs (`inverse(saturate=True)`).
+    /// Whether this inverse clamps desired outputs (`inverse(saturate=True)`).
     #[getter]
-    fn saturates(&self) -> bool {
+    fn saturate(&self) -> bool {
         self.saturate
     }
 
     /// How many desired outputs were clamped since the model was made or `reset()` (0 unless
-    /// it is a compensator with `saturate=True`).
+    /// it is an inverse with `saturate=True`).
     #[getter]
     fn clamped(&self) -> u64 {
         self.evaluator.as_ref().map_or(0, |e| e.clamped)
@@ -270,7 +271,7 @@ impl Model {
         Self::new(self.file.clone(), false, self.source.clone())
     }
 
-    /// Whether this is the compensator (from `inverse()`).
+    /// Whether this is the exact inverse (from `inverse()`).
     #[getter]
     fn is_inverse(&self) -> bool {
         self.inverse

@@ -16,7 +16,8 @@ use crate::arrays::{
 use crate::errors::{core, value_error};
 
 /// The arithmetic of an operator: float64 (default) or float32 (as on a microcontroller's FPU;
-/// the same results as the C API's `hyst_f32_*` on the same machine).
+/// the same results as the C API's float twins, `hyst_operator_init_direct_f32` and the other
+/// functions ending in `_f32`, on the same machine).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Precision {
     /// f64.
@@ -439,9 +440,9 @@ macro_rules! operator_class {
             /// released meanwhile.
             ///
             /// With `derivatives` of shape (n, N) (x's first N time derivatives at each
-            /// sample, N ≤ 8; a 1-D array is the first derivative), returns `(y, dy)` with dy
-            /// of the same shape: the outputs' time derivatives by Taylor arithmetic
-            /// (Proposition 2.7 and beyond), as `hyst run --derivatives`.
+            /// sample, N ≤ `hyst.MAX_ORDER`; a 1-D array is the first derivative), returns
+            /// `(y, dy)` with dy of the same shape: the outputs' time derivatives by Taylor
+            /// arithmetic (Proposition 2.7 and beyond), as `hyst run --derivatives`.
             ///
             /// With `out` (a 1-D array of the result's dtype and x's length), the outputs are
             /// written into it and it is returned: no allocation, for block-by-block loops.
@@ -528,7 +529,7 @@ pub struct Hysteresis {
     pub(crate) engine: Engine<Direct>,
 }
 
-/// The inverse operator v = H⁻¹(k1, k2)[u_d] of eq. (4): the exact compensator of
+/// The inverse operator v = H⁻¹(k1, k2)[u_d] of eq. (4): the exact inverse of
 /// `Hysteresis(k1, k2)` (Proposition 4.1), desired output in, command out.
 ///
 /// `InverseHysteresis(k1, k2, dtype=None)`, parameters as for `Hysteresis`.

@@ -23,7 +23,7 @@ def test_example_1_bound():
 def test_bound_holds_for_members():
     f = hyst.Family(0.2, 0.05, 6.0, 2.0)
     ud = 1.3 * np.sin(np.linspace(0, 30, 6000)) * np.cos(np.linspace(0, 7, 6000))
-    nominal = f.compensator().process(ud)
+    nominal = f.inverse_member(0, 0).process(ud)
     for a in (-1.0, 0.0, 1.0):
         for b in (-1.0, 0.5, 1.0):
             m = f.member(a, b)
@@ -35,6 +35,25 @@ def test_bound_holds_for_members():
     assert np.all(lower <= y) and np.all(y <= upper)
     with pytest.raises(ValueError, match="member"):
         f.member(2.0, 0.0)
+
+
+def test_inverse_member_is_the_members_inverse():
+    f = hyst.Family(0.2, 0.05, 6.0, 2.0)
+    ud = 1.3 * np.sin(np.linspace(0, 30, 3000))
+    for a, b in [(0, 0), (-1, 1), (0.5, -0.25)]:
+        inverse = f.inverse_member(a, b)
+        member = f.member(a, b)
+        assert isinstance(inverse, hyst.InverseHysteresis) and inverse.memory is None
+        assert (inverse.k1, inverse.k2) == (member.k1, member.k2)
+        assert np.array_equal(inverse.process(ud), member.inverse().process(ud))
+    nominal = f.inverse_member(0, 0)
+    assert (nominal.k1, nominal.k2) == (f.k1, f.k2)
+    assert f.inverse_member(1, 1, dtype=np.float32).dtype == "float32"
+    with pytest.raises(ValueError, match=r"inverse_member\(2, 0\): the position must lie in"):
+        f.inverse_member(2.0, 0.0)
+    with pytest.raises(ValueError, match="inverse_member"):
+        f.inverse_member(0.0, -1.5)
+    assert not hasattr(f, "compensator")
 
 
 @pytest.mark.parametrize("args", [(0.1, 0.1, 8, 5), (0.1, 0.05, 8, 8), (0.1, -0.01, 8, 1), (0, 0, 1, 0)])
@@ -50,6 +69,24 @@ def test_compensator_docs_example():
     v, v_dot = c.state
     assert abs(v - 0.25e-6) < 1e-18 and abs(v_dot - 0.5e-3) < 1e-15
     assert c.order == 2 and c.a == [0.9, 1.0] and c.b == 1.0
+    # The first step evaluates the inverse at the start state v = 0 (then integrates u_new):
+    # reference v, target x1 = H^-1[v], command u of eq. (19).
+    assert c.last_reference == 0.0 and abs(c.last_target) < 1e-15
+    assert abs(c.last_command - 1.3) < 1e-12
+    for old in ("reference", "target", "command"):
+        assert not hasattr(c, old)
+
+
+def test_last_reference_target_and_command():
+    """n = 0 (a static plant of gain b): v = u_new, x1 = H^-1[v] and u = x1 / b."""
+    b = 2.0
+    c = hyst.Compensator(hyst.Hysteresis(0.2, 8.0), b, [])
+    inverse = hyst.InverseHysteresis(0.2, 8.0)
+    for v in (0.0, 0.4, 0.9, 0.3, -0.5):
+        u = c.step(v, 1e-3)
+        assert c.last_reference == v
+        assert c.last_target == pytest.approx(inverse.step(v), rel=1e-12, abs=1e-15)
+        assert c.last_command == u == c.last_target / b
 
 
 def test_compensated_first_order_plant_follows_the_reference():
@@ -65,7 +102,7 @@ def test_compensated_first_order_plant_follows_the_reference():
     for k in range(t.size):
         assert c2.step(v_dot[k], dt) == u[k]
         out.append(plant.step(x1))
-        ref.append(c2.reference)
+        ref.append(c2.last_reference)
         # Exact discretisation of tau x1' = b u - x1 with u held over dt.
         x1 = x1 * np.exp(-dt / tau) + b * u[k] * (1 - np.exp(-dt / tau))
     err = np.abs(np.array(out) - np.array(ref))
@@ -84,8 +121,9 @@ def test_compensator_with_a_fitted_model_and_errors(piezo):
     # n = 0 (a static plant of gain 1): the commands are the model's exact inverse, and the
     # model started at the first command by the same rule gives the desired output back.
     assert np.allclose(r.model.process(commands), desired, rtol=0, atol=1e-9)
-    with pytest.raises(ValueError, match="at most 4"):
-        hyst.Compensator(r.model, 1.0, [1.0] * 5)
+    with pytest.raises(ValueError, match=f"at most hyst.MAX_ORDER = {hyst.MAX_ORDER}"):
+        hyst.Compensator(r.model, 1.0, [1.0] * (hyst.MAX_ORDER + 1))
+    assert hyst.Compensator(r.model, 1.0, [0.1] * hyst.MAX_ORDER).order == hyst.MAX_ORDER
     with pytest.raises(ValueError, match="b"):
         hyst.Compensator(r.model, 0.0, [1.0])
     with pytest.raises(ValueError, match="state"):

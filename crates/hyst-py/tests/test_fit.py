@@ -37,6 +37,9 @@ def test_options_mirror_the_cli(piezo):
     u, y = u[:3000], y[:3000]
     pi = hyst.fit(u, y, model_kind="pi", plays=8, pi_output="poly2")
     assert pi.model.kind == "prandtl-ishlinskii" and pi.delta_a is None and pi.family is None
+    # "pi" is short for "prandtl-ishlinskii", the name of the model kind everywhere.
+    full = hyst.fit(u, y, model_kind="prandtl-ishlinskii", plays=8, pi_output="poly2")
+    assert full.params == pi.params
     both = hyst.fit(u, y, compare=True)
     assert [c["kind"] for c in both.comparison] == ["smooth", "prandtl-ishlinskii"]
     seg = hyst.fit(u, y, segment=1000, initial_state="line", validate=[2])
@@ -62,8 +65,12 @@ def test_unreached_family_gives_none():
     u = np.sin(np.linspace(0, 40, 4000))
     y = hyst.Hysteresis(0.2, 6.0).process(u) + 0.002 * rng.standard_normal(u.size)
     y[rng.choice(u.size, 200, replace=False)] += 5.0  # 5 % far outliers: 99 % cannot be covered
-    r = hyst.fit(u, y, coverage=0.99)
+    r = hyst.fit(x=u, y=y, coverage=0.99)
     assert r.family is None and r.delta_a is None and r.output_bound is None
+    # A model's input is x, its output y: the default column names of the model file.
+    assert (r.model.columns["input"], r.model.columns["output"]) == ("x", "y")
+    with pytest.raises(TypeError):
+        hyst.fit(u=u, y=y)
     assert "NOT reachable" in r.report()
 
 
@@ -72,7 +79,7 @@ def test_unreached_family_gives_none():
     [
         ({"output_shaping": "cubic"}, r"output_shaping = \"cubic\": invalid value; possible values: affine, poly2"),
         ({"k2": "linear"}, "possible values: constant, affine"),
-        ({"model_kind": "preisach"}, "possible values: smooth, pi"),
+        ({"model_kind": "preisach"}, "possible values: smooth, prandtl-ishlinskii"),
         ({"starts": 0}, "starts = 0"),
         ({"coverage": 1.5}, "coverage"),
         ({"segment": 1}, "segment"),
@@ -89,8 +96,12 @@ def test_bad_options(piezo, kwargs, words):
 
 def test_bad_data():
     u = np.linspace(0, 1, 100)
-    with pytest.raises(ValueError, match="y has 99 samples but u has 100"):
+    with pytest.raises(ValueError, match="y has 99 samples but x has 100"):
         hyst.fit(u, u[:99])
+    with pytest.raises(ValueError, match="weight has 99 samples but x has 100"):
+        hyst.fit(u, u, weight=np.ones(99))
+    with pytest.raises(ValueError, match='"record" is taken by x or y'):
+        hyst.fit(u, u, record=np.zeros(100), output_name="record")
     with pytest.raises(ValueError, match="not a finite number"):
         hyst.fit(u, np.where(u > 0.5, np.nan, u))
     with pytest.raises(ValueError, match="does not vary|constant"):

@@ -107,7 +107,7 @@ def test_refused_sample_leaves_model_unchanged(models, piezo):
     assert np.array_equal(m.process(u[:200]), np.concatenate([first, rest]))
 
 
-def test_saturating_compensator_clamps_as_hyst_run_saturate(cli, models, piezo_path, tmp_path):
+def test_saturating_inverse_clamps_as_hyst_run_saturate(cli, models, piezo_path, tmp_path):
     common = [piezo_path, "--input", "u_actuator_V", "--output", "y_capsensor_um"]
     tanh = tmp_path / "tanh.toml"
     cli("fit", *common, "-o", tanh, "--output-shaping", "tanh")
@@ -125,16 +125,17 @@ def test_saturating_compensator_clamps_as_hyst_run_saturate(cli, models, piezo_p
         f.write("y\n" + "".join(f"{float(v)!r}\n" for v in desired))
     cli("run", "--model", tanh, "--inverse", "--saturate", "--column", "y", path, "-o", tmp_path / "o.csv")
     ref = read_csv(tmp_path / "o.csv")["y"]
-    comp = m.inverse(saturate=True)
-    assert comp.saturates and comp.clamped == 0
-    assert np.array_equal(comp.process(desired), ref)
-    assert comp.clamped == int(np.sum((desired < clo) | (desired > chi)))
+    inverse = m.inverse(saturate=True)
+    assert inverse.saturate and inverse.clamped == 0 and not m.saturate
+    assert not hasattr(inverse, "saturates")
+    assert np.array_equal(inverse.process(desired), ref)
+    assert inverse.clamped == int(np.sum((desired < clo) | (desired > chi)))
     # Pickled, it still clamps; reset() clears the count.
-    again = pickle.loads(pickle.dumps(comp))
-    assert again.saturates and "saturate" in repr(again)
+    again = pickle.loads(pickle.dumps(inverse))
+    assert again.saturate and "saturate" in repr(again)
     assert np.array_equal(again.process(desired), ref)
-    comp.reset()
-    assert comp.clamped == 0
+    inverse.reset()
+    assert inverse.clamped == 0
     # Without saturate, the first value beyond the range is refused, naming its index.
     with pytest.raises(ValueError, match=r"x\[\d+\]"):
         m.inverse().process(desired)

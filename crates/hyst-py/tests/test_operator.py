@@ -138,6 +138,12 @@ def test_bad_arrays():
         h.process(np.ones(4), derivatives=np.ones((3, 1)))
     with pytest.raises(ValueError, match="derivatives"):
         h.process(np.ones(4), derivatives=np.ones((4, 9)))
+    # hyst.MAX_ORDER columns at most, and the message says so.
+    y, dy = h.process(np.ones(4), derivatives=np.zeros((4, hyst.MAX_ORDER)))
+    assert dy.shape == (4, hyst.MAX_ORDER)
+    too_many = hyst.MAX_ORDER + 1
+    with pytest.raises(ValueError, match=f"{too_many} columns; give 1 to hyst.MAX_ORDER = {hyst.MAX_ORDER} time"):
+        h.process(np.ones(4), derivatives=np.zeros((4, too_many)))
 
 
 def test_derivatives_match_finite_differences():

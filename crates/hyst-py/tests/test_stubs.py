@@ -12,17 +12,19 @@ STUB = Path(hyst.__file__).with_name("_hyst.pyi")
 
 def stub_names():
     tree = ast.parse(STUB.read_text())
-    classes, functions = {}, set()
+    classes, functions, constants = {}, set(), set()
     for node in tree.body:
         if isinstance(node, ast.ClassDef):
             classes[node.name] = {n.name for n in node.body if isinstance(n, ast.FunctionDef)}
         elif isinstance(node, ast.FunctionDef):
             functions.add(node.name)
+        elif isinstance(node, ast.AnnAssign) and not node.target.id.startswith("_"):
+            constants.add(node.target.id)
     # Methods the stub puts on the shared base class.
     base = classes.pop("_Operator", set())
     for name in ("Hysteresis", "InverseHysteresis"):
         classes[name] |= base
-    return classes, functions
+    return classes, functions, constants
 
 
 def public(obj):
@@ -30,22 +32,25 @@ def public(obj):
 
 
 def test_stub_matches_module():
-    classes, functions = stub_names()
+    classes, functions, constants = stub_names()
     module_classes = {n for n in public(_hyst) if isinstance(getattr(_hyst, n), type)}
-    module_functions = public(_hyst) - module_classes
+    module_constants = {n for n in public(_hyst) if not callable(getattr(_hyst, n))}
+    module_functions = public(_hyst) - module_classes - module_constants
     assert set(classes) == module_classes
+    assert constants == module_constants == {"MAX_ORDER"}
     assert functions - {"_bench_core", "_model_from_toml", "_fit_result_from_json"} == module_functions
     for name, methods in classes.items():
         members = public(getattr(_hyst, name))
         assert methods - {"__init__"} == members, name
-    assert set(hyst.__all__) == module_classes | module_functions | {"__version__"}
+    assert set(hyst.__all__) == module_classes | module_functions | module_constants | {"__version__"}
 
 
 def test_py_typed_and_docstrings():
     assert STUB.with_name("py.typed").exists()
     for name in public(_hyst):
         obj = getattr(_hyst, name)
-        assert obj.__doc__, f"{name} has no docstring"
+        # A constant's __doc__ is its type's; the stub documents MAX_ORDER.
+        assert not callable(obj) or obj.__doc__, f"{name} has no docstring"
 
 
 def test_examples_type_check_against_the_stubs():

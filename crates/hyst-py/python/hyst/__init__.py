@@ -7,14 +7,17 @@ its inverse is eq. (4). Everything runs in the Rust core (the same code as the `
 command line, the C API and the FMU), so results are bit-identical across them.
 
 >>> import numpy as np, hyst
->>> h = hyst.Hysteresis(0.2, 8.0)
->>> y = h.process(np.sin(np.linspace(0, 6.3, 100)))
->>> command = hyst.InverseHysteresis(0.2, 8.0).process(y)   # gives the input back
+>>> v = np.sin(np.linspace(0, 6.3, 100))
+>>> u = hyst.Hysteresis(0.2, 8.0).process(v)             # u = H[v]
+>>> back = hyst.InverseHysteresis(0.2, 8.0).process(u)   # the exact inverse gives v back
+>>> bool(np.max(np.abs(back - v)) < 1e-12)
+True
 
 See docs/python.md for the guide.
 """
 
 from ._hyst import (
+    MAX_ORDER,
     Bank,
     Compensator,
     Family,
@@ -35,6 +38,7 @@ __all__ = [
     "FitResult",
     "Hysteresis",
     "InverseHysteresis",
+    "MAX_ORDER",
     "Memory",
     "Model",
     "__version__",

@@ -7,6 +7,9 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+MAX_ORDER: int
+"""The largest plant order n of ``Compensator`` (``len(a)``) and the most time-derivative
+columns of ``process(x, derivatives)``: ``hyst_core::compensator::MAX_ORDER``."""
 
 ArrayLike = npt.ArrayLike
 FloatArray = npt.NDArray[np.floating[Any]]
@@ -50,7 +53,9 @@ class _Operator:
     @overload
     def process(self, x: ArrayLike, derivatives: None = None, *, out: Optional[FloatArray] = None) -> FloatArray: ...
     @overload
-    def process(self, x: ArrayLike, derivatives: ArrayLike) -> Tuple[FloatArray, FloatArray]: ...
+    def process(self, x: ArrayLike, derivatives: ArrayLike) -> Tuple[FloatArray, FloatArray]:
+        """With ``derivatives`` of shape (n, N), N <= MAX_ORDER (1-D: the first derivative):
+        the outputs and their time derivatives ``(y, dy)``."""
     def step(self, x: float) -> float: ...
     def reset(self) -> None: ...
     @property
@@ -66,7 +71,8 @@ class Hysteresis(_Operator):
         """H^-1(k1, k2) (eq. 4) with this operator's memory mirrored (Proposition 4.1)."""
 
 class InverseHysteresis(_Operator):
-    """The inverse operator v = H^-1(k1, k2)[u_d] (eq. 4): the exact compensator."""
+    """The inverse operator v = H^-1(k1, k2)[u_d] (eq. 4): the exact inverse of
+    ``Hysteresis(k1, k2)``, desired output in, command out."""
 
     def __init__(self, k1: float, k2: float, dtype: DType = None) -> None: ...
     def direct(self) -> Hysteresis: ...
@@ -96,22 +102,28 @@ class Bank:
     def set_memory(self, channel: int, memory: Optional[Memory]) -> None: ...
 
 class Model:
-    """A fitted model from a model file (``hyst fit``), direct or as its exact compensator."""
+    """A fitted model from a model file (``hyst fit``): direct (input x, output y) or as its
+    exact inverse (desired output in, command out)."""
 
     @overload
     def process(self, x: ArrayLike, derivatives: None = None) -> FloatArray: ...
     @overload
-    def process(self, x: ArrayLike, derivatives: ArrayLike) -> Tuple[FloatArray, FloatArray]: ...
+    def process(self, x: ArrayLike, derivatives: ArrayLike) -> Tuple[FloatArray, FloatArray]:
+        """With ``derivatives`` of shape (n, N), N <= MAX_ORDER (1-D: the first derivative):
+        the outputs and their time derivatives ``(y, dy)``."""
     def step(self, x: float) -> float: ...
     def reset(self) -> None: ...
-    def inverse(self, *, saturate: bool = False) -> Model: ...
+    def inverse(self, *, saturate: bool = False) -> Model:
+        """The exact inverse of the model (``hyst run --inverse``); with ``saturate=True`` it
+        clamps desired outputs beyond a saturating output shaping's range."""
     def direct(self) -> Model: ...
     @property
     def is_inverse(self) -> bool: ...
     @property
     def saturation(self) -> Optional[Dict[str, Any]]: ...
     @property
-    def saturates(self) -> bool: ...
+    def saturate(self) -> bool:
+        """Whether this inverse clamps desired outputs (``inverse(saturate=True)``)."""
     @property
     def clamped(self) -> int: ...
     @property
@@ -166,7 +178,7 @@ class FitResult:
     @property
     def comparison(self) -> List[Dict[str, Any]]: ...
     @property
-    def orientation(self) -> Literal["counterclockwise", "clockwise"]: ...
+    def orientation(self) -> Literal["counterclockwise", "clockwise", "none"]: ...
     @property
     def loop_gap(self) -> float: ...
     @property
@@ -179,7 +191,7 @@ class FitResult:
 Shaping = Literal["affine", "poly2", "poly3", "tanh", "langevin", "quadratic-exp"]
 
 def fit(
-    u: ArrayLike,
+    x: ArrayLike,
     y: ArrayLike,
     *,
     output_shaping: Shaping = "affine",
@@ -199,16 +211,17 @@ def fit(
     compare: bool = False,
     input_offset: Optional[bool] = None,
     output_offset: bool = True,
-    initial_state: Literal["rising", "falling", "line"] = "rising",
+    initial_state: Literal["auto", "rising", "falling", "line"] = "auto",
     estimate_initial_states: bool = False,
     form: Literal["auto", "operator", "stop"] = "auto",
     keep_degenerate: bool = False,
-    input_name: str = "u",
+    input_name: str = "x",
     output_name: str = "y",
     input_unit: str = "",
     output_unit: str = "",
 ) -> FitResult:
-    """Identifies a model from input ``u`` and measured output ``y`` as ``hyst fit`` does."""
+    """Identifies a model from its input ``x`` and the measured output ``y`` as ``hyst fit``
+    does."""
 
 class Family:
     """The family RH(k1, dk1, k2, dk2) (Definition 2.8) and its bound delta_a (Prop. 3.2)."""
@@ -232,12 +245,16 @@ class Family:
     def corner_points(self) -> List[float]: ...
     def member(self, a: float, b: float, dtype: DType = None) -> Hysteresis: ...
     def nominal(self, dtype: DType = None) -> Hysteresis: ...
-    def compensator(self, dtype: DType = None) -> InverseHysteresis: ...
+    def inverse_member(self, a: float, b: float, dtype: DType = None) -> InverseHysteresis:
+        """H^-1(k1 + a dk1, k2 + b dk2) (eq. 4), (a, b) in [-1, 1]^2, no history;
+        ``inverse_member(0, 0)`` is the nominal inverse, within ``delta_a`` of every member's."""
     def envelope(self, x: ArrayLike, grid: int = 3) -> Tuple[FloatArray, FloatArray]: ...
     def bound(self) -> Dict[str, Any]: ...
 
 class Compensator:
-    """Lemma 5.1: feed-forward compensation of b / (a_n s^n + ... + a_1 s + 1) then hysteresis."""
+    """Lemma 5.1: feed-forward compensation of the plant x1/u = b / (a_n s^n + ... + a_1 s + 1)
+    followed by the hysteresis, n = len(a) <= MAX_ORDER. Each step takes u_new = v^(n), the
+    n-th derivative of the reference v, and returns the command u of eq. (19)."""
 
     def __init__(
         self,
@@ -258,11 +275,14 @@ class Compensator:
     @property
     def state(self) -> List[float]: ...
     @property
-    def reference(self) -> float: ...
+    def last_reference(self) -> float:
+        """The reference v of the last step: the plant output the command aims at."""
     @property
-    def target(self) -> float: ...
+    def last_target(self) -> float:
+        """The target x1 of the last step: the hysteresis input (plant state) that gives v."""
     @property
-    def command(self) -> float: ...
+    def last_command(self) -> float:
+        """The command u of the last step (eq. 19): the plant input."""
 
 def _bench_core(
     k1: float,
