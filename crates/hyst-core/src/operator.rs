@@ -20,7 +20,9 @@
 //! A sample is a plain number or a [`Jet`](crate::Jet) (a value and its first N time derivatives): the same
 //! [`Operator::try_step`] gives the output's derivatives when it is given the input's.
 
-use crate::{Error, Real, Sample};
+use crate::error::Error;
+use crate::real::Real;
+use crate::sample::Sample;
 
 /// A causal operator with memory: one output sample per input sample, plain or [`Jet`](crate::Jet).
 ///

@@ -27,7 +27,12 @@
 //! derivative of the input points outwards) moves with the input, every other play is stuck, so
 //! every derivative of the output is (w0 + Σ_{moving} w_i) times the input's.
 
-use crate::{play, Error, Operator, Polynomial, Real, Sample, Shaping};
+use crate::error::Error;
+use crate::operator::Operator;
+use crate::play;
+use crate::real::Real;
+use crate::sample::Sample;
+use crate::shaping::{Polynomial, Shaping};
 
 /// A Prandtl–Ishlinskii operator with up to `N` play operators (see the module docs).
 ///
@@ -596,7 +601,7 @@ mod tests {
 
     #[test]
     fn jet_derivatives_follow_the_moving_plays() -> Result<(), Error> {
-        use crate::Jet;
+        use crate::jet::Jet;
         let mut pi = PrandtlIshlinskii::<f64, 2>::new(0.5, &[0.1, 0.3], &[1.0, 2.0], 0.0)?;
         // At rest: every play stuck, slope w0.
         let y = pi.try_step(Jet::<f64, 2>::from_derivatives(0.0, [1.0, 3.0]))?;

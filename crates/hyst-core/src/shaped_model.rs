@@ -4,10 +4,14 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{
-    ConstantK2, Error, Hysteresis, Identity, InverseHysteresis, K2Law, Memory, Operator, Real,
-    Sample, Shaping,
-};
+use crate::error::Error;
+use crate::k2law::{ConstantK2, K2Law};
+use crate::memory::Memory;
+use crate::operator::Operator;
+use crate::parametric::{Hysteresis, InverseHysteresis};
+use crate::real::Real;
+use crate::sample::Sample;
+use crate::shaping::{Identity, Shaping};
 
 /// A shaped hysteresis model: input shaping `I`, the direct operator with k2 law `K`, output
 /// shaping `O`. With k2 = φ(·), φ takes the operator's input ψ_in(in).
