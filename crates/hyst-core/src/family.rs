@@ -425,7 +425,7 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
 
     /// Δa for this family on a working interval [lo, hi] of the operator input, with k2 = φ
     /// ranging over φ([lo, hi]) and Δk2 widened by Proposition 4.3 when `with_prop43` is true
-    /// (Δk2 + sup|φ'| k1: the compensator H⁻¹ uses φ(ud) rather than φ(v)). `points` values of
+    /// (Δk2 + sup|φ'| k1: the inverse H⁻¹ uses φ(ud) rather than φ(v)). `points` values of
     /// the nominal k2 are scanned.
     ///
     /// # Errors

@@ -8,7 +8,7 @@
 //! - the direct and inverse parametric operators [`Hysteresis`](crate::Hysteresis) (eq. 2) and
 //!   [`InverseHysteresis`](crate::InverseHysteresis) (eq. 4), and every
 //!   [`ParametricHysteresis`](crate::ParametricHysteresis) with an input-dependent k2;
-//! - the shaped model [`ShapedModel`](crate::ShapedModel) (Section 4.3) and its exact compensator
+//! - the shaped model [`ShapedModel`](crate::ShapedModel) (Section 4.3) and its exact inverse
 //!   [`InverseShapedModel`](crate::InverseShapedModel);
 //! - the [`Play`](crate::Play) operator (backlash), the
 //!   [`PrandtlIshlinskii`](crate::PrandtlIshlinskii) sum of plays, its shaped form and inverse;

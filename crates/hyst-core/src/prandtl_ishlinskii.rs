@@ -211,7 +211,7 @@ impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
         y
     }
 
-    /// The inverse operator (the compensator), with its plays set so that from here on
+    /// The exact inverse operator, with its plays set so that from here on
     /// `self.step(inverse.step(y))` = y. Inverting twice gives back this operator.
     ///
     /// # Errors
@@ -409,8 +409,8 @@ impl<T: Real, const N: usize> ShapedPrandtlIshlinskii<T, N> {
         &self.output
     }
 
-    /// The exact inverse PI⁻¹ ∘ P⁻¹ (the compensator), continuing from this state so that from
-    /// here on `self.step(inverse.step(y))` = y.
+    /// The exact inverse PI⁻¹ ∘ P⁻¹, continuing from this state so that from here on
+    /// `self.step(inverse.step(y))` = y.
     ///
     /// # Errors
     /// As [`PrandtlIshlinskii::inverse`].

@@ -94,7 +94,7 @@ pub struct ParametricBank<T, F, S: Storage<T>> {
 pub type Bank<T, F, const N: usize> = ParametricBank<T, F, [T; N]>;
 /// N direct operators H(k1, k2) (eq. 2).
 pub type DirectBank<T, const N: usize> = Bank<T, Direct, N>;
-/// N inverse operators H⁻¹(k1, k2) (eq. 4): the compensators of N actuators.
+/// N inverse operators H⁻¹(k1, k2) (eq. 4): the exact inverses of N actuators' hysteresis.
 pub type InverseBank<T, const N: usize> = Bank<T, Inverse, N>;
 /// A bank whose channel count is chosen at run time (`std`).
 #[cfg(feature = "std")]
