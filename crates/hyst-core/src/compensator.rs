@@ -14,10 +14,13 @@
 //!
 //! No allocation, no panics, `f32` or `f64`, `no_std`; one [`Compensator::step`] per sample.
 
-use crate::{
-    ConstantK2, Error, Identity, InverseShapedModel, Jet, K2Law, Operator, Real, ShapedModel,
-    Shaping,
-};
+use crate::error::Error;
+use crate::jet::Jet;
+use crate::k2law::{ConstantK2, K2Law};
+use crate::operator::Operator;
+use crate::real::Real;
+use crate::shaped_model::{InverseShapedModel, ShapedModel};
+use crate::shaping::{Identity, Shaping};
 
 /// The highest plant order n (Lemma 5.1) and the highest time-derivative order that hyst's
 /// bindings and tools take: the C API (`HYST_MAX_ORDER`), Python (`hyst.MAX_ORDER`), `hyst run
@@ -447,7 +450,8 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Hysteresis, Identity};
+    use crate::parametric::Hysteresis;
+    use crate::shaping::Identity;
 
     #[test]
     fn integrator_chain_is_exact_for_polynomials() -> Result<(), Error> {

@@ -59,7 +59,7 @@ use core::ops::{Div, Mul, Rem};
 
 use num_traits::{Float, FloatConst, Num, NumCast, One, ToPrimitive, Zero};
 
-use crate::Real;
+use crate::real::Real;
 
 /// A value and its gradient with respect to `N` parameters: x + Σ ∂x/∂p_i ε_i (forward-mode
 /// automatic differentiation, first order). `T` is `f64` or `f32`; the gradient is in units of

@@ -212,7 +212,7 @@ impl fmt::Display for Product {
 impl core::error::Error for Error {}
 
 /// Checks that `value` is finite and strictly positive, naming it in the error otherwise.
-pub(crate) fn positive<T: crate::Real>(name: &'static str, value: T) -> Result<T, Error> {
+pub(crate) fn positive<T: crate::real::Real>(name: &'static str, value: T) -> Result<T, Error> {
     if value.is_finite() && value > T::zero() {
         Ok(value)
     } else {
@@ -227,7 +227,10 @@ pub(crate) fn positive<T: crate::Real>(name: &'static str, value: T) -> Result<T
 /// Checks that `value` is a normal (not subnormal), finite and strictly positive float, naming
 /// it in the error otherwise. Subnormal values carry fewer significant bits: a subnormal k2 gives
 /// outputs off by 1e-4 relative, so the operator's parameters must be normal.
-pub(crate) fn positive_normal<T: crate::Real>(name: &'static str, value: T) -> Result<T, Error> {
+pub(crate) fn positive_normal<T: crate::real::Real>(
+    name: &'static str,
+    value: T,
+) -> Result<T, Error> {
     if value.is_normal() && value > T::zero() {
         Ok(value)
     } else {
@@ -241,7 +244,7 @@ pub(crate) fn positive_normal<T: crate::Real>(name: &'static str, value: T) -> R
 }
 
 /// Checks that `value` is finite, naming it in the error otherwise.
-pub(crate) fn finite<T: crate::Real>(name: &'static str, value: T) -> Result<T, Error> {
+pub(crate) fn finite<T: crate::real::Real>(name: &'static str, value: T) -> Result<T, Error> {
     if value.is_finite() {
         Ok(value)
     } else {

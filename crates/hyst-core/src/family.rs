@@ -16,10 +16,13 @@
 //! value Δxi is Δx at max(ũd*, 0) for each of the four corners (k1 ∓ Δk1, k2 ∓ Δk2) of eq. (13),
 //! and Δa = max over the corners of max(|Δxi|, |k̄1 − k1|), the last term covering ũd → ∞.
 
-use crate::{
-    error::{finite, positive},
-    ConstantK2, Error, Hysteresis, InverseHysteresis, K2Law, Operator, Real, Sample, Shaping,
-};
+use crate::error::{finite, positive, Error};
+use crate::k2law::{ConstantK2, K2Law};
+use crate::operator::Operator;
+use crate::parametric::{Hysteresis, InverseHysteresis};
+use crate::real::Real;
+use crate::sample::Sample;
+use crate::shaping::Shaping;
 
 /// Eq. (14): the worst-case error Δx(ũd) = k̄1 − k1 + 2 (k1 e^(−k2 ũd) − k̄1 e^(−k̄2 ũd)) between
 /// H⁻¹(k̄1, k̄2) and H⁻¹(k1, k2) at the transformed input ũd ≥ 0 (output units of H⁻¹).
@@ -422,7 +425,7 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
 
     /// Δa for this family on a working interval [lo, hi] of the operator input, with k2 = φ
     /// ranging over φ([lo, hi]) and Δk2 widened by Proposition 4.3 when `with_prop43` is true
-    /// (Δk2 + sup|φ'| k1: the compensator H⁻¹ uses φ(ud) rather than φ(v)). `points` values of
+    /// (Δk2 + sup|φ'| k1: the inverse H⁻¹ uses φ(ud) rather than φ(v)). `points` values of
     /// the nominal k2 are scanned.
     ///
     /// # Errors
@@ -603,7 +606,7 @@ impl<T: Real> Reproducibility<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::AffineK2;
+    use crate::k2law::AffineK2;
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
         (a - b).abs() <= tol
@@ -618,7 +621,12 @@ mod tests {
             assert!(close(*c, e, 5e-5), "{c} vs {e}");
         }
         // After the output shaping 1.4 out: 0.1822.
-        let shaped = shaped_bound(b.delta_a, &crate::Affine::new(1.4, 0.0)?, -1.0, 1.0);
+        let shaped = shaped_bound(
+            b.delta_a,
+            &crate::shaping::Affine::new(1.4, 0.0)?,
+            -1.0,
+            1.0,
+        );
         assert!(close(shaped, 0.1822, 5e-5), "{shaped}");
         Ok(())
     }

@@ -11,7 +11,7 @@
 
 use core::ops::{Div, Mul};
 
-use crate::Real;
+use crate::real::Real;
 
 /// A value and its first `N` time derivatives, as a truncated Taylor series (no allocation).
 ///

@@ -7,7 +7,10 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{error::positive_normal, Error, Jet, Real, Sample};
+use crate::error::{positive_normal, Error};
+use crate::jet::Jet;
+use crate::real::Real;
+use crate::sample::Sample;
 
 /// How k2 depends on the operator's input. Implement it for any smooth function: write `k2`
 /// generically over [`Sample`] and the operator gets its time derivatives for free.

@@ -17,7 +17,7 @@
 //! - P. W. Lawrence, R. M. Corless, D. J. Jeffrey, "Algorithm 917: Complex double-precision
 //!   evaluation of the Wright ω function", ACM TOMS 38 (2012): the asymptotic start y − ln y.
 
-use crate::Real;
+use crate::real::Real;
 
 /// Principal branch W0(x) of the Lambert W function, the solution w ≥ 0 of w e^w = x, for x ≥ 0.
 ///

@@ -23,7 +23,7 @@ macro_rules! forward_memory {
             self.$field.memory()
         }
 
-        fn set_memory(&mut self, memory: $memory) -> Result<(), Error> {
+        fn set_memory(&mut self, memory: $memory) -> Result<(), $crate::error::Error> {
             self.$field.set_memory(memory)
         }
     };
@@ -34,7 +34,7 @@ macro_rules! forward_memory {
 /// moves the value only; multiplying or dividing by one scales every part.
 macro_rules! linear_ops {
     ($ty:ident) => {
-        impl<T: Real, const N: usize> core::ops::Add for $ty<T, N> {
+        impl<T: $crate::real::Real, const N: usize> core::ops::Add for $ty<T, N> {
             type Output = Self;
             #[inline]
             fn add(mut self, rhs: Self) -> Self {
@@ -46,7 +46,7 @@ macro_rules! linear_ops {
             }
         }
 
-        impl<T: Real, const N: usize> core::ops::Sub for $ty<T, N> {
+        impl<T: $crate::real::Real, const N: usize> core::ops::Sub for $ty<T, N> {
             type Output = Self;
             #[inline]
             fn sub(mut self, rhs: Self) -> Self {
@@ -58,7 +58,7 @@ macro_rules! linear_ops {
             }
         }
 
-        impl<T: Real, const N: usize> core::ops::Neg for $ty<T, N> {
+        impl<T: $crate::real::Real, const N: usize> core::ops::Neg for $ty<T, N> {
             type Output = Self;
             #[inline]
             fn neg(mut self) -> Self {
@@ -70,7 +70,7 @@ macro_rules! linear_ops {
             }
         }
 
-        impl<T: Real, const N: usize> core::ops::Add<T> for $ty<T, N> {
+        impl<T: $crate::real::Real, const N: usize> core::ops::Add<T> for $ty<T, N> {
             type Output = Self;
             #[inline]
             fn add(mut self, rhs: T) -> Self {
@@ -79,7 +79,7 @@ macro_rules! linear_ops {
             }
         }
 
-        impl<T: Real, const N: usize> core::ops::Sub<T> for $ty<T, N> {
+        impl<T: $crate::real::Real, const N: usize> core::ops::Sub<T> for $ty<T, N> {
             type Output = Self;
             #[inline]
             fn sub(mut self, rhs: T) -> Self {
@@ -88,7 +88,7 @@ macro_rules! linear_ops {
             }
         }
 
-        impl<T: Real, const N: usize> core::ops::Mul<T> for $ty<T, N> {
+        impl<T: $crate::real::Real, const N: usize> core::ops::Mul<T> for $ty<T, N> {
             type Output = Self;
             #[inline]
             fn mul(mut self, rhs: T) -> Self {
@@ -100,7 +100,7 @@ macro_rules! linear_ops {
             }
         }
 
-        impl<T: Real, const N: usize> core::ops::Div<T> for $ty<T, N> {
+        impl<T: $crate::real::Real, const N: usize> core::ops::Div<T> for $ty<T, N> {
             type Output = Self;
             #[inline]
             fn div(mut self, rhs: T) -> Self {

@@ -9,7 +9,9 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{Error, Real, Sample};
+use crate::error::Error;
+use crate::real::Real;
+use crate::sample::Sample;
 
 /// The mode of the operator (Fig. 2): rising input (α̇ ≥ 0) or falling input (α̇ < 0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]

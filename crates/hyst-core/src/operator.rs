@@ -8,7 +8,7 @@
 //! - the direct and inverse parametric operators [`Hysteresis`](crate::Hysteresis) (eq. 2) and
 //!   [`InverseHysteresis`](crate::InverseHysteresis) (eq. 4), and every
 //!   [`ParametricHysteresis`](crate::ParametricHysteresis) with an input-dependent k2;
-//! - the shaped model [`ShapedModel`](crate::ShapedModel) (Section 4.3) and its exact compensator
+//! - the shaped model [`ShapedModel`](crate::ShapedModel) (Section 4.3) and its exact inverse
 //!   [`InverseShapedModel`](crate::InverseShapedModel);
 //! - the [`Play`](crate::Play) operator (backlash), the
 //!   [`PrandtlIshlinskii`](crate::PrandtlIshlinskii) sum of plays, its shaped form and inverse;
@@ -20,7 +20,9 @@
 //! A sample is a plain number or a [`Jet`](crate::Jet) (a value and its first N time derivatives): the same
 //! [`Operator::try_step`] gives the output's derivatives when it is given the input's.
 
-use crate::{Error, Real, Sample};
+use crate::error::Error;
+use crate::real::Real;
+use crate::sample::Sample;
 
 /// A causal operator with memory: one output sample per input sample, plain or [`Jet`](crate::Jet).
 ///

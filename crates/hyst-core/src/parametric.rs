@@ -7,9 +7,12 @@ use core::marker::PhantomData;
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{
-    error::positive_normal, ConstantK2, Direction, Error, K2Law, Memory, Operator, Real, Sample,
-};
+use crate::error::{positive_normal, Error};
+use crate::k2law::{ConstantK2, K2Law};
+use crate::memory::{Direction, Memory};
+use crate::operator::Operator;
+use crate::real::Real;
+use crate::sample::Sample;
 
 mod sealed {
     pub trait Sealed {}
@@ -609,7 +612,7 @@ impl<T: Real, K: K2Law<T> + Clone> ParametricHysteresis<T, K, Inverse> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Dual;
+    use crate::dual::Dual;
 
     /// The overflow-free form's root e(ṽ/2, M*, k2): its dual gradient (implicit-function
     /// theorem) against central differences of the plain iteration.

@@ -8,7 +8,10 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{Error, Operator, Real, Sample};
+use crate::error::Error;
+use crate::operator::Operator;
+use crate::real::Real;
+use crate::sample::Sample;
 
 /// The play update: the previous output `previous` clamped into [x − r, x + r] (r ≥ 0).
 #[inline]
@@ -128,7 +131,7 @@ impl<T: Real> Operator<T> for Play<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Jet;
+    use crate::jet::Jet;
 
     #[test]
     fn derivatives_pass_only_while_pushed() -> Result<(), Error> {

@@ -27,7 +27,12 @@
 //! derivative of the input points outwards) moves with the input, every other play is stuck, so
 //! every derivative of the output is (w0 + Σ_{moving} w_i) times the input's.
 
-use crate::{play, Error, Operator, Polynomial, Real, Sample, Shaping};
+use crate::error::Error;
+use crate::operator::Operator;
+use crate::play;
+use crate::real::Real;
+use crate::sample::Sample;
+use crate::shaping::{Polynomial, Shaping};
 
 /// A Prandtl–Ishlinskii operator with up to `N` play operators (see the module docs).
 ///
@@ -206,7 +211,7 @@ impl<T: Real, const N: usize> PrandtlIshlinskii<T, N> {
         y
     }
 
-    /// The inverse operator (the compensator), with its plays set so that from here on
+    /// The exact inverse operator, with its plays set so that from here on
     /// `self.step(inverse.step(y))` = y. Inverting twice gives back this operator.
     ///
     /// # Errors
@@ -404,8 +409,8 @@ impl<T: Real, const N: usize> ShapedPrandtlIshlinskii<T, N> {
         &self.output
     }
 
-    /// The exact inverse PI⁻¹ ∘ P⁻¹ (the compensator), continuing from this state so that from
-    /// here on `self.step(inverse.step(y))` = y.
+    /// The exact inverse PI⁻¹ ∘ P⁻¹, continuing from this state so that from here on
+    /// `self.step(inverse.step(y))` = y.
     ///
     /// # Errors
     /// As [`PrandtlIshlinskii::inverse`].
@@ -596,7 +601,7 @@ mod tests {
 
     #[test]
     fn jet_derivatives_follow_the_moving_plays() -> Result<(), Error> {
-        use crate::Jet;
+        use crate::jet::Jet;
         let mut pi = PrandtlIshlinskii::<f64, 2>::new(0.5, &[0.1, 0.3], &[1.0, 2.0], 0.0)?;
         // At rest: every play stuck, slope w0.
         let y = pi.try_step(Jet::<f64, 2>::from_derivatives(0.0, [1.0, 3.0]))?;

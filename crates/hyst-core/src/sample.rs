@@ -2,7 +2,9 @@
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use crate::{lambert, Jet, Real};
+use crate::jet::Jet;
+use crate::lambert;
+use crate::real::Real;
 
 /// A number the operator formulas can be evaluated on: a plain [`Real`] (`f32`, `f64`) or a
 /// [`Jet`] of one (value and time derivatives).

@@ -5,8 +5,10 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::error::{finite, positive};
-use crate::{AnyShaping, Error, Real, Sample, Shaping};
+use crate::error::{finite, positive, Error};
+use crate::real::Real;
+use crate::sample::Sample;
+use crate::shaping::{AnyShaping, Shaping};
 
 /// ψ(x) = `post_gain` · shape(`pre_gain` · x + `pre_offset`) + `post_offset`, strictly
 /// increasing when both gains are > 0 and the shape is valid (Section 4.3's shaping functions
@@ -135,7 +137,7 @@ impl<T: Real> Shaping<T> for ScaledShaping<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Tanh;
+    use crate::shaping::Tanh;
 
     #[test]
     fn out_of_range_is_told_in_the_units_of_psi() -> Result<(), Error> {

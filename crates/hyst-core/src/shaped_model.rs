@@ -4,10 +4,14 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{
-    ConstantK2, Error, Hysteresis, Identity, InverseHysteresis, K2Law, Memory, Operator, Real,
-    Sample, Shaping,
-};
+use crate::error::Error;
+use crate::k2law::{ConstantK2, K2Law};
+use crate::memory::Memory;
+use crate::operator::Operator;
+use crate::parametric::{Hysteresis, InverseHysteresis};
+use crate::real::Real;
+use crate::sample::Sample;
+use crate::shaping::{Identity, Shaping};
 
 /// A shaped hysteresis model: input shaping `I`, the direct operator with k2 law `K`, output
 /// shaping `O`. With k2 = φ(·), φ takes the operator's input ψ_in(in).
@@ -21,10 +25,10 @@ use crate::{
 ///     Hysteresis::new(0.14, 8.0)?,
 ///     Affine::new(1.4, 0.0)?,
 /// )?;
-/// let mut compensator = model.inverse();
+/// let mut inverse = model.inverse();
 /// for k in 0..200 {
 ///     let desired = 1.2 * (k as f64 * 0.05).sin();
-///     let command = compensator.step(desired);
+///     let command = inverse.step(desired);
 ///     assert!((model.step(command) - desired).abs() < 1e-12);
 /// }
 /// # Ok::<(), hyst_core::Error>(())
@@ -37,8 +41,8 @@ pub struct ShapedModel<T, I = Identity, K = ConstantK2<T>, O = Identity> {
     output: O,
 }
 
-/// The exact inverse of a [`ShapedModel`]: the feed-forward compensator that turns a desired output
-/// into the command that produces it.
+/// The exact inverse ψ_in⁻¹ ∘ H⁻¹ ∘ ψ_out⁻¹ of a [`ShapedModel`] (Section 4.3): it turns a
+/// desired output into the command that produces it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct InverseShapedModel<T, I = Identity, K = ConstantK2<T>, O = Identity> {
@@ -106,8 +110,8 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for ShapedM
 impl<T: Real, I: Shaping<T> + Clone, K: K2Law<T> + Clone, O: Shaping<T> + Clone>
     ShapedModel<T, I, K, O>
 {
-    /// The exact compensator of this model, with the operator's memory mirrored so that from
-    /// here on `model.step(compensator.step(y))` = y (Proposition 4.1 through the shaping).
+    /// The exact inverse of this model, with the operator's memory mirrored so that from here
+    /// on `model.step(inverse.step(y))` = y (Proposition 4.1 through the shaping).
     #[must_use]
     pub fn inverse(&self) -> InverseShapedModel<T, I, K, O> {
         InverseShapedModel {
@@ -119,7 +123,7 @@ impl<T: Real, I: Shaping<T> + Clone, K: K2Law<T> + Clone, O: Shaping<T> + Clone>
 }
 
 impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> InverseShapedModel<T, I, K, O> {
-    /// Puts back a memory saved from this compensator (no check: it was its own).
+    /// Puts back a memory saved from this inverse (no check: it was its own).
     pub(crate) fn restore(&mut self, memory: Option<Memory<T>>) {
         self.operator.restore(memory);
     }

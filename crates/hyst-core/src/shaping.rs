@@ -10,10 +10,10 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{
-    error::{finite, positive},
-    Error, Jet, Real, Sample,
-};
+use crate::error::{finite, positive, Error};
+use crate::jet::Jet;
+use crate::real::Real;
+use crate::sample::Sample;
 
 /// A smooth, strictly increasing shaping function ψ with its inverse.
 ///

@@ -11,9 +11,14 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::{
-    ConstantK2, Error, Hysteresis, Identity, K2Law, Memory, Operator, Real, Sample, Shaping,
-};
+use crate::error::Error;
+use crate::k2law::{ConstantK2, K2Law};
+use crate::memory::Memory;
+use crate::operator::Operator;
+use crate::parametric::Hysteresis;
+use crate::real::Real;
+use crate::sample::Sample;
+use crate::shaping::{Identity, Shaping};
 
 /// The stop form of a shaped model: input shaping `I`, the direct operator with k2 law `K`,
 /// output shaping `O` and the linear coefficient c (output units per operator unit).
@@ -118,7 +123,8 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Stop<T,
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use crate::{Affine, Jet};
+    use crate::jet::Jet;
+    use crate::shaping::Affine;
     extern crate std;
     use std::vec::Vec;
 

@@ -207,7 +207,7 @@ fn jets_with_input_dependent_k2_match_finite_differences() {
 }
 
 #[test]
-fn shaped_model_and_compensator_jets_match_finite_differences() {
+fn shaped_model_and_inverse_jets_match_finite_differences() {
     let psi_in = Polynomial::new([0.0, 1.0, -0.098, 0.0], -3.0, 5.0).unwrap();
     let psi_out = QuadraticExp::example2().unwrap();
     let x0 = 0.5;
@@ -232,9 +232,9 @@ fn shaped_model_and_compensator_jets_match_finite_differences() {
         let fd = finite_differences(|t| peek(input(x0, s, t)), 2e-3);
         assert_close(&format!("model {direction:?}"), jet.derivatives(), fd, 4);
 
-        // The compensator on the jet of the model's output gives back the input's jet.
-        let mut compensator = model.inverse();
-        let back = compensator.try_step(jet).unwrap();
+        // The inverse on the jet of the model's output gives back the input's jet.
+        let mut inverse = model.inverse();
+        let back = inverse.try_step(jet).unwrap();
         let want = input_jet(x0, s).derivatives();
         for (k, (a, b)) in back.derivatives().iter().zip(want.iter()).enumerate() {
             assert!(

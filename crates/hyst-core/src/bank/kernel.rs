@@ -12,10 +12,17 @@
 //! inlined into their `#[target_feature]` entry points, but in debug builds the unoptimised
 //! frames of all of them inlined together need more than a thread's 2 MiB of stack.
 
-use super::lanes::{decay, exp, fsc_step, ln, omega_series, omega_start, omega_v, Lane};
-use super::simd::Simd;
-use super::{BankError, BankFormula, Block, ColumnsMut};
-use crate::{ConstantK2, Direction, Memory, Operator, ParametricHysteresis};
+use super::block::Block;
+use super::columns::ColumnsMut;
+use super::error::BankError;
+use super::formula::BankFormula;
+use super::lanes::{decay, exp, fsc_step, ln, omega_series, omega_start, omega_v};
+use super::vector::{Lane, Simd};
+use crate::k2law::ConstantK2;
+use crate::memory::{Direction, Memory};
+use crate::operator::Operator;
+use crate::parametric::ParametricHysteresis;
+use crate::real::Real;
 
 /// The most lanes of any vector (AVX-512 f32).
 const MAX_LANES: usize = 64;
@@ -68,7 +75,7 @@ fn put<V: Simd>(s: &mut [V::T], start: usize, width: usize, v: V) {
         }
         return;
     }
-    let mut buf = [<V::T as crate::Real>::ZERO; MAX_LANES];
+    let mut buf = [<V::T as Real>::ZERO; MAX_LANES];
     v.store(&mut buf);
     for (slot, b) in s.iter_mut().skip(start).take(width).zip(buf) {
         *slot = b;
@@ -167,7 +174,7 @@ where
         }
     };
     let plain = w.fma(st.inv_k2, vt - st.m_star);
-    let huge = V::splat(<V::T as crate::Real>::EXP_ARG_MAX).less(y);
+    let huge = V::splat(<V::T as Real>::EXP_ARG_MAX).less(y);
     let u = if V::any(huge) {
         V::select(huge, (st.ln_a - ln(w)) * st.inv_k2, plain)
     } else {
@@ -191,7 +198,7 @@ fn repair<V: Simd, F: BankFormula>(
     start: usize,
     width: usize,
 ) -> Result<[V; 4], BankError> {
-    let zero = <V::T as crate::Real>::ZERO;
+    let zero = <V::T as Real>::ZERO;
     let spill = |v: V| {
         let mut a = [zero; MAX_LANES];
         v.store(&mut a);
@@ -511,7 +518,7 @@ fn one_tick<V: Simd, F: BankFormula>(
             visit::<V, F>(&mut one, input, output, start, l)?;
         }
     } else if let Some((mut start, mut one, input, mut output)) = chunks.next() {
-        let zero = <V::T as crate::Real>::ZERO;
+        let zero = <V::T as Real>::ZERO;
         let mut x = column::<V>(input, 0, l, zero);
         let (mut st, mut changed) = load::<V, F>(&one, 0, l, x);
         loop {
@@ -543,7 +550,7 @@ fn visit<V: Simd, F: BankFormula>(
     start: usize,
     width: usize,
 ) -> Result<(), BankError> {
-    let zero = <V::T as crate::Real>::ZERO;
+    let zero = <V::T as Real>::ZERO;
     let x = column::<V>(input, 0, width, zero);
     let (mut st, mut changed) = load::<V, F>(cols, 0, width, x);
     let y = tick::<V, F>(&mut st, x, start, width, &mut changed)?;
@@ -640,7 +647,7 @@ fn first_beyond<V: Simd>(
 fn all_within<V: Simd>(input: &[V::T], limit: V::T) -> bool {
     let lim = V::splat(limit);
     let mut chunks = input.chunks_exact(V::LANES);
-    let mut ok = V::splat(<V::T as crate::Real>::ZERO).equal(V::c(0.0));
+    let mut ok = V::splat(<V::T as Real>::ZERO).equal(V::c(0.0));
     for c in &mut chunks {
         ok = V::and(ok, V::load(c).magnitude().less_eq(lim));
     }
@@ -672,7 +679,7 @@ fn gather<V: Simd>(input: &[V::T], at: &Layout, start: usize, width: usize, t: u
         let i = t * at.n + start;
         return V::load(input.get(i..i + V::LANES).unwrap_or(&[]));
     }
-    let zero = <V::T as crate::Real>::ZERO;
+    let zero = <V::T as Real>::ZERO;
     let mut buf = [zero; MAX_LANES];
     for (i, b) in buf.iter_mut().enumerate().take(width) {
         *b = input.get(at.index(start + i, t)).copied().unwrap_or(zero);
@@ -690,7 +697,7 @@ fn scatter<V: Simd>(output: &mut [V::T], at: &Layout, start: usize, width: usize
         }
         return;
     }
-    let mut buf = [<V::T as crate::Real>::ZERO; MAX_LANES];
+    let mut buf = [<V::T as Real>::ZERO; MAX_LANES];
     y.store(&mut buf);
     for (i, b) in buf.iter().enumerate().take(width) {
         if let Some(slot) = output.get_mut(at.index(start + i, t)) {
@@ -709,13 +716,13 @@ fn load<V: Simd, F: BankFormula>(
     width: usize,
     x0: V,
 ) -> (State<V>, bool) {
-    let zero = <V::T as crate::Real>::ZERO;
+    let zero = <V::T as Real>::ZERO;
     let one = V::c(1.0);
     let lin = column::<V>(cols.last_input, start, width, zero);
     let started = lin.equal(lin);
     let mut st = State {
-        k1: column::<V>(cols.k1, start, width, <V::T as crate::Real>::from_f64(1.0)),
-        k2: column::<V>(cols.k2, start, width, <V::T as crate::Real>::from_f64(1.0)),
+        k1: column::<V>(cols.k1, start, width, <V::T as Real>::from_f64(1.0)),
+        k2: column::<V>(cols.k2, start, width, <V::T as Real>::from_f64(1.0)),
         rin: column::<V>(cols.reversal_input, start, width, zero),
         rout: column::<V>(cols.reversal_output, start, width, zero),
         sign: column::<V>(cols.sign, start, width, zero),
@@ -738,12 +745,7 @@ fn load<V: Simd, F: BankFormula>(
         st.sign = V::select(started, st.sign, one);
     }
     if F::DIRECT {
-        st.inv_k2 = column::<V>(
-            cols.inv_k2,
-            start,
-            width,
-            <V::T as crate::Real>::from_f64(1.0),
-        );
+        st.inv_k2 = column::<V>(cols.inv_k2, start, width, <V::T as Real>::from_f64(1.0));
         st.ln_k2 = column::<V>(cols.ln_k2, start, width, zero);
         st.m_star = column::<V>(cols.m_star, start, width, zero);
         st.ln_a = column::<V>(cols.ln_a, start, width, zero);

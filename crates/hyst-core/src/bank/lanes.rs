@@ -28,72 +28,8 @@
 //! - S. Winitzki, "Uniform approximations for transcendental functions", ICCSA 2003.
 //! - F. N. Fritsch, R. E. Shafer, W. P. Crowley, Comm. ACM 16 (1973), Algorithm 443.
 
-use super::simd::Simd;
-use crate::Real;
-
-/// A float type the bank runs: `f32` or `f64`, with the constants of its elementary functions.
-pub trait Lane: Real + Simd<T = Self, M = bool> + super::RunBlock {
-    /// Below this y, the five-term series of ω in t = eʸ (`omega_series`) is exact to
-    /// rounding (its first omitted term, 10.8 t⁶, is below half an ulp of t).
-    const OMEGA_SERIES: Self;
-    /// Below this y, ω(y) = t − t² (t = eʸ) to within an ulp (used by [`omega`]).
-    const OMEGA_SMALL: Self;
-    /// One Fritsch–Shafer–Crowley step from the bank's start is accepted when the residual
-    /// |y − w − ln w| of the start is below this (the step's fourth order then leaves less
-    /// than an ulp); otherwise [`omega`] evaluates the lane from scratch.
-    const RESIDUAL_OK: Self;
-    /// Above this `exp` returns +∞.
-    const EXP_HI: Self;
-    /// Below this `exp` returns 0.
-    const EXP_LO: Self;
-    /// 1.5 · 2^(mantissa bits): adding it rounds to an integer, left in the low bits.
-    const SHIFT: Self;
-    /// ln 2 in two parts for `exp`'s reduction (high part with trailing zero bits).
-    const EXP_LN2: (f64, f64);
-    /// ln 2 in two parts for `ln`.
-    const LOG_LN2: (f64, f64);
-    /// How many of [`INV_FACTORIALS`] `exp` uses: e^r = 1 + r + r² Σ cᵢ rⁱ, |r| ≤ ln 2 / 2.
-    const EXP_TERMS: usize;
-    /// fdlibm's odd-indexed (Lg1, Lg3, …) and even-indexed (Lg2, Lg4, …) log coefficients.
-    const LOG_POLY: (&'static [f64], &'static [f64]);
-    /// The bits b of `exp`'s table reduction (see [`Simd::EXP_TABLE`]): 3 for f64, 4 for f32.
-    const EXP_TABLE_BITS: u32;
-    /// 2^(j / 2^b), j = 0 … 2^b − 1, rounded to this type.
-    const EXP_TABLE: &'static [f64];
-    /// How many of [`INV_FACTORIALS`] the table reduction uses (|r| ≤ ln 2 / 2^(b+1)).
-    const EXP_TABLE_TERMS: usize;
-    /// The bank's `decay` raises its arguments to this (e^z is then at least the smallest normal
-    /// float times 2, so 2ⁿ is built from its bits without a range check).
-    const DECAY_MIN: Self;
-    /// The bank's `decay` polynomial: e^r ≈ Σ cᵢ rⁱ on |r| ≤ ln 2 / 2, interpolated at the
-    /// Chebyshev nodes of that interval (degree 11 for f64, 6 for f32; error with the
-    /// coefficients rounded to the type: 0.15 ulp for f64, 0.34 ulp for f32;
-    /// `scripts/decay-coefficients` computes them).
-    const DECAY_POLY: &'static [f64];
-    /// u + 2u², u the unit roundoff (2⁻⁵³, 2⁻²⁴): for a normal v, v − |v| · this rounds to the
-    /// next float towards −∞ and v + |v| · this to the next towards +∞ (one rounding, by FMA: the
-    /// product is above half the spacing next to v and below one and a half), the vector form of
-    /// [`Lane::next_below`] / [`Lane::next_above`] that the kernel's band clamp uses.
-    const ONE_STEP: Self;
-    /// The low bits of the value's representation (the table index of `exp`).
-    fn low_bits(self) -> usize;
-    /// The next float towards −∞ (finite values).
-    fn next_below(self) -> Self;
-    /// The next float towards +∞ (finite values).
-    fn next_above(self) -> Self;
-
-    /// eˣ, branch-free (see the module documentation for its range and error).
-    #[inline(always)]
-    fn exp_l(self) -> Self {
-        exp(self)
-    }
-
-    /// ln x for normal positive x, branch-free (−∞ at 0, +∞ at +∞, NaN below 0 and for NaN).
-    #[inline(always)]
-    fn ln_l(self) -> Self {
-        ln(self)
-    }
-}
+pub use super::vector::Lane;
+use super::vector::Simd;
 
 /// 1/k!, k = 2 … 13: the Taylor coefficients of (e^r − 1 − r) / r².
 pub const INV_FACTORIALS: [f64; 12] = [
@@ -117,9 +53,18 @@ fn inv_factorials(n: usize) -> &'static [f64] {
     INV_FACTORIALS.get(..n).unwrap_or(&INV_FACTORIALS)
 }
 
-/// The bit-level items of [`Lane`], the same for both types.
-macro_rules! lane_bits {
+/// The functions of [`Lane`], the same for both types: the bit-level ones, and the one-lane
+/// `exp` and `ln`.
+macro_rules! lane_functions {
     ($t:ty) => {
+        #[inline(always)]
+        fn exp_l(self) -> Self {
+            exp(self)
+        }
+        #[inline(always)]
+        fn ln_l(self) -> Self {
+            ln(self)
+        }
         #[inline(always)]
         fn low_bits(self) -> usize {
             self.to_bits() as usize
@@ -195,7 +140,7 @@ impl Lane for f64 {
         2.763_265_472_252_779e-7,
         2.511_004_920_481_865_8e-8,
     ];
-    lane_bits!(f64);
+    lane_functions!(f64);
 }
 
 #[allow(clippy::excessive_precision)]
@@ -245,7 +190,7 @@ impl Lane for f32 {
         0.008_375_134_319_067_001,
         0.001_394_111_895_933_747_3,
     ];
-    lane_bits!(f32);
+    lane_functions!(f32);
 }
 
 /// Σ cᵢ xⁱ by Horner's scheme.

@@ -15,11 +15,18 @@
 use core::arch::x86_64::*;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use super::simd::{Pair, Simd};
+use super::block::Block;
+use super::columns::ColumnsMut;
+use super::error::BankError;
+use super::formula::BankFormula;
+use super::instruction_set::Isa;
+use super::kernel;
+use super::simd::Pair;
+use super::vector::{Lane, Simd};
+use crate::real::Real;
 
 /// 2⁵².
 const TWO_52: f64 = (1_u64 << 52) as f64;
-use super::{BankError, BankFormula, Block, ColumnsMut, Isa};
 
 /// Runs an intrinsic. SAFETY: see the module's safety argument — every use is inside a vector
 /// type of this module, which exists only on a processor with its instruction set; pointers are
@@ -417,8 +424,8 @@ macro_rules! avx512_simd {
             #[inline(always)]
             fn exp2_frac(t: Self) -> Self {
                 let mut table = [0.0; $lanes];
-                for (v, c) in table.iter_mut().zip(<$t as super::lanes::Lane>::EXP_TABLE) {
-                    *v = <$t as crate::Real>::from_f64(*c);
+                for (v, c) in table.iter_mut().zip(<$t as Lane>::EXP_TABLE) {
+                    *v = <$t as Real>::from_f64(*c);
                 }
                 let table = Self::load_raw(&table);
                 Self(arch!($permute($to_int(t.0), table.0)))
@@ -551,7 +558,7 @@ macro_rules! entry {
             cols: &mut ColumnsMut<'_, $t>,
             block: &mut Block<'_, $t>,
         ) -> Result<Option<usize>, BankError> {
-            super::kernel::run::<$v, F>(cols, block)
+            kernel::run::<$v, F>(cols, block)
         }
     };
 }
@@ -736,14 +743,14 @@ fn f64_sse2<F: BankFormula>(
     cols: &mut ColumnsMut<'_, f64>,
     block: &mut Block<'_, f64>,
 ) -> Result<Option<usize>, BankError> {
-    super::kernel::run::<Sse2F64, F>(cols, block)
+    kernel::run::<Sse2F64, F>(cols, block)
 }
 
 fn f32_sse2<F: BankFormula>(
     cols: &mut ColumnsMut<'_, f32>,
     block: &mut Block<'_, f32>,
 ) -> Result<Option<usize>, BankError> {
-    super::kernel::run::<Sse2F32, F>(cols, block)
+    kernel::run::<Sse2F32, F>(cols, block)
 }
 
 entry!(f64_avx2, f64, Avx2F64, "avx2,fma");
@@ -826,7 +833,7 @@ mod tests {
     /// value below an ulp of 1.
     fn worst_decay<V: Simd>(to: impl Fn(f64) -> V::T, from: impl Fn(V::T) -> f64, eps: f64) -> f64
     where
-        V::T: crate::bank::lanes::Lane,
+        V::T: Lane,
     {
         let n = V::LANES;
         let mut worst = 0.0_f64;
