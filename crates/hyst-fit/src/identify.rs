@@ -18,7 +18,9 @@ use crate::lm::Observer;
 use crate::orientation::{against_trend, loops, FormChoice, Orientation, StartChoice};
 use crate::pi_fit::{fit_pi_with, PiFit, PiOutputKind};
 use crate::report::{Findings, Report, Summary};
-use crate::smooth::{fit_smooth, FitOptions, ParameterLimit, SmoothFit};
+use crate::smooth::driver::fit_smooth;
+use crate::smooth::fit::{FitOptions, SmoothFit};
+use crate::smooth::limits::ParameterLimit;
 
 /// The branch gap (fraction of the output span) above which the data's loops are clockwise
 /// beyond doubt, and a Prandtl–Ishlinskii fit (counterclockwise only) is refused.

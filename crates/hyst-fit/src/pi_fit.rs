@@ -18,7 +18,7 @@ use hyst_model::{ErrorStats, Estimate, PiModel, PiOutput};
 
 use crate::data::{Dataset, Record};
 use crate::error::FitError;
-use crate::smooth::{check_finite, error_stats};
+use crate::smooth::stats::{check_finite, error_stats};
 
 /// Which output polynomial follows the Prandtl–Ishlinskii sum (`none`, `poly2`, `poly3`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
