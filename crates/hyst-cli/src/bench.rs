@@ -53,9 +53,22 @@ pub fn main(args: Args) -> Result<()> {
             bail!("benchmark workload {name:?} gave a non-finite checksum");
         }
     }
-    // Calibrate calls per batch to ~5 ms: double the calls until a batch takes ≥ 1 ms, then
-    // scale (a single cold call is no guide: it can be much slower or, rounded, faster).
-    let calls: Vec<usize> = (0..NAMES.len())
+    let calls = calibrate(&inputs);
+    let best = measure(&inputs, &calls, Duration::from_secs_f64(args.seconds));
+    let ratios = Ratios::of(&best);
+    if args.json {
+        print_json(&best, &ratios)
+    } else {
+        print_table(&best, &ratios);
+        Ok(())
+    }
+}
+
+/// Calls per batch of each workload, calibrated to about [`BATCH_SECONDS`]: double the calls
+/// until a batch takes ≥ 1 ms, then scale (a single cold call is no guide: it can be much
+/// slower or, rounded, faster).
+fn calibrate(inputs: &Inputs) -> Vec<usize> {
+    (0..NAMES.len())
         .map(|i| {
             let mut calls = 1usize;
             loop {
@@ -71,110 +84,150 @@ pub fn main(args: Args) -> Result<()> {
                 calls *= 2;
             }
         })
-        .collect();
-    let budget = Duration::from_secs_f64(args.seconds);
+        .collect()
+}
+
+/// ns per sample of each workload: batches of `calls` calls in interleaved rounds (at least 5,
+/// for at least `budget`), the fastest batch of each kept, the one least disturbed by other
+/// processes (on a shared machine, slower batches measure the neighbours, not the code).
+fn measure(inputs: &Inputs, calls: &[usize], budget: Duration) -> Vec<f64> {
     let started = Instant::now();
     let mut samples = vec![Vec::new(); NAMES.len()];
     let mut rounds = 0usize;
     while rounds < 5 || started.elapsed() < budget {
         for (i, s) in samples.iter_mut().enumerate() {
-            s.push(batch_ns(&inputs, i, calls[i]));
+            s.push(batch_ns(inputs, i, calls[i]));
         }
         rounds += 1;
     }
-    // The fastest batch of each workload: the one least disturbed by other processes (on a
-    // shared machine, slower batches measure the neighbours, not the code).
-    let best: Vec<f64> = samples
+    samples
         .iter()
         .map(|s| s.iter().copied().fold(f64::INFINITY, f64::min))
-        .collect();
-    let at = |i: usize| best.get(i).copied().unwrap_or(f64::NAN);
-    let (direct, inverse, exp, w0) = (at(0), at(1), at(4), at(5));
-    let inverse_ratio = inverse / exp;
-    let direct_ratio = direct / (w0 + exp);
-    // The banks against the scalar operators (per channel-sample over per sample), and the
-    // f32 bank against the f64 one.
-    let (bank_inverse, bank_direct) = (at(6) / inverse, at(7) / direct);
-    let f32_over_f64 = at(8) / at(6);
-    let bank_ratios = [
-        (
-            "bank_inverse_over_inverse",
-            "bank H^-1 f64 / scalar H^-1",
-            bank_inverse,
-        ),
-        (
-            "bank_direct_over_direct",
-            "bank H f64 / scalar H",
-            bank_direct,
-        ),
-        (
-            "bank_inverse_f32_over_inverse",
-            "bank H^-1 f32 / scalar H^-1 f64",
-            at(8) / inverse,
-        ),
-        (
-            "bank_inverse_f32_over_bank_inverse",
-            "bank H^-1 f32 / bank H^-1 f64",
-            f32_over_f64,
-        ),
-    ];
-    // Issue 13's goals for the bank, each a ratio measured in this run (the last is a rate).
-    let f32_rate = 1e9 / at(8);
-    let bank_goals = [
-        ("bank H^-1 f64 <= 0.25 x scalar H^-1", bank_inverse <= 0.25),
-        ("bank H f64 <= 0.33 x scalar H", bank_direct <= 0.33),
-        ("bank H^-1 f32 <= 0.5 x bank H^-1 f64", f32_over_f64 <= 0.5),
-        ("bank H^-1 f32 >= 500 M channel-samples/s", f32_rate >= 5e8),
-    ];
-    let bank_goals_met = bank_goals.iter().all(|&(_, met)| met);
-    if args.json {
-        let mut map = serde_json::Map::new();
-        for ((_, key), ns) in NAMES.iter().zip(&best) {
-            map.insert((*key).to_string(), json!(ns));
-        }
-        map.insert("inverse_over_exp".into(), json!(inverse_ratio));
-        map.insert("direct_over_w0_plus_exp".into(), json!(direct_ratio));
-        map.insert(
-            "goals_met".into(),
-            json!(inverse_ratio <= 1.5 && direct_ratio <= 1.5),
-        );
-        for (key, _, ratio) in bank_ratios {
-            map.insert(key.into(), json!(ratio));
-        }
-        map.insert(
-            "bank_inverse_f32_channel_samples_per_s".into(),
-            json!(f32_rate),
-        );
-        map.insert("bank_goals_met".into(), json!(bank_goals_met));
-        println!("{}", serde_json::to_string_pretty(&map)?);
-    } else {
-        println!("{:<36} {:>10}", "workload", "ns/sample");
-        for ((name, _), ns) in NAMES.iter().zip(&best) {
-            println!("{name:<36} {ns:>10.2}");
-        }
-        let verdict = |met: bool| if met { "met" } else { "NOT met" };
-        println!();
-        println!(
-            "goal inverse <= 1.5 x exp:            {inverse_ratio:.2} ({})",
-            verdict(inverse_ratio <= 1.5)
-        );
-        println!(
-            "goal direct <= 1.5 x (lambert_w0+exp): {direct_ratio:.2} ({})",
-            verdict(direct_ratio <= 1.5)
-        );
-        println!();
-        for (_, name, ratio) in bank_ratios {
-            println!("{:<37} {ratio:.2}", format!("{name}:"));
-        }
-        println!(
-            "{:<37} {:.0} M",
-            "bank H^-1 f32 channel-samples/s:",
-            f32_rate / 1e6
-        );
-        println!();
-        for (goal, met) in bank_goals {
-            println!("goal {goal:<42} {}", verdict(met));
+        .collect()
+}
+
+/// The goals as ratios measured in one run, from the fastest batch of each workload.
+struct Ratios {
+    /// Scalar H⁻¹ over exp.
+    inverse: f64,
+    /// Scalar H over Lambert W0 + exp.
+    direct: f64,
+    /// The banks against the scalar operators (per channel-sample over per sample), and the
+    /// f32 bank against the f64 one: (JSON key, name, ratio).
+    bank: [(&'static str, &'static str, f64); 4],
+    /// The f32 inverse bank's channel-samples per second.
+    f32_rate: f64,
+    /// Issue 13's goals for the bank, each a ratio measured in this run (the last is a rate).
+    bank_goals: [(&'static str, bool); 4],
+}
+
+impl Ratios {
+    /// The ratios of the ns per sample `best` (in the order of [`NAMES`]).
+    fn of(best: &[f64]) -> Self {
+        let at = |i: usize| best.get(i).copied().unwrap_or(f64::NAN);
+        let (direct, inverse, exp, w0) = (at(0), at(1), at(4), at(5));
+        let inverse_ratio = inverse / exp;
+        let direct_ratio = direct / (w0 + exp);
+        // The banks against the scalar operators (per channel-sample over per sample), and the
+        // f32 bank against the f64 one.
+        let (bank_inverse, bank_direct) = (at(6) / inverse, at(7) / direct);
+        let f32_over_f64 = at(8) / at(6);
+        let bank = [
+            (
+                "bank_inverse_over_inverse",
+                "bank H^-1 f64 / scalar H^-1",
+                bank_inverse,
+            ),
+            (
+                "bank_direct_over_direct",
+                "bank H f64 / scalar H",
+                bank_direct,
+            ),
+            (
+                "bank_inverse_f32_over_inverse",
+                "bank H^-1 f32 / scalar H^-1 f64",
+                at(8) / inverse,
+            ),
+            (
+                "bank_inverse_f32_over_bank_inverse",
+                "bank H^-1 f32 / bank H^-1 f64",
+                f32_over_f64,
+            ),
+        ];
+        let f32_rate = 1e9 / at(8);
+        let bank_goals = [
+            ("bank H^-1 f64 <= 0.25 x scalar H^-1", bank_inverse <= 0.25),
+            ("bank H f64 <= 0.33 x scalar H", bank_direct <= 0.33),
+            ("bank H^-1 f32 <= 0.5 x bank H^-1 f64", f32_over_f64 <= 0.5),
+            ("bank H^-1 f32 >= 500 M channel-samples/s", f32_rate >= 5e8),
+        ];
+        Self {
+            inverse: inverse_ratio,
+            direct: direct_ratio,
+            bank,
+            f32_rate,
+            bank_goals,
         }
     }
+
+    /// Whether every goal of the bank is met.
+    fn bank_goals_met(&self) -> bool {
+        self.bank_goals.iter().all(|&(_, met)| met)
+    }
+}
+
+/// Prints the ns per sample `best` and the `ratios` as JSON.
+fn print_json(best: &[f64], ratios: &Ratios) -> Result<()> {
+    let mut map = serde_json::Map::new();
+    for ((_, key), ns) in NAMES.iter().zip(best) {
+        map.insert((*key).to_string(), json!(ns));
+    }
+    map.insert("inverse_over_exp".into(), json!(ratios.inverse));
+    map.insert("direct_over_w0_plus_exp".into(), json!(ratios.direct));
+    map.insert(
+        "goals_met".into(),
+        json!(ratios.inverse <= 1.5 && ratios.direct <= 1.5),
+    );
+    for (key, _, ratio) in ratios.bank {
+        map.insert(key.into(), json!(ratio));
+    }
+    map.insert(
+        "bank_inverse_f32_channel_samples_per_s".into(),
+        json!(ratios.f32_rate),
+    );
+    map.insert("bank_goals_met".into(), json!(ratios.bank_goals_met()));
+    println!("{}", serde_json::to_string_pretty(&map)?);
     Ok(())
+}
+
+/// Prints the ns per sample `best` and the `ratios` as a table, with the goals met or not.
+fn print_table(best: &[f64], ratios: &Ratios) {
+    let (inverse_ratio, direct_ratio) = (ratios.inverse, ratios.direct);
+    println!("{:<36} {:>10}", "workload", "ns/sample");
+    for ((name, _), ns) in NAMES.iter().zip(best) {
+        println!("{name:<36} {ns:>10.2}");
+    }
+    let verdict = |met: bool| if met { "met" } else { "NOT met" };
+    println!();
+    println!(
+        "goal inverse <= 1.5 x exp:            {inverse_ratio:.2} ({})",
+        verdict(inverse_ratio <= 1.5)
+    );
+    println!(
+        "goal direct <= 1.5 x (lambert_w0+exp): {direct_ratio:.2} ({})",
+        verdict(direct_ratio <= 1.5)
+    );
+    println!();
+    for (_, name, ratio) in ratios.bank {
+        println!("{:<37} {ratio:.2}", format!("{name}:"));
+    }
+    println!(
+        "{:<37} {:.0} M",
+        "bank H^-1 f32 channel-samples/s:",
+        ratios.f32_rate / 1e6
+    );
+    println!();
+    for (goal, met) in ratios.bank_goals {
+        println!("goal {goal:<42} {}", verdict(met));
+    }
 }

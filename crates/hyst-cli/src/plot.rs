@@ -17,6 +17,7 @@ use anyhow::{anyhow, Context, Result};
 use image::codecs::png::PngEncoder;
 use image::{ColorType, ImageEncoder};
 use plotters::backend::RGBPixel;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle, RGBColor};
@@ -395,6 +396,9 @@ fn tick_label(v: f64, span: f64) -> String {
     }
 }
 
+/// The chart of a panel: data coordinates on both axes.
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
 fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>) -> Result<()> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
     let ((x0, x1), (y0, y1)) = panel.data_range();
@@ -429,6 +433,41 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>)
         .draw()
         .map_err(err)?;
 
+    let series_labelled = draw_series(&mut chart, panel, &mut entries)?;
+    let lines_labelled = draw_hlines(&mut chart, panel, (x0, x1), &mut entries)?;
+    let any_label = series_labelled || lines_labelled;
+    let position = match panel.legend {
+        Legend::UpperLeft => Some(SeriesLabelPosition::UpperLeft),
+        Legend::UpperRight => Some(SeriesLabelPosition::UpperRight),
+        Legend::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
+        Legend::LowerRight => Some(SeriesLabelPosition::LowerRight),
+        Legend::Below => None,
+    };
+    if let (Some(strip), true) = (&strip, any_label) {
+        draw_strip(strip, &entries)?;
+    }
+    if let (Some(position), true) = (position, any_label) {
+        chart
+            .configure_series_labels()
+            .position(position)
+            .label_font(("sans-serif", 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(150, 150, 150))
+            .margin(10)
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// Draws the series of `panel` on `chart`, each in its colour (the palette's next unless
+/// given), and adds the labelled ones to the legend and to `entries`; whether any is labelled.
+fn draw_series<'a, 'p, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    panel: &'p Panel,
+    entries: &mut Vec<Entry<'p>>,
+) -> Result<bool> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
     let mut next = 0usize;
     let mut any_label = false;
     for s in &panel.series {
@@ -480,6 +519,19 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>)
             }
         }
     }
+    Ok(any_label)
+}
+
+/// Draws the horizontal lines of `panel` across the chart's x range `(x0, x1)`, dashed, and
+/// adds each label once to the legend and to `entries`; whether any is labelled.
+fn draw_hlines<'a, 'p, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    panel: &'p Panel,
+    (x0, x1): (f64, f64),
+    entries: &mut Vec<Entry<'p>>,
+) -> Result<bool> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
+    let mut any_label = false;
     let mut seen: Vec<&str> = Vec::new();
     for h in &panel.hlines {
         let color = PALETTE[h.color % PALETTE.len()];
@@ -506,28 +558,7 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, whole: &DrawingArea<DB, Shift>)
             });
         }
     }
-    let position = match panel.legend {
-        Legend::UpperLeft => Some(SeriesLabelPosition::UpperLeft),
-        Legend::UpperRight => Some(SeriesLabelPosition::UpperRight),
-        Legend::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
-        Legend::LowerRight => Some(SeriesLabelPosition::LowerRight),
-        Legend::Below => None,
-    };
-    if let (Some(strip), true) = (&strip, any_label) {
-        draw_strip(strip, &entries)?;
-    }
-    if let (Some(position), true) = (position, any_label) {
-        chart
-            .configure_series_labels()
-            .position(position)
-            .label_font(("sans-serif", 16))
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(150, 150, 150))
-            .margin(10)
-            .draw()
-            .map_err(err)?;
-    }
-    Ok(())
+    Ok(any_label)
 }
 
 #[cfg(test)]

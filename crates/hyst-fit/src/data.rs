@@ -121,165 +121,22 @@ impl Dataset {
     pub fn from_table(table: &Table, options: &DataOptions) -> Result<Self, FitError> {
         let input = table.column(&options.input)?;
         let output = table.column(&options.output)?;
-        for (name, column) in [(&options.input, input), (&options.output, output)] {
-            if let Some(row) = column.iter().position(|v| v.abs() > MAX_MAGNITUDE) {
-                return Err(FitError::ValueTooLarge {
-                    file: table.source().to_string(),
-                    line: table.line_of_row(row),
-                    column: name.clone(),
-                    value: column[row],
-                    limit: MAX_MAGNITUDE,
-                });
-            }
-        }
-        if options.input == options.output {
-            return Err(FitError::Invalid(format!(
-                "{}: the input and the output are the same column {:?}: a hysteresis model \
-                 needs an output measured apart from its input",
-                table.source(),
-                options.input
-            )));
-        }
-        for (name, column) in [(&options.input, input), (&options.output, output)] {
-            let (min, max) = range(column.iter());
-            let span = max - min;
-            if span > 0.0 && span < MIN_SPAN {
-                return Err(FitError::SpanTooSmall {
-                    file: table.source().to_string(),
-                    column: name.clone(),
-                    span,
-                    min,
-                    max,
-                    limit: MIN_SPAN,
-                });
-            }
-        }
-        let record_name = if options.no_record {
-            None
-        } else {
-            match &options.record {
-                Some(name) => Some(name.clone()),
-                None => RECORD_COLUMNS
-                    .iter()
-                    .find(|n| table.column_index(n).is_some())
-                    .map(|n| (*n).to_string()),
-            }
-        };
+        check_columns(table, options, input, output)?;
+        let record_name = record_column(table, options);
         let record = match &record_name {
-            Some(name) => Some(table.column(name)?),
+            Some(name) => Some((name.as_str(), table.column(name)?)),
             None => None,
         };
         let weight = match &options.weight {
-            Some(name) => Some(table.column(name)?),
+            Some(name) => Some((name.as_str(), table.column(name)?)),
             None => None,
         };
         let file = table.source().to_string();
-        let mut records: Vec<Record> = Vec::new();
-        let mut index_of: BTreeMap<i64, usize> = BTreeMap::new();
-        for row in 0..table.len() {
-            let id = match record {
-                Some(col) => {
-                    let v = col[row];
-                    if v.fract() != 0.0 || v.abs() > MAX_RECORD_ID {
-                        return Err(FitError::BadRecordId {
-                            file,
-                            line: table.line_of_row(row),
-                            column: record_name.clone().unwrap_or_default(),
-                            value: v,
-                            limit: MAX_RECORD_ID,
-                        });
-                    }
-                    v as i64
-                }
-                None => 0,
-            };
-            let w = match weight {
-                Some(col) => {
-                    let w = col[row];
-                    if w < 0.0 {
-                        return Err(FitError::NegativeWeight {
-                            file,
-                            line: table.line_of_row(row),
-                            column: options.weight.clone().unwrap_or_default(),
-                            value: w,
-                        });
-                    }
-                    w
-                }
-                None => 1.0,
-            };
-            // A record is a run of equal ids; an id that comes back later continues its record.
-            let at = *index_of.entry(id).or_insert_with(|| {
-                records.push(Record {
-                    id,
-                    input: Vec::new(),
-                    output: Vec::new(),
-                    weight: Vec::new(),
-                    rows: Vec::new(),
-                    validation: false,
-                    continues: false,
-                });
-                records.len() - 1
-            });
-            let r = &mut records[at];
-            r.input.push(input[row]);
-            r.output.push(output[row]);
-            r.weight.push(w);
-            r.rows.push(row);
-        }
+        let mut records = group_rows(table, input, output, record, weight)?;
         if let Some(len) = options.segment {
-            if len < 2 {
-                return Err(FitError::Invalid(format!(
-                    "--segment {len}: a segment needs at least 2 samples"
-                )));
-            }
-            let mut cut = Vec::new();
-            let mut next = 0_i64;
-            for r in records {
-                for start in (0..r.len()).step_by(len) {
-                    let end = (start + len).min(r.len());
-                    cut.push(Record {
-                        id: next,
-                        input: r.input[start..end].to_vec(),
-                        output: r.output[start..end].to_vec(),
-                        weight: r.weight[start..end].to_vec(),
-                        rows: r.rows[start..end].to_vec(),
-                        validation: false,
-                        continues: start > 0,
-                    });
-                    next += 1;
-                }
-            }
-            records = cut;
+            records = segment(records, len)?;
         }
-        if !options.validate.is_empty() {
-            for id in &options.validate {
-                match records.iter_mut().find(|r| r.id == *id) {
-                    Some(r) => r.validation = true,
-                    None => {
-                        let ids: Vec<String> = records.iter().map(|r| r.id.to_string()).collect();
-                        return Err(FitError::Invalid(format!(
-                            "{file}: no record {id} to hold out for validation (records: {})",
-                            abbreviate(&ids)
-                        )));
-                    }
-                }
-            }
-        } else if let Some(k) = options.validate_every {
-            if k < 2 {
-                return Err(FitError::Invalid(
-                    "--validate-every K needs K >= 2 (K = 1 would hold out every record)".into(),
-                ));
-            }
-            for (i, r) in records.iter_mut().enumerate() {
-                r.validation = i % k == k - 1;
-            }
-        }
-        if records.iter().all(|r| r.validation) {
-            return Err(FitError::Invalid(format!(
-                "{file}: every record is held out for validation; nothing is left to fit"
-            )));
-        }
+        hold_out(&mut records, options, &file)?;
         Ok(Self {
             source: file,
             columns: Columns {
@@ -455,6 +312,204 @@ impl Dataset {
         }
         Ok(())
     }
+}
+
+/// Refuses input and output columns the fit cannot use: a value beyond [`MAX_MAGNITUDE`], the
+/// same column for both, a span below [`MIN_SPAN`].
+fn check_columns(
+    table: &Table,
+    options: &DataOptions,
+    input: &[f64],
+    output: &[f64],
+) -> Result<(), FitError> {
+    for (name, column) in [(&options.input, input), (&options.output, output)] {
+        if let Some(row) = column.iter().position(|v| v.abs() > MAX_MAGNITUDE) {
+            return Err(FitError::ValueTooLarge {
+                file: table.source().to_string(),
+                line: table.line_of_row(row),
+                column: name.clone(),
+                value: column[row],
+                limit: MAX_MAGNITUDE,
+            });
+        }
+    }
+    if options.input == options.output {
+        return Err(FitError::Invalid(format!(
+            "{}: the input and the output are the same column {:?}: a hysteresis model \
+             needs an output measured apart from its input",
+            table.source(),
+            options.input
+        )));
+    }
+    for (name, column) in [(&options.input, input), (&options.output, output)] {
+        let (min, max) = range(column.iter());
+        let span = max - min;
+        if span > 0.0 && span < MIN_SPAN {
+            return Err(FitError::SpanTooSmall {
+                file: table.source().to_string(),
+                column: name.clone(),
+                span,
+                min,
+                max,
+                limit: MIN_SPAN,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The record column: the one named, else the first of [`RECORD_COLUMNS`] in the table; none
+/// with `no_record`.
+fn record_column(table: &Table, options: &DataOptions) -> Option<String> {
+    if options.no_record {
+        None
+    } else {
+        match &options.record {
+            Some(name) => Some(name.clone()),
+            None => RECORD_COLUMNS
+                .iter()
+                .find(|n| table.column_index(n).is_some())
+                .map(|n| (*n).to_string()),
+        }
+    }
+}
+
+/// The rows of `table` grouped into records by the value of the `record` column (name and
+/// values; one record without it), each sample with its weight from the `weight` column (1
+/// without it). A record is a run of equal ids; an id that comes back later continues its
+/// record.
+///
+/// # Errors
+/// A record id that is not an integer of at most [`MAX_RECORD_ID`], a negative weight.
+fn group_rows(
+    table: &Table,
+    input: &[f64],
+    output: &[f64],
+    record: Option<(&str, &[f64])>,
+    weight: Option<(&str, &[f64])>,
+) -> Result<Vec<Record>, FitError> {
+    let mut records: Vec<Record> = Vec::new();
+    let mut index_of: BTreeMap<i64, usize> = BTreeMap::new();
+    for row in 0..table.len() {
+        let id = match record {
+            Some((name, col)) => {
+                let v = col[row];
+                if v.fract() != 0.0 || v.abs() > MAX_RECORD_ID {
+                    return Err(FitError::BadRecordId {
+                        file: table.source().to_string(),
+                        line: table.line_of_row(row),
+                        column: name.to_string(),
+                        value: v,
+                        limit: MAX_RECORD_ID,
+                    });
+                }
+                v as i64
+            }
+            None => 0,
+        };
+        let w = match weight {
+            Some((name, col)) => {
+                let w = col[row];
+                if w < 0.0 {
+                    return Err(FitError::NegativeWeight {
+                        file: table.source().to_string(),
+                        line: table.line_of_row(row),
+                        column: name.to_string(),
+                        value: w,
+                    });
+                }
+                w
+            }
+            None => 1.0,
+        };
+        let at = *index_of.entry(id).or_insert_with(|| {
+            records.push(Record {
+                id,
+                input: Vec::new(),
+                output: Vec::new(),
+                weight: Vec::new(),
+                rows: Vec::new(),
+                validation: false,
+                continues: false,
+            });
+            records.len() - 1
+        });
+        let r = &mut records[at];
+        r.input.push(input[row]);
+        r.output.push(output[row]);
+        r.weight.push(w);
+        r.rows.push(row);
+    }
+    Ok(records)
+}
+
+/// Every record cut into consecutive segments of `len` samples (`--segment`), each its own
+/// record numbered from 0, continuing the one before it when cut from the same record.
+///
+/// # Errors
+/// A `len` below 2.
+fn segment(records: Vec<Record>, len: usize) -> Result<Vec<Record>, FitError> {
+    if len < 2 {
+        return Err(FitError::Invalid(format!(
+            "--segment {len}: a segment needs at least 2 samples"
+        )));
+    }
+    let mut cut = Vec::new();
+    let mut next = 0_i64;
+    for r in records {
+        for start in (0..r.len()).step_by(len) {
+            let end = (start + len).min(r.len());
+            cut.push(Record {
+                id: next,
+                input: r.input[start..end].to_vec(),
+                output: r.output[start..end].to_vec(),
+                weight: r.weight[start..end].to_vec(),
+                rows: r.rows[start..end].to_vec(),
+                validation: false,
+                continues: start > 0,
+            });
+            next += 1;
+        }
+    }
+    Ok(cut)
+}
+
+/// Marks the records held out for validation: those `--validate` names, else every k-th
+/// (`--validate-every`).
+///
+/// # Errors
+/// A record to hold out that does not exist, `--validate-every` below 2, a split that holds
+/// out every record (`file` names the data in the messages).
+fn hold_out(records: &mut [Record], options: &DataOptions, file: &str) -> Result<(), FitError> {
+    if !options.validate.is_empty() {
+        for id in &options.validate {
+            match records.iter_mut().find(|r| r.id == *id) {
+                Some(r) => r.validation = true,
+                None => {
+                    let ids: Vec<String> = records.iter().map(|r| r.id.to_string()).collect();
+                    return Err(FitError::Invalid(format!(
+                        "{file}: no record {id} to hold out for validation (records: {})",
+                        abbreviate(&ids)
+                    )));
+                }
+            }
+        }
+    } else if let Some(k) = options.validate_every {
+        if k < 2 {
+            return Err(FitError::Invalid(
+                "--validate-every K needs K >= 2 (K = 1 would hold out every record)".into(),
+            ));
+        }
+        for (i, r) in records.iter_mut().enumerate() {
+            r.validation = i % k == k - 1;
+        }
+    }
+    if records.iter().all(|r| r.validation) {
+        return Err(FitError::Invalid(format!(
+            "{file}: every record is held out for validation; nothing is left to fit"
+        )));
+    }
+    Ok(())
 }
 
 /// (min, max) of finite values; (+∞, −∞) when there are none.

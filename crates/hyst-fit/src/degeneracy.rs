@@ -274,102 +274,22 @@ pub fn diagnose(
     data_orientation: Orientation,
     used: Orientation,
 ) -> Diagnosis {
-    // The model's own loops: its output in place of the measured one, on the same inputs.
-    let records: Vec<Record> = training(data, outputs)
-        .map(|(r, y)| Record {
-            output: y.clone(),
-            ..r.clone()
-        })
-        .collect();
-    let mut modelled = Dataset::from_records(&data.source, data.columns.clone(), records);
-    // The gap is measured against the data's output span, not the model's.
-    let (ylo, yhi) = data.output_range();
-    let model_span = {
-        let (lo, hi) = modelled.output_range();
-        hi - lo
-    };
-    let gap = loops(&modelled).gap * model_span / (yhi - ylo).max(f64::MIN_POSITIVE);
-    modelled.records.clear();
-
-    let mut reasons = Vec::new();
+    let gap = model_gap(data, outputs);
     let data_gap = loops(data).gap;
     let swept = swept_gap(data, run).unwrap_or(f64::NAN);
-    // The model has a loop if it shows one on a full sweep, or reproduces most of a loop the
-    // data visibly has (a small loop, near the threshold, both in model and data).
-    let has_loop = swept.abs() >= MIN_GAP
-        || gap.abs() >= MIN_GAP
-        || (data_gap.abs() >= MIN_GAP
-            && gap * data_gap > 0.0
-            && gap.abs() >= RESOLVED_SHARE * data_gap.abs());
-    if gap.abs() >= MIN_GAP && data_gap.abs() >= MIN_GAP && gap * data_gap < 0.0 {
-        reasons.push(format!(
-            "the fitted model's loops run {} and the data's {} (branch gaps {} % and {} % of \
-             the output span): the structure cannot describe the data",
-            if gap > 0.0 {
-                "clockwise"
-            } else {
-                "counterclockwise"
-            },
-            if data_gap > 0.0 {
-                "clockwise"
-            } else {
-                "counterclockwise"
-            },
-            sig(100.0 * gap, 2),
-            sig(100.0 * data_gap, 2),
-        ));
-    } else if !has_loop {
-        reasons.push(format!(
-            "the fitted model has no loop (its rising and falling branches are {} % of the \
-             output span apart on a full sweep of the input range, below {} %)",
-            sig(100.0 * if swept.is_nan() { gap } else { swept }.abs(), 2),
-            100.0 * MIN_GAP,
-        ));
-    }
-    let model_rms = {
-        let (mut ss, mut n) = (0.0, 0usize);
-        for (r, y) in training(data, outputs) {
-            for ((o, m), w) in r.output.iter().zip(y).zip(&r.weight) {
-                if *w > 0.0 {
-                    ss += (m - o).powi(2);
-                    n += 1;
-                }
-            }
-        }
-        (ss / n.max(1) as f64).sqrt()
-    };
+    let mut reasons = Vec::new();
+    reasons.extend(loop_reason(gap, data_gap, swept));
     let line = line_rms(data);
-    if reasons.is_empty() && model_rms >= LINE_RATIO * line && line > 0.0 {
-        if data_gap.abs() < MIN_GAP {
-            // No loop in the data to compare the model's with: a model no better than a line
-            // has found nothing (a loop on the sweep alone is the start's, not the data's).
-            reasons.push(format!(
-                "the fitted model does no better than a straight line (RMS {} against the \
-                 line's {})",
-                sig(model_rms, 3),
-                sig(line, 3),
-            ));
-        } else if gap.abs() < LOOP_SHARE * data_gap.abs() {
-            reasons.push(format!(
-                "the fitted model is a line in effect (its loop is {} % of the data's, and its \
-                 RMS {} is no better than a straight line's)",
-                sig(100.0 * gap.abs() / data_gap.abs(), 2),
-                sig(model_rms, 3),
-            ));
-        }
+    if reasons.is_empty() {
+        reasons.extend(line_reason(model_rms(data, outputs), line, gap, data_gap));
     }
     let mut notes = Vec::new();
     let mut found_loop = false;
     if let Some(estimates) = estimates {
-        let lost = |hysteresis: bool| -> Vec<String> {
-            estimates
-                .iter()
-                .filter(|e| e.std_error.is_nan() && !unidentified_ok.contains(&e.name.as_str()))
-                .filter(|e| HYSTERESIS_PARAMETERS.contains(&e.name.as_str()) == hysteresis)
-                .map(|e| format!("{} = {}", e.name, sig(e.value, 4)))
-                .collect()
-        };
-        let (core, shaping) = (lost(true), lost(false));
+        let (core, shaping) = (
+            lost(estimates, unidentified_ok, true),
+            lost(estimates, unidentified_ok, false),
+        );
         if !core.is_empty() {
             found_loop = reasons.is_empty();
             reasons.push(format!(
@@ -385,59 +305,10 @@ pub fn diagnose(
                 shaping.join(", ")
             ));
         }
-        // A saturating shape's scale known only to within many times itself: the shape sits
-        // deep in saturation or at its linear limit, where the data cannot place it; its
-        // inverse then loses digits (a compensator round trip 1e-8 instead of 1e-15).
-        let vague: Vec<String> = estimates
-            .iter()
-            .filter(|e| {
-                // A scale relative to itself; the argument at the centre (dimensionless, in
-                // units of the scale: saturated beyond a few) in absolute terms.
-                let bound = if SCALE_PARAMETERS.contains(&e.name.as_str()) {
-                    VAGUE * e.value.abs()
-                } else if ARGUMENT_PARAMETERS.contains(&e.name.as_str()) {
-                    VAGUE
-                } else {
-                    return false;
-                };
-                e.std_error.is_finite() && e.std_error > bound
-            })
-            .map(|e| format!("{} = {} ± {}", e.name, sig(e.value, 4), sig(e.std_error, 2)))
-            .collect();
-        if !vague.is_empty() {
-            notes.push(format!(
-                "the data hardly identifies {} (a scale's standard error above {VAGUE} times \
-                 its value, or an argument's above {VAGUE}): \
-                 the shaping sits deep in saturation or at its linear limit on this data; a \
-                 simpler shaping (affine or a polynomial) fits about as well and inverts with \
-                 more digits",
-                vague.join(", ")
-            ));
-        }
+        notes.extend(vague_note(estimates));
     }
     if !reasons.is_empty() && !found_loop {
-        let direction = data_orientation.name();
-        reasons.push(match data_orientation {
-            Orientation::None if one_way(data).is_some() => "the data holds no loop either: \
-                 each record moves one way (first-order reversal curves, say), so its loops \
-                 cannot be seen in it: the fit then rests on how each record starts \
-                 (--initial-state, or --estimate-initial-states) and, for a material that \
-                 saturates, on a shaping that does (--output-shaping tanh or langevin)"
-                .to_string(),
-            Orientation::None => "the data holds no loop either".to_string(),
-            _ if data_orientation == used => format!(
-                "the data's loops run {direction} as this structure's do, but their branch gap \
-                 ({} % of the output span) is not resolved by this fit",
-                sig(100.0 * data_gap.abs(), 2)
-            ),
-            Orientation::Clockwise => {
-                "the data's loops run clockwise: the stop form (--form stop or auto) fits those"
-                    .to_string()
-            }
-            Orientation::Counterclockwise => "the data's loops run counterclockwise: the \
-                 operator form (--form operator or auto) fits those"
-                .to_string(),
-        });
+        reasons.push(advice(data, data_orientation, used, data_gap));
     }
     Diagnosis {
         degenerate: !reasons.is_empty(),
@@ -449,6 +320,184 @@ pub fn diagnose(
         line_rms: line,
         rate_share: rate_share(data, outputs),
         drift_share: drift_share(data, outputs),
+    }
+}
+
+/// The gap between the model's own rising and falling branches on the training inputs (its
+/// `outputs` in place of the measured ones), as a fraction of the data's output span, not the
+/// model's (positive for clockwise).
+fn model_gap(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
+    let records: Vec<Record> = training(data, outputs)
+        .map(|(r, y)| Record {
+            output: y.clone(),
+            ..r.clone()
+        })
+        .collect();
+    let modelled = Dataset::from_records(&data.source, data.columns.clone(), records);
+    let (ylo, yhi) = data.output_range();
+    let model_span = {
+        let (lo, hi) = modelled.output_range();
+        hi - lo
+    };
+    loops(&modelled).gap * model_span / (yhi - ylo).max(f64::MIN_POSITIVE)
+}
+
+/// The reason a model with the branch gaps `gap` (on the training inputs) and `swept` (on a
+/// full sweep, NaN if unknown) found no hysteresis in data of branch gap `data_gap`: its loops
+/// run the other way, or it has none. The model has a loop if it shows one on a full sweep, or
+/// reproduces most of a loop the data visibly has (a small loop, near the threshold, both in
+/// model and data).
+fn loop_reason(gap: f64, data_gap: f64, swept: f64) -> Option<String> {
+    let has_loop = swept.abs() >= MIN_GAP
+        || gap.abs() >= MIN_GAP
+        || (data_gap.abs() >= MIN_GAP
+            && gap * data_gap > 0.0
+            && gap.abs() >= RESOLVED_SHARE * data_gap.abs());
+    if gap.abs() >= MIN_GAP && data_gap.abs() >= MIN_GAP && gap * data_gap < 0.0 {
+        Some(format!(
+            "the fitted model's loops run {} and the data's {} (branch gaps {} % and {} % of \
+             the output span): the structure cannot describe the data",
+            if gap > 0.0 {
+                "clockwise"
+            } else {
+                "counterclockwise"
+            },
+            if data_gap > 0.0 {
+                "clockwise"
+            } else {
+                "counterclockwise"
+            },
+            sig(100.0 * gap, 2),
+            sig(100.0 * data_gap, 2),
+        ))
+    } else if !has_loop {
+        Some(format!(
+            "the fitted model has no loop (its rising and falling branches are {} % of the \
+             output span apart on a full sweep of the input range, below {} %)",
+            sig(100.0 * if swept.is_nan() { gap } else { swept }.abs(), 2),
+            100.0 * MIN_GAP,
+        ))
+    } else {
+        None
+    }
+}
+
+/// The RMS of the model's `outputs` against the training data (samples of positive weight).
+fn model_rms(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
+    let (mut ss, mut n) = (0.0, 0usize);
+    for (r, y) in training(data, outputs) {
+        for ((o, m), w) in r.output.iter().zip(y).zip(&r.weight) {
+            if *w > 0.0 {
+                ss += (m - o).powi(2);
+                n += 1;
+            }
+        }
+    }
+    (ss / n.max(1) as f64).sqrt()
+}
+
+/// The reason a model of RMS `model_rms` and branch gap `gap` is a line in effect, when it
+/// does no better than the straight line's RMS `line` on data of branch gap `data_gap`.
+fn line_reason(model_rms: f64, line: f64, gap: f64, data_gap: f64) -> Option<String> {
+    if !(model_rms >= LINE_RATIO * line && line > 0.0) {
+        return None;
+    }
+    if data_gap.abs() < MIN_GAP {
+        // No loop in the data to compare the model's with: a model no better than a line
+        // has found nothing (a loop on the sweep alone is the start's, not the data's).
+        Some(format!(
+            "the fitted model does no better than a straight line (RMS {} against the \
+             line's {})",
+            sig(model_rms, 3),
+            sig(line, 3),
+        ))
+    } else if gap.abs() < LOOP_SHARE * data_gap.abs() {
+        Some(format!(
+            "the fitted model is a line in effect (its loop is {} % of the data's, and its \
+             RMS {} is no better than a straight line's)",
+            sig(100.0 * gap.abs() / data_gap.abs(), 2),
+            sig(model_rms, 3),
+        ))
+    } else {
+        None
+    }
+}
+
+/// The estimates whose standard error is NaN (the data does not identify them), except those
+/// `unidentified_ok` names, as "name = value": the parameters of the hysteresis itself
+/// ([`HYSTERESIS_PARAMETERS`]) for `hysteresis`, the others otherwise.
+fn lost(estimates: &[Estimate], unidentified_ok: &[&str], hysteresis: bool) -> Vec<String> {
+    estimates
+        .iter()
+        .filter(|e| e.std_error.is_nan() && !unidentified_ok.contains(&e.name.as_str()))
+        .filter(|e| HYSTERESIS_PARAMETERS.contains(&e.name.as_str()) == hysteresis)
+        .map(|e| format!("{} = {}", e.name, sig(e.value, 4)))
+        .collect()
+}
+
+/// The note on saturating shapes the data hardly identifies ([`VAGUE`]), if any.
+///
+/// A saturating shape's scale known only to within many times itself: the shape sits deep in
+/// saturation or at its linear limit, where the data cannot place it; its inverse then loses
+/// digits (a compensator round trip 1e-8 instead of 1e-15).
+fn vague_note(estimates: &[Estimate]) -> Option<String> {
+    let vague: Vec<String> = estimates
+        .iter()
+        .filter(|e| {
+            // A scale relative to itself; the argument at the centre (dimensionless, in
+            // units of the scale: saturated beyond a few) in absolute terms.
+            let bound = if SCALE_PARAMETERS.contains(&e.name.as_str()) {
+                VAGUE * e.value.abs()
+            } else if ARGUMENT_PARAMETERS.contains(&e.name.as_str()) {
+                VAGUE
+            } else {
+                return false;
+            };
+            e.std_error.is_finite() && e.std_error > bound
+        })
+        .map(|e| format!("{} = {} ± {}", e.name, sig(e.value, 4), sig(e.std_error, 2)))
+        .collect();
+    (!vague.is_empty()).then(|| {
+        format!(
+            "the data hardly identifies {} (a scale's standard error above {VAGUE} times \
+             its value, or an argument's above {VAGUE}): \
+             the shaping sits deep in saturation or at its linear limit on this data; a \
+             simpler shaping (affine or a polynomial) fits about as well and inverts with \
+             more digits",
+            vague.join(", ")
+        )
+    })
+}
+
+/// What the data's loops (`data_orientation`, branch gap `data_gap`) call for, after a fit of a
+/// structure made for `used` found no hysteresis.
+fn advice(
+    data: &Dataset,
+    data_orientation: Orientation,
+    used: Orientation,
+    data_gap: f64,
+) -> String {
+    let direction = data_orientation.name();
+    match data_orientation {
+        Orientation::None if one_way(data).is_some() => "the data holds no loop either: \
+             each record moves one way (first-order reversal curves, say), so its loops \
+             cannot be seen in it: the fit then rests on how each record starts \
+             (--initial-state, or --estimate-initial-states) and, for a material that \
+             saturates, on a shaping that does (--output-shaping tanh or langevin)"
+            .to_string(),
+        Orientation::None => "the data holds no loop either".to_string(),
+        _ if data_orientation == used => format!(
+            "the data's loops run {direction} as this structure's do, but their branch gap \
+             ({} % of the output span) is not resolved by this fit",
+            sig(100.0 * data_gap.abs(), 2)
+        ),
+        Orientation::Clockwise => {
+            "the data's loops run clockwise: the stop form (--form stop or auto) fits those"
+                .to_string()
+        }
+        Orientation::Counterclockwise => "the data's loops run counterclockwise: the \
+             operator form (--form operator or auto) fits those"
+            .to_string(),
     }
 }
 

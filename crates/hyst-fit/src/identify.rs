@@ -12,13 +12,15 @@ use hyst_model::{
 };
 
 use crate::data::Dataset;
-use crate::degeneracy::{diagnose, DRIFT_NOTE, RATE_NOTE};
+use crate::degeneracy::{diagnose, Diagnosis, DRIFT_NOTE, RATE_NOTE};
 use crate::error::FitError;
 use crate::lm::Observer;
 use crate::orientation::{against_trend, loops, FormChoice, Orientation, StartChoice};
 use crate::pi_fit::{fit_pi_with, PiFit, PiOutputKind};
 use crate::report::{Findings, Report, Summary};
-use crate::smooth::{fit_smooth, FitOptions, ParameterLimit, SmoothFit};
+use crate::smooth::driver::fit_smooth;
+use crate::smooth::fit::{FitOptions, SmoothFit};
+use crate::smooth::limits::ParameterLimit;
 
 /// The branch gap (fraction of the output span) above which the data's loops are clockwise
 /// beyond doubt, and a Prandtl–Ishlinskii fit (counterclockwise only) is refused.
@@ -142,74 +144,9 @@ pub fn identify(
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
     let found = loops(data);
     let mut notes = Vec::new();
-    // An output that goes back against its trend along each branch (a butterfly loop) is no
-    // loop the model makes, whichever form: refused unless kept, rather than fitted with a
-    // confident report. Friction's branches are flat with a stiction peak and rate effects
-    // (up to 0.36 of the span measured on LuGre seals), hence the higher limit for clockwise
-    // loops.
-    let folded = against_trend(data);
-    let fold_limit = if found.orientation == Orientation::Clockwise {
-        FOLD_LIMIT_CLOCKWISE
-    } else {
-        FOLD_LIMIT
-    };
-    let not_monotone = folded > fold_limit;
-    if not_monotone {
-        let message = format!(
-            "the output of {} is not monotone along the input: along each branch it goes back \
-             by {} % of the output span against its trend (a butterfly loop, as \
-             magnetostriction's strain, even in the field; or a sensor that folds), which no \
-             hysteresis model here makes (each branch of theirs is monotone): fit against a \
-             quantity the output is monotone in (|input| or input² for an even response, or \
-             one side of the range)",
-            data.source,
-            sig(100.0 * folded, 3)
-        );
-        if !request.keep_degenerate {
-            return Err(FitError::Degenerate(format!(
-                "{message}. No model file was written; pass --keep-degenerate to fit it anyway"
-            )));
-        }
-        notes.push(message);
-    }
-    // A comparison does not lose the smooth fit over a Prandtl–Ishlinskii model that cannot
-    // describe the data: it is left out, with a note.
-    let pi_cannot = found.gap > PI_CLOCKWISE_GAP;
-    let want_pi = request.kind == ModelKind::PrandtlIshlinskii
-        || (request.compare && !(pi_cannot && request.kind == ModelKind::Smooth));
-    if request.compare && !want_pi {
-        notes.push(format!(
-            "no Prandtl–Ishlinskii comparison: the loops run clockwise (rising minus falling \
-             branch {} % of the output span), which a Prandtl–Ishlinskii model cannot make",
-            sig(100.0 * found.gap, 3)
-        ));
-    }
-    if want_pi && pi_cannot {
-        return Err(FitError::Invalid(format!(
-            "the loops in {} run clockwise (the output leads the input: rising minus falling \
-             branch +{} % of the output span, as friction against position); a \
-             Prandtl–Ishlinskii model only makes counterclockwise loops: fit the smooth model, \
-             whose stop form fits clockwise loops (--model-kind smooth)",
-            data.source,
-            sig(100.0 * found.gap, 3)
-        )));
-    }
-    let (initial_state, one_way) = request.start.resolve(data);
-    if one_way {
-        let (moves, after, rule) = match initial_state {
-            InitialState::Falling => ("rises", "a long fall", "falling"),
-            _ => ("falls", "a long rise", "rising"),
-        };
-        notes.push(format!(
-            "every record only {moves} (first-order reversal curves, say): each starts at a \
-             reversal, as after {after} (--initial-state {rule}; give --initial-state to choose)"
-        ));
-    }
-    let structure = Structure {
-        form: request.form.resolve(found.orientation),
-        initial_state,
-        ..request.structure
-    };
+    let not_monotone = check_monotone(data, request, found.orientation, &mut notes)?;
+    let want_pi = pi_wanted(data, request, found.gap, &mut notes)?;
+    let structure = structure(data, request, found.orientation, &mut notes);
     let smooth = if want_smooth {
         Some(fit_smooth(data, structure, &request.options, observer)?)
     } else {
@@ -224,74 +161,8 @@ pub fn identify(
         None
     };
     // Did the requested model find hysteresis at all?
-    let diagnosis = match (request.kind, &smooth, &pi) {
-        (ModelKind::Smooth, Some(f), _) => {
-            let limit = ParameterLimit::of(&f.model);
-            if let Some(limit) = limit {
-                notes.push(limit.note(f.model.k1));
-            }
-            if let Some(starts) = f.starts.as_ref().filter(|s| !s.is_empty()) {
-                let (lo, hi) = starts
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), s| {
-                        (a.min(*s), b.max(*s))
-                    });
-                notes.push(format!(
-                    "initial states estimated for {} histor{}: the operator output starts at \
-                     v0 + b·k1 with b from {} to {} (−1: as after a rise, 1: as after a fall)",
-                    starts.len(),
-                    if starts.len() == 1 { "y" } else { "ies" },
-                    sig(lo, 3),
-                    sig(hi, 3)
-                ));
-            }
-            diagnose(
-                data,
-                &f.outputs,
-                &|x| f.model.run(x).ok(),
-                Some(&f.estimates),
-                limit.map_or(&[][..], ParameterLimit::unidentified),
-                found.orientation,
-                match f.model.form {
-                    Form::Operator => Orientation::Counterclockwise,
-                    Form::Stop => Orientation::Clockwise,
-                },
-            )
-        }
-        (_, _, Some(f)) => diagnose(
-            data,
-            &data
-                .run_histories(|x| f.model.run(x).ok())
-                .unwrap_or_default(),
-            &|x| f.model.run(x).ok(),
-            None,
-            &[],
-            found.orientation,
-            Orientation::Counterclockwise,
-        ),
-        _ => {
-            return Err(FitError::Invalid(
-                "internal: the requested model was not fitted".into(),
-            ))
-        }
-    };
-    notes.extend(diagnosis.notes.iter().cloned());
-    if diagnosis.drift_share > DRIFT_NOTE {
-        notes.push(format!(
-            "{} % of the residuals' variance is a straight line in time within the records: \
-             drift, creep or a temperature change, which a rate-independent model cannot \
-             represent; the model fits the rest (remove the trend, or fit shorter records)",
-            sig(100.0 * diagnosis.drift_share, 2)
-        ));
-    }
-    if diagnosis.rate_share > RATE_NOTE {
-        notes.push(format!(
-            "{} % of the residuals' variance follows the input's rate of change: the data holds \
-             rate-dependent behaviour (viscous friction, creep, eddy currents) that a \
-             rate-independent model cannot represent; the model fits the rate-independent part",
-            sig(100.0 * diagnosis.rate_share, 2)
-        ));
-    }
+    let diagnosis = diagnose_requested(data, request, &smooth, &pi, found.orientation, &mut notes)?;
+    residual_notes(&diagnosis, &mut notes);
     let (out_lo, out_hi) = data.output_range();
     if diagnosis.degenerate {
         let message = diagnosis.message(&data.source, &request.units.output, out_hi - out_lo);
@@ -305,25 +176,8 @@ pub fn identify(
     provenance.records = data.records.len();
     provenance.validation_records = data.validation().map(|r| r.id).collect();
 
-    let smooth_summary = smooth.as_ref().map(|f| Summary {
-        kind: "smooth".into(),
-        parameters: f.layout.len(),
-        training: f.training,
-        validation: f.validation,
-        fit_seconds: f.seconds,
-        ns_per_sample: ns_per_sample(data, |x| f.model.run(x).ok()),
-    });
-    let pi_summary = pi.as_ref().map(|f| Summary {
-        kind: match f.model.output {
-            Some(o) => format!("prandtl-ishlinskii + poly{}", o.degree),
-            None => "prandtl-ishlinskii".into(),
-        },
-        parameters: f.model.parameter_count(),
-        training: f.training,
-        validation: f.validation,
-        fit_seconds: f.seconds,
-        ns_per_sample: ns_per_sample(data, |x| f.model.run(x).ok()),
-    });
+    let smooth_summary = smooth.as_ref().map(|f| smooth_summary(data, f));
+    let pi_summary = pi.as_ref().map(|f| pi_summary(data, f));
     let columns = data.columns.clone();
     let units = request.units.clone();
     let model = match (request.kind, &smooth, &pi) {
@@ -333,11 +187,7 @@ pub fn identify(
         (ModelKind::PrandtlIshlinskii, _, Some(f)) => {
             pi_file(f, pi_summary.as_ref(), columns, units, provenance)
         }
-        _ => {
-            return Err(FitError::Invalid(
-                "internal: the requested model was not fitted".into(),
-            ))
-        }
+        _ => return Err(not_fitted()),
     };
     if interrupted() {
         return Err(FitError::Interrupted);
@@ -365,6 +215,227 @@ pub fn identify(
             plots: Vec::new(),
         },
     })
+}
+
+/// The error of a requested model kind that was not fitted (which [`identify`] never lets
+/// happen).
+fn not_fitted() -> FitError {
+    FitError::Invalid("internal: the requested model was not fitted".into())
+}
+
+/// Whether the output goes back against its trend along each branch (a butterfly loop) by
+/// more than the fold limit of the data's `orientation`: an error unless the request keeps a
+/// degenerate fit, then a note.
+///
+/// Such a loop is none the model makes, whichever form: refused unless kept, rather than fitted
+/// with a confident report. Friction's branches are flat with a stiction peak and rate effects
+/// (up to 0.36 of the span measured on LuGre seals), hence the higher limit for clockwise
+/// loops.
+fn check_monotone(
+    data: &Dataset,
+    request: &Request,
+    orientation: Orientation,
+    notes: &mut Vec<String>,
+) -> Result<bool, FitError> {
+    let folded = against_trend(data);
+    let fold_limit = if orientation == Orientation::Clockwise {
+        FOLD_LIMIT_CLOCKWISE
+    } else {
+        FOLD_LIMIT
+    };
+    let not_monotone = folded > fold_limit;
+    if not_monotone {
+        let message = format!(
+            "the output of {} is not monotone along the input: along each branch it goes back \
+             by {} % of the output span against its trend (a butterfly loop, as \
+             magnetostriction's strain, even in the field; or a sensor that folds), which no \
+             hysteresis model here makes (each branch of theirs is monotone): fit against a \
+             quantity the output is monotone in (|input| or input² for an even response, or \
+             one side of the range)",
+            data.source,
+            sig(100.0 * folded, 3)
+        );
+        if !request.keep_degenerate {
+            return Err(FitError::Degenerate(format!(
+                "{message}. No model file was written; pass --keep-degenerate to fit it anyway"
+            )));
+        }
+        notes.push(message);
+    }
+    Ok(not_monotone)
+}
+
+/// Whether to fit the Prandtl–Ishlinskii model, given the data's branch gap `gap` (positive
+/// for clockwise loops, which it cannot make): an error when it is the requested kind and
+/// cannot describe the data. A comparison does not lose the smooth fit over a
+/// Prandtl–Ishlinskii model that cannot describe the data: it is left out, with a note.
+fn pi_wanted(
+    data: &Dataset,
+    request: &Request,
+    gap: f64,
+    notes: &mut Vec<String>,
+) -> Result<bool, FitError> {
+    let pi_cannot = gap > PI_CLOCKWISE_GAP;
+    let want_pi = request.kind == ModelKind::PrandtlIshlinskii
+        || (request.compare && !(pi_cannot && request.kind == ModelKind::Smooth));
+    if request.compare && !want_pi {
+        notes.push(format!(
+            "no Prandtl–Ishlinskii comparison: the loops run clockwise (rising minus falling \
+             branch {} % of the output span), which a Prandtl–Ishlinskii model cannot make",
+            sig(100.0 * gap, 3)
+        ));
+    }
+    if want_pi && pi_cannot {
+        return Err(FitError::Invalid(format!(
+            "the loops in {} run clockwise (the output leads the input: rising minus falling \
+             branch +{} % of the output span, as friction against position); a \
+             Prandtl–Ishlinskii model only makes counterclockwise loops: fit the smooth model, \
+             whose stop form fits clockwise loops (--model-kind smooth)",
+            data.source,
+            sig(100.0 * gap, 3)
+        )));
+    }
+    Ok(want_pi)
+}
+
+/// The smooth model's structure: the requested one with the form resolved from the data's loop
+/// `orientation` and the start rule from the data (noted when every record moves one way).
+fn structure(
+    data: &Dataset,
+    request: &Request,
+    orientation: Orientation,
+    notes: &mut Vec<String>,
+) -> Structure {
+    let (initial_state, one_way) = request.start.resolve(data);
+    if one_way {
+        let (moves, after, rule) = match initial_state {
+            InitialState::Falling => ("rises", "a long fall", "falling"),
+            _ => ("falls", "a long rise", "rising"),
+        };
+        notes.push(format!(
+            "every record only {moves} (first-order reversal curves, say): each starts at a \
+             reversal, as after {after} (--initial-state {rule}; give --initial-state to choose)"
+        ));
+    }
+    Structure {
+        form: request.form.resolve(orientation),
+        initial_state,
+        ..request.structure
+    }
+}
+
+/// The diagnosis of the requested model's fit ([`diagnose`]), with the notes on a smooth fit
+/// (its parameter limit, its estimated starts).
+fn diagnose_requested(
+    data: &Dataset,
+    request: &Request,
+    smooth: &Option<SmoothFit>,
+    pi: &Option<PiFit>,
+    orientation: Orientation,
+    notes: &mut Vec<String>,
+) -> Result<Diagnosis, FitError> {
+    Ok(match (request.kind, smooth, pi) {
+        (ModelKind::Smooth, Some(f), _) => {
+            let limit = ParameterLimit::of(&f.model);
+            smooth_notes(f, limit, notes);
+            diagnose(
+                data,
+                &f.outputs,
+                &|x| f.model.run(x).ok(),
+                Some(&f.estimates),
+                limit.map_or(&[][..], ParameterLimit::unidentified),
+                orientation,
+                match f.model.form {
+                    Form::Operator => Orientation::Counterclockwise,
+                    Form::Stop => Orientation::Clockwise,
+                },
+            )
+        }
+        (_, _, Some(f)) => diagnose(
+            data,
+            &data
+                .run_histories(|x| f.model.run(x).ok())
+                .unwrap_or_default(),
+            &|x| f.model.run(x).ok(),
+            None,
+            &[],
+            orientation,
+            Orientation::Counterclockwise,
+        ),
+        _ => return Err(not_fitted()),
+    })
+}
+
+/// The notes on a smooth fit `f`: the parameter limit it is in (`limit`), the range of the
+/// initial states it estimated.
+fn smooth_notes(f: &SmoothFit, limit: Option<ParameterLimit>, notes: &mut Vec<String>) {
+    if let Some(limit) = limit {
+        notes.push(limit.note(f.model.k1));
+    }
+    if let Some(starts) = f.starts.as_ref().filter(|s| !s.is_empty()) {
+        let (lo, hi) = starts
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), s| {
+                (a.min(*s), b.max(*s))
+            });
+        notes.push(format!(
+            "initial states estimated for {} histor{}: the operator output starts at \
+             v0 + b·k1 with b from {} to {} (−1: as after a rise, 1: as after a fall)",
+            starts.len(),
+            if starts.len() == 1 { "y" } else { "ies" },
+            sig(lo, 3),
+            sig(hi, 3)
+        ));
+    }
+}
+
+/// The notes on what the residuals hold that a rate-independent model cannot represent: drift
+/// and rate dependence, each above its share of the residuals' variance.
+fn residual_notes(diagnosis: &Diagnosis, notes: &mut Vec<String>) {
+    notes.extend(diagnosis.notes.iter().cloned());
+    if diagnosis.drift_share > DRIFT_NOTE {
+        notes.push(format!(
+            "{} % of the residuals' variance is a straight line in time within the records: \
+             drift, creep or a temperature change, which a rate-independent model cannot \
+             represent; the model fits the rest (remove the trend, or fit shorter records)",
+            sig(100.0 * diagnosis.drift_share, 2)
+        ));
+    }
+    if diagnosis.rate_share > RATE_NOTE {
+        notes.push(format!(
+            "{} % of the residuals' variance follows the input's rate of change: the data holds \
+             rate-dependent behaviour (viscous friction, creep, eddy currents) that a \
+             rate-independent model cannot represent; the model fits the rate-independent part",
+            sig(100.0 * diagnosis.rate_share, 2)
+        ));
+    }
+}
+
+/// The smooth fit's summary for the comparison (its evaluation timed on `data`).
+fn smooth_summary(data: &Dataset, f: &SmoothFit) -> Summary {
+    Summary {
+        kind: "smooth".into(),
+        parameters: f.layout.len(),
+        training: f.training,
+        validation: f.validation,
+        fit_seconds: f.seconds,
+        ns_per_sample: ns_per_sample(data, |x| f.model.run(x).ok()),
+    }
+}
+
+/// The Prandtl–Ishlinskii fit's summary for the comparison (its evaluation timed on `data`).
+fn pi_summary(data: &Dataset, f: &PiFit) -> Summary {
+    Summary {
+        kind: match f.model.output {
+            Some(o) => format!("prandtl-ishlinskii + poly{}", o.degree),
+            None => "prandtl-ishlinskii".into(),
+        },
+        parameters: f.model.parameter_count(),
+        training: f.training,
+        validation: f.validation,
+        fit_seconds: f.seconds,
+        ns_per_sample: ns_per_sample(data, |x| f.model.run(x).ok()),
+    }
 }
 
 fn smooth_file(

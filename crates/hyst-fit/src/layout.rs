@@ -115,43 +115,52 @@ pub struct Layout {
 /// Margin of the polynomial and quadratic-exp domains beyond the data (normalised units).
 const DOMAIN_MARGIN: f64 = 0.05;
 
-impl Layout {
-    /// Lays out `structure` for data normalised by `norm`.
-    #[must_use]
-    pub fn new(structure: Structure, norm: Normalisation) -> Self {
-        let mut params = Vec::new();
-        let mut add = |name: &str, unit: &str, transform, group, start| {
-            params.push(ParamSpec {
-                name: name.into(),
-                unit: unit.into(),
-                transform,
-                group,
-                start,
-            });
-        };
-        use Group::{Operator as Op, Output as Out};
+/// The free parameters of a structure as [`Layout::new`] lays them out, in θ order: those of
+/// the hysteresis, of ψ_in, of ψ_out, then the output's gain, linear term and offset.
+struct Params(Vec<ParamSpec>);
+
+impl Params {
+    fn add(&mut self, name: &str, unit: &str, transform: Transform, group: Group, start: f64) {
+        self.0.push(ParamSpec {
+            name: name.into(),
+            unit: unit.into(),
+            transform,
+            group,
+            start,
+        });
+    }
+
+    /// k1 and the k2 law.
+    fn hysteresis(&mut self, structure: Structure) {
+        use Group::Operator as Op;
         use Transform::{Linear, Log};
-        add("k1", "operator units", Log, Op, 0.1);
+        self.add("k1", "operator units", Log, Op, 0.1);
         match structure.k2 {
-            K2Kind::Constant => add("k2", "1/operator units", Log, Op, 5.0),
+            K2Kind::Constant => self.add("k2", "1/operator units", Log, Op, 5.0),
             K2Kind::Affine => {
-                add("k2", "1/operator units", Log, Op, 5.0);
-                add("k2.slope", "1/operator units²", Linear, Op, 0.0);
+                self.add("k2", "1/operator units", Log, Op, 5.0);
+                self.add("k2.slope", "1/operator units²", Linear, Op, 0.0);
             }
         }
+    }
+
+    /// ψ_in's parameters and its offset; returns whether ψ_in has an offset.
+    fn input(&mut self, structure: Structure) -> bool {
+        use Group::Operator as Op;
+        use Transform::{Linear, Log};
         match structure.input_shaping {
             ShapingKind::Affine => {}
-            ShapingKind::Poly2 => add("in.p2", "1", Linear, Op, 0.0),
+            ShapingKind::Poly2 => self.add("in.p2", "1", Linear, Op, 0.0),
             ShapingKind::Poly3 => {
-                add("in.p2", "1", Linear, Op, 0.0);
-                add("in.p3", "1", Linear, Op, 0.0);
+                self.add("in.p2", "1", Linear, Op, 0.0);
+                self.add("in.p3", "1", Linear, Op, 0.0);
             }
-            ShapingKind::Tanh => add(IN_SCALE, "normalised input", Log, Op, 1.0),
-            ShapingKind::Langevin => add(IN_SCALE, "normalised input", Log, Op, 0.3),
+            ShapingKind::Tanh => self.add(IN_SCALE, "normalised input", Log, Op, 1.0),
+            ShapingKind::Langevin => self.add(IN_SCALE, "normalised input", Log, Op, 0.3),
             ShapingKind::QuadraticExp => {
-                add("in.a", "1", Log, Op, 0.01);
-                add("in.b", "1", Linear, Op, 6.0);
-                add("in.c", "1", Log, Op, 1.0);
+                self.add("in.a", "1", Log, Op, 0.01);
+                self.add("in.b", "1", Linear, Op, 6.0);
+                self.add("in.c", "1", Log, Op, 1.0);
             }
         }
         let input_offset = structure
@@ -160,16 +169,23 @@ impl Layout {
         if input_offset && structure.input_shaping.saturating() {
             // A saturating ψ_in is normalised at the input's centre (value 0, slope 1 there):
             // its offset is the argument of the shape at the centre.
-            add(IN_ARG_AT_CENTRE, "1", Linear, Op, 0.0);
+            self.add(IN_ARG_AT_CENTRE, "1", Linear, Op, 0.0);
         } else if input_offset {
-            add("in.offset", "normalised input", Linear, Op, 0.0);
+            self.add("in.offset", "normalised input", Linear, Op, 0.0);
         }
+        input_offset
+    }
+
+    /// ψ_out's shape parameters (its gain and offset follow in [`Params::output`]).
+    fn output_shaping(&mut self, structure: Structure) {
+        use Group::Output as Out;
+        use Transform::{Linear, Log};
         match structure.output_shaping {
             ShapingKind::Affine => {}
-            ShapingKind::Poly2 => add("out.q2", "1", Linear, Out, 0.0),
+            ShapingKind::Poly2 => self.add("out.q2", "1", Linear, Out, 0.0),
             ShapingKind::Poly3 => {
-                add("out.q2", "1", Linear, Out, 0.0);
-                add("out.q3", "1", Linear, Out, 0.0);
+                self.add("out.q2", "1", Linear, Out, 0.0);
+                self.add("out.q3", "1", Linear, Out, 0.0);
             }
             // Saturating ψ_out: the scale and the shape's argument at the centre of the data
             // (curvature and saturation); its slope and level there follow below.
@@ -180,31 +196,38 @@ impl Layout {
                     (ShapingKind::Tanh, Form::Stop) => (2.0, "k1"),
                     (_, Form::Stop) => (0.5, "k1"),
                 };
-                add(OUT_SCALE, unit, Log, Out, scale);
-                add(OUT_ARG_AT_CENTRE, "1", Linear, Out, 0.0);
+                self.add(OUT_SCALE, unit, Log, Out, scale);
+                self.add(OUT_ARG_AT_CENTRE, "1", Linear, Out, 0.0);
             }
             ShapingKind::QuadraticExp => {
-                add("out.a", "1", Log, Out, 0.01);
-                add("out.b", "1", Linear, Out, 6.0);
-                add("out.c", "1", Log, Out, 1.0);
+                self.add("out.a", "1", Log, Out, 0.01);
+                self.add("out.b", "1", Linear, Out, 6.0);
+                self.add("out.c", "1", Log, Out, 1.0);
             }
         }
+    }
+
+    /// The output's gain (a saturating ψ_out's slope, the stop form's level), the stop form's
+    /// linear term, and the output offset, starting from the data's normalisation `norm`.
+    fn output(&mut self, structure: Structure, norm: Normalisation) {
+        use Group::Output as Out;
+        use Transform::{Linear, Log};
         let saturating = structure.output_shaping.saturating();
         match structure.form {
-            Form::Operator if saturating => add(
+            Form::Operator if saturating => self.add(
                 "out.slope",
                 "output units per operator unit",
                 Log,
                 Out,
                 norm.output_half_span,
             ),
-            Form::Operator => add("out.gain", "output units", Log, Out, norm.output_half_span),
+            Form::Operator => self.add("out.gain", "output units", Log, Out, norm.output_half_span),
             // The stop's output is at most k1: its level gain × k1 (the Coulomb force of a
             // friction model) stays put while k1 → 0 (the Dahl limit), where the gain does not.
-            Form::Stop => add("out.level", "output units", Log, Out, norm.output_half_span),
+            Form::Stop => self.add("out.level", "output units", Log, Out, norm.output_half_span),
         }
         if structure.form == Form::Stop {
-            add(
+            self.add(
                 "out.linear",
                 "output units per operator unit",
                 Linear,
@@ -213,7 +236,7 @@ impl Layout {
             );
         }
         if structure.output_offset && saturating {
-            add(
+            self.add(
                 "out.level_at_centre",
                 "output units",
                 Linear,
@@ -221,7 +244,7 @@ impl Layout {
                 norm.output_centre,
             );
         } else if structure.output_offset {
-            add(
+            self.add(
                 "out.offset",
                 "output units",
                 Linear,
@@ -229,10 +252,22 @@ impl Layout {
                 norm.output_centre,
             );
         }
+    }
+}
+
+impl Layout {
+    /// Lays out `structure` for data normalised by `norm`.
+    #[must_use]
+    pub fn new(structure: Structure, norm: Normalisation) -> Self {
+        let mut params = Params(Vec::new());
+        params.hysteresis(structure);
+        let input_offset = params.input(structure);
+        params.output_shaping(structure);
+        params.output(structure, norm);
         Self {
             structure,
             norm,
-            params,
+            params: params.0,
             input_offset,
         }
     }

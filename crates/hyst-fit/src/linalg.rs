@@ -1,7 +1,7 @@
 //! Dense linear algebra for the small symmetric positive definite systems of the fits (normal
-//! equations of a few dozen unknowns): Cholesky factorisation, solve and inverse. Matrices are
-//! row-major `p × p` slices; every function returns `None` when the matrix is not (numerically)
-//! positive definite.
+//! equations of a few dozen unknowns): Cholesky factorisation, solve and inverse, and
+//! non-negative least squares ([`nnls`]). Matrices are row-major `p × p` slices; every function
+//! but `nnls` returns `None` when the matrix is not (numerically) positive definite.
 
 /// Cholesky factor L (row-major, lower) of a symmetric positive definite p × p matrix `a`
 /// (`None` also when `a` does not hold p × p numbers).
@@ -76,6 +76,68 @@ pub(crate) fn spd_inverse(a: &[f64], p: usize) -> Option<Vec<f64>> {
     Some(inv)
 }
 
+/// Lawson–Hanson non-negative least squares on the normal equations: minimises
+/// ½ wᵀ G w − bᵀ w subject to w ≥ 0.
+pub(crate) fn nnls(g: &[f64], b: &[f64], m: usize) -> Vec<f64> {
+    let mut w = vec![0.0; m];
+    let mut passive = vec![false; m];
+    let scale = (0..m).map(|i| g[i * m + i]).fold(0.0_f64, f64::max);
+    let tol =
+        1e-12 * scale.max(f64::MIN_POSITIVE) * b.iter().fold(1e-300_f64, |a, v| a.max(v.abs()));
+    for _outer in 0..(3 * m + 10) {
+        let grad: Vec<f64> = (0..m)
+            .map(|i| b[i] - (0..m).map(|j| g[i * m + j] * w[j]).sum::<f64>())
+            .collect();
+        let candidate = (0..m)
+            .filter(|&i| !passive[i])
+            .max_by(|&a, &c| grad[a].total_cmp(&grad[c]));
+        let Some(t) = candidate else { break };
+        if grad[t] <= tol {
+            break;
+        }
+        passive[t] = true;
+        for _inner in 0..(3 * m + 10) {
+            let idx: Vec<usize> = (0..m).filter(|&i| passive[i]).collect();
+            let k = idx.len();
+            let mut sub = vec![0.0; k * k];
+            for (a, &i) in idx.iter().enumerate() {
+                for (c, &j) in idx.iter().enumerate() {
+                    sub[a * k + c] = g[i * m + j];
+                }
+                sub[a * k + a] += 1e-13 * scale;
+            }
+            let rhs: Vec<f64> = idx.iter().map(|&i| b[i]).collect();
+            let Some(s) = cholesky_solve(&sub, &rhs, k) else {
+                passive[t] = false;
+                break;
+            };
+            if s.iter().all(|v| *v > 0.0) {
+                for (a, &i) in idx.iter().enumerate() {
+                    w[i] = s[a];
+                }
+                break;
+            }
+            let mut alpha = 1.0_f64;
+            for (a, &i) in idx.iter().enumerate() {
+                if s[a] <= 0.0 {
+                    let d = w[i] - s[a];
+                    if d > 0.0 {
+                        alpha = alpha.min(w[i] / d);
+                    }
+                }
+            }
+            for (a, &i) in idx.iter().enumerate() {
+                w[i] += alpha * (s[a] - w[i]);
+                if w[i] <= 1e-15 * (1.0 + s[a].abs()) {
+                    w[i] = 0.0;
+                    passive[i] = false;
+                }
+            }
+        }
+    }
+    w
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -104,5 +166,13 @@ mod tests {
         assert!(cholesky_solve(&a, &b[..2], 3).is_none());
         assert!(cholesky_solve(&a[..8], &b, 3).is_none());
         assert!(spd_inverse(&a[..8], 3).is_none());
+    }
+
+    #[test]
+    fn nnls_matches_a_small_case() {
+        // min |A w − y|² with A = I, y = (1, −2): w = (1, 0)
+        let g = [1.0, 0.0, 0.0, 1.0];
+        let w = nnls(&g, &[1.0, -2.0], 2);
+        assert!((w[0] - 1.0).abs() < 1e-12 && w[1] == 0.0, "{w:?}");
     }
 }

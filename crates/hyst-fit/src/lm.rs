@@ -304,7 +304,7 @@ impl LevenbergMarquardt {
                 expected: format!("{p} starting values, one per parameter"),
             });
         }
-        let mut theta = theta0.to_vec();
+        let theta = theta0.to_vec();
         let mut r = vec![0.0; n];
         if problem.residuals(&theta, &mut r).is_err() || !sum_sq(&r).is_finite() {
             return Ok(Solution {
@@ -316,152 +316,240 @@ impl LevenbergMarquardt {
                 termination: Termination::Stalled,
             });
         }
-        let mut cost = sum_sq(&r);
-        let mut jac = vec![0.0; n * p];
-        let mut jtj = vec![0.0; p * p];
-        let mut g = vec![0.0; p];
-        let mut lambda = 1e-3;
-        let mut nu = 2.0;
-        let mut trial = vec![0.0; p];
-        let mut r_trial = vec![0.0; n];
-        let mut small_decreases = 0;
+        let mut state = Iterate::new(theta, r, p);
+        observe(observer, 0, state.cost, state.lambda)?;
         let mut termination = Termination::MaxIterations;
         let mut iterations = 0;
-        let mut need_jacobian = true;
-        // The cost decreases of the last three accepted steps, oldest first (0: none yet).
-        let mut decreases = [0.0_f64; 3];
-        if observer
-            .observe(&Progress {
-                iteration: 0,
-                cost,
-                lambda,
-                start: 0,
-            })
-            .is_break()
-        {
-            return Err(FitError::Interrupted);
-        }
-        'outer: for it in 1..=self.max_iterations {
+        for it in 1..=self.max_iterations {
             iterations = it;
-            if need_jacobian {
-                if problem.jacobian(&theta, &r, &mut jac).is_err() {
-                    termination = Termination::Stalled;
-                    break;
-                }
-                normal_equations(&jac, &r, n, p, &mut jtj, &mut g);
-                need_jacobian = false;
-            }
-            let gmax = g.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            if gmax <= self.gtol * (cost + 1e-300) || cost == 0.0 {
-                termination = Termination::SmallGradient;
+            if let Some(stop) = self.iteration(problem, &mut state, it, observer)? {
+                termination = stop;
                 break;
-            }
-            if relative_offset(&jtj, &g, cost, n, p) < self.offset {
-                termination = Termination::SmallOffset;
-                break;
-            }
-            // Try steps with growing damping until one is feasible and lowers the cost.
-            loop {
-                let mut a = jtj.clone();
-                for j in 0..p {
-                    let d = jtj[j * p + j].max(1e-30);
-                    a[j * p + j] = jtj[j * p + j] + lambda * d;
-                }
-                let rhs: Vec<f64> = g.iter().map(|v| -v).collect();
-                let delta = match cholesky_solve(&a, &rhs, p) {
-                    Some(d) => d,
-                    None => {
-                        lambda *= nu;
-                        nu *= 2.0;
-                        if lambda > 1e20 {
-                            termination = Termination::Stalled;
-                            break 'outer;
-                        }
-                        continue;
-                    }
-                };
-                for j in 0..p {
-                    trial[j] = theta[j] + delta[j];
-                }
-                let step = norm(&delta);
-                let size = norm(&theta);
-                let feasible = problem.residuals(&trial, &mut r_trial).is_ok();
-                let new_cost = if feasible {
-                    sum_sq(&r_trial)
-                } else {
-                    f64::INFINITY
-                };
-                // Predicted decrease of the damped Gauss–Newton model.
-                let mut predicted = 0.0;
-                for j in 0..p {
-                    predicted += delta[j] * (lambda * jtj[j * p + j].max(1e-30) * delta[j] - g[j]);
-                }
-                if new_cost.is_finite() && new_cost < cost {
-                    let rho = (cost - new_cost) / predicted.max(1e-300);
-                    let decrease = (cost - new_cost) / cost.max(1e-300);
-                    std::mem::swap(&mut theta, &mut trial);
-                    std::mem::swap(&mut r, &mut r_trial);
-                    decreases = [decreases[1], decreases[2], cost - new_cost];
-                    cost = new_cost;
-                    need_jacobian = true;
-                    let f = 1.0 - (2.0 * rho - 1.0).powi(3);
-                    lambda *= f.max(1.0 / 3.0);
-                    nu = 2.0;
-                    if observer
-                        .observe(&Progress {
-                            iteration: it,
-                            cost,
-                            lambda,
-                            start: 0,
-                        })
-                        .is_break()
-                    {
-                        return Err(FitError::Interrupted);
-                    }
-                    if step <= self.xtol * (size + self.xtol) {
-                        termination = Termination::SmallStep;
-                        break 'outer;
-                    }
-                    if decrease < self.ftol {
-                        small_decreases += 1;
-                        if small_decreases >= 2 {
-                            termination = Termination::SmallDecrease;
-                            break 'outer;
-                        }
-                    } else {
-                        small_decreases = 0;
-                    }
-                    if fading(decreases, negligible_gain(cost, n, p, self.offset)) {
-                        termination = Termination::FadingDecrease;
-                        break 'outer;
-                    }
-                    break;
-                }
-                if step <= self.xtol * (size + self.xtol) {
-                    termination = Termination::SmallStep;
-                    break 'outer;
-                }
-                lambda *= nu;
-                nu *= 2.0;
-                if lambda > 1e20 {
-                    termination = Termination::Stalled;
-                    break 'outer;
-                }
             }
         }
         // JᵀJ at the final point, for the covariance.
-        if need_jacobian && problem.jacobian(&theta, &r, &mut jac).is_ok() {
-            normal_equations(&jac, &r, n, p, &mut jtj, &mut g);
+        if state.need_jacobian
+            && problem
+                .jacobian(&state.theta, &state.r, &mut state.jac)
+                .is_ok()
+        {
+            state.normal_equations();
         }
         Ok(Solution {
-            theta,
-            cost,
-            residuals: r,
-            jtj,
+            theta: state.theta,
+            cost: state.cost,
+            residuals: state.r,
+            jtj: state.jtj,
             iterations,
             termination,
         })
     }
+
+    /// Iteration `it` from the state `s`: the Jacobian at a new point and the tests on it, then
+    /// steps with growing damping until one is feasible and lowers the cost (accepted), or a
+    /// test stops the method. Why the method stops, `None` when it goes on.
+    fn iteration<P: Problem + ?Sized>(
+        &self,
+        problem: &P,
+        s: &mut Iterate,
+        it: usize,
+        observer: &mut dyn Observer,
+    ) -> Result<Option<Termination>, FitError> {
+        let (n, p) = (s.r.len(), s.theta.len());
+        if s.need_jacobian {
+            if problem.jacobian(&s.theta, &s.r, &mut s.jac).is_err() {
+                return Ok(Some(Termination::Stalled));
+            }
+            s.normal_equations();
+            s.need_jacobian = false;
+        }
+        let gmax = s.g.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        if gmax <= self.gtol * (s.cost + 1e-300) || s.cost == 0.0 {
+            return Ok(Some(Termination::SmallGradient));
+        }
+        if relative_offset(&s.jtj, &s.g, s.cost, n, p) < self.offset {
+            return Ok(Some(Termination::SmallOffset));
+        }
+        // Try steps with growing damping until one is feasible and lowers the cost.
+        loop {
+            let Some(delta) = damped_step(&s.jtj, &s.g, s.lambda, p) else {
+                if s.more_damping() {
+                    return Ok(Some(Termination::Stalled));
+                }
+                continue;
+            };
+            for j in 0..p {
+                s.trial[j] = s.theta[j] + delta[j];
+            }
+            let step = norm(&delta);
+            let size = norm(&s.theta);
+            let feasible = problem.residuals(&s.trial, &mut s.r_trial).is_ok();
+            let new_cost = if feasible {
+                sum_sq(&s.r_trial)
+            } else {
+                f64::INFINITY
+            };
+            if new_cost.is_finite() && new_cost < s.cost {
+                return self.accept(s, &delta, new_cost, (step, size), it, observer);
+            }
+            if step <= self.xtol * (size + self.xtol) {
+                return Ok(Some(Termination::SmallStep));
+            }
+            if s.more_damping() {
+                return Ok(Some(Termination::Stalled));
+            }
+        }
+    }
+
+    /// Accepts the step `delta` (of norm `step` from a point of norm `size`) to the trial
+    /// point of cost `new_cost` at iteration `it`: moves there, updates the damping by
+    /// Nielsen's rule, reports to `observer`, and tests the step, the cost decrease and the
+    /// fading of the decreases. Why the method stops, `None` when it goes on.
+    fn accept(
+        &self,
+        s: &mut Iterate,
+        delta: &[f64],
+        new_cost: f64,
+        (step, size): (f64, f64),
+        it: usize,
+        observer: &mut dyn Observer,
+    ) -> Result<Option<Termination>, FitError> {
+        let (n, p) = (s.r.len(), s.theta.len());
+        let rho =
+            (s.cost - new_cost) / predicted_decrease(delta, &s.jtj, &s.g, s.lambda).max(1e-300);
+        let decrease = (s.cost - new_cost) / s.cost.max(1e-300);
+        std::mem::swap(&mut s.theta, &mut s.trial);
+        std::mem::swap(&mut s.r, &mut s.r_trial);
+        s.decreases = [s.decreases[1], s.decreases[2], s.cost - new_cost];
+        s.cost = new_cost;
+        s.need_jacobian = true;
+        let f = 1.0 - (2.0 * rho - 1.0).powi(3);
+        s.lambda *= f.max(1.0 / 3.0);
+        s.nu = 2.0;
+        observe(observer, it, s.cost, s.lambda)?;
+        if step <= self.xtol * (size + self.xtol) {
+            return Ok(Some(Termination::SmallStep));
+        }
+        if decrease < self.ftol {
+            s.small_decreases += 1;
+            if s.small_decreases >= 2 {
+                return Ok(Some(Termination::SmallDecrease));
+            }
+        } else {
+            s.small_decreases = 0;
+        }
+        if fading(s.decreases, negligible_gain(s.cost, n, p, self.offset)) {
+            return Ok(Some(Termination::FadingDecrease));
+        }
+        Ok(None)
+    }
+}
+
+/// The state of a run of [`LevenbergMarquardt::minimize`].
+struct Iterate {
+    /// The current point.
+    theta: Vec<f64>,
+    /// The residuals there.
+    r: Vec<f64>,
+    /// Σ r² there.
+    cost: f64,
+    /// The Jacobian (column-major) at the point it was last computed.
+    jac: Vec<f64>,
+    /// JᵀJ (row-major) and g = Jᵀr from it.
+    jtj: Vec<f64>,
+    g: Vec<f64>,
+    /// The damping λ and its growth factor ν (Nielsen).
+    lambda: f64,
+    nu: f64,
+    /// A trial point and its residuals.
+    trial: Vec<f64>,
+    r_trial: Vec<f64>,
+    /// Accepted steps in a row whose relative cost decrease was below `ftol`.
+    small_decreases: usize,
+    /// Whether the point moved since the Jacobian was computed.
+    need_jacobian: bool,
+    /// The cost decreases of the last three accepted steps, oldest first (0: none yet).
+    decreases: [f64; 3],
+}
+
+impl Iterate {
+    /// The state at the feasible start `theta` with its residuals `r` (p parameters).
+    fn new(theta: Vec<f64>, r: Vec<f64>, p: usize) -> Self {
+        let n = r.len();
+        Self {
+            cost: sum_sq(&r),
+            theta,
+            r,
+            jac: vec![0.0; n * p],
+            jtj: vec![0.0; p * p],
+            g: vec![0.0; p],
+            lambda: 1e-3,
+            nu: 2.0,
+            trial: vec![0.0; p],
+            r_trial: vec![0.0; n],
+            small_decreases: 0,
+            need_jacobian: true,
+            decreases: [0.0; 3],
+        }
+    }
+
+    /// JᵀJ and g = Jᵀr from the Jacobian and the residuals.
+    fn normal_equations(&mut self) {
+        let (n, p) = (self.r.len(), self.theta.len());
+        normal_equations(&self.jac, &self.r, n, p, &mut self.jtj, &mut self.g);
+    }
+
+    /// Increases the damping after a step that failed; whether it is now too large (1e20) for
+    /// any step to matter, so that the method stalls.
+    fn more_damping(&mut self) -> bool {
+        self.lambda *= self.nu;
+        self.nu *= 2.0;
+        self.lambda > 1e20
+    }
+}
+
+/// Reports an iteration to `observer`; [`FitError::Interrupted`] when it stops the method.
+fn observe(
+    observer: &mut dyn Observer,
+    iteration: usize,
+    cost: f64,
+    lambda: f64,
+) -> Result<(), FitError> {
+    if observer
+        .observe(&Progress {
+            iteration,
+            cost,
+            lambda,
+            start: 0,
+        })
+        .is_break()
+    {
+        return Err(FitError::Interrupted);
+    }
+    Ok(())
+}
+
+/// The damped Gauss–Newton step δ: (JᵀJ + λ D) δ = −g, D the diagonal of JᵀJ (Marquardt's
+/// scaling, each entry at least 1e-30); `None` when the matrix is not positive definite.
+fn damped_step(jtj: &[f64], g: &[f64], lambda: f64, p: usize) -> Option<Vec<f64>> {
+    let mut a = jtj.to_vec();
+    for j in 0..p {
+        let d = jtj[j * p + j].max(1e-30);
+        a[j * p + j] = jtj[j * p + j] + lambda * d;
+    }
+    let rhs: Vec<f64> = g.iter().map(|v| -v).collect();
+    cholesky_solve(&a, &rhs, p)
+}
+
+/// The decrease of the cost the damped Gauss–Newton model predicts for the step δ:
+/// Σ δ_j (λ D_j δ_j − g_j).
+fn predicted_decrease(delta: &[f64], jtj: &[f64], g: &[f64], lambda: f64) -> f64 {
+    let p = delta.len();
+    let mut predicted = 0.0;
+    for j in 0..p {
+        predicted += delta[j] * (lambda * jtj[j * p + j].max(1e-30) * delta[j] - g[j]);
+    }
+    predicted
 }
 
 /// Bates and Watts' relative offset √(gᵀ(JᵀJ)⁻¹g / p) / √(cost / (n − p)), g = Jᵀr; infinite

@@ -12,13 +12,13 @@ use std::time::Instant;
 
 use hyst_core::{play, Polynomial, Shaping};
 
-use crate::linalg::{cholesky_solve, spd_inverse};
+use crate::linalg::{cholesky_solve, nnls, spd_inverse};
 use hyst_model::pi::MAX_PLAYS;
 use hyst_model::{ErrorStats, Estimate, PiModel, PiOutput};
 
 use crate::data::{Dataset, Record};
 use crate::error::FitError;
-use crate::smooth::{check_finite, error_stats};
+use crate::smooth::stats::{check_finite, error_stats};
 
 /// Which output polynomial follows the Prandtl–Ishlinskii sum (`none`, `poly2`, `poly3`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -104,106 +104,16 @@ pub fn fit_pi_with(data: &Dataset, plays: usize, output: PiOutputKind) -> Result
         });
     }
     data.check(plays + 1 + output.degree(), true)?;
-    let (lo, hi) = data.input_range();
-    let span = hi - lo;
-    let r: Vec<f64> = (1..=plays)
-        .map(|i| span * i as f64 / (2.0 * (plays + 1) as f64))
-        .collect();
-    let m = plays + 1; // identity + plays
-                       // Weighted means, then the centred Gram matrix (the free offset is eliminated exactly).
-    let mut sw = 0.0;
-    let mut mean = vec![0.0; m];
-    let mut ymean = 0.0;
-    let mut columns: Vec<(Vec<Vec<f64>>, &Record)> = Vec::new();
-    for rec in data.training() {
-        let mut cols = vec![rec.input.clone()];
-        cols.extend(play_outputs(&rec.input, &r));
-        for (i, w) in rec.weight.iter().enumerate() {
-            sw += w;
-            ymean += w * rec.output[i];
-            for (j, c) in cols.iter().enumerate() {
-                mean[j] += w * c[i];
-            }
-        }
-        columns.push((cols, rec));
-    }
-    for v in mean.iter_mut() {
-        *v /= sw;
-    }
-    ymean /= sw;
-    let mut gram = vec![0.0; m * m];
-    let mut rhs = vec![0.0; m];
-    let mut syy = 0.0;
-    for (cols, rec) in &columns {
-        for (i, w) in rec.weight.iter().enumerate() {
-            let yc = rec.output[i] - ymean;
-            syy += w * yc * yc;
-            for a in 0..m {
-                let xa = cols[a][i] - mean[a];
-                rhs[a] += w * xa * yc;
-                for b in a..m {
-                    gram[a * m + b] += w * xa * (cols[b][i] - mean[b]);
-                }
-            }
-        }
-    }
-    for a in 0..m {
-        for b in 0..a {
-            gram[a * m + b] = gram[b * m + a];
-        }
-    }
-    // w0 ≥ ε: shift the variable.
-    let eps = 1e-6 * (rhs[0] / gram[0].max(f64::MIN_POSITIVE)).abs().max(1e-12);
-    let shifted: Vec<f64> = (0..m).map(|a| rhs[a] - gram[a * m] * eps).collect();
-    let mut w = nnls(&gram, &shifted, m);
-    w[0] += eps;
-    let offset = ymean - w.iter().zip(&mean).map(|(a, b)| a * b).sum::<f64>();
+    let r = thresholds(data, plays);
+    let normal = Centred::new(data, &r);
+    let (w, offset) = normal.weights();
     // With an output polynomial its own fit gives the model and estimates; without, the plain
     // sum and its standard errors. Both then go through the same checks.
     let (model, estimates) = if output != PiOutputKind::None {
-        let design = Design::new(&columns, m);
+        let design = Design::new(&normal.columns, normal.m);
         fit_output(&design, &r, &w, offset, output.degree(), n_of(data))?
     } else {
-        let model = PiModel {
-            identity_weight: w[0],
-            thresholds: r,
-            weights: w[1..].to_vec(),
-            offset,
-            output: None,
-        };
-        // Standard errors on the free set (weights away from 0), offset from the centred model.
-        let cost = (syy - 2.0 * w.iter().zip(&rhs).map(|(a, b)| a * b).sum::<f64>()
-            + (0..m)
-                .map(|a| (0..m).map(|b| w[a] * gram[a * m + b] * w[b]).sum::<f64>())
-                .sum::<f64>())
-        .max(0.0);
-        let n = data.training_samples();
-        let free = free_set(&w);
-        let s2 = cost / (n.saturating_sub(free.len() + 1).max(1)) as f64;
-        let se = std_errors(&gram, m, &free, s2);
-        let mut estimates = vec![
-            Estimate {
-                name: "w0".into(),
-                value: w[0],
-                std_error: se[0],
-                unit: "output/input".into(),
-            },
-            Estimate {
-                name: "offset".into(),
-                value: offset,
-                std_error: (s2 / sw).sqrt(),
-                unit: "output units".into(),
-            },
-        ];
-        for j in 1..m {
-            estimates.push(Estimate {
-                name: format!("w{j} (r = {:.4})", model.thresholds[j - 1]),
-                value: w[j],
-                std_error: se[j],
-                unit: "output/input".into(),
-            });
-        }
-        (model, estimates)
+        normal.plain(data, r, w, offset)
     };
     let (training, validation) = error_stats(data, |x| model.run(x).ok())?;
     check_finite(
@@ -219,6 +129,159 @@ pub fn fit_pi_with(data: &Dataset, plays: usize, output: PiOutputKind) -> Result
         validation,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The thresholds of `plays` plays, spread evenly over half the input span of `data`.
+fn thresholds(data: &Dataset, plays: usize) -> Vec<f64> {
+    let (lo, hi) = data.input_range();
+    let span = hi - lo;
+    (1..=plays)
+        .map(|i| span * i as f64 / (2.0 * (plays + 1) as f64))
+        .collect()
+}
+
+/// The weighted least-squares problem of the plain sum on the training records, centred: the
+/// free offset is eliminated exactly by the weighted means.
+struct Centred<'a> {
+    /// Columns of the sum: the identity, then the plays.
+    m: usize,
+    /// Σ w over the training samples.
+    sw: f64,
+    /// Weighted mean of each column.
+    mean: Vec<f64>,
+    /// Weighted mean of the output.
+    ymean: f64,
+    /// The centred Gram matrix Σ w (x_a − x̄_a)(x_b − x̄_b) (m × m, row-major).
+    gram: Vec<f64>,
+    /// Σ w (x_a − x̄_a)(y − ȳ).
+    rhs: Vec<f64>,
+    /// Σ w (y − ȳ)².
+    syy: f64,
+    /// Per training record, its columns (the input, then each play's output).
+    columns: Vec<(Vec<Vec<f64>>, &'a Record)>,
+}
+
+impl<'a> Centred<'a> {
+    /// The centred problem of the plays of thresholds `r` on the training records of `data`.
+    fn new(data: &'a Dataset, r: &[f64]) -> Self {
+        let m = r.len() + 1; // identity + plays
+                             // Weighted means, then the centred Gram matrix (the free offset is eliminated exactly).
+        let mut sw = 0.0;
+        let mut mean = vec![0.0; m];
+        let mut ymean = 0.0;
+        let mut columns: Vec<(Vec<Vec<f64>>, &Record)> = Vec::new();
+        for rec in data.training() {
+            let mut cols = vec![rec.input.clone()];
+            cols.extend(play_outputs(&rec.input, r));
+            for (i, w) in rec.weight.iter().enumerate() {
+                sw += w;
+                ymean += w * rec.output[i];
+                for (j, c) in cols.iter().enumerate() {
+                    mean[j] += w * c[i];
+                }
+            }
+            columns.push((cols, rec));
+        }
+        for v in mean.iter_mut() {
+            *v /= sw;
+        }
+        ymean /= sw;
+        let mut gram = vec![0.0; m * m];
+        let mut rhs = vec![0.0; m];
+        let mut syy = 0.0;
+        for (cols, rec) in &columns {
+            for (i, w) in rec.weight.iter().enumerate() {
+                let yc = rec.output[i] - ymean;
+                syy += w * yc * yc;
+                for a in 0..m {
+                    let xa = cols[a][i] - mean[a];
+                    rhs[a] += w * xa * yc;
+                    for b in a..m {
+                        gram[a * m + b] += w * xa * (cols[b][i] - mean[b]);
+                    }
+                }
+            }
+        }
+        for a in 0..m {
+            for b in 0..a {
+                gram[a * m + b] = gram[b * m + a];
+            }
+        }
+        Self {
+            m,
+            sw,
+            mean,
+            ymean,
+            gram,
+            rhs,
+            syy,
+            columns,
+        }
+    }
+
+    /// The weights (w0 first) by non-negative least squares with w0 ≥ ε > 0, and the offset.
+    fn weights(&self) -> (Vec<f64>, f64) {
+        let (m, gram, rhs) = (self.m, &self.gram, &self.rhs);
+        // w0 ≥ ε: shift the variable.
+        let eps = 1e-6 * (rhs[0] / gram[0].max(f64::MIN_POSITIVE)).abs().max(1e-12);
+        let shifted: Vec<f64> = (0..m).map(|a| rhs[a] - gram[a * m] * eps).collect();
+        let mut w = nnls(gram, &shifted, m);
+        w[0] += eps;
+        let offset = self.ymean - w.iter().zip(&self.mean).map(|(a, b)| a * b).sum::<f64>();
+        (w, offset)
+    }
+
+    /// The plain sum (no output polynomial) of thresholds `r`, weights `w` and `offset`, with
+    /// its estimates: standard errors on the free set (weights away from 0), the offset's from
+    /// the centred model.
+    fn plain(
+        &self,
+        data: &Dataset,
+        r: Vec<f64>,
+        w: Vec<f64>,
+        offset: f64,
+    ) -> (PiModel, Vec<Estimate>) {
+        let (m, gram, rhs) = (self.m, &self.gram, &self.rhs);
+        let model = PiModel {
+            identity_weight: w[0],
+            thresholds: r,
+            weights: w[1..].to_vec(),
+            offset,
+            output: None,
+        };
+        let cost = (self.syy - 2.0 * w.iter().zip(rhs).map(|(a, b)| a * b).sum::<f64>()
+            + (0..m)
+                .map(|a| (0..m).map(|b| w[a] * gram[a * m + b] * w[b]).sum::<f64>())
+                .sum::<f64>())
+        .max(0.0);
+        let n = data.training_samples();
+        let free = free_set(&w);
+        let s2 = cost / (n.saturating_sub(free.len() + 1).max(1)) as f64;
+        let se = std_errors(gram, m, &free, s2);
+        let mut estimates = vec![
+            Estimate {
+                name: "w0".into(),
+                value: w[0],
+                std_error: se[0],
+                unit: "output/input".into(),
+            },
+            Estimate {
+                name: "offset".into(),
+                value: offset,
+                std_error: (s2 / self.sw).sqrt(),
+                unit: "output units".into(),
+            },
+        ];
+        for j in 1..m {
+            estimates.push(Estimate {
+                name: format!("w{j} (r = {:.4})", model.thresholds[j - 1]),
+                value: w[j],
+                std_error: se[j],
+                unit: "output/input".into(),
+            });
+        }
+        (model, estimates)
+    }
 }
 
 fn n_of(data: &Dataset) -> usize {
@@ -471,17 +534,70 @@ fn fit_output(
     degree: usize,
     n: usize,
 ) -> Result<(PiModel, Vec<Estimate>), FitError> {
-    let no_fit = || FitError::NoConvergence("the PI output polynomial could not be fitted".into());
+    let mut st = start_state(d, w_plain, offset, degree).ok_or_else(no_fit)?;
+    for _round in 0..200 {
+        let Some((next, done)) = alternate(d, &st, degree) else {
+            break;
+        };
+        st = next;
+        if done {
+            break;
+        }
+    }
+    let model = output_model(d, thresholds, &st, degree)?;
+    // Conditional standard errors.
+    let p = model.parameter_count();
+    let s2 = st.cost / (n.saturating_sub(p).max(1)) as f64;
+    let mut estimates = weight_estimates(d, &st, thresholds, s2)?;
+    estimates.extend(polynomial_estimates(d, &st, degree, s2));
+    Ok((model, estimates))
+}
+
+/// The error of an output polynomial that cannot be fitted.
+fn no_fit() -> FitError {
+    FitError::NoConvergence("the PI output polynomial could not be fitted".into())
+}
+
+/// The start of the alternating fit: the plain fit (w, offset) normalised, and P mapping the
+/// normalised PI output back to it (the same cost), made increasing on the data if need be.
+fn start_state(d: &Design, w_plain: &[f64], offset: f64, degree: usize) -> Option<State> {
     let mut w = w_plain.to_vec();
     let mut beta = offset;
     // Start: P maps the normalised PI output back to the plain fit (same cost).
-    let (a, b) = normalise(d, &mut w, &mut beta).ok_or_else(no_fit)?;
+    let (a, b) = normalise(d, &mut w, &mut beta)?;
     let start = compose_affine(&[0.0, 1.0, 0.0, 0.0], 1.0 / a, -b / a);
     let s = d.pi_output(&w, beta);
     let (lo, hi) = d.range(&s);
-    let (c, poly) = poly_step(d, &s, degree, &start, lo, hi).ok_or_else(no_fit)?;
+    let (c, poly) = poly_step(d, &s, degree, &start, lo, hi)?;
     let cost = d.cost(&s, &poly);
-    let mut st = State {
+    Some(State {
+        w,
+        beta,
+        c,
+        poly,
+        s,
+        cost,
+    })
+}
+
+/// One round of the alternating fit from `st`: the weight step (backtracked until it lowers
+/// the cost), normalised, then the polynomial step. The new state and whether the round's
+/// decrease was negligible (at most 1e-10 of the cost); `None` when the round cannot lower the
+/// cost.
+fn alternate(d: &Design, st: &State, degree: usize) -> Option<(State, bool)> {
+    let (wn, bn, _, _) = weight_step(d, st)?;
+    let (mut w, mut beta) = backtrack(d, st, &wn, bn)?;
+    let (a, b) = normalise(d, &mut w, &mut beta)?;
+    let anchor = compose_affine(&st.c, 1.0 / a, -b / a);
+    let s = d.pi_output(&w, beta);
+    let (lo, hi) = d.range(&s);
+    let (c, poly) = poly_step(d, &s, degree, &anchor, lo, hi)?;
+    let cost = d.cost(&s, &poly);
+    if cost.partial_cmp(&st.cost) != Some(std::cmp::Ordering::Less) {
+        return None;
+    }
+    let done = st.cost - cost <= 1e-10 * st.cost;
+    let next = State {
         w,
         beta,
         c,
@@ -489,53 +605,37 @@ fn fit_output(
         s,
         cost,
     };
-    for _round in 0..200 {
-        let Some((wn, bn, _, _)) = weight_step(d, &st) else {
-            break;
-        };
-        // Backtracking on the segment (feasible: the constraints are convex).
-        let mut t = 1.0;
-        let mut moved = None;
-        for _ in 0..30 {
-            let w: Vec<f64> = st.w.iter().zip(&wn).map(|(a, b)| a + t * (b - a)).collect();
-            let beta = st.beta + t * (bn - st.beta);
-            let s = d.pi_output(&w, beta);
-            if d.cost(&s, &st.poly) < st.cost {
-                moved = Some((w, beta));
-                break;
-            }
-            t *= 0.5;
-        }
-        let Some((mut w, mut beta)) = moved else {
-            break;
-        };
-        let Some((a, b)) = normalise(d, &mut w, &mut beta) else {
-            break;
-        };
-        let anchor = compose_affine(&st.c, 1.0 / a, -b / a);
+    Some((next, done))
+}
+
+/// The first point on the segment from (w, β) of `st` towards the weight step's (`wn`, `bn`),
+/// halving from its end, that lowers the cost under the current polynomial (feasible: the
+/// constraints are convex); `None` after 30 halvings.
+fn backtrack(d: &Design, st: &State, wn: &[f64], bn: f64) -> Option<(Vec<f64>, f64)> {
+    let mut t = 1.0;
+    for _ in 0..30 {
+        let w: Vec<f64> = st.w.iter().zip(wn).map(|(a, b)| a + t * (b - a)).collect();
+        let beta = st.beta + t * (bn - st.beta);
         let s = d.pi_output(&w, beta);
-        let (lo, hi) = d.range(&s);
-        let Some((c, poly)) = poly_step(d, &s, degree, &anchor, lo, hi) else {
-            break;
-        };
-        let cost = d.cost(&s, &poly);
-        if cost.partial_cmp(&st.cost) != Some(std::cmp::Ordering::Less) {
-            break;
+        if d.cost(&s, &st.poly) < st.cost {
+            return Some((w, beta));
         }
-        let done = st.cost - cost <= 1e-10 * st.cost;
-        st = State {
-            w,
-            beta,
-            c,
-            poly,
-            s,
-            cost,
-        };
-        if done {
-            break;
-        }
+        t *= 0.5;
     }
-    // The domain of P: the PI output range over the training samples.
+    None
+}
+
+/// The model of the state `st`: the PI sum with its output polynomial, whose domain is the PI
+/// output range over the training samples.
+///
+/// # Errors
+/// [`FitError::NoConvergence`] when the core refuses the polynomial.
+fn output_model(
+    d: &Design,
+    thresholds: &[f64],
+    st: &State,
+    degree: usize,
+) -> Result<PiModel, FitError> {
     let pi = PiModel {
         identity_weight: st.w[0],
         thresholds: thresholds.to_vec(),
@@ -556,11 +656,19 @@ fn fit_output(
     model
         .operator()
         .map_err(|e| FitError::NoConvergence(format!("the fitted PI output polynomial: {e}")))?;
-    // Conditional standard errors.
+    Ok(model)
+}
+
+/// The estimates of w0, the offset and the weights of `st`, with their standard errors given
+/// the polynomial (`s2`: the residual variance).
+fn weight_estimates(
+    d: &Design,
+    st: &State,
+    thresholds: &[f64],
+    s2: f64,
+) -> Result<Vec<Estimate>, FitError> {
     let m = d.m;
-    let p = model.parameter_count();
-    let s2 = st.cost / (n.saturating_sub(p).max(1)) as f64;
-    let (g, sff) = weight_step(d, &st)
+    let (g, sff) = weight_step(d, st)
         .map(|(_, _, g, sff)| (g, sff))
         .ok_or_else(no_fit)?;
     let se = std_errors(&g, m, &free_set(&st.w), s2);
@@ -587,6 +695,12 @@ fn fit_output(
             unit: unit.into(),
         });
     }
+    Ok(estimates)
+}
+
+/// The estimates of the polynomial's coefficients of `st`, with their standard errors given
+/// the weights (`s2`: the residual variance).
+fn polynomial_estimates(d: &Design, st: &State, degree: usize, s2: f64) -> Vec<Estimate> {
     let kp = degree + 1;
     let mut gp = vec![0.0; kp * kp];
     for (sv, w) in st.s.iter().zip(&d.wt) {
@@ -598,17 +712,16 @@ fn fit_output(
         }
     }
     let pinv = spd_inverse(&gp, kp);
-    for i in 0..kp {
-        estimates.push(Estimate {
+    (0..kp)
+        .map(|i| Estimate {
             name: format!("P.c{i}"),
             value: st.c[i],
             std_error: pinv
                 .as_ref()
                 .map_or(f64::NAN, |v| (v[i * kp + i] * s2).max(0.0).sqrt()),
             unit: "output units".into(),
-        });
-    }
-    Ok((model, estimates))
+        })
+        .collect()
 }
 
 /// The free set of the weights (w0 first): w0 and every weight away from its bound 0.
@@ -636,79 +749,9 @@ fn std_errors(g: &[f64], m: usize, free: &[usize], s2: f64) -> Vec<f64> {
         .collect()
 }
 
-/// Lawson–Hanson non-negative least squares on the normal equations: minimises
-/// ½ wᵀ G w − bᵀ w subject to w ≥ 0.
-fn nnls(g: &[f64], b: &[f64], m: usize) -> Vec<f64> {
-    let mut w = vec![0.0; m];
-    let mut passive = vec![false; m];
-    let scale = (0..m).map(|i| g[i * m + i]).fold(0.0_f64, f64::max);
-    let tol =
-        1e-12 * scale.max(f64::MIN_POSITIVE) * b.iter().fold(1e-300_f64, |a, v| a.max(v.abs()));
-    for _outer in 0..(3 * m + 10) {
-        let grad: Vec<f64> = (0..m)
-            .map(|i| b[i] - (0..m).map(|j| g[i * m + j] * w[j]).sum::<f64>())
-            .collect();
-        let candidate = (0..m)
-            .filter(|&i| !passive[i])
-            .max_by(|&a, &c| grad[a].total_cmp(&grad[c]));
-        let Some(t) = candidate else { break };
-        if grad[t] <= tol {
-            break;
-        }
-        passive[t] = true;
-        for _inner in 0..(3 * m + 10) {
-            let idx: Vec<usize> = (0..m).filter(|&i| passive[i]).collect();
-            let k = idx.len();
-            let mut sub = vec![0.0; k * k];
-            for (a, &i) in idx.iter().enumerate() {
-                for (c, &j) in idx.iter().enumerate() {
-                    sub[a * k + c] = g[i * m + j];
-                }
-                sub[a * k + a] += 1e-13 * scale;
-            }
-            let rhs: Vec<f64> = idx.iter().map(|&i| b[i]).collect();
-            let Some(s) = cholesky_solve(&sub, &rhs, k) else {
-                passive[t] = false;
-                break;
-            };
-            if s.iter().all(|v| *v > 0.0) {
-                for (a, &i) in idx.iter().enumerate() {
-                    w[i] = s[a];
-                }
-                break;
-            }
-            let mut alpha = 1.0_f64;
-            for (a, &i) in idx.iter().enumerate() {
-                if s[a] <= 0.0 {
-                    let d = w[i] - s[a];
-                    if d > 0.0 {
-                        alpha = alpha.min(w[i] / d);
-                    }
-                }
-            }
-            for (a, &i) in idx.iter().enumerate() {
-                w[i] += alpha * (s[a] - w[i]);
-                if w[i] <= 1e-15 * (1.0 + s[a].abs()) {
-                    w[i] = 0.0;
-                    passive[i] = false;
-                }
-            }
-        }
-    }
-    w
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn nnls_matches_a_small_case() {
-        // min |A w − y|² with A = I, y = (1, −2): w = (1, 0)
-        let g = [1.0, 0.0, 0.0, 1.0];
-        let w = nnls(&g, &[1.0, -2.0], 2);
-        assert!((w[0] - 1.0).abs() < 1e-12 && w[1] == 0.0, "{w:?}");
-    }
 
     #[test]
     fn recovers_a_known_pi_model() -> Result<(), FitError> {

@@ -2,7 +2,7 @@
 //! the JSON report and its text form.
 
 use hyst_io::number::{percent_floor, percent_given, sig};
-use hyst_model::{ErrorStats, Form, InitialState, K2Kind, ModelFile, ModelKind};
+use hyst_model::{ErrorStats, FamilyWidths, Form, InitialState, K2Kind, ModelFile, ModelKind};
 use serde::{Deserialize, Serialize};
 
 use crate::orientation::Orientation;
@@ -82,6 +82,30 @@ pub fn text_report(r: &Report) -> String {
     let m = &r.model;
     let u = unit(&m.units.output);
     let mut s = String::new();
+    s += &data_lines(m, &u);
+    s += &model_line(m);
+    s += &findings_lines(r);
+    s += &errors_table(r, &u);
+    s += &parameter_table(m);
+    if let Some(w) = &m.family {
+        s += &family_lines(m, w, &u);
+    }
+    if !r.comparison.is_empty() {
+        s += &comparison_table(&r.comparison);
+    }
+    if !r.model_file.is_empty() {
+        s += &format!("\nwrote {}\n", r.model_file);
+    }
+    for p in &r.plots {
+        s += &format!("wrote {p}\n");
+    }
+    s
+}
+
+/// The data fitted: the file with its rows, records and samples, then the columns (`u`: the
+/// output unit as [`unit`] prints it).
+fn data_lines(m: &ModelFile, u: &str) -> String {
+    let mut s = String::new();
     let train_samples = m.metrics.training.samples;
     s += &format!(
         "hyst fit: {} ({} rows, {} record{}; {} training samples{})\n",
@@ -106,40 +130,44 @@ pub fn text_report(r: &Report) -> String {
             .as_ref()
             .map_or(String::new(), |c| format!(", records by {c:?}"))
     );
+    s
+}
+
+/// The model line: the smooth model's structure, or the Prandtl–Ishlinskii model's plays and
+/// output polynomial.
+fn model_line(m: &ModelFile) -> String {
     match (m.kind, &m.structure) {
-        (ModelKind::Smooth, Some(st)) => {
-            s += &format!(
-                "model: smooth {}, k2 {}, input shaping {}, output shaping {}{}{}, start {}\n",
-                match st.form {
-                    Form::Operator => "operator ψ_out(H[ψ_in(in)])",
-                    Form::Stop => "stop form ψ_out(v − H[v]) + c·v, v = ψ_in(in)",
-                },
-                match st.k2 {
-                    K2Kind::Constant => "constant",
-                    K2Kind::Affine => "affine",
-                },
-                st.input_shaping.name(),
-                st.output_shaping.name(),
-                if st.output_offset {
-                    ", output offset"
-                } else {
-                    ""
-                },
-                if st.input_offset == Some(true) {
-                    ", input offset"
-                } else {
-                    ""
-                },
-                match st.initial_state {
-                    InitialState::Rising => "rising",
-                    InitialState::Falling => "falling",
-                    InitialState::Line => "line",
-                }
-            );
-        }
+        (ModelKind::Smooth, Some(st)) => format!(
+            "model: smooth {}, k2 {}, input shaping {}, output shaping {}{}{}, start {}\n",
+            match st.form {
+                Form::Operator => "operator ψ_out(H[ψ_in(in)])",
+                Form::Stop => "stop form ψ_out(v − H[v]) + c·v, v = ψ_in(in)",
+            },
+            match st.k2 {
+                K2Kind::Constant => "constant",
+                K2Kind::Affine => "affine",
+            },
+            st.input_shaping.name(),
+            st.output_shaping.name(),
+            if st.output_offset {
+                ", output offset"
+            } else {
+                ""
+            },
+            if st.input_offset == Some(true) {
+                ", input offset"
+            } else {
+                ""
+            },
+            match st.initial_state {
+                InitialState::Rising => "rising",
+                InitialState::Falling => "falling",
+                InitialState::Line => "line",
+            }
+        ),
         _ => {
             let pi = m.prandtl_ishlinskii.as_ref();
-            s += &format!(
+            format!(
                 "model: Prandtl–Ishlinskii, {} play operators{}\n",
                 pi.map_or(0, |p| p.thresholds.len()),
                 match pi.and_then(|p| p.output) {
@@ -152,9 +180,15 @@ pub fn text_report(r: &Report) -> String {
                     ),
                     None => String::new(),
                 }
-            );
+            )
         }
     }
+}
+
+/// The loops found, the fit's cost, the notes, and the warning on a degenerate fit kept.
+fn findings_lines(r: &Report) -> String {
+    let m = &r.model;
+    let mut s = String::new();
     s += &format!(
         "loops: {} (rising minus falling branch {} % of the output span)\n",
         r.findings.orientation.name(),
@@ -172,6 +206,13 @@ pub fn text_report(r: &Report) -> String {
     if r.findings.degenerate {
         s += "WARNING: degenerate fit kept on request (--keep-degenerate): no hysteresis found\n";
     }
+    s
+}
+
+/// The table of training and validation errors (`u`: the output unit).
+fn errors_table(r: &Report, u: &str) -> String {
+    let m = &r.model;
+    let mut s = String::new();
     s += &format!(
         "\nerrors (output span {}{u})          RMS (% of span)             max (% of span)\n",
         sig(r.output_span, 4)
@@ -179,11 +220,17 @@ pub fn text_report(r: &Report) -> String {
     s += &stats_line(
         &format!("training ({} samples)", m.metrics.training.samples),
         &m.metrics.training,
-        &u,
+        u,
     );
     if let Some(v) = &m.metrics.validation {
-        s += &stats_line(&format!("validation ({} samples)", v.samples), v, &u);
+        s += &stats_line(&format!("validation ({} samples)", v.samples), v, u);
     }
+    s
+}
+
+/// The table of parameters with their standard errors (the first 40).
+fn parameter_table(m: &ModelFile) -> String {
+    let mut s = String::new();
     s += "\nparameter              value           std. error     unit\n";
     for e in m.parameters.iter().take(40) {
         s += &format!(
@@ -200,78 +247,81 @@ pub fn text_report(r: &Report) -> String {
     if m.kind == ModelKind::Smooth {
         s += "  (k1, k2 in normalised input units: the input range maps to [-1, 1]; standard errors\n   assume independent residuals)\n";
     }
-    if let Some(w) = &m.family {
+    s
+}
+
+/// The family widths `w` that reproduce the data (Definition 2.8) and the bound Δa they give
+/// (`u`: the output unit).
+fn family_lines(m: &ModelFile, w: &FamilyWidths, u: &str) -> String {
+    let mut s = String::new();
+    s += &format!(
+        "\nfamily RH(k1, Δk1, k2, Δk2) reproducing {} % of the samples (Definition 2.8):\n",
+        percent_given(w.coverage_target)
+    );
+    if w.reachable {
         s += &format!(
-            "\nfamily RH(k1, Δk1, k2, Δk2) reproducing {} % of the samples (Definition 2.8):\n",
-            percent_given(w.coverage_target)
+            "  Δk1 = {}, Δk2 = {} (coverage {} %)\n",
+            sig(w.delta_k1, 4),
+            sig(w.delta_k2, 4),
+            percent_floor(w.coverage, 2)
         );
-        if w.reachable {
+        if w.delta_k2_law > 0.0 {
             s += &format!(
-                "  Δk1 = {}, Δk2 = {} (coverage {} %)\n",
-                sig(w.delta_k1, 4),
-                sig(w.delta_k2, 4),
-                percent_floor(w.coverage, 2)
-            );
-            if w.delta_k2_law > 0.0 {
-                s += &format!(
-                    "  k2 over the data in [{}, {}]; Proposition 4.3 adds Δk2* = {}\n",
-                    sig(w.k2_range.0, 4),
-                    sig(w.k2_range.1, 4),
-                    sig(w.delta_k2_law, 4)
-                );
-            }
-        } else {
-            s += &format!(
-                "  NOT reachable with Δk1 < k1, Δk2 < k2: the widest family covers {} % \
-                 (Δk1 = {}, Δk2 = {}), so there is no bound Δa for this coverage; the data \
-                 holds behaviour the model structure lacks (look at the residuals, try a richer \
-                 structure or a lower --coverage)\n",
-                percent_floor(w.coverage, 2),
-                sig(w.delta_k1, 4),
-                sig(w.delta_k2, 4)
+                "  k2 over the data in [{}, {}]; Proposition 4.3 adds Δk2* = {}\n",
+                sig(w.k2_range.0, 4),
+                sig(w.k2_range.1, 4),
+                sig(w.delta_k2_law, 4)
             );
         }
-        if let (Some(delta_a), Some(bound), Some(pct)) =
-            (w.delta_a, w.output_bound, w.output_bound_pct_span)
-        {
-            let (what, meaning) = match m.structure.map(|st| st.form) {
-                Some(Form::Stop) => (
-                    "prediction error bound at the output (the feed-forward force)",
-                    "|ΔH| ≤ Δa moves v − H[v] by as much",
-                ),
-                _ => (
-                    "compensation error bound at the output",
-                    "Proposition 3.2, and Δb ≤ Δa by Proposition 3.3",
-                ),
-            };
-            s += &format!("  Δa = {} (operator units; {meaning})\n", sig(delta_a, 4));
-            s += &format!(
-                "  {what}: {}{u} ({} % of span)\n",
-                sig(bound, 4),
-                sig(pct, 3)
-            );
-        }
+    } else {
+        s += &format!(
+            "  NOT reachable with Δk1 < k1, Δk2 < k2: the widest family covers {} % \
+             (Δk1 = {}, Δk2 = {}), so there is no bound Δa for this coverage; the data \
+             holds behaviour the model structure lacks (look at the residuals, try a richer \
+             structure or a lower --coverage)\n",
+            percent_floor(w.coverage, 2),
+            sig(w.delta_k1, 4),
+            sig(w.delta_k2, 4)
+        );
     }
-    if !r.comparison.is_empty() {
-        s += "\ncomparison on the same data   parameters   train RMS %   valid RMS %   ns/sample   fit s\n";
-        for c in &r.comparison {
-            s += &format!(
-                "  {:<28} {:>10}   {:>11}   {:>11}   {:>9}   {:>5}\n",
-                c.kind,
-                c.parameters,
-                sig(c.training.rms_pct_span, 3),
-                c.validation
-                    .map_or("-".to_string(), |v| sig(v.rms_pct_span, 3)),
-                sig(c.ns_per_sample, 3),
-                sig(c.fit_seconds, 3)
-            );
-        }
+    if let (Some(delta_a), Some(bound), Some(pct)) =
+        (w.delta_a, w.output_bound, w.output_bound_pct_span)
+    {
+        let (what, meaning) = match m.structure.map(|st| st.form) {
+            Some(Form::Stop) => (
+                "prediction error bound at the output (the feed-forward force)",
+                "|ΔH| ≤ Δa moves v − H[v] by as much",
+            ),
+            _ => (
+                "compensation error bound at the output",
+                "Proposition 3.2, and Δb ≤ Δa by Proposition 3.3",
+            ),
+        };
+        s += &format!("  Δa = {} (operator units; {meaning})\n", sig(delta_a, 4));
+        s += &format!(
+            "  {what}: {}{u} ({} % of span)\n",
+            sig(bound, 4),
+            sig(pct, 3)
+        );
     }
-    if !r.model_file.is_empty() {
-        s += &format!("\nwrote {}\n", r.model_file);
-    }
-    for p in &r.plots {
-        s += &format!("wrote {p}\n");
+    s
+}
+
+/// The side-by-side comparison of the model kinds fitted.
+fn comparison_table(comparison: &[Summary]) -> String {
+    let mut s = String::new();
+    s += "\ncomparison on the same data   parameters   train RMS %   valid RMS %   ns/sample   fit s\n";
+    for c in comparison {
+        s += &format!(
+            "  {:<28} {:>10}   {:>11}   {:>11}   {:>9}   {:>5}\n",
+            c.kind,
+            c.parameters,
+            sig(c.training.rms_pct_span, 3),
+            c.validation
+                .map_or("-".to_string(), |v| sig(v.rms_pct_span, 3)),
+            sig(c.ns_per_sample, 3),
+            sig(c.fit_seconds, 3)
+        );
     }
     s
 }

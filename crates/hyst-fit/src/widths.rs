@@ -17,7 +17,7 @@ use hyst_core::{AnyK2Law, Family, K2Law, Reproducibility, Shaping};
 
 use hyst_model::{FamilyWidths, SmoothModel};
 
-use crate::data::Dataset;
+use crate::data::{Dataset, History};
 use crate::error::FitError;
 use crate::lm::{Observer, Progress};
 
@@ -107,96 +107,7 @@ fn coverage(
             continue;
         }
         let band = starts.and_then(|s| s.get(index).copied());
-        let n = h.input.len();
-        if scratch.histories.len() <= index {
-            scratch
-                .histories
-                .resize(index + 1, (Vec::new(), Vec::new(), Vec::new()));
-        }
-        let (operator_input, centre_lower, centre_upper) =
-            scratch
-                .histories
-                .get_mut(index)
-                .ok_or(hyst_core::Error::LengthMismatch {
-                    input: n,
-                    output: 0,
-                })?;
-        // ψ_in(in), once.
-        if operator_input.len() != n {
-            operator_input.clear();
-            operator_input.extend(h.input.iter().map(|x| model.input_shaping.apply(*x)));
-        }
-        let input: &[f64] = operator_input;
-        // Each member started as the model starts a history (its start looks at the record's
-        // own input), then stepped on ψ_in(in).
-        let envelope = |mine: Vec<(f64, f64)>, lower: &mut [f64], upper: &mut [f64]| {
-            family.envelope_of(mine, input, lower, upper, |member| {
-                model.start_in(member, &h.input, band)
-            })
-        };
-        // The centre member's envelope (its operator output), once.
-        if centre_lower.len() != n {
-            centre_lower.resize(n, 0.0);
-            centre_upper.resize(n, 0.0);
-            envelope(std::vec![(0.0, 0.0)], centre_lower, centre_upper)?;
-        }
-        let workers = if n >= PARALLEL_FROM {
-            scratch.envelopes.len().min(members.len()).max(1)
-        } else {
-            1
-        };
-        let share = |w: usize| -> Vec<(f64, f64)> {
-            members.iter().copied().skip(w).step_by(workers).collect()
-        };
-        let (first, others) =
-            scratch
-                .envelopes
-                .split_first_mut()
-                .ok_or(hyst_core::Error::LengthMismatch {
-                    input: n,
-                    output: 0,
-                })?;
-        for (lower, upper) in std::iter::once(&mut *first)
-            .chain(others.iter_mut())
-            .take(workers)
-        {
-            lower.resize(n, 0.0);
-            upper.resize(n, 0.0);
-        }
-        std::thread::scope(|scope| -> Result<(), hyst_core::Error> {
-            let running: Vec<_> = others
-                .iter_mut()
-                .take(workers - 1)
-                .enumerate()
-                .map(|(w, (lower, upper))| {
-                    let mine = share(w + 1);
-                    let envelope = &envelope;
-                    scope.spawn(move || envelope(mine, &mut lower[..n], &mut upper[..n]))
-                })
-                .collect();
-            let own = envelope(share(0), &mut first.0[..n], &mut first.1[..n]);
-            for handle in running {
-                // A worker's panic is resumed here, as it would have unwound without threads.
-                handle
-                    .join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))?;
-            }
-            own
-        })?;
-        let (lower, upper) = (&mut first.0[..n], &mut first.1[..n]);
-        for (l, u) in others
-            .iter()
-            .take(workers - 1)
-            .map(|(l, u)| (&l[..n], &u[..n]))
-            .chain(std::iter::once((&centre_lower[..], &centre_upper[..])))
-        {
-            for ((lo, hi), (l, u)) in lower.iter_mut().zip(upper.iter_mut()).zip(l.iter().zip(u)) {
-                *lo = lo.min(*l);
-                *hi = hi.max(*u);
-            }
-        }
-        model.output_envelope(input, lower, upper)?;
-        let r = Reproducibility::compare(&h.output, Some(&h.weight), lower, upper, 0.0);
+        let r = history_coverage(&family, &members, model, &h, (index, band), scratch)?;
         inside += r.inside;
         samples += r.samples;
     }
@@ -205,6 +116,136 @@ fn coverage(
     } else {
         inside as f64 / samples as f64
     })
+}
+
+/// The samples of the history `h` inside the envelope of `family` around `model` (as
+/// [`coverage`] counts them): `at` is the history's index (its place in `scratch`) and its
+/// estimated start (`None`: the start rule), `members` the distinct members besides the centre.
+fn history_coverage(
+    family: &Family<f64, AnyK2Law<f64>>,
+    members: &[(f64, f64)],
+    model: &SmoothModel,
+    h: &History,
+    (index, band): (usize, Option<f64>),
+    scratch: &mut Scratch,
+) -> Result<Reproducibility<f64>, hyst_core::Error> {
+    let n = h.input.len();
+    if scratch.histories.len() <= index {
+        scratch
+            .histories
+            .resize(index + 1, (Vec::new(), Vec::new(), Vec::new()));
+    }
+    let (operator_input, centre_lower, centre_upper) =
+        scratch
+            .histories
+            .get_mut(index)
+            .ok_or(hyst_core::Error::LengthMismatch {
+                input: n,
+                output: 0,
+            })?;
+    // ψ_in(in), once.
+    if operator_input.len() != n {
+        operator_input.clear();
+        operator_input.extend(h.input.iter().map(|x| model.input_shaping.apply(*x)));
+    }
+    let input: &[f64] = operator_input;
+    // Each member started as the model starts a history (its start looks at the record's
+    // own input), then stepped on ψ_in(in).
+    let envelope = |mine: Vec<(f64, f64)>, lower: &mut [f64], upper: &mut [f64]| {
+        family.envelope_of(mine, input, lower, upper, |member| {
+            model.start_in(member, &h.input, band)
+        })
+    };
+    // The centre member's envelope (its operator output), once.
+    if centre_lower.len() != n {
+        centre_lower.resize(n, 0.0);
+        centre_upper.resize(n, 0.0);
+        envelope(std::vec![(0.0, 0.0)], centre_lower, centre_upper)?;
+    }
+    let (lower, upper) = members_envelope(
+        &mut scratch.envelopes,
+        members,
+        (centre_lower, centre_upper),
+        &envelope,
+    )?;
+    model.output_envelope(input, lower, upper)?;
+    Ok(Reproducibility::compare(
+        &h.output,
+        Some(&h.weight),
+        lower,
+        upper,
+        0.0,
+    ))
+}
+
+/// The envelope (lower, upper) of the operator outputs of the `members` and the centre
+/// member (its envelope `centre`, computed before) over a history of the centre's length:
+/// `envelope` runs a share of the members into a pair of `envelopes`, one share per worker
+/// thread on a long history ([`PARALLEL_FROM`]), and the shares are merged into the first
+/// pair, which is returned.
+fn members_envelope<'e, F>(
+    envelopes: &'e mut [(Vec<f64>, Vec<f64>)],
+    members: &[(f64, f64)],
+    centre: (&[f64], &[f64]),
+    envelope: &F,
+) -> Result<(&'e mut [f64], &'e mut [f64]), hyst_core::Error>
+where
+    F: Fn(Vec<(f64, f64)>, &mut [f64], &mut [f64]) -> Result<(), hyst_core::Error> + Sync,
+{
+    let n = centre.0.len();
+    let workers = if n >= PARALLEL_FROM {
+        envelopes.len().min(members.len()).max(1)
+    } else {
+        1
+    };
+    let share = |w: usize| -> Vec<(f64, f64)> {
+        members.iter().copied().skip(w).step_by(workers).collect()
+    };
+    let (first, others) = envelopes
+        .split_first_mut()
+        .ok_or(hyst_core::Error::LengthMismatch {
+            input: n,
+            output: 0,
+        })?;
+    for (lower, upper) in std::iter::once(&mut *first)
+        .chain(others.iter_mut())
+        .take(workers)
+    {
+        lower.resize(n, 0.0);
+        upper.resize(n, 0.0);
+    }
+    std::thread::scope(|scope| -> Result<(), hyst_core::Error> {
+        let running: Vec<_> = others
+            .iter_mut()
+            .take(workers - 1)
+            .enumerate()
+            .map(|(w, (lower, upper))| {
+                let mine = share(w + 1);
+                scope.spawn(move || envelope(mine, &mut lower[..n], &mut upper[..n]))
+            })
+            .collect();
+        let own = envelope(share(0), &mut first.0[..n], &mut first.1[..n]);
+        for handle in running {
+            // A worker's panic is resumed here, as it would have unwound without threads.
+            handle
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))?;
+        }
+        own
+    })?;
+    let (lower, upper) = (&mut first.0[..n], &mut first.1[..n]);
+    for (l, u) in others
+        .iter()
+        .take(workers - 1)
+        .map(|(l, u)| (&l[..n], &u[..n]))
+        .chain(std::iter::once(centre))
+    {
+        for ((lo, hi), (l, u)) in lower.iter_mut().zip(upper.iter_mut()).zip(l.iter().zip(u)) {
+            *lo = lo.min(*l);
+            *hi = hi.max(*u);
+        }
+    }
+    Ok((lower, upper))
 }
 
 /// The bound Δa for the family (k1, Δk1, k2 law, Δk2): Proposition 3.2 over the k2 range, with

@@ -9,7 +9,7 @@ use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use crate::IoError;
+use crate::error::IoError;
 
 /// The output path that means standard output.
 pub const STDOUT: &str = "-";

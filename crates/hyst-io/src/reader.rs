@@ -7,7 +7,7 @@ use std::fs::File;
 use std::io::{self, Read};
 use std::path::Path;
 
-use crate::IoError;
+use crate::error::IoError;
 
 /// Bytes already located (their newlines counted) that may pile up before they are dropped
 /// from the window: dropping moves the rest of the window, so doing it once per this many bytes

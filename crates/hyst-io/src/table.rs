@@ -4,11 +4,12 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use crate::atomic::write_atomic_with;
+use crate::error::IoError;
+use crate::reader::CsvReader;
 use crate::reader::{pick_column, unknown_column};
 #[cfg(test)]
 use crate::writer::push_f64;
 use crate::writer::{check_names, push_row, write_header};
-use crate::{CsvReader, IoError};
 
 /// Source name of tables built with [`Table::new`].
 const MEMORY_SOURCE: &str = "<memory>";

@@ -7,8 +7,8 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use crate::atomic::Output;
+use crate::error::IoError;
 use crate::reader::looks_numeric;
-use crate::IoError;
 
 /// A CSV output written one row at a time, with the guarantees of
 /// [`write_atomic`](crate::write_atomic): the rows go to a temporary file that

@@ -3,8 +3,9 @@
 
 use hyst_core::{Compensator, K2Law, Operator, Shaping};
 
-use crate::error::check_finite;
-use crate::{rk4_step, SimError, StateSpace};
+use crate::error::{check_finite, SimError};
+use crate::integrate::rk4_step;
+use crate::plant::StateSpace;
 
 /// One sampled trace of a compensated plant (Lemma 5.1), one entry per sample. "Output units"
 /// are those of the hysteresis output x2 (and of v), "plant units" those of the plant output x1

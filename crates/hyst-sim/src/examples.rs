@@ -9,7 +9,10 @@ use hyst_core::{
     QuadraticExp, ShapedModel, Shaping,
 };
 
-use crate::{simulate_compensated, Drifting, SimError, StateSpace, Trace};
+use crate::closed_loop::{simulate_compensated, Trace};
+use crate::error::SimError;
+use crate::plant::StateSpace;
+use crate::truth::Drifting;
 
 /// Example 1's nominal models: linear shaping out = 1.4 H(0.14, 8)[0.2 in], and nonlinear
 /// shaping out = 2.02 H(0.105, φ)[in − 0.098 in²], φ = 9 − 2 v clamped to [5, 12] (φ of the
@@ -113,7 +116,7 @@ pub mod example1 {
         let (lo, hi) = INPUT_RANGE;
         let _ = h.step(lo);
         let _ = h.step(hi);
-        crate::forc_input(lo, hi, curves, 200.0)
+        crate::truth::forc_input(lo, hi, curves, 200.0)
             .into_iter()
             .map(|(x, c)| (x, h.step(x), c))
             .filter(|(_, _, c)| *c >= 0)
@@ -328,7 +331,7 @@ pub mod example3 {
             let t = k as f64 * dt;
             unc.push(b.step(x[0]));
             let mut f = |s: f64, xs: &[f64]| plant.derivative(xs, r(t + s));
-            x = crate::rk4_step(&mut f, 0.0, &x, dt)?;
+            x = crate::integrate::rk4_step(&mut f, 0.0, &x, dt)?;
         }
         let compensation_error = trace
             .output

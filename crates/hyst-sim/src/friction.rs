@@ -10,7 +10,7 @@
 //! rate, the smooth stop form does not), so it tests the fit on a structure error, as measured
 //! friction does.
 
-use crate::SimError;
+use crate::error::SimError;
 
 /// LuGre parameters (force and position units of the caller's choice; times in seconds).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,8 +1,7 @@
 //! The linear plant of eq. (18): [`StateSpace`], built from its matrices or from a transfer
 //! function (controllable canonical form).
 
-use crate::error::check_finite;
-use crate::SimError;
+use crate::error::{check_finite, SimError};
 
 /// A linear time-invariant single-input single-output plant ẋ = A x + B u, y = C x + D u
 /// (state x ∈ ℝⁿ; u and y in the units of the plant's input and output; time in s, so ẋ is

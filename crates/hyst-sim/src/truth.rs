@@ -13,8 +13,7 @@
 
 use hyst_core::{ConstantK2, Error, Family, K2Law, Memory, Operator, Sample, Shaping};
 
-use crate::error::{finite, positive};
-use crate::SimError;
+use crate::error::{finite, positive, SimError};
 
 /// The memory of a [`Drifting`] truth ([`Operator::memory`]): the operator's memory and the
 /// number of evaluations so far.

@@ -16,15 +16,15 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
-use hyst_fit::identify::Request;
+use hyst_fit::identify::{Identified, Request};
 use hyst_fit::pi_fit::PiOutputKind;
 use hyst_fit::report::text_report;
-use hyst_fit::{identify, DataOptions, Dataset, FitOptions, FormChoice, StartChoice};
+use hyst_fit::{identify, DataOptions, Dataset, FitError, FitOptions, FormChoice, StartChoice};
 use hyst_io::Table;
 use hyst_model::{file::fnv1a64, ModelKind, Provenance, Units};
 use hyst_model::{InitialState, K2Kind, ShapingKind, Structure};
 
-use plots::{draw, time_column};
+use plots::{draw, time_column, Axes};
 use progress::ProgressObserver;
 
 /// Arguments of `hyst fit`.
@@ -151,81 +151,21 @@ fn record_id(s: &str) -> Result<i64, String> {
 /// Runs `hyst fit`.
 pub fn main(args: Args) -> Result<()> {
     let table = Table::read(&args.data)?;
-    let options = DataOptions {
-        input: args.input.clone(),
-        output: args.output.clone(),
-        record: args.record.clone(),
-        no_record: args.no_record,
-        weight: args.weight.clone(),
-        segment: args.segment,
-        validate: args.validate.clone(),
-        validate_every: args.validate_every,
-    };
-    let data = Dataset::from_table(&table, &options)?;
+    let data = Dataset::from_table(&table, &data_options(&args))?;
     // Checked before the fit, so a bad --time costs nothing and writes nothing.
     let time = match &args.plot {
         Some(_) => time_column(&table, args.time.as_deref())?,
         None => None,
     };
-    let structure = Structure {
-        k2: args.k2,
-        input_shaping: args.input_shaping,
-        output_shaping: args.output_shaping,
-        input_offset: if args.input_offset { Some(true) } else { None },
-        output_offset: !args.no_output_offset,
-        initial_state: InitialState::Rising,
-        form: hyst_model::Form::Operator,
-    };
-    let fit_options = FitOptions {
-        starts: args.starts,
-        coverage: args.coverage,
-        estimate_starts: args.estimate_initial_states,
-        ..FitOptions::default()
-    };
-    let request = Request {
-        kind: args.model_kind,
-        compare: args.compare,
-        structure,
-        form: args.form,
-        start: args.initial_state,
-        keep_degenerate: args.keep_degenerate,
-        options: fit_options,
-        plays: args.plays,
-        pi_output: args.pi_output,
-        units: Units {
-            input: args.input_unit.clone(),
-            output: args.output_unit.clone(),
-        },
-    };
-    let provenance = Provenance {
-        file: args.data.display().to_string(),
-        rows: table.len(),
-        command: std::env::args().collect::<Vec<_>>().join(" "),
-        hyst_version: env!("CARGO_PKG_VERSION").to_string(),
-        created_unix: std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_secs()),
-        ..Provenance::default()
-    };
+    let request = request(&args);
+    let provenance = provenance(&args, &table);
     let mut observer = ProgressObserver {
         started: Instant::now(),
         bar: None,
         starts: args.starts.max(1),
     };
-    // The data file's size and hash (provenance) are taken on a second thread while the fit
-    // runs: on a 2M-row file the hash alone costs as much as a fifth of `hyst run`.
-    let (identified, (bytes, fnv)) = std::thread::scope(|scope| {
-        let hashing = scope.spawn(|| {
-            let bytes = std::fs::read(&args.data).unwrap_or_default();
-            (bytes.len() as u64, fnv1a64(&bytes))
-        });
-        let identified = identify(&data, &request, &mut observer, &|| false, provenance);
-        // A panic of the hashing thread is resumed here, as it would have unwound without it.
-        let hashed = hashing
-            .join()
-            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        (identified, hashed)
-    });
+    let (identified, (bytes, fnv)) =
+        identify_and_hash(&args, &data, &request, &mut observer, provenance);
     let identified = identified.map_err(|e| match e {
         // The library names its parameter; the user knows it as the flag (named once).
         hyst_fit::FitError::InvalidSetting {
@@ -241,10 +181,16 @@ pub fn main(args: Args) -> Result<()> {
     report.model.provenance.fnv1a64 = format!("{fnv:016x}");
     // Plots first: if they cannot be written, the command fails before the model file exists.
     if let Some(dir) = &args.plot {
+        let axes = Axes {
+            input: &args.input,
+            input_unit: &args.input_unit,
+            output: &args.output,
+            output_unit: &args.output_unit,
+        };
         let plots = draw(
             dir,
             &data,
-            &args,
+            &axes,
             time,
             identified.smooth.as_ref(),
             identified.pi.as_ref(),
@@ -259,4 +205,92 @@ pub fn main(args: Args) -> Result<()> {
         print!("{}", text_report(&report));
     }
     Ok(())
+}
+
+/// How to read the dataset, as the arguments say.
+fn data_options(args: &Args) -> DataOptions {
+    DataOptions {
+        input: args.input.clone(),
+        output: args.output.clone(),
+        record: args.record.clone(),
+        no_record: args.no_record,
+        weight: args.weight.clone(),
+        segment: args.segment,
+        validate: args.validate.clone(),
+        validate_every: args.validate_every,
+    }
+}
+
+/// What to identify, as the arguments say (the form and start rule are resolved from the data
+/// by the identification).
+fn request(args: &Args) -> Request {
+    let structure = Structure {
+        k2: args.k2,
+        input_shaping: args.input_shaping,
+        output_shaping: args.output_shaping,
+        input_offset: if args.input_offset { Some(true) } else { None },
+        output_offset: !args.no_output_offset,
+        initial_state: InitialState::Rising,
+        form: hyst_model::Form::Operator,
+    };
+    let fit_options = FitOptions {
+        starts: args.starts,
+        coverage: args.coverage,
+        estimate_starts: args.estimate_initial_states,
+        ..FitOptions::default()
+    };
+    Request {
+        kind: args.model_kind,
+        compare: args.compare,
+        structure,
+        form: args.form,
+        start: args.initial_state,
+        keep_degenerate: args.keep_degenerate,
+        options: fit_options,
+        plays: args.plays,
+        pi_output: args.pi_output,
+        units: Units {
+            input: args.input_unit.clone(),
+            output: args.output_unit.clone(),
+        },
+    }
+}
+
+/// The model file's provenance: the data file and its rows, the command, the version and the
+/// time (the file's size and hash are added after the fit).
+fn provenance(args: &Args, table: &Table) -> Provenance {
+    Provenance {
+        file: args.data.display().to_string(),
+        rows: table.len(),
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+        hyst_version: env!("CARGO_PKG_VERSION").to_string(),
+        created_unix: std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs()),
+        ..Provenance::default()
+    }
+}
+
+/// Identifies `data` as `request` asks, and meanwhile reads the data file for its size and hash
+/// (provenance) on a second thread: on a 2M-row file the hash alone costs as much as a fifth
+/// of `hyst run`.
+fn identify_and_hash(
+    args: &Args,
+    data: &Dataset,
+    request: &Request,
+    observer: &mut ProgressObserver,
+    provenance: Provenance,
+) -> (Result<Identified, FitError>, (u64, u64)) {
+    std::thread::scope(|scope| {
+        let hashing = scope.spawn(|| {
+            let bytes = std::fs::read(&args.data).unwrap_or_default();
+            (bytes.len() as u64, fnv1a64(&bytes))
+        });
+        let identified = identify(data, request, observer, &|| false, provenance);
+        // A panic of the hashing thread is resumed here, as it would have unwound without it.
+        let hashed = hashing
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (identified, hashed)
+    })
 }

@@ -7,7 +7,6 @@ use hyst_fit::pi_fit::PiFit;
 use hyst_fit::{Dataset, SmoothFit};
 use hyst_io::Table;
 
-use super::Args;
 use crate::plot::{Figure, Panel, Series};
 
 /// Keeps at most `max` points, evenly spaced.
@@ -39,17 +38,29 @@ pub(super) fn time_column<'t>(
     Ok(None)
 }
 
+/// The names and units of the input and output columns, for the axes.
+pub(super) struct Axes<'a> {
+    /// The input column.
+    pub input: &'a str,
+    /// Its unit (empty when not given).
+    pub input_unit: &'a str,
+    /// The output column.
+    pub output: &'a str,
+    /// Its unit (empty when not given).
+    pub output_unit: &'a str,
+}
+
 /// Draws `fit-io` and `fit-residuals` (PNG and SVG) into `dir`; returns the files written.
 pub(super) fn draw(
     dir: &Path,
     data: &Dataset,
-    args: &Args,
+    axes: &Axes<'_>,
     time: Option<(&str, &[f64])>,
     smooth: Option<&SmoothFit>,
     pi: Option<&PiFit>,
 ) -> Result<Vec<PathBuf>> {
-    let xl = format!("{}{}", args.input, unit_paren(&args.input_unit));
-    let yl = format!("{}{}", args.output, unit_paren(&args.output_unit));
+    let xl = format!("{}{}", axes.input, unit_paren(axes.input_unit));
+    let yl = format!("{}{}", axes.output, unit_paren(axes.output_unit));
     let mut measured = Vec::new();
     let mut models: Vec<(String, Points, Points)> = Vec::new();
     for r in &data.records {
@@ -96,10 +107,10 @@ pub(super) fn draw(
             "sample (data row)".to_string(),
         ),
     };
-    let output_unit = if args.output_unit.is_empty() {
-        format!(" (units of {})", args.output)
+    let output_unit = if axes.output_unit.is_empty() {
+        format!(" (units of {})", axes.output)
     } else {
-        unit_paren(&args.output_unit)
+        unit_paren(axes.output_unit)
     };
     let mut res_panel = Panel::new(res_title, &res_x, &format!("residual{output_unit}"));
     for (i, (name, io, res)) in models.into_iter().enumerate() {

@@ -1,0 +1,328 @@
+//! The multi-start driver of a smooth fit ([`fit_smooth`]): the starts (a grid, the optima of
+//! the simpler structures the structure contains, or the optimum of a search on a long
+//! record's reduction), the descent from them on the machine's threads, then the standard
+//! errors, error statistics and family widths of the best.
+
+use std::time::Instant;
+
+use hyst_model::{FamilyWidths, Form, SmoothModel, Structure};
+
+use crate::data::Dataset;
+use crate::error::FitError;
+use crate::layout::{Layout, Normalisation};
+use crate::lm::{LevenbergMarquardt, Observer, Solution};
+use crate::race::{best_of, threads};
+use crate::reduction::reduce;
+use crate::smooth::fit::{FitOptions, SmoothFit};
+use crate::smooth::limits::LIMIT_SCALE;
+use crate::smooth::nesting::{contained, embed, NESTED_SCALE};
+use crate::smooth::problem::SmoothProblem;
+use crate::smooth::starts::{grid_starts, Starts};
+use crate::smooth::stats::{check_finite, error_stats_of, run_records};
+use crate::smooth::std_errors::estimates;
+use crate::widths::{confirm, family_widths};
+
+/// The polish of a long record on its full data stops once a Gauss–Newton step would lower χ²
+/// by less than this (see [`fit_smooth`]).
+const POLISH_CHI2: f64 = 0.1;
+
+/// The normalisation of a dataset (from all its records, so that validation data uses the
+/// same polynomial domains).
+#[must_use]
+pub fn normalisation(data: &Dataset) -> Normalisation {
+    let (lo, hi) = data.input_range();
+    let (ylo, yhi) = data.output_range();
+    Normalisation {
+        centre: 0.5 * (lo + hi),
+        half_span: (0.5 * (hi - lo)).max(f64::MIN_POSITIVE),
+        output_centre: 0.5 * (ylo + yhi),
+        output_half_span: (0.5 * (yhi - ylo)).max(f64::MIN_POSITIVE),
+    }
+}
+
+/// Fits `structure` to the training records of `data`.
+///
+/// # Errors
+/// Bad data ([`Dataset::check`]), [`FitError::Interrupted`] when the observer stops the fit,
+/// [`FitError::NoConvergence`] when no start gives a finite cost.
+pub fn fit_smooth(
+    data: &Dataset,
+    structure: Structure,
+    options: &FitOptions,
+    observer: &mut dyn Observer,
+) -> Result<SmoothFit, FitError> {
+    fit_smooth_with(data, structure, options, observer, &mut Vec::new()).map(|(fit, _)| fit)
+}
+
+/// The fits of the structures a richer one contains, on one dataset with one set of options
+/// (each with its cost Σ r²), so that a structure reached along two paths of the lattice
+/// (`--k2 affine` with two shapings) is fitted once.
+type Contained = Vec<(Structure, SmoothFit, f64)>;
+
+/// [`fit_smooth`], with the fits of contained structures done so far, and the cost Σ r² of
+/// the fit's training residuals (in units of the output half-span).
+fn fit_smooth_with(
+    data: &Dataset,
+    structure: Structure,
+    options: &FitOptions,
+    observer: &mut dyn Observer,
+    contained: &mut Contained,
+) -> Result<(SmoothFit, f64), FitError> {
+    let started = Instant::now();
+    check_options(options)?;
+    let layout = Layout::new(structure, normalisation(data));
+    data.check(layout.len(), structure.form == Form::Operator)?;
+    let problem = SmoothProblem::new(&layout, data, options.estimate_starts);
+
+    // A long record is searched on its reduction (turning points and every k-th sample, exact
+    // where kept: `crate::reduction`), then polished here on the full data from that optimum.
+    let reduced = if options.estimate_starts {
+        None
+    } else {
+        reduce(data)
+    };
+    let (candidates, limits) = search_starts(
+        &problem,
+        structure,
+        options,
+        reduced.as_ref(),
+        observer,
+        contained,
+    )?;
+    let method = polish_method(options, reduced.is_some(), layout.len())?;
+    let best = descend(&method, &problem, candidates, limits, observer)?;
+    let model = layout.model(&best.theta, problem.input_range)?;
+    let estimates = estimates(&layout, &model, &best, problem.n);
+
+    let starts = problem.bands(&model);
+    let outputs = run_records(data, &model, starts.as_deref())
+        .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
+    let (training, validation) = error_stats_of(data, &outputs);
+    let widths = widths(
+        data,
+        &model,
+        starts.as_deref(),
+        options,
+        reduced.as_ref(),
+        observer,
+    )?;
+    check_finite(
+        &data.source,
+        &training,
+        validation.as_ref(),
+        estimates.iter().map(|e| (e.name.as_str(), e.value)),
+    )?;
+    let cost = best.cost;
+    let fit = SmoothFit {
+        model,
+        layout,
+        theta: best.theta.clone(),
+        estimates,
+        training,
+        validation,
+        widths,
+        iterations: best.iterations,
+        termination: best.termination,
+        starts,
+        seconds: started.elapsed().as_secs_f64(),
+        outputs,
+    };
+    Ok((fit, cost))
+}
+
+/// Refuses options a fit cannot run with: no start, a coverage outside (0, 1].
+fn check_options(options: &FitOptions) -> Result<(), FitError> {
+    if options.starts == 0 {
+        return Err(FitError::InvalidSetting {
+            name: "starts",
+            value: 0.0,
+            expected: "at least 1 start".into(),
+        });
+    }
+    if !(options.coverage > 0.0 && options.coverage <= 1.0) {
+        return Err(FitError::Invalid(format!(
+            "coverage {} must be in (0, 1]",
+            options.coverage
+        )));
+    }
+    Ok(())
+}
+
+/// The starts of the descent on the full data, and the contained fits at their limits (see
+/// [`start_candidates`]; none when the starts come from another fit): after a search on the
+/// long record's reduction `reduced`, its optimum; when the fit estimates the records' starts,
+/// the optimum of the fit from the start rule; otherwise [`start_candidates`].
+fn search_starts(
+    problem: &SmoothProblem<'_>,
+    structure: Structure,
+    options: &FitOptions,
+    reduced: Option<&Dataset>,
+    observer: &mut dyn Observer,
+    contained: &mut Contained,
+) -> Result<(Starts, Starts), FitError> {
+    if let Some(small) = reduced {
+        let search = FitOptions {
+            widths: false,
+            ..*options
+        };
+        let f = fit_smooth(small, structure, &search, observer)?;
+        Ok((vec![(f64::NAN, f.theta)], Vec::new()))
+    } else if options.estimate_starts {
+        // The fit from the start rule first (grid, nested starts and all), then the estimated
+        // starts refine its optimum: each trial of θ costs a search per history, so it runs
+        // from one good start only.
+        let rule = FitOptions {
+            widths: false,
+            estimate_starts: false,
+            ..*options
+        };
+        let f = fit_smooth(problem.data, structure, &rule, observer)?;
+        Ok((vec![(f64::NAN, f.theta)], Vec::new()))
+    } else {
+        start_candidates(problem, structure, options, observer, contained)
+    }
+}
+
+/// The method of the descent: the fit's own, or, for the polish after a search on the
+/// reduction (`reduced`), one that stops once a full Gauss–Newton step would lower
+/// χ² = cost / s² by less than [`POLISH_CHI2`] (of a structure with `parameters` parameters).
+///
+/// That is Bates and Watts' relative offset below √(0.1 / p): the step gains p · offset² in
+/// units of s² = cost / (n − p). The test is a prediction, made from the Jacobian each
+/// iteration computes anyway, so the polish stops without the confirming iterations a
+/// cost-decrease rule needs (each a pass over the full record). Not for every fit: where the
+/// optimum lies at the end of a long crawl of small steps (k2 → ∞, the stop form's Dahl limit)
+/// a tolerance this loose stops far too early (MnZn with Langevin ψ_out: 2.45 % of span instead
+/// of 1.22 %; a seal record: 8.5 % instead of 5.8 %, with the equivalent cost-decrease rule);
+/// the polish starts at an optimum.
+fn polish_method(
+    options: &FitOptions,
+    reduced: bool,
+    parameters: usize,
+) -> Result<LevenbergMarquardt, FitError> {
+    if !reduced {
+        return Ok(options.method);
+    }
+    let loose = (POLISH_CHI2 / parameters.max(1) as f64).sqrt();
+    options
+        .method
+        .with_relative_offset(loose.max(options.method.relative_offset()))
+}
+
+/// The best solution of `method` from the starts `candidates`, run on the machine's threads
+/// with the result of running them in order (each raced against the best before it:
+/// `crate::race`), then from the contained fits at their `limits` where they cost less.
+///
+/// A contained structure that fitted better than every start of this one did: its optimum
+/// is (up to a saturating shape's limit of infinite scale) a point of this structure, but
+/// the starts from it ended higher (the limit's start at scale 30 costs more than the
+/// contained fit, and the descent from there crawls toward the infinite scale and stops
+/// on its statistical tests before it gets back to the contained cost). Then the fit
+/// descends from the contained optimum placed at that limit, where it costs the same to
+/// rounding, and keeps the result if it is lower: a richer structure never ends worse than
+/// one it contains.
+fn descend(
+    method: &LevenbergMarquardt,
+    problem: &SmoothProblem<'_>,
+    candidates: Starts,
+    limits: Starts,
+    observer: &mut dyn Observer,
+) -> Result<Solution, FitError> {
+    let starts: Vec<Vec<f64>> = candidates.into_iter().map(|(_, theta)| theta).collect();
+    let best = best_of(method, problem, &starts, threads(), observer)?;
+    let mut best = best
+        .filter(|b| b.cost.is_finite())
+        .ok_or_else(|| FitError::NoConvergence("no starting point gave a finite cost".into()))?;
+    for (cost, theta) in limits {
+        if cost < best.cost {
+            let f = best_of(method, problem, &[theta], 1, observer)?;
+            if let Some(f) = f.filter(|f| f.cost < best.cost) {
+                best = f;
+            }
+        }
+    }
+    Ok(best)
+}
+
+/// The family widths of the fitted `model` when the options ask for them: on the data from the
+/// records' `starts`, or, after a search on the reduction `reduced`, searched there and then
+/// checked (and widened if need be) on the full data.
+fn widths(
+    data: &Dataset,
+    model: &SmoothModel,
+    starts: Option<&[f64]>,
+    options: &FitOptions,
+    reduced: Option<&Dataset>,
+    observer: &mut dyn Observer,
+) -> Result<Option<FamilyWidths>, FitError> {
+    Ok(match (options.widths, reduced) {
+        (false, _) => None,
+        (true, None) => Some(family_widths(
+            data,
+            model,
+            starts,
+            options.coverage,
+            observer,
+        )?),
+        // Searched on the reduction, then checked (and widened if need be) on the full data.
+        (true, Some(small)) => {
+            let found = family_widths(small, model, None, options.coverage, observer)?;
+            Some(confirm(data, model, found, observer)?)
+        }
+    })
+}
+
+/// The starts of the least-squares method: first the optimum of the simpler structure
+/// `structure` contains ([`simpler`](crate::smooth::simpler)), then the best points of a grid
+/// over (k1, k2), each with the least-squares output gain and offset (`options.starts` in all;
+/// [`grid_starts`]), then the optima of the other structures it contains ([`contained`]). Also,
+/// for each contained structure, its cost and its optimum at the limit where this structure
+/// reproduces it to rounding (for the fallback of [`descend`]).
+fn start_candidates(
+    problem: &SmoothProblem<'_>,
+    structure: Structure,
+    options: &FitOptions,
+    observer: &mut dyn Observer,
+    contained_fits: &mut Contained,
+) -> Result<(Starts, Starts), FitError> {
+    let mut candidates = grid_starts(problem);
+    // The optima of the simpler structures this one contains: the first (along the chain of
+    // [`simpler`]) is the first start, the others follow the grid's. The fit then never ends
+    // worse than those simpler fits (local minima of the richer one aside; the limits below
+    // take care of a saturating shape's). The first counts as one of the `starts`, the best of
+    // the grid fill the rest.
+    let inner = FitOptions {
+        widths: false,
+        ..*options
+    };
+    let mut nested = Vec::new();
+    let mut limits = Vec::new();
+    for simple in contained(structure) {
+        let known = contained_fits.iter().position(|(s, _, _)| *s == simple);
+        let at = if let Some(at) = known {
+            at
+        } else {
+            let (f, cost) =
+                fit_smooth_with(problem.data, simple, &inner, observer, contained_fits)?;
+            contained_fits.push((simple, f, cost));
+            contained_fits.len() - 1
+        };
+        let Some((_, f, cost)) = contained_fits.get(at) else {
+            continue;
+        };
+        if let Some(theta) = embed(problem.layout, f, problem.input_range, NESTED_SCALE) {
+            nested.push(theta);
+        }
+        if let Some(theta) = embed(problem.layout, f, problem.input_range, LIMIT_SCALE) {
+            limits.push((*cost, theta));
+        }
+    }
+    let first = !nested.is_empty();
+    candidates.truncate(options.starts - usize::from(first && options.starts > 1));
+    let mut nested = nested.into_iter();
+    if let Some(theta) = nested.next() {
+        candidates.insert(0, (f64::NAN, theta));
+    }
+    candidates.extend(nested.map(|theta| (f64::NAN, theta)));
+    Ok((candidates, limits))
+}

@@ -1,0 +1,72 @@
+//! What a smooth fit takes and gives: its options ([`FitOptions`]) and its result
+//! ([`SmoothFit`]).
+
+use hyst_model::{ErrorStats, Estimate, FamilyWidths, SmoothModel};
+
+use crate::layout::Layout;
+use crate::lm::{LevenbergMarquardt, Termination};
+
+/// Options of the fit.
+#[derive(Clone, Copy, Debug)]
+pub struct FitOptions {
+    /// Number of starts refined by the least-squares method, at least 1: the best of a grid over
+    /// (k1, k2), and for a richer structure first the optimum of the simpler one it contains
+    /// ([`simpler`](crate::smooth::simpler)), which counts as one of them.
+    pub starts: usize,
+    /// The method.
+    pub method: LevenbergMarquardt,
+    /// Coverage for the family widths (fraction of samples inside the envelope), in (0, 1].
+    pub coverage: f64,
+    /// Compute family widths (a few hundred extra simulations).
+    pub widths: bool,
+    /// Estimate each history's initial state (a record, or a record cut into segments) from its
+    /// data instead of the start rule: a reversal at its first sample with the operator output
+    /// anywhere in the band ([`SmoothModel::simulate_from`]), chosen by least squares for every
+    /// trial of the parameters (variable projection). The start rule stays the model's rule for
+    /// new data.
+    pub estimate_starts: bool,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            starts: 3,
+            method: LevenbergMarquardt::default(),
+            coverage: 0.99,
+            widths: true,
+            estimate_starts: false,
+        }
+    }
+}
+
+/// A fitted smooth model with everything the report needs.
+#[derive(Clone, Debug)]
+pub struct SmoothFit {
+    /// The model.
+    pub model: SmoothModel,
+    /// The structure and its parameters.
+    pub layout: Layout,
+    /// θ at the optimum.
+    pub theta: Vec<f64>,
+    /// Parameters with standard errors.
+    pub estimates: Vec<Estimate>,
+    /// Errors on the training records.
+    pub training: ErrorStats,
+    /// Errors on the validation records (`None` without validation records).
+    pub validation: Option<ErrorStats>,
+    /// Family widths and the bound Δa.
+    pub widths: Option<FamilyWidths>,
+    /// Iterations of the best start.
+    pub iterations: usize,
+    /// Why the best start stopped.
+    pub termination: Termination,
+    /// The estimated start of each history ([`Dataset::histories`](crate::data::Dataset::histories)) as a band fraction in
+    /// [−1, 1] ([`SmoothModel::simulate_from`]); `None` when the start rule was used.
+    pub starts: Option<Vec<f64>>,
+    /// Wall time of the fit (s).
+    pub seconds: f64,
+    /// The fitted model's output on every record of the data it was fitted to (one vector per
+    /// record, in output units), as the fit ran it (segments running on, estimated starts):
+    /// the run the error statistics came from, kept for the degeneracy check and the plots.
+    pub outputs: Vec<Vec<f64>>,
+}

@@ -1,0 +1,484 @@
+//! The least-squares problem of one structure on one dataset ([`SmoothProblem`]): the output
+//! error over the training records, each history simulated from the start rule or from its
+//! estimated start, and its Jacobian.
+//!
+//! Derivatives: exact, by forward-mode duals. θ is seeded as [`Dual`] variables, the model
+//! is built from them by the same [`Layout::model`] (so the log transforms, the data-dependent
+//! shaping domains and the k2 law's clamps carry their derivatives) and run by the same
+//! [`SmoothModel::run_with`] as the residuals: the core's operator, memory (every reversal
+//! point carries its gradient forward), k2 law and shaping functions are evaluated on duals
+//! through their one code path. One dual run per record gives every column at the cost of a
+//! few plain runs; any structure `Layout::model` builds gets its Jacobian this way.
+
+use hyst_core::{Dual, Shaping};
+use hyst_model::smooth::FitReal;
+use hyst_model::SmoothModel;
+
+use crate::data::{Dataset, History};
+use crate::layout::Layout;
+use crate::lm::{Infeasible, Problem};
+
+/// The least-squares problem of one structure on one dataset.
+pub(super) struct SmoothProblem<'a> {
+    /// The structure, laid out as parameters.
+    pub(super) layout: &'a Layout,
+    /// The data.
+    pub(super) data: &'a Dataset,
+    /// The records as uninterrupted histories (segments of one measurement run on from each
+    /// other), each with the offset of its training samples in residual order.
+    histories: Vec<(History, Vec<Option<usize>>)>,
+    /// Estimate each history's start
+    /// ([`FitOptions::estimate_starts`](crate::smooth::FitOptions::estimate_starts)).
+    estimate: bool,
+    /// The input range of all the records ([`Dataset::input_range`]), for the shaping domains.
+    pub(super) input_range: (f64, f64),
+    /// √w / output half-span per training sample, in residual order.
+    scale: Vec<f64>,
+    /// Number of residuals: the training samples.
+    pub(super) n: usize,
+}
+
+impl<'a> SmoothProblem<'a> {
+    pub(super) fn new(layout: &'a Layout, data: &'a Dataset, estimate: bool) -> Self {
+        let inv = 1.0 / layout.norm.output_half_span;
+        let scale: Vec<f64> = data
+            .training()
+            .flat_map(|r| r.weight.iter().map(move |w| w.sqrt() * inv))
+            .collect();
+        // Residual offsets: training records in order.
+        let mut offsets = vec![None; data.records.len()];
+        let mut at = 0;
+        for (i, r) in data.records.iter().enumerate() {
+            if !r.validation {
+                offsets[i] = Some(at);
+                at += r.len();
+            }
+        }
+        let histories = data
+            .histories()
+            .into_iter()
+            .map(|h| {
+                let o = h.parts.iter().map(|(i, _, _)| offsets[*i]).collect();
+                (h, o)
+            })
+            .collect();
+        Self {
+            layout,
+            data,
+            histories,
+            estimate,
+            input_range: data.input_range(),
+            n: scale.len(),
+            scale,
+        }
+    }
+
+    pub(super) fn model<T: FitReal>(&self, theta: &[T]) -> Result<SmoothModel<T>, Infeasible> {
+        self.layout
+            .model(theta, self.input_range)
+            .map_err(|_| Infeasible)
+    }
+
+    /// The estimated start of each history for the model `m` (`None` without estimation):
+    /// the band fraction b ∈ [−1, 1] that minimises the history's weighted squared error, by
+    /// Brent's method, compared with the ends b = ±1 (the asymptotes, where the minimum often
+    /// lies).
+    pub(super) fn bands(&self, m: &SmoothModel) -> Option<Vec<f64>> {
+        if !self.estimate {
+            return None;
+        }
+        let mut y = Vec::new();
+        let bands = self
+            .histories
+            .iter()
+            .map(|(h, _)| {
+                y.resize(h.input.len(), 0.0);
+                let mut cost = |b: f64| -> f64 {
+                    if m.simulate_from(&h.input, Some(b), None, &mut y).is_err() {
+                        return f64::INFINITY;
+                    }
+                    y.iter()
+                        .zip(&h.output)
+                        .zip(&h.weight)
+                        .map(|((p, o), w)| w * (p - o) * (p - o))
+                        .sum()
+                };
+                let inner = brent_minimum(&mut cost, -1.0, 1.0, 1e-7);
+                [(-1.0, cost(-1.0)), (1.0, cost(1.0)), inner]
+                    .into_iter()
+                    .min_by(|p, q| p.1.total_cmp(&q.1))
+                    .map_or(0.0, |p| p.0)
+            })
+            .collect();
+        Some(bands)
+    }
+
+    /// Simulates the training records (each history whole, validation segments included, so
+    /// that a segment starts where the one before it ended), from the estimated starts when
+    /// the fit estimates them; `z` receives the operator output when given.
+    pub(super) fn simulate(
+        &self,
+        m: &SmoothModel,
+        y: &mut [f64],
+        z: Option<&mut [f64]>,
+    ) -> Result<(), Infeasible> {
+        self.simulate_with(m, self.bands(m).as_deref(), y, z)
+    }
+
+    /// [`SmoothProblem::simulate`] from the given starts (`None`: the start rule).
+    fn simulate_with(
+        &self,
+        m: &SmoothModel,
+        bands: Option<&[f64]>,
+        y: &mut [f64],
+        mut z: Option<&mut [f64]>,
+    ) -> Result<(), Infeasible> {
+        let (mut hy, mut hz) = (Vec::new(), Vec::new());
+        for (index, (h, offsets)) in self.histories.iter().enumerate() {
+            hy.resize(h.input.len(), 0.0);
+            hz.resize(h.input.len(), 0.0);
+            let zs = z.is_some().then_some(&mut hz[..]);
+            let band = bands.and_then(|b| b.get(index).copied());
+            m.simulate_from(&h.input, band, zs, &mut hy)
+                .map_err(|_| Infeasible)?;
+            for ((_, start, len), at) in h.parts.iter().zip(offsets) {
+                let Some(at) = *at else { continue };
+                y[at..at + len].copy_from_slice(&hy[*start..start + len]);
+                if let Some(z) = z.as_deref_mut() {
+                    z[at..at + len].copy_from_slice(&hz[*start..start + len]);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn to_residuals(&self, y: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
+        let mut i = 0;
+        for rec in self.data.training() {
+            for obs in &rec.output {
+                let v = (y[i] - obs) * self.scale[i];
+                if !v.is_finite() {
+                    return Err(Infeasible);
+                }
+                r[i] = v;
+                i += 1;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl SmoothProblem<'_> {
+    /// Σ r² at θ given the operator output `z` = H[ψ_in(in)] per residual of a point with the
+    /// same k1, k2 law and ψ_in (θ differs only in ψ_out and the linear term): the residuals
+    /// [`Problem::residuals`] computes, from the same per-sample arithmetic
+    /// ([`SmoothModel::output`] of ψ_in(in) and z), without running the operator again.
+    /// `None` when θ is infeasible (as `residuals` says).
+    pub(super) fn cost_from_operator(&self, theta: &[f64], z: &[f64]) -> Option<f64> {
+        let m = self.model(theta).ok()?;
+        let mut y = vec![0.0; self.n];
+        let inputs = self.data.training().flat_map(|r| r.input.iter());
+        for ((slot, x), u) in y.iter_mut().zip(inputs).zip(z) {
+            let out = m.output(m.input_shaping.apply(*x), *u);
+            if !out.is_finite() {
+                return None;
+            }
+            *slot = out;
+        }
+        let mut r = vec![0.0; self.n];
+        self.to_residuals(&y, &mut r).ok()?;
+        Some(r.iter().map(|v| v * v).sum())
+    }
+}
+
+impl Problem for SmoothProblem<'_> {
+    fn parameters(&self) -> usize {
+        self.layout.len()
+    }
+    fn residual_count(&self) -> usize {
+        self.n
+    }
+    fn residuals(&self, theta: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
+        let m = self.model(theta)?;
+        let mut y = vec![0.0; self.n];
+        self.simulate(&m, &mut y, None)?;
+        self.to_residuals(&y, r)
+    }
+    /// Exact derivatives: one run of the model on [`Dual`] numbers seeded in θ (through the
+    /// transforms of [`Layout::model`]) per training record, up to 16 parameters at a time
+    /// (the dual's width is the next of 4, 6, 8, 12, 16: unused lanes cost time).
+    fn jacobian(&self, theta: &[f64], _r: &[f64], jac: &mut [f64]) -> Result<(), Infeasible> {
+        match theta.len() {
+            0..=4 => self.dual_columns::<4>(theta, 0, jac),
+            5..=6 => self.dual_columns::<6>(theta, 0, jac),
+            7..=8 => self.dual_columns::<8>(theta, 0, jac),
+            9..=12 => self.dual_columns::<12>(theta, 0, jac),
+            p => (0..p)
+                .step_by(16)
+                .try_for_each(|offset| self.dual_columns::<16>(theta, offset, jac)),
+        }
+    }
+}
+
+impl SmoothProblem<'_> {
+    /// Columns `offset..offset + N` of the Jacobian (those that exist) from one dual run over
+    /// each history (as [`SmoothProblem::simulate`] runs them): θ_j seeded as the dual variable
+    /// j − offset, the others constant.
+    fn dual_columns<const N: usize>(
+        &self,
+        theta: &[f64],
+        offset: usize,
+        jac: &mut [f64],
+    ) -> Result<(), Infeasible> {
+        let n = self.n;
+        let seeded: Vec<Dual<f64, N>> = theta
+            .iter()
+            .enumerate()
+            .map(|(j, t)| Dual::variable(*t, j.wrapping_sub(offset)))
+            .collect();
+        let m = self.model(&seeded)?;
+        // Estimated starts stay those of the base point: at the optimum over them, the
+        // derivative of the cost with respect to θ is the partial one (variable projection).
+        let bands = self.bands(&self.model(theta)?);
+        let columns = N.min(theta.len().saturating_sub(offset));
+        let jac = jac
+            .get_mut(offset * n..(offset + columns) * n)
+            .ok_or(Infeasible)?;
+        let mut finite = true;
+        // Each history whole, as `simulate` runs it; a sample of a training part lands at its
+        // residual's row (parts are in sample order, so one cursor walks them).
+        for (index, (h, offsets)) in self.histories.iter().enumerate() {
+            let mut parts = h.parts.iter().zip(offsets).peekable();
+            let band = bands.as_ref().and_then(|b| b.get(index).copied());
+            m.run_with(&h.input, band, |i, _, y| {
+                while parts
+                    .peek()
+                    .is_some_and(|((_, start, len), _)| i >= start + len)
+                {
+                    parts.next();
+                }
+                let Some(&((_, start, _), Some(at))) = parts.peek() else {
+                    return;
+                };
+                let Some(k) = i.checked_sub(*start).map(|d| at + d) else {
+                    return;
+                };
+                let scale = self.scale.get(k).copied().unwrap_or(0.0);
+                for (c, g) in y.gradient().iter().take(columns).enumerate() {
+                    let d = g * scale;
+                    finite &= d.is_finite();
+                    if let Some(slot) = jac.get_mut(c * n + k) {
+                        *slot = d;
+                    }
+                }
+            })
+            .map_err(|_| Infeasible)?;
+        }
+        if finite {
+            Ok(())
+        } else {
+            Err(Infeasible)
+        }
+    }
+}
+
+/// The minimum of `f` on [a, b] by Brent's method (golden sections with parabolic steps),
+/// to an absolute tolerance `tol` in x: (x, f(x)). About 10–15 evaluations for a smooth
+/// function, where golden sections alone need 40.
+fn brent_minimum(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, tol: f64) -> (f64, f64) {
+    let golden = 0.5 * (3.0 - 5.0_f64.sqrt());
+    let (mut a, mut b) = (a, b);
+    let mut x = a + golden * (b - a);
+    let (mut w, mut v) = (x, x);
+    let mut fx = f(x);
+    let (mut fw, mut fv) = (fx, fx);
+    let (mut d, mut e) = (0.0_f64, 0.0_f64);
+    for _ in 0..60 {
+        let m = 0.5 * (a + b);
+        if (x - m).abs() <= 2.0 * tol - 0.5 * (b - a) {
+            break;
+        }
+        let mut golden_step = true;
+        if e.abs() > tol {
+            // Parabola through (v, fv), (w, fw), (x, fx).
+            let r = (x - w) * (fx - fv);
+            let q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            let mut q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
+            }
+            q = q.abs();
+            if p.abs() < (0.5 * q * e).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                golden_step = false;
+            }
+        }
+        if golden_step {
+            e = if x >= m { a - x } else { b - x };
+            d = golden * e;
+        }
+        let u = if d.abs() >= tol {
+            x + d
+        } else {
+            x + tol.copysign(d)
+        };
+        let fu = f(u);
+        if fu <= fx {
+            if u >= x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv, w, fw) = (w, fw, u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
+    }
+    (x, fx)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
+    use super::*;
+    use crate::data::Record;
+    use crate::layout::Transform;
+    use crate::smooth::driver::normalisation;
+    use hyst_model::{Columns, Form, K2Kind, ShapingKind, Structure};
+
+    /// Three records: the second continues the first (one history), the third is held out in
+    /// between so the residual rows skip it, and a fourth starts afresh.
+    fn data() -> Dataset {
+        let record = |id: i64, phase: f64, validation: bool, continues: bool| {
+            let input: Vec<f64> = (0..300)
+                .map(|k| {
+                    let t = f64::from(k) * 0.03 + phase;
+                    2.0 + 1.5 * t.sin() * (1.0 + 0.3 * (0.31 * t).cos())
+                })
+                .collect();
+            let output = input
+                .iter()
+                .map(|x| 3.0 * x + 0.4 * (x * 1.7).sin())
+                .collect();
+            Record {
+                id,
+                weight: vec![1.0; input.len()],
+                rows: (0..input.len()).collect(),
+                output,
+                input,
+                validation,
+                continues,
+            }
+        };
+        let records = vec![
+            record(0, 0.0, false, false),
+            record(1, 9.0, true, true),
+            record(2, 18.0, false, true),
+            record(3, 2.0, false, false),
+        ];
+        Dataset::from_records("test", Columns::default(), records)
+    }
+
+    /// The dual Jacobian equals central differences of the residuals (the same evaluation), for
+    /// structures with every kind of parameter: k2 law, ψ_in, ψ_out, offsets, the stop form.
+    #[test]
+    fn dual_jacobian_equals_central_differences() {
+        let data = data();
+        let structures = [
+            (
+                K2Kind::Constant,
+                ShapingKind::Affine,
+                ShapingKind::Tanh,
+                Form::Operator,
+            ),
+            (
+                K2Kind::Affine,
+                ShapingKind::Poly2,
+                ShapingKind::Langevin,
+                Form::Operator,
+            ),
+            (
+                K2Kind::Constant,
+                ShapingKind::Langevin,
+                ShapingKind::Poly3,
+                Form::Operator,
+            ),
+            (
+                K2Kind::Constant,
+                ShapingKind::Tanh,
+                ShapingKind::Affine,
+                Form::Stop,
+            ),
+        ];
+        for (k2, input_shaping, output_shaping, form) in structures {
+            let structure = Structure {
+                k2,
+                input_shaping,
+                output_shaping,
+                form,
+                ..Structure::default()
+            };
+            let layout = Layout::new(structure, normalisation(&data));
+            let problem = SmoothProblem::new(&layout, &data, false);
+            let (n, p) = (problem.n, layout.len());
+            // A point away from the neutral start (k1 0.3, k2 4, small shape parameters).
+            let mut theta = layout.start();
+            theta[0] = 0.3_f64.ln();
+            theta[1] = 4.0_f64.ln();
+            for (j, spec) in layout.params.iter().enumerate().skip(2) {
+                if spec.transform == Transform::Linear && spec.start == 0.0 {
+                    theta[j] = 0.01 * (j as f64);
+                }
+            }
+            let mut r = vec![0.0; n];
+            problem.residuals(&theta, &mut r).unwrap();
+            let mut jac = vec![0.0; n * p];
+            problem.jacobian(&theta, &r, &mut jac).unwrap();
+            let (mut up, mut down) = (vec![0.0; n], vec![0.0; n]);
+            for j in 0..p {
+                let h = 1e-6 * theta[j].abs().max(1.0);
+                let mut t = theta.clone();
+                t[j] = theta[j] + h;
+                problem.residuals(&t, &mut up).unwrap();
+                t[j] = theta[j] - h;
+                problem.residuals(&t, &mut down).unwrap();
+                for i in 0..n {
+                    let fd = (up[i] - down[i]) / (2.0 * h);
+                    let d = jac[j * n + i];
+                    assert!(
+                        (d - fd).abs() <= 1e-5 * (1.0 + fd.abs()),
+                        "{structure:?} {} row {i}: dual {d} vs central difference {fd}",
+                        layout.params[j].name
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn brent_finds_inner_and_edge_minima_in_few_evaluations() {
+        let mut calls = 0;
+        let mut f = |x: f64| {
+            calls += 1;
+            (x - 0.3).powi(2) + 0.1 * (x - 0.3).powi(4)
+        };
+        let (x, _) = brent_minimum(&mut f, -1.0, 1.0, 1e-7);
+        assert!(
+            (x - 0.3).abs() < 1e-6 && calls < 30,
+            "{x} after {calls} calls"
+        );
+        let (x, _) = brent_minimum(&mut |x: f64| x, -1.0, 1.0, 1e-7);
+        assert!(x < -1.0 + 1e-6, "{x}");
+    }
+}

@@ -1,0 +1,97 @@
+//! Error statistics of a fitted model on the training and validation records, and the check
+//! that a fit's numbers are finite.
+
+use hyst_model::{ErrorStats, SmoothModel};
+
+use crate::data::Dataset;
+use crate::error::FitError;
+
+/// The output of `model` on every record of `data` (record order), each history run from its
+/// estimated start `starts` (per history,
+/// [`SmoothFit::starts`](crate::smooth::SmoothFit::starts)) or the start rule.
+#[must_use]
+pub fn run_records(
+    data: &Dataset,
+    model: &SmoothModel,
+    starts: Option<&[f64]>,
+) -> Option<Vec<Vec<f64>>> {
+    data.run_histories_with(|index, input| {
+        let mut y = vec![0.0; input.len()];
+        let band = starts.and_then(|s| s.get(index).copied());
+        model.simulate_from(input, band, None, &mut y).ok()?;
+        Some(y)
+    })
+}
+
+/// Training and validation error statistics of any model (`run` maps a record's input to its
+/// output, `None` when the model cannot run it).
+///
+/// # Errors
+/// [`FitError::NoConvergence`] when the model cannot run a record.
+pub fn error_stats(
+    data: &Dataset,
+    run: impl Fn(&[f64]) -> Option<Vec<f64>>,
+) -> Result<(ErrorStats, Option<ErrorStats>), FitError> {
+    let outputs = data
+        .run_histories(run)
+        .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
+    Ok(error_stats_of(data, &outputs))
+}
+
+/// Training and validation error statistics of the model `outputs` (one per record).
+#[must_use]
+pub fn error_stats_of(data: &Dataset, outputs: &[Vec<f64>]) -> (ErrorStats, Option<ErrorStats>) {
+    let (lo, hi) = data.output_range();
+    let span = (hi - lo).max(f64::MIN_POSITIVE);
+    let mut train = Vec::new();
+    let mut val = Vec::new();
+    for (r, y) in data.records.iter().zip(outputs) {
+        let errs = if r.validation { &mut val } else { &mut train };
+        for ((m, o), w) in y.iter().zip(&r.output).zip(&r.weight) {
+            if *w > 0.0 {
+                errs.push(m - o);
+            }
+        }
+    }
+    let v = if val.is_empty() {
+        None
+    } else {
+        Some(ErrorStats::new(&val, span))
+    };
+    (ErrorStats::new(&train, span), v)
+}
+
+/// Refuses a fit whose error statistics or parameter values are not finite
+/// ([`FitError::NonFiniteResult`]). Standard errors may be NaN (a parameter the data does not
+/// identify) and are not checked.
+///
+/// # Errors
+/// [`FitError::NonFiniteResult`] naming the first non-finite number.
+pub fn check_finite<'a>(
+    file: &str,
+    training: &ErrorStats,
+    validation: Option<&ErrorStats>,
+    parameters: impl IntoIterator<Item = (&'a str, f64)>,
+) -> Result<(), FitError> {
+    let stats = [("training", Some(training)), ("validation", validation)];
+    let mut numbers: Vec<(String, f64)> = Vec::new();
+    for (set, s) in stats {
+        if let Some(s) = s {
+            numbers.push((format!("the {set} RMS"), s.rms));
+            numbers.push((format!("the {set} max error"), s.max_abs));
+        }
+    }
+    numbers.extend(
+        parameters
+            .into_iter()
+            .map(|(name, v)| (format!("parameter {name}"), v)),
+    );
+    match numbers.into_iter().find(|(_, v)| !v.is_finite()) {
+        Some((what, value)) => Err(FitError::NonFiniteResult {
+            file: file.to_string(),
+            what,
+            value,
+        }),
+        None => Ok(()),
+    }
+}
