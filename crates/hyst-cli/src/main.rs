@@ -25,7 +25,7 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Run the direct operator (or its inverse, the compensator) over a CSV file.
+    /// Run the operator or a model (or its exact inverse) over a CSV file.
     Run(run::Args),
     /// Error bound Δa of a family of operators (Propositions 3.2, 3.3).
     Bound(bound::Args),
@@ -33,7 +33,7 @@ enum Command {
     Paper(paper::Args),
     /// Identify a model from measured data.
     Fit(fit::Args),
-    /// Export the operator, a fitted model or its compensator as an FMU (FMI 2.0 co-simulation).
+    /// Export the operator, a fitted model or its inverse as an FMU (FMI 2.0 co-simulation).
     ///
     /// With --k1/--k2, these are the start values of the FMU's parameters k1 and k2 (tunable
     /// before initialisation); with --model, the model file is packed into the FMU.

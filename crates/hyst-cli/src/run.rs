@@ -1,4 +1,4 @@
-//! `hyst run`: the direct operator, or its inverse (the compensator), over a CSV file.
+//! `hyst run`: the operator or a fitted model, or its exact inverse, over a CSV file.
 //!
 //! Contract (relied on by tests and other tools):
 //! - INPUT has a header row. The input column is `--column NAME`, else `x`, else the only column
@@ -79,8 +79,8 @@ pub struct Args {
 pub fn main(args: Args) -> Result<()> {
     if args.saturate && !(args.source.model.is_some() && args.source.inverse) {
         bail!(
-            "--saturate applies to --model FILE --inverse: the compensator of a model whose \
-             output shaping saturates"
+            "--saturate applies to --model FILE --inverse: the inverse of a model whose output \
+             shaping saturates"
         );
     }
     // The data is opened only once the model is known to do what is asked.
@@ -180,7 +180,7 @@ fn refuse_stop_form(model: &hyst_model::ModelFile, path: &std::path::Path) -> Re
     Ok(())
 }
 
-/// What the compensator of a model with a saturating output shaping may be asked for, and
+/// What the inverse of a model with a saturating output shaping may be asked for, and
 /// whether to clamp (`--saturate`) or refuse the rest.
 #[derive(Clone, Copy)]
 struct Limits {

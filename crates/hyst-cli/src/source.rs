@@ -18,8 +18,7 @@ pub struct Source {
     /// A fitted model file (TOML, see docs/formats.md) instead of --k1/--k2.
     #[arg(long, conflicts_with_all = ["k1", "k2"])]
     pub model: Option<PathBuf>,
-    /// The inverse: H⁻¹ (eq. 4), or the model's exact compensator; desired output in, command
-    /// out.
+    /// The inverse: H⁻¹ (eq. 4), or the model's exact inverse; desired output in, command out.
     #[arg(long)]
     pub inverse: bool,
 }

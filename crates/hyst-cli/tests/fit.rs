@@ -34,7 +34,7 @@ fn column(csv: &str, name: &str) -> Result<Vec<f64>, Box<dyn std::error::Error>>
 }
 
 /// Feeds a direct run's output (y, y_d1, y_d2) back through `hyst run --model MODEL --inverse
-/// --derivatives 2` and returns the compensator's CSV.
+/// --derivatives 2` and returns the inverse's CSV.
 fn invert_with_derivatives(
     dir: &Path,
     model: &str,
@@ -120,7 +120,7 @@ fn piezo_fit_is_accurate_and_run_reads_the_model_back() -> R {
         .sqrt();
     assert!((rms_back - rms).abs() <= 1e-12 * rms, "{rms_back} vs {rms}");
 
-    // --inverse: the compensator turns the model output back into the input exactly.
+    // --inverse: the inverse turns the model output back into the input exactly.
     let inv_out = dir.path().join("inv.csv");
     let out = hyst(&[
         "run",
@@ -410,7 +410,7 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
         .ok_or("rms")?;
     assert!((rms - fitted).abs() <= 1e-9 * fitted, "{rms} vs {fitted}");
 
-    // … and its exact compensator gives back the command that produced the output.
+    // … and its exact inverse gives back the command that produced the output.
     let command = dir.path().join("command.csv");
     let out = hyst(&[
         "run",
@@ -472,7 +472,7 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
     }
     assert_eq!(
         misses, 0,
-        "the compensator's derivative misses the command's"
+        "the inverse's derivative misses the command's"
     );
 
     // A missing derivative column is named with the option.
