@@ -92,7 +92,7 @@ typedef struct hyst_bank hyst_bank;
 typedef struct hyst_bank_f32 hyst_bank_f32;
 
 // A fitted model loaded from a model file, with the state of its direct run and of its
-// compensator run (opaque; create with `hyst_model_load`, release with `hyst_model_free`).
+// inverse run (opaque; create with `hyst_model_load`, release with `hyst_model_free`).
 typedef struct hyst_model hyst_model;
 
 // The parametric operator H(k1, k2) (eq. 2) or H⁻¹(k1, k2) (eq. 4) with its memory: an opaque
@@ -171,8 +171,10 @@ typedef struct hyst_shaping_f32 {
   float post_offset;
 } hyst_shaping_f32;
 
-// The shaped model out = ψ_out(H(k1, k2)[ψ_in(in)]) (Section 4.3).
-typedef struct hyst_model_params_f32 {
+// The parameters of the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) (Section 4.3), for
+// `hyst_shaped_model_init_direct_f32`, `hyst_shaped_model_init_inverse_f32` and
+// `hyst_shaped_compensator_init_f32`.
+typedef struct hyst_shaped_model_params_f32 {
   // k1 > 0: the half-width of the loop, in the units of ψ_in's value.
   float k1;
   // The k2 law.
@@ -181,7 +183,7 @@ typedef struct hyst_model_params_f32 {
   struct hyst_shaping_f32 input;
   // ψ_out: from the operator's units to output units.
   struct hyst_shaping_f32 output;
-} hyst_model_params_f32;
+} hyst_shaped_model_params_f32;
 
 // The Lemma 5.1 compensator of the plain operator H(k1, k2) for a plant
 // b / (a_n sⁿ + … + a_1 s + 1), n ≤ 4, before the hysteresis: an opaque block of 160 bytes,
@@ -190,8 +192,8 @@ typedef struct hyst_compensator_f32 {
   uint64_t opaque[20];
 } hyst_compensator_f32;
 
-// The Lemma 5.1 compensator of a shaped model (`hyst_model_params_f32`), n ≤ 4: an opaque block of
-// 512 bytes, 8-byte aligned, plain data.
+// The Lemma 5.1 compensator of a shaped model (`hyst_shaped_model_params_f32`), n ≤ 4: an opaque
+// block of 256 bytes, 8-byte aligned, plain data.
 typedef struct hyst_shaped_compensator_f32 {
   uint64_t opaque[32];
 } hyst_shaped_compensator_f32;
@@ -272,8 +274,10 @@ typedef struct hyst_shaping {
   double post_offset;
 } hyst_shaping;
 
-// The shaped model out = ψ_out(H(k1, k2)[ψ_in(in)]) (Section 4.3).
-typedef struct hyst_model_params {
+// The parameters of the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) (Section 4.3), for
+// `hyst_shaped_model_init_direct`, `hyst_shaped_model_init_inverse` and
+// `hyst_shaped_compensator_init`.
+typedef struct hyst_shaped_model_params {
   // k1 > 0: the half-width of the loop, in the units of ψ_in's value.
   double k1;
   // The k2 law.
@@ -282,7 +286,7 @@ typedef struct hyst_model_params {
   struct hyst_shaping input;
   // ψ_out: from the operator's units to output units.
   struct hyst_shaping output;
-} hyst_model_params;
+} hyst_shaped_model_params;
 
 // The Lemma 5.1 compensator of the plain operator H(k1, k2) for a plant
 // b / (a_n sⁿ + … + a_1 s + 1), n ≤ 4, before the hysteresis: an opaque block of 320 bytes,
@@ -291,8 +295,8 @@ typedef struct hyst_compensator {
   uint64_t opaque[40];
 } hyst_compensator;
 
-// The Lemma 5.1 compensator of a shaped model (`hyst_model_params`), n ≤ 4: an opaque block of
-// 512 bytes, 8-byte aligned, plain data.
+// The Lemma 5.1 compensator of a shaped model (`hyst_shaped_model_params`), n ≤ 4: an opaque
+// block of 512 bytes, 8-byte aligned, plain data.
 typedef struct hyst_shaped_compensator {
   uint64_t opaque[64];
 } hyst_shaped_compensator;
@@ -311,8 +315,8 @@ extern "C" {
 // `op` is NULL or points to a writable `hyst_operator_f32`.
 int32_t hyst_operator_init_direct_f32(struct hyst_operator_f32 *op, float k1, float k2);
 
-// Initialises `op` as the inverse operator v = H⁻¹(k1, k2)[u_d] (eq. 4), the exact
-// compensator of `hyst_operator_init_direct_f32`'s operator, with no history.
+// Initialises `op` as the inverse operator v = H⁻¹(k1, k2)[u_d] (eq. 4), the exact inverse of
+// `hyst_operator_init_direct_f32`'s operator, with no history.
 //
 // Returns as `hyst_operator_init_direct_f32`.
 //
@@ -371,7 +375,7 @@ int32_t hyst_operator_set_memory_f32(struct hyst_operator_f32 *op,
 // `op` is NULL or an initialised `hyst_operator_f32`.
 int32_t hyst_operator_reset_f32(struct hyst_operator_f32 *op);
 
-// Initialises `m` as the shaped model out = ψ_out(H(k1, k2)[ψ_in(in)]) of `params`, with no
+// Initialises `m` as the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) of `params`, with no
 // history.
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`,
@@ -380,17 +384,17 @@ int32_t hyst_operator_reset_f32(struct hyst_operator_f32 *op);
 // # Safety
 // `m` is NULL or points to a writable `hyst_shaped_model_f32`; `params` is NULL or readable.
 int32_t hyst_shaped_model_init_direct_f32(struct hyst_shaped_model_f32 *m,
-                                          const struct hyst_model_params_f32 *params);
+                                          const struct hyst_shaped_model_params_f32 *params);
 
-// Initialises `m` as the exact compensator in = ψ_in⁻¹(H⁻¹(k1, k2)[ψ_out⁻¹(out)]) of the shaped
-// model of `params` (desired output in, command out), with no history.
+// Initialises `m` as the exact inverse x = ψ_in⁻¹(H⁻¹(k1, k2)[ψ_out⁻¹(y_d)]) of the shaped
+// model of `params` (a desired output y_d in, the command x out), with no history.
 //
 // Returns as `hyst_shaped_model_init_direct_f32`.
 //
 // # Safety
 // As `hyst_shaped_model_init_direct_f32`.
 int32_t hyst_shaped_model_init_inverse_f32(struct hyst_shaped_model_f32 *m,
-                                           const struct hyst_model_params_f32 *params);
+                                           const struct hyst_shaped_model_params_f32 *params);
 
 // One sample, as `hyst_operator_step_f32`; the inverse also returns `HYST_ERR_OUT_OF_RANGE` for a
 // desired output beyond a saturating shaping function (and holds the last command).
@@ -505,7 +509,7 @@ int32_t hyst_compensator_reset_f32(struct hyst_compensator_f32 *c);
 // `c` is NULL or points to a writable `hyst_shaped_compensator_f32`; `params` is NULL or readable;
 // `a` and `v0` are NULL or hold n values.
 int32_t hyst_shaped_compensator_init_f32(struct hyst_shaped_compensator_f32 *c,
-                                         const struct hyst_model_params_f32 *params,
+                                         const struct hyst_shaped_model_params_f32 *params,
                                          float b,
                                          const float *a,
                                          const float *v0,
@@ -555,8 +559,8 @@ int32_t hyst_shaped_compensator_reset_f32(struct hyst_shaped_compensator_f32 *c)
 // `op` is NULL or points to a writable `hyst_operator`.
 int32_t hyst_operator_init_direct(struct hyst_operator *op, double k1, double k2);
 
-// Initialises `op` as the inverse operator v = H⁻¹(k1, k2)[u_d] (eq. 4), the exact
-// compensator of `hyst_operator_init_direct`'s operator, with no history.
+// Initialises `op` as the inverse operator v = H⁻¹(k1, k2)[u_d] (eq. 4), the exact inverse of
+// `hyst_operator_init_direct`'s operator, with no history.
 //
 // Returns as `hyst_operator_init_direct`.
 //
@@ -614,7 +618,7 @@ int32_t hyst_operator_set_memory(struct hyst_operator *op, const struct hyst_mem
 // `op` is NULL or an initialised `hyst_operator`.
 int32_t hyst_operator_reset(struct hyst_operator *op);
 
-// Initialises `m` as the shaped model out = ψ_out(H(k1, k2)[ψ_in(in)]) of `params`, with no
+// Initialises `m` as the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) of `params`, with no
 // history.
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`,
@@ -623,17 +627,17 @@ int32_t hyst_operator_reset(struct hyst_operator *op);
 // # Safety
 // `m` is NULL or points to a writable `hyst_shaped_model`; `params` is NULL or readable.
 int32_t hyst_shaped_model_init_direct(struct hyst_shaped_model *m,
-                                      const struct hyst_model_params *params);
+                                      const struct hyst_shaped_model_params *params);
 
-// Initialises `m` as the exact compensator in = ψ_in⁻¹(H⁻¹(k1, k2)[ψ_out⁻¹(out)]) of the shaped
-// model of `params` (desired output in, command out), with no history.
+// Initialises `m` as the exact inverse x = ψ_in⁻¹(H⁻¹(k1, k2)[ψ_out⁻¹(y_d)]) of the shaped
+// model of `params` (a desired output y_d in, the command x out), with no history.
 //
 // Returns as `hyst_shaped_model_init_direct`.
 //
 // # Safety
 // As `hyst_shaped_model_init_direct`.
 int32_t hyst_shaped_model_init_inverse(struct hyst_shaped_model *m,
-                                       const struct hyst_model_params *params);
+                                       const struct hyst_shaped_model_params *params);
 
 // One sample, as `hyst_operator_step`; the inverse also returns `HYST_ERR_OUT_OF_RANGE` for a
 // desired output beyond a saturating shaping function (and holds the last command).
@@ -744,7 +748,7 @@ int32_t hyst_compensator_reset(struct hyst_compensator *c);
 // `c` is NULL or points to a writable `hyst_shaped_compensator`; `params` is NULL or readable;
 // `a` and `v0` are NULL or hold n values.
 int32_t hyst_shaped_compensator_init(struct hyst_shaped_compensator *c,
-                                     const struct hyst_model_params *params,
+                                     const struct hyst_shaped_model_params *params,
                                      double b,
                                      const double *a,
                                      const double *v0,
@@ -785,7 +789,7 @@ int32_t hyst_shaped_compensator_get_state(struct hyst_shaped_compensator *c,
 int32_t hyst_shaped_compensator_reset(struct hyst_shaped_compensator *c);
 
 // Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
-// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the compensators) when `inverse` ≠ 0, each with no history.
+// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the inverses) when `inverse` ≠ 0, each with no history.
 // On success `*bank` receives it (release it with `hyst_bank_free_f32`).
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER` (`bank`, `k1` or `k2` NULL), `HYST_ERR_LENGTH`
@@ -854,12 +858,12 @@ int32_t hyst_bank_get_memory_f32(struct hyst_bank_f32 *bank,
                                  struct hyst_memory_f32 *memory);
 
 // Restores the memory of channel `channel` from `*memory` (`has_history` = 0: no history), as
-// saved by `hyst_bank_get_memory_f32` (or `hyst_operator_get_memory`: the same memory).
+// saved by `hyst_bank_get_memory_f32` (or `hyst_operator_get_memory_f32`: the same memory).
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` for a channel beyond the bank,
 // `HYST_ERR_INVALID_PARAMETER` (non-finite values, a direction other than ±1) or
 // `HYST_ERR_STATE_OUTSIDE_BAND` (a point outside the band |output − input| ≤ k1) for a memory
-// the channel cannot be in, as `hyst_operator_set_memory` (nothing changes then).
+// the channel cannot be in, as `hyst_operator_set_memory_f32` (nothing changes then).
 //
 // # Safety
 // `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed; `memory` is NULL or readable.
@@ -874,7 +878,7 @@ int32_t hyst_bank_set_memory_f32(struct hyst_bank_f32 *bank,
 void hyst_bank_free_f32(struct hyst_bank_f32 *bank);
 
 // Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
-// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the compensators) when `inverse` ≠ 0, each with no history.
+// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the inverses) when `inverse` ≠ 0, each with no history.
 // On success `*bank` receives it (release it with `hyst_bank_free`).
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER` (`bank`, `k1` or `k2` NULL), `HYST_ERR_LENGTH`
@@ -969,7 +973,7 @@ void hyst_bank_free(struct hyst_bank *bank);
 struct hyst_model *hyst_model_load(const char *path, char *error, size_t error_len);
 
 // Runs the model over `n` samples from `x` into `y` (which may be the same array): the direct
-// model (`inverse` = 0: input → output) or its exact compensator (`inverse` ≠ 0: desired output →
+// model (`inverse` = 0: input → output) or its exact inverse (`inverse` ≠ 0: desired output →
 // command). The first call of each kind after `hyst_model_load` or `hyst_model_reset` starts a
 // record from the model's start rule at `x[0]`, exactly as `hyst run --model`; later calls
 // continue it, so a signal may be fed in blocks. Results are bit-identical to
@@ -982,39 +986,39 @@ struct hyst_model *hyst_model_load(const char *path, char *error, size_t error_l
 // # Safety
 // `m` is NULL or a model from `hyst_model_load` not yet freed; when n > 0, `x` and `y` are NULL
 // or hold `n` values.
-int hyst_model_process(struct hyst_model *m,
-                       int inverse,
-                       const double *x,
-                       double *y,
-                       size_t n);
+int32_t hyst_model_process(struct hyst_model *m,
+                           int32_t inverse,
+                           const double *x,
+                           double *y,
+                           size_t n);
 
-// Makes the compensator (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
+// Makes the inverse (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
 // beyond 99.9 % of a saturating model's output range (tanh or Langevin output shaping; the range
 // itself is unreachable) to that limit instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
 // `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
-// a compensator run already started. `hyst_model_clamped` counts the clamped values.
+// an inverse run already started. `hyst_model_clamped` counts the clamped values.
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
 // and the model's output is unbounded (nothing could need clamping; nothing changes).
 //
 // # Safety
 // `m` is NULL or a model from `hyst_model_load` not yet freed.
-int hyst_model_saturate(struct hyst_model *m, int on);
+int32_t hyst_model_saturate(struct hyst_model *m, int32_t on);
 
-// Writes into `*count` how many desired outputs the compensator clamped
+// Writes into `*count` how many desired outputs the inverse clamped
 // (`hyst_model_saturate`) since the model was loaded or reset.
 //
 // Returns `HYST_OK` or `HYST_ERR_NULL_POINTER`.
 //
 // # Safety
 // `m` is NULL or a model from `hyst_model_load` not yet freed; `count` is NULL or writable.
-int hyst_model_clamped(const struct hyst_model *m, uint64_t *count);
+int32_t hyst_model_clamped(const struct hyst_model *m, uint64_t *count);
 
 // Forgets both runs: the next `hyst_model_process` of each kind starts a new record.
 //
 // # Safety
 // `m` is NULL or a model from `hyst_model_load` not yet freed.
-int hyst_model_reset(struct hyst_model *m);
+int32_t hyst_model_reset(struct hyst_model *m);
 
 // Releases a model from `hyst_model_load` (NULL is ignored).
 //

@@ -5,7 +5,7 @@ Run by scripts/test-fmu with the Python of its virtual environment (FMPy install
 
     fmu_test.py --hyst target/release/hyst --dir TMP --k1 0.2 --k2 8 \
         --operator op.fmu --inverse inv.fmu --model piezo.toml \
-        --model-direct piezo.fmu --model-inverse piezo-compensator.fmu
+        --model-direct piezo.fmu --model-inverse piezo-inverse.fmu
 
 For every FMU: FMPy's validate_fmu finds no problem; FMU2Slave stepped sample by sample (set x,
 get y, doStep) over a signal with many reversals gives y equal to `hyst run` on the same signal
@@ -505,7 +505,7 @@ def main():
         check("inverse FMU: no exception", False, traceback.format_exc())
 
     # The fitted model: a voltage signal over the data's range, and the model's own output on it
-    # as the desired output for the compensator (reachable by construction).
+    # as the desired output for the inverse (reachable by construction).
     lo, hi = a.u_range
     us = reversals(n, lo, hi, seed=3)
     us_other = reversals(n, lo + 0.1 * (hi - lo), hi, seed=4)
@@ -518,12 +518,12 @@ def main():
     try:
         desired = hyst.run(["--model", a.model], us)
         desired_other = hyst.run(["--model", a.model], us_other)
-        comp = Fmu(a.model_inverse, "model-inverse")
-        commands = check_fmu(comp, hyst, ["--model", a.model, "--inverse"], desired, desired_other)
-        # The exact compensator undoes the model: its commands reproduce the voltages.
+        inverse = Fmu(a.model_inverse, "model-inverse")
+        commands = check_fmu(inverse, hyst, ["--model", a.model, "--inverse"], desired, desired_other)
+        # The exact inverse undoes the model: its commands reproduce the voltages.
         err = float(np.max(np.abs(np.asarray(commands) - np.asarray(us))))
         check(
-            "model-inverse: the compensator's commands reproduce the model's input",
+            "model-inverse: the inverse's commands reproduce the model's input",
             err <= 1e-9 * (hi - lo),
             f"max |command - u| = {err:.3g} (span {hi - lo:.3g})",
         )

@@ -4,9 +4,9 @@
  *
  *   bank
  *
- * Each actuator has its own k1, k2 and memory. The bank of compensators H^-1 is stepped one
- * control period at a time (hyst_bank_step) and, in a second bank, a block of periods at once
- * (hyst_bank_process, time-major); each channel is compared with a scalar compensator
+ * Each actuator has its own k1, k2 and memory. The bank of inverse operators H^-1 is stepped
+ * one control period at a time (hyst_bank_step) and, in a second bank, a block of periods at
+ * once (hyst_bank_process, time-major); each channel is compared with a scalar inverse
  * (hyst_operator_*) within the bank's stated tolerance |dy| <= 1e-13 max(|y|, k1) (float:
  * 1e-5). Then the errors: an invalid k1 and a NaN sample name their channel and leave every
  * memory as it was; a channel's memory moves from the bank to a scalar operator and back.
@@ -64,7 +64,7 @@ int main(void)
         k2f[c] = (float)k2[c];
     }
 
-    /* Two banks of compensators (inverse = 1) and the scalar compensators to compare with. */
+    /* Two banks of inverses H^-1 (inverse = 1) and the scalar inverses to compare with. */
     hyst_bank *stepped = NULL, *blocked = NULL;
     size_t channel = 0;
     CHECK(hyst_bank_create(k1, k2, ACTUATORS, 1, &stepped, &channel) == HYST_OK);

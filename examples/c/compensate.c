@@ -3,9 +3,9 @@
  *
  *   compensate MODEL.toml [--column NAME] [--direct] < in.csv > out.csv
  *
- * Reads a CSV table with a header row on stdin, runs the fitted model's compensator (the exact
- * inverse: desired output in, command out; with --direct the model itself: input in, output
- * out) over one column as one record, and writes the CSV `x,y` to stdout: x the input sample, y
+ * Reads a CSV table with a header row on stdin, runs the fitted model's exact inverse (desired
+ * output in, command out: the feed-forward compensation of the modelled hysteresis; with
+ * --direct the model itself: input in, output out) over one column as one record, and writes the CSV `x,y` to stdout: x the input sample, y
  * the result. The output is byte for byte that of
  *
  *   hyst run --model MODEL.toml [--inverse] --column NAME in.csv -o out.csv
@@ -55,8 +55,9 @@ static void usage(FILE *to)
 {
     fprintf(to,
             "usage: %s MODEL.toml [--column NAME] [--direct] < in.csv > out.csv\n"
-            "  runs the model's compensator (its exact inverse; --direct: the model itself)\n"
-            "  over the column NAME (default: `x`, or the only column) and writes `x,y`\n",
+            "  runs the model's exact inverse (desired output in, command out; --direct: the\n"
+            "  model itself) over the column NAME (default: `x`, or the only column) and writes\n"
+            "  `x,y`\n",
             program);
 }
 
@@ -650,7 +651,7 @@ int main(int argc, char **argv)
             format_shortest(x.data[j], shown, sizeof shown);
             fail(SOURCE ":%zu: column %ld (\"%s\"): value %s: the %s refuses it: %s (status %d)",
                  lines.data[j], chosen + 1, names[chosen], shown,
-                 direct ? "model" : "compensator", hyst_status_message(s), s);
+                 direct ? "model" : "inverse", hyst_status_message(s), s);
             goto done;
         }
         if (!isfinite(y[j])) { /* e.g. an output gain times 1e308: hyst run refuses it too */
@@ -658,7 +659,7 @@ int main(int argc, char **argv)
             format_shortest(x.data[j], shown, sizeof shown);
             fail(SOURCE ":%zu: column %ld (\"%s\"): value %s: the %s's result is not finite",
                  lines.data[j], chosen + 1, names[chosen], shown,
-                 direct ? "model" : "compensator");
+                 direct ? "model" : "inverse");
             goto done;
         }
     }

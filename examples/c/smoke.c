@@ -99,7 +99,7 @@ static void operator_f64(void)
     hyst_operator h, hinv, g, ginv, copy;
     hyst_memory saved, m;
     static double block[N_SAMPLES], expected[N_SAMPLES];
-    double worst_back = 0, worst_compensated = 0, y, v, u;
+    double worst_back = 0, worst_inverse_first = 0, y, v, u;
     int k, same = 1;
 
     EXPECT(hyst_operator_init_direct(&h, 0.2, 8.0), HYST_OK);
@@ -111,15 +111,15 @@ static void operator_f64(void)
         int s1 = hyst_operator_step(&h, x, &y);    /* y = H[x] */
         int s2 = hyst_operator_step(&hinv, y, &v); /* v = H^-1[H[x]] = x */
         int s3 = hyst_operator_step(&ginv, x, &u); /* u = H^-1[x] */
-        int s4 = hyst_operator_step(&g, u, &y);    /* H[H^-1[x]] = x: exact compensation */
+        int s4 = hyst_operator_step(&g, u, &y);    /* H[H^-1[x]] = x: the exact inverse */
         if (s1 || s2 || s3 || s4)
             same = 0;
         worst_back = worse(worst_back, v, x);
-        worst_compensated = worse(worst_compensated, y, x);
+        worst_inverse_first = worse(worst_inverse_first, y, x);
     }
     CHECK(same);
     CHECK(worst_back <= 1e-12);
-    CHECK(worst_compensated <= 1e-12);
+    CHECK(worst_inverse_first <= 1e-12);
 
     /* process in place == step by step, bit for bit */
     EXPECT(hyst_operator_init_direct(&h, 0.14, 5.0), HYST_OK);
@@ -307,9 +307,9 @@ static void operator_f32(void)
 /* The shaped model: ψ_in a cubic polynomial (here increasing on [-5, 5], tangents outside),
  * ψ_out affine, k2 constant. */
 
-static hyst_model_params params_f64(void)
+static hyst_shaped_model_params params_f64(void)
 {
-    hyst_model_params p;
+    hyst_shaped_model_params p;
     memset(&p, 0, sizeof p);
     p.k1 = 0.105;
     p.k2.kind = HYST_K2_CONSTANT;
@@ -335,10 +335,10 @@ static hyst_model_params params_f64(void)
     return p;
 }
 
-static hyst_model_params_f32 params_f32(void)
+static hyst_shaped_model_params_f32 params_f32(void)
 {
-    hyst_model_params p = params_f64();
-    hyst_model_params_f32 q;
+    hyst_shaped_model_params p = params_f64();
+    hyst_shaped_model_params_f32 q;
     int k;
     memset(&q, 0, sizeof q);
     q.k1 = (float)p.k1;
@@ -363,8 +363,8 @@ static hyst_model_params_f32 params_f32(void)
 
 static void shaped_model(void)
 {
-    hyst_model_params p = params_f64(), bad;
-    hyst_model_params_f32 q = params_f32();
+    hyst_shaped_model_params p = params_f64(), bad;
+    hyst_shaped_model_params_f32 q = params_f32();
     hyst_shaped_model m, inv, copy;
     hyst_shaped_model_f32 m32, inv32;
     hyst_memory mem, mem2;
@@ -529,8 +529,8 @@ static void compensator(void)
 {
     const double b = 1.3, a[2] = {0.9, 1.0}, v0[2] = {0.2, 0.0}, dt = 1e-3;
     const float b32 = 1.3f, a32[2] = {0.9f, 1.0f}, v032[2] = {0.2f, 0.0f};
-    hyst_model_params p = params_f64();
-    hyst_model_params_f32 q = params_f32();
+    hyst_shaped_model_params p = params_f64();
+    hyst_shaped_model_params_f32 q = params_f32();
     hyst_shaped_compensator c;
     hyst_shaped_compensator_f32 c32;
     hyst_shaped_model inv, direct;
@@ -670,8 +670,8 @@ static void bad_arguments(void)
     hyst_shaped_compensator_f32 zero_c32;
     hyst_memory mem, before, after;
     hyst_memory_f32 mem32;
-    hyst_model_params p = params_f64();
-    hyst_model_params_f32 q = params_f32();
+    hyst_shaped_model_params p = params_f64();
+    hyst_shaped_model_params_f32 q = params_f32();
     double y = 7.0, xs[6] = {0.1, 0.1, 0.1, 0.1, 0.1, 0.1}, ys[6], held;
     float y32 = 7.0f, xs32[6] = {0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f}, ys32[6];
     int k;
@@ -911,7 +911,7 @@ static void host_model(const char *path)
         fprintf(stderr, "smoke: %s\n", error);
         return;
     }
-    /* the compensator (inverse) over a record, whole, then in blocks of 77 after a reset */
+    /* the inverse over a record, whole, then in blocks of 77 after a reset */
     {
         double lo = 1e300, hi = -1e300;
         /* desired outputs: the direct model's own outputs over an input sweep */

@@ -278,7 +278,7 @@ static float reference(float t, int derivative) {
 #define K2 8.0f
 
 /* The shaped model: a cubic ψ_in, an affine k2 law with both clamps reached, a tanh ψ_out. */
-static const hyst_model_params_f32 MODEL = {
+static const hyst_shaped_model_params_f32 MODEL = {
     .k1 = K1,
     .k2 = {.kind = HYST_K2_AFFINE, .value = 8.0f, .slope = 2.0f, .min = 4.0f, .max = 12.0f},
     .input = {.kind = HYST_SHAPING_POLYNOMIAL,

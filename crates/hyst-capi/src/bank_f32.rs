@@ -1,9 +1,9 @@
-//! Banks of operators in `float` (host part): GENERATED from `bank_f64.rs` by
-//! `scripts/gen-capi-f32` (do not edit; edit bank_f64.rs and run the script).
+//! Banks of operators in `float` (host part: the bank allocates its channels).
+//! GENERATED from `bank_f64.rs` by `scripts/gen-capi-f32`: do not edit.
 //!
 //! A bank is N operators H(k1[c], k2[c]) (or H⁻¹), each with its own memory, stepped together
 //! in SIMD lanes (`hyst_core::BankVec`): the actuators of a deformable mirror, the axes of a
-//! stage. Its outputs agree with `hyst_operator_step` on each channel to a few ulp, not bit for
+//! stage. Its outputs agree with `hyst_operator_step_f32` on each channel to a few ulp, not bit for
 //! bit (the bank has its own `exp`, `ln` and ω). A call that fails names the channel in
 //! `*channel` (when `channel` is not NULL) and leaves every channel's memory as it was.
 
@@ -13,7 +13,7 @@ use std::ptr;
 use hyst_core::bank::BankFormula;
 use hyst_core::{BankError, BankVec, Direct, Error, Inverse, Real as _};
 
-use crate::api_f32::hyst_memory_f32;
+use crate::api_f32::memory::hyst_memory_f32;
 use crate::engine::MemoryFields;
 use crate::status::{self, HYST_ERR_INTERNAL, HYST_ERR_LENGTH, HYST_ERR_NULL_POINTER, HYST_OK};
 
@@ -95,7 +95,7 @@ unsafe fn slice<'a>(p: *const f32, n: usize) -> Result<&'a [f32], i32> {
 }
 
 /// Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
-/// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the compensators) when `inverse` ≠ 0, each with no history.
+/// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the inverses) when `inverse` ≠ 0, each with no history.
 /// On success `*bank` receives it (release it with `hyst_bank_free_f32`).
 ///
 /// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER` (`bank`, `k1` or `k2` NULL), `HYST_ERR_LENGTH`
@@ -162,7 +162,7 @@ pub unsafe extern "C" fn hyst_bank_channels_f32(bank: *const hyst_bank_f32) -> u
     each!(unsafe { &(*bank).inner }, b => b.channels())
 }
 
-/// `process`, and an output beyond the float range refused as `hyst_operator_step`
+/// `process`, and an output beyond the float range refused as `hyst_operator_step_f32`
 /// refuses it (`HYST_ERR_OVERFLOW`), with every memory as before the call on any error. The
 /// core stops a block at its first failing tick with the ticks before it processed, and only a
 /// non-finite sample, or an input or k1 near the float range (outputs lie within k1 of a line
@@ -316,12 +316,12 @@ pub unsafe extern "C" fn hyst_bank_get_memory_f32(
 }
 
 /// Restores the memory of channel `channel` from `*memory` (`has_history` = 0: no history), as
-/// saved by `hyst_bank_get_memory_f32` (or `hyst_operator_get_memory`: the same memory).
+/// saved by `hyst_bank_get_memory_f32` (or `hyst_operator_get_memory_f32`: the same memory).
 ///
 /// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` for a channel beyond the bank,
 /// `HYST_ERR_INVALID_PARAMETER` (non-finite values, a direction other than ±1) or
 /// `HYST_ERR_STATE_OUTSIDE_BAND` (a point outside the band |output − input| ≤ k1) for a memory
-/// the channel cannot be in, as `hyst_operator_set_memory` (nothing changes then).
+/// the channel cannot be in, as `hyst_operator_set_memory_f32` (nothing changes then).
 ///
 /// # Safety
 /// `bank` is NULL or a bank from `hyst_bank_create_f32` not yet freed; `memory` is NULL or readable.

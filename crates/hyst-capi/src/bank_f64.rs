@@ -1,5 +1,5 @@
-//! Banks of operators in `double` (host part: the bank allocates its channels; its `float` twin,
-//! `bank_f32.rs`, is generated from this file by `scripts/gen-capi-f32`: edit this one).
+//! Banks of operators in `double` (host part: the bank allocates its channels).
+//! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
 //!
 //! A bank is N operators H(k1[c], k2[c]) (or H⁻¹), each with its own memory, stepped together
 //! in SIMD lanes (`hyst_core::BankVec`): the actuators of a deformable mirror, the axes of a
@@ -13,7 +13,7 @@ use std::ptr;
 use hyst_core::bank::BankFormula;
 use hyst_core::{BankError, BankVec, Direct, Error, Inverse, Real as _};
 
-use crate::api_f64::hyst_memory;
+use crate::api_f64::memory::hyst_memory;
 use crate::engine::MemoryFields;
 use crate::status::{self, HYST_ERR_INTERNAL, HYST_ERR_LENGTH, HYST_ERR_NULL_POINTER, HYST_OK};
 
@@ -95,7 +95,7 @@ unsafe fn slice<'a>(p: *const f64, n: usize) -> Result<&'a [f64], i32> {
 }
 
 /// Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
-/// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the compensators) when `inverse` ≠ 0, each with no history.
+/// H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the inverses) when `inverse` ≠ 0, each with no history.
 /// On success `*bank` receives it (release it with `hyst_bank_free`).
 ///
 /// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER` (`bank`, `k1` or `k2` NULL), `HYST_ERR_LENGTH`

@@ -29,7 +29,7 @@ pub(crate) enum Pair<T: Real> {
 pub(crate) type Shaping<T> = ScaledShaping<T>;
 /// A shaped model with run-time shaping functions and k2 law.
 pub(crate) type AnyShapedModel<T> = ShapedModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
-/// Its exact compensator.
+/// Its exact inverse.
 pub(crate) type AnyInverseShapedModel<T> =
     InverseShapedModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
 

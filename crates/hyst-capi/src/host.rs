@@ -1,7 +1,7 @@
 //! The host part: fitted model files (the CLI's TOML, docs/formats.md), run exactly as
 //! `hyst run --model` runs them.
 
-use std::ffi::{c_char, c_int, CStr};
+use std::ffi::{c_char, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 use std::ptr;
@@ -15,12 +15,12 @@ use crate::status::{
 };
 
 /// A fitted model loaded from a model file, with the state of its direct run and of its
-/// compensator run (opaque; create with `hyst_model_load`, release with `hyst_model_free`).
+/// inverse run (opaque; create with `hyst_model_load`, release with `hyst_model_free`).
 pub struct hyst_model {
     file: ModelFile,
     direct: Option<Saturated<Evaluator>>,
     inverse: Option<Saturated<Evaluator>>,
-    /// The compensator's clamp limits (`hyst_model_saturate`); `None`: nothing is clamped.
+    /// The inverse's clamp limits (`hyst_model_saturate`); `None`: nothing is clamped.
     limits: Option<(f64, f64)>,
 }
 
@@ -84,7 +84,7 @@ pub unsafe extern "C" fn hyst_model_load(
 }
 
 /// Runs the model over `n` samples from `x` into `y` (which may be the same array): the direct
-/// model (`inverse` = 0: input → output) or its exact compensator (`inverse` ≠ 0: desired output →
+/// model (`inverse` = 0: input → output) or its exact inverse (`inverse` ≠ 0: desired output →
 /// command). The first call of each kind after `hyst_model_load` or `hyst_model_reset` starts a
 /// record from the model's start rule at `x[0]`, exactly as `hyst run --model`; later calls
 /// continue it, so a signal may be fed in blocks. Results are bit-identical to
@@ -100,11 +100,11 @@ pub unsafe extern "C" fn hyst_model_load(
 #[no_mangle]
 pub unsafe extern "C" fn hyst_model_process(
     m: *mut hyst_model,
-    inverse: c_int,
+    inverse: i32,
     x: *const f64,
     y: *mut f64,
     n: usize,
-) -> c_int {
+) -> i32 {
     if m.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
@@ -150,11 +150,11 @@ pub unsafe extern "C" fn hyst_model_process(
     .unwrap_or(HYST_ERR_INTERNAL)
 }
 
-/// Makes the compensator (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
+/// Makes the inverse (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
 /// beyond 99.9 % of a saturating model's output range (tanh or Langevin output shaping; the range
 /// itself is unreachable) to that limit instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
 /// `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
-/// a compensator run already started. `hyst_model_clamped` counts the clamped values.
+/// an inverse run already started. `hyst_model_clamped` counts the clamped values.
 ///
 /// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
 /// and the model's output is unbounded (nothing could need clamping; nothing changes).
@@ -162,7 +162,7 @@ pub unsafe extern "C" fn hyst_model_process(
 /// # Safety
 /// `m` is NULL or a model from `hyst_model_load` not yet freed.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_model_saturate(m: *mut hyst_model, on: c_int) -> c_int {
+pub unsafe extern "C" fn hyst_model_saturate(m: *mut hyst_model, on: i32) -> i32 {
     if m.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
@@ -183,7 +183,7 @@ pub unsafe extern "C" fn hyst_model_saturate(m: *mut hyst_model, on: c_int) -> c
     HYST_OK
 }
 
-/// Writes into `*count` how many desired outputs the compensator clamped
+/// Writes into `*count` how many desired outputs the inverse clamped
 /// (`hyst_model_saturate`) since the model was loaded or reset.
 ///
 /// Returns `HYST_OK` or `HYST_ERR_NULL_POINTER`.
@@ -191,7 +191,7 @@ pub unsafe extern "C" fn hyst_model_saturate(m: *mut hyst_model, on: c_int) -> c
 /// # Safety
 /// `m` is NULL or a model from `hyst_model_load` not yet freed; `count` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u64) -> c_int {
+pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u64) -> i32 {
     if m.is_null() || count.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
@@ -207,7 +207,7 @@ pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u6
 /// # Safety
 /// `m` is NULL or a model from `hyst_model_load` not yet freed.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_model_reset(m: *mut hyst_model) -> c_int {
+pub unsafe extern "C" fn hyst_model_reset(m: *mut hyst_model) -> i32 {
     if m.is_null() {
         return HYST_ERR_NULL_POINTER;
     }

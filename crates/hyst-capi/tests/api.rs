@@ -270,8 +270,8 @@ fn bad_arguments_give_statuses_and_change_nothing() {
     assert_eq!(unknown.to_str().unwrap(), "unknown status");
 }
 
-fn params() -> hyst_model_params {
-    let mut p: hyst_model_params = zeroed();
+fn params() -> hyst_shaped_model_params {
+    let mut p: hyst_shaped_model_params = zeroed();
     p.k1 = 0.105;
     p.k2.kind = HYST_K2_CONSTANT;
     p.k2.value = 8.0;
@@ -466,7 +466,7 @@ fn plain_compensator_equals_the_core_and_the_shaped_one_with_identity_shaping() 
     let a = [0.9, 1.0];
     let mut plain: hyst_compensator = zeroed();
     let mut shaped: hyst_shaped_compensator = zeroed();
-    let mut p: hyst_model_params = zeroed();
+    let mut p: hyst_shaped_model_params = zeroed();
     p.k1 = 0.2;
     p.k2.value = 8.0;
     for s in [&mut p.input, &mut p.output] {

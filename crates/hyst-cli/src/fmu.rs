@@ -1,7 +1,8 @@
-//! `hyst fmu`: the operator H(k1, k2), a fitted model, or the compensator of either, as an FMI 2.0
+//! `hyst fmu`: the operator H(k1, k2), a fitted model, or the inverse of either, as an FMI 2.0
 //! Co-Simulation FMU for linux64 (Simulink's FMU Import block, OpenModelica, FMPy, ...).
 //!
-//! Contract (docs/fmu.md; the layout is shared with crates/hyst-fmu, which reads it):
+//! Contract (docs/fmu.md; the layout is shared with crates/hyst-fmu, which reads it: its file
+//! names, fmu.toml's format and version and the value references are `hyst_fmu::layout`'s):
 //! - NAME.fmu is a zip archive holding `modelDescription.xml` (modelName NAME, a fresh GUID,
 //!   modelIdentifier `hyst`), `binaries/linux64/hyst.so` (the cdylib of crates/hyst-fmu,
 //!   `libhyst_fmu.so`, copied byte for byte), `resources/fmu.toml` (kind, inverse, the GUID and
@@ -22,6 +23,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use crate::source::{Chosen, Source};
 use anyhow::{bail, Context, Result};
+use hyst_fmu::layout::{CONFIG_FILE, FORMAT, MODEL_FILE, VERSION, VR_K1, VR_K2, VR_X, VR_Y};
 use hyst_model::ModelFile;
 use hyst_model::ModelKind;
 use zip::write::SimpleFileOptions;
@@ -69,7 +71,7 @@ pub struct Args {
 enum Kind {
     /// H(k1, k2) or its inverse; k1, k2 are the parameters' start values.
     Operator { k1: f64, k2: f64 },
-    /// A fitted model (or its compensator): the parsed file and its bytes.
+    /// A fitted model (or its inverse): the parsed file and its bytes.
     Model {
         file: Box<ModelFile>,
         bytes: Vec<u8>,
@@ -110,7 +112,7 @@ pub fn main(args: Args) -> Result<()> {
                 }
             }
             _ => bail!(
-                "--saturate applies to --model FILE --inverse: the compensator of a model whose \
+                "--saturate applies to --model FILE --inverse: the inverse of a model whose \
                  output shaping saturates"
             ),
         }
@@ -368,7 +370,7 @@ impl Fmu {
                 format!("the hysteresis operator H(k1 = {k1}, k2 = {k2})")
             }
             (Kind::Operator { k1, k2 }, true) => format!(
-                "the inverse operator H^-1(k1 = {k1}, k2 = {k2}), the exact compensator of H"
+                "the inverse operator H^-1(k1 = {k1}, k2 = {k2}): desired output in, command out"
             ),
             (Kind::Model { file, .. }, inverse) => {
                 let kind = match file.kind {
@@ -385,7 +387,7 @@ impl Fmu {
                         None => String::new(),
                     };
                     format!(
-                        "the exact compensator of a fitted {kind} hysteresis model \
+                        "the exact inverse of a fitted {kind} hysteresis model \
                          ({output} -> {input}){clamped}"
                     )
                 } else {
@@ -397,58 +399,11 @@ impl Fmu {
 
     /// The variables in value-reference order (their 1-based index in ModelVariables is vr + 1).
     fn variables(&self) -> Vec<Variable> {
-        let with_unit = |name: &str, unit: &str| {
-            if unit.is_empty() {
-                name.to_string()
-            } else {
-                format!("{name} [{unit}]")
-            }
-        };
-        let (x, y, xu, yu) = match (&self.kind, self.inverse) {
-            (Kind::Operator { .. }, false) => (
-                "input v of the hysteresis operator H(k1, k2)".to_string(),
-                "output H[v] for the input history including the current x".to_string(),
-                String::new(),
-                String::new(),
-            ),
-            (Kind::Operator { .. }, true) => (
-                "desired output of H(k1, k2), the compensator's input".to_string(),
-                "command H^-1[x] for the history including the current x: the input that makes \
-                 H produce x"
-                    .to_string(),
-                String::new(),
-                String::new(),
-            ),
-            (Kind::Model { file, .. }, false) => (
-                format!(
-                    "model input: {}",
-                    with_unit(&file.columns.input, &file.units.input)
-                ),
-                format!(
-                    "model output: {}, for the input history including the current x",
-                    with_unit(&file.columns.output, &file.units.output)
-                ),
-                file.units.input.clone(),
-                file.units.output.clone(),
-            ),
-            (Kind::Model { file, .. }, true) => (
-                format!(
-                    "desired model output: {}",
-                    with_unit(&file.columns.output, &file.units.output)
-                ),
-                format!(
-                    "command: {}, that makes the model produce x (the exact compensator), for \
-                     the history including the current x",
-                    with_unit(&file.columns.input, &file.units.input)
-                ),
-                file.units.output.clone(),
-                file.units.input.clone(),
-            ),
-        };
+        let [(x, xu), (y, yu)] = self.signals();
         let mut vars = vec![
             Variable {
                 name: "x",
-                value_reference: 0,
+                value_reference: VR_X,
                 causality: "input",
                 variability: "continuous",
                 initial: None,
@@ -458,7 +413,7 @@ impl Fmu {
             },
             Variable {
                 name: "y",
-                value_reference: 1,
+                value_reference: VR_Y,
                 causality: "output",
                 variability: "continuous",
                 initial: Some("calculated"),
@@ -468,40 +423,118 @@ impl Fmu {
             },
         ];
         if let Kind::Operator { k1, k2 } = self.kind {
-            // H's output is y (x for the compensator), its input x (y for the compensator).
-            let (k1_units, k2_units) = if self.inverse {
-                ("units of x", "1/units of y")
+            vars.extend(self.parameters(k1, k2));
+        }
+        vars
+    }
+
+    /// The descriptions and units of x and y: the operator's or the model's input and output,
+    /// or for an inverse the desired output and the command.
+    fn signals(&self) -> [(String, String); 2] {
+        let with_unit = |name: &str, unit: &str| {
+            if unit.is_empty() {
+                name.to_string()
             } else {
-                ("units of y", "1/units of x")
-            };
-            vars.push(Variable {
-                name: "k1",
-                value_reference: 2,
-                causality: "parameter",
-                variability: "fixed",
-                initial: Some("exact"),
-                start: Some(k1),
-                unit: String::new(),
-                description: format!(
+                format!("{name} [{unit}]")
+            }
+        };
+        match (&self.kind, self.inverse) {
+            (Kind::Operator { .. }, false) => [
+                (
+                    "input v of the hysteresis operator H(k1, k2)".to_string(),
+                    String::new(),
+                ),
+                (
+                    "output H[v] for the input history including the current x".to_string(),
+                    String::new(),
+                ),
+            ],
+            (Kind::Operator { .. }, true) => [
+                (
+                    "desired output of H(k1, k2), the input of its inverse H^-1".to_string(),
+                    String::new(),
+                ),
+                (
+                    "command H^-1[x] for the history including the current x: the input that \
+                     makes H produce x"
+                        .to_string(),
+                    String::new(),
+                ),
+            ],
+            (Kind::Model { file, .. }, false) => [
+                (
+                    format!(
+                        "model input: {}",
+                        with_unit(&file.columns.input, &file.units.input)
+                    ),
+                    file.units.input.clone(),
+                ),
+                (
+                    format!(
+                        "model output: {}, for the input history including the current x",
+                        with_unit(&file.columns.output, &file.units.output)
+                    ),
+                    file.units.output.clone(),
+                ),
+            ],
+            (Kind::Model { file, .. }, true) => [
+                (
+                    format!(
+                        "desired model output: {}",
+                        with_unit(&file.columns.output, &file.units.output)
+                    ),
+                    file.units.output.clone(),
+                ),
+                (
+                    format!(
+                        "command: {}, that makes the model produce x (the exact inverse), for \
+                         the history including the current x",
+                        with_unit(&file.columns.input, &file.units.input)
+                    ),
+                    file.units.input.clone(),
+                ),
+            ],
+        }
+    }
+
+    /// k1 and k2, the operator's parameters (fixed, set before initialisation).
+    fn parameters(&self, k1: f64, k2: f64) -> [Variable; 2] {
+        // H's output is y (x for the inverse), its input x (y for the inverse).
+        let (k1_units, k2_units) = if self.inverse {
+            ("units of x", "1/units of y")
+        } else {
+            ("units of y", "1/units of x")
+        };
+        let parameter = |name, value_reference, start, description| Variable {
+            name,
+            value_reference,
+            causality: "parameter",
+            variability: "fixed",
+            initial: Some("exact"),
+            start: Some(start),
+            unit: String::new(),
+            description,
+        };
+        [
+            parameter(
+                "k1",
+                VR_K1,
+                k1,
+                format!(
                     "k1: half-width of the hysteresis loop of H ({k1_units}), > 0; set before \
                      initialisation"
                 ),
-            });
-            vars.push(Variable {
-                name: "k2",
-                value_reference: 3,
-                causality: "parameter",
-                variability: "fixed",
-                initial: Some("exact"),
-                start: Some(k2),
-                unit: String::new(),
-                description: format!(
+            ),
+            parameter(
+                "k2",
+                VR_K2,
+                k2,
+                format!(
                     "k2: rate of the transition of H to its asymptotes ({k2_units}), > 0; set \
                      before initialisation"
                 ),
-            });
-        }
-        vars
+            ),
+        ]
     }
 
     /// modelDescription.xml (FMI 2.0, Co-Simulation).
@@ -572,15 +605,25 @@ impl Fmu {
             x.push_str("/>\n    </ScalarVariable>\n");
         }
         x.push_str("  </ModelVariables>\n");
-        // y (index 2) depends directly on x (index 1); initially also on k1, k2 (3, 4).
-        let initial = if vars.len() == 4 { "1 3 4" } else { "1" };
+        // y depends directly on x; initially also on the parameters k1, k2 (a variable's index
+        // is its value reference + 1).
+        let index = |vr: u32| (vr + 1).to_string();
+        let (y_index, x_index) = (index(VR_Y), index(VR_X));
+        let initial: Vec<String> = vars
+            .iter()
+            .filter(|v| v.causality != "output")
+            .map(|v| index(v.value_reference))
+            .collect();
+        let initial = initial.join(" ");
         let kinds = vec!["dependent"; initial.split(' ').count()].join(" ");
         let _ = write!(
             x,
             "  <ModelStructure>\n    <Outputs>\n      \
-             <Unknown index=\"2\" dependencies=\"1\" dependenciesKind=\"dependent\"/>\n    \
+             <Unknown index=\"{y_index}\" dependencies=\"{x_index}\" \
+             dependenciesKind=\"dependent\"/>\n    \
              </Outputs>\n    <InitialUnknowns>\n      \
-             <Unknown index=\"2\" dependencies=\"{initial}\" dependenciesKind=\"{kinds}\"/>\n    \
+             <Unknown index=\"{y_index}\" dependencies=\"{initial}\" \
+             dependenciesKind=\"{kinds}\"/>\n    \
              </InitialUnknowns>\n  </ModelStructure>\n</fmiModelDescription>\n"
         );
         x
@@ -590,9 +633,9 @@ impl Fmu {
     fn config(&self) -> String {
         let mut t = String::from(
             "# The configuration of this FMU, read by binaries/linux64/hyst.so at fmi2Instantiate\n\
-             # (see docs/fmu.md of hyst).\n\
-             format = \"hyst-fmu\"\nversion = 1\n",
+             # (see docs/fmu.md of hyst).\n",
         );
+        let _ = writeln!(t, "format = \"{FORMAT}\"\nversion = {VERSION}");
         let _ = writeln!(t, "guid = \"{}\"", self.guid);
         match self.kind {
             Kind::Operator { k1, k2 } => {
@@ -650,7 +693,7 @@ impl Fmu {
         if let Kind::Model { file, .. } = &self.kind {
             let _ = writeln!(
                 h,
-                "<p>The model file is in <code>resources/model.toml</code> (fitted by \
+                "<p>The model file is in <code>resources/{MODEL_FILE}</code> (fitted by \
                  <code>{}</code>).</p>",
                 escape(&file.provenance.command)
             );
@@ -672,6 +715,10 @@ impl Fmu {
             .last_modified_time(self.timestamp);
         let file = options.unix_permissions(0o644);
         let dir = options.unix_permissions(0o755);
+        let (config_name, model_name) = (
+            format!("resources/{CONFIG_FILE}"),
+            format!("resources/{MODEL_FILE}"),
+        );
         let mut files: Vec<(&str, Vec<u8>, SimpleFileOptions)> = vec![
             (
                 "modelDescription.xml",
@@ -682,10 +729,10 @@ impl Fmu {
             ("binaries/linux64/", Vec::new(), dir),
             ("binaries/linux64/hyst.so", library.to_vec(), dir),
             ("resources/", Vec::new(), dir),
-            ("resources/fmu.toml", self.config().into_bytes(), file),
+            (&config_name, self.config().into_bytes(), file),
         ];
         if let Kind::Model { bytes, .. } = &self.kind {
-            files.push(("resources/model.toml", bytes.clone(), file));
+            files.push((&model_name, bytes.clone(), file));
         }
         files.push(("documentation/", Vec::new(), dir));
         files.push((

@@ -353,7 +353,7 @@ fn model_fmu_packs_the_model_file_and_names_its_columns_and_units() {
     let model = dir.path().join("units.toml");
     std::fs::write(&model, &model_text).unwrap();
 
-    let fmu = dir.path().join("piezo compensator.fmu");
+    let fmu = dir.path().join("piezo inverse.fmu");
     ok(&hyst_fmu(
         &lib,
         &[
@@ -387,12 +387,12 @@ fn model_fmu_packs_the_model_file_and_names_its_columns_and_units() {
 
     let xml = text(entry(&entries, "modelDescription.xml"));
     let md = &elements(&xml, "fmiModelDescription")[0];
-    assert_eq!(attr(md, "modelName"), "piezo compensator");
+    assert_eq!(attr(md, "modelName"), "piezo inverse");
     let units: Vec<String> = elements(&xml, "Unit")
         .iter()
         .map(|u| attr(u, "name").to_string())
         .collect();
-    // The compensator's input is the model's output (a desired displacement), its output the
+    // The inverse's input is the model's output (a desired displacement), its output the
     // model's input (a voltage).
     assert_eq!(units, ["µm & <rel>", "V"]);
     let vars = elements(&xml, "ScalarVariable");
@@ -608,7 +608,7 @@ fn bad_arguments_name_the_problem_and_leave_no_file() {
 }
 
 #[test]
-fn saturate_is_written_for_the_compensator_of_a_saturating_model_only() {
+fn saturate_is_written_for_the_inverse_of_a_saturating_model_only() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let lib = fake_library(d);

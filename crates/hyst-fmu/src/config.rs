@@ -6,7 +6,7 @@
 //! version = 1
 //! guid = "{...}"      # the same string as modelDescription.xml's guid
 //! kind = "operator"   # or "model" (then resources/model.toml is the model file)
-//! inverse = false     # true: H^-1 (operator) or the model's exact compensator (model)
+//! inverse = false     # true: H^-1 (operator) or the model's exact inverse (model)
 //! saturate = false    # kind = "model", inverse = true, a saturating output shaping only:
 //!                     # clamp desired outputs into 99.9 % of the model's output range
 //! k1 = 0.2            # kind = "operator" only: the start values of the parameters
@@ -20,14 +20,7 @@ use hyst_model::ModelFile;
 use hyst_model::Saturation;
 use serde::Deserialize;
 
-/// `format` of fmu.toml.
-pub const FORMAT: &str = "hyst-fmu";
-/// The fmu.toml `version` this FMU reads.
-pub const VERSION: i64 = 1;
-/// The configuration file's name in the resources folder.
-pub const CONFIG_FILE: &str = "fmu.toml";
-/// The model file's name in the resources folder (kind = "model").
-pub const MODEL_FILE: &str = "model.toml";
+use crate::layout::{CONFIG_FILE, FORMAT, MODEL_FILE, VERSION};
 
 /// What the FMU runs.
 #[derive(Clone, Debug)]
@@ -48,25 +41,23 @@ pub enum Kind {
 pub struct Config {
     /// The GUID fmi2Instantiate must be given.
     pub guid: String,
-    /// H⁻¹ / the model's exact compensator instead of the direct operator.
+    /// H⁻¹ / the model's exact inverse instead of the direct operator or model.
     pub inverse: bool,
     /// The operator or the model.
     pub kind: Kind,
     /// `saturate = true`: the output range of the model's saturating output shaping and the
     /// limits ([`hyst_model::saturation::SATURATION_FRACTION`] of it) that desired outputs are
-    /// clamped into before the compensator sees them, as `hyst run --saturate` clamps them.
+    /// clamped into before the inverse sees them, as `hyst run --saturate` clamps them.
     /// `None`: a desired output beyond the range is refused.
     pub saturation: Option<Saturation>,
 }
 
-/// fmu.toml as written (checked further by [`Config::read`]).
+/// fmu.toml as written, after its `format` and `version` (checked first, so that a file of
+/// another version is named as such whatever its other keys), checked further by
+/// [`Config::read`].
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawConfig {
-    #[allow(dead_code)]
-    format: String,
-    #[allow(dead_code)]
-    version: i64,
     guid: String,
     kind: String,
     #[serde(default)]
@@ -87,15 +78,15 @@ impl Config {
         let name = path.display();
         let text =
             std::fs::read_to_string(&path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-        let table: toml::Table = text
+        let mut table: toml::Table = text
             .parse()
             .map_err(|e: toml::de::Error| format!("{name}: not valid TOML: {e}"))?;
-        match table.get("format") {
+        match table.remove("format") {
             Some(toml::Value::String(f)) if f == FORMAT => {}
             Some(v) => return Err(format!("{name}: format = {v}: must be \"{FORMAT}\"")),
             None => return Err(format!("{name}: no `format = \"{FORMAT}\"`")),
         }
-        match table.get("version") {
+        match table.remove("version") {
             Some(toml::Value::Integer(VERSION)) => {}
             Some(v) => {
                 return Err(format!(
@@ -104,8 +95,9 @@ impl Config {
             }
             None => return Err(format!("{name}: no `version`")),
         }
-        let raw: RawConfig =
-            toml::from_str(&text).map_err(|e| format!("{name}: invalid configuration: {e}"))?;
+        let raw: RawConfig = toml::Value::Table(table)
+            .try_into()
+            .map_err(|e| format!("{name}: invalid configuration: {e}"))?;
         if raw.guid.is_empty() {
             return Err(format!("{name}: guid = \"\": must not be empty"));
         }
@@ -158,7 +150,7 @@ impl Config {
             (_, true) => {
                 return Err(format!(
                     "{name}: saturate = true: applies to kind = \"model\" with inverse = true \
-                     (the compensator of a model whose output shaping saturates)"
+                     (the inverse of a model whose output shaping saturates)"
                 ))
             }
         };

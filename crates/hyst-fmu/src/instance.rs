@@ -10,17 +10,9 @@ use std::fmt;
 use crate::config::{Config, Kind};
 use crate::engine::Engine;
 use crate::fmi2::fmi2FMUstate;
+use crate::layout::{VR_K1, VR_K2, VR_X, VR_Y};
 use crate::logger::Logger;
 use crate::state::{self, FmuState, History, Owner};
-
-/// Value reference of x (input).
-pub const VR_X: u32 = 0;
-/// Value reference of y (output).
-pub const VR_Y: u32 = 1;
-/// Value reference of k1 (parameter, kind = "operator").
-pub const VR_K1: u32 = 2;
-/// Value reference of k2 (parameter, kind = "operator").
-pub const VR_K2: u32 = 3;
 
 /// The mode of an instance (the FMI 2.0 Co-Simulation state machine; this FMU never has a step
 /// in progress, so stepComplete, stepFailed and stepCanceled are one `StepMode`).

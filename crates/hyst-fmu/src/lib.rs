@@ -2,9 +2,9 @@
 //! FMU packaged by `hyst fmu` (the shared library of this crate, `libhyst_fmu.so`, renamed).
 //!
 //! The FMU runs the parametric operator H(k1, k2) or H⁻¹ (kind = "operator"), or a fitted model
-//! file or its exact compensator (kind = "model"), as `hyst run` runs them, configured by
-//! `resources/fmu.toml` ([`config`]). Its variables are all Real: x (value reference 0, input),
-//! y (1, output), and for the operator k1 (2) and k2 (3), fixed parameters.
+//! file or its exact inverse (kind = "model"), as `hyst run` runs them, configured by
+//! `resources/fmu.toml` ([`config`]). Its variables are all Real ([`layout`]): x (value
+//! reference 0, input), y (1, output), and for the operator k1 (2) and k2 (3), fixed parameters.
 //!
 //! Semantics (direct feedthrough, rate independent):
 //! - after fmi2SetReal(x), fmi2GetReal(y) is the operator applied to the committed input
@@ -33,6 +33,7 @@ pub mod config;
 pub mod engine;
 pub mod fmi2;
 pub mod instance;
+pub mod layout;
 pub mod logger;
 pub mod state;
 

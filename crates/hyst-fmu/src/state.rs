@@ -271,92 +271,15 @@ pub fn decode(bytes: &[u8], owner: &Owner) -> Result<FmuState, String> {
         bytes: content,
         at: 0,
     };
-    if r.take::<8>("the magic")? != MAGIC {
-        return Err("not a hyst FMU state (wrong magic bytes)".into());
-    }
-    let version = r.u32("the version")?;
-    if version != STATE_VERSION {
-        return Err(format!(
-            "state format version {version}; this FMU reads version {STATE_VERSION}"
-        ));
-    }
-    let mut stored = [0; CHECKSUM_LEN];
-    stored.copy_from_slice(sum);
-    if u64::from_le_bytes(stored) != fnv1a64(content) {
-        return Err("the checksum does not match: the bytes are corrupted or truncated".into());
-    }
-    if r.u64("the GUID hash")? != owner.guid_hash {
-        return Err("the state belongs to another FMU (its GUID differs)".into());
-    }
-    let model = r.flag("the kind")?;
-    if model != owner.model {
-        return Err(format!(
-            "the state is of kind \"{}\", this FMU is of kind \"{}\"",
-            kind_name(model),
-            kind_name(owner.model)
-        ));
-    }
-    let inverse = r.flag("the inverse flag")?;
-    if inverse != owner.inverse {
-        return Err(format!(
-            "the state has inverse = {inverse}, this FMU inverse = {}",
-            owner.inverse
-        ));
-    }
-    let tag = r.u8("the history tag")?;
-    let reserved = r.u8("the reserved byte")?;
-    if reserved != 0 {
-        return Err(format!("the reserved byte = {reserved}: must be 0"));
-    }
+    let tag = r.header(sum, owner)?;
     let x = r.f64("x")?;
     let time = r.f64("time")?;
-    let parameters = if model {
+    let parameters = if owner.model {
         None
     } else {
         Some((r.f64("k1")?, r.f64("k2")?))
     };
-    let history = match (tag, model) {
-        (0, _) => History::Empty,
-        (1, false) => History::Operator(r.memory()?),
-        (2, true) => {
-            let first = r.f64("the model's first input")?;
-            let memory = if r.flag("the memory flag")? {
-                Some(r.memory()?)
-            } else {
-                None
-            };
-            History::Model {
-                first,
-                memory: EvaluatorMemory::Smooth(memory),
-            }
-        }
-        (3, true) => {
-            let first = r.f64("the model's first input")?;
-            let n = r.u32("the number of plays")?;
-            if usize::try_from(n).ok() != Some(MAX_PLAYS) {
-                return Err(format!("{n} plays: must be {MAX_PLAYS}"));
-            }
-            let mut plays = [0.0; MAX_PLAYS];
-            for p in &mut plays {
-                *p = r.f64("a play output")?;
-            }
-            let last_output = if r.flag("the last output flag")? {
-                Some(r.f64("the last output")?)
-            } else {
-                None
-            };
-            History::Model {
-                first,
-                memory: EvaluatorMemory::Plays(Box::new(PlayMemory { plays, last_output })),
-            }
-        }
-        (t, _) => {
-            return Err(format!(
-                "history tag {t}: not a history of kind \"{}\"",
-                kind_name(model)
-            ))
-        }
-    };
+    let history = r.history(tag, owner.model)?;
     if r.at != content.len() {
         return Err(format!(
             "{} bytes after the state's end (its length is wrong)",
@@ -369,6 +292,102 @@ pub fn decode(bytes: &[u8], owner: &Owner) -> Result<FmuState, String> {
         time,
         history,
     })
+}
+
+impl Reader<'_> {
+    /// The header, checked in the order of its bytes (magic, version), then the checksum `sum`
+    /// of all the content, then the owner (GUID, kind, inverse); returns the history tag.
+    fn header(&mut self, sum: &[u8], owner: &Owner) -> Result<u8, String> {
+        if self.take::<8>("the magic")? != MAGIC {
+            return Err("not a hyst FMU state (wrong magic bytes)".into());
+        }
+        let version = self.u32("the version")?;
+        if version != STATE_VERSION {
+            return Err(format!(
+                "state format version {version}; this FMU reads version {STATE_VERSION}"
+            ));
+        }
+        let mut stored = [0; CHECKSUM_LEN];
+        stored.copy_from_slice(sum);
+        if u64::from_le_bytes(stored) != fnv1a64(self.bytes) {
+            return Err("the checksum does not match: the bytes are corrupted or truncated".into());
+        }
+        if self.u64("the GUID hash")? != owner.guid_hash {
+            return Err("the state belongs to another FMU (its GUID differs)".into());
+        }
+        let model = self.flag("the kind")?;
+        if model != owner.model {
+            return Err(format!(
+                "the state is of kind \"{}\", this FMU is of kind \"{}\"",
+                kind_name(model),
+                kind_name(owner.model)
+            ));
+        }
+        let inverse = self.flag("the inverse flag")?;
+        if inverse != owner.inverse {
+            return Err(format!(
+                "the state has inverse = {inverse}, this FMU inverse = {}",
+                owner.inverse
+            ));
+        }
+        let tag = self.u8("the history tag")?;
+        let reserved = self.u8("the reserved byte")?;
+        if reserved != 0 {
+            return Err(format!("the reserved byte = {reserved}: must be 0"));
+        }
+        Ok(tag)
+    }
+
+    /// The history of tag `tag` for an FMU of kind "model" (`model`) or "operator".
+    fn history(&mut self, tag: u8, model: bool) -> Result<History, String> {
+        Ok(match (tag, model) {
+            (0, _) => History::Empty,
+            (1, false) => History::Operator(self.memory()?),
+            (2, true) => {
+                let first = self.f64("the model's first input")?;
+                let memory = if self.flag("the memory flag")? {
+                    Some(self.memory()?)
+                } else {
+                    None
+                };
+                History::Model {
+                    first,
+                    memory: EvaluatorMemory::Smooth(memory),
+                }
+            }
+            (3, true) => {
+                let first = self.f64("the model's first input")?;
+                History::Model {
+                    first,
+                    memory: EvaluatorMemory::Plays(self.plays()?),
+                }
+            }
+            (t, _) => {
+                return Err(format!(
+                    "history tag {t}: not a history of kind \"{}\"",
+                    kind_name(model)
+                ))
+            }
+        })
+    }
+
+    /// A Prandtl–Ishlinskii model's memory: the play outputs and the last output.
+    fn plays(&mut self) -> Result<Box<PlayMemory<f64, MAX_PLAYS>>, String> {
+        let n = self.u32("the number of plays")?;
+        if usize::try_from(n).ok() != Some(MAX_PLAYS) {
+            return Err(format!("{n} plays: must be {MAX_PLAYS}"));
+        }
+        let mut plays = [0.0; MAX_PLAYS];
+        for p in &mut plays {
+            *p = self.f64("a play output")?;
+        }
+        let last_output = if self.flag("the last output flag")? {
+            Some(self.f64("the last output")?)
+        } else {
+            None
+        };
+        Ok(Box::new(PlayMemory { plays, last_output }))
+    }
 }
 
 fn kind_name(model: bool) -> &'static str {

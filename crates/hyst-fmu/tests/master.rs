@@ -20,7 +20,7 @@ use hyst_core::{
     AnyK2Law, AnyShaping, Hysteresis, InverseHysteresis, Operator, ScaledShaping, Tanh,
 };
 use hyst_fmu::fmi2::*;
-use hyst_fmu::instance::{VR_K1, VR_K2, VR_X, VR_Y};
+use hyst_fmu::layout::{VR_K1, VR_K2, VR_X, VR_Y};
 use hyst_fmu::*;
 use hyst_model::PiModel;
 use hyst_model::{file::fnv1a64, file::FORMAT, ModelKind};
@@ -188,7 +188,7 @@ fn pi_model() -> ModelFile {
     )
 }
 
-/// A smooth model whose output saturates at ±2 (tanh): its compensator refuses |y| ≥ 2.
+/// A smooth model whose output saturates at ±2 (tanh): its inverse refuses |y| ≥ 2.
 fn saturating_model() -> ModelFile {
     model_file(
         Some(SmoothModel {
@@ -1334,7 +1334,7 @@ fn messages_are_passed_as_a_percent_s_argument_with_hash_escaped() {
 }
 
 #[test]
-fn saturate_needs_the_compensator_of_a_saturating_model() {
+fn saturate_needs_the_inverse_of_a_saturating_model() {
     for (file, inverse, part) in [
         (saturating_model(), false, "with inverse = true"),
         (fitted_model(), true, "unbounded"),

@@ -1,0 +1,385 @@
+//! The Lemma 5.1 compensators for a plant b / (a_n sⁿ + … + a_1 s + 1), n ≤ 4, before the
+//! hysteresis, in caller memory: of the plain operator H(k1, k2) (`hyst_compensator_*`) and of
+//! a shaped model (`hyst_shaped_compensator_*`), the same functions for the two models.
+//!
+//! GENERATED from `api_f64/compensator.rs` by `scripts/gen-capi-f32`: do not edit.
+
+use hyst_core::{ConstantK2, Identity, InverseHysteresis, ShapedModel};
+
+use crate::api_f32::checks::{done, read_array};
+use crate::api_f32::memory::hyst_memory_f32;
+use crate::api_f32::shaped_model::hyst_shaped_model_params_f32;
+use crate::engine::{self, Comp, MemoryFields, PlainComp, ShapedComp};
+use crate::slot;
+use crate::status::{self, HYST_ERR_LENGTH, HYST_ERR_NULL_POINTER, HYST_OK};
+
+/// The Lemma 5.1 compensator of the plain operator H(k1, k2) for a plant
+/// b / (a_n sⁿ + … + a_1 s + 1), n ≤ 4, before the hysteresis: an opaque block of 160 bytes,
+/// 8-byte aligned, plain data.
+#[repr(C)]
+pub struct hyst_compensator_f32 {
+    opaque: [u64; 20],
+}
+
+/// The Lemma 5.1 compensator of a shaped model (`hyst_shaped_model_params_f32`), n ≤ 4: an opaque
+/// block of 256 bytes, 8-byte aligned, plain data.
+#[repr(C)]
+pub struct hyst_shaped_compensator_f32 {
+    opaque: [u64; 32],
+}
+
+const TAG_COMPENSATOR: u32 = 0x4859_4366; // "HYCf"
+const TAG_SHAPED_COMPENSATOR: u32 = 0x4859_6366; // "HYcf"
+
+const _: () = assert!(slot::fits::<hyst_compensator_f32, PlainComp<f32>>());
+const _: () = assert!(slot::fits::<hyst_shaped_compensator_f32, ShapedComp<f32>>());
+
+/// The initialised compensator behind `c`, or the status of the failed check.
+fn compensator<'a>(c: *mut hyst_compensator_f32) -> Result<&'a mut PlainComp<f32>, i32> {
+    // SAFETY: as in the operator module's `operator`.
+    unsafe { slot::value_mut(c, TAG_COMPENSATOR) }
+}
+
+/// The initialised shaped compensator behind `c`, or the status of the failed check.
+fn shaped_compensator<'a>(
+    c: *mut hyst_shaped_compensator_f32,
+) -> Result<&'a mut ShapedComp<f32>, i32> {
+    // SAFETY: as in the operator module's `operator`.
+    unsafe { slot::value_mut(c, TAG_SHAPED_COMPENSATOR) }
+}
+
+/// Reads the plant (a_1 … a_n) and the optional start of the integrators (n values each).
+///
+/// # Safety
+/// `a` and `v0` are NULL or hold n values.
+unsafe fn plant(
+    a: *const f32,
+    v0: *const f32,
+    n: usize,
+) -> Result<
+    (
+        [f32; engine::HYST_MAX_ORDER + 1],
+        Option<[f32; engine::HYST_MAX_ORDER + 1]>,
+    ),
+    i32,
+> {
+    if n > engine::HYST_MAX_ORDER {
+        return Err(HYST_ERR_LENGTH);
+    }
+    // SAFETY: `a` is NULL or holds n values (caller's contract).
+    let coefficients = unsafe { read_array(a, n) }?;
+    let state = if v0.is_null() {
+        None
+    } else {
+        // SAFETY: `v0` holds n values (caller's contract).
+        Some(unsafe { read_array(v0, n) }?)
+    };
+    Ok((coefficients, state))
+}
+
+/// Builds the compensator of `inverse` for the plant read by [`plant`].
+fn build<I, K, O>(
+    inverse: hyst_core::InverseShapedModel<f32, I, K, O>,
+    b: f32,
+    plant: &(
+        [f32; engine::HYST_MAX_ORDER + 1],
+        Option<[f32; engine::HYST_MAX_ORDER + 1]>,
+    ),
+    n: usize,
+) -> Result<Comp<f32, I, K, O>, hyst_core::Error>
+where
+    I: hyst_core::Shaping<f32> + Clone,
+    K: hyst_core::K2Law<f32> + Clone,
+    O: hyst_core::Shaping<f32> + Clone,
+{
+    let (a, v0) = plant;
+    engine::compensator(
+        inverse,
+        b,
+        a.get(..n).unwrap_or(&[]),
+        v0.as_ref().and_then(|v| v.get(..n)),
+    )
+}
+
+/// `_step`: the command, or the held one with the status.
+///
+/// # Safety
+/// `u` is NULL or writable.
+unsafe fn comp_step<I, K, O>(comp: &mut Comp<f32, I, K, O>, u_new: f32, dt: f32, u: *mut f32) -> i32
+where
+    I: hyst_core::Shaping<f32> + Clone,
+    K: hyst_core::K2Law<f32> + Clone,
+    O: hyst_core::Shaping<f32> + Clone,
+{
+    if u.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    let (value, status) = match comp.step(u_new, dt) {
+        Ok(v) => (v, HYST_OK),
+        Err((e, held)) => (held, status::of(&e)),
+    };
+    // SAFETY: non-NULL (checked), writable (caller's contract).
+    unsafe { u.write(value) };
+    status
+}
+
+/// `_track`: the command for the reference [v, v̇, …, v⁽ⁿ⁾].
+///
+/// # Safety
+/// `reference` is NULL or holds n + 1 values; `u` is NULL or writable.
+unsafe fn comp_track<I, K, O>(
+    comp: &mut Comp<f32, I, K, O>,
+    reference: *const f32,
+    u: *mut f32,
+) -> i32
+where
+    I: hyst_core::Shaping<f32> + Clone,
+    K: hyst_core::K2Law<f32> + Clone,
+    O: hyst_core::Shaping<f32> + Clone,
+{
+    if u.is_null() || reference.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: `reference` holds n + 1 values (caller's contract).
+    let r = match unsafe { read_array(reference, comp.order() + 1) } {
+        Ok(r) => r,
+        Err(s) => return s,
+    };
+    match comp.track(r.get(..=comp.order()).unwrap_or(&[])) {
+        Ok(value) => {
+            // SAFETY: non-NULL (checked), writable (caller's contract).
+            unsafe { u.write(value) };
+            HYST_OK
+        }
+        Err(e) => status::of(&e),
+    }
+}
+
+/// `_get_state`: the integrators into `v` (n values) and the memory into `*memory` (if given).
+///
+/// # Safety
+/// `v` is NULL or holds n values; `memory` is NULL or writable.
+unsafe fn comp_state<I, K, O>(
+    comp: &Comp<f32, I, K, O>,
+    v: *mut f32,
+    memory: *mut hyst_memory_f32,
+) -> i32
+where
+    I: hyst_core::Shaping<f32> + Clone,
+    K: hyst_core::K2Law<f32> + Clone,
+    O: hyst_core::Shaping<f32> + Clone,
+{
+    let n = comp.order();
+    if n > 0 && v.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    let mut state = [0.0_f32; engine::HYST_MAX_ORDER];
+    comp.state(&mut state);
+    for (k, value) in state.iter().enumerate().take(n) {
+        // SAFETY: k < n, within the caller's array.
+        unsafe { v.add(k).write(*value) };
+    }
+    if !memory.is_null() {
+        // SAFETY: non-NULL (checked), writable (caller's contract).
+        unsafe { memory.write(hyst_memory_f32::of(MemoryFields::of(comp.memory()))) };
+    }
+    HYST_OK
+}
+
+/// Initialises `c` as the Lemma 5.1 compensator of the plain operator H(k1, k2) for the plant
+/// b / (a_n sⁿ + … + a_1 s + 1) before the hysteresis: `a` = [a_1, …, a_n], n ≤ 4 (NULL when
+/// n = 0). The integrators v, v̇, …, v⁽ⁿ⁻¹⁾ start at `v0` (n values), or at 0 when `v0` is NULL;
+/// `hyst_compensator_reset_f32` returns there.
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_LENGTH` (n > 4), or
+/// `HYST_ERR_INVALID_PARAMETER` (k1, k2 not finite and > 0, b zero or not finite, a non-finite
+/// coefficient or start); `c` is then untouched.
+///
+/// # Safety
+/// `c` is NULL or points to a writable `hyst_compensator_f32`; `a` and `v0` are NULL or hold n
+/// values.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_compensator_init_f32(
+    c: *mut hyst_compensator_f32,
+    k1: f32,
+    k2: f32,
+    b: f32,
+    a: *const f32,
+    v0: *const f32,
+    n: usize,
+) -> i32 {
+    // SAFETY: `a`, `v0` are NULL or hold n values (caller's contract).
+    let plant = match unsafe { plant(a, v0, n) } {
+        Ok(p) => p,
+        Err(s) => return s,
+    };
+    let built = InverseHysteresis::new(k1, k2)
+        .and_then(|h| ShapedModel::new(Identity, h.direct(), Identity))
+        .and_then(|m: ShapedModel<f32, Identity, ConstantK2<f32>, Identity>| {
+            build(m.inverse(), b, &plant, n)
+        });
+    match built {
+        // SAFETY: `c` is NULL or a writable block of the type's size; `fits` holds.
+        Ok(comp) => unsafe { slot::write(c, TAG_COMPENSATOR, comp) },
+        Err(e) => status::of(&e),
+    }
+}
+
+/// One sample: `*u` = the command u(t) of eq. (19) for the new input v⁽ⁿ⁾ = `u_new`, then the
+/// integrators advance by `dt` seconds (exactly, with u_new held). With the exact model the
+/// plant's hysteresis output follows v, n integrators behind u_new (eq. 20). A non-finite
+/// `u_new` or `dt` (or dt < 0) returns `HYST_ERR_NON_FINITE`, leaves the state unchanged and
+/// writes the last command to `*u`.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_compensator_f32`; `u` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_compensator_step_f32(
+    c: *mut hyst_compensator_f32,
+    u_new: f32,
+    dt: f32,
+    u: *mut f32,
+) -> i32 {
+    // SAFETY: `u` is NULL or writable (caller's contract).
+    done(compensator(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
+}
+
+/// Reference-trajectory mode: `*u` = the command for the reference `reference` =
+/// [v, v̇, …, v⁽ⁿ⁾] (n + 1 values; the integrators are set to it). On an error `*u` and the
+/// state are untouched.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_compensator_f32`; `reference` is NULL or holds n + 1 values;
+/// `u` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_compensator_track_f32(
+    c: *mut hyst_compensator_f32,
+    reference: *const f32,
+    u: *mut f32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    done(compensator(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
+}
+
+/// Copies the integrators (v, v̇, …, v⁽ⁿ⁻¹⁾) into `v` (n values; may be NULL when n = 0) and the
+/// memory of the compensator's inverse operator into `*memory` (when not NULL).
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_compensator_f32`; `v` is NULL or holds n values; `memory` is
+/// NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_compensator_get_state_f32(
+    c: *mut hyst_compensator_f32,
+    v: *mut f32,
+    memory: *mut hyst_memory_f32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    done(compensator(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
+}
+
+/// Back to the initial integrator state, and the inverse operator's memory forgotten.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_compensator_f32`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_compensator_reset_f32(c: *mut hyst_compensator_f32) -> i32 {
+    done(compensator(c).map(|comp| {
+        comp.reset();
+        HYST_OK
+    }))
+}
+
+/// Initialises `c` as the Lemma 5.1 compensator of the shaped model `params`, as
+/// `hyst_compensator_init_f32` (which it equals for identity shaping and constant k2). Also returns
+/// `HYST_ERR_NOT_MONOTONE` for a shaping function that is not increasing.
+///
+/// # Safety
+/// `c` is NULL or points to a writable `hyst_shaped_compensator_f32`; `params` is NULL or readable;
+/// `a` and `v0` are NULL or hold n values.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_compensator_init_f32(
+    c: *mut hyst_shaped_compensator_f32,
+    params: *const hyst_shaped_model_params_f32,
+    b: f32,
+    a: *const f32,
+    v0: *const f32,
+    n: usize,
+) -> i32 {
+    if params.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: `a`, `v0` are NULL or hold n values (caller's contract).
+    let plant = match unsafe { plant(a, v0, n) } {
+        Ok(p) => p,
+        Err(s) => return s,
+    };
+    // SAFETY: non-NULL (checked), readable (caller's contract).
+    let built = unsafe { params.read() }
+        .model()
+        .and_then(|model| build(model.inverse(), b, &plant, n));
+    match built {
+        // SAFETY: `c` is NULL or a writable block of the type's size; `fits` holds.
+        Ok(comp) => unsafe { slot::write(c, TAG_SHAPED_COMPENSATOR, comp) },
+        Err(e) => status::of(&e),
+    }
+}
+
+/// One sample, as `hyst_compensator_step_f32`; also `HYST_ERR_OUT_OF_RANGE` for a reference beyond a
+/// saturating output shaping function.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_shaped_compensator_f32`; `u` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_compensator_step_f32(
+    c: *mut hyst_shaped_compensator_f32,
+    u_new: f32,
+    dt: f32,
+    u: *mut f32,
+) -> i32 {
+    // SAFETY: `u` is NULL or writable (caller's contract).
+    done(shaped_compensator(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
+}
+
+/// Reference-trajectory mode, as `hyst_compensator_track_f32`.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_shaped_compensator_f32`; `reference` is NULL or holds n + 1
+/// values; `u` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_compensator_track_f32(
+    c: *mut hyst_shaped_compensator_f32,
+    reference: *const f32,
+    u: *mut f32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    done(shaped_compensator(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
+}
+
+/// The integrators and the inverse model's memory, as `hyst_compensator_get_state_f32`.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_shaped_compensator_f32`; `v` is NULL or holds n values;
+/// `memory` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_compensator_get_state_f32(
+    c: *mut hyst_shaped_compensator_f32,
+    v: *mut f32,
+    memory: *mut hyst_memory_f32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    done(shaped_compensator(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
+}
+
+/// Back to the initial integrator state, and the inverse model's memory forgotten.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_shaped_compensator_f32`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_compensator_reset_f32(
+    c: *mut hyst_shaped_compensator_f32,
+) -> i32 {
+    done(shaped_compensator(c).map(|comp| {
+        comp.reset();
+        HYST_OK
+    }))
+}

@@ -1,0 +1,255 @@
+//! The shaped model ψ_out ∘ H ∘ ψ_in (Section 4.3) and its exact inverse
+//! ψ_in⁻¹ ∘ H⁻¹ ∘ ψ_out⁻¹ with their memory, in caller memory (`hyst_shaped_model_*`), and
+//! its parameters (`hyst_shaped_model_params_f32`: k1, the k2 law, ψ_in and ψ_out).
+//!
+//! GENERATED from `api_f64/shaped_model.rs` by `scripts/gen-capi-f32`: do not edit.
+
+use crate::api_f32::checks::done;
+use crate::api_f32::memory::{get_memory, hyst_memory_f32, reset, set_memory};
+use crate::engine::{self, Shaped};
+use crate::slot;
+use crate::status::{self, HYST_ERR_NULL_POINTER};
+
+/// A shaping function (Section 4.3) with the scale and offsets of measured data:
+/// ψ(x) = `post_gain` · shape(`pre_gain` · x + `pre_offset`) + `post_offset`, the form of a
+/// fitted model's ψ_in and ψ_out. `kind` and the shape's parameters `p`:
+///
+/// | kind | shape | p |
+/// |---|---|---|
+/// | `HYST_SHAPING_IDENTITY` (0) | z | – |
+/// | `HYST_SHAPING_AFFINE` (1) | p0 z + p1 | gain > 0, offset |
+/// | `HYST_SHAPING_POLYNOMIAL` (2) | p0 + p1 z + p2 z² + p3 z³ on [p4, p5], tangents outside | c0…c3, lo, hi (±INFINITY allowed), increasing |
+/// | `HYST_SHAPING_TANH` (3) | p0 tanh(z / p1) | gain > 0, scale > 0 |
+/// | `HYST_SHAPING_LANGEVIN` (4) | p0 L(z / p1) | gain > 0, scale > 0 |
+/// | `HYST_SHAPING_QUADRATIC_EXP` (5) | z − p0 z² − e^(−(p1 + p2 z)) on [p3, p4] | a ≥ 0, b, c ≥ 0, lo, hi |
+///
+/// Unused entries of `p` are ignored. Both gains must be > 0 (use 1 and 0 for no scaling).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct hyst_shaping_f32 {
+    /// Which shape (`HYST_SHAPING_*`).
+    pub kind: i32,
+    /// The shape's parameters (see the table).
+    pub p: [f32; 6],
+    /// Scale applied to x before the shape, > 0.
+    pub pre_gain: f32,
+    /// Offset added after that scale.
+    pub pre_offset: f32,
+    /// Scale of the shape's value, > 0.
+    pub post_gain: f32,
+    /// Offset of ψ.
+    pub post_offset: f32,
+}
+
+/// The k2 law (1 / operator-input units): `HYST_K2_CONSTANT` (0): k2 = `value`;
+/// `HYST_K2_AFFINE` (1): k2 = φ(v) = `value` + `slope` · v clamped to [`min`, `max`]
+/// (Proposition 4.3; 0 < min ≤ max).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct hyst_k2_law_f32 {
+    /// `HYST_K2_CONSTANT` or `HYST_K2_AFFINE`.
+    pub kind: i32,
+    /// k2 (constant), or φ(0) (affine).
+    pub value: f32,
+    /// dφ/dv (affine only).
+    pub slope: f32,
+    /// Lower clamp, > 0 (affine only).
+    pub min: f32,
+    /// Upper clamp, ≥ min (affine only).
+    pub max: f32,
+}
+
+/// The parameters of the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) (Section 4.3), for
+/// `hyst_shaped_model_init_direct_f32`, `hyst_shaped_model_init_inverse_f32` and
+/// `hyst_shaped_compensator_init_f32`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct hyst_shaped_model_params_f32 {
+    /// k1 > 0: the half-width of the loop, in the units of ψ_in's value.
+    pub k1: f32,
+    /// The k2 law.
+    pub k2: hyst_k2_law_f32,
+    /// ψ_in: from input units to the operator's units.
+    pub input: hyst_shaping_f32,
+    /// ψ_out: from the operator's units to output units.
+    pub output: hyst_shaping_f32,
+}
+
+impl hyst_shaped_model_params_f32 {
+    /// The shaped model these parameters describe, checked by the core.
+    pub(crate) fn model(&self) -> Result<engine::AnyShapedModel<f32>, hyst_core::Error> {
+        let k2 = &self.k2;
+        let law = engine::k2_law(k2.kind, k2.value, k2.slope, k2.min, k2.max)?;
+        let s = |s: &hyst_shaping_f32| {
+            engine::shaping(
+                s.kind,
+                s.p,
+                s.pre_gain,
+                s.pre_offset,
+                s.post_gain,
+                s.post_offset,
+            )
+        };
+        engine::shaped_model(self.k1, law, s(&self.input)?, s(&self.output)?)
+    }
+}
+
+/// The shaped model ψ_out ∘ H ∘ ψ_in, or its exact inverse ψ_in⁻¹ ∘ H⁻¹ ∘ ψ_out⁻¹, with its
+/// memory: an opaque block of 192 bytes, 8-byte aligned, plain data.
+#[repr(C)]
+pub struct hyst_shaped_model_f32 {
+    opaque: [u64; 24],
+}
+
+const TAG_SHAPED: u32 = 0x4859_5366; // "HYSf"
+
+const _: () = assert!(slot::fits::<hyst_shaped_model_f32, Shaped<f32>>());
+
+/// The initialised shaped model behind `m`, or the status of the failed check.
+fn shaped<'a>(m: *mut hyst_shaped_model_f32) -> Result<&'a mut dyn engine::Dyn<f32>, i32> {
+    // SAFETY: as in the operator module's `operator`.
+    unsafe { slot::value_mut::<_, Shaped<f32>>(m, TAG_SHAPED) }.map(Shaped::as_dyn)
+}
+
+/// `hyst_shaped_model_init_direct_f32` / `_inverse`.
+///
+/// # Safety
+/// `m` is NULL or points to a writable `hyst_shaped_model_f32`; `params` is NULL or readable.
+unsafe fn init_shaped(
+    m: *mut hyst_shaped_model_f32,
+    params: *const hyst_shaped_model_params_f32,
+    inverse: bool,
+) -> i32 {
+    if params.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: non-NULL (checked), readable (caller's contract).
+    match unsafe { params.read() }.model() {
+        Ok(model) => {
+            let shaped = if inverse {
+                Shaped::Inverse(model.inverse())
+            } else {
+                Shaped::Direct(model)
+            };
+            // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
+            unsafe { slot::write(m, TAG_SHAPED, shaped) }
+        }
+        Err(e) => status::of(&e),
+    }
+}
+
+/// Initialises `m` as the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) of `params`, with no
+/// history.
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`,
+/// `HYST_ERR_INVALID_PARAMETER` or `HYST_ERR_NOT_MONOTONE` (`m` is then untouched).
+///
+/// # Safety
+/// `m` is NULL or points to a writable `hyst_shaped_model_f32`; `params` is NULL or readable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_model_init_direct_f32(
+    m: *mut hyst_shaped_model_f32,
+    params: *const hyst_shaped_model_params_f32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { init_shaped(m, params, false) }
+}
+
+/// Initialises `m` as the exact inverse x = ψ_in⁻¹(H⁻¹(k1, k2)[ψ_out⁻¹(y_d)]) of the shaped
+/// model of `params` (a desired output y_d in, the command x out), with no history.
+///
+/// Returns as `hyst_shaped_model_init_direct_f32`.
+///
+/// # Safety
+/// As `hyst_shaped_model_init_direct_f32`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_model_init_inverse_f32(
+    m: *mut hyst_shaped_model_f32,
+    params: *const hyst_shaped_model_params_f32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { init_shaped(m, params, true) }
+}
+
+/// One sample, as `hyst_operator_step_f32`; the inverse also returns `HYST_ERR_OUT_OF_RANGE` for a
+/// desired output beyond a saturating shaping function (and holds the last command).
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_shaped_model_f32`; `y` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_model_step_f32(
+    m: *mut hyst_shaped_model_f32,
+    x: f32,
+    y: *mut f32,
+) -> i32 {
+    // SAFETY: `y` is NULL or writable (caller's contract).
+    done(shaped(m).map(|o| unsafe { engine::step(o, x, y) }))
+}
+
+/// One sample with time derivatives, as `hyst_operator_step_derivatives_f32` (order ≤ 4).
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_shaped_model_f32`; `x` and `y` are NULL or hold
+/// `order + 1` values.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_model_step_derivatives_f32(
+    m: *mut hyst_shaped_model_f32,
+    x: *const f32,
+    y: *mut f32,
+    order: usize,
+) -> i32 {
+    // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
+    done(shaped(m).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
+}
+
+/// `n` samples, as `hyst_operator_process_f32`.
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_shaped_model_f32`; when n > 0, `x` and `y` are NULL or hold
+/// `n` values.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_model_process_f32(
+    m: *mut hyst_shaped_model_f32,
+    x: *const f32,
+    y: *mut f32,
+    n: usize,
+) -> i32 {
+    // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
+    done(shaped(m).map(|o| unsafe { engine::process(o, x, y, n) }))
+}
+
+/// Copies the memory of the model's operator H (or H⁻¹) into `*memory`.
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_shaped_model_f32`; `memory` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_model_get_memory_f32(
+    m: *mut hyst_shaped_model_f32,
+    memory: *mut hyst_memory_f32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { get_memory(shaped(m), memory) }
+}
+
+/// Restores the memory of the model's operator, as `hyst_operator_set_memory_f32` (values in the
+/// operator's units: after ψ_in for the direct model, after ψ_out⁻¹ for the inverse).
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_shaped_model_f32`; `memory` is NULL or readable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_model_set_memory_f32(
+    m: *mut hyst_shaped_model_f32,
+    memory: *const hyst_memory_f32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { set_memory(shaped(m), memory) }
+}
+
+/// Forgets the history.
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_shaped_model_f32`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_shaped_model_reset_f32(m: *mut hyst_shaped_model_f32) -> i32 {
+    reset(shaped(m))
+}

@@ -1,0 +1,23 @@
+//! The firmware API in `double`, one module per concept: the memory of Definition 2.1, the
+//! operator H / H⁻¹, the shaped model and its inverse, the Lemma 5.1 compensators, and the
+//! argument checks they share. No allocation, no standard library; every state lives in caller
+//! memory.
+//!
+//! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
+
+// In the order of include/hyst.h (cbindgen reads the modules in this order): the memory, the
+// operator, the shaped model, the compensators.
+pub mod memory;
+
+pub mod operator;
+
+pub mod shaped_model;
+
+pub mod compensator;
+
+pub(crate) mod checks;
+
+pub use compensator::*;
+pub use memory::hyst_memory;
+pub use operator::*;
+pub use shaped_model::*;

@@ -1,0 +1,161 @@
+//! The parametric operator H(k1, k2) (eq. 2) and its inverse H⁻¹(k1, k2) (eq. 4) with their
+//! memory, in caller memory (`hyst_operator_*`).
+//!
+//! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
+
+use crate::api_f64::checks::done;
+use crate::api_f64::memory::{get_memory, hyst_memory, reset, set_memory};
+use crate::engine::{self, Pair};
+use crate::slot;
+use crate::status;
+
+/// The parametric operator H(k1, k2) (eq. 2) or H⁻¹(k1, k2) (eq. 4) with its memory: an opaque
+/// block of 128 bytes, 8-byte aligned, plain data (copyable with memcpy).
+#[repr(C)]
+pub struct hyst_operator {
+    opaque: [u64; 16],
+}
+
+const TAG_OPERATOR: u32 = 0x4859_5f64; // "HY_d"
+
+const _: () = assert!(slot::fits::<hyst_operator, Pair<f64>>());
+
+/// The initialised operator behind `op`, or the status of the failed check.
+fn operator<'a>(op: *mut hyst_operator) -> Result<&'a mut dyn engine::Dyn<f64>, i32> {
+    // SAFETY: the caller of the C function passes NULL, an initialised block, or any other
+    // readable block of the type's size (whose tag then does not match).
+    unsafe { slot::value_mut::<_, Pair<f64>>(op, TAG_OPERATOR) }.map(Pair::as_dyn)
+}
+
+/// `hyst_operator_init_direct` / `_inverse`.
+///
+/// # Safety
+/// `op` is NULL or points to a writable `hyst_operator`.
+unsafe fn init_operator(op: *mut hyst_operator, k1: f64, k2: f64, inverse: bool) -> i32 {
+    match engine::pair(k1, k2, inverse) {
+        // SAFETY: `op` is NULL or a writable block of the type's size; `fits` holds (asserted).
+        Ok(p) => unsafe { slot::write(op, TAG_OPERATOR, p) },
+        Err(e) => status::of(&e),
+    }
+}
+
+/// Initialises `op` as the direct operator u = H(k1, k2)[v] (eq. 2), with no history (its first
+/// sample is a reversal point on the line u = v).
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, or
+/// `HYST_ERR_INVALID_PARAMETER` unless k1 and k2 are finite and > 0 (`op` is then untouched).
+///
+/// # Safety
+/// `op` is NULL or points to a writable `hyst_operator`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_operator_init_direct(
+    op: *mut hyst_operator,
+    k1: f64,
+    k2: f64,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { init_operator(op, k1, k2, false) }
+}
+
+/// Initialises `op` as the inverse operator v = H⁻¹(k1, k2)[u_d] (eq. 4), the exact inverse of
+/// `hyst_operator_init_direct`'s operator, with no history.
+///
+/// Returns as `hyst_operator_init_direct`.
+///
+/// # Safety
+/// `op` is NULL or points to a writable `hyst_operator`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_operator_init_inverse(
+    op: *mut hyst_operator,
+    k1: f64,
+    k2: f64,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { init_operator(op, k1, k2, true) }
+}
+
+/// One sample: `*y` = the output for the input `x`. A non-finite `x` returns
+/// `HYST_ERR_NON_FINITE`, leaves the memory untouched and writes the last output (or `x` before
+/// any) to `*y`, so a control loop can carry on.
+///
+/// # Safety
+/// `op` is NULL or an initialised `hyst_operator`; `y` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_operator_step(op: *mut hyst_operator, x: f64, y: *mut f64) -> i32 {
+    // SAFETY: `y` is NULL or writable (caller's contract).
+    done(operator(op).map(|o| unsafe { engine::step(o, x, y) }))
+}
+
+/// One sample with time derivatives: `x` holds the input and its first `order` time derivatives
+/// [x, ẋ, ẍ, …] (order ≤ 4), `y` receives the output's [y, ẏ, ÿ, …] (Proposition 2.7 and
+/// beyond, exact by Taylor arithmetic). On an error `y` and the memory are untouched.
+///
+/// # Safety
+/// `op` is NULL or an initialised `hyst_operator`; `x` and `y` are NULL or hold `order + 1`
+/// values.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_operator_step_derivatives(
+    op: *mut hyst_operator,
+    x: *const f64,
+    y: *mut f64,
+    order: usize,
+) -> i32 {
+    // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
+    done(operator(op).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
+}
+
+/// `n` samples from `x` into `y` (which may be the same array), each as `hyst_operator_step`;
+/// returns `HYST_OK`, or the status of the first refused sample (the others are still
+/// processed, a refused one holds the last output).
+///
+/// # Safety
+/// `op` is NULL or an initialised `hyst_operator`; when n > 0, `x` and `y` are NULL or hold `n`
+/// values.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_operator_process(
+    op: *mut hyst_operator,
+    x: *const f64,
+    y: *mut f64,
+    n: usize,
+) -> i32 {
+    // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
+    done(operator(op).map(|o| unsafe { engine::process(o, x, y, n) }))
+}
+
+/// Copies the operator's memory into `*memory` (to save it, e.g. across a controller restart).
+///
+/// # Safety
+/// `op` is NULL or an initialised `hyst_operator`; `memory` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_operator_get_memory(
+    op: *mut hyst_operator,
+    memory: *mut hyst_memory,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { get_memory(operator(op), memory) }
+}
+
+/// Restores a memory saved by `hyst_operator_get_memory`. `HYST_ERR_STATE_OUTSIDE_BAND` or
+/// `HYST_ERR_INVALID_PARAMETER` for a memory the operator cannot be in (non-finite values, a
+/// point outside the band |output − input| ≤ k1, a direction other than ±1); the operator is
+/// then unchanged.
+///
+/// # Safety
+/// `op` is NULL or an initialised `hyst_operator`; `memory` is NULL or readable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_operator_set_memory(
+    op: *mut hyst_operator,
+    memory: *const hyst_memory,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { set_memory(operator(op), memory) }
+}
+
+/// Forgets the history: the next sample starts on the line output = input.
+///
+/// # Safety
+/// `op` is NULL or an initialised `hyst_operator`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_operator_reset(op: *mut hyst_operator) -> i32 {
+    reset(operator(op))
+}

@@ -1,0 +1,22 @@
+//! The layout of an FMU of hyst, shared by `hyst fmu` (crates/hyst-cli/src/fmu.rs, which writes
+//! the FMU) and this binary (which reads it): the files of the resources folder, the format and
+//! version of fmu.toml, and the value references of the variables (docs/fmu.md).
+
+/// The configuration file's name in the resources folder.
+pub const CONFIG_FILE: &str = "fmu.toml";
+/// The model file's name in the resources folder (kind = "model").
+pub const MODEL_FILE: &str = "model.toml";
+/// `format` of fmu.toml.
+pub const FORMAT: &str = "hyst-fmu";
+/// The fmu.toml `version` that `hyst fmu` writes and this binary reads.
+pub const VERSION: i64 = 1;
+
+/// Value reference of x (Real, input): the operator's or the model's input, or the desired
+/// output for an inverse.
+pub const VR_X: u32 = 0;
+/// Value reference of y (Real, output, direct feedthrough).
+pub const VR_Y: u32 = 1;
+/// Value reference of k1 (Real parameter, kind = "operator" only).
+pub const VR_K1: u32 = 2;
+/// Value reference of k2 (Real parameter, kind = "operator" only).
+pub const VR_K2: u32 = 3;
