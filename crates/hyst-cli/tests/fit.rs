@@ -470,10 +470,7 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
             misses += 1;
         }
     }
-    assert_eq!(
-        misses, 0,
-        "the inverse's derivative misses the command's"
-    );
+    assert_eq!(misses, 0, "the inverse's derivative misses the command's");
 
     // A missing derivative column is named with the option.
     let out = hyst(&[
