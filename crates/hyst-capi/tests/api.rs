@@ -561,7 +561,7 @@ fn fitted_model_file(dir: &std::path::Path) -> std::path::PathBuf {
         provenance: Default::default(),
     };
     let path = dir.join("model.toml");
-    file.write(&path).unwrap();
+    std::fs::write(&path, file.to_toml().unwrap()).unwrap();
     path
 }
 
@@ -661,7 +661,7 @@ fn host_model_saturate_clamps_the_compensators_desired_outputs() {
         };
     }
     let path = dir.join("tanh.toml");
-    file.write(&path).unwrap();
+    std::fs::write(&path, file.to_toml().unwrap()).unwrap();
     let limits = file.saturation().unwrap().limits;
     let load = |p: &std::path::Path| {
         let c = CString::new(p.to_str().unwrap()).unwrap();

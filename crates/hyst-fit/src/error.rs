@@ -221,7 +221,6 @@ impl From<ModelError> for FitError {
         match e {
             ModelError::Core(e) => FitError::Core(e),
             ModelError::File { path, message } => FitError::ModelFile { path, message },
-            ModelError::Io(e) => FitError::Io(e),
             ModelError::Invalid(message) => FitError::Invalid(message),
             other => FitError::Invalid(other.to_string()),
         }

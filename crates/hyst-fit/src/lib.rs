@@ -31,6 +31,7 @@
 pub mod data;
 pub mod degeneracy;
 pub mod error;
+pub mod file;
 pub mod identify;
 pub mod layout;
 mod linalg;

@@ -213,7 +213,7 @@ fn saturating_model() -> ModelFile {
 fn model_resources(file: &ModelFile, inverse: bool) -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     write_config(dir.path(), &model_config(inverse));
-    file.write(&dir.path().join("model.toml")).unwrap();
+    std::fs::write(dir.path().join("model.toml"), file.to_toml().unwrap()).unwrap();
     dir
 }
 
@@ -735,7 +735,7 @@ fn saturate_clamps_desired_outputs_and_warns_when_saturation_starts() {
         dir.path(),
         &format!("{}saturate = true\n", model_config(true)),
     );
-    file.write(&dir.path().join("model.toml")).unwrap();
+    std::fs::write(dir.path().join("model.toml"), file.to_toml().unwrap()).unwrap();
     let fmu = Fmu::started(dir.path());
     // Starts beyond the range (tanh's is (-2, 2)): clamped, with a warning, and run.
     let desired: Vec<f64> = [3.0, 2.5, 1.0, 0.2]
@@ -1344,7 +1344,7 @@ fn saturate_needs_the_inverse_of_a_saturating_model() {
             dir.path(),
             &format!("{}saturate = true\n", model_config(inverse)),
         );
-        file.write(&dir.path().join("model.toml")).unwrap();
+        std::fs::write(dir.path().join("model.toml"), file.to_toml().unwrap()).unwrap();
         refused(
             &uri(dir.path()),
             GUID,

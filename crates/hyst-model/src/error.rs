@@ -27,10 +27,6 @@ pub enum ModelError {
     /// model), or a sample of a record was refused (the message names the sample).
     #[error("{0}")]
     Invalid(String),
-
-    /// Writing a model file failed (the message names the path).
-    #[error(transparent)]
-    Io(#[from] hyst_io::IoError),
 }
 
 impl From<hyst_core::Error> for ModelError {

@@ -96,17 +96,6 @@ impl ModelFile {
         ))
     }
 
-    /// Writes the file atomically: on any failure (or Ctrl-C before this call) no partial
-    /// file exists.
-    ///
-    /// # Errors
-    /// As [`ModelFile::to_toml`], or the write error (naming the path).
-    pub fn write(&self, path: &Path) -> Result<(), ModelError> {
-        let text = self.to_toml()?;
-        hyst_io::write_atomic(path, text.as_bytes())?;
-        Ok(())
-    }
-
     /// Parses and checks a model file's text (`path` names it in errors).
     ///
     /// # Errors

@@ -343,7 +343,7 @@ impl Model {
     /// Writes the model file to `path` (atomically: a failed write leaves no partial file and
     /// an existing file untouched). Raises OSError when it cannot be written.
     fn save(&self, path: PathBuf) -> PyResult<()> {
-        self.file.write(&path).map_err(errors::model)
+        hyst_fit::file::write(&self.file, &path).map_err(errors::fit)
     }
 
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Pickled)> {

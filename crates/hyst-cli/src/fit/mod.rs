@@ -197,7 +197,7 @@ pub fn main(args: Args) -> Result<()> {
         )?;
         report.plots = plots.iter().map(|p| p.display().to_string()).collect();
     }
-    report.model.write(&args.model_out)?;
+    hyst_fit::file::write(&report.model, &args.model_out)?;
     report.model_file = args.model_out.display().to_string();
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
