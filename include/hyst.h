@@ -38,6 +38,25 @@
 // `hyst_k2_law.kind`: k2 = φ(v) affine in the operator input, clamped.
 #define HYST_K2_AFFINE 1
 
+// `hyst_shaped_model_params.initial_state`, the start rule: no history, the first sample is a
+// reversal point on the line (what a zeroed struct gives).
+#define HYST_INITIAL_STATE_LINE 0
+
+// The start rule `rising`: at its first sample the model is on the lower asymptote, heading up
+// (a model file's `initial_state = "rising"`).
+#define HYST_INITIAL_STATE_RISING 1
+
+// The start rule `falling`: on the upper asymptote, heading down.
+#define HYST_INITIAL_STATE_FALLING 2
+
+// `hyst_shaped_model_params.form`: y = ψ_out(H[ψ_in(x)]), the operator's counterclockwise loop
+// (what a zeroed struct gives).
+#define HYST_FORM_OPERATOR 0
+
+// `hyst_shaped_model_params.form`: the stop form y = ψ_out(v − H[v]) + c·v, v = ψ_in(x), a
+// clockwise loop (friction); it has no inverse.
+#define HYST_FORM_STOP 1
+
 // The highest time-derivative order of the `_step_derivatives` functions and the highest plant
 // order n of the compensator.
 #define HYST_MAX_ORDER 4
@@ -171,9 +190,11 @@ typedef struct hyst_shaping_f32 {
   float post_offset;
 } hyst_shaping_f32;
 
-// The parameters of the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) (Section 4.3), for
+// The parameters of the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) (Section 4.3), or of its
+// stop form y = ψ_out(v − H[v]) + c·v, v = ψ_in(x), with its start rule, for
 // `hyst_shaped_model_init_direct_f32`, `hyst_shaped_model_init_inverse_f32` and
-// `hyst_shaped_compensator_init_f32`.
+// `hyst_shaped_compensator_init_f32`. A zeroed `initial_state`, `form` and `linear` give the
+// shaped model with no history.
 typedef struct hyst_shaped_model_params_f32 {
   // k1 > 0: the half-width of the loop, in the units of ψ_in's value.
   float k1;
@@ -183,6 +204,16 @@ typedef struct hyst_shaped_model_params_f32 {
   struct hyst_shaping_f32 input;
   // ψ_out: from the operator's units to output units.
   struct hyst_shaping_f32 output;
+  // The start rule (`HYST_INITIAL_STATE_*`): without history (after init or reset) the model
+  // starts at its next sample on the line, or at rest on the lower (`_RISING`) or upper
+  // (`_FALLING`) asymptote through it, as `hyst run --model` starts a record. The inverse
+  // starts where the rule puts the model that produces its first desired output.
+  int32_t initial_state;
+  // `HYST_FORM_OPERATOR` or `HYST_FORM_STOP` (direct only: the stop form has no inverse).
+  int32_t form;
+  // c of the stop form's linear term (output units per operator unit); 0 for the operator
+  // form.
+  float linear;
 } hyst_shaped_model_params_f32;
 
 // The Lemma 5.1 compensator of the plain operator H(k1, k2) for a plant
@@ -274,9 +305,11 @@ typedef struct hyst_shaping {
   double post_offset;
 } hyst_shaping;
 
-// The parameters of the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) (Section 4.3), for
+// The parameters of the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) (Section 4.3), or of its
+// stop form y = ψ_out(v − H[v]) + c·v, v = ψ_in(x), with its start rule, for
 // `hyst_shaped_model_init_direct`, `hyst_shaped_model_init_inverse` and
-// `hyst_shaped_compensator_init`.
+// `hyst_shaped_compensator_init`. A zeroed `initial_state`, `form` and `linear` give the
+// shaped model with no history.
 typedef struct hyst_shaped_model_params {
   // k1 > 0: the half-width of the loop, in the units of ψ_in's value.
   double k1;
@@ -286,6 +319,16 @@ typedef struct hyst_shaped_model_params {
   struct hyst_shaping input;
   // ψ_out: from the operator's units to output units.
   struct hyst_shaping output;
+  // The start rule (`HYST_INITIAL_STATE_*`): without history (after init or reset) the model
+  // starts at its next sample on the line, or at rest on the lower (`_RISING`) or upper
+  // (`_FALLING`) asymptote through it, as `hyst run --model` starts a record. The inverse
+  // starts where the rule puts the model that produces its first desired output.
+  int32_t initial_state;
+  // `HYST_FORM_OPERATOR` or `HYST_FORM_STOP` (direct only: the stop form has no inverse).
+  int32_t form;
+  // c of the stop form's linear term (output units per operator unit); 0 for the operator
+  // form.
+  double linear;
 } hyst_shaped_model_params;
 
 // The Lemma 5.1 compensator of the plain operator H(k1, k2) for a plant
@@ -503,7 +546,9 @@ int32_t hyst_compensator_reset_f32(struct hyst_compensator_f32 *c);
 
 // Initialises `c` as the Lemma 5.1 compensator of the shaped model `params`, as
 // `hyst_compensator_init_f32` (which it equals for identity shaping and constant k2). Also returns
-// `HYST_ERR_NOT_MONOTONE` for a shaping function that is not increasing.
+// `HYST_ERR_NOT_MONOTONE` for a shaping function that is not increasing, and
+// `HYST_ERR_INVALID_PARAMETER` for the stop form or a start rule other than
+// `HYST_INITIAL_STATE_LINE` (the integrators' state `v0` sets the history).
 //
 // # Safety
 // `c` is NULL or points to a writable `hyst_shaped_compensator_f32`; `params` is NULL or readable;
@@ -742,7 +787,9 @@ int32_t hyst_compensator_reset(struct hyst_compensator *c);
 
 // Initialises `c` as the Lemma 5.1 compensator of the shaped model `params`, as
 // `hyst_compensator_init` (which it equals for identity shaping and constant k2). Also returns
-// `HYST_ERR_NOT_MONOTONE` for a shaping function that is not increasing.
+// `HYST_ERR_NOT_MONOTONE` for a shaping function that is not increasing, and
+// `HYST_ERR_INVALID_PARAMETER` for the stop form or a start rule other than
+// `HYST_INITIAL_STATE_LINE` (the integrators' state `v0` sets the history).
 //
 // # Safety
 // `c` is NULL or points to a writable `hyst_shaped_compensator`; `params` is NULL or readable;

@@ -5,8 +5,8 @@ use core::ptr;
 
 use hyst_core::{
     AffineK2, AnyK2Law, AnyShaping, Compensator, ConstantK2, Direction, Error, Hysteresis,
-    Identity, InverseHysteresis, InverseShapedModel, Jet, Langevin, Memory, Operator, Polynomial,
-    QuadraticExp, Real, ScaledShaping, ShapedModel, Tanh,
+    Identity, InitialState, InverseHysteresis, InverseShapedModel, Jet, Langevin, Memory, Operator,
+    Polynomial, QuadraticExp, Real, ScaledShaping, ShapedModel, Started, Stop, Tanh,
 };
 
 use crate::status::{self, HYST_ERR_LENGTH, HYST_ERR_NULL_POINTER, HYST_OK};
@@ -33,11 +33,15 @@ pub(crate) type AnyShapedModel<T> = ShapedModel<T, Shaping<T>, AnyK2Law<T>, Shap
 pub(crate) type AnyInverseShapedModel<T> =
     InverseShapedModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
 
-/// The shaped model, direct or inverse.
+/// The stop form ψ_out(v − H[v]) + c·v, v = ψ_in(x).
+pub(crate) type AnyStop<T> = Stop<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
+
+/// The shaped model, direct, inverse or in its stop form, run by its start rule.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Shaped<T: Real> {
-    Direct(AnyShapedModel<T>),
-    Inverse(AnyInverseShapedModel<T>),
+    Direct(Started<AnyShapedModel<T>>),
+    Inverse(Started<AnyInverseShapedModel<T>>),
+    Stop(Started<AnyStop<T>>),
 }
 
 /// The Lemma 5.1 compensator for plant orders n = 0 … 4 chosen at run time (one
@@ -50,32 +54,48 @@ pub(crate) type PlainComp<T> = Comp<T, Identity, ConstantK2<T>, Identity>;
 /// The compensator of a shaped model.
 pub(crate) type ShapedComp<T> = Comp<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
 
-/// Runs `$body` with `$op` bound to whichever operator a two-variant enum holds.
-macro_rules! either {
-    ($value:expr, $ty:ident, $op:ident => $body:expr) => {
+/// Forwards an [`Operator`] method to whichever model an enum of this module holds: static
+/// dispatch, so a firmware links only the methods its C calls reach (no vtable pulls in the jet
+/// steps of every order).
+macro_rules! each {
+    ($value:expr, $op:ident => $body:expr, $($variant:path),+) => {
         match $value {
-            $ty::Direct($op) => $body,
-            $ty::Inverse($op) => $body,
+            $($variant($op) => $body,)+
         }
     };
 }
 
-impl<T: Real> Pair<T> {
-    /// The operator behind the object-safe view.
-    pub(crate) fn as_dyn(&mut self) -> &mut dyn Dyn<T> {
-        either!(self, Pair, op => op)
-    }
+/// [`Operator`] for an enum of models, variant by variant.
+macro_rules! operator_enum {
+    ($ty:ident, $($variant:path),+) => {
+        impl<T: Real> Operator<T> for $ty<T> {
+            type Memory = Option<Memory<T>>;
+
+            #[inline]
+            fn try_step<S: hyst_core::Sample<T>>(&mut self, x: S) -> Result<S, Error> {
+                each!(self, op => Operator::try_step(op, x), $($variant),+)
+            }
+            fn last_output(&self) -> Option<T> {
+                each!(self, op => Operator::last_output(op), $($variant),+)
+            }
+            fn reset(&mut self) {
+                each!(self, op => Operator::reset(op), $($variant),+)
+            }
+            fn memory(&self) -> Option<Memory<T>> {
+                each!(self, op => Operator::memory(op), $($variant),+)
+            }
+            fn set_memory(&mut self, memory: Option<Memory<T>>) -> Result<(), Error> {
+                each!(self, op => Operator::set_memory(op, memory), $($variant),+)
+            }
+        }
+    };
 }
 
-impl<T: Real> Shaped<T> {
-    /// The model behind the object-safe view.
-    pub(crate) fn as_dyn(&mut self) -> &mut dyn Dyn<T> {
-        either!(self, Shaped, op => op)
-    }
-}
+operator_enum!(Pair, Pair::Direct, Pair::Inverse);
+operator_enum!(Shaped, Shaped::Direct, Shaped::Inverse, Shaped::Stop);
 
-/// The object-safe part of [`Operator`] that the C functions need: plain samples, jets of
-/// order 1 … 4, memory. (`Operator::try_step` is generic, so it cannot be called through `dyn`.)
+/// The part of [`Operator`] that the C functions need: plain samples, jets of order 1 … 4,
+/// memory, as plain (non-generic) methods.
 pub(crate) trait Dyn<T: Real> {
     fn step(&mut self, x: T) -> Result<T, (Error, T)>;
     fn jet(&mut self, x: &[T], y: &mut [T]) -> Result<(), Error>;
@@ -146,7 +166,7 @@ fn jet_step<T: Real, O: Operator<T> + ?Sized>(
 ///
 /// # Safety
 /// `y` is NULL or valid for one write.
-pub(crate) unsafe fn step<T: Real>(op: &mut dyn Dyn<T>, x: T, y: *mut T) -> i32 {
+pub(crate) unsafe fn step<T: Real, O: Dyn<T>>(op: &mut O, x: T, y: *mut T) -> i32 {
     if y.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
@@ -163,8 +183,8 @@ pub(crate) unsafe fn step<T: Real>(op: &mut dyn Dyn<T>, x: T, y: *mut T) -> i32 
 ///
 /// # Safety
 /// `x` and `y` are NULL or valid for `order + 1` reads / writes.
-pub(crate) unsafe fn step_derivatives<T: Real>(
-    op: &mut dyn Dyn<T>,
+pub(crate) unsafe fn step_derivatives<T: Real, O: Dyn<T>>(
+    op: &mut O,
     x: *const T,
     y: *mut T,
     order: usize,
@@ -199,8 +219,8 @@ pub(crate) unsafe fn step_derivatives<T: Real>(
 /// # Safety
 /// When `n > 0`, `x` and `y` are NULL or valid for `n` reads / writes (they may be the same
 /// array).
-pub(crate) unsafe fn process<T: Real>(
-    op: &mut dyn Dyn<T>,
+pub(crate) unsafe fn process<T: Real, O: Dyn<T>>(
+    op: &mut O,
     x: *const T,
     y: *mut T,
     n: usize,
@@ -351,6 +371,81 @@ pub(crate) fn shaped_model<T: Real>(
     output: Shaping<T>,
 ) -> Result<AnyShapedModel<T>, Error> {
     ShapedModel::new(input, Hysteresis::with_k2_law(k1, law)?, output)
+}
+
+/// The start rule of `hyst_shaped_model_params.initial_state`.
+pub(crate) fn initial_state(rule: i32) -> Result<InitialState, Error> {
+    match rule {
+        0 => Ok(InitialState::Line),
+        1 => Ok(InitialState::Rising),
+        2 => Ok(InitialState::Falling),
+        _ => Err(Error::InvalidParameter {
+            name: "initial_state",
+            value: f64::from(rule),
+            expected: "HYST_INITIAL_STATE_LINE, _RISING or _FALLING (0, 1, 2)",
+        }),
+    }
+}
+
+/// A compensator's model is the operator form, its history set by the integrators' state (`v0`),
+/// not by a start rule.
+pub(crate) fn compensated_form(form: i32, rule: i32) -> Result<(), Error> {
+    if form != 0 {
+        return Err(Error::InvalidParameter {
+            name: "form",
+            value: f64::from(form),
+            expected: "HYST_FORM_OPERATOR (a compensator inverts H)",
+        });
+    }
+    if rule != 0 {
+        return Err(Error::InvalidParameter {
+            name: "initial_state",
+            value: f64::from(rule),
+            expected: "HYST_INITIAL_STATE_LINE (the compensator starts from its integrators' \
+                       state v0)",
+        });
+    }
+    Ok(())
+}
+
+/// The shaped model of `params` in its form (`HYST_FORM_*`), direct or inverse, run by the
+/// start rule `rule`. The stop form has no inverse.
+pub(crate) fn shaped<T: Real>(
+    model: AnyShapedModel<T>,
+    form: i32,
+    linear: T,
+    rule: i32,
+    inverse: bool,
+) -> Result<Shaped<T>, Error> {
+    let rule = initial_state(rule)?;
+    match (form, inverse) {
+        (0, _) if linear != T::zero() => Err(Error::InvalidParameter {
+            name: "linear",
+            value: linear.as_f64(),
+            expected: "0 for HYST_FORM_OPERATOR (the linear term belongs to the stop form)",
+        }),
+        (0, false) => Ok(Shaped::Direct(Started::new(model, rule))),
+        (0, true) => Ok(Shaped::Inverse(Started::new(model.inverse(), rule))),
+        (1, false) => {
+            let stop = Stop::new(
+                *model.input_shaping(),
+                *model.operator(),
+                *model.output_shaping(),
+                linear,
+            )?;
+            Ok(Shaped::Stop(Started::new(stop, rule)))
+        }
+        (1, true) => Err(Error::InvalidParameter {
+            name: "form",
+            value: 1.0,
+            expected: "HYST_FORM_OPERATOR: the stop form (friction) has no inverse",
+        }),
+        _ => Err(Error::InvalidParameter {
+            name: "form",
+            value: f64::from(form),
+            expected: "HYST_FORM_OPERATOR or HYST_FORM_STOP (0, 1)",
+        }),
+    }
 }
 
 /// The plain operator.

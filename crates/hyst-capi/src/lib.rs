@@ -51,6 +51,20 @@ pub const HYST_SHAPING_QUADRATIC_EXP: i32 = 5;
 pub const HYST_K2_CONSTANT: i32 = 0;
 /// `hyst_k2_law.kind`: k2 = φ(v) affine in the operator input, clamped.
 pub const HYST_K2_AFFINE: i32 = 1;
+/// `hyst_shaped_model_params.initial_state`, the start rule: no history, the first sample is a
+/// reversal point on the line (what a zeroed struct gives).
+pub const HYST_INITIAL_STATE_LINE: i32 = 0;
+/// The start rule `rising`: at its first sample the model is on the lower asymptote, heading up
+/// (a model file's `initial_state = "rising"`).
+pub const HYST_INITIAL_STATE_RISING: i32 = 1;
+/// The start rule `falling`: on the upper asymptote, heading down.
+pub const HYST_INITIAL_STATE_FALLING: i32 = 2;
+/// `hyst_shaped_model_params.form`: y = ψ_out(H[ψ_in(x)]), the operator's counterclockwise loop
+/// (what a zeroed struct gives).
+pub const HYST_FORM_OPERATOR: i32 = 0;
+/// `hyst_shaped_model_params.form`: the stop form y = ψ_out(v − H[v]) + c·v, v = ψ_in(x), a
+/// clockwise loop (friction); it has no inverse.
+pub const HYST_FORM_STOP: i32 = 1;
 
 /// The firmware build has no unwinding and no way to report a panic; nothing in this crate or
 /// in hyst-core panics on any input (the workspace denies `unwrap`, `expect` and `panic!`, and

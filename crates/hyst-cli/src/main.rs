@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 
 mod bench;
 mod bound;
+mod export;
 mod fit;
 mod fmu;
 mod paper;
@@ -40,6 +41,9 @@ enum Command {
     Fmu(fmu::Args),
     /// Measure the speed of the operators (ns per sample).
     Bench(bench::Args),
+    /// Write a model file as firmware source: header-only C over hyst.h, or no_std Rust over
+    /// hyst-core, exact from the first sample.
+    Export(export::Args),
 }
 
 fn main() -> ExitCode {
@@ -55,6 +59,7 @@ fn main() -> ExitCode {
         Command::Fit(args) => fit::main(args),
         Command::Fmu(args) => fmu::main(args),
         Command::Bench(args) => bench::main(args),
+        Command::Export(args) => export::main(args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -80,6 +85,12 @@ fn distinct_files(command: &Command) -> anyhow::Result<()> {
             }
         }
         Command::Fit(args) => hyst_io::check_distinct(&args.data, &args.model_out)?,
+        Command::Export(args) => {
+            let a = args.target.args();
+            if let Some(output) = &a.output {
+                hyst_io::check_distinct(&a.model, output)?;
+            }
+        }
         // `hyst fmu` checks its model file itself.
         Command::Fmu(_) | Command::Bound(_) | Command::Paper(_) | Command::Bench(_) => {}
     }

@@ -71,8 +71,11 @@ fn hyst(args: &[&str]) -> String {
 /// `hyst run` output.
 fn cli_surface() -> String {
     let mut text = hyst(&["--help"]);
-    for command in ["run", "bound", "paper", "fit", "fmu", "bench"] {
+    for command in ["run", "bound", "paper", "fit", "fmu", "bench", "export"] {
         text += &hyst(&[command, "--help"]);
+    }
+    for language in ["c", "rust"] {
+        text += &hyst(&["export", language, "--help"]);
     }
     text += &hyst(&[
         "bound", "--k1", "0.14", "--dk1", "0.1", "--k2", "8", "--dk2", "5", "--json",
@@ -232,8 +235,11 @@ fn no_surface_exposes_an_old_name() {
     assert!(old.len() >= 8, "the old-names table has {} rows", old.len());
     let help = {
         let mut text = hyst(&["--help"]);
-        for command in ["run", "bound", "paper", "fit", "fmu", "bench"] {
+        for command in ["run", "bound", "paper", "fit", "fmu", "bench", "export"] {
             text += &hyst(&[command, "--help"]);
+        }
+        for language in ["c", "rust"] {
+            text += &hyst(&["export", language, "--help"]);
         }
         text
     };

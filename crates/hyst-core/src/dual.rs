@@ -576,6 +576,15 @@ impl<T: Real, const N: usize> Real for Dual<T, N> {
         Self::constant(T::from_usize(n))
     }
 
+    /// The value one ulp toward `target`'s value; the gradient is kept.
+    #[inline]
+    fn ulp_toward(self, target: Self) -> Self {
+        Self {
+            v: self.v.ulp_toward(target.v),
+            d: self.d,
+        }
+    }
+
     /// W0 of the value by Fukushima's method; gradient by W0'(x) = W / (x (1 + W)) (1 at x = 0).
     #[inline]
     fn lambert_w0_fukushima(self) -> Self {

@@ -132,6 +132,7 @@ pub mod sample;
 pub mod scaled_shaping;
 pub mod shaped_model;
 pub mod shaping;
+pub mod start;
 pub mod stop;
 
 #[cfg(feature = "std")]
@@ -159,6 +160,7 @@ pub use shaped_model::{InverseShapedModel, ShapedModel};
 pub use shaping::{
     Affine, AnyShaping, Identity, Langevin, Polynomial, QuadraticExp, Shaping, Tanh,
 };
+pub use start::{on_asymptote, InitialState, Start, Started};
 pub use stop::Stop;
 
 /// The Rust examples of the project's README and guide, compiled and run as doctests so the

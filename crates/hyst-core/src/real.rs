@@ -24,6 +24,11 @@ pub trait Real:
     /// Principal branch of the Lambert W function for `x ≥ 0`, by Fukushima's minimax method
     /// (the `lambert_w` crate): 50 bits for `f64`, 24 bits for `f32`.
     fn lambert_w0_fukushima(self) -> Self;
+    /// The next representable value after `self` in the direction of `target` (one ulp;
+    /// `self` when they are equal or either is NaN). A [`Dual`](crate::Dual) steps its value
+    /// and keeps its gradient.
+    #[must_use]
+    fn ulp_toward(self, target: Self) -> Self;
     /// The largest `y` for which `exp(y)` is finite, less a safety margin: above it the Wright
     /// omega function is evaluated in the log domain.
     const EXP_ARG_MAX: Self;
@@ -61,6 +66,23 @@ impl Real for f64 {
     fn lambert_w0_fukushima(self) -> Self {
         lambert_w::lambert_w0(self)
     }
+    #[inline]
+    fn ulp_toward(self, target: Self) -> Self {
+        if self.is_nan() || target.is_nan() || self == target {
+            return self;
+        }
+        if self == 0.0 {
+            // The smallest subnormal with the target's sign.
+            return f64::from_bits(1).copysign(target);
+        }
+        let bits = self.to_bits();
+        // Away from zero when the target is further out on the same side, else toward it.
+        f64::from_bits(if (target > self) == (self > 0.0) {
+            bits + 1
+        } else {
+            bits - 1
+        })
+    }
     const EXP_ARG_MAX: Self = 700.0;
     const ZERO: Self = 0.0;
 }
@@ -81,6 +103,23 @@ impl Real for f32 {
     #[inline]
     fn lambert_w0_fukushima(self) -> Self {
         lambert_w::lambert_w0f(self)
+    }
+    #[inline]
+    fn ulp_toward(self, target: Self) -> Self {
+        if self.is_nan() || target.is_nan() || self == target {
+            return self;
+        }
+        if self == 0.0 {
+            // The smallest subnormal with the target's sign.
+            return f32::from_bits(1).copysign(target);
+        }
+        let bits = self.to_bits();
+        // Away from zero when the target is further out on the same side, else toward it.
+        f32::from_bits(if (target > self) == (self > 0.0) {
+            bits + 1
+        } else {
+            bits - 1
+        })
     }
     const EXP_ARG_MAX: Self = 85.0;
     const ZERO: Self = 0.0;

@@ -81,6 +81,11 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> ShapedModel<T, I, K, O>
     pub fn operator(&self) -> &Hysteresis<T, K> {
         &self.operator
     }
+
+    /// Sets the operator's memory as it is (a start rule's, checked by its maker).
+    pub(crate) fn restore(&mut self, memory: Option<Memory<T>>) {
+        self.operator.restore(memory);
+    }
 }
 
 impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for ShapedModel<T, I, K, O> {
@@ -126,6 +131,22 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> InverseShapedModel<T, I
     /// Puts back a memory saved from this inverse (no check: it was its own).
     pub(crate) fn restore(&mut self, memory: Option<Memory<T>>) {
         self.operator.restore(memory);
+    }
+
+    /// Sets the memory that mirrors the direct operator's `memory` (a start rule's).
+    pub(crate) fn restore_direct(&mut self, memory: Option<Memory<T>>) {
+        self.operator.restore(memory.map(|m| m.swapped()));
+    }
+
+    /// The input shaping ψ_in.
+    #[must_use]
+    pub fn input_shaping(&self) -> &I {
+        &self.input
+    }
+    /// The output shaping ψ_out.
+    #[must_use]
+    pub fn output_shaping(&self) -> &O {
+        &self.output
     }
 
     /// The inverse operator (with its memory).

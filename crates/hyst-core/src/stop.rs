@@ -91,6 +91,11 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Stop<T, I, K, O> {
     pub fn linear(&self) -> T {
         self.linear
     }
+
+    /// Sets the operator's memory as it is (a start rule's, checked by its maker).
+    pub(crate) fn restore(&mut self, memory: Option<Memory<T>>) {
+        self.operator.restore(memory);
+    }
 }
 
 impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for Stop<T, I, K, O> {

@@ -39,7 +39,16 @@ fn command_line_names_are_the_contract() {
         ]
     );
     assert_eq!(names::<K2Kind>(), ["constant", "affine"]);
-    assert_eq!(names::<InitialState>(), ["rising", "falling", "line"]);
+    // The start rule is the core's (no clap there): its names are the model file's.
+    let starts = [
+        InitialState::Rising,
+        InitialState::Falling,
+        InitialState::Line,
+    ];
+    assert_eq!(
+        starts.map(|s| serde_name(&s)),
+        ["rising", "falling", "line"]
+    );
     assert_eq!(names::<PiOutputKind>(), ["none", "poly2", "poly3"]);
     assert_eq!(names::<ModelKind>(), ["smooth", "prandtl-ishlinskii"]);
 }
@@ -55,12 +64,6 @@ fn command_line_and_model_file_agree() {
         assert_eq!(
             Some(serde_name(k)),
             k.to_possible_value().map(|p| p.get_name().into())
-        );
-    }
-    for s in InitialState::value_variants() {
-        assert_eq!(
-            Some(serde_name(s)),
-            s.to_possible_value().map(|p| p.get_name().into())
         );
     }
     // The file and the command line say the same; the command line also takes the short `pi`.

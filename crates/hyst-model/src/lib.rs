@@ -15,13 +15,18 @@
 //!   reproduces the data and its bound Δa; [`provenance`]: what the file records of the data
 //!   and the fit.
 //!
+//! - [`export`]: a model file as firmware source, a header-only C file over `hyst.h` or `no_std`
+//!   Rust over hyst-core, exact from the first sample (`hyst export c|rust`).
+//!
 //! The optional feature `clap` derives `clap::ValueEnum` for the choices a command line offers
-//! ([`ShapingKind`], [`K2Kind`], [`InitialState`], [`Form`], [`ModelKind`]).
+//! ([`ShapingKind`], [`K2Kind`], [`Form`], [`ModelKind`]; the start rule [`InitialState`] is
+//! hyst-core's).
 
 #![forbid(unsafe_code)]
 
 pub mod error;
 pub mod evaluator;
+pub mod export;
 pub mod family;
 pub mod file;
 pub mod pi;

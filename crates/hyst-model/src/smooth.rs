@@ -2,30 +2,15 @@
 //! out = ψ_out(v − H(k1, k2)\[v\]) + c·v, v = ψ_in(in), for clockwise loops, as plain data: built
 //! from the core's types, run over records, and turned into the core's exact compensator.
 
+pub use hyst_core::InitialState;
 use hyst_core::ScaledShaping;
 use hyst_core::{
-    AnyK2Law, Direction, Dual, Error, Hysteresis, InverseShapedModel, K2Law, Operator, Real,
-    ShapedModel, Shaping, Stop,
+    on_asymptote, AnyK2Law, Direction, Dual, Error, Hysteresis, InverseShapedModel, K2Law,
+    Operator, Real, ShapedModel, Shaping, Stop,
 };
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
-
-/// Where each record starts (Definition 2.1 needs a first reversal point). The default,
-/// [`InitialState::Rising`], suits a device switched on and driven up to its first value, and a
-/// loop or FORC record that starts from positive saturation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-#[serde(rename_all = "kebab-case")]
-pub enum InitialState {
-    /// As after a long rise: on the lower asymptote output = input − k1, heading up.
-    #[default]
-    Rising,
-    /// As after a long fall: on the upper asymptote output = input + k1, heading down.
-    Falling,
-    /// No history: the first sample is a reversal point on the anhysteretic line output = input.
-    Line,
-}
 
 /// Which way the model's loop runs, and so its equation. The kebab-case name (`operator`,
 /// `stop`) is the model file's and the command line's.
@@ -67,52 +52,12 @@ fn is_zero<T: Default + PartialEq>(x: &T) -> bool {
 
 /// The numbers a [`SmoothModel`] is evaluated on: `f64` (the fit's values, model files) and
 /// [`Dual<f64, N>`] (the same evaluation with the gradient with respect to N parameters: the
-/// fit's Jacobian). Everything is [`Real`] arithmetic except a start on an asymptote, which
-/// rounds the value by ulps (see `on_asymptote`) and so needs to set a value exactly.
-pub trait FitReal: Real {
-    /// The same derivatives with the value `value` (for `f64`: `value`).
-    #[must_use]
-    fn with_f64_value(self, value: f64) -> Self;
-}
+/// fit's Jacobian).
+pub trait FitReal: Real {}
 
-impl FitReal for f64 {
-    #[inline]
-    fn with_f64_value(self, value: f64) -> Self {
-        value
-    }
-}
+impl FitReal for f64 {}
 
-impl<const N: usize> FitReal for Dual<f64, N> {
-    #[inline]
-    fn with_f64_value(self, value: f64) -> Self {
-        Dual::new(value, self.gradient())
-    }
-}
-
-/// v + d with its value rounded towards v until |(v + d) − v| ≤ |d| holds in floating point
-/// (the band check of the core), so a start on the asymptote is never refused for an ulp (the
-/// derivatives are those of v + d).
-fn on_asymptote<T: FitReal>(v: T, d: T) -> T {
-    (v + d).with_f64_value(on_asymptote_value(v.as_f64(), d.as_f64()))
-}
-
-/// The value of [`on_asymptote`].
-fn on_asymptote_value(v: f64, d: f64) -> f64 {
-    let mut u = v + d;
-    for _ in 0..64 {
-        if (u - v).abs() <= d.abs() {
-            break;
-        }
-        // One ulp towards v.
-        let bits = u.to_bits();
-        u = f64::from_bits(if (u > v) == (u > 0.0) {
-            bits - 1
-        } else {
-            bits + 1
-        });
-    }
-    u
-}
+impl<const N: usize> FitReal for Dual<f64, N> {}
 
 /// A smooth model out = ψ_out(H(k1, k2)\[ψ_in(in)\]) (or its stop form, [`Form::Stop`]) with its
 /// start rule.
@@ -300,17 +245,8 @@ impl<T: FitReal> SmoothModel<T> {
         operator: Hysteresis<T, K>,
         first_input: T,
     ) -> Result<Hysteresis<T, K>, Error> {
-        let v0 = self.input_shaping.apply(first_input);
-        let k1 = operator.k1();
-        match self.initial_state {
-            InitialState::Line => Ok(operator),
-            InitialState::Rising => {
-                operator.with_initial_state(v0, on_asymptote(v0, -k1), Direction::Rising)
-            }
-            InitialState::Falling => {
-                operator.with_initial_state(v0, on_asymptote(v0, k1), Direction::Falling)
-            }
-        }
+        self.initial_state
+            .start(operator, self.input_shaping.apply(first_input))
     }
 
     /// `operator` started for a record with inputs `input`: by the start rule, or, with a
@@ -520,19 +456,7 @@ impl SmoothModel {
         // exactly at the reversal (a round trip through ψ_in would leave it an ulp off, a tiny
         // step the wrong way that turns the branch).
         let operator = Hysteresis::with_k2_law(self.k1, self.k2)?;
-        let operator = match self.initial_state {
-            InitialState::Line => operator,
-            InitialState::Rising => operator.with_initial_state(
-                on_asymptote_value(u0, self.k1),
-                u0,
-                Direction::Rising,
-            )?,
-            InitialState::Falling => operator.with_initial_state(
-                on_asymptote_value(u0, -self.k1),
-                u0,
-                Direction::Falling,
-            )?,
-        };
+        let operator = self.initial_state.start_from_output(operator, u0)?;
         // Checks the command exists (a saturating ψ_in has a bounded range).
         if let Some(m) = operator.memory() {
             self.input_shaping.invert(m.last_input)?;

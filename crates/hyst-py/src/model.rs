@@ -63,6 +63,9 @@ pub struct Model {
     pub(crate) inverse: bool,
     /// Where it came from, for messages (`"<fit>"` for a fit's result).
     pub(crate) source: String,
+    /// FNV-1a 64 of the model file's bytes (of its TOML text for a model never read from a
+    /// file): what an exported header names beside `source`.
+    pub(crate) source_fnv1a64: u64,
     /// The inverse clamps desired outputs into the saturation limits (`inverse(saturate=True)`).
     pub(crate) saturate: bool,
     evaluator: Option<Saturated<Evaluator>>,
@@ -72,10 +75,14 @@ impl Model {
     /// A model from a model file's content.
     #[must_use]
     pub fn new(file: ModelFile, inverse: bool, source: String) -> Self {
+        let source_fnv1a64 = file
+            .to_toml()
+            .map_or(0, |text| hyst_model::file::fnv1a64(text.as_bytes()));
         Self {
             file,
             inverse,
             source,
+            source_fnv1a64,
             saturate: false,
             evaluator: None,
         }
@@ -112,9 +119,19 @@ impl Model {
     }
 }
 
-/// What pickling a `Model` stores: its TOML text, `inverse`, `source` and `saturate` (the
-/// arguments of `_model_from_toml`).
-type Pickled = (String, bool, String, bool);
+impl Model {
+    /// What an exported file names as its source.
+    fn export_source(&self) -> hyst_model::export::Source {
+        hyst_model::export::Source {
+            name: self.source.clone(),
+            fnv1a64: self.source_fnv1a64,
+        }
+    }
+}
+
+/// What pickling a `Model` stores: its TOML text, `inverse`, `source`, `saturate` and the
+/// source's hash (the arguments of `_model_from_toml`).
+type Pickled = (String, bool, String, bool, u64);
 
 fn first_of(xs: &Samples<'_>) -> Option<f64> {
     match xs {
@@ -340,6 +357,22 @@ impl Model {
         self.file.to_toml().map_err(errors::model)
     }
 
+    /// The model as one header-only C99 file over `hyst.h` whose identifiers all start with
+    /// `name` (`NAME_state`, `NAME_init`, `NAME_init_inverse`, `NAME_step`, `NAME_reset`,
+    /// `NAME_params` and their `_f32` twins): the text `hyst export c` writes for the same
+    /// model file (docs/c.md). Raises ValueError for a name that is not a C identifier or
+    /// clashes with hyst.h's, and for a model the firmware cannot run (Prandtl–Ishlinskii).
+    fn export_c(&self, name: &str) -> PyResult<String> {
+        hyst_model::export::c(&self.file, name, &self.export_source()).map_err(errors::model)
+    }
+
+    /// The model as `no_std` Rust over hyst-core (`NAME::<T>()`, `NAME_inverse::<T>()`,
+    /// `NAME_clamp`): the text `hyst export rust` writes for the same model file (docs/c.md).
+    /// Raises ValueError for a name that is not an identifier.
+    fn export_rust(&self, name: &str) -> PyResult<String> {
+        hyst_model::export::rust(&self.file, name, &self.export_source()).map_err(errors::model)
+    }
+
     /// Writes the model file to `path` (atomically: a failed write leaves no partial file and
     /// an existing file untouched). Raises OSError when it cannot be written.
     fn save(&self, path: PathBuf) -> PyResult<()> {
@@ -351,7 +384,13 @@ impl Model {
         let restore = slf.py().import("hyst._hyst")?.getattr("_model_from_toml")?;
         Ok((
             restore,
-            (me.to_toml()?, me.inverse, me.source.clone(), me.saturate),
+            (
+                me.to_toml()?,
+                me.inverse,
+                me.source.clone(),
+                me.saturate,
+                me.source_fnv1a64,
+            ),
         ))
     }
 
@@ -376,20 +415,26 @@ impl Model {
 pub fn load_model(path: PathBuf) -> PyResult<Model> {
     let text = std::fs::read_to_string(&path).map_err(|e| errors::io(&path, "read", &e))?;
     let file = ModelFile::from_toml(&text, &path).map_err(errors::model)?;
-    Ok(Model::new(file, false, path.display().to_string()))
+    let mut model = Model::new(file, false, path.display().to_string());
+    model.source_fnv1a64 = hyst_model::file::fnv1a64(text.as_bytes());
+    Ok(model)
 }
 
 /// Rebuilds a model from its TOML text (what pickling a `Model` stores).
 #[pyfunction(name = "_model_from_toml")]
-#[pyo3(signature = (text, inverse=false, source="<toml>".to_string(), saturate=false))]
+#[pyo3(signature = (text, inverse=false, source="<toml>".to_string(), saturate=false, source_fnv1a64=None))]
 pub fn model_from_toml(
     text: &str,
     inverse: bool,
     source: String,
     saturate: bool,
+    source_fnv1a64: Option<u64>,
 ) -> PyResult<Model> {
     let file = ModelFile::from_toml(text, Path::new(&source)).map_err(errors::model)?;
     let mut model = Model::new(file, inverse, source);
     model.saturate = inverse && saturate;
+    if let Some(h) = source_fnv1a64 {
+        model.source_fnv1a64 = h;
+    }
     Ok(model)
 }

@@ -291,7 +291,9 @@ pub unsafe extern "C" fn hyst_compensator_reset_f32(c: *mut hyst_compensator_f32
 
 /// Initialises `c` as the Lemma 5.1 compensator of the shaped model `params`, as
 /// `hyst_compensator_init_f32` (which it equals for identity shaping and constant k2). Also returns
-/// `HYST_ERR_NOT_MONOTONE` for a shaping function that is not increasing.
+/// `HYST_ERR_NOT_MONOTONE` for a shaping function that is not increasing, and
+/// `HYST_ERR_INVALID_PARAMETER` for the stop form or a start rule other than
+/// `HYST_INITIAL_STATE_LINE` (the integrators' state `v0` sets the history).
 ///
 /// # Safety
 /// `c` is NULL or points to a writable `hyst_shaped_compensator_f32`; `params` is NULL or readable;
@@ -314,8 +316,9 @@ pub unsafe extern "C" fn hyst_shaped_compensator_init_f32(
         Err(s) => return s,
     };
     // SAFETY: non-NULL (checked), readable (caller's contract).
-    let built = unsafe { params.read() }
-        .model()
+    let params = unsafe { params.read() };
+    let built = engine::compensated_form(params.form, params.initial_state)
+        .and_then(|()| params.model())
         .and_then(|model| build(model.inverse(), b, &plant, n));
     match built {
         // SAFETY: `c` is NULL or a writable block of the type's size; `fits` holds.

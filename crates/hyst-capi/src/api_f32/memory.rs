@@ -59,7 +59,7 @@ impl hyst_memory_f32 {
 /// # Safety
 /// `memory` is NULL or writable.
 pub(crate) unsafe fn get_memory(
-    op: Result<&mut dyn engine::Dyn<f32>, i32>,
+    op: Result<&mut impl engine::Dyn<f32>, i32>,
     memory: *mut hyst_memory_f32,
 ) -> i32 {
     if memory.is_null() {
@@ -78,7 +78,7 @@ pub(crate) unsafe fn get_memory(
 /// # Safety
 /// `memory` is NULL or readable.
 pub(crate) unsafe fn set_memory(
-    op: Result<&mut dyn engine::Dyn<f32>, i32>,
+    op: Result<&mut impl engine::Dyn<f32>, i32>,
     memory: *const hyst_memory_f32,
 ) -> i32 {
     if memory.is_null() {
@@ -93,7 +93,7 @@ pub(crate) unsafe fn set_memory(
 }
 
 /// `_reset` of an operator or a shaped model.
-pub(crate) fn reset(op: Result<&mut dyn engine::Dyn<f32>, i32>) -> i32 {
+pub(crate) fn reset(op: Result<&mut impl engine::Dyn<f32>, i32>) -> i32 {
     done(op.map(|o| {
         o.reset();
         HYST_OK

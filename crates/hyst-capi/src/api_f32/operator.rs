@@ -21,10 +21,10 @@ const TAG_OPERATOR: u32 = 0x4859_5f66; // "HY_f"
 const _: () = assert!(slot::fits::<hyst_operator_f32, Pair<f32>>());
 
 /// The initialised operator behind `op`, or the status of the failed check.
-fn operator<'a>(op: *mut hyst_operator_f32) -> Result<&'a mut dyn engine::Dyn<f32>, i32> {
+fn operator<'a>(op: *mut hyst_operator_f32) -> Result<&'a mut Pair<f32>, i32> {
     // SAFETY: the caller of the C function passes NULL, an initialised block, or any other
     // readable block of the type's size (whose tag then does not match).
-    unsafe { slot::value_mut::<_, Pair<f32>>(op, TAG_OPERATOR) }.map(Pair::as_dyn)
+    unsafe { slot::value_mut::<_, Pair<f32>>(op, TAG_OPERATOR) }
 }
 
 /// `hyst_operator_init_direct_f32` / `_inverse`.

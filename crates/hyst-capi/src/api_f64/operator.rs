@@ -21,10 +21,10 @@ const TAG_OPERATOR: u32 = 0x4859_5f64; // "HY_d"
 const _: () = assert!(slot::fits::<hyst_operator, Pair<f64>>());
 
 /// The initialised operator behind `op`, or the status of the failed check.
-fn operator<'a>(op: *mut hyst_operator) -> Result<&'a mut dyn engine::Dyn<f64>, i32> {
+fn operator<'a>(op: *mut hyst_operator) -> Result<&'a mut Pair<f64>, i32> {
     // SAFETY: the caller of the C function passes NULL, an initialised block, or any other
     // readable block of the type's size (whose tag then does not match).
-    unsafe { slot::value_mut::<_, Pair<f64>>(op, TAG_OPERATOR) }.map(Pair::as_dyn)
+    unsafe { slot::value_mut::<_, Pair<f64>>(op, TAG_OPERATOR) }
 }
 
 /// `hyst_operator_init_direct` / `_inverse`.

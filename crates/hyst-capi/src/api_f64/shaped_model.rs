@@ -59,9 +59,11 @@ pub struct hyst_k2_law {
     pub max: f64,
 }
 
-/// The parameters of the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) (Section 4.3), for
+/// The parameters of the shaped model y = ψ_out(H(k1, k2)[ψ_in(x)]) (Section 4.3), or of its
+/// stop form y = ψ_out(v − H[v]) + c·v, v = ψ_in(x), with its start rule, for
 /// `hyst_shaped_model_init_direct`, `hyst_shaped_model_init_inverse` and
-/// `hyst_shaped_compensator_init`.
+/// `hyst_shaped_compensator_init`. A zeroed `initial_state`, `form` and `linear` give the
+/// shaped model with no history.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct hyst_shaped_model_params {
@@ -73,10 +75,28 @@ pub struct hyst_shaped_model_params {
     pub input: hyst_shaping,
     /// ψ_out: from the operator's units to output units.
     pub output: hyst_shaping,
+    /// The start rule (`HYST_INITIAL_STATE_*`): without history (after init or reset) the model
+    /// starts at its next sample on the line, or at rest on the lower (`_RISING`) or upper
+    /// (`_FALLING`) asymptote through it, as `hyst run --model` starts a record. The inverse
+    /// starts where the rule puts the model that produces its first desired output.
+    pub initial_state: i32,
+    /// `HYST_FORM_OPERATOR` or `HYST_FORM_STOP` (direct only: the stop form has no inverse).
+    pub form: i32,
+    /// c of the stop form's linear term (output units per operator unit); 0 for the operator
+    /// form.
+    pub linear: f64,
 }
 
 impl hyst_shaped_model_params {
-    /// The shaped model these parameters describe, checked by the core.
+    /// The model these parameters describe in its form and with its start rule, direct or
+    /// inverse, checked by the core.
+    pub(crate) fn shaped(&self, inverse: bool) -> Result<Shaped<f64>, hyst_core::Error> {
+        let model = self.model()?;
+        engine::shaped(model, self.form, self.linear, self.initial_state, inverse)
+    }
+
+    /// The shaped model these parameters describe (operator form, no start rule), checked by
+    /// the core.
     pub(crate) fn model(&self) -> Result<engine::AnyShapedModel<f64>, hyst_core::Error> {
         let k2 = &self.k2;
         let law = engine::k2_law(k2.kind, k2.value, k2.slope, k2.min, k2.max)?;
@@ -106,9 +126,9 @@ const TAG_SHAPED: u32 = 0x4859_5364; // "HYSd"
 const _: () = assert!(slot::fits::<hyst_shaped_model, Shaped<f64>>());
 
 /// The initialised shaped model behind `m`, or the status of the failed check.
-fn shaped<'a>(m: *mut hyst_shaped_model) -> Result<&'a mut dyn engine::Dyn<f64>, i32> {
+fn shaped<'a>(m: *mut hyst_shaped_model) -> Result<&'a mut Shaped<f64>, i32> {
     // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut::<_, Shaped<f64>>(m, TAG_SHAPED) }.map(Shaped::as_dyn)
+    unsafe { slot::value_mut::<_, Shaped<f64>>(m, TAG_SHAPED) }
 }
 
 /// `hyst_shaped_model_init_direct` / `_inverse`.
@@ -124,16 +144,9 @@ unsafe fn init_shaped(
         return HYST_ERR_NULL_POINTER;
     }
     // SAFETY: non-NULL (checked), readable (caller's contract).
-    match unsafe { params.read() }.model() {
-        Ok(model) => {
-            let shaped = if inverse {
-                Shaped::Inverse(model.inverse())
-            } else {
-                Shaped::Direct(model)
-            };
-            // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
-            unsafe { slot::write(m, TAG_SHAPED, shaped) }
-        }
+    match unsafe { params.read() }.shaped(inverse) {
+        // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
+        Ok(shaped) => unsafe { slot::write(m, TAG_SHAPED, shaped) },
         Err(e) => status::of(&e),
     }
 }

@@ -1,0 +1,110 @@
+//! `hyst export c|rust MODEL --name NAME -o FILE`: a model file as firmware source, exact from
+//! the first sample (the generators are `hyst_model::export`'s, shared with Python's
+//! `Model.export_c`/`export_rust`). Everything is checked before anything is written, and the
+//! file is written atomically: on failure no output file exists.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use hyst_model::export::{self, Source};
+use hyst_model::ModelFile;
+
+/// Arguments of `hyst export`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// What to write.
+    #[command(subcommand)]
+    pub target: Target,
+}
+
+/// The languages a model exports to.
+#[derive(clap::Subcommand, Debug)]
+pub enum Target {
+    /// A header-only C99 file over hyst.h: NAME_state, NAME_init, NAME_init_inverse, NAME_step,
+    /// NAME_reset, NAME_params and their _f32 twins (docs/c.md).
+    C(Files),
+    /// no_std Rust over hyst-core: NAME::<T>(), NAME_inverse::<T>(), NAME_clamp and the model's
+    /// types, for embedded Rust (docs/c.md).
+    Rust(Files),
+}
+
+/// Arguments of `hyst export c` and `hyst export rust`.
+#[derive(clap::Args, Debug)]
+pub struct Files {
+    /// The model file (`hyst fit --model-out`).
+    pub model: PathBuf,
+    /// The prefix of every identifier of the file: a C identifier (letters, digits, `_`), not
+    /// starting with `hyst` (hyst.h's own). Default: the model file's name without its
+    /// extension, when it is one.
+    #[arg(long)]
+    pub name: Option<String>,
+    /// The file to write (written atomically); `-` or none: standard output.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+impl Target {
+    /// The arguments, whichever language.
+    pub fn args(&self) -> &Files {
+        match self {
+            Target::C(a) | Target::Rust(a) => a,
+        }
+    }
+}
+
+/// Runs `hyst export`.
+pub fn main(args: Args) -> Result<()> {
+    let a = args.target.args();
+    let bytes = std::fs::read(&a.model)
+        .with_context(|| format!("hyst export: cannot read {}", a.model.display()))?;
+    let text = String::from_utf8(bytes.clone())
+        .map_err(|_| anyhow::anyhow!("{}: not a UTF-8 text file", a.model.display()))?;
+    let file = ModelFile::from_toml(&text, &a.model)?;
+    let name = match &a.name {
+        Some(n) => n.clone(),
+        None => default_name(&a.model)?,
+    };
+    let source = Source::of_file(&a.model.display().to_string(), &bytes);
+    let (what, generated) = match &args.target {
+        Target::C(_) => ("C", export::c(&file, &name, &source)),
+        Target::Rust(_) => ("Rust", export::rust(&file, &name, &source)),
+    };
+    let generated = generated.with_context(|| {
+        format!(
+            "hyst export: {} cannot be exported as {what}",
+            a.model.display()
+        )
+    })?;
+    match &a.output {
+        Some(path) if path.as_os_str() != "-" => {
+            hyst_io::write_atomic(path, generated.as_bytes())?;
+            eprintln!(
+                "hyst export: wrote {} ({what}, name {name}, {} lines)",
+                path.display(),
+                generated.lines().count()
+            );
+        }
+        _ => std::io::stdout()
+            .lock()
+            .write_all(generated.as_bytes())
+            .context("hyst export: cannot write to standard output")?,
+    }
+    Ok(())
+}
+
+/// The model file's name without its extension, when it is a usable name.
+fn default_name(model: &Path) -> Result<String> {
+    let stem = model
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or_default()
+        .to_string();
+    export::check_name(&stem).with_context(|| {
+        format!(
+            "hyst export: no --name given, and the model file's name {stem:?} cannot be one; \
+             give --name NAME"
+        )
+    })?;
+    Ok(stem)
+}

@@ -1,0 +1,319 @@
+//! `hyst export rust`: a model file as `no_std` Rust over hyst-core, for embedded Rust (RTIC,
+//! Embassy). The file defines, generic over the precision `T` (`f32` or `f64`):
+//!
+//! - `fn NAME<T: Real>() -> Result<NAME_TYPE<T>, Error>`: the model (x in, y out), run by its
+//!   start rule from the first sample;
+//! - `fn NAME_inverse<T: Real>()`: its exact inverse (operator form only);
+//! - `fn NAME_clamp<T: Real>(y: T) -> T`: a desired output clamped into the limits of a
+//!   saturating output shaping (the identity otherwise), as `hyst run --inverse --saturate`;
+//! - the types of both, named from `NAME` in CamelCase, for statics and struct fields.
+//!
+//! Every path is written in full (`hyst_core::…`), so the file can be `include!`d anywhere and
+//! several exported models can share one module.
+
+use core::fmt::Write as _;
+
+use hyst_core::{AnyK2Law, AnyShaping, InitialState, ScaledShaping};
+
+use crate::error::ModelError;
+use crate::file::{ModelFile, ModelKind};
+use crate::pi::PiModel;
+use crate::smooth::{Form, SmoothModel};
+
+use super::shared::{check_name, description, literal, smooth, Source};
+
+/// The generated Rust for the model `file` under the name `name` (see the module
+/// documentation).
+///
+/// # Errors
+/// [`ModelError::Invalid`] for a name that is not a usable identifier ([`check_name`]).
+pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, ModelError> {
+    check_name(name)?;
+    let tool = format!("hyst export rust --name {name}");
+    let camel = camel_case(name);
+    let mut out = String::new();
+    if file.kind == ModelKind::PrandtlIshlinskii {
+        if let Some(p) = &file.prandtl_ishlinskii {
+            prandtl_ishlinskii(&mut out, file, p, name, &camel, source, &tool)?;
+            return Ok(out);
+        }
+    }
+    let m = smooth(file, "hyst-core")?;
+    let _ = writeln!(
+        out,
+        "// {name}: a hyst model as no_std Rust over hyst-core."
+    );
+    for line in description(file, m, source, &tool) {
+        let _ = writeln!(out, "// {line}");
+    }
+    let _ = writeln!(
+        out,
+        "// Without history the model starts at its first sample by the start rule, exactly as\n\
+         // `hyst run --model` starts a record; `Operator::reset` makes it start again.\n"
+    );
+    let core = "hyst_core::ShapedModel<T, hyst_core::ScaledShaping<T>, hyst_core::AnyK2Law<T>, \
+                hyst_core::ScaledShaping<T>>";
+    let (direct_ty, doc) = match m.form {
+        Form::Operator => (core.to_string(), "y = psi_out(H[psi_in(x)])"),
+        Form::Stop => (
+            "hyst_core::Stop<T, hyst_core::ScaledShaping<T>, hyst_core::AnyK2Law<T>, \
+             hyst_core::ScaledShaping<T>>"
+                .to_string(),
+            "y = psi_out(v - H[v]) + c v, v = psi_in(x)",
+        ),
+    };
+    let _ = writeln!(
+        out,
+        "/// The model `{name}`, {doc}, run by its start rule: what [`{name}`] returns.\n\
+         pub type {camel}<T> = hyst_core::Started<{direct_ty}>;\n"
+    );
+    if m.form == Form::Operator {
+        let inverse_ty = core.replacen("ShapedModel", "InverseShapedModel", 1);
+        let _ = writeln!(
+            out,
+            "/// The exact inverse of [`{camel}`] (a desired y in, the command x out): what\n\
+             /// [`{name}_inverse`] returns.\n\
+             pub type {camel}Inverse<T> = hyst_core::Started<{inverse_ty}>;\n"
+        );
+    }
+    constructor(&mut out, m, name, &camel);
+    clamp(&mut out, file, name);
+    Ok(out)
+}
+
+/// `piezo_stage` → `PiezoStage`.
+fn camel_case(name: &str) -> String {
+    name.split('_')
+        .filter(|part| !part.is_empty())
+        .map(|part| {
+            let mut chars = part.chars();
+            chars.next().map_or_else(String::new, |c| {
+                c.to_ascii_uppercase().to_string() + chars.as_str()
+            })
+        })
+        .collect()
+}
+
+/// A number as `c(literal)`, `c` being `T::from_f64`.
+fn num(x: f64) -> String {
+    format!("c({})", literal(x, "f64::INFINITY"))
+}
+
+/// The expression that builds a shaping function.
+fn shaping(s: &ScaledShaping<f64>) -> String {
+    let shape = match s.shape {
+        AnyShaping::Identity => "hyst_core::AnyShaping::Identity".to_string(),
+        AnyShaping::Affine(a) => format!(
+            "hyst_core::AnyShaping::Affine(hyst_core::Affine::new({}, {})?)",
+            num(a.gain),
+            num(a.offset)
+        ),
+        AnyShaping::Polynomial(p) => format!(
+            "hyst_core::AnyShaping::Polynomial(hyst_core::Polynomial::new([{}], {}, {})?)",
+            p.coefficients.map(num).join(", "),
+            num(p.lo),
+            num(p.hi)
+        ),
+        AnyShaping::Tanh(t) => format!(
+            "hyst_core::AnyShaping::Tanh(hyst_core::Tanh::new({}, {})?)",
+            num(t.gain),
+            num(t.scale)
+        ),
+        AnyShaping::Langevin(l) => format!(
+            "hyst_core::AnyShaping::Langevin(hyst_core::Langevin::new({}, {})?)",
+            num(l.gain),
+            num(l.scale)
+        ),
+        AnyShaping::QuadraticExp(q) => format!(
+            "hyst_core::AnyShaping::QuadraticExp(hyst_core::QuadraticExp::new({}, {}, {}, {}, {})?)",
+            num(q.a),
+            num(q.b),
+            num(q.c),
+            num(q.lo),
+            num(q.hi)
+        ),
+    };
+    format!(
+        "hyst_core::ScaledShaping::new(\n        {},\n        {},\n        {shape},\n        {},\n        {},\n    )?",
+        num(s.pre_gain),
+        num(s.pre_offset),
+        num(s.post_gain),
+        num(s.post_offset)
+    )
+}
+
+/// The constructors of the model and its inverse.
+fn constructor(out: &mut String, m: &SmoothModel, name: &str, camel: &str) {
+    let k2 = match m.k2 {
+        AnyK2Law::Constant { value } => {
+            format!("hyst_core::AnyK2Law::Constant {{ value: {} }}", num(value))
+        }
+        AnyK2Law::Affine(a) => format!(
+            "hyst_core::AnyK2Law::Affine(hyst_core::AffineK2::new({}, {}, {}, {})?)",
+            num(a.at_zero),
+            num(a.slope),
+            num(a.min),
+            num(a.max)
+        ),
+    };
+    let rule = match m.initial_state {
+        InitialState::Rising => "Rising",
+        InitialState::Falling => "Falling",
+        InitialState::Line => "Line",
+    };
+    let body = match m.form {
+        Form::Operator => "hyst_core::ShapedModel::new(input, operator, output)?".to_string(),
+        Form::Stop => format!(
+            "hyst_core::Stop::new(input, operator, output, {})?",
+            num(m.linear)
+        ),
+    };
+    let _ = writeln!(
+        out,
+        "/// The model `{name}` (x in, y out) with no history, in the precision `T` (`f32` or\n\
+         /// `f64`: each number is the model file's `f64`, rounded once to `T`).\n\
+         ///\n\
+         /// # Errors\n\
+         /// Never for this file's parameters; the core's check of each part is kept.\n\
+         #[allow(non_snake_case, clippy::excessive_precision, clippy::unreadable_literal)]\n\
+         pub fn {name}<T: hyst_core::Real>() -> Result<{camel}<T>, hyst_core::Error> {{\n    \
+             let c = T::from_f64;\n    \
+             let input = {input};\n    \
+             let output = {output};\n    \
+             let operator = hyst_core::Hysteresis::with_k2_law({k1}, {k2})?;\n    \
+             let model = {body};\n    \
+             Ok(hyst_core::Started::new(model, hyst_core::InitialState::{rule}))\n\
+         }}\n",
+        input = shaping(&m.input_shaping),
+        output = shaping(&m.output_shaping),
+        k1 = num(m.k1),
+    );
+    if m.form == Form::Operator {
+        let _ = writeln!(
+            out,
+            "/// The exact inverse of [`{name}`] (a desired y in, the command x out) with no history:\n\
+             /// at its first sample it starts where the start rule puts the model that produces\n\
+             /// that output. Clamp desired outputs with [`{name}_clamp`] first.\n\
+             ///\n\
+             /// # Errors\n\
+             /// As [`{name}`].\n\
+             #[allow(non_snake_case)]\n\
+             pub fn {name}_inverse<T: hyst_core::Real>() -> Result<{camel}Inverse<T>, hyst_core::Error> {{\n    \
+                 let model = {name}::<T>()?;\n    \
+                 Ok(hyst_core::Started::new(model.model().inverse(), model.rule()))\n\
+             }}\n"
+        );
+    }
+}
+
+/// `NAME_clamp`: the saturation clamp of the inverse's desired outputs.
+fn clamp(out: &mut String, file: &ModelFile, name: &str) {
+    let body = match file.saturation() {
+        Some(s) => format!(
+            "    let (lo, hi) = (T::from_f64({}), T::from_f64({}));\n    \
+             if y.is_finite() && (y < lo || y > hi) {{\n        y.max(lo).min(hi)\n    }} else {{\n        y\n    }}",
+            literal(s.limits.0, "f64::INFINITY"),
+            literal(s.limits.1, "f64::INFINITY")
+        ),
+        None => "    y".to_string(),
+    };
+    let what = if file.saturation().is_some() {
+        "a finite desired output clamped into the limits of the saturating output shaping"
+    } else {
+        "the desired output itself (this model's output shaping does not saturate)"
+    };
+    let _ = writeln!(
+        out,
+        "/// `y` for the inverse of [`{name}`]: {what}, as `hyst run --inverse --saturate`.\n\
+         #[allow(non_snake_case, clippy::excessive_precision, clippy::unreadable_literal)]\n\
+         pub fn {name}_clamp<T: hyst_core::Real>(y: T) -> T {{\n{body}\n}}"
+    );
+}
+
+/// A Prandtl–Ishlinskii model: the core's sum of N plays (N the model's play count), with its
+/// output polynomial when it has one, and its exact inverse.
+fn prandtl_ishlinskii(
+    out: &mut String,
+    file: &ModelFile,
+    p: &PiModel,
+    name: &str,
+    camel: &str,
+    source: &Source,
+    tool: &str,
+) -> Result<(), ModelError> {
+    p.operator()?;
+    let n = p.thresholds.len();
+    let _ = writeln!(
+        out,
+        "// {name}: a hyst model as no_std Rust over hyst-core.\n\
+         // Generated by `{tool}`; do not edit (export the model file again instead).\n\
+         // source: {} (FNV-1a 64 of its bytes: {:016x})\n\
+         // model: Prandtl-Ishlinskii, {n} plays{}; the plays start at rest at the first sample.\n\
+         // {}\n",
+        source.name,
+        source.fnv1a64,
+        if p.output.is_some() {
+            " and an output polynomial"
+        } else {
+            ""
+        },
+        super::shared::columns(file)
+    );
+    let list = |v: &[f64]| v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ");
+    let sum = format!(
+        "hyst_core::PrandtlIshlinskii::<T, {n}>::new({}, &[{}], &[{}], {})?",
+        num(p.identity_weight),
+        list(&p.thresholds),
+        list(&p.weights),
+        num(p.offset)
+    );
+    let (ty, inv_ty, build, inverse) = match &p.output {
+        None => (
+            format!("hyst_core::PrandtlIshlinskii<T, {n}>"),
+            format!("hyst_core::PrandtlIshlinskii<T, {n}>"),
+            sum,
+            format!("{name}::<T>()?.inverse()"),
+        ),
+        Some(o) => {
+            let poly = o.polynomial()?;
+            (
+                format!("hyst_core::ShapedPrandtlIshlinskii<T, {n}>"),
+                format!("hyst_core::InverseShapedPrandtlIshlinskii<T, {n}>"),
+                format!(
+                    "hyst_core::ShapedPrandtlIshlinskii::new(\n        {sum},\n        \
+                     hyst_core::Polynomial::new([{}], {}, {})?,\n    )?",
+                    poly.coefficients.map(num).join(", "),
+                    num(poly.lo),
+                    num(poly.hi)
+                ),
+                format!("{name}::<T>()?.inverse()"),
+            )
+        }
+    };
+    let _ = writeln!(
+        out,
+        "/// The model `{name}`: what [`{name}`] returns.\n\
+         pub type {camel}<T> = {ty};\n\n\
+         /// Its exact inverse: what [`{name}_inverse`] returns.\n\
+         pub type {camel}Inverse<T> = {inv_ty};\n\n\
+         /// The model `{name}` (x in, y out), in the precision `T`.\n\
+         ///\n\
+         /// # Errors\n\
+         /// Never for this file's parameters; the core's checks are kept.\n\
+         #[allow(non_snake_case, clippy::excessive_precision, clippy::unreadable_literal)]\n\
+         pub fn {name}<T: hyst_core::Real>() -> Result<{camel}<T>, hyst_core::Error> {{\n    \
+             let c = T::from_f64;\n    \
+             let model = {build};\n    \
+             Ok(model)\n\
+         }}\n\n\
+         /// The exact inverse of [`{name}`] (a desired y in, the command x out).\n\
+         ///\n\
+         /// # Errors\n\
+         /// As [`{name}`].\n\
+         #[allow(non_snake_case)]\n\
+         pub fn {name}_inverse<T: hyst_core::Real>() -> Result<{camel}Inverse<T>, hyst_core::Error> {{\n    \
+             {inverse}\n\
+         }}"
+    );
+    Ok(())
+}

@@ -1,0 +1,406 @@
+//! What every generated file shares: the name check, where the model came from, exact number
+//! literals, the shaping and k2 parameters as the C API numbers them, and the comment that
+//! describes the model.
+
+use hyst_core::{AnyK2Law, AnyShaping, ScaledShaping, Shaping as _};
+
+use crate::error::ModelError;
+use crate::file::{ModelFile, ModelKind};
+use crate::smooth::{Form, SmoothModel};
+
+/// Where the exported model came from, for the generated file's comments.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Source {
+    /// The model file as the user named it (a path, or `<fit>` for a model never saved).
+    pub name: String,
+    /// FNV-1a 64-bit hash of the file's bytes (of its TOML text when it was never saved).
+    pub fnv1a64: u64,
+}
+
+impl Source {
+    /// The source of a model file read from `name` whose bytes are `bytes`.
+    #[must_use]
+    pub fn of_file(name: &str, bytes: &[u8]) -> Self {
+        Self {
+            name: name.to_string(),
+            fnv1a64: crate::file::fnv1a64(bytes),
+        }
+    }
+}
+
+/// C and C++ keywords and the names of `<stdint.h>` and `<math.h>` that a generated identifier
+/// could collide with, and Rust's keywords: refused as names.
+const RESERVED: &[&str] = &[
+    // C99 and C11 keywords.
+    "auto",
+    "break",
+    "case",
+    "char",
+    "const",
+    "continue",
+    "default",
+    "do",
+    "double",
+    "else",
+    "enum",
+    "extern",
+    "float",
+    "for",
+    "goto",
+    "if",
+    "inline",
+    "int",
+    "long",
+    "register",
+    "restrict",
+    "return",
+    "short",
+    "signed",
+    "sizeof",
+    "static",
+    "struct",
+    "switch",
+    "typedef",
+    "union",
+    "unsigned",
+    "void",
+    "volatile",
+    "while",
+    "_Bool",
+    "_Complex",
+    "_Imaginary",
+    "_Alignas",
+    "_Alignof",
+    "_Atomic",
+    "_Generic",
+    "_Noreturn",
+    "_Static_assert",
+    "_Thread_local",
+    "bool",
+    "true",
+    "false", // C++ keywords.
+    "alignas",
+    "alignof",
+    "and",
+    "asm",
+    "catch",
+    "class",
+    "constexpr",
+    "decltype",
+    "delete",
+    "explicit",
+    "export",
+    "friend",
+    "mutable",
+    "namespace",
+    "new",
+    "noexcept",
+    "not",
+    "nullptr",
+    "operator",
+    "or",
+    "private",
+    "protected",
+    "public",
+    "template",
+    "this",
+    "throw",
+    "try",
+    "typeid",
+    "typename",
+    "using",
+    "virtual",
+    "xor", // Rust keywords.
+    "as",
+    "crate",
+    "dyn",
+    "fn",
+    "impl",
+    "in",
+    "let",
+    "loop",
+    "match",
+    "mod",
+    "move",
+    "mut",
+    "pub",
+    "ref",
+    "self",
+    "Self",
+    "super",
+    "trait",
+    "type",
+    "unsafe",
+    "use",
+    "where",
+    "async",
+    "await",
+    "abstract",
+    "become",
+    "box",
+    "final",
+    "macro",
+    "override",
+    "priv",
+    "typeof",
+    "unsized",
+    "yield",
+    "gen", // Library names.
+    "NULL",
+    "INFINITY",
+    "NAN",
+    "math",
+    "core",
+];
+
+/// Checks that `name` can prefix every identifier of a generated file: a C (and Rust)
+/// identifier of ASCII letters, digits and underscores, not starting with a digit, not a
+/// keyword, not reserved by C (a leading underscore), and not in `hyst.h`'s namespace (`hyst_…`,
+/// `HYST_…`), whose identifiers the generated ones would clash with.
+///
+/// # Errors
+/// [`ModelError::Invalid`] naming the name and the rule it breaks.
+pub fn check_name(name: &str) -> Result<(), ModelError> {
+    let bad = |why: &str| Err(ModelError::Invalid(format!("--name {name:?}: {why}")));
+    let Some(first) = name.chars().next() else {
+        return bad("empty: the name prefixes every identifier of the generated file");
+    };
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || *c == '_'))
+    {
+        return bad(&format!(
+            "{c:?} is not allowed: a C identifier has ASCII letters, digits and underscores only"
+        ));
+    }
+    if first.is_ascii_digit() {
+        return bad("starts with a digit, which a C identifier cannot");
+    }
+    if first == '_' {
+        return bad("starts with an underscore: such identifiers are reserved by C");
+    }
+    if name.len() > 48 {
+        return bad("longer than 48 characters");
+    }
+    if name.to_ascii_lowercase().starts_with("hyst") {
+        return bad(
+            "starts with \"hyst\": the identifiers made from it (NAME_init, NAME_state, …) would \
+             clash with hyst.h's own (hyst_…, HYST_…)",
+        );
+    }
+    if RESERVED.contains(&name) {
+        return bad("a C, C++ or Rust keyword or a standard name");
+    }
+    Ok(())
+}
+
+/// The smooth model of `file`, or a refusal naming what `target` lacks.
+pub(super) fn smooth<'a>(file: &'a ModelFile, target: &str) -> Result<&'a SmoothModel, ModelError> {
+    match (file.kind, &file.smooth) {
+        (ModelKind::Smooth, Some(m)) => Ok(m),
+        (ModelKind::PrandtlIshlinskii, _) => Err(ModelError::Invalid(format!(
+            "this is a Prandtl-Ishlinskii model: {target} has no Prandtl-Ishlinskii operator \
+             (its firmware part runs the smooth operator, its shaped model and its stop form); \
+             fit a smooth model (`hyst fit --model smooth`) to export it"
+        ))),
+        _ => Err(ModelError::Invalid(
+            "kind = \"smooth\" but the file holds no [smooth] model".into(),
+        )),
+    }
+}
+
+/// A number as a literal that reads back to the same `f64` in C and in Rust: the shortest
+/// decimal that round-trips (`{:?}`), or `inf` and `-inf` as the caller spells them.
+pub(super) fn literal(x: f64, infinity: &str) -> String {
+    if x.is_infinite() {
+        if x > 0.0 {
+            infinity.to_string()
+        } else {
+            format!("-{infinity}")
+        }
+    } else {
+        format!("{x:?}")
+    }
+}
+
+/// Whether any parameter of the model is infinite (a polynomial's open end).
+pub(super) fn has_infinity(m: &SmoothModel) -> bool {
+    [&m.input_shaping, &m.output_shaping]
+        .iter()
+        .any(|s| shape_parameters(s).1.iter().any(|p| p.is_infinite()))
+}
+
+/// The C API's shaping kind (`HYST_SHAPING_*`) and the six parameters `p` of a shape.
+pub(super) fn shape_parameters(s: &ScaledShaping<f64>) -> (&'static str, [f64; 6]) {
+    match s.shape {
+        AnyShaping::Identity => ("HYST_SHAPING_IDENTITY", [0.0; 6]),
+        AnyShaping::Affine(a) => (
+            "HYST_SHAPING_AFFINE",
+            [a.gain, a.offset, 0.0, 0.0, 0.0, 0.0],
+        ),
+        AnyShaping::Polynomial(p) => {
+            let [c0, c1, c2, c3] = p.coefficients;
+            ("HYST_SHAPING_POLYNOMIAL", [c0, c1, c2, c3, p.lo, p.hi])
+        }
+        AnyShaping::Tanh(t) => ("HYST_SHAPING_TANH", [t.gain, t.scale, 0.0, 0.0, 0.0, 0.0]),
+        AnyShaping::Langevin(l) => (
+            "HYST_SHAPING_LANGEVIN",
+            [l.gain, l.scale, 0.0, 0.0, 0.0, 0.0],
+        ),
+        AnyShaping::QuadraticExp(q) => (
+            "HYST_SHAPING_QUADRATIC_EXP",
+            [q.a, q.b, q.c, q.lo, q.hi, 0.0],
+        ),
+    }
+}
+
+/// The k2 law as the C API's (kind, value, slope, min, max).
+pub(super) fn k2_parameters(k2: &AnyK2Law<f64>) -> (&'static str, [f64; 4]) {
+    match k2 {
+        AnyK2Law::Constant { value } => ("HYST_K2_CONSTANT", [*value, 0.0, 0.0, 0.0]),
+        AnyK2Law::Affine(a) => ("HYST_K2_AFFINE", [a.at_zero, a.slope, a.min, a.max]),
+    }
+}
+
+/// What the comments of a generated file say about the model: its source, kind, units and
+/// which parameters are normalised.
+pub(super) fn description(
+    file: &ModelFile,
+    m: &SmoothModel,
+    source: &Source,
+    tool: &str,
+) -> Vec<String> {
+    let form = match m.form {
+        Form::Operator => "y = psi_out(H[psi_in(x)]) (operator form)",
+        Form::Stop => "y = psi_out(v - H[v]) + c v, v = psi_in(x) (stop form: no inverse)",
+    };
+    let mut lines = vec![
+        format!("Generated by `{tool}`; do not edit (export the model file again instead)."),
+        format!(
+            "source: {} (FNV-1a 64 of its bytes: {:016x})",
+            source.name, source.fnv1a64
+        ),
+        format!("model: {form}"),
+        format!(
+            "shaping: psi_in {}, psi_out {} (each after its affine scaling); k2 law {}; start \
+             rule {}",
+            m.input_shaping.name(),
+            m.output_shaping.name(),
+            match m.k2 {
+                AnyK2Law::Constant { .. } => "constant",
+                AnyK2Law::Affine(_) => "affine",
+            },
+            initial_state_name(m)
+        ),
+        columns(file),
+        "k1 and k2 are in the operator's units (those of psi_in's value): `hyst fit` scales x \
+         and y affinely so that the data span [-1, 1], and psi_in and psi_out hold that \
+         scaling. They are not the k1, k2 of the plain operator between x and y."
+            .to_string(),
+    ];
+    // f32 resolves the normalised operator input (|v| up to about 1) to its epsilon.
+    lines.push(format!(
+        "In float (the _f32 twins) the operator input is resolved to about 6e-8 of its \
+         normalised range [-1, 1]: {} of k1, the share of the loop's width that rounding can \
+         move. Use double where that matters.",
+        percent(0.5 * f64::from(f32::EPSILON) / m.k1)
+    ));
+    if let Some(s) = file.saturation() {
+        lines.push(format!(
+            "The inverse clamps a desired y into [{:?}, {:?}] ({} % of the open range ({:?}, \
+             {:?}) of the saturating psi_out), as `hyst run --inverse --saturate`.",
+            s.limits.0,
+            s.limits.1,
+            100.0 * crate::saturation::SATURATION_FRACTION,
+            s.range.0,
+            s.range.1
+        ));
+    }
+    lines
+}
+
+/// A fraction as a percentage with two significant figures or so: "0.0073 %", "3.7e-5 %".
+fn percent(fraction: f64) -> String {
+    let p = 100.0 * fraction;
+    if p >= 0.01 {
+        format!("{p:.2} %")
+    } else {
+        format!("{p:.1e} %")
+    }
+}
+
+/// What x and y are: the model file's columns and units.
+pub(super) fn columns(file: &ModelFile) -> String {
+    let unit = |u: &str| {
+        if u.is_empty() {
+            "(no unit recorded)".to_string()
+        } else {
+            format!("in {u}")
+        }
+    };
+    format!(
+        "x: the input `{}` {}; y: the output `{}` {}.",
+        file.columns.input,
+        unit(&file.units.input),
+        file.columns.output,
+        unit(&file.units.output)
+    )
+}
+
+/// The model file's name of the start rule.
+fn initial_state_name(m: &SmoothModel) -> &'static str {
+    match m.initial_state {
+        hyst_core::InitialState::Rising => "rising",
+        hyst_core::InitialState::Falling => "falling",
+        hyst_core::InitialState::Line => "line",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_that_are_not_c_identifiers_or_clash_are_refused() {
+        for good in ["piezo", "stage_x", "Mirror2", "bh"] {
+            assert!(check_name(good).is_ok(), "{good}");
+        }
+        for bad in [
+            "",
+            "2axis",
+            "_piezo",
+            "pie-zo",
+            "piëzo",
+            "hyst",
+            "hyst_model",
+            "HYST_X",
+            "int",
+            "static",
+            "fn",
+            "class",
+            "piezo.h",
+        ] {
+            assert!(check_name(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn literals_read_back_exactly() {
+        for x in [
+            0.1,
+            -1.0 / 3.0,
+            1e-300,
+            6.02e23,
+            5.0,
+            -0.0,
+            f64::MIN_POSITIVE,
+        ] {
+            let text = literal(x, "INFINITY");
+            assert_eq!(
+                text.parse::<f64>().ok().map(f64::to_bits),
+                Some(x.to_bits())
+            );
+        }
+        assert_eq!(literal(f64::NEG_INFINITY, "INFINITY"), "-INFINITY");
+    }
+}
