@@ -229,6 +229,18 @@ typedef struct hyst_shaped_compensator_f32 {
   uint64_t opaque[32];
 } hyst_shaped_compensator_f32;
 
+// The shaped model of `hyst_shaped_model_params_f32` whose shapings are affine, as
+// `hyst_shaped_model_f32`: an opaque block of 160 bytes, 8-byte aligned, plain data.
+typedef struct hyst_linear_model_f32 {
+  uint64_t opaque[20];
+} hyst_linear_model_f32;
+
+// The Lemma 5.1 compensator of such a model, as `hyst_shaped_compensator_f32`: an opaque
+// block of 224 bytes, 8-byte aligned, plain data.
+typedef struct hyst_linear_compensator_f32 {
+  uint64_t opaque[28];
+} hyst_linear_compensator_f32;
+
 // The parametric operator H(k1, k2) (eq. 2) or H⁻¹(k1, k2) (eq. 4) with its memory: an opaque
 // block of 128 bytes, 8-byte aligned, plain data (copyable with memcpy).
 typedef struct hyst_operator {
@@ -343,6 +355,18 @@ typedef struct hyst_compensator {
 typedef struct hyst_shaped_compensator {
   uint64_t opaque[64];
 } hyst_shaped_compensator;
+
+// The shaped model of `hyst_shaped_model_params` whose shapings are affine, as
+// `hyst_shaped_model`: an opaque block of 320 bytes, 8-byte aligned, plain data.
+typedef struct hyst_linear_model {
+  uint64_t opaque[40];
+} hyst_linear_model;
+
+// The Lemma 5.1 compensator of such a model, as `hyst_shaped_compensator`: an opaque
+// block of 448 bytes, 8-byte aligned, plain data.
+typedef struct hyst_linear_compensator {
+  uint64_t opaque[56];
+} hyst_linear_compensator;
 
 #ifdef __cplusplus
 extern "C" {
@@ -594,6 +618,88 @@ int32_t hyst_shaped_compensator_get_state_f32(struct hyst_shaped_compensator_f32
 // `c` is NULL or an initialised `hyst_shaped_compensator_f32`.
 int32_t hyst_shaped_compensator_reset_f32(struct hyst_shaped_compensator_f32 *c);
 
+// Initialises `m` as the model of `params` (form and start rule included), as
+// `hyst_shaped_model_init_direct_f32`; also `HYST_ERR_INVALID_PARAMETER` when a shaping's kind is
+// not `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE` (use `hyst_shaped_model_*` then).
+//
+// # Safety
+// `m` is NULL or points to a writable `hyst_linear_model_f32`; `params` is NULL or readable.
+int32_t hyst_linear_model_init_direct_f32(struct hyst_linear_model_f32 *m,
+                                          const struct hyst_shaped_model_params_f32 *params);
+
+// Initialises `m` as the exact inverse of the model of `params`, as
+// `hyst_shaped_model_init_inverse_f32` (the same refusals as `hyst_linear_model_init_direct_f32`).
+//
+// # Safety
+// As `hyst_linear_model_init_direct_f32`.
+int32_t hyst_linear_model_init_inverse_f32(struct hyst_linear_model_f32 *m,
+                                           const struct hyst_shaped_model_params_f32 *params);
+
+// One sample, as `hyst_shaped_model_step_f32`.
+//
+// # Safety
+// `m` is NULL or an initialised `hyst_linear_model_f32`; `y` is NULL or writable.
+int32_t hyst_linear_model_step_f32(struct hyst_linear_model_f32 *m, float x, float *y);
+
+// Copies the memory of the model's operator into `*memory`, as
+// `hyst_shaped_model_get_memory_f32`.
+//
+// # Safety
+// `m` is NULL or an initialised `hyst_linear_model_f32`; `memory` is NULL or writable.
+int32_t hyst_linear_model_get_memory_f32(struct hyst_linear_model_f32 *m,
+                                         struct hyst_memory_f32 *memory);
+
+// Restores the memory of the model's operator, as `hyst_shaped_model_set_memory_f32`.
+//
+// # Safety
+// `m` is NULL or an initialised `hyst_linear_model_f32`; `memory` is NULL or readable.
+int32_t hyst_linear_model_set_memory_f32(struct hyst_linear_model_f32 *m,
+                                         const struct hyst_memory_f32 *memory);
+
+// Forgets the history: the start rule applies again at the next sample.
+//
+// # Safety
+// `m` is NULL or an initialised `hyst_linear_model_f32`.
+int32_t hyst_linear_model_reset_f32(struct hyst_linear_model_f32 *m);
+
+// Initialises `c` as the Lemma 5.1 compensator of the model of `params`, as
+// `hyst_shaped_compensator_init_f32` (the same refusals, and those of
+// `hyst_linear_model_init_direct_f32`).
+//
+// # Safety
+// `c` is NULL or points to a writable `hyst_linear_compensator_f32`; `params` is NULL or
+// readable; `a` and `v0` are NULL or hold n values.
+int32_t hyst_linear_compensator_init_f32(struct hyst_linear_compensator_f32 *c,
+                                         const struct hyst_shaped_model_params_f32 *params,
+                                         float b,
+                                         const float *a,
+                                         const float *v0,
+                                         size_t n);
+
+// One sample, as `hyst_shaped_compensator_step_f32`.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_linear_compensator_f32`; `u` is NULL or writable.
+int32_t hyst_linear_compensator_step_f32(struct hyst_linear_compensator_f32 *c,
+                                         float u_new,
+                                         float dt,
+                                         float *u);
+
+// The integrators and the inverse model's memory, as `hyst_shaped_compensator_get_state_f32`.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_linear_compensator_f32`; `v` is NULL or holds n values;
+// `memory` is NULL or writable.
+int32_t hyst_linear_compensator_get_state_f32(struct hyst_linear_compensator_f32 *c,
+                                              float *v,
+                                              struct hyst_memory_f32 *memory);
+
+// Back to the initial integrator state, and the inverse model's memory forgotten.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_linear_compensator_f32`.
+int32_t hyst_linear_compensator_reset_f32(struct hyst_linear_compensator_f32 *c);
+
 // Initialises `op` as the direct operator u = H(k1, k2)[v] (eq. 2), with no history (its first
 // sample is a reversal point on the line u = v).
 //
@@ -834,6 +940,86 @@ int32_t hyst_shaped_compensator_get_state(struct hyst_shaped_compensator *c,
 // # Safety
 // `c` is NULL or an initialised `hyst_shaped_compensator`.
 int32_t hyst_shaped_compensator_reset(struct hyst_shaped_compensator *c);
+
+// Initialises `m` as the model of `params` (form and start rule included), as
+// `hyst_shaped_model_init_direct`; also `HYST_ERR_INVALID_PARAMETER` when a shaping's kind is
+// not `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE` (use `hyst_shaped_model_*` then).
+//
+// # Safety
+// `m` is NULL or points to a writable `hyst_linear_model`; `params` is NULL or readable.
+int32_t hyst_linear_model_init_direct(struct hyst_linear_model *m,
+                                      const struct hyst_shaped_model_params *params);
+
+// Initialises `m` as the exact inverse of the model of `params`, as
+// `hyst_shaped_model_init_inverse` (the same refusals as `hyst_linear_model_init_direct`).
+//
+// # Safety
+// As `hyst_linear_model_init_direct`.
+int32_t hyst_linear_model_init_inverse(struct hyst_linear_model *m,
+                                       const struct hyst_shaped_model_params *params);
+
+// One sample, as `hyst_shaped_model_step`.
+//
+// # Safety
+// `m` is NULL or an initialised `hyst_linear_model`; `y` is NULL or writable.
+int32_t hyst_linear_model_step(struct hyst_linear_model *m, double x, double *y);
+
+// Copies the memory of the model's operator into `*memory`, as
+// `hyst_shaped_model_get_memory`.
+//
+// # Safety
+// `m` is NULL or an initialised `hyst_linear_model`; `memory` is NULL or writable.
+int32_t hyst_linear_model_get_memory(struct hyst_linear_model *m, struct hyst_memory *memory);
+
+// Restores the memory of the model's operator, as `hyst_shaped_model_set_memory`.
+//
+// # Safety
+// `m` is NULL or an initialised `hyst_linear_model`; `memory` is NULL or readable.
+int32_t hyst_linear_model_set_memory(struct hyst_linear_model *m, const struct hyst_memory *memory);
+
+// Forgets the history: the start rule applies again at the next sample.
+//
+// # Safety
+// `m` is NULL or an initialised `hyst_linear_model`.
+int32_t hyst_linear_model_reset(struct hyst_linear_model *m);
+
+// Initialises `c` as the Lemma 5.1 compensator of the model of `params`, as
+// `hyst_shaped_compensator_init` (the same refusals, and those of
+// `hyst_linear_model_init_direct`).
+//
+// # Safety
+// `c` is NULL or points to a writable `hyst_linear_compensator`; `params` is NULL or
+// readable; `a` and `v0` are NULL or hold n values.
+int32_t hyst_linear_compensator_init(struct hyst_linear_compensator *c,
+                                     const struct hyst_shaped_model_params *params,
+                                     double b,
+                                     const double *a,
+                                     const double *v0,
+                                     size_t n);
+
+// One sample, as `hyst_shaped_compensator_step`.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_linear_compensator`; `u` is NULL or writable.
+int32_t hyst_linear_compensator_step(struct hyst_linear_compensator *c,
+                                     double u_new,
+                                     double dt,
+                                     double *u);
+
+// The integrators and the inverse model's memory, as `hyst_shaped_compensator_get_state`.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_linear_compensator`; `v` is NULL or holds n values;
+// `memory` is NULL or writable.
+int32_t hyst_linear_compensator_get_state(struct hyst_linear_compensator *c,
+                                          double *v,
+                                          struct hyst_memory *memory);
+
+// Back to the initial integrator state, and the inverse model's memory forgotten.
+//
+// # Safety
+// `c` is NULL or an initialised `hyst_linear_compensator`.
+int32_t hyst_linear_compensator_reset(struct hyst_linear_compensator *c);
 
 // Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
 // H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the inverses) when `inverse` ≠ 0, each with no history.

@@ -1,35 +1,27 @@
 /*
- * export_size_probe.c: the smallest useful firmware with one exported model (piezo.h, written by
- * `hyst export c`) as a shaped compensator of order 2 in float: the model's exact inverse in
- * front of the actuator, and the Lemma 5.1 compensator of the same shaped model for a
- * second-order plant, one step each per tick. Inputs come from volatile variables (an ADC, a
- * trajectory) and outputs go to volatile ones (a DAC), so the compiler keeps every call.
- * scripts/test-firmware reports this image's size (and runs it, so it is known to work).
+ * export_size_probe.c: the smallest useful firmware with one exported shaped compensator
+ * (piezo.h, written by `hyst export c`) of order 2 in float: the Lemma 5.1 compensator of the
+ * fitted piezo model for a second-order plant, one step per tick. The input comes from a
+ * volatile variable (the reference's second derivative) and the output goes to a volatile one
+ * (a DAC), so the compiler keeps every call. scripts/test-firmware reports this image's size
+ * (and runs it, so it is known to work).
  */
 #include "piezo.h"
 
-volatile float adc_desired = -100.0f, adc_u_new = 0.25f;
-volatile float dac_command, dac_force;
+volatile float adc_u_new = 0.25f;
+volatile float dac_command;
 
 int main(void) {
-    static piezo_state_f32 inverse;
-    static hyst_shaped_compensator_f32 comp;
-    hyst_shaped_model_params_f32 params;
-    const float a[2] = {0.9f, 1.0f};
-    int32_t status = HYST_OK;
+    static piezo_compensator_f32 comp;
+    const float a[2] = {0.9f, 1.0f}; /* a_1 = 0.9 s, a_2 = 1 s^2, b = 1 */
+    int32_t status = piezo_compensator_init_f32(&comp, 1.0f, a, 0, 2);
     int tick;
 
-    status |= piezo_init_inverse_f32(&inverse);
-    piezo_params_f32(&params);
-    params.initial_state = HYST_INITIAL_STATE_LINE; /* the integrators' state sets the history */
-    status |= hyst_shaped_compensator_init_f32(&comp, &params, 1.0f, a, 0, 2);
     for (tick = 0; tick < 1000; tick++) {
-        float command, force;
-        status |= piezo_step_f32(&inverse, adc_desired, &command);
-        status |= hyst_shaped_compensator_step_f32(&comp, adc_u_new, 1e-4f, &force);
+        float command;
+        status |= piezo_compensator_step_f32(&comp, adc_u_new, 1e-4f, &command);
         dac_command = command;
-        dac_force = force;
-        adc_desired = -100.0f + 10.0f * (float)(tick % 7);
+        adc_u_new = (tick % 200 < 100) ? 0.25f : -0.25f;
     }
     return status == HYST_OK ? 0 : 1;
 }

@@ -123,6 +123,34 @@ int exp_run(drv_write_fn write) {
     EXP_SERIES(steel, steel_init, steel_x, "steel.dir");
     EXP_SERIES(steel, steel_init_inverse, steel_y, "steel.inv");
     EXP_SERIES(friction, friction_init, friction_x, "friction.dir");
+    /* The piezo model's Lemma 5.1 compensator for a second-order plant (a_1 = 0.05 s,
+     * a_2 = 0.001 s^2, b = 1), its integrators' input a square wave: double and float. */
+    {
+        piezo_compensator c;
+        piezo_compensator_f32 c32;
+        const double a[2] = {0.05, 0.001};
+        const float a32[2] = {0.05f, 0.001f};
+        int i;
+        errors += piezo_compensator_init(&c, 1.0, a, 0, 2) != HYST_OK;
+        errors += piezo_compensator_init_f32(&c32, 1.0f, a32, 0, 2) != HYST_OK;
+        for (i = 0; i < EXP_SAMPLES; i++) {
+            double u_new = (i / 50) % 2 ? -2000.0 : 2000.0, u = 0.0;
+            float u32 = 0.0f;
+            errors += piezo_compensator_step(&c, u_new, 1e-3, &u) != HYST_OK;
+            errors += piezo_compensator_step_f32(&c32, (float)u_new, 1e-3f, &u32) != HYST_OK;
+            value(write, "piezo.cmp", i, bits64(u), 16);
+            value(write, "piezo.cmp32", i, bits32(u32), 8);
+            values += 2;
+        }
+    }
+    /* The stop form has no compensator either. */
+    {
+        friction_compensator c;
+        const double a[1] = {0.01};
+        int32_t status = friction_compensator_init(&c, 1.0, a, 0, 1);
+        note(write, "friction.cmp", "status", (uint32_t)status);
+        errors += status != HYST_ERR_INVALID_PARAMETER;
+    }
     /* The stop form has no inverse: the init refuses it and leaves the state untouched. */
     {
         int32_t status = friction_init_inverse(&stop);

@@ -11,10 +11,12 @@
  * Runs each exported model over its test signal (export_signals.h), direct and inverse, in
  * double and in float, and writes one line per output:
  *
- *   e <model>.<dir|inv>[32] <index> <IEEE-754 bits in hex>
+ *   e <model>.<dir|inv|cmp>[32] <index> <IEEE-754 bits in hex>
  *
- * then "# <model>.inv clamped <count>" for each inverse, "# friction.inv status <status>" (the
- * stop form has no inverse) and "# done: <values> values, <errors> errors". Returns the number
+ * (cmp: the piezo model's Lemma 5.1 compensator of a second-order plant), "# <model>.inv
+ * clamped <count>" after each inverse, "# friction.inv status <status>" and "# friction.cmp
+ * status <status>" (the stop form has no inverse and no compensator), and "# done: <values>
+ * values, <errors> errors". Returns the number
  * of errors (a status other than HYST_OK where one is expected): 0 on success.
  */
 int exp_run(drv_write_fn write);

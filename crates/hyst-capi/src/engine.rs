@@ -5,8 +5,9 @@ use core::ptr;
 
 use hyst_core::{
     AffineK2, AnyK2Law, AnyShaping, Compensator, ConstantK2, Direction, Error, Hysteresis,
-    Identity, InitialState, InverseHysteresis, InverseShapedModel, Jet, Langevin, Memory, Operator,
-    Polynomial, QuadraticExp, Real, ScaledShaping, ShapedModel, Started, Stop, Tanh,
+    Identity, InitialState, InverseHysteresis, InverseShapedModel, Jet, Langevin, LinearShaping,
+    Memory, Operator, Polynomial, QuadraticExp, Real, ScaledShaping, ShapedModel, Started, Stop,
+    Tanh,
 };
 
 use crate::status::{self, HYST_ERR_LENGTH, HYST_ERR_NULL_POINTER, HYST_OK};
@@ -29,19 +30,18 @@ pub(crate) enum Pair<T: Real> {
 pub(crate) type Shaping<T> = ScaledShaping<T>;
 /// A shaped model with run-time shaping functions and k2 law.
 pub(crate) type AnyShapedModel<T> = ShapedModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
-/// Its exact inverse.
-pub(crate) type AnyInverseShapedModel<T> =
-    InverseShapedModel<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
 
-/// The stop form ψ_out(v − H[v]) + c·v, v = ψ_in(x).
-pub(crate) type AnyStop<T> = Stop<T, Shaping<T>, AnyK2Law<T>, Shaping<T>>;
+/// A shaping function whose shape is affine (identity or affine): the same arithmetic as
+/// [`Shaping`], and none of the nonlinear shapes' code in a firmware.
+pub(crate) type Linear<T> = ScaledShaping<T, LinearShaping<T>>;
 
-/// The shaped model, direct, inverse or in its stop form, run by its start rule.
+/// The shaped model with shapings `S`, direct, inverse or in its stop form, run by its start
+/// rule.
 #[derive(Clone, Copy, Debug)]
-pub(crate) enum Shaped<T: Real> {
-    Direct(Started<AnyShapedModel<T>>),
-    Inverse(Started<AnyInverseShapedModel<T>>),
-    Stop(Started<AnyStop<T>>),
+pub(crate) enum Shaped<T: Real, S = Shaping<T>> {
+    Direct(Started<ShapedModel<T, S, AnyK2Law<T>, S>>),
+    Inverse(Started<InverseShapedModel<T, S, AnyK2Law<T>, S>>),
+    Stop(Started<Stop<T, S, AnyK2Law<T>, S>>),
 }
 
 /// The Lemma 5.1 compensator for plant orders n = 0 … 4 chosen at run time (one
@@ -68,11 +68,14 @@ macro_rules! each {
 /// [`Operator`] for an enum of models, variant by variant.
 macro_rules! operator_enum {
     ($ty:ident, $($variant:path),+) => {
-        impl<T: Real> Operator<T> for $ty<T> {
+        operator_enum!($ty<>, $($variant),+);
+    };
+    ($ty:ident<$($extra:ident: $bound:path),*>, $($variant:path),+) => {
+        impl<T: Real, $($extra: $bound + Copy),*> Operator<T> for $ty<T, $($extra),*> {
             type Memory = Option<Memory<T>>;
 
             #[inline]
-            fn try_step<S: hyst_core::Sample<T>>(&mut self, x: S) -> Result<S, Error> {
+            fn try_step<X: hyst_core::Sample<T>>(&mut self, x: X) -> Result<X, Error> {
                 each!(self, op => Operator::try_step(op, x), $($variant),+)
             }
             fn last_output(&self) -> Option<T> {
@@ -92,7 +95,7 @@ macro_rules! operator_enum {
 }
 
 operator_enum!(Pair, Pair::Direct, Pair::Inverse);
-operator_enum!(Shaped, Shaped::Direct, Shaped::Inverse, Shaped::Stop);
+operator_enum!(Shaped<S: hyst_core::Shaping<T>>, Shaped::Direct, Shaped::Inverse, Shaped::Stop);
 
 /// The part of [`Operator`] that the C functions need: plain samples, jets of order 1 … 4,
 /// memory, as plain (non-generic) methods.
@@ -410,13 +413,13 @@ pub(crate) fn compensated_form(form: i32, rule: i32) -> Result<(), Error> {
 
 /// The shaped model of `params` in its form (`HYST_FORM_*`), direct or inverse, run by the
 /// start rule `rule`. The stop form has no inverse.
-pub(crate) fn shaped<T: Real>(
-    model: AnyShapedModel<T>,
+pub(crate) fn shaped<T: Real, S: hyst_core::Shaping<T> + Copy>(
+    model: ShapedModel<T, S, AnyK2Law<T>, S>,
     form: i32,
     linear: T,
     rule: i32,
     inverse: bool,
-) -> Result<Shaped<T>, Error> {
+) -> Result<Shaped<T, S>, Error> {
     let rule = initial_state(rule)?;
     match (form, inverse) {
         (0, _) if linear != T::zero() => Err(Error::InvalidParameter {
@@ -446,6 +449,34 @@ pub(crate) fn shaped<T: Real>(
             expected: "HYST_FORM_OPERATOR or HYST_FORM_STOP (0, 1)",
         }),
     }
+}
+
+/// A shaping function of `hyst_shaping.kind` identity or affine, as a [`Linear`] one (the
+/// same numbers as [`shaping`] builds, without the nonlinear kinds' code).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for another kind, and the checks of [`shaping`].
+pub(crate) fn linear_shaping<T: Real>(
+    kind: i32,
+    p: [T; 6],
+    pre_gain: T,
+    pre_offset: T,
+    post_gain: T,
+    post_offset: T,
+) -> Result<Linear<T>, Error> {
+    let [p0, p1, ..] = p;
+    let shape = match kind {
+        0 => LinearShaping::Identity,
+        1 => LinearShaping::Affine(hyst_core::Affine::new(p0, p1)?),
+        _ => {
+            return Err(Error::InvalidParameter {
+                name: "shaping kind",
+                value: f64::from(kind),
+                expected: "HYST_SHAPING_IDENTITY or HYST_SHAPING_AFFINE (0, 1) for a linear model",
+            })
+        }
+    };
+    ScaledShaping::new(pre_gain, pre_offset, shape, post_gain, post_offset)
 }
 
 /// The plain operator.

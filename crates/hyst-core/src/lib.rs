@@ -114,6 +114,7 @@ macro_rules! linear_ops {
     };
 }
 
+pub mod any_shaping;
 pub mod bank;
 pub mod compensator;
 pub mod dual;
@@ -135,6 +136,7 @@ pub mod shaping;
 pub mod start;
 pub mod stop;
 
+pub use any_shaping::{AnyShaping, LinearShaping};
 #[cfg(feature = "std")]
 pub use bank::BankVec;
 pub use bank::{Bank, BankError, DirectBank, InverseBank, ParametricBank};
@@ -157,9 +159,7 @@ pub use real::Real;
 pub use sample::Sample;
 pub use scaled_shaping::ScaledShaping;
 pub use shaped_model::{InverseShapedModel, ShapedModel};
-pub use shaping::{
-    Affine, AnyShaping, Identity, Langevin, Polynomial, QuadraticExp, Shaping, Tanh,
-};
+pub use shaping::{Affine, Identity, Langevin, Polynomial, QuadraticExp, Shaping, Tanh};
 pub use start::{on_asymptote, InitialState, Start, Started};
 pub use stop::Stop;
 

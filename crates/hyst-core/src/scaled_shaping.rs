@@ -5,43 +5,65 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
+use crate::any_shaping::{AnyShaping, LinearShaping};
 use crate::error::{finite, positive, Error};
 use crate::real::Real;
 use crate::sample::Sample;
-use crate::shaping::{AnyShaping, Shaping};
+use crate::shaping::Shaping;
 
 /// ψ(x) = `post_gain` · shape(`pre_gain` · x + `pre_offset`) + `post_offset`, strictly
 /// increasing when both gains are > 0 and the shape is valid (Section 4.3's shaping functions
 /// with the scale and offsets of measured data; the form of a fitted model's ψ_in and ψ_out,
 /// serialized in model files).
+///
+/// The shape is any of the built-in ones ([`AnyShaping`], the default), or only the affine
+/// ones ([`LinearShaping`]: the same arithmetic, and a firmware links no nonlinear shape).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-pub struct ScaledShaping<T> {
+pub struct ScaledShaping<T, S = AnyShaping<T>> {
     /// Scale applied to x before the shape (1 / units of x), > 0.
     pub pre_gain: T,
     /// Offset added after that scale (dimensionless shape units).
     pub pre_offset: T,
     /// The core shaping function.
-    pub shape: AnyShaping<T>,
+    pub shape: S,
     /// Scale of the shape's value (units of ψ), > 0.
     pub post_gain: T,
     /// Offset of ψ (units of ψ).
     pub post_offset: T,
 }
 
-impl<T: Real> ScaledShaping<T> {
+impl<T: Real, S: Shaping<T> + Default> ScaledShaping<T, S> {
     /// The identity.
     #[must_use]
     pub fn identity() -> Self {
         Self {
             pre_gain: T::one(),
             pre_offset: T::zero(),
-            shape: AnyShaping::Identity,
+            shape: S::default(),
             post_gain: T::one(),
             post_offset: T::zero(),
         }
     }
+}
 
+impl<T: Real> ScaledShaping<T, LinearShaping<T>> {
+    /// The same function with its shape as a [`LinearShaping`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] when the shape is not identity or affine.
+    pub fn linear(s: &ScaledShaping<T>) -> Result<Self, Error> {
+        Ok(Self {
+            pre_gain: s.pre_gain,
+            pre_offset: s.pre_offset,
+            shape: LinearShaping::try_from(s.shape)?,
+            post_gain: s.post_gain,
+            post_offset: s.post_offset,
+        })
+    }
+}
+
+impl<T: Real, S: Shaping<T>> ScaledShaping<T, S> {
     /// Builds and validates a scaled shaping function.
     ///
     /// # Errors
@@ -49,7 +71,7 @@ impl<T: Real> ScaledShaping<T> {
     pub fn new(
         pre_gain: T,
         pre_offset: T,
-        shape: AnyShaping<T>,
+        shape: S,
         post_gain: T,
         post_offset: T,
     ) -> Result<Self, Error> {
@@ -88,11 +110,11 @@ impl<T: Real> ScaledShaping<T> {
     }
 }
 
-impl<T: Real> Shaping<T> for ScaledShaping<T> {
+impl<T: Real, S: Shaping<T>> Shaping<T> for ScaledShaping<T, S> {
     fn name(&self) -> &'static str {
         self.shape.name()
     }
-    fn eval<S: Sample<T>>(&self, x: S) -> S {
+    fn eval<X: Sample<T>>(&self, x: X) -> X {
         self.shape.eval(x * self.pre_gain + self.pre_offset) * self.post_gain + self.post_offset
     }
     fn domain(&self) -> (T, T) {
@@ -102,7 +124,7 @@ impl<T: Real> Shaping<T> for ScaledShaping<T> {
             (hi - self.pre_offset) / self.pre_gain,
         )
     }
-    fn apply<S: Sample<T>>(&self, x: S) -> S {
+    fn apply<X: Sample<T>>(&self, x: X) -> X {
         self.shape.apply(x * self.pre_gain + self.pre_offset) * self.post_gain + self.post_offset
     }
     fn invert_in_domain(&self, y: T) -> Result<T, Error> {

@@ -689,69 +689,10 @@ impl<T: Real> Shaping<T> for QuadraticExp<T> {
     }
 }
 
-/// Any of the built-in shaping functions, chosen at run time (model files, the CLI, fitting).
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
-#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
-pub enum AnyShaping<T> {
-    /// [`Identity`].
-    #[default]
-    Identity,
-    /// [`Affine`].
-    Affine(Affine<T>),
-    /// [`Polynomial`].
-    Polynomial(Polynomial<T>),
-    /// [`Tanh`].
-    Tanh(Tanh<T>),
-    /// [`Langevin`].
-    Langevin(Langevin<T>),
-    /// [`QuadraticExp`].
-    QuadraticExp(QuadraticExp<T>),
-}
-
-macro_rules! dispatch {
-    ($self:ident, $s:ident => $e:expr) => {
-        match $self {
-            AnyShaping::Identity => {
-                let $s = &Identity;
-                $e
-            }
-            AnyShaping::Affine($s) => $e,
-            AnyShaping::Polynomial($s) => $e,
-            AnyShaping::Tanh($s) => $e,
-            AnyShaping::Langevin($s) => $e,
-            AnyShaping::QuadraticExp($s) => $e,
-        }
-    };
-}
-
-impl<T: Real> Shaping<T> for AnyShaping<T> {
-    fn name(&self) -> &'static str {
-        dispatch!(self, s => Shaping::<T>::name(s))
-    }
-    fn eval<S: Sample<T>>(&self, x: S) -> S {
-        dispatch!(self, s => s.eval(x))
-    }
-    fn domain(&self) -> (T, T) {
-        dispatch!(self, s => Shaping::<T>::domain(s))
-    }
-    fn invert_in_domain(&self, y: T) -> Result<T, Error> {
-        dispatch!(self, s => s.invert_in_domain(y))
-    }
-    fn validate(&self) -> Result<(), Error> {
-        dispatch!(self, s => Shaping::<T>::validate(s))
-    }
-    fn apply<S: Sample<T>>(&self, x: S) -> S {
-        dispatch!(self, s => s.apply(x))
-    }
-    fn lipschitz(&self, lo: T, hi: T) -> T {
-        dispatch!(self, s => s.lipschitz(lo, hi))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::any_shaping::AnyShaping;
 
     fn round_trip<S: Shaping<f64>>(s: &S, xs: &[f64]) {
         for &x in xs {

@@ -52,7 +52,7 @@ fn shaped_compensator<'a>(
 ///
 /// # Safety
 /// `a` and `v0` are NULL or hold n values.
-unsafe fn plant(
+pub(crate) unsafe fn plant(
     a: *const f32,
     v0: *const f32,
     n: usize,
@@ -78,7 +78,7 @@ unsafe fn plant(
 }
 
 /// Builds the compensator of `inverse` for the plant read by [`plant`].
-fn build<I, K, O>(
+pub(crate) fn build<I, K, O>(
     inverse: hyst_core::InverseShapedModel<f32, I, K, O>,
     b: f32,
     plant: &(
@@ -105,7 +105,12 @@ where
 ///
 /// # Safety
 /// `u` is NULL or writable.
-unsafe fn comp_step<I, K, O>(comp: &mut Comp<f32, I, K, O>, u_new: f32, dt: f32, u: *mut f32) -> i32
+pub(crate) unsafe fn comp_step<I, K, O>(
+    comp: &mut Comp<f32, I, K, O>,
+    u_new: f32,
+    dt: f32,
+    u: *mut f32,
+) -> i32
 where
     I: hyst_core::Shaping<f32> + Clone,
     K: hyst_core::K2Law<f32> + Clone,
@@ -127,7 +132,7 @@ where
 ///
 /// # Safety
 /// `reference` is NULL or holds n + 1 values; `u` is NULL or writable.
-unsafe fn comp_track<I, K, O>(
+pub(crate) unsafe fn comp_track<I, K, O>(
     comp: &mut Comp<f32, I, K, O>,
     reference: *const f32,
     u: *mut f32,
@@ -159,7 +164,7 @@ where
 ///
 /// # Safety
 /// `v` is NULL or holds n values; `memory` is NULL or writable.
-unsafe fn comp_state<I, K, O>(
+pub(crate) unsafe fn comp_state<I, K, O>(
     comp: &Comp<f32, I, K, O>,
     v: *mut f32,
     memory: *mut hyst_memory_f32,

@@ -6,7 +6,7 @@
 //! GENERATED from `api_f64/mod.rs` by `scripts/gen-capi-f32`: do not edit.
 
 // In the order of include/hyst.h (cbindgen reads the modules in this order): the memory, the
-// operator, the shaped model, the compensators.
+// operator, the shaped model, the compensators, the shaped model with affine shapings.
 pub mod memory;
 
 pub mod operator;
@@ -15,9 +15,12 @@ pub mod shaped_model;
 
 pub mod compensator;
 
+pub mod linear_model;
+
 pub(crate) mod checks;
 
 pub use compensator::*;
+pub use linear_model::*;
 pub use memory::hyst_memory_f32;
 pub use operator::*;
 pub use shaped_model::*;

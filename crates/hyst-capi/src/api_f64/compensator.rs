@@ -50,7 +50,7 @@ fn shaped_compensator<'a>(c: *mut hyst_shaped_compensator) -> Result<&'a mut Sha
 ///
 /// # Safety
 /// `a` and `v0` are NULL or hold n values.
-unsafe fn plant(
+pub(crate) unsafe fn plant(
     a: *const f64,
     v0: *const f64,
     n: usize,
@@ -76,7 +76,7 @@ unsafe fn plant(
 }
 
 /// Builds the compensator of `inverse` for the plant read by [`plant`].
-fn build<I, K, O>(
+pub(crate) fn build<I, K, O>(
     inverse: hyst_core::InverseShapedModel<f64, I, K, O>,
     b: f64,
     plant: &(
@@ -103,7 +103,12 @@ where
 ///
 /// # Safety
 /// `u` is NULL or writable.
-unsafe fn comp_step<I, K, O>(comp: &mut Comp<f64, I, K, O>, u_new: f64, dt: f64, u: *mut f64) -> i32
+pub(crate) unsafe fn comp_step<I, K, O>(
+    comp: &mut Comp<f64, I, K, O>,
+    u_new: f64,
+    dt: f64,
+    u: *mut f64,
+) -> i32
 where
     I: hyst_core::Shaping<f64> + Clone,
     K: hyst_core::K2Law<f64> + Clone,
@@ -125,7 +130,7 @@ where
 ///
 /// # Safety
 /// `reference` is NULL or holds n + 1 values; `u` is NULL or writable.
-unsafe fn comp_track<I, K, O>(
+pub(crate) unsafe fn comp_track<I, K, O>(
     comp: &mut Comp<f64, I, K, O>,
     reference: *const f64,
     u: *mut f64,
@@ -157,7 +162,7 @@ where
 ///
 /// # Safety
 /// `v` is NULL or holds n values; `memory` is NULL or writable.
-unsafe fn comp_state<I, K, O>(
+pub(crate) unsafe fn comp_state<I, K, O>(
     comp: &Comp<f64, I, K, O>,
     v: *mut f64,
     memory: *mut hyst_memory,

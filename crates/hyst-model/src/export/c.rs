@@ -1,14 +1,17 @@
 //! `hyst export c`: a model file as one header-only C99 file over `hyst.h`, with no allocation
 //! and no file system. The header defines `NAME_state` and, in `double` and as `_f32` twins on
 //! `float`, `NAME_init` (the direct model), `NAME_init_inverse` (its exact inverse, clamping
-//! desired outputs into a saturating model's limits), `NAME_step`, `NAME_reset` and
-//! `NAME_params` (the model's `hyst_shaped_model_params`, for a Lemma 5.1 compensator).
+//! desired outputs into a saturating model's limits), `NAME_step`, `NAME_reset`, `NAME_params`
+//! (the model's `hyst_shaped_model_params`) and the model's Lemma 5.1 compensator
+//! (`NAME_compensator`, `_init`, `_step`, `_reset`). A model whose shapings are affine runs on
+//! the `hyst_linear_*` functions, which link no nonlinear shape.
 
 use core::fmt::Write as _;
 
 use crate::error::ModelError;
 use crate::file::ModelFile;
 use crate::smooth::{Form, SmoothModel};
+use hyst_core::AnyShaping;
 
 use super::shared::{
     check_name, description, has_infinity, k2_parameters, literal, shape_parameters, smooth, Source,
@@ -44,14 +47,45 @@ pub fn c(file: &ModelFile, name: &str, source: &Source) -> Result<String, ModelE
     );
     params_macro(&mut out, m, &fill);
     let limits = file.saturation().map(|s| s.limits);
+    let api = Api::of(m);
     for (real, suffix) in [("double", ""), ("float", "_f32")] {
-        functions(&mut out, name, &fill, real, suffix, limits);
+        functions(&mut out, name, &fill, real, suffix, limits, api);
+        compensator(&mut out, name, real, suffix, api);
     }
     w(
         &mut out,
         &format!("#undef {fill}\n\n#ifdef __cplusplus\n}}\n#endif\n\n#endif /* {guard} */\n"),
     );
     Ok(out)
+}
+
+/// Which C API family runs the model: the linear one when both shapings are affine (it links
+/// none of the nonlinear shapes), else the shaped one. The results are the same, bit for bit.
+#[derive(Clone, Copy)]
+struct Api {
+    /// `hyst_linear_model` or `hyst_shaped_model`.
+    model: &'static str,
+    /// `hyst_linear_compensator` or `hyst_shaped_compensator`.
+    compensator: &'static str,
+}
+
+impl Api {
+    fn of(m: &SmoothModel) -> Self {
+        let affine = |s: &hyst_core::ScaledShaping<f64>| {
+            matches!(s.shape, AnyShaping::Identity | AnyShaping::Affine(_))
+        };
+        if affine(&m.input_shaping) && affine(&m.output_shaping) {
+            Self {
+                model: "hyst_linear_model",
+                compensator: "hyst_linear_compensator",
+            }
+        } else {
+            Self {
+                model: "hyst_shaped_model",
+                compensator: "hyst_shaped_compensator",
+            }
+        }
+    }
 }
 
 /// Appends `text` (writing to a `String` cannot fail).
@@ -194,30 +228,32 @@ fn functions(
     real: &str,
     suffix: &str,
     limits: Option<(f64, f64)>,
+    api: Api,
 ) {
     let s = suffix;
+    let model = api.model;
     let _ = write!(
         out,
         "/* Everything the model needs ({real}): the shaped model with its memory and start rule, and\n \
          * the inverse's clamp count. Plain data, 8-byte aligned; memcpy makes an independent copy. */\n\
          typedef struct {name}_state{s} {{\n    \
-             hyst_shaped_model{s} model;\n    \
+             {model}{s} model;\n    \
              int32_t inverse;  /* 1 after {name}_init_inverse{s} */\n    \
              uint32_t clamped; /* desired outputs clamped into the limits since the init (inverse) */\n\
          }} {name}_state{s};\n\n\
-         /* Fills *p with the model's parameters (for hyst_shaped_model_init_*{s}, or for\n \
-          * hyst_shaped_compensator_init{s} after setting p->initial_state = HYST_INITIAL_STATE_LINE). */\n\
+         /* Fills *p with the model's parameters (for hyst_shaped_model_init_*{s} and the other\n \
+          * functions that take a hyst_shaped_model_params{s}). */\n\
          static inline void {name}_params{s}(hyst_shaped_model_params{s} *p) {{\n    \
              {fill}(p, {real});\n\
          }}\n\n\
          /* Initialises *s as the model, x in, y out, with no history (the start rule applies at the\n \
-          * first sample). HYST_OK, or the status of hyst_shaped_model_init_direct{s} (s untouched). */\n\
+          * first sample). HYST_OK, or the status of {model}_init_direct{s} (s untouched). */\n\
          static inline int32_t {name}_init{s}({name}_state{s} *s) {{\n    \
              hyst_shaped_model_params{s} p;\n    \
              int32_t status;\n    \
              if (s == NULL) {{\n        return HYST_ERR_NULL_POINTER;\n    }}\n    \
              {name}_params{s}(&p);\n    \
-             status = hyst_shaped_model_init_direct{s}(&s->model, &p);\n    \
+             status = {model}_init_direct{s}(&s->model, &p);\n    \
              if (status == HYST_OK) {{\n        s->inverse = 0;\n        s->clamped = 0;\n    }}\n    \
              return status;\n\
          }}\n\n\
@@ -228,7 +264,7 @@ fn functions(
              int32_t status;\n    \
              if (s == NULL) {{\n        return HYST_ERR_NULL_POINTER;\n    }}\n    \
              {name}_params{s}(&p);\n    \
-             status = hyst_shaped_model_init_inverse{s}(&s->model, &p);\n    \
+             status = {model}_init_inverse{s}(&s->model, &p);\n    \
              if (status == HYST_OK) {{\n        s->inverse = 1;\n        s->clamped = 0;\n    }}\n    \
              return status;\n\
          }}\n\n"
@@ -253,12 +289,48 @@ fn functions(
          static inline int32_t {name}_step{s}({name}_state{s} *s, {real} x, {real} *y) {{\n    \
              if (s == NULL) {{\n        return HYST_ERR_NULL_POINTER;\n    }}\n\
          {clamp}    \
-             return hyst_shaped_model_step{s}(&s->model, x, y);\n\
+             return {model}_step{s}(&s->model, x, y);\n\
          }}\n\n\
          /* Forgets the history: the start rule applies again at the next sample. */\n\
          static inline int32_t {name}_reset{s}({name}_state{s} *s) {{\n    \
              if (s == NULL) {{\n        return HYST_ERR_NULL_POINTER;\n    }}\n    \
-             return hyst_shaped_model_reset{s}(&s->model);\n\
+             return {model}_reset{s}(&s->model);\n\
+         }}\n\n"
+    );
+}
+
+/// The Lemma 5.1 compensator of the model for a plant b / (a_n sⁿ + … + a_1 s + 1), n ≤ 4,
+/// before the hysteresis: `NAME_compensator`, `_init`, `_step`, `_reset` of one precision.
+fn compensator(out: &mut String, name: &str, real: &str, suffix: &str, api: Api) {
+    let (s, comp) = (suffix, api.compensator);
+    let _ = write!(
+        out,
+        "/* The Lemma 5.1 compensator of this model ({real}) for a plant b / (a_n s^n + ... + a_1 s + 1),\n \
+         * n <= HYST_MAX_ORDER, before the hysteresis (docs/c.md). Plain data. */\n\
+         typedef struct {name}_compensator{s} {{\n    \
+             {comp}{s} compensator;\n\
+         }} {name}_compensator{s};\n\n\
+         /* Initialises *c for the plant b, a = [a_1 ... a_n] (n values) with its n integrators at v0\n \
+          * (NULL: at rest); the model's history is set by them, not by its start rule. */\n\
+         static inline int32_t {name}_compensator_init{s}({name}_compensator{s} *c, {real} b,\n    \
+             const {real} *a, const {real} *v0, size_t n) {{\n    \
+             hyst_shaped_model_params{s} p;\n    \
+             if (c == NULL) {{\n        return HYST_ERR_NULL_POINTER;\n    }}\n    \
+             {name}_params{s}(&p);\n    \
+             p.initial_state = HYST_INITIAL_STATE_LINE;\n    \
+             return {comp}_init{s}(&c->compensator, &p, b, a, v0, n);\n\
+         }}\n\n\
+         /* One control period of dt seconds: the new input u_new of the n integrators in, the\n \
+          * plant command *u out. */\n\
+         static inline int32_t {name}_compensator_step{s}({name}_compensator{s} *c, {real} u_new,\n    \
+             {real} dt, {real} *u) {{\n    \
+             if (c == NULL) {{\n        return HYST_ERR_NULL_POINTER;\n    }}\n    \
+             return {comp}_step{s}(&c->compensator, u_new, dt, u);\n\
+         }}\n\n\
+         /* Back to the integrators' initial state, the model's memory forgotten. */\n\
+         static inline int32_t {name}_compensator_reset{s}({name}_compensator{s} *c) {{\n    \
+             if (c == NULL) {{\n        return HYST_ERR_NULL_POINTER;\n    }}\n    \
+             return {comp}_reset{s}(&c->compensator);\n\
          }}\n\n"
     );
 }

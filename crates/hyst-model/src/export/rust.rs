@@ -51,14 +51,17 @@ pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, Mod
         "// Without history the model starts at its first sample by the start rule, exactly as\n\
          // `hyst run --model` starts a record; `Operator::reset` makes it start again.\n"
     );
-    let core = "hyst_core::ShapedModel<T, hyst_core::ScaledShaping<T>, hyst_core::AnyK2Law<T>, \
-                hyst_core::ScaledShaping<T>>";
+    // Affine shapings as `LinearShaping`: the same arithmetic, and no nonlinear shape's code.
+    let psi = if linear(m) {
+        "hyst_core::ScaledShaping<T, hyst_core::LinearShaping<T>>"
+    } else {
+        "hyst_core::ScaledShaping<T>"
+    };
+    let core = format!("hyst_core::ShapedModel<T, {psi}, hyst_core::AnyK2Law<T>, {psi}>");
     let (direct_ty, doc) = match m.form {
-        Form::Operator => (core.to_string(), "y = psi_out(H[psi_in(x)])"),
+        Form::Operator => (core.clone(), "y = psi_out(H[psi_in(x)])"),
         Form::Stop => (
-            "hyst_core::Stop<T, hyst_core::ScaledShaping<T>, hyst_core::AnyK2Law<T>, \
-             hyst_core::ScaledShaping<T>>"
-                .to_string(),
+            format!("hyst_core::Stop<T, {psi}, hyst_core::AnyK2Law<T>, {psi}>"),
             "y = psi_out(v - H[v]) + c v, v = psi_in(x)",
         ),
     };
@@ -81,6 +84,13 @@ pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, Mod
     Ok(out)
 }
 
+/// Whether both shapings are affine (identity or affine shape).
+fn linear(m: &SmoothModel) -> bool {
+    [&m.input_shaping, &m.output_shaping]
+        .iter()
+        .all(|s| matches!(s.shape, AnyShaping::Identity | AnyShaping::Affine(_)))
+}
+
 /// `piezo_stage` → `PiezoStage`.
 fn camel_case(name: &str) -> String {
     name.split('_')
@@ -99,12 +109,17 @@ fn num(x: f64) -> String {
     format!("c({})", literal(x, "f64::INFINITY"))
 }
 
-/// The expression that builds a shaping function.
-fn shaping(s: &ScaledShaping<f64>) -> String {
+/// The expression that builds a shaping function (its shape a `LinearShaping` when `linear`).
+fn shaping(s: &ScaledShaping<f64>, linear: bool) -> String {
+    let any = if linear {
+        "LinearShaping"
+    } else {
+        "AnyShaping"
+    };
     let shape = match s.shape {
-        AnyShaping::Identity => "hyst_core::AnyShaping::Identity".to_string(),
+        AnyShaping::Identity => format!("hyst_core::{any}::Identity"),
         AnyShaping::Affine(a) => format!(
-            "hyst_core::AnyShaping::Affine(hyst_core::Affine::new({}, {})?)",
+            "hyst_core::{any}::Affine(hyst_core::Affine::new({}, {})?)",
             num(a.gain),
             num(a.offset)
         ),
@@ -184,8 +199,8 @@ fn constructor(out: &mut String, m: &SmoothModel, name: &str, camel: &str) {
              let model = {body};\n    \
              Ok(hyst_core::Started::new(model, hyst_core::InitialState::{rule}))\n\
          }}\n",
-        input = shaping(&m.input_shaping),
-        output = shaping(&m.output_shaping),
+        input = shaping(&m.input_shaping, linear(m)),
+        output = shaping(&m.output_shaping, linear(m)),
         k1 = num(m.k1),
     );
     if m.form == Form::Operator {

@@ -1,0 +1,261 @@
+//! The shaped model whose shapings are affine (identity or affine shape, with their scalings:
+//! what `hyst fit` writes by default), its inverse and stop form (`hyst_linear_model_*`), and
+//! its Lemma 5.1 compensator (`hyst_linear_compensator_*`). The same parameters, arithmetic and
+//! results as `hyst_shaped_model_*` and `hyst_shaped_compensator_*`, bit for bit, but a
+//! firmware that uses them links none of the nonlinear shapes (tanh, Langevin, polynomial,
+//! quadratic-exp and their inverses), which the run-time choice of `hyst_shaping.kind` brings.
+//! `hyst export c` uses them for models with affine shapings.
+//!
+//! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
+
+use crate::api_f64::checks::done;
+use crate::api_f64::compensator::{build, comp_state, comp_step, plant};
+use crate::api_f64::memory::{get_memory, hyst_memory, reset, set_memory};
+use crate::api_f64::shaped_model::{hyst_shaped_model_params, hyst_shaping};
+use crate::engine::{self, Comp, Linear, Shaped};
+use crate::slot;
+use crate::status::{self, HYST_ERR_NULL_POINTER, HYST_OK};
+use hyst_core::{AnyK2Law, Hysteresis, ShapedModel};
+
+/// The shaped model of `hyst_shaped_model_params` whose shapings are affine, as
+/// `hyst_shaped_model`: an opaque block of 320 bytes, 8-byte aligned, plain data.
+#[repr(C)]
+pub struct hyst_linear_model {
+    opaque: [u64; 40],
+}
+
+/// The Lemma 5.1 compensator of such a model, as `hyst_shaped_compensator`: an opaque
+/// block of 448 bytes, 8-byte aligned, plain data.
+#[repr(C)]
+pub struct hyst_linear_compensator {
+    opaque: [u64; 56],
+}
+
+/// The model inside.
+type LinearShaped = Shaped<f64, Linear<f64>>;
+/// The shaped model with linear shapings, before its form and start rule.
+type LinearModel = ShapedModel<f64, Linear<f64>, AnyK2Law<f64>, Linear<f64>>;
+/// The compensator inside.
+type LinearComp = Comp<f64, Linear<f64>, AnyK2Law<f64>, Linear<f64>>;
+
+const TAG_LINEAR: u32 = 0x4859_4c64; // "HYLd"
+const TAG_LINEAR_COMPENSATOR: u32 = 0x4859_6c64; // "HYld"
+
+const _: () = assert!(slot::fits::<hyst_linear_model, LinearShaped>());
+const _: () = assert!(slot::fits::<hyst_linear_compensator, LinearComp>());
+
+/// The initialised model behind `m`, or the status of the failed check.
+fn linear<'a>(m: *mut hyst_linear_model) -> Result<&'a mut LinearShaped, i32> {
+    // SAFETY: as in the operator module's `operator`.
+    unsafe { slot::value_mut::<_, LinearShaped>(m, TAG_LINEAR) }
+}
+
+/// The initialised compensator behind `c`, or the status of the failed check.
+fn linear_compensator<'a>(c: *mut hyst_linear_compensator) -> Result<&'a mut LinearComp, i32> {
+    // SAFETY: as in the operator module's `operator`.
+    unsafe { slot::value_mut(c, TAG_LINEAR_COMPENSATOR) }
+}
+
+/// The model of `p` with its shapings as linear ones, checked by the core.
+///
+/// # Errors
+/// A shaping kind other than identity or affine, and the core's checks.
+fn linear_model(p: &hyst_shaped_model_params) -> Result<LinearModel, hyst_core::Error> {
+    let k2 = &p.k2;
+    let law = engine::k2_law(k2.kind, k2.value, k2.slope, k2.min, k2.max)?;
+    let s = |s: &hyst_shaping| {
+        engine::linear_shaping(
+            s.kind,
+            s.p,
+            s.pre_gain,
+            s.pre_offset,
+            s.post_gain,
+            s.post_offset,
+        )
+    };
+    ShapedModel::new(
+        s(&p.input)?,
+        Hysteresis::with_k2_law(p.k1, law)?,
+        s(&p.output)?,
+    )
+}
+
+/// `hyst_linear_model_init_direct` / `_inverse`.
+///
+/// # Safety
+/// `m` is NULL or points to a writable `hyst_linear_model`; `params` is NULL or readable.
+unsafe fn init_linear(
+    m: *mut hyst_linear_model,
+    params: *const hyst_shaped_model_params,
+    inverse: bool,
+) -> i32 {
+    if params.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: non-NULL (checked), readable (caller's contract).
+    let p = unsafe { params.read() };
+    let built = linear_model(&p)
+        .and_then(|model| engine::shaped(model, p.form, p.linear, p.initial_state, inverse));
+    match built {
+        // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
+        Ok(shaped) => unsafe { slot::write(m, TAG_LINEAR, shaped) },
+        Err(e) => status::of(&e),
+    }
+}
+
+/// Initialises `m` as the model of `params` (form and start rule included), as
+/// `hyst_shaped_model_init_direct`; also `HYST_ERR_INVALID_PARAMETER` when a shaping's kind is
+/// not `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE` (use `hyst_shaped_model_*` then).
+///
+/// # Safety
+/// `m` is NULL or points to a writable `hyst_linear_model`; `params` is NULL or readable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_model_init_direct(
+    m: *mut hyst_linear_model,
+    params: *const hyst_shaped_model_params,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { init_linear(m, params, false) }
+}
+
+/// Initialises `m` as the exact inverse of the model of `params`, as
+/// `hyst_shaped_model_init_inverse` (the same refusals as `hyst_linear_model_init_direct`).
+///
+/// # Safety
+/// As `hyst_linear_model_init_direct`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_model_init_inverse(
+    m: *mut hyst_linear_model,
+    params: *const hyst_shaped_model_params,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { init_linear(m, params, true) }
+}
+
+/// One sample, as `hyst_shaped_model_step`.
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_linear_model`; `y` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_model_step(
+    m: *mut hyst_linear_model,
+    x: f64,
+    y: *mut f64,
+) -> i32 {
+    // SAFETY: `y` is NULL or writable (caller's contract).
+    done(linear(m).map(|o| unsafe { engine::step(o, x, y) }))
+}
+
+/// Copies the memory of the model's operator into `*memory`, as
+/// `hyst_shaped_model_get_memory`.
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_linear_model`; `memory` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_model_get_memory(
+    m: *mut hyst_linear_model,
+    memory: *mut hyst_memory,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { get_memory(linear(m), memory) }
+}
+
+/// Restores the memory of the model's operator, as `hyst_shaped_model_set_memory`.
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_linear_model`; `memory` is NULL or readable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_model_set_memory(
+    m: *mut hyst_linear_model,
+    memory: *const hyst_memory,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { set_memory(linear(m), memory) }
+}
+
+/// Forgets the history: the start rule applies again at the next sample.
+///
+/// # Safety
+/// `m` is NULL or an initialised `hyst_linear_model`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_model_reset(m: *mut hyst_linear_model) -> i32 {
+    reset(linear(m))
+}
+
+/// Initialises `c` as the Lemma 5.1 compensator of the model of `params`, as
+/// `hyst_shaped_compensator_init` (the same refusals, and those of
+/// `hyst_linear_model_init_direct`).
+///
+/// # Safety
+/// `c` is NULL or points to a writable `hyst_linear_compensator`; `params` is NULL or
+/// readable; `a` and `v0` are NULL or hold n values.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_compensator_init(
+    c: *mut hyst_linear_compensator,
+    params: *const hyst_shaped_model_params,
+    b: f64,
+    a: *const f64,
+    v0: *const f64,
+    n: usize,
+) -> i32 {
+    if params.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: `a`, `v0` are NULL or hold n values (caller's contract).
+    let plant = match unsafe { plant(a, v0, n) } {
+        Ok(p) => p,
+        Err(s) => return s,
+    };
+    // SAFETY: non-NULL (checked), readable (caller's contract).
+    let params = unsafe { params.read() };
+    let built = engine::compensated_form(params.form, params.initial_state)
+        .and_then(|()| linear_model(&params))
+        .and_then(|model| build(model.inverse(), b, &plant, n));
+    match built {
+        // SAFETY: `c` is NULL or a writable block of the type's size; `fits` holds.
+        Ok(comp) => unsafe { slot::write(c, TAG_LINEAR_COMPENSATOR, comp) },
+        Err(e) => status::of(&e),
+    }
+}
+
+/// One sample, as `hyst_shaped_compensator_step`.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_linear_compensator`; `u` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_compensator_step(
+    c: *mut hyst_linear_compensator,
+    u_new: f64,
+    dt: f64,
+    u: *mut f64,
+) -> i32 {
+    // SAFETY: `u` is NULL or writable (caller's contract).
+    done(linear_compensator(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
+}
+
+/// The integrators and the inverse model's memory, as `hyst_shaped_compensator_get_state`.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_linear_compensator`; `v` is NULL or holds n values;
+/// `memory` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_compensator_get_state(
+    c: *mut hyst_linear_compensator,
+    v: *mut f64,
+    memory: *mut hyst_memory,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    done(linear_compensator(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
+}
+
+/// Back to the initial integrator state, and the inverse model's memory forgotten.
+///
+/// # Safety
+/// `c` is NULL or an initialised `hyst_linear_compensator`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_compensator_reset(c: *mut hyst_linear_compensator) -> i32 {
+    done(linear_compensator(c).map(|comp| {
+        comp.reset();
+        HYST_OK
+    }))
+}
