@@ -90,6 +90,39 @@ pub fn check_csv(data: &[u8]) -> Result<(), String> {
     Ok(())
 }
 
+/// `hyst export c|rust` of an accepted model file: the C export of a smooth model and the Rust
+/// export of any model succeed, refusals are one line, and no number is written as a literal
+/// that C or Rust would not read back (`NaN`, `inf`).
+///
+/// # Errors
+/// A description of the broken invariant.
+fn check_export(file: &ModelFile) -> Result<(), String> {
+    let source = hyst_model::export::Source {
+        name: "fuzz.toml".into(),
+        fnv1a64: 0,
+    };
+    for (language, text) in [
+        ("c", hyst_model::export::c(file, "m", &source)),
+        ("rust", hyst_model::export::rust(file, "m", &source)),
+    ] {
+        match text {
+            Ok(text) => {
+                if let Some(bad) = ["NaN", "(T)inf", "(T)-inf", "c(inf)", "c(-inf)"]
+                    .iter()
+                    .find(|bad| text.contains(**bad))
+                {
+                    return Err(format!("export {language} wrote the literal {bad}"));
+                }
+            }
+            Err(e) if language == "c" && file.kind == hyst_model::ModelKind::PrandtlIshlinskii => {
+                one_line("export c", &e.to_string())?;
+            }
+            Err(e) => return Err(format!("export {language} refused an accepted model: {e}")),
+        }
+    }
+    Ok(())
+}
+
 /// The model-file reader on arbitrary bytes (as UTF-8 text).
 ///
 /// # Errors
@@ -124,6 +157,7 @@ pub fn check_model_file(data: &[u8]) -> Result<(), String> {
             }
         }
     }
+    check_export(&file)?;
     // What the reader accepted, written and read again, is accepted again.
     if let Ok(again) = file.to_toml() {
         ModelFile::from_toml(&again, std::path::Path::new("again.toml"))
