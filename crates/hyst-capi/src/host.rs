@@ -151,8 +151,9 @@ pub unsafe extern "C" fn hyst_model_process(
 }
 
 /// Makes the inverse (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
-/// beyond 99.9 % of a saturating model's output range (tanh or Langevin output shaping; the range
-/// itself is unreachable) to that limit instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
+/// beyond a saturating model's limits (tanh or Langevin output shaping, whose range itself is
+/// unreachable: 99.9 % of the range about its centre, widened to every output over the model's
+/// fitted input range) to them instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
 /// `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
 /// an inverse run already started. `hyst_model_clamped` counts the clamped values.
 ///

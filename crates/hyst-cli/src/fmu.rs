@@ -56,8 +56,9 @@ pub struct Args {
     #[command(flatten)]
     pub source: Source,
     /// With --model --inverse, for a model whose output shaping saturates (tanh, Langevin; open
-    /// range (lo, hi), unreachable): the FMU clamps every desired output beyond 99.9 % of the
-    /// range about its centre to that limit, as `hyst run --saturate` does, instead of refusing
+    /// range (lo, hi), unreachable): the FMU clamps every desired output beyond the model's
+    /// limits (99.9 % of the range about its centre, widened to every output over its fitted
+    /// input range) to them, as `hyst run --saturate` does, instead of refusing
     /// a value outside (lo, hi); fmi2DoStep returns fmi2Warning (and logs it) when the desired
     /// output enters saturation.
     #[arg(long)]

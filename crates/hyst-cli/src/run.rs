@@ -33,7 +33,7 @@ use hyst_core::bank::BankFormula;
 use hyst_core::{BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Sample};
 use hyst_io::number::sig;
 use hyst_io::{CsvReader, CsvWriter};
-use hyst_model::saturation::{Saturation, SATURATION_FRACTION};
+use hyst_model::saturation::Saturation;
 
 use hyst_core::compensator::MAX_ORDER;
 
@@ -61,8 +61,9 @@ pub struct Args {
     #[arg(long, value_name = "COLUMN")]
     pub record: Option<String>,
     /// With --model --inverse, for a model whose output shaping saturates (tanh, Langevin; open
-    /// range (lo, hi), unreachable): clamp every desired output beyond 99.9 % of the range about
-    /// its centre to that limit, instead of stopping at the first one outside (lo, hi). A
+    /// range (lo, hi), unreachable): clamp every desired output beyond the limits (99.9 % of the
+    /// range about its centre, widened to every output the model gives over its fitted input
+    /// range: docs/formats.md) to them, instead of stopping at the first one outside (lo, hi). A
     /// clamped row gets the clamped value in x and zero derivatives; stderr says how many rows
     /// were clamped and which was first.
     #[arg(long)]
@@ -287,16 +288,16 @@ fn run<R: Read>(
     if let (Some(limits), Some(first)) = (clamped.limits, clamped.first) {
         let s = limits.saturation;
         eprintln!(
-            "hyst run: --saturate clamped {} of {} desired outputs into [{}, {}] ({} % of the \
-             range ({}, {}) of the model's {} output shaping); the first on {}:{} (value {})",
+            "hyst run: --saturate clamped {} of {} desired outputs into [{}, {}] ({}; the open \
+             range of the model's {} output shaping is ({}, {})); the first on {}:{} (value {})",
             clamped.rows,
             clamped.of,
             sig(s.limits.0, 7),
             sig(s.limits.1, 7),
-            100.0 * SATURATION_FRACTION,
+            s.rule(),
+            s.shaping,
             sig(s.range.0, 7),
             sig(s.range.1, 7),
-            s.shaping,
             rows.source(),
             first.0,
             Num(first.1)
@@ -443,7 +444,7 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>> Scalar<E, S> {
             bail!(
                 "{}: desired output {} is outside the range ({}, {}) of the model's {} output \
                  shaping, which no command reaches; --saturate clamps such values into [{}, \
-                 {}] ({} % of the range)",
+                 {}] ({})",
                 place.column(line, k),
                 Num(v),
                 sig(s.range.0, 7),
@@ -451,7 +452,7 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>> Scalar<E, S> {
                 s.shaping,
                 sig(lo, 7),
                 sig(hi, 7),
-                100.0 * SATURATION_FRACTION
+                s.rule()
             );
         }
         Ok(())

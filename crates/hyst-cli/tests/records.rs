@@ -353,7 +353,12 @@ fn saturate_clamps_into_the_stated_fraction_of_the_range_and_says_so() {
     let tanh_gain = psi["shape"]["tanh"]["gain"].as_float().unwrap();
     let (lo, hi) = (offset - gain * tanh_gain, offset + gain * tanh_gain);
     let half = 0.5 * (hi - lo);
-    let (a, b) = (lo + 0.001 * half, hi - 0.001 * half);
+    // The limits: 99.9 % of the range about its centre, widened to the outputs the model gives
+    // over its fitted input range (never narrower, never the range's ends).
+    let saturation = hyst_model::ModelFile::read(&model).unwrap().saturation().unwrap();
+    let (a, b) = saturation.limits;
+    assert!(a <= lo + 0.001 * half && a > lo, "{a} against ({lo}, {hi})");
+    assert!(b >= hi - 0.001 * half && b < hi, "{b} against ({lo}, {hi})");
     let values = [0.1, 0.5, 2.0, hi, 0.3, -9.0, 0.5 * (b + hi)];
     let input = desired(dir.path(), &values);
     let out = dir.path().join("cmd.csv");

@@ -8,7 +8,7 @@
 //! kind = "operator"   # or "model" (then resources/model.toml is the model file)
 //! inverse = false     # true: H^-1 (operator) or the model's exact inverse (model)
 //! saturate = false    # kind = "model", inverse = true, a saturating output shaping only:
-//!                     # clamp desired outputs into 99.9 % of the model's output range
+//!                     # clamp desired outputs into the model's saturation limits
 //! k1 = 0.2            # kind = "operator" only: the start values of the parameters
 //! k2 = 8.0
 //! ```
@@ -46,8 +46,9 @@ pub struct Config {
     /// The operator or the model.
     pub kind: Kind,
     /// `saturate = true`: the output range of the model's saturating output shaping and the
-    /// limits ([`hyst_model::saturation::SATURATION_FRACTION`] of it) that desired outputs are
-    /// clamped into before the inverse sees them, as `hyst run --saturate` clamps them.
+    /// limits (`ModelFile::saturation`: 99.9 % of it about its centre, widened to the outputs
+    /// over the model's fitted input range) that desired outputs are clamped into before the
+    /// inverse sees them, as `hyst run --saturate` clamps them.
     /// `None`: a desired output beyond the range is refused.
     pub saturation: Option<Saturation>,
 }

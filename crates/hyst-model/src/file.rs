@@ -220,9 +220,13 @@ impl ModelFile {
     }
 
     /// The saturation of a smooth model whose output shaping is bounded (tanh, Langevin): the
-    /// open range of its output and the limits, [`SATURATION_FRACTION`] of that range about its
-    /// centre, that `hyst run --inverse --saturate` clamps desired outputs to. `None` for a
-    /// model whose output is unbounded (affine or polynomial shaping, Prandtl–Ishlinskii).
+    /// open range of its output and the limits that `hyst run --inverse --saturate` clamps
+    /// desired outputs to. The limits are [`SATURATION_FRACTION`] of the range about its
+    /// centre, widened to every output the model gives over the input range it was fitted on
+    /// ([`SmoothModel::fitted_output_range`]): a fit may put its data in the last 0.1 % of a
+    /// tanh's range (its tail used as an exponential), and no output the model produces for
+    /// its own data range is clamped. `None` for a model whose output is unbounded (affine or
+    /// polynomial shaping, Prandtl–Ishlinskii).
     #[must_use]
     pub fn saturation(&self) -> Option<Saturation> {
         let m = self
@@ -231,13 +235,25 @@ impl ModelFile {
             .filter(|_| self.kind == ModelKind::Smooth)?;
         let (lo, hi) = m.output_range()?;
         let (centre, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+        let (mut a, mut b) = (
+            centre - SATURATION_FRACTION * half,
+            centre + SATURATION_FRACTION * half,
+        );
+        let mut widened = false;
+        if let Some((y_lo, y_hi)) = m.fitted_output_range() {
+            // Strictly inside the open range: its ends have no command.
+            if y_lo > lo && y_lo < a {
+                (a, widened) = (y_lo, true);
+            }
+            if y_hi < hi && y_hi > b {
+                (b, widened) = (y_hi, true);
+            }
+        }
         Some(Saturation {
             shaping: m.output_shaping.name(),
             range: (lo, hi),
-            limits: (
-                centre - SATURATION_FRACTION * half,
-                centre + SATURATION_FRACTION * half,
-            ),
+            limits: (a, b),
+            widened,
         })
     }
 
@@ -332,5 +348,91 @@ fn one_line(text: &str, e: &toml::de::Error) -> String {
             format!("line {line}, column {column}: {message}")
         }
         None => message,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    /// A model whose tanh output shaping holds its data in the last 0.1 % of its range (the
+    /// tail used as an exponential, as a fit can place it): ψ_out(u) = 1e8 tanh(u + 5) − 1e8.
+    fn tail_model() -> ModelFile {
+        let text = r#"
+format = "hyst-model"
+version = 1
+kind = "smooth"
+parameters = []
+[columns]
+input = "x"
+output = "y"
+[units]
+input = ""
+output = ""
+[metrics]
+parameters = 0
+fit_seconds = 0.0
+ns_per_sample = 0.0
+[metrics.training]
+samples = 0
+rms = 0.0
+max_abs = 0.0
+rms_pct_span = 0.0
+max_pct_span = 0.0
+[smooth]
+k1 = 0.2
+initial_state = "rising"
+[smooth.k2]
+law = "constant"
+value = 6.0
+[smooth.input_shaping]
+pre_gain = 0.5
+pre_offset = -1.0
+shape = "identity"
+post_gain = 1.0
+post_offset = 0.0
+[smooth.output_shaping]
+pre_gain = 1.0
+pre_offset = 5.0
+post_gain = 1e8
+post_offset = -1e8
+[smooth.output_shaping.shape.tanh]
+gain = 1.0
+scale = 1.0
+[provenance]
+file = "none"
+bytes = 0
+fnv1a64 = "0"
+rows = 0
+records = 0
+command = "hand-written"
+hyst_version = "0.1.0"
+created_unix = 0
+"#;
+        ModelFile::from_toml(text, Path::new("tail.toml")).unwrap()
+    }
+
+    #[test]
+    fn saturation_never_clamps_an_output_of_the_fitted_input_range() {
+        let file = tail_model();
+        let m = file.smooth.unwrap();
+        let s = file.saturation().unwrap();
+        // 99.9 % of the range about its centre would stop 1e5 below the top: every output
+        // of the data (x in [0, 4], the interval ψ_in's scaling maps to [-1, 1]) is higher.
+        let top = m.output_shaping.apply(1.0 + m.k1);
+        let bottom = m.output_shaping.apply(-1.0 - m.k1);
+        assert!(top > -1e5 && top < s.range.1);
+        assert!(s.widened);
+        assert_eq!(s.limits.1, top);
+        assert!(s.limits.0 <= bottom && s.limits.0 > s.range.0);
+        // Every output the model gives for inputs in [0, 4] is inside the limits.
+        for k in 0..=400 {
+            let x = 4.0 * f64::from(k) / 400.0;
+            for y in file.run(&[0.0, x]).unwrap() {
+                assert!(s.limits.0 <= y && y <= s.limits.1, "{y} at {x}");
+            }
+        }
+        assert!(s.rule().contains("widened"));
     }
 }

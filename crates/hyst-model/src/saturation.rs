@@ -18,9 +18,32 @@ pub struct Saturation {
     /// The open range (lo, hi) of the model's output: no command produces lo, hi or beyond.
     pub range: (f64, f64),
     /// The desired outputs a compensator may be asked for: [`SATURATION_FRACTION`] of `range`
-    /// about its centre. Clamping a desired output into these limits keeps the command finite
-    /// and the map from desired output to command monotone.
+    /// about its centre, widened to the outputs over the model's fitted input range
+    /// (`widened`). Clamping a desired output into these limits keeps the command finite and
+    /// the map from desired output to command monotone.
     pub limits: (f64, f64),
+    /// Whether the limits were widened beyond [`SATURATION_FRACTION`] of the range to cover
+    /// the outputs the model gives over its fitted input range.
+    pub widened: bool,
+}
+
+impl Saturation {
+    /// How the limits were chosen, for messages: "99.9 % of the range about its centre", and
+    /// when widened, that they cover the model's outputs over its fitted input range.
+    #[must_use]
+    pub fn rule(&self) -> String {
+        let fraction = format!(
+            "{} % of the range about its centre",
+            100.0 * SATURATION_FRACTION
+        );
+        if self.widened {
+            format!(
+                "{fraction}, widened to every output the model gives over its fitted input range"
+            )
+        } else {
+            fraction
+        }
+    }
 }
 
 /// A compensator whose desired outputs are clamped into a saturating model's limits

@@ -486,6 +486,23 @@ impl SmoothModel {
         (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
     }
 
+    /// The outputs the model gives over the input interval that ψ_in's scaling maps to
+    /// [−1, 1] (for a model `hyst fit` wrote, the range of the data it was fitted on):
+    /// ψ_out of every operator output within k1 of ψ_in over that interval, (lo, hi). `None`
+    /// for the stop form, and when they are not finite.
+    #[must_use]
+    pub fn fitted_output_range(&self) -> Option<(f64, f64)> {
+        if self.form == Form::Stop {
+            return None;
+        }
+        let psi = &self.input_shaping;
+        let x = |z: f64| (z - psi.pre_offset) / psi.pre_gain;
+        let (v_lo, v_hi) = (psi.apply(x(-1.0)), psi.apply(x(1.0)));
+        let lo = self.output_shaping.apply(v_lo - self.k1);
+        let hi = self.output_shaping.apply(v_hi + self.k1);
+        (lo.is_finite() && hi.is_finite() && lo < hi).then_some((lo, hi))
+    }
+
     /// Runs the model over one record into a new vector.
     ///
     /// # Errors

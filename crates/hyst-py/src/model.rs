@@ -254,8 +254,9 @@ impl Model {
         Ok(m)
     }
 
-    /// The output range of a saturating output shaping (tanh, Langevin) and the limits, 99.9 %
-    /// of it about its centre, that `inverse(saturate=True)` clamps desired outputs into:
+    /// The output range of a saturating output shaping (tanh, Langevin) and the limits (99.9 %
+    /// of it about its centre, widened to every output over the model's fitted input range)
+    /// that `inverse(saturate=True)` clamps desired outputs into:
     /// {"shaping": "tanh", "range": (lo, hi), "limits": (lo, hi)}; None for a model whose
     /// output is unbounded.
     #[getter]

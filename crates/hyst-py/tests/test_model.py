@@ -116,6 +116,10 @@ def test_saturating_inverse_clamps_as_hyst_run_saturate(cli, models, piezo_path,
     assert s["shaping"] == "tanh"
     (lo, hi), (clo, chi) = s["range"], s["limits"]
     assert lo < clo < chi < hi
+    # The fit puts the data in the last 0.1 % of the tanh's range: the limits still clamp no
+    # output of the data's range (issue 28: -120, -100, -80 were all clamped to -180210.9).
+    within = np.array([-120.0, -100.0, -80.0])
+    assert np.array_equal(m.inverse(saturate=True).process(within), m.inverse().process(within))
     # Desired outputs that leave the range now and then.
     t = np.linspace(0.0, 6.0, 900)
     desired = 0.5 * (lo + hi) + 0.6 * (hi - lo) * np.sin(t)

@@ -307,11 +307,11 @@ pub(super) fn description(
     ));
     if let Some(s) = file.saturation() {
         lines.push(format!(
-            "The inverse clamps a desired y into [{:?}, {:?}] ({} % of the open range ({:?}, \
-             {:?}) of the saturating psi_out), as `hyst run --inverse --saturate`.",
+            "The inverse clamps a desired y into [{:?}, {:?}] ({}; the open range of the \
+             saturating psi_out is ({:?}, {:?})), as `hyst run --inverse --saturate`.",
             s.limits.0,
             s.limits.1,
-            100.0 * crate::saturation::SATURATION_FRACTION,
+            s.rule(),
             s.range.0,
             s.range.1
         ));
