@@ -288,8 +288,16 @@ impl<T: Real> MemoryFields<T> {
     }
 
     pub(crate) fn to_core(&self) -> Result<Option<Memory<T>>, Error> {
-        if self.has_history == 0 {
-            return Ok(None);
+        match self.has_history {
+            0 => return Ok(None),
+            1 => {}
+            other => {
+                return Err(Error::InvalidParameter {
+                    name: "has_history",
+                    value: f64::from(other),
+                    expected: "0 (no history) or 1",
+                })
+            }
         }
         Ok(Some(Memory {
             reversal_input: self.reversal_input,

@@ -731,3 +731,36 @@ fn host_model_saturate_clamps_the_compensators_desired_outputs() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 28, item 6: `has_history` is 0 or 1, and a memory whose last input lies on the wrong
+/// side of its reversal for its direction is refused; the operator keeps its memory.
+#[test]
+fn set_memory_refuses_impossible_states() {
+    let mut op: hyst_operator = zeroed();
+    unsafe {
+        assert_eq!(hyst_operator_init_direct(&mut op, 0.2, 8.0), HYST_OK);
+        let mut y = 0.0;
+        assert_eq!(hyst_operator_step(&mut op, 0.4, &mut y), HYST_OK);
+        let mut kept: hyst_memory = zeroed();
+        assert_eq!(hyst_operator_get_memory(&mut op, &mut kept), HYST_OK);
+        for has_history in [2, -1] {
+            let mut m = kept;
+            m.has_history = has_history;
+            assert_eq!(
+                hyst_operator_set_memory(&mut op, &m),
+                HYST_ERR_INVALID_PARAMETER
+            );
+        }
+        let mut m = kept;
+        m.direction = 1;
+        m.reversal_input = 1e300;
+        m.reversal_output = 1e300;
+        assert_eq!(
+            hyst_operator_set_memory(&mut op, &m),
+            HYST_ERR_INVALID_PARAMETER
+        );
+        let mut now: hyst_memory = zeroed();
+        assert_eq!(hyst_operator_get_memory(&mut op, &mut now), HYST_OK);
+        assert_eq!(now, kept);
+    }
+}

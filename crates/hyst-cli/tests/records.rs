@@ -355,7 +355,10 @@ fn saturate_clamps_into_the_stated_fraction_of_the_range_and_says_so() {
     let half = 0.5 * (hi - lo);
     // The limits: 99.9 % of the range about its centre, widened to the outputs the model gives
     // over its fitted input range (never narrower, never the range's ends).
-    let saturation = hyst_model::ModelFile::read(&model).unwrap().saturation().unwrap();
+    let saturation = hyst_model::ModelFile::read(&model)
+        .unwrap()
+        .saturation()
+        .unwrap();
     let (a, b) = saturation.limits;
     assert!(a <= lo + 0.001 * half && a > lo, "{a} against ({lo}, {hi})");
     assert!(b >= hi - 0.001 * half && b < hi, "{b} against ({lo}, {hi})");

@@ -103,10 +103,13 @@ impl<T: Real> Memory<T> {
 
     /// Checks a memory that comes from outside (a saved state): all values finite, the reversal
     /// point inside the band of half-width k1 and the last point inside the band (both with a
-    /// relative tolerance of 1e-9 for rounding).
+    /// relative tolerance of 1e-9 for rounding), and the last input on the branch that leaves
+    /// the reversal point in the memory's direction (at or above the reversal input when
+    /// rising, at or below it when falling: the operator never produces another memory).
     ///
     /// # Errors
-    /// As [`Memory::at_rest`].
+    /// As [`Memory::at_rest`]; [`Error::InvalidParameter`] for a last input on the wrong side
+    /// of the reversal input.
     pub fn validate(&self, k1: T) -> Result<(), Error> {
         let tol = k1 * T::from_f64(1e-9);
         for (name, value) in [
@@ -128,6 +131,20 @@ impl<T: Real> Memory<T> {
                     k1: k1.as_f64(),
                 });
             }
+        }
+        let slack =
+            T::from_f64(1e-9) * self.reversal_input.abs().max(self.last_input.abs()).max(k1);
+        let on_branch = match self.direction {
+            Direction::Rising => self.last_input >= self.reversal_input - slack,
+            Direction::Falling => self.last_input <= self.reversal_input + slack,
+        };
+        if !on_branch {
+            return Err(Error::InvalidParameter {
+                name: "last_input",
+                value: self.last_input.as_f64(),
+                expected: "on the branch from the reversal point: at or above reversal_input when \
+                           rising, at or below it when falling",
+            });
         }
         Ok(())
     }
@@ -202,6 +219,7 @@ impl<T: Real> Memory<T> {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
     use super::*;
 
     #[test]
@@ -224,5 +242,34 @@ mod tests {
         assert!(Memory::at_rest(0.0, 0.2, Direction::Rising, 0.1_f64).is_err());
         assert!(Memory::at_rest(0.0, 0.1, Direction::Rising, 0.1_f64).is_ok());
         assert!(Memory::at_rest(f64::NAN, 0.0, Direction::Rising, 0.1_f64).is_err());
+    }
+
+    /// Issue 28, item 6: a memory no operator produces, the last input on the wrong side of
+    /// the reversal for its direction, is refused; what operators produce is accepted.
+    #[test]
+    fn a_last_input_off_the_branch_is_refused() {
+        let mut m = Memory::at_rest(0.5, 0.45, Direction::Rising, 0.1_f64).unwrap();
+        assert!(m.validate(0.1).is_ok());
+        m.reversal_input = 1e300;
+        m.reversal_output = 1e300;
+        assert!(matches!(
+            m.validate(0.1),
+            Err(Error::InvalidParameter {
+                name: "last_input",
+                ..
+            })
+        ));
+        let mut m = Memory::at_rest(0.5, 0.55, Direction::Falling, 0.1_f64).unwrap();
+        m.last_input = 0.7;
+        m.last_output = 0.65;
+        assert!(m.validate(0.1).is_err());
+        // Every memory an operator leaves behind is accepted.
+        let mut h = crate::Hysteresis::new(0.1_f64, 8.0).unwrap();
+        for k in 0..2000 {
+            let x = (f64::from(k) * 0.013).sin() * (1.0 + 0.3 * (f64::from(k) * 0.002).cos());
+            crate::Operator::step(&mut h, x);
+            let memory = crate::Operator::memory(&h).unwrap();
+            assert!(memory.validate(0.1).is_ok(), "{memory:?} at {k}");
+        }
     }
 }

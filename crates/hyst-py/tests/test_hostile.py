@@ -104,3 +104,14 @@ def test_missing_values_are_named_not_reported_as_nan():
     # A real NaN is still a NaN.
     with pytest.raises(ValueError, match="NaN|nan"):
         op.process(np.array([0.0, np.nan]))
+
+
+def test_a_memory_off_its_branch_is_refused():
+    """Issue 28, item 6: rising with the reversal input 1e300 above the last input is a state
+    no operator produces; assigning it raises ValueError and keeps the memory."""
+    h = hyst.Hysteresis(0.2, 8.0)
+    h.step(0.4)
+    kept = h.memory
+    with pytest.raises(ValueError, match="last_input"):
+        h.memory = hyst.Memory(1e300, 1e300, "rising", last_input=0.4, last_output=0.3)
+    assert h.memory == kept
