@@ -54,6 +54,14 @@ pub fn main(args: Args) -> Result<()> {
     })?;
     let gain = args.output_gain.unwrap_or(1.0);
     let delta_b_max = b.delta_a * gain;
+    if !delta_b_max.is_finite() {
+        anyhow::bail!(
+            "--output-gain {}: the bound at the output, delta_a = {} times the gain, is beyond \
+             the float range",
+            shortest(gain),
+            shortest(b.delta_a)
+        );
+    }
     if args.json {
         let corners: Vec<serde_json::Value> = b
             .corner_params

@@ -152,3 +152,37 @@ fn text_prints_significant_digits_at_any_scale() {
     assert!(text.lines().all(|l| l.len() < 120), "{text}");
     assert!(text.contains("k2bar = 9.000e299"), "{text}");
 }
+
+/// Issue 28, item 4, as written: k1 above MAX / 4 and a gain that overflows the bound are
+/// refused with status 1, naming the value, instead of printing inf and NaN.
+#[test]
+fn a_bound_beyond_the_float_range_is_refused() {
+    let out = hyst(&[
+        "bound", "--k1", "1e308", "--dk1", "9e307", "--k2", "1", "--dk2", ".5",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("k1") && err.contains("MAX / 4"), "{err}");
+    assert!(out.stdout.is_empty());
+    // Δa ≥ Δk1 = 2 here: times 1e308 it is beyond the float range.
+    let wide = [
+        "bound", "--k1", "3", "--dk1", "2", "--k2", "8", "--dk2", "5",
+    ];
+    let out = hyst(&[&wide[..], &["--output-gain", "1e308"]].concat());
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--output-gain 1e308") && err.contains("beyond"),
+        "{err}"
+    );
+    for args in [
+        &[
+            "bound", "--k1", "1e308", "--dk1", "9e307", "--k2", "1", "--dk2", ".5", "--json",
+        ][..],
+        &[&wide[..], &["--output-gain", "1e308", "--json"]].concat(),
+    ] {
+        let out = hyst(args);
+        assert_eq!(out.status.code(), Some(1));
+        assert!(!String::from_utf8_lossy(&out.stdout).contains("null"));
+    }
+}

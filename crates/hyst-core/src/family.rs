@@ -175,6 +175,18 @@ fn check_family<T: Real>(k1: T, dk1: T, k2: T, dk2: T) -> Result<(), Error> {
             expected: "< k2 (every member needs k2 > 0)",
         });
     }
+    // The corners' arithmetic (sums and differences of the members' outputs) stays finite.
+    let most = T::max_value() / T::from_f64(4.0);
+    for (name, top, value) in [("k1", k1 + dk1, k1), ("k2", k2 + dk2, k2)] {
+        if top.is_nan() || top > most {
+            return Err(Error::InvalidParameter {
+                name,
+                value: value.as_f64(),
+                expected: "with its width at most a quarter of the float range (MAX / 4), so \
+                           that the bound's arithmetic stays finite",
+            });
+        }
+    }
     Ok(())
 }
 
@@ -606,6 +618,29 @@ impl<T: Real> Reproducibility<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 28, item 4: a family beyond a quarter of the float range is refused; up to it the
+    /// bound and its corners are finite.
+    #[test]
+    fn huge_families_are_refused_or_finite() -> Result<(), Error> {
+        assert!(delta_a(1e308_f64, 9e307, 1.0, 0.5).is_err());
+        assert!(delta_a(0.5_f64, 0.1, 1e308, 1e307).is_err());
+        assert!(Family::new(1e308_f64, 9e307, 1.0, 0.5).is_err());
+        for k1 in [1e300_f64, 1e306, 0.6 * f64::MAX / 4.0] {
+            let b = delta_a(k1, 0.5 * k1, 1.0, 0.5)?;
+            assert!(b.delta_a.is_finite(), "{k1}: {b:?}");
+            assert!(b.corners.iter().all(|c| c.is_finite()), "{k1}: {b:?}");
+        }
+        for k2 in [1e300_f64, 0.6 * f64::MAX / 4.0] {
+            let b = delta_a(0.2_f64, 0.1, k2, 0.5 * k2)?;
+            assert!(
+                b.delta_a.is_finite() && b.corners.iter().all(|c| c.is_finite()),
+                "{b:?}"
+            );
+        }
+        Ok(())
+    }
+
     use crate::k2law::AffineK2;
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
