@@ -137,6 +137,7 @@ impl Dataset {
             records = segment(records, len)?;
         }
         hold_out(&mut records, options, &file)?;
+        normalise_weights(&mut records);
         Ok(Self {
             source: file,
             columns: Columns {
@@ -374,6 +375,29 @@ fn record_column(table: &Table, options: &DataOptions) -> Option<String> {
     }
 }
 
+/// Scales the weights so that the positive weights of the training records average 1: the
+/// fit depends on their ratios only, never on their scale (weights of 1e-100 on every row
+/// fitted nothing, the tolerances of the least squares being absolute). Unit weights stay
+/// exactly 1. No positive training weight: nothing to scale.
+fn normalise_weights(records: &mut [Record]) {
+    let training = || records.iter().filter(|r| !r.validation);
+    let largest = training()
+        .flat_map(|r| r.weight.iter().copied())
+        .fold(0.0_f64, f64::max);
+    if !(largest > 0.0 && largest.is_finite()) {
+        return;
+    }
+    // Scaled by the largest first, so that the sum cannot overflow.
+    let (sum, count) = training()
+        .flat_map(|r| r.weight.iter())
+        .filter(|w| **w > 0.0)
+        .fold((0.0, 0_usize), |(s, n), w| (s + w / largest, n + 1));
+    let mean = sum / count as f64;
+    for w in records.iter_mut().flat_map(|r| r.weight.iter_mut()) {
+        *w = *w / largest / mean;
+    }
+}
+
 /// The rows of `table` grouped into records by the value of the `record` column (name and
 /// values; one record without it), each sample with its weight from the `weight` column (1
 /// without it). A record is a run of equal ids; an id that comes back later continues its
@@ -534,6 +558,34 @@ fn abbreviate(items: &[String]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 28, item 2: the weights' scale is removed (their ratios kept), unit weights stay
+    /// exactly 1.
+    #[test]
+    fn weights_are_scaled_to_average_one() -> Result<(), FitError> {
+        let options = DataOptions {
+            input: "u".into(),
+            output: "y".into(),
+            weight: Some("w".into()),
+            ..DataOptions::default()
+        };
+        let weights = |text: &[u8]| -> Result<Vec<f64>, FitError> {
+            let table = Table::parse(text, "w.csv")?;
+            let data = Dataset::from_table(&table, &options)?;
+            Ok(data.records.iter().flat_map(|r| r.weight.clone()).collect())
+        };
+        assert_eq!(weights(b"u,y,w\n0,0,1\n1,1,1\n2,1,1\n")?, [1.0, 1.0, 1.0]);
+        assert_eq!(
+            weights(b"u,y,w\n0,0,1e-100\n1,1,1e-100\n2,1,1e-100\n")?,
+            [1.0, 1.0, 1.0]
+        );
+        let w = weights(b"u,y,w\n0,0,1e300\n1,1,3e300\n2,1,0\n")?;
+        assert!(
+            (w[0] - 0.5).abs() < 1e-15 && (w[1] - 1.5).abs() < 1e-15 && w[2] == 0.0,
+            "{w:?}"
+        );
+        Ok(())
+    }
 
     /// Two experiments labelled by a `segment` column: two records, found without `--record`;
     /// `no_record` reads them as one.
