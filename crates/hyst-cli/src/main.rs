@@ -1,5 +1,6 @@
 //! `hyst`: the command-line face of the hyst library. One module per subcommand.
 
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -84,7 +85,17 @@ fn distinct_files(command: &Command) -> anyhow::Result<()> {
                 hyst_io::check_distinct(model, &args.output)?;
             }
         }
-        Command::Fit(args) => hyst_io::check_distinct(&args.data, &args.model_out)?,
+        Command::Fit(args) => {
+            // The model file and every plot: none is the data, none is another.
+            let plots = args
+                .plot
+                .as_deref()
+                .map(fit::plots::plot_files)
+                .unwrap_or_default();
+            let mut outputs = vec![args.model_out.as_path()];
+            outputs.extend(plots.iter().map(PathBuf::as_path));
+            hyst_io::check_all_distinct(&[args.data.as_path()], &outputs)?;
+        }
         Command::Export(args) => {
             let a = args.target.args();
             if let Some(output) = &a.output {

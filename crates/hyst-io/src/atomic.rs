@@ -78,13 +78,64 @@ pub fn check_distinct(input: &Path, output: &Path) -> Result<(), IoError> {
     if output.as_os_str() == STDOUT {
         return Ok(());
     }
-    if same_file::is_same_file(input, output).unwrap_or(false) {
+    if same(input, output) {
         return Err(IoError::SameFile {
             input: input.to_path_buf(),
             output: output.to_path_buf(),
         });
     }
     Ok(())
+}
+
+/// Refuses, before anything is read or written, an output that is one of the inputs (as
+/// [`check_distinct`]) or the same file as another output (by device and inode, or the same
+/// path when neither exists yet): one output would replace another, or the data.
+///
+/// # Errors
+/// [`IoError::SameFile`] naming the output and the input, or the two outputs.
+pub fn check_all_distinct(inputs: &[&Path], outputs: &[&Path]) -> Result<(), IoError> {
+    for (i, output) in outputs.iter().enumerate() {
+        for input in inputs {
+            check_distinct(input, output)?;
+        }
+        if output.as_os_str() == STDOUT {
+            continue;
+        }
+        for other in outputs.iter().take(i) {
+            if other.as_os_str() != STDOUT && (same(other, output) || lexically_same(other, output))
+            {
+                return Err(IoError::SameOutput {
+                    first: other.to_path_buf(),
+                    second: output.to_path_buf(),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether two paths name the same existing file, by device and inode from their metadata
+/// (through symbolic links). Nothing is opened: opening a FIFO would block until a writer
+/// comes.
+#[cfg(unix)]
+fn same(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+        _ => false,
+    }
+}
+
+/// Whether two paths name the same existing file.
+#[cfg(not(unix))]
+fn same(a: &Path, b: &Path) -> bool {
+    same_file::is_same_file(a, b).unwrap_or(false)
+}
+
+/// The same path once `.` components and repeated separators are left out (for files that do
+/// not exist yet).
+fn lexically_same(a: &Path, b: &Path) -> bool {
+    a.components().eq(b.components())
 }
 
 /// Builds a [`IoError::Write`] for `path`.

@@ -286,6 +286,20 @@ pub enum IoError {
         output: PathBuf,
     },
 
+    /// Two outputs of one command are the same file: one would replace the other.
+    #[error(
+        "{}: is the same file as the output {} (one would replace the other); choose another \
+         output",
+        second.display(),
+        first.display()
+    )]
+    SameOutput {
+        /// The first output as given.
+        first: PathBuf,
+        /// The second output as given.
+        second: PathBuf,
+    },
+
     /// Writing a file failed; the destination was left untouched and the
     /// temporary file was removed.
     #[error("{}: cannot {action}: {source}", path.display())]

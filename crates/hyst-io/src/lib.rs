@@ -41,13 +41,17 @@
 #![forbid(unsafe_code)]
 
 mod atomic;
+mod digest;
 mod error;
 pub mod number;
 mod reader;
 mod table;
 mod writer;
 
-pub use atomic::{check_distinct, remove_temporary_files, write_atomic, STDOUT};
+pub use atomic::{
+    check_all_distinct, check_distinct, remove_temporary_files, write_atomic, STDOUT,
+};
+pub use digest::Digest;
 pub use error::IoError;
 pub use reader::CsvReader;
 pub use table::Table;

@@ -62,18 +62,27 @@ impl CsvReader<File> {
     /// [`IoError::IsDirectory`] or [`IoError::Read`] when the file cannot be read, and the
     /// header errors of [`CsvReader::new`].
     pub fn open(path: &Path) -> Result<Self, IoError> {
-        let file = path.display().to_string();
-        if path.is_dir() {
-            return Err(IoError::IsDirectory {
-                path: path.to_path_buf(),
-            });
-        }
-        let handle = File::open(path).map_err(|source| IoError::Read {
-            file: file.clone(),
-            source,
-        })?;
+        let (handle, file) = open_file(path)?;
         Self::new(handle, &file)
     }
+}
+
+/// Opens `path` for reading, with its name as errors give it.
+///
+/// # Errors
+/// [`IoError::IsDirectory`], [`IoError::Read`].
+pub(crate) fn open_file(path: &Path) -> Result<(File, String), IoError> {
+    let file = path.display().to_string();
+    if path.is_dir() {
+        return Err(IoError::IsDirectory {
+            path: path.to_path_buf(),
+        });
+    }
+    let handle = File::open(path).map_err(|source| IoError::Read {
+        file: file.clone(),
+        source,
+    })?;
+    Ok((handle, file))
 }
 
 impl<R: Read> CsvReader<R> {

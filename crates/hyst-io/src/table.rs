@@ -4,6 +4,7 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use crate::atomic::write_atomic_with;
+use crate::digest::{Digest, Hashing};
 use crate::error::IoError;
 use crate::reader::CsvReader;
 use crate::reader::{pick_column, unknown_column};
@@ -56,6 +57,18 @@ impl Table {
     /// - [`IoError::NoData`] if there is a header but no data rows.
     pub fn read(path: &Path) -> Result<Table, IoError> {
         collect(CsvReader::open(path)?)
+    }
+
+    /// [`Table::read`], and the size and hash of the bytes read, taken in the same single pass
+    /// (a pipe or a FIFO can be read only once).
+    ///
+    /// # Errors
+    /// As [`Table::read`].
+    pub fn read_digest(path: &Path) -> Result<(Table, Digest), IoError> {
+        let (file, name) = crate::reader::open_file(path)?;
+        let (hashing, digest) = Hashing::new(file);
+        let table = collect(CsvReader::new(hashing, &name)?)?;
+        Ok((table, digest.get()))
     }
 
     /// Parses CSV `bytes` as [`Table::read`] parses a file's contents, with

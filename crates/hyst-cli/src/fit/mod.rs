@@ -9,20 +9,20 @@
 //!   or Ctrl-C leaves no file behind (and an existing file untouched).
 //! - The report goes to stdout (text, or JSON with `--json`); progress to stderr.
 
-mod plots;
+pub(crate) mod plots;
 mod progress;
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
-use hyst_fit::identify::{Identified, Request};
+use hyst_fit::identify::Request;
 use hyst_fit::pi_fit::PiOutputKind;
 use hyst_fit::report::text_report;
-use hyst_fit::{identify, DataOptions, Dataset, FitError, FitOptions, FormChoice, StartChoice};
+use hyst_fit::{identify, DataOptions, Dataset, FitOptions, FormChoice, StartChoice};
 use hyst_io::Table;
-use hyst_model::{file::fnv1a64, ModelKind, Provenance, Units};
 use hyst_model::{InitialState, K2Kind, ShapingKind, Structure};
+use hyst_model::{ModelKind, Provenance, Units};
 
 use plots::{draw, time_column, Axes};
 use progress::ProgressObserver;
@@ -150,7 +150,8 @@ fn record_id(s: &str) -> Result<i64, String> {
 
 /// Runs `hyst fit`.
 pub fn main(args: Args) -> Result<()> {
-    let table = Table::read(&args.data)?;
+    // Read once, hashed on the way: a pipe or a FIFO cannot be read a second time.
+    let (table, digest) = Table::read_digest(&args.data)?;
     let data = Dataset::from_table(&table, &data_options(&args))?;
     // Checked before the fit, so a bad --time costs nothing and writes nothing.
     let time = match &args.plot {
@@ -164,8 +165,7 @@ pub fn main(args: Args) -> Result<()> {
         bar: None,
         starts: args.starts.max(1),
     };
-    let (identified, (bytes, fnv)) =
-        identify_and_hash(&args, &data, &request, &mut observer, provenance);
+    let identified = identify(&data, &request, &mut observer, &|| false, provenance);
     let identified = identified.map_err(|e| match e {
         // The library names its parameter; the user knows it as the flag (named once).
         hyst_fit::FitError::InvalidSetting {
@@ -177,8 +177,8 @@ pub fn main(args: Args) -> Result<()> {
     })?;
     drop(observer);
     let mut report = identified.report;
-    report.model.provenance.bytes = bytes;
-    report.model.provenance.fnv1a64 = format!("{fnv:016x}");
+    report.model.provenance.bytes = digest.bytes;
+    report.model.provenance.fnv1a64 = format!("{:016x}", digest.fnv1a64);
     // Plots first: if they cannot be written, the command fails before the model file exists.
     if let Some(dir) = &args.plot {
         let axes = Axes {
@@ -269,28 +269,4 @@ fn provenance(args: &Args, table: &Table) -> Provenance {
             .map_or(0, |d| d.as_secs()),
         ..Provenance::default()
     }
-}
-
-/// Identifies `data` as `request` asks, and meanwhile reads the data file for its size and hash
-/// (provenance) on a second thread: on a 2M-row file the hash alone costs as much as a fifth
-/// of `hyst run`.
-fn identify_and_hash(
-    args: &Args,
-    data: &Dataset,
-    request: &Request,
-    observer: &mut ProgressObserver,
-    provenance: Provenance,
-) -> (Result<Identified, FitError>, (u64, u64)) {
-    std::thread::scope(|scope| {
-        let hashing = scope.spawn(|| {
-            let bytes = std::fs::read(&args.data).unwrap_or_default();
-            (bytes.len() as u64, fnv1a64(&bytes))
-        });
-        let identified = identify(data, request, observer, &|| false, provenance);
-        // A panic of the hashing thread is resumed here, as it would have unwound without it.
-        let hashed = hashing
-            .join()
-            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        (identified, hashed)
-    })
 }

@@ -2,6 +2,18 @@
 
 use std::path::{Path, PathBuf};
 
+/// The plots `hyst fit --plot DIR` writes: `DIR/STEM.png` and `DIR/STEM.svg` for each stem.
+pub const PLOT_STEMS: [&str; 2] = ["fit-io", "fit-residuals"];
+
+/// Every file `--plot dir` writes, for the check that no output is an input or another output.
+#[must_use]
+pub fn plot_files(dir: &Path) -> Vec<PathBuf> {
+    PLOT_STEMS
+        .iter()
+        .flat_map(|stem| ["png", "svg"].map(|ext| dir.join(format!("{stem}.{ext}"))))
+        .collect()
+}
+
 use anyhow::{Context, Result};
 use hyst_fit::pi_fit::PiFit;
 use hyst_fit::{Dataset, SmoothFit};
@@ -126,8 +138,9 @@ pub(super) fn draw(
                 .width(1),
         );
     }
-    let mut written = Figure::row(vec![io_panel]).save(dir, "fit-io")?;
-    written.extend(Figure::row(vec![res_panel.hline("0", 0.0)]).save(dir, "fit-residuals")?);
+    let [io, residuals] = PLOT_STEMS;
+    let mut written = Figure::row(vec![io_panel]).save(dir, io)?;
+    written.extend(Figure::row(vec![res_panel.hline("0", 0.0)]).save(dir, residuals)?);
     Ok(written)
 }
 

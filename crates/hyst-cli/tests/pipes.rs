@@ -1,0 +1,196 @@
+//! Pipes, FIFOs and outputs that would replace an input (issue 28, items 5, 7 and 8, as the
+//! issue wrote them): `hyst fit` reads its data once and records the size and hash of what it
+//! read, even from a pipe; no output (the model file or a plot) may be the data or another
+//! output; a FIFO as input or output never hangs the same-file check.
+#![cfg(unix)]
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+
+use std::fs;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn hyst() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_hyst"))
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The first 300 rows of the bundled piezo record: a fit of a few seconds in a debug build.
+fn piezo(dir: &Path) -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let text = fs::read_to_string(root.join("data/piezo-sine/piezo_sine_1hz.csv")).unwrap();
+    let head: Vec<&str> = text.lines().take(301).collect();
+    let path = dir.join("d.csv");
+    fs::write(&path, head.join("\n") + "\n").unwrap();
+    path
+}
+
+const FIT: [&str; 4] = ["--input", "u_actuator_V", "--output", "y_capsensor_um"];
+
+fn fnv1a64(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// Waits for `child` at most `limit`; kills it and fails when it hangs.
+fn wait(mut child: std::process::Child, limit: Duration, what: &str) -> Output {
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > limit {
+            child.kill().ok();
+            panic!("{what}: still running after {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn a_fit_from_a_pipe_records_what_it_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = piezo(dir.path());
+    let bytes = fs::read(&data).unwrap();
+    let model = dir.path().join("m.toml");
+    let mut child = hyst()
+        .arg("fit")
+        .arg("/dev/stdin")
+        .args(FIT)
+        .arg("-o")
+        .arg(&model)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(&bytes).unwrap();
+    let out = wait(child, Duration::from_secs(120), "hyst fit /dev/stdin");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let file: toml::Table = fs::read_to_string(&model).unwrap().parse().unwrap();
+    let provenance = &file["provenance"];
+    assert_eq!(provenance["bytes"].as_integer(), Some(bytes.len() as i64));
+    assert_eq!(
+        provenance["fnv1a64"].as_str().unwrap(),
+        format!("{:016x}", fnv1a64(&bytes))
+    );
+}
+
+#[test]
+fn no_output_may_be_the_data_or_another_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = piezo(dir.path());
+    let original = fs::read(&data).unwrap();
+    let plots = dir.path().join("pl");
+    fs::create_dir(&plots).unwrap();
+    // The data file is where a plot would go.
+    let inside = plots.join("fit-io.svg");
+    fs::copy(&data, &inside).unwrap();
+    let out = hyst()
+        .arg("fit")
+        .arg(&inside)
+        .args(FIT)
+        .args(["-o", "m.toml", "--plot", "pl"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("is the same file as the input"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(fs::read(&inside).unwrap(), original);
+    assert!(!dir.path().join("m.toml").exists());
+    // The model file is where a plot would go.
+    let out = hyst()
+        .arg("fit")
+        .arg(&data)
+        .args(FIT)
+        .args(["-o", "pl/fit-io.png", "--plot", "pl"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("is the same file as the output"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!plots.join("fit-io.png").exists());
+}
+
+fn mkfifo(path: &Path) {
+    let status = Command::new("mkfifo").arg(path).status().unwrap();
+    assert!(status.success());
+}
+
+#[test]
+fn fifos_as_output_and_as_input_do_not_hang() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("x.csv");
+    fs::write(&input, "x\n0\n0.5\n1\n0.2\n").unwrap();
+    // Output into a FIFO that a reader drains.
+    let fifo = dir.path().join("out.fifo");
+    mkfifo(&fifo);
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || {
+            let mut text = String::new();
+            fs::File::open(&fifo)
+                .unwrap()
+                .read_to_string(&mut text)
+                .unwrap();
+            text
+        })
+    };
+    let child = hyst()
+        .args(["run", "--k1", "0.2", "--k2", "8"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&fifo)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let out = wait(child, Duration::from_secs(30), "hyst run -o FIFO");
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(reader.join().unwrap().starts_with("x,y\n"));
+    // A fit whose data comes through a FIFO.
+    let data = piezo(dir.path());
+    let bytes = fs::read(&data).unwrap();
+    let in_fifo = dir.path().join("in.fifo");
+    mkfifo(&in_fifo);
+    let writer = {
+        let in_fifo = in_fifo.clone();
+        std::thread::spawn(move || {
+            fs::OpenOptions::new()
+                .write(true)
+                .open(&in_fifo)
+                .unwrap()
+                .write_all(&bytes)
+                .unwrap();
+        })
+    };
+    let model = dir.path().join("fifo.toml");
+    let child = hyst()
+        .arg("fit")
+        .arg(&in_fifo)
+        .args(FIT)
+        .arg("-o")
+        .arg(&model)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let out = wait(child, Duration::from_secs(120), "hyst fit FIFO");
+    writer.join().unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(model.exists());
+}
