@@ -8,11 +8,18 @@
 //! writing the output are interrupted equally fast. Outputs written atomically never exist half
 //! written: the temporary file is removed ([`hyst_io::remove_temporary_files`]) and the
 //! destination is left as it was.
+//!
+//! SIGXFSZ (a write beyond `ulimit -f`) would kill the process with no message and leave the
+//! temporary file behind: a handler that does nothing makes the write fail with EFBIG instead,
+//! which the command reports, naming the file, before removing the temporary file.
 
 use std::process::exit;
 
 use anyhow::{Context, Result};
-use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
 use signal_hook::iterator::Signals;
 
 /// The exit status for a command stopped by SIGINT (Ctrl-C): 128 + 2.
@@ -23,6 +30,8 @@ pub const EXIT_INTERRUPTED: u8 = 130;
 /// # Errors
 /// The handlers cannot be installed (the OS refuses).
 pub fn install() -> Result<()> {
+    signal_hook::flag::register(SIGXFSZ, Arc::new(AtomicBool::new(false)))
+        .context("cannot install the SIGXFSZ handler")?;
     let mut signals =
         Signals::new([SIGINT, SIGTERM, SIGHUP]).context("cannot install the signal handlers")?;
     std::thread::Builder::new()

@@ -194,3 +194,35 @@ fn fifos_as_output_and_as_input_do_not_hang() {
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(model.exists());
 }
+
+/// Item 10: beyond `ulimit -f` the write fails with a message naming the output, and no
+/// temporary file is left (SIGXFSZ killed hyst silently and left `.NAME.XXXXXX.tmp`).
+#[test]
+fn a_file_size_limit_is_an_error_that_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut data = String::from("x\n");
+    for i in 0..200_000 {
+        data += &format!("{}\n", (f64::from(i) * 0.01).sin());
+    }
+    fs::write(dir.path().join("big.csv"), data).unwrap();
+    let script = format!(
+        "ulimit -f 100; exec '{}' run --k1 0.2 --k2 8 big.csv -o out.csv",
+        env!("CARGO_BIN_EXE_hyst")
+    );
+    let out = Command::new("sh")
+        .args(["-c", &script])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("out.csv") && stderr(&out).contains("too large"),
+        "{}",
+        stderr(&out)
+    );
+    let left: Vec<_> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(left, ["big.csv"], "{left:?}");
+}
