@@ -226,3 +226,44 @@ fn a_file_size_limit_is_an_error_that_leaves_nothing() {
         .collect();
     assert_eq!(left, ["big.csv"], "{left:?}");
 }
+
+/// Item 9: a line without end (/dev/zero; a header and a 300 MB line of NUL bytes under
+/// `ulimit -v 1000000`) is refused at the bound, naming the line, in constant memory.
+#[test]
+fn endless_lines_are_refused_in_constant_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = hyst()
+        .args(["run", "--k1", "1", "--k2", "1", "/dev/zero", "-o", "x.csv"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("/dev/zero:1: the line is longer than"),
+        "{}",
+        stderr(&out)
+    );
+    let mut f = fs::File::create(dir.path().join("nul.csv")).unwrap();
+    f.write_all(b"x\n").unwrap();
+    let block = vec![0_u8; 1 << 20];
+    for _ in 0..300 {
+        f.write_all(&block).unwrap();
+    }
+    drop(f);
+    let script = format!(
+        "ulimit -v 1000000; exec '{}' run --k1 1 --k2 1 nul.csv -o x.csv",
+        env!("CARGO_BIN_EXE_hyst")
+    );
+    let out = Command::new("sh")
+        .args(["-c", &script])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("nul.csv:2: the line is longer than"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.path().join("x.csv").exists());
+}

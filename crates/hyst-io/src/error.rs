@@ -16,6 +16,21 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum IoError {
+    /// A line longer than the reader's bound (`MAX_LINE_BYTES`): not a line of numbers; reading
+    /// stopped there, in constant memory.
+    #[error(
+        "{file}:{line}: the line is longer than {limit} bytes: not a CSV line of numbers (is \
+         this the right file?)"
+    )]
+    LineTooLong {
+        /// File name as given.
+        file: String,
+        /// 1-based line where the long line starts.
+        line: usize,
+        /// The bound in bytes.
+        limit: usize,
+    },
+
     /// The file could not be opened or read (the OS error is attached).
     #[error("{file}: cannot read: {source}")]
     Read {

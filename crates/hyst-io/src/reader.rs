@@ -263,6 +263,13 @@ impl<R: Read> CsvReader<R> {
             let more = more.map_err(|e| {
                 let message = e.to_string();
                 match e.into_kind() {
+                    csv::ErrorKind::Io(source) if source.to_string() == LINE_TOO_LONG => {
+                        IoError::LineTooLong {
+                            file: self.source.clone(),
+                            line,
+                            limit: MAX_LINE_BYTES,
+                        }
+                    }
                     csv::ErrorKind::Io(source) => IoError::Read {
                         file: self.source.clone(),
                         source,
@@ -296,8 +303,19 @@ struct Window<R> {
     base: usize,
 }
 
+/// The longest line a CSV input may have, in bytes: a line of hyst's data holds numbers, and a
+/// bound keeps reading in constant memory whatever the input (a file of NUL bytes, /dev/zero).
+pub const MAX_LINE_BYTES: usize = 8 << 20;
+
+/// The error [`Window`] returns when a line exceeds [`MAX_LINE_BYTES`].
+const LINE_TOO_LONG: &str = "hyst: line too long";
+
 impl<R: Read> Read for Window<R> {
     fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        // `bytes` holds the record being parsed (and what was read ahead of it).
+        if self.bytes.len() > MAX_LINE_BYTES {
+            return Err(io::Error::new(io::ErrorKind::InvalidData, LINE_TOO_LONG));
+        }
         let n = self.inner.read(buf)?;
         self.bytes
             .extend_from_slice(buf.get(..n).unwrap_or_default());
