@@ -267,3 +267,59 @@ fn endless_lines_are_refused_in_constant_memory() {
     );
     assert!(!dir.path().join("x.csv").exists());
 }
+
+/// Item 11: a message quotes at most the start of a long value, and says how long it was (a
+/// 5 MB cell, a 5 MB column name in a model file).
+#[test]
+fn long_values_are_cut_in_messages() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(
+        dir.path().join("cell.csv"),
+        format!("x,y\n1,{}\n", "z".repeat(5_000_000)),
+    )
+    .unwrap();
+    let out = hyst()
+        .args([
+            "run", "--k1", "1", "--k2", "1", "cell.csv", "--column", "y", "-o", "o.csv",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.len() < 400 && err.contains("(5000000 bytes in all)"),
+        "{}",
+        &err[..err.len().min(400)]
+    );
+    // A model whose input column name is 5 MB long.
+    let data = piezo(dir.path());
+    let model = dir.path().join("m.toml");
+    let fit = hyst()
+        .arg("fit")
+        .arg(&data)
+        .args(FIT)
+        .arg("-o")
+        .arg(&model)
+        .output()
+        .unwrap();
+    assert!(fit.status.success(), "{}", stderr(&fit));
+    let text = fs::read_to_string(&model).unwrap().replacen(
+        "input = \"u_actuator_V\"",
+        &format!("input = \"{}\"", "u".repeat(5_000_000)),
+        1,
+    );
+    fs::write(&model, text).unwrap();
+    let out = hyst()
+        .args(["run", "--model", "m.toml", "d.csv", "-o", "o.csv"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.len() < 400 && err.contains("(5000000 bytes in all)"),
+        "{}",
+        &err[..err.len().min(400)]
+    );
+}

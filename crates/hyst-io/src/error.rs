@@ -83,8 +83,9 @@ pub enum IoError {
 
     /// Two header cells have the same name.
     #[error(
-        "{file}:{line}: column {column} ({name:?}): duplicate column name \
-         (column {first} has the same name)"
+        "{file}:{line}: column {column} ({}): duplicate column name \
+         (column {first} has the same name)",
+        cut(name)
     )]
     DuplicateName {
         /// The file (path or source name).
@@ -121,7 +122,11 @@ pub enum IoError {
     },
 
     /// A cell is not valid UTF-8.
-    #[error("{file}:{line}: column {column} ({name:?}): invalid UTF-8 in {value:?}")]
+    #[error(
+        "{file}:{line}: column {column} ({}): invalid UTF-8 in {}",
+        cut(name),
+        cut(value)
+    )]
     InvalidUtf8 {
         /// The file (path or source name).
         file: String,
@@ -138,7 +143,9 @@ pub enum IoError {
     /// A data cell does not parse as a number. A cell with a ';' adds that the file seems to
     /// use ';' as its separator, where hyst reads comma-separated values.
     #[error(
-        "{file}:{line}: column {column} ({name:?}): cannot parse {value:?} as a number{}",
+        "{file}:{line}: column {column} ({}): cannot parse {} as a number{}",
+        cut(name),
+        cut(value),
         semicolon_hint(value)
     )]
     Parse {
@@ -155,7 +162,11 @@ pub enum IoError {
     },
 
     /// A data cell parses as a number, but not a finite one (`nan`, `inf`, `1e999`).
-    #[error("{file}:{line}: column {column} ({name:?}): {value:?} is not a finite number")]
+    #[error(
+        "{file}:{line}: column {column} ({}): {} is not a finite number",
+        cut(name),
+        cut(value)
+    )]
     NonFinite {
         /// The file (path or source name).
         file: String,
@@ -191,7 +202,8 @@ pub enum IoError {
 
     /// A column was asked for by a name the table does not have.
     #[error(
-        "{file}: no column named {name:?}; the available columns are {}",
+        "{file}: no column named {}; the available columns are {}",
+        cut(name),
         quoted_list(available)
     )]
     UnknownColumn {
@@ -238,7 +250,10 @@ pub enum IoError {
     /// [`Table::new`](crate::Table::new) got a column name that could not be
     /// written and read back (empty, duplicate, surrounding whitespace, line break,
     /// or all names numeric).
-    #[error("{file}: column {column} ({name:?}): invalid column name: {reason}")]
+    #[error(
+        "{file}: column {column} ({}): invalid column name: {reason}",
+        cut(name)
+    )]
     InvalidName {
         /// The table's source name.
         file: String,
@@ -252,8 +267,9 @@ pub enum IoError {
 
     /// [`Table::new`](crate::Table::new) got columns of different lengths.
     #[error(
-        "{file}: column {column} ({name:?}) has {found} values, but column 1 ({first:?}) \
-         has {expected}"
+        "{file}: column {column} ({}) has {found} values, but column 1 ({}) has {expected}",
+        cut(name),
+        cut(first)
     )]
     ColumnLength {
         /// The table's source name.
@@ -271,7 +287,10 @@ pub enum IoError {
     },
 
     /// [`Table::new`](crate::Table::new) got a NaN or infinite value.
-    #[error("{file}: column {column} ({name:?}), row {row}: {value} is not a finite number")]
+    #[error(
+        "{file}: column {column} ({}), row {row}: {value} is not a finite number",
+        cut(name)
+    )]
     NonFiniteValue {
         /// The table's source name.
         file: String,
@@ -344,24 +363,67 @@ fn quoted_list(items: &[String]) -> QuotedList<'_> {
     QuotedList(items)
 }
 
-/// Display helper for [`quoted_list`].
+/// Display helper for [`quoted_list`]: at most [`LIST_ITEMS`] items, each [`cut`].
 struct QuotedList<'a>(&'a [String]);
+
+/// The most items of a list an error message shows.
+const LIST_ITEMS: usize = 12;
 
 impl fmt::Display for QuotedList<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (i, item) in self.0.iter().enumerate() {
+        for (i, item) in self.0.iter().take(LIST_ITEMS).enumerate() {
             if i > 0 {
                 f.write_str(", ")?;
             }
-            write!(f, "{item:?}")?;
+            write!(f, "{}", cut(item))?;
+        }
+        if self.0.len() > LIST_ITEMS {
+            write!(f, " and {} more", self.0.len() - LIST_ITEMS)?;
         }
         Ok(())
+    }
+}
+
+/// The longest text an error message quotes in full, in characters.
+const QUOTED_CHARS: usize = 60;
+
+/// `text` quoted as `{:?}` does, cut after its first 40 characters when it is longer than
+/// [`QUOTED_CHARS`], with its length in bytes: a message never echoes a 50 MB cell.
+pub fn cut(text: &str) -> Cut<'_> {
+    Cut(text)
+}
+
+/// Display helper for [`cut`].
+pub struct Cut<'a>(&'a str);
+
+impl fmt::Display for Cut<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.chars().count() <= QUOTED_CHARS {
+            return write!(f, "{:?}", self.0);
+        }
+        let head: String = self.0.chars().take(40).collect();
+        write!(f, "{head:?}... ({} bytes in all)", self.0.len())
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn long_texts_are_cut_and_long_lists_shortened() {
+        let long = "a".repeat(5_000_000);
+        let shown = cut(&long).to_string();
+        assert!(
+            shown.len() < 100 && shown.ends_with("(5000000 bytes in all)"),
+            "{shown}"
+        );
+        assert_eq!(cut("x,y").to_string(), "\"x,y\"");
+        let many: Vec<String> = (0..100).map(|i| i.to_string()).collect();
+        assert!(quoted_list(&many)
+            .to_string()
+            .ends_with("\"11\" and 88 more"));
+    }
 
     #[test]
     fn quoted_list_formats_and_escapes() {

@@ -339,7 +339,13 @@ fn top_level_line(text: &str, key: &str) -> Option<usize> {
 /// A TOML error on one line: "line L, column C: message" (the parser's own display spans several
 /// lines with a snippet of the file).
 fn one_line(text: &str, e: &toml::de::Error) -> String {
-    let message = e.message().trim().replace('\n', "; ");
+    let mut message = e.message().trim().replace('\n', "; ");
+    // The parser's message may quote the offending value: a 5 MB name is not echoed whole.
+    if message.chars().count() > 300 {
+        let bytes = message.len();
+        message =
+            message.chars().take(200).collect::<String>() + &format!("... ({bytes} bytes in all)");
+    }
     match e.span() {
         Some(span) => {
             let before = text.get(..span.start).unwrap_or("");
