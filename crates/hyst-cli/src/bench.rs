@@ -6,6 +6,7 @@
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Result};
+use hyst_io::number::shortest;
 use serde_json::json;
 
 use crate::workloads::{Inputs, NAMES};
@@ -45,7 +46,7 @@ fn batch_ns(inputs: &Inputs, index: usize, calls: usize) -> f64 {
 /// Runs `hyst bench`.
 pub fn main(args: Args) -> Result<()> {
     if !(args.seconds.is_finite() && args.seconds > 0.0 && args.seconds <= 60.0) {
-        bail!("--seconds {}: must be in (0, 60]", args.seconds);
+        bail!("--seconds {}: must be in (0, 60]", shortest(args.seconds));
     }
     let inputs = Inputs::new();
     for (index, (name, _)) in NAMES.iter().enumerate() {

@@ -528,6 +528,11 @@ fn hold_out(records: &mut [Record], options: &DataOptions, file: &str) -> Result
             r.validation = i % k == k - 1;
         }
     }
+    if records.iter().all(|r| r.is_empty()) {
+        return Err(FitError::Invalid(format!(
+            "{file}: no samples: a fit needs data"
+        )));
+    }
     if records.iter().all(|r| r.validation) {
         return Err(FitError::Invalid(format!(
             "{file}: every record is held out for validation; nothing is left to fit"

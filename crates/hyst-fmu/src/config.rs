@@ -79,9 +79,12 @@ impl Config {
         let name = path.display();
         let text =
             std::fs::read_to_string(&path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-        let mut table: toml::Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| format!("{name}: not valid TOML: {e}"))?;
+        let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+            format!(
+                "{name}: not valid TOML: {}",
+                hyst_model::file::toml_message(&text, &e)
+            )
+        })?;
         match table.remove("format") {
             Some(toml::Value::String(f)) if f == FORMAT => {}
             Some(v) => return Err(format!("{name}: format = {v}: must be \"{FORMAT}\"")),
@@ -96,9 +99,15 @@ impl Config {
             }
             None => return Err(format!("{name}: no `version`")),
         }
-        let raw: RawConfig = toml::Value::Table(table)
-            .try_into()
-            .map_err(|e| format!("{name}: invalid configuration: {e}"))?;
+        let raw: RawConfig =
+            toml::Value::Table(table)
+                .try_into()
+                .map_err(|e: toml::de::Error| {
+                    format!(
+                        "{name}: invalid configuration: {}",
+                        e.message().trim().replace('\n', "; ")
+                    )
+                })?;
         if raw.guid.is_empty() {
             return Err(format!("{name}: guid = \"\": must not be empty"));
         }
@@ -241,6 +250,24 @@ fn path_from_bytes(bytes: Vec<u8>) -> Result<PathBuf, String> {
 #[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
+
+    /// Issue 28, item 16: a corrupt fmu.toml is named in one line, as model files are.
+    #[test]
+    fn a_corrupt_configuration_is_one_line() {
+        let dir = std::env::temp_dir().join(format!("hyst-fmu-config-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).ok();
+        for text in [
+            "format = \"hyst-fmu\"\nversion = [1,\n\nkind = 3\n",
+            "format = \"hyst-fmu\"\nversion = 1\nkind = [\"operator\"]\nguid = 1\n",
+        ] {
+            std::fs::write(dir.join(CONFIG_FILE), text).ok();
+            let message = Config::read(&dir).err().unwrap_or_default();
+            assert!(!message.is_empty(), "accepted {text:?}");
+            assert!(!message.contains('\n'), "{message}");
+            assert!(message.contains("fmu.toml"), "{message}");
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
 
     #[test]
     fn file_uris_in_every_form() {

@@ -106,9 +106,9 @@ impl ModelFile {
             path: path.to_path_buf(),
             message,
         };
-        let value: toml::Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| bad(format!("not valid TOML: {}", one_line(text, &e))))?;
+        let value: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+            bad(format!("not valid TOML: {}", toml_message(text, &e)))
+        })?;
         match value.get("format").and_then(|v| v.as_str()) {
             Some(FORMAT) => {}
             _ => {
@@ -144,7 +144,7 @@ impl ModelFile {
             None => return Err(bad("no `version`".into())),
         }
         let file: ModelFile = toml::from_str(text).map_err(|e: toml::de::Error| {
-            bad(format!("invalid model file: {}", one_line(text, &e)))
+            bad(format!("invalid model file: {}", toml_message(text, &e)))
         })?;
         if file.version < file.required_version() {
             return Err(bad(format!(
@@ -338,7 +338,10 @@ fn top_level_line(text: &str, key: &str) -> Option<usize> {
 
 /// A TOML error on one line: "line L, column C: message" (the parser's own display spans several
 /// lines with a snippet of the file).
-fn one_line(text: &str, e: &toml::de::Error) -> String {
+/// A TOML parser's error in one line, "line L, column C: message" (the parser's own message
+/// spans several lines and quotes the source), cut at 300 characters.
+#[must_use]
+pub fn toml_message(text: &str, e: &toml::de::Error) -> String {
     let mut message = e.message().trim().replace('\n', "; ");
     // The parser's message may quote the offending value: a 5 MB name is not echoed whole.
     if message.chars().count() > 300 {

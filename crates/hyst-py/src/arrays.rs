@@ -5,6 +5,7 @@
 //! refuses, restores the memory it started with and reports that sample.
 
 use hyst_core::{Error, Jet, Operator, Real};
+use hyst_io::number::shortest;
 use numpy::ndarray::{ArrayView1, ArrayView2, Axis};
 use numpy::{
     Element, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
@@ -218,6 +219,19 @@ pub fn derivatives<'py>(
     let ro = arr
         .try_readonly()
         .map_err(|e| value_error(format!("derivatives: the array cannot be read: {e}")))?;
+    // A non-finite derivative is named here, where its place is known (the operator would
+    // blame the sample's value).
+    if let Some(((i, k), v)) = ro.as_array().indexed_iter().find(|(_, v)| !v.is_finite()) {
+        let at = if one_d {
+            format!("{i}")
+        } else {
+            format!("{i}, {k}")
+        };
+        return Err(value_error(format!(
+            "derivatives[{at}] = {}: not a finite number",
+            shortest(*v)
+        )));
+    }
     Ok((ro, one_d))
 }
 
@@ -238,7 +252,9 @@ impl Refused {
     pub fn into_err(self, name: &str) -> PyErr {
         value_error(format!(
             "{name}[{}] = {}: {}",
-            self.index, self.value, self.error
+            self.index,
+            shortest(self.value),
+            self.error
         ))
     }
 }

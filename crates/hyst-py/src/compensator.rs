@@ -3,6 +3,7 @@
 
 use hyst_core::compensator::Compensator as CoreCompensator;
 use hyst_core::{AnyK2Law, Hysteresis as CoreHysteresis, ScaledShaping, ShapedModel};
+use hyst_io::number::shortest;
 use hyst_model::smooth::CoreInverseShapedModel;
 use hyst_model::ModelKind;
 use numpy::ndarray::ArrayView1;
@@ -71,9 +72,10 @@ fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverseShapedMo
             }
         };
         return smooth.inverse_from_desired(v0).map_err(|e| match e {
-            hyst_model::ModelError::Core(e) => {
-                core(format!("state: v = {v0} is not reachable by the model"), e)
-            }
+            hyst_model::ModelError::Core(e) => core(
+                format!("state: v = {} is not reachable by the model", shortest(v0)),
+                e,
+            ),
             e => crate::errors::model(e),
         });
     }
@@ -130,7 +132,13 @@ impl Compensator {
             .and_then(|s| s.first().copied())
             .unwrap_or(0.0);
         let inverse = inverse_of(model, v0)?;
-        let context = |e| core(format!("Compensator(b={b}, a={a:?})"), e);
+        let context = |e| {
+            let a: Vec<String> = a.iter().map(|x| shortest(*x)).collect();
+            core(
+                format!("Compensator(b={}, a=[{}])", shortest(b), a.join(", ")),
+                e,
+            )
+        };
         let mut inner = if a.len() <= 2 {
             Inner::Small(Box::new(
                 Small::with_order(inverse, b, &a).map_err(context)?,
@@ -166,8 +174,13 @@ impl Compensator {
     /// `dt` seconds, dt ≥ 0). Raises ValueError for a non-finite value or a reference the
     /// model cannot produce (the compensator is then unchanged).
     fn step(&mut self, u_new: f64, dt: f64) -> PyResult<f64> {
-        each!(&mut self.inner, c => c.try_step(u_new, dt))
-            .map_err(|e| core(format!("u_new = {u_new}, dt = {dt}"), e))
+        check_dt(dt)?;
+        each!(&mut self.inner, c => c.try_step(u_new, dt)).map_err(|e| {
+            core(
+                format!("u_new = {}, dt = {}", shortest(u_new), shortest(dt)),
+                e,
+            )
+        })
     }
 
     /// `step` over every sample of `u_new` (a 1-D array-like, float32 stays float32) with the
@@ -179,6 +192,7 @@ impl Compensator {
         u_new: &Bound<'py, PyAny>,
         dt: f64,
     ) -> PyResult<Bound<'py, PyAny>> {
+        check_dt(dt)?;
         fn go<X: hyst_core::Real>(
             inner: &mut Inner,
             xs: ArrayView1<'_, X>,
@@ -213,7 +227,12 @@ impl Compensator {
         }
         let refused = |stop: Stop| match stop {
             Stop::Refused(r) => core(
-                format!("u_new[{}] = {}, dt = {dt}", r.index, r.value),
+                format!(
+                    "u_new[{}] = {}, dt = {}",
+                    r.index,
+                    shortest(r.value),
+                    shortest(dt)
+                ),
                 r.error,
             ),
             Stop::Interrupted(e) => e,
@@ -293,5 +312,18 @@ impl Compensator {
             self.b,
             self.a
         )
+    }
+}
+
+/// A compensator's time step: finite and ≥ 0 seconds (the core would call a bad one a
+/// non-finite input sample).
+fn check_dt(dt: f64) -> PyResult<()> {
+    if dt.is_finite() && dt >= 0.0 {
+        Ok(())
+    } else {
+        Err(crate::errors::value_error(format!(
+            "dt = {}: the time step must be finite and >= 0 seconds",
+            shortest(dt)
+        )))
     }
 }

@@ -2,6 +2,7 @@
 //! error bound Δa (Proposition 3.2, eqs. 12–13 as corrected in docs/errata.md).
 
 use hyst_core::Family as CoreFamily;
+use hyst_io::number::shortest;
 use pyo3::prelude::*;
 use pyo3::types::PyType;
 
@@ -43,7 +44,18 @@ impl Family {
     fn new(k1: f64, dk1: f64, k2: f64, dk2: f64) -> PyResult<Self> {
         CoreFamily::new(k1, dk1, k2, dk2)
             .map(|inner| Self { inner })
-            .map_err(|e| core(format!("Family({k1}, {dk1}, {k2}, {dk2})"), e))
+            .map_err(|e| {
+                core(
+                    format!(
+                        "Family({}, {}, {}, {})",
+                        shortest(k1),
+                        shortest(dk1),
+                        shortest(k2),
+                        shortest(dk2)
+                    ),
+                    e,
+                )
+            })
     }
 
     /// k1 of the nominal operator.
@@ -143,7 +155,10 @@ impl Family {
         }
         let input = samples_f64(x, "x")?;
         if let Some((i, v)) = input.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(value_error(format!("x[{i}] = {v}: not a finite number")));
+            return Err(value_error(format!(
+                "x[{i}] = {}: not a finite number",
+                shortest(*v)
+            )));
         }
         let family = self.inner;
         let (lower, upper) = py

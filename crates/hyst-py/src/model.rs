@@ -1,6 +1,7 @@
 //! `hyst.load_model` and `hyst.Model`: the model file of `hyst fit` (docs/formats.md), run
 //! sample by sample with the same code as `hyst run --model`, so the results are bit-identical.
 
+use hyst_io::number::shortest;
 use std::path::{Path, PathBuf};
 
 use hyst_model::FamilyWidths;
@@ -219,7 +220,7 @@ impl Model {
                 if fresh {
                     self.evaluator = None;
                 }
-                Err(errors::core(format!("x = {x}"), e))
+                Err(errors::core(format!("x = {}", shortest(x)), e))
             }
         }
     }

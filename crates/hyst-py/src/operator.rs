@@ -1,6 +1,7 @@
 //! `hyst.Hysteresis` (eq. 2), `hyst.InverseHysteresis` (eq. 4) and `hyst.Memory`
 //! (Definition 2.1), over the core's `ParametricHysteresis` in float64 or float32.
 
+use hyst_io::number::shortest;
 use std::time::Instant;
 
 use hyst_core::{
@@ -115,7 +116,7 @@ impl<F: Formula + Send + Sync> Engine<F> {
     pub fn new(k1: f64, k2: f64, precision: Precision) -> PyResult<Self> {
         let context = |p: Precision| match p {
             Precision::F64 => "k1/k2".to_string(),
-            Precision::F32 => format!("k1 = {k1}, k2 = {k2} (as float32)"),
+            Precision::F32 => format!("k1 = {}, k2 = {} (as float32)", shortest(k1), shortest(k2)),
         };
         match precision {
             Precision::F64 => ParametricHysteresis::new(k1, k2)
@@ -159,7 +160,7 @@ impl<F: Formula + Send + Sync> Engine<F> {
             Engine::F64(op) => op.try_step(x),
             Engine::F32(op) => op.try_step(x as f32).map(f64::from),
         }
-        .map_err(|e| core(format!("x = {x}"), e))
+        .map_err(|e| core(format!("x = {}", shortest(x)), e))
     }
 
     /// `.process(x, derivatives=None)`.

@@ -115,3 +115,21 @@ def test_a_memory_off_its_branch_is_refused():
     with pytest.raises(ValueError, match="last_input"):
         h.memory = hyst.Memory(1e300, 1e300, "rising", last_input=0.4, last_output=0.3)
     assert h.memory == kept
+
+
+def test_messages_blame_the_right_value_and_print_numbers_shortly():
+    """Issue 28, items 12, 14 and 15, as the issue wrote them."""
+    model = hyst.Hysteresis(0.2, 8.0)
+    x = np.array([0.0, 0.5, 1.0])
+    d = np.array([0.1, np.nan, 0.2])
+    with pytest.raises(ValueError, match=r"derivatives\[1\] = NaN: not a finite number"):
+        model.process(x, derivatives=d)
+    c = hyst.Compensator(hyst.Hysteresis(0.2, 8.0), b=1.0, a=[0.1])
+    with pytest.raises(ValueError, match=r"dt = -1: the time step must be finite and >= 0"):
+        c.step(1.0, dt=-1.0)
+    with pytest.raises(ValueError, match="no samples"):
+        hyst.fit(np.array([]), np.array([]))
+    # Huge values print in exponent form, not as 300-digit integers.
+    with pytest.raises(ValueError) as e:
+        c.step(1e308, dt=1e300)
+    assert len(str(e.value)) < 300 and "1e308" in str(e.value), str(e.value)
