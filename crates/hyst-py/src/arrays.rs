@@ -30,8 +30,12 @@ fn readonly<'py, T: Element>(
     a: &Bound<'py, PyArray1<T>>,
     name: &str,
 ) -> PyResult<PyReadonlyArray1<'py, T>> {
-    a.try_readonly()
-        .map_err(|e| value_error(format!("{name}: the array cannot be read: {e}")))
+    a.try_readonly().map_err(|_| {
+        value_error(format!(
+            "{name}: the array is being written (is it also passed as out?): hyst reads {name} \
+             while it writes out, so they must be separate arrays"
+        ))
+    })
 }
 
 /// `numpy.asarray(x, dtype=float64)`, with the argument's name in the error.
@@ -409,8 +413,18 @@ pub fn out_array<'py, X: Element>(
             a.len()
         )));
     }
-    a.try_readwrite()
-        .map_err(|e| value_error(format!("out: the array cannot be written: {e}")))
+    if !a.is_contiguous() {
+        return Err(value_error(
+            "out: the array is not contiguous (a strided view such as a[::2]): pass a \
+             contiguous array, e.g. numpy.empty(n), or none",
+        ));
+    }
+    a.try_readwrite().map_err(|_| {
+        value_error(
+            "out: the array is in use: it must not be x, or share memory with x (hyst reads x \
+             while it writes out); pass another array, or none",
+        )
+    })
 }
 
 fn run_order<T: Real, X: Real, O: Operator<T>, const N: usize>(

@@ -180,12 +180,20 @@ impl Model {
         let result = match (&xs, &d) {
             (Samples::F64(a), None) => {
                 let (out, mut o) = result_array::<f64>(py, None, a.len()?, "float64")?;
-                let (view, dest) = (a.as_array(), o.as_slice_mut().map_err(value_error)?);
+                let (view, dest) = (
+                    a.as_array(),
+                    o.as_slice_mut()
+                        .map_err(|_| value_error("out: the array is not contiguous"))?,
+                );
                 py.detach(|| run_into(op, view, dest)).map(|()| Ok(out))
             }
             (Samples::F32(a), None) => {
                 let (out, mut o) = result_array::<f32>(py, None, a.len()?, "float32")?;
-                let (view, dest) = (a.as_array(), o.as_slice_mut().map_err(value_error)?);
+                let (view, dest) = (
+                    a.as_array(),
+                    o.as_slice_mut()
+                        .map_err(|_| value_error("out: the array is not contiguous"))?,
+                );
                 py.detach(|| run_into(op, view, dest)).map(|()| Ok(out))
             }
             (Samples::F64(a), Some((d, one_d))) => {

@@ -179,14 +179,22 @@ impl<F: Formula + Send + Sync> Engine<F> {
             return match xs {
                 Samples::F64(a) => {
                     let (out, mut o) = result_array::<f64>(py, out, a.len()?, "float64")?;
-                    let (view, dest) = (a.as_array(), o.as_slice_mut().map_err(value_error)?);
+                    let (view, dest) = (
+                        a.as_array(),
+                        o.as_slice_mut()
+                            .map_err(|_| value_error("out: the array is not contiguous"))?,
+                    );
                     py.detach(|| each!(self, op => run_into(op, view, dest)))
                         .map_err(|e| e.into_err("x"))?;
                     Ok(out)
                 }
                 Samples::F32(a) => {
                     let (out, mut o) = result_array::<f32>(py, out, a.len()?, "float32")?;
-                    let (view, dest) = (a.as_array(), o.as_slice_mut().map_err(value_error)?);
+                    let (view, dest) = (
+                        a.as_array(),
+                        o.as_slice_mut()
+                            .map_err(|_| value_error("out: the array is not contiguous"))?,
+                    );
                     py.detach(|| each!(self, op => run_into(op, view, dest)))
                         .map_err(|e| e.into_err("x"))?;
                     Ok(out)

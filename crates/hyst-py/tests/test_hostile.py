@@ -133,3 +133,13 @@ def test_messages_blame_the_right_value_and_print_numbers_shortly():
     with pytest.raises(ValueError) as e:
         c.step(1e308, dt=1e300)
     assert len(str(e.value)) < 300 and "1e308" in str(e.value), str(e.value)
+
+
+def test_out_that_aliases_x_or_is_strided_is_named():
+    """Issue 28, item 13: out=x and a strided out say what is wrong with out."""
+    h = hyst.Hysteresis(0.2, 8.0)
+    x = np.linspace(0.0, 1.0, 10)
+    with pytest.raises(ValueError, match=r"out|x: the array is being written"):
+        h.process(x, out=x)
+    with pytest.raises(ValueError, match=r"out: the array is not contiguous"):
+        h.process(x[:5], out=np.empty(10)[::2])
