@@ -283,6 +283,12 @@ pub fn diagnose(
     if reasons.is_empty() {
         reasons.extend(line_reason(model_rms(data, outputs), line, gap, data_gap));
     }
+    if reasons.is_empty() {
+        reasons.extend(dependence_reason(
+            model_rms(data, outputs),
+            constant_rms(data),
+        ));
+    }
     let mut notes = Vec::new();
     let mut found_loop = false;
     if let Some(estimates) = estimates {
@@ -394,6 +400,52 @@ fn model_rms(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
         }
     }
     (ss / n.max(1) as f64).sqrt()
+}
+
+/// The model's RMS at or above this fraction of the RMS of the output about its mean (the
+/// model explains 5 % of the output's variance or less): the output does not follow the input.
+/// Pure noise gives 0.03–0.2 %; every bundled record explains over 90 %.
+const DEPENDENCE_RATIO: f64 = 0.975;
+
+/// The RMS of the training outputs about their weighted mean (what a constant output fits).
+fn constant_rms(data: &Dataset) -> f64 {
+    let (mut sw, mut sy) = (0.0, 0.0);
+    for r in data.training() {
+        for (y, w) in r.output.iter().zip(&r.weight) {
+            sw += w;
+            sy += w * y;
+        }
+    }
+    if sw.is_nan() || sw <= 0.0 {
+        return f64::NAN;
+    }
+    let mean = sy / sw;
+    let (mut ss, mut n) = (0.0, 0usize);
+    for r in data.training() {
+        for (y, w) in r.output.iter().zip(&r.weight) {
+            if *w > 0.0 {
+                ss += (y - mean).powi(2);
+                n += 1;
+            }
+        }
+    }
+    (ss / n.max(1) as f64).sqrt()
+}
+
+/// The reason a model of RMS `model_rms` found nothing, when it does barely better than the
+/// output's mean (RMS `constant` about it): the output does not depend on the input.
+fn dependence_reason(model_rms: f64, constant: f64) -> Option<String> {
+    if !(constant > 0.0 && model_rms >= DEPENDENCE_RATIO * constant) {
+        return None;
+    }
+    let explained = (1.0 - (model_rms / constant).powi(2)).max(0.0);
+    Some(format!(
+        "the output does not follow the input: the fitted model explains {} % of its variance \
+         (RMS {} against {} for the output's mean)",
+        sig(100.0 * explained, 2),
+        sig(model_rms, 3),
+        sig(constant, 3),
+    ))
 }
 
 /// The reason a model of RMS `model_rms` and branch gap `gap` is a line in effect, when it

@@ -143,3 +143,19 @@ def test_out_that_aliases_x_or_is_strided_is_named():
         h.process(x, out=x)
     with pytest.raises(ValueError, match=r"out: the array is not contiguous"):
         h.process(x[:5], out=np.empty(10)[::2])
+
+
+def test_pure_noise_is_no_hysteresis(piezo):
+    """Issue 28, item 3, as the issue wrote it: an output that does not depend on the input is
+    "no hysteresis found", not a model (and kept, it is marked degenerate)."""
+    u, _ = piezo
+    u = u[:3000]
+    for seed in range(3):
+        noise = np.random.default_rng(seed).random(u.size)
+        with pytest.raises(ValueError) as refused:
+            hyst.fit(u, noise)
+        # Noise may also fold back along the input (refused before any fit).
+        message = str(refused.value)
+        assert "no hysteresis found" in message or "not monotone" in message, message
+        if "no hysteresis found" in message:
+            assert hyst.fit(u, noise, keep_degenerate=True).degenerate
