@@ -419,11 +419,15 @@ pub fn out_array<'py, X: Element>(
              contiguous array, e.g. numpy.empty(n), or none",
         ));
     }
-    a.try_readwrite().map_err(|_| {
-        value_error(
-            "out: the array is in use: it must not be x, or share memory with x (hyst reads x \
-             while it writes out); pass another array, or none",
-        )
+    a.try_readwrite().map_err(|e| {
+        if e.to_string().contains("writeable") {
+            value_error("out: the array is read-only and cannot be written")
+        } else {
+            value_error(
+                "out: the array is in use: it must not be x, or share memory with x (hyst \
+                 reads x while it writes out); pass another array, or none",
+            )
+        }
     })
 }
 
