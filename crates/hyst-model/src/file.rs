@@ -135,8 +135,14 @@ impl ModelFile {
                     toml::Value::Float(_) => ", no decimal point",
                     _ => "",
                 };
+                // TOML writes a string with a line break in triple quotes over several lines:
+                // the message stays on one line, and short.
+                let mut shown = other.to_string().replace('\n', "\\n");
+                if shown.chars().count() > 60 {
+                    shown = shown.chars().take(40).collect::<String>() + "...";
+                }
                 return Err(bad(format!(
-                    "{at}`version = {other}` is a {}: the format version is an integer \
+                    "{at}`version = {shown}` is a {}: the format version is an integer \
                      (`version = {MIN_VERSION}`{hint})",
                     other.type_str()
                 )));
