@@ -322,6 +322,10 @@ pub(crate) fn direction(d: i32) -> Result<Direction, Error> {
     }
 }
 
+/// A builder of a shaping function from a `hyst_shaping`'s fields (kind, p, pre_gain,
+/// pre_offset, post_gain, post_offset): [`shaping`] or [`linear_shaping`].
+pub(crate) type ShapingFn<T, S> = fn(i32, [T; 6], T, T, T, T) -> Result<S, Error>;
+
 /// Shaping kinds of `hyst_shaping.kind`.
 pub(crate) fn shaping<T: Real>(
     kind: i32,
@@ -372,16 +376,6 @@ pub(crate) fn k2_law<T: Real>(
     };
     law.validate()?;
     Ok(law)
-}
-
-/// The shaped model from its parts.
-pub(crate) fn shaped_model<T: Real>(
-    k1: T,
-    law: AnyK2Law<T>,
-    input: Shaping<T>,
-    output: Shaping<T>,
-) -> Result<AnyShapedModel<T>, Error> {
-    ShapedModel::new(input, Hysteresis::with_k2_law(k1, law)?, output)
 }
 
 /// The start rule of `hyst_shaped_model_params.initial_state`.

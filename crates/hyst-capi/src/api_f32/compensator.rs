@@ -312,6 +312,41 @@ pub unsafe extern "C" fn hyst_shaped_compensator_init_f32(
     v0: *const f32,
     n: usize,
 ) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe {
+        init_from_params(
+            c,
+            TAG_SHAPED_COMPENSATOR,
+            params,
+            b,
+            a,
+            v0,
+            n,
+            engine::shaping,
+        )
+    }
+}
+
+/// `hyst_shaped_compensator_init_f32` and `hyst_linear_compensator_init_f32`: the compensator of the
+/// model of `params`, its shapings built by `shaping`, written into `c` under `tag`.
+///
+/// # Safety
+/// `c` is NULL or a writable block whose type holds the compensator (`slot::fits`);
+/// `params` is NULL or readable; `a` and `v0` are NULL or hold n values.
+#[allow(clippy::too_many_arguments)]
+pub(crate) unsafe fn init_from_params<C, S>(
+    c: *mut C,
+    tag: u32,
+    params: *const hyst_shaped_model_params_f32,
+    b: f32,
+    a: *const f32,
+    v0: *const f32,
+    n: usize,
+    shaping: engine::ShapingFn<f32, S>,
+) -> i32
+where
+    S: hyst_core::Shaping<f32> + Clone,
+{
     if params.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
@@ -323,11 +358,11 @@ pub unsafe extern "C" fn hyst_shaped_compensator_init_f32(
     // SAFETY: non-NULL (checked), readable (caller's contract).
     let params = unsafe { params.read() };
     let built = engine::compensated_form(params.form, params.initial_state)
-        .and_then(|()| params.model())
+        .and_then(|()| params.model_with(shaping))
         .and_then(|model| build(model.inverse(), b, &plant, n));
     match built {
-        // SAFETY: `c` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(comp) => unsafe { slot::write(c, TAG_SHAPED_COMPENSATOR, comp) },
+        // SAFETY: `c` is NULL or a writable block of the compensator's size (caller's contract).
+        Ok(comp) => unsafe { slot::write(c, tag, comp) },
         Err(e) => status::of(&e),
     }
 }

@@ -9,13 +9,13 @@
 //! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
 
 use crate::api_f64::checks::done;
-use crate::api_f64::compensator::{build, comp_state, comp_step, plant};
+use crate::api_f64::compensator::{comp_state, comp_step, init_from_params};
 use crate::api_f64::memory::{get_memory, hyst_memory, reset, set_memory};
-use crate::api_f64::shaped_model::{hyst_shaped_model_params, hyst_shaping};
+use crate::api_f64::shaped_model::hyst_shaped_model_params;
 use crate::engine::{self, Comp, Linear, Shaped};
 use crate::slot;
 use crate::status::{self, HYST_ERR_NULL_POINTER, HYST_OK};
-use hyst_core::{AnyK2Law, Hysteresis, ShapedModel};
+use hyst_core::AnyK2Law;
 
 /// The shaped model of `hyst_shaped_model_params` whose shapings are affine, as
 /// `hyst_shaped_model`: an opaque block of 320 bytes, 8-byte aligned, plain data.
@@ -33,8 +33,6 @@ pub struct hyst_linear_compensator {
 
 /// The model inside.
 type LinearShaped = Shaped<f64, Linear<f64>>;
-/// The shaped model with linear shapings, before its form and start rule.
-type LinearModel = ShapedModel<f64, Linear<f64>, AnyK2Law<f64>, Linear<f64>>;
 /// The compensator inside.
 type LinearComp = Comp<f64, Linear<f64>, AnyK2Law<f64>, Linear<f64>>;
 
@@ -56,30 +54,6 @@ fn linear_compensator<'a>(c: *mut hyst_linear_compensator) -> Result<&'a mut Lin
     unsafe { slot::value_mut(c, TAG_LINEAR_COMPENSATOR) }
 }
 
-/// The model of `p` with its shapings as linear ones, checked by the core.
-///
-/// # Errors
-/// A shaping kind other than identity or affine, and the core's checks.
-fn linear_model(p: &hyst_shaped_model_params) -> Result<LinearModel, hyst_core::Error> {
-    let k2 = &p.k2;
-    let law = engine::k2_law(k2.kind, k2.value, k2.slope, k2.min, k2.max)?;
-    let s = |s: &hyst_shaping| {
-        engine::linear_shaping(
-            s.kind,
-            s.p,
-            s.pre_gain,
-            s.pre_offset,
-            s.post_gain,
-            s.post_offset,
-        )
-    };
-    ShapedModel::new(
-        s(&p.input)?,
-        Hysteresis::with_k2_law(p.k1, law)?,
-        s(&p.output)?,
-    )
-}
-
 /// `hyst_linear_model_init_direct` / `_inverse`.
 ///
 /// # Safety
@@ -94,7 +68,8 @@ unsafe fn init_linear(
     }
     // SAFETY: non-NULL (checked), readable (caller's contract).
     let p = unsafe { params.read() };
-    let built = linear_model(&p)
+    let built = p
+        .model_with(engine::linear_shaping)
         .and_then(|model| engine::shaped(model, p.form, p.linear, p.initial_state, inverse));
     match built {
         // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
@@ -198,23 +173,19 @@ pub unsafe extern "C" fn hyst_linear_compensator_init(
     v0: *const f64,
     n: usize,
 ) -> i32 {
-    if params.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: `a`, `v0` are NULL or hold n values (caller's contract).
-    let plant = match unsafe { plant(a, v0, n) } {
-        Ok(p) => p,
-        Err(s) => return s,
-    };
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    let params = unsafe { params.read() };
-    let built = engine::compensated_form(params.form, params.initial_state)
-        .and_then(|()| linear_model(&params))
-        .and_then(|model| build(model.inverse(), b, &plant, n));
-    match built {
-        // SAFETY: `c` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(comp) => unsafe { slot::write(c, TAG_LINEAR_COMPENSATOR, comp) },
-        Err(e) => status::of(&e),
+    // SAFETY: `c` is NULL or a writable `hyst_linear_compensator`, whose size `fits` checks;
+    // the rest is the caller's contract, forwarded.
+    unsafe {
+        init_from_params(
+            c,
+            TAG_LINEAR_COMPENSATOR,
+            params,
+            b,
+            a,
+            v0,
+            n,
+            engine::linear_shaping,
+        )
     }
 }
 

@@ -9,6 +9,7 @@ use crate::api_f64::memory::{get_memory, hyst_memory, reset, set_memory};
 use crate::engine::{self, Shaped};
 use crate::slot;
 use crate::status::{self, HYST_ERR_NULL_POINTER};
+use hyst_core::{AnyK2Law, Hysteresis, ShapedModel};
 
 /// A shaping function (Section 4.3) with the scale and offsets of measured data:
 /// ψ(x) = `post_gain` · shape(`pre_gain` · x + `pre_offset`) + `post_offset`, the form of a
@@ -98,10 +99,20 @@ impl hyst_shaped_model_params {
     /// The shaped model these parameters describe (operator form, no start rule), checked by
     /// the core.
     pub(crate) fn model(&self) -> Result<engine::AnyShapedModel<f64>, hyst_core::Error> {
+        self.model_with(engine::shaping)
+    }
+
+    /// The shaped model these parameters describe with each shaping built by `shaping` (kind,
+    /// p, pre_gain, pre_offset, post_gain, post_offset): [`engine::shaping`] for every kind,
+    /// [`engine::linear_shaping`] for the affine ones only.
+    pub(crate) fn model_with<S: hyst_core::Shaping<f64>>(
+        &self,
+        shaping: engine::ShapingFn<f64, S>,
+    ) -> Result<ShapedModel<f64, S, AnyK2Law<f64>, S>, hyst_core::Error> {
         let k2 = &self.k2;
         let law = engine::k2_law(k2.kind, k2.value, k2.slope, k2.min, k2.max)?;
         let s = |s: &hyst_shaping| {
-            engine::shaping(
+            shaping(
                 s.kind,
                 s.p,
                 s.pre_gain,
@@ -110,7 +121,11 @@ impl hyst_shaped_model_params {
                 s.post_offset,
             )
         };
-        engine::shaped_model(self.k1, law, s(&self.input)?, s(&self.output)?)
+        ShapedModel::new(
+            s(&self.input)?,
+            Hysteresis::with_k2_law(self.k1, law)?,
+            s(&self.output)?,
+        )
     }
 }
 

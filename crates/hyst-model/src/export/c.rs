@@ -11,10 +11,10 @@ use core::fmt::Write as _;
 use crate::error::ModelError;
 use crate::file::ModelFile;
 use crate::smooth::{Form, SmoothModel};
-use hyst_core::AnyShaping;
 
 use super::shared::{
-    check_name, description, has_infinity, k2_parameters, literal, shape_parameters, smooth, Source,
+    affine_shapings, check_name, description, has_infinity, k2_parameters, literal,
+    shape_parameters, smooth, Source,
 };
 
 /// The header for the model `file` under the name `name` (see the module documentation).
@@ -71,10 +71,7 @@ struct Api {
 
 impl Api {
     fn of(m: &SmoothModel) -> Self {
-        let affine = |s: &hyst_core::ScaledShaping<f64>| {
-            matches!(s.shape, AnyShaping::Identity | AnyShaping::Affine(_))
-        };
-        if affine(&m.input_shaping) && affine(&m.output_shaping) {
+        if affine_shapings(m) {
             Self {
                 model: "hyst_linear_model",
                 compensator: "hyst_linear_compensator",

@@ -20,7 +20,7 @@ use crate::file::{ModelFile, ModelKind};
 use crate::pi::PiModel;
 use crate::smooth::{Form, SmoothModel};
 
-use super::shared::{check_name, description, literal, smooth, Source};
+use super::shared::{affine_shapings, check_name, description, literal, smooth, Source};
 
 /// The generated Rust for the model `file` under the name `name` (see the module
 /// documentation).
@@ -52,7 +52,7 @@ pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, Mod
          // `hyst run --model` starts a record; `Operator::reset` makes it start again.\n"
     );
     // Affine shapings as `LinearShaping`: the same arithmetic, and no nonlinear shape's code.
-    let psi = if linear(m) {
+    let psi = if affine_shapings(m) {
         "hyst_core::ScaledShaping<T, hyst_core::LinearShaping<T>>"
     } else {
         "hyst_core::ScaledShaping<T>"
@@ -82,13 +82,6 @@ pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, Mod
     constructor(&mut out, m, name, &camel);
     clamp(&mut out, file, name);
     Ok(out)
-}
-
-/// Whether both shapings are affine (identity or affine shape).
-fn linear(m: &SmoothModel) -> bool {
-    [&m.input_shaping, &m.output_shaping]
-        .iter()
-        .all(|s| matches!(s.shape, AnyShaping::Identity | AnyShaping::Affine(_)))
 }
 
 /// `piezo_stage` → `PiezoStage`.
@@ -199,8 +192,8 @@ fn constructor(out: &mut String, m: &SmoothModel, name: &str, camel: &str) {
              let model = {body};\n    \
              Ok(hyst_core::Started::new(model, hyst_core::InitialState::{rule}))\n\
          }}\n",
-        input = shaping(&m.input_shaping, linear(m)),
-        output = shaping(&m.output_shaping, linear(m)),
+        input = shaping(&m.input_shaping, affine_shapings(m)),
+        output = shaping(&m.output_shaping, affine_shapings(m)),
         k1 = num(m.k1),
     );
     if m.form == Form::Operator {

@@ -223,6 +223,14 @@ pub(super) fn literal(x: f64, infinity: &str) -> String {
     }
 }
 
+/// Whether both shapings are affine (identity or affine shape): such a model exports on the
+/// linear C functions and on `LinearShaping`, which link no nonlinear shape.
+pub(super) fn affine_shapings(m: &SmoothModel) -> bool {
+    [&m.input_shaping, &m.output_shaping]
+        .iter()
+        .all(|s| matches!(s.shape, AnyShaping::Identity | AnyShaping::Affine(_)))
+}
+
 /// Whether any parameter of the model is infinite (a polynomial's open end).
 pub(super) fn has_infinity(m: &SmoothModel) -> bool {
     [&m.input_shaping, &m.output_shaping]
