@@ -13,6 +13,7 @@ mod fmu;
 mod paper;
 mod plot;
 mod run;
+mod run_timed;
 mod signals;
 mod source;
 mod workloads;

@@ -68,6 +68,16 @@ pub struct Args {
     /// were clamped and which was first.
     #[arg(long)]
     pub saturate: bool,
+    /// The time column (s) of a model with dynamics or a rate term (default: a column named t,
+    /// t_s, time or time_s): each record's sample period comes from it.
+    #[arg(long, value_name = "COLUMN")]
+    pub time: Option<String>,
+    /// With --model --inverse for a model with dynamics of order n, when the file does not
+    /// hold the desired output's n derivatives: a reference prefilter 1/(s/ω + 1)ⁿ, ω = 2πF,
+    /// gives them, and the command makes the plant track the prefiltered reference exactly
+    /// (written as the column x_filtered).
+    #[arg(long, value_name = "F")]
+    pub prefilter_hz: Option<f64>,
     /// Input CSV file.
     pub input: PathBuf,
     /// Output CSV file: written atomically (temporary file, then rename); `-` is standard
@@ -93,6 +103,16 @@ pub fn main(args: Args) -> Result<()> {
             let inverse = args.source.inverse;
             if inverse {
                 refuse_stop_form(&model, path)?;
+            }
+            if model.smooth.as_ref().is_some_and(|m| m.is_timed()) {
+                return crate::run_timed::main(&args, &model, path);
+            }
+            if args.prefilter_hz.is_some() {
+                bail!(
+                    "--prefilter-hz applies to a model with dynamics: {} has none (its inverse \
+                     needs no derivatives)",
+                    path.display()
+                );
             }
             let mut rows = open()?;
             if columns.is_empty() {

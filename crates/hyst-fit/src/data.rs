@@ -44,6 +44,10 @@ pub struct Record {
     /// `--segment` from the same measurement. The model then runs on from the state the
     /// previous segment left (see [`Dataset::histories`]) instead of starting afresh.
     pub continues: bool,
+    /// The sample period (s) from the time column, when the fit reads one
+    /// ([`DataOptions::timed`]): the record's mean time step, every step within
+    /// [`TIME_TOLERANCE`](hyst_model::dynamics::TIME_TOLERANCE) of it.
+    pub period: Option<f64>,
 }
 
 /// Consecutive records that form one uninterrupted history (one measurement cut into
@@ -58,6 +62,8 @@ pub struct History {
     pub weight: Vec<f64>,
     /// (index of the record in [`Dataset::records`], first sample in this history, length).
     pub parts: Vec<(usize, usize, usize)>,
+    /// The sample period of its first record ([`Record::period`]).
+    pub period: Option<f64>,
 }
 
 impl Record {
@@ -93,7 +99,15 @@ pub struct DataOptions {
     pub validate: Vec<i64>,
     /// Hold out every k-th record (the 2nd, …) for validation, if no explicit list is given.
     pub validate_every: Option<usize>,
+    /// Time column (s); `None` looks for one of [`TIME_COLUMNS`].
+    pub time: Option<String>,
+    /// Read the time column and give every record its sample period (a model with dynamics or
+    /// a rate term): the column must exist, and its stamps must increase evenly.
+    pub timed: bool,
 }
+
+/// Column names recognised as the time column (s) when none is named.
+pub const TIME_COLUMNS: [&str; 4] = ["t", "t_s", "time", "time_s"];
 
 /// A dataset: named columns, records, and the file it came from.
 #[derive(Clone, Debug)]
@@ -133,6 +147,11 @@ impl Dataset {
         };
         let file = table.source().to_string();
         let mut records = group_rows(table, input, output, record, weight)?;
+        let time = if options.timed {
+            Some(set_periods(table, options, &mut records)?)
+        } else {
+            None
+        };
         if let Some(len) = options.segment {
             records = segment(records, len)?;
         }
@@ -145,6 +164,7 @@ impl Dataset {
                 output: options.output.clone(),
                 record: record_name,
                 weight: options.weight.clone(),
+                time,
             },
             records,
         })
@@ -171,6 +191,7 @@ impl Dataset {
                 output: "y".into(),
                 record: None,
                 weight: None,
+                time: None,
             },
             vec![Record {
                 id: 0,
@@ -180,6 +201,7 @@ impl Dataset {
                 rows: (0..n).collect(),
                 validation: false,
                 continues: false,
+                period: None,
             }],
         )
     }
@@ -192,7 +214,10 @@ impl Dataset {
         let mut out: Vec<History> = Vec::new();
         for (i, r) in self.records.iter().enumerate() {
             if !r.continues || out.is_empty() {
-                out.push(History::default());
+                out.push(History {
+                    period: r.period,
+                    ..History::default()
+                });
             }
             if let Some(h) = out.last_mut() {
                 h.parts.push((i, h.input.len(), r.len()));
@@ -375,6 +400,51 @@ fn record_column(table: &Table, options: &DataOptions) -> Option<String> {
     }
 }
 
+/// Gives every record its sample period from the time column (`--time`, else the first of
+/// [`TIME_COLUMNS`]), and returns the column's name.
+///
+/// # Errors
+/// [`FitError::Invalid`] without a time column; [`FitError::BadTime`] naming the line of a
+/// stamp that is repeated, decreasing or off the record's even spacing.
+fn set_periods(
+    table: &Table,
+    options: &DataOptions,
+    records: &mut [Record],
+) -> Result<String, FitError> {
+    let name = match &options.time {
+        Some(name) => name.clone(),
+        None => TIME_COLUMNS
+            .iter()
+            .find(|n| table.column_index(n).is_some())
+            .map(|n| (*n).to_string())
+            .ok_or_else(|| {
+                FitError::Invalid(format!(
+                    "{}: a model with dynamics or a rate term needs time stamps, and the file has \
+                     no column named {} (name the time column with --time COLUMN)",
+                    table.source(),
+                    TIME_COLUMNS.join(", ")
+                ))
+            })?,
+    };
+    let column = table.column(&name)?;
+    for r in records.iter_mut() {
+        let t: Vec<f64> = r.rows.iter().map(|row| column[*row]).collect();
+        match hyst_model::dynamics::sample_period(&t) {
+            Ok(h) => r.period = Some(h),
+            Err((i, message)) => {
+                return Err(FitError::BadTime {
+                    file: table.source().to_string(),
+                    line: table.line_of_row(r.rows.get(i).copied().unwrap_or(0)),
+                    column: name,
+                    record: r.id,
+                    message,
+                })
+            }
+        }
+    }
+    Ok(name)
+}
+
 /// Scales the weights so that the positive weights of the training records average 1: the
 /// fit depends on their ratios only, never on their scale (weights of 1e-100 on every row
 /// fitted nothing, the tolerances of the least squares being absolute). Unit weights stay
@@ -455,6 +525,7 @@ fn group_rows(
                 rows: Vec::new(),
                 validation: false,
                 continues: false,
+                period: None,
             });
             records.len() - 1
         });
@@ -491,6 +562,7 @@ fn segment(records: Vec<Record>, len: usize) -> Result<Vec<Record>, FitError> {
                 rows: r.rows[start..end].to_vec(),
                 validation: false,
                 continues: start > 0,
+                period: r.period,
             });
             next += 1;
         }

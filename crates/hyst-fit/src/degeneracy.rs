@@ -732,6 +732,7 @@ mod tests {
                     rows: (0..n).collect(),
                     validation: false,
                     continues: false,
+                    period: None,
                 }
             })
             .collect();

@@ -96,6 +96,22 @@ pub enum FitError {
         value: f64,
     },
 
+    /// A time stamp that is repeated, decreasing or off the record's even spacing (a model
+    /// with dynamics or a rate term).
+    #[error("{file}:{line}: column {column:?} (record {record}): {message}")]
+    BadTime {
+        /// The data file.
+        file: String,
+        /// The 1-based line.
+        line: usize,
+        /// The time column.
+        column: String,
+        /// The record id.
+        record: i64,
+        /// What is wrong with the stamp.
+        message: String,
+    },
+
     /// The record id is not an integer, or beyond the integers a float holds exactly
     /// (`limit`, [`crate::data::MAX_RECORD_ID`]).
     #[error("{file}:{line}: column {column:?}: record id {}", record_id_problem(*value, *limit))]

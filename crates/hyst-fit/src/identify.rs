@@ -21,6 +21,8 @@ use crate::report::{Findings, Report, Summary};
 use crate::smooth::driver::fit_smooth;
 use crate::smooth::fit::{FitOptions, SmoothFit};
 use crate::smooth::limits::ParameterLimit;
+use crate::smooth::stats::run_records;
+use crate::timed::static_view;
 
 /// The branch gap (fraction of the output span) above which the data's loops are clockwise
 /// beyond doubt, and a Prandtl–Ishlinskii fit (counterclockwise only) is refused.
@@ -338,10 +340,24 @@ fn diagnose_requested(
         (ModelKind::Smooth, Some(f), _) => {
             let limit = ParameterLimit::of(&f.model);
             smooth_notes(f, limit, notes);
+            // A model with dynamics or a rate term: its hysteresis part on the static view.
+            let view = if f.model.is_timed() {
+                let (view, model) = static_view(data, &f.model).ok_or_else(|| {
+                    FitError::NoConvergence("the fitted model cannot run the records".into())
+                })?;
+                let outputs = run_records(&view, &model, None).unwrap_or_default();
+                Some((view, model, outputs))
+            } else {
+                None
+            };
+            let (data, model, outputs) = match &view {
+                Some((v, m, o)) => (v, m, o),
+                None => (data, &f.model, &f.outputs),
+            };
             diagnose(
                 data,
-                &f.outputs,
-                &|x| f.model.run(x).ok(),
+                outputs,
+                &|x| model.run(x).ok(),
                 Some(&f.estimates),
                 limit.map_or(&[][..], ParameterLimit::unidentified),
                 orientation,
@@ -371,6 +387,9 @@ fn diagnose_requested(
 fn smooth_notes(f: &SmoothFit, limit: Option<ParameterLimit>, notes: &mut Vec<String>) {
     if let Some(limit) = limit {
         notes.push(limit.note(f.model.k1));
+    }
+    if let Some(t) = &f.timed {
+        notes.extend(t.notes());
     }
     if let Some(starts) = f.starts.as_ref().filter(|s| !s.is_empty()) {
         let (lo, hi) = starts
@@ -419,7 +438,14 @@ fn smooth_summary(data: &Dataset, f: &SmoothFit) -> Summary {
         training: f.training,
         validation: f.validation,
         fit_seconds: f.seconds,
-        ns_per_sample: ns_per_sample(data, |x| f.model.run(x).ok()),
+        ns_per_sample: ns_per_sample(data, |x| {
+            let period = data.records.first().and_then(|r| r.period);
+            let mut y = Vec::with_capacity(x.len());
+            f.model
+                .run_timed(x, period, None, |_, s| y.push(s.y))
+                .ok()?;
+            Some(y)
+        }),
     }
 }
 
@@ -461,6 +487,8 @@ fn smooth_file(
         },
         structure: Some(f.layout.structure),
         smooth: Some(f.model),
+        dynamics: f.timed.as_ref().and_then(|t| t.dynamics_section(&f.model)),
+        rate: f.timed.as_ref().and_then(|t| t.rate_section(&f.model)),
         prandtl_ishlinskii: None,
         family: f.widths,
         provenance,
@@ -493,6 +521,8 @@ fn pi_file(
         },
         structure: None,
         smooth: None,
+        dynamics: None,
+        rate: None,
         prandtl_ishlinskii: Some(f.model.clone()),
         family: None,
         provenance,

@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use hyst_core::ScaledShaping;
 use hyst_model::smooth::FitReal;
-use hyst_model::{Form, K2Kind, ShapingKind, SmoothModel, Structure};
+use hyst_model::{Dynamics, Form, K2Kind, Rate, ShapingKind, SmoothModel, Structure};
 
 /// The scale of the saturating input shaping ψ_in (the model file's and the report's name).
 pub const IN_SCALE: &str = "in.scale";
@@ -255,6 +255,50 @@ impl Params {
     }
 }
 
+/// The start of a plant's time constant before the fit sets it from the data (s).
+const TIME_CONSTANT_START: f64 = 0.01;
+
+/// The name of the plant coefficient a_i (i = 1…4) in reports and the model file's parameters.
+#[must_use]
+pub fn dynamics_name(i: usize) -> String {
+    format!("dynamics.a{i}")
+}
+
+/// The name of the rate term's coefficient c.
+pub const RATE_C: &str = "rate.c";
+
+impl Params {
+    /// The plant's a_1 … a_n (positive, as n equal time constants to start) and the rate
+    /// term's c: both change the trajectory, so they belong to the operator's group.
+    fn timed(&mut self, structure: Structure) {
+        let n = usize::from(structure.dynamics);
+        for i in 1..=n {
+            let binomial = (0..i).fold(1.0, |acc, k| acc * (n - k) as f64 / (k + 1) as f64);
+            let unit = if i == 1 {
+                "s".to_string()
+            } else {
+                format!("s^{i}")
+            };
+            self.add(
+                &dynamics_name(i),
+                &unit,
+                Transform::Log,
+                Group::Operator,
+                binomial * TIME_CONSTANT_START.powi(i as i32),
+            );
+        }
+        if structure.rate.is_some() {
+            self.add(
+                RATE_C,
+                "output units * s / input unit",
+                Transform::Linear,
+                Group::Operator,
+                0.0,
+            );
+        }
+    }
+}
+
 impl Layout {
     /// Lays out `structure` for data normalised by `norm`.
     #[must_use]
@@ -264,6 +308,7 @@ impl Layout {
         let input_offset = params.input(structure);
         params.output_shaping(structure);
         params.output(structure, norm);
+        params.timed(structure);
         Self {
             structure,
             norm,
@@ -587,9 +632,32 @@ impl Layout {
                 Form::Operator => c(0.0),
                 Form::Stop => get("out.linear"),
             },
+            dynamics: self.dynamics(theta)?,
+            rate: self.structure.rate.map(|_| Rate { c: get(RATE_C) }),
         };
         m.validate()?;
         Ok(m)
+    }
+}
+
+impl Layout {
+    /// The plant for θ (b = 1: ψ_in's gain scales the hysteresis input), `None` without
+    /// dynamics.
+    ///
+    /// # Errors
+    /// An unstable plant ([`Dynamics::new`]).
+    pub fn dynamics<T: FitReal>(
+        &self,
+        theta: &[T],
+    ) -> Result<Option<Dynamics<T>>, hyst_core::Error> {
+        let n = usize::from(self.structure.dynamics);
+        if n == 0 {
+            return Ok(None);
+        }
+        let a: Vec<T> = (1..=n)
+            .map(|i| self.get(theta, &dynamics_name(i)))
+            .collect();
+        Dynamics::new(T::one(), &a).map(Some)
     }
 }
 

@@ -18,6 +18,8 @@
 //! - [`pi_fit`]: the Prandtl–Ishlinskii baseline's fit by non-negative least squares (with an
 //!   optional monotone output polynomial).
 //! - [`degeneracy`]: whether a fit found hysteresis at all.
+//! - [`timed`]: fits with dynamics or a rate term: their nesting, the static view their
+//!   hysteresis part is checked on, what the report says of the plant and the rate term.
 //! - [`identify()`]: the whole identification as one call (the fits a [`identify::Request`]
 //!   asks for, the model file, the [`report`]), shared by `hyst fit` and the Python binding.
 //!
@@ -42,6 +44,7 @@ mod race;
 pub mod reduction;
 pub mod report;
 pub mod smooth;
+pub mod timed;
 pub mod widths;
 
 pub use data::{DataOptions, Dataset, Record};

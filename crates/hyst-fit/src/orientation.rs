@@ -348,6 +348,7 @@ mod tests {
                     rows: (0..x.len()).collect(),
                     validation: false,
                     continues: false,
+                    period: None,
                 })
                 .collect();
             Dataset::from_records("d.csv", template.columns, records)

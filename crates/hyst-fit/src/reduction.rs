@@ -83,6 +83,7 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
             rows: Vec::new(),
             validation: r.validation,
             continues: r.continues,
+            period: r.period,
         };
         for (i, &must) in forced.iter().enumerate() {
             if !must && !picked(i, stride) {

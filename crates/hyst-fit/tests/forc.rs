@@ -33,6 +33,7 @@ fn forc() -> Result<Dataset, FitError> {
             rows: (0..n).collect(),
             validation: false,
             continues: false,
+            period: None,
         });
     }
     let template = Dataset::single(&[0.0], &[0.0]);

@@ -423,6 +423,7 @@ fn records_that_start_mid_history_are_recovered_with_estimated_starts() -> Resul
             rows: (w[0]..w[1]).collect(),
             validation: false,
             continues: false,
+            period: None,
         })
         .collect();
     let data = Dataset::from_records("<memory>", Dataset::single(&x, &y).columns, records);

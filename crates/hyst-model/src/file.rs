@@ -10,6 +10,7 @@ use std::path::Path;
 use hyst_core::{Hysteresis, K2Law, Operator, Shaping};
 use serde::{Deserialize, Serialize};
 
+use crate::dynamics::{DynamicsSection, Rate, RateSection};
 use crate::error::ModelError;
 use crate::evaluator::Evaluator;
 use crate::family::FamilyWidths;
@@ -23,10 +24,11 @@ use crate::structure::Structure;
 pub const FORMAT: &str = "hyst-model";
 /// The newest format version this crate reads and writes. Version 2 adds the optional
 /// `[prandtl-ishlinskii.output]` polynomial, version 3 the stop form of the smooth model
-/// (`form = "stop"` and `linear` in `[smooth]`); a file is written with the lowest version that
+/// (`form = "stop"` and `linear` in `[smooth]`), version 4 the optional `[dynamics]` and `[rate]`
+/// (and `dynamics`, `rate` in `[structure]`); a file is written with the lowest version that
 /// holds its content ([`ModelFile::required_version`]), so files without it stay readable by
 /// version-1 readers, and version-1 readers refuse the files they would misread.
-pub const VERSION: u32 = 3;
+pub const VERSION: u32 = 4;
 /// The oldest format version this crate reads.
 pub const MIN_VERSION: u32 = 1;
 
@@ -73,6 +75,14 @@ pub struct ModelFile {
         skip_serializing_if = "Option::is_none"
     )]
     pub prandtl_ishlinskii: Option<PiModel>,
+    /// Lemma 5.1's plant before the hysteresis of a smooth model with dynamics, with standard
+    /// errors (format version 4; installed into [`SmoothModel::dynamics`] on reading).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dynamics: Option<DynamicsSection>,
+    /// The rate term of a smooth model, with its standard error (format version 4; installed
+    /// into [`SmoothModel::rate`] on reading).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate: Option<RateSection>,
     /// Family widths and the bound (smooth models).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub family: Option<FamilyWidths>,
@@ -149,9 +159,10 @@ impl ModelFile {
             }
             None => return Err(bad("no `version`".into())),
         }
-        let file: ModelFile = toml::from_str(text).map_err(|e: toml::de::Error| {
+        let mut file: ModelFile = toml::from_str(text).map_err(|e: toml::de::Error| {
             bad(format!("invalid model file: {}", toml_message(text, &e)))
         })?;
+        file.install_timed().map_err(bad)?;
         if file.version < file.required_version() {
             return Err(bad(format!(
                 "version = {} but {} needs format version {}",
@@ -179,11 +190,16 @@ impl ModelFile {
         Ok(file)
     }
 
-    /// The lowest format version that holds this file's content: 3 for a stop-form smooth
-    /// model, 2 with a PI output polynomial, else 1. `hyst fit` writes this version.
+    /// The lowest format version that holds this file's content: 4 for a smooth model with
+    /// dynamics or a rate term, 3 for a stop-form smooth model, 2 with a PI output polynomial,
+    /// else 1. `hyst fit` writes this version.
     #[must_use]
     pub fn required_version(&self) -> u32 {
+        let timed_structure = self
+            .structure
+            .is_some_and(|s| s.dynamics != 0 || s.rate.is_some());
         match (&self.smooth, &self.prandtl_ishlinskii) {
+            (Some(m), _) if m.is_timed() || timed_structure => 4,
             (Some(m), _) if m.form == Form::Stop => 3,
             (_, Some(p)) if p.output.is_some() => 2,
             _ => MIN_VERSION,
@@ -193,6 +209,7 @@ impl ModelFile {
     /// What makes [`ModelFile::required_version`] what it is, in the file's words.
     fn required_by(&self) -> &'static str {
         match self.required_version() {
+            4 => "[dynamics] or [rate]",
             3 => "form = \"stop\" in [smooth]",
             2 => "[prandtl-ishlinskii.output]",
             _ => "the content",
@@ -209,6 +226,7 @@ impl ModelFile {
     /// [`ModelError::Core`] for parameters the core refuses or a first desired output the model
     /// cannot produce.
     pub fn evaluator(&self, first: f64, inverse: bool) -> Result<Evaluator, ModelError> {
+        self.untimed("running it sample by sample without time")?;
         match (&self.smooth, &self.prandtl_ishlinskii) {
             (Some(m), _) if self.kind == ModelKind::Smooth => {
                 if inverse {
@@ -223,6 +241,57 @@ impl ModelFile {
             (_, Some(p)) => Ok(Evaluator::Pi(Box::new(p.operator()?))),
             _ => Err(ModelError::Invalid("the model file holds no model".into())),
         }
+    }
+
+    /// Puts the `[dynamics]` and `[rate]` sections into the smooth model they belong to.
+    fn install_timed(&mut self) -> Result<(), String> {
+        if self.dynamics.is_none() && self.rate.is_none() {
+            return Ok(());
+        }
+        let Some(m) = self
+            .smooth
+            .as_mut()
+            .filter(|_| self.kind == ModelKind::Smooth)
+        else {
+            return Err(
+                "[dynamics] and [rate] belong to a smooth model (kind = \"smooth\")".into(),
+            );
+        };
+        if let Some(d) = &self.dynamics {
+            m.dynamics = Some(d.dynamics().map_err(|e| format!("[dynamics]: {e}"))?);
+        }
+        if let Some(r) = &self.rate {
+            if !r.c.is_finite() {
+                return Err(format!("[rate]: c = {} must be finite", r.c));
+            }
+            m.rate = Some(Rate { c: r.c });
+        }
+        Ok(())
+    }
+
+    /// Refuses a model with dynamics or a rate term ([`SmoothModel::is_timed`]) for a use
+    /// that cannot run one (`what`, in words: "the FMU", "the C host API", …): such a model
+    /// needs the sample period of a timed record, and running it without would silently drop
+    /// its plant.
+    ///
+    /// # Errors
+    /// [`ModelError::Invalid`] naming what the model has and what can run it.
+    pub fn untimed(&self, what: &str) -> Result<(), ModelError> {
+        let Some(m) = self.smooth.as_ref().filter(|m| m.is_timed()) else {
+            return Ok(());
+        };
+        let mut parts = Vec::new();
+        if let Some(d) = m.dynamics {
+            parts.push(format!("dynamics of order {}", d.order()));
+        }
+        if m.rate.is_some() {
+            parts.push("a rate term".to_string());
+        }
+        Err(ModelError::Invalid(format!(
+            "the model has {}: it runs on timed records only (`hyst run` with a time column), \
+             not for {what}",
+            parts.join(" and ")
+        )))
     }
 
     /// The saturation of a smooth model whose output shaping is bounded (tanh, Langevin): the

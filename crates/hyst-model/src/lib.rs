@@ -11,6 +11,10 @@
 //! - [`Evaluator`]: any of them (or its inverse) behind the core's one stepping interface
 //!   [`hyst_core::Operator`]; [`Saturated`]: an inverse whose desired outputs are clamped into a
 //!   saturating model's limits ([`Saturation`]).
+//! - [`Dynamics`] and [`Rate`] (module [`dynamics`]): Lemma 5.1's plant before the hysteresis
+//!   and a viscous rate term, with the one discretisation every surface uses; [`TimedRun`],
+//!   [`TimedCompensator`] and [`Prefilter`] (module [`timed`]) run such a model over a timed
+//!   record.
 //! - [`Structure`]: the structure a model was fitted with; [`FamilyWidths`]: the family that
 //!   reproduces the data and its bound Δa; [`provenance`]: what the file records of the data
 //!   and the fit.
@@ -24,6 +28,7 @@
 
 #![forbid(unsafe_code)]
 
+pub mod dynamics;
 pub mod error;
 pub mod evaluator;
 pub mod export;
@@ -34,7 +39,9 @@ pub mod provenance;
 pub mod saturation;
 pub mod smooth;
 pub mod structure;
+pub mod timed;
 
+pub use dynamics::{Dynamics, Rate, MAX_DYNAMICS};
 pub use error::ModelError;
 pub use evaluator::{Evaluator, EvaluatorMemory};
 pub use family::FamilyWidths;
@@ -43,4 +50,5 @@ pub use pi::{PiModel, PiOperator, PiOutput};
 pub use provenance::{Columns, ErrorStats, Estimate, Metrics, Provenance, Units};
 pub use saturation::{Saturated, Saturation};
 pub use smooth::{Form, InitialState, SmoothModel};
-pub use structure::{K2Kind, ShapingKind, Structure};
+pub use structure::{K2Kind, RateTerm, ShapingKind, Structure};
+pub use timed::{Prefilter, TimedCompensator, TimedRun, TimedSample};

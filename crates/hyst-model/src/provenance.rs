@@ -16,6 +16,9 @@ pub struct Columns {
     /// Weight column name, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub weight: Option<String>,
+    /// Time column name (s), for a model with dynamics or a rate term.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<String>,
 }
 
 /// Units of the data columns (free text, e.g. "V", "um").

@@ -10,6 +10,7 @@ use hyst_core::{
 };
 use serde::{Deserialize, Serialize};
 
+use crate::dynamics::{Dynamics, Rate};
 use crate::error::ModelError;
 
 /// Which way the model's loop runs, and so its equation. The kebab-case name (`operator`,
@@ -87,6 +88,16 @@ pub struct SmoothModel<T = f64> {
     /// form).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub linear: T,
+    /// Lemma 5.1's plant between the command and the hysteresis input, if the model has one:
+    /// the model then runs on timed records ([`crate::timed`]). The model file holds it in its
+    /// own section `[dynamics]` ([`crate::dynamics::DynamicsSection`]), with its standard
+    /// errors.
+    #[serde(skip)]
+    pub dynamics: Option<Dynamics<T>>,
+    /// The viscous rate term c·v̇ added to the output, if the model has one (the model file's
+    /// `[rate]`).
+    #[serde(skip)]
+    pub rate: Option<Rate<T>>,
 }
 
 /// The core model type a [`SmoothModel`] becomes.
@@ -143,12 +154,27 @@ pub type CoreInverseShapedModel =
     InverseShapedModel<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
 
 impl<T: FitReal> SmoothModel<T> {
+    /// Whether the model has dynamics or a rate term: it then runs on timed records only
+    /// ([`crate::timed`]), and the surfaces that run models sample by sample without time
+    /// refuse it.
+    #[must_use]
+    pub fn is_timed(&self) -> bool {
+        self.dynamics.is_some() || self.rate.is_some()
+    }
+
     /// Checks every parameter through the core's constructors.
     ///
     /// # Errors
     /// The core's error for the first invalid value.
     pub fn validate(&self) -> Result<(), Error> {
         self.core(T::zero())?;
+        if let Some(r) = self.rate.filter(|r| !r.c.is_finite()) {
+            return Err(Error::InvalidParameter {
+                name: "rate.c",
+                value: r.c.as_f64(),
+                expected: "a finite rate coefficient",
+            });
+        }
         if self.form == Form::Stop {
             self.stop(T::zero())?;
         } else if self.linear != T::zero() {
@@ -539,6 +565,8 @@ mod tests {
                 initial_state: InitialState::Rising,
                 form,
                 linear: if form == Form::Stop { 0.7 } else { 0.0 },
+                dynamics: None,
+                rate: None,
             };
             let v: Vec<f64> = (0..50).map(|i| (f64::from(i) * 0.37).sin()).collect();
             // Five operator outputs per sample around v.

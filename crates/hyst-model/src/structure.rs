@@ -90,6 +90,27 @@ pub struct Structure {
     /// friction), with the linear term `out.linear`.
     #[serde(default, skip_serializing_if = "Form::is_operator")]
     pub form: Form,
+    /// The order n of the plant before the hysteresis (`--dynamics N`, 1…4; 0: none).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub dynamics: u8,
+    /// The rate term (`--rate-term`), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate: Option<RateTerm>,
+}
+
+// serde's `skip_serializing_if` takes a reference.
+#[allow(clippy::trivially_copy_pass_by_ref)]
+fn is_zero(n: &u8) -> bool {
+    *n == 0
+}
+
+/// The rate term of a model: the command line's `--rate-term` and the structure's `rate`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum RateTerm {
+    /// c·v̇: a force proportional to the hysteresis input's rate (viscous friction, dampers).
+    Viscous,
 }
 
 impl Default for Structure {
@@ -104,6 +125,8 @@ impl Default for Structure {
             output_offset: true,
             initial_state: InitialState::Rising,
             form: Form::Operator,
+            dynamics: 0,
+            rate: None,
         }
     }
 }

@@ -208,6 +208,8 @@ impl Options<'_> {
             output_offset: self.output_offset,
             initial_state: InitialState::Rising,
             form: hyst_model::Form::Operator,
+            dynamics: 0,
+            rate: None,
         };
         Ok(Request {
             kind: choice::<ModelKind>("model_kind", self.model_kind)?,
@@ -242,6 +244,8 @@ impl Options<'_> {
             segment: self.segment,
             validate: self.validate.clone(),
             validate_every: self.validate_every,
+            time: None,
+            timed: false,
         }
     }
 }

@@ -128,10 +128,20 @@ pub struct Args {
     /// Draw plots into this directory (fit-io.png/svg, fit-residuals.png/svg).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
-    /// The time column for the residual plot (default: a column named t, t_s, time or time_s if
-    /// there is one; otherwise residuals are drawn against the data row).
-    #[arg(long, value_name = "COL")]
+    /// The time column, in seconds (default: a column named t, t_s, time or time_s if there is
+    /// one). `--dynamics` and `--rate-term` need it; the residual plot uses it (otherwise
+    /// residuals are drawn against the data row).
+    #[arg(long, value_name = "COLUMN")]
     pub time: Option<String>,
+    /// Identify Lemma 5.1's plant of order N (1 to 4) between the input (the command) and the
+    /// hysteresis: a_N v⁽ᴺ⁾ + … + a_1 v̇ + v = u, jointly with the hysteresis and shapings, from
+    /// the records' time stamps.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=4))]
+    pub dynamics: Option<u8>,
+    /// Add a rate term to the output: `viscous` is c·v̇, a force proportional to the rate of
+    /// the hysteresis input (friction, dampers). The report says whether the data supports it.
+    #[arg(long, value_enum, value_name = "TERM")]
+    pub rate_term: Option<hyst_model::RateTerm>,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -218,6 +228,8 @@ fn data_options(args: &Args) -> DataOptions {
         segment: args.segment,
         validate: args.validate.clone(),
         validate_every: args.validate_every,
+        time: args.time.clone(),
+        timed: args.dynamics.is_some() || args.rate_term.is_some(),
     }
 }
 
@@ -232,6 +244,8 @@ fn request(args: &Args) -> Request {
         output_offset: !args.no_output_offset,
         initial_state: InitialState::Rising,
         form: hyst_model::Form::Operator,
+        dynamics: args.dynamics.unwrap_or(0),
+        rate: args.rate_term,
     };
     let fit_options = FitOptions {
         starts: args.starts,

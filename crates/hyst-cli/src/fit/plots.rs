@@ -42,7 +42,7 @@ pub(super) fn time_column<'t>(
         let column = table.column(name).context("--time")?;
         return Ok(Some((name, column)));
     }
-    for candidate in ["t", "t_s", "time", "time_s"] {
+    for candidate in hyst_fit::data::TIME_COLUMNS {
         if let Ok(column) = table.column(candidate) {
             return Ok(Some((candidate, column)));
         }

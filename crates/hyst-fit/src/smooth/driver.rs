@@ -20,7 +20,17 @@ use crate::smooth::problem::SmoothProblem;
 use crate::smooth::starts::{grid_starts, Starts};
 use crate::smooth::stats::{check_finite, error_stats_of, run_records};
 use crate::smooth::std_errors::estimates;
+use crate::timed::{is_timed, simpler_timed, static_view, TimedFindings};
 use crate::widths::{confirm, family_widths};
+
+/// The time constants τ (in sample periods) tried when a fit adds one order of dynamics: the
+/// plant P(s) of the simpler fit becomes P(s)(τs + 1), which is P(s) itself for τ → 0.
+const TIME_CONSTANTS: [f64; 9] = [0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1e3, 3e3];
+
+/// The time constant (in sample periods) of the start at the limit where a richer timed fit
+/// reproduces the simpler one to rounding: a pole this fast lags the command by a thousandth
+/// of a sample period.
+const LIMIT_TIME_CONSTANT: f64 = 1e-3;
 
 /// The polish of a long record on its full data stops once a Gauss–Newton step would lower χ²
 /// by less than this (see [`fit_smooth`]).
@@ -70,13 +80,16 @@ fn fit_smooth_with(
 ) -> Result<(SmoothFit, f64), FitError> {
     let started = Instant::now();
     check_options(options)?;
+    let timed = is_timed(structure);
+    check_timed(data, structure, options)?;
     let layout = Layout::new(structure, normalisation(data));
     data.check(layout.len(), structure.form == Form::Operator)?;
     let problem = SmoothProblem::new(&layout, data, options.estimate_starts);
 
     // A long record is searched on its reduction (turning points and every k-th sample, exact
     // where kept: `crate::reduction`), then polished here on the full data from that optimum.
-    let reduced = if options.estimate_starts {
+    // Not with dynamics or a rate term, which need every sample.
+    let reduced = if options.estimate_starts || timed {
         None
     } else {
         reduce(data)
@@ -126,8 +139,82 @@ fn fit_smooth_with(
         starts,
         seconds: started.elapsed().as_secs_f64(),
         outputs,
+        timed: None,
     };
+    if timed {
+        let (mut fit, cost) = timed_findings(data, fit, cost, contained, started);
+        // A rate term left out: its nested fit had no widths.
+        if options.widths && fit.widths.is_none() {
+            fit.widths = self::widths(data, &fit.model, None, options, None, observer)?;
+        }
+        return Ok((fit, cost));
+    }
     Ok((fit, cost))
+}
+
+/// Refuses what a fit with dynamics or a rate term cannot do: estimated starts (such a record
+/// starts at rest), records without a sample period.
+fn check_timed(data: &Dataset, structure: Structure, options: &FitOptions) -> Result<(), FitError> {
+    if !is_timed(structure) {
+        return Ok(());
+    }
+    if options.estimate_starts {
+        return Err(FitError::Invalid(
+            "--estimate-initial-states cannot be combined with --dynamics or --rate-term: a \
+             record of a model with dynamics starts at rest at its first sample"
+                .into(),
+        ));
+    }
+    if let Some(r) = data.records.iter().find(|r| r.period.is_none()) {
+        return Err(FitError::Invalid(format!(
+            "{}: record {} has no sample period: a model with dynamics or a rate term needs the \
+             time column (--time)",
+            data.source, r.id
+        )));
+    }
+    Ok(())
+}
+
+/// The timed fit `fit` (cost `cost`) with its findings ([`TimedFindings`]) from the nested fits
+/// in `contained`; a rate term the data does not support is left out: the fit without it
+/// (with these findings) is returned instead.
+fn timed_findings(
+    data: &Dataset,
+    mut fit: SmoothFit,
+    cost: f64,
+    contained: &Contained,
+    started: Instant,
+) -> (SmoothFit, f64) {
+    let structure = fit.layout.structure;
+    let nested = |dynamics: u8| {
+        let s = Structure {
+            dynamics,
+            rate: None,
+            ..structure
+        };
+        if s == structure {
+            return Some((fit.clone(), cost));
+        }
+        contained
+            .iter()
+            .find(|(c, _, _)| *c == s)
+            .map(|(_, f, c)| (f.clone(), *c))
+    };
+    let rms_by_order: Vec<f64> = (0..=structure.dynamics)
+        .map(|k| nested(k).map_or(f64::NAN, |(f, _)| f.training.rms_pct_span))
+        .collect();
+    let with_rate = structure.rate.map(|_| fit.training);
+    let findings = TimedFindings::new(data, rms_by_order, &fit.estimates, with_rate);
+    let unsupported = findings.rate.as_ref().is_some_and(|r| !r.supported);
+    if unsupported {
+        if let Some((mut without, c)) = nested(structure.dynamics) {
+            without.timed = (structure.dynamics > 0 || findings.rate.is_some()).then_some(findings);
+            without.seconds = started.elapsed().as_secs_f64();
+            return (without, c);
+        }
+    }
+    fit.timed = Some(findings);
+    (fit, cost)
 }
 
 /// Refuses options a fit cannot run with: no start, a coverage outside (0, 1].
@@ -255,6 +342,19 @@ fn widths(
     reduced: Option<&Dataset>,
     observer: &mut dyn Observer,
 ) -> Result<Option<FamilyWidths>, FitError> {
+    if options.widths && model.is_timed() {
+        // On the static view: the hysteresis part for the fitted plant and rate term.
+        let (view, hysteresis) = static_view(data, model).ok_or_else(|| {
+            FitError::NoConvergence("the fitted model cannot run the records".into())
+        })?;
+        return Ok(Some(family_widths(
+            &view,
+            &hysteresis,
+            None,
+            options.coverage,
+            observer,
+        )?));
+    }
     Ok(match (options.widths, reduced) {
         (false, _) => None,
         (true, None) => Some(family_widths(
@@ -272,6 +372,96 @@ fn widths(
     })
 }
 
+/// The starts of a timed structure's fit from the fit of the structure `simple` one step down
+/// its nesting ([`simpler_timed`]): its optimum with the new parameter added. A rate term
+/// starts at c = 0 (the simpler fit itself); a new order of dynamics at P(s)(τs + 1) for the
+/// τ of [`TIME_CONSTANTS`] (in sample periods) that cost least (`options.starts` of them). The
+/// limit (the fallback of [`descend`]) is the simpler fit at a τ of [`LIMIT_TIME_CONSTANT`].
+fn timed_candidates(
+    problem: &SmoothProblem<'_>,
+    simple: Structure,
+    options: &FitOptions,
+    observer: &mut dyn Observer,
+    contained_fits: &mut Contained,
+) -> Result<(Starts, Starts), FitError> {
+    let known = contained_fits.iter().position(|(s, _, _)| *s == simple);
+    let at = if let Some(at) = known {
+        at
+    } else {
+        let inner = FitOptions {
+            widths: false,
+            ..*options
+        };
+        let (f, cost) = fit_smooth_with(problem.data, simple, &inner, observer, contained_fits)?;
+        contained_fits.push((simple, f, cost));
+        contained_fits.len() - 1
+    };
+    let Some((_, f, cost)) = contained_fits.get(at) else {
+        return Ok((Vec::new(), Vec::new()));
+    };
+    let layout = problem.layout;
+    let period = problem
+        .data
+        .records
+        .iter()
+        .filter_map(|r| r.period)
+        .fold(f64::INFINITY, f64::min);
+    // The simpler plant's a_0 = 1, a_1, …, a_{n−1}.
+    let old: Vec<f64> = std::iter::once(1.0)
+        .chain(
+            (1..=simple.dynamics)
+                .map(|i| layout_value(f, &crate::layout::dynamics_name(usize::from(i)))),
+        )
+        .collect();
+    let point = |tau: f64| -> Vec<f64> {
+        layout
+            .params
+            .iter()
+            .map(|spec| {
+                let value = match spec.name.strip_prefix("dynamics.a") {
+                    Some(i) if layout.structure.dynamics > simple.dynamics => {
+                        // (τs + 1) P(s): a'_i = a_i + τ a_{i−1}.
+                        let i: usize = i.parse().unwrap_or(1);
+                        old.get(i).copied().unwrap_or(0.0)
+                            + tau * old.get(i - 1).copied().unwrap_or(0.0)
+                    }
+                    _ => f
+                        .estimates
+                        .iter()
+                        .find(|e| e.name == spec.name)
+                        .map_or(0.0, |e| e.value),
+                };
+                spec.transform.theta(value)
+            })
+            .collect()
+    };
+    let limit = vec![(*cost, point(LIMIT_TIME_CONSTANT * period))];
+    if layout.structure.dynamics == simple.dynamics {
+        return Ok((vec![(f64::NAN, point(0.0))], limit));
+    }
+    let mut r = vec![0.0; problem.n];
+    let mut candidates: Starts = TIME_CONSTANTS
+        .iter()
+        .filter_map(|k| {
+            let theta = point(k * period);
+            crate::lm::Problem::residuals(problem, &theta, &mut r).ok()?;
+            let c: f64 = r.iter().map(|x| x * x).sum();
+            c.is_finite().then_some((c, theta))
+        })
+        .collect();
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    candidates.truncate(options.starts.max(1));
+    Ok((candidates, limit))
+}
+
+/// The value of the parameter `name` in the fit `f` (0 when it has none).
+fn layout_value(f: &SmoothFit, name: &str) -> f64 {
+    f.estimates
+        .iter()
+        .find(|e| e.name == name)
+        .map_or(0.0, |e| e.value)
+}
+
 /// The starts of the least-squares method: first the optimum of the simpler structure
 /// `structure` contains ([`simpler`](crate::smooth::simpler)), then the best points of a grid
 /// over (k1, k2), each with the least-squares output gain and offset (`options.starts` in all;
@@ -285,6 +475,9 @@ fn start_candidates(
     observer: &mut dyn Observer,
     contained_fits: &mut Contained,
 ) -> Result<(Starts, Starts), FitError> {
+    if let Some(simple) = simpler_timed(structure) {
+        return timed_candidates(problem, simple, options, observer, contained_fits);
+    }
     let mut candidates = grid_starts(problem);
     // The optima of the simpler structures this one contains: the first (along the chain of
     // [`simpler`]) is the first start, the others follow the grid's. The fit then never ends

@@ -5,6 +5,7 @@ use hyst_model::{ErrorStats, Estimate, FamilyWidths, SmoothModel};
 
 use crate::layout::Layout;
 use crate::lm::{LevenbergMarquardt, Termination};
+use crate::timed::TimedFindings;
 
 /// Options of the fit.
 #[derive(Clone, Copy, Debug)]
@@ -69,4 +70,7 @@ pub struct SmoothFit {
     /// record, in output units), as the fit ran it (segments running on, estimated starts):
     /// the run the error statistics came from, kept for the degeneracy check and the plots.
     pub outputs: Vec<Vec<f64>>,
+    /// What the fit found of its plant and rate term (a structure with dynamics or a rate
+    /// term; [`crate::timed`]).
+    pub timed: Option<TimedFindings>,
 }

@@ -137,10 +137,13 @@ impl<'a> SmoothProblem<'a> {
         for (index, (h, offsets)) in self.histories.iter().enumerate() {
             hy.resize(h.input.len(), 0.0);
             hz.resize(h.input.len(), 0.0);
-            let zs = z.is_some().then_some(&mut hz[..]);
             let band = bands.and_then(|b| b.get(index).copied());
-            m.simulate_from(&h.input, band, zs, &mut hy)
-                .map_err(|_| Infeasible)?;
+            m.run_timed(&h.input, h.period, band, |i, s| {
+                if let (Some(y), Some(z)) = (hy.get_mut(i), hz.get_mut(i)) {
+                    (*y, *z) = (s.y, s.z);
+                }
+            })
+            .map_err(|_| Infeasible)?;
             for ((_, start, len), at) in h.parts.iter().zip(offsets) {
                 let Some(at) = *at else { continue };
                 y[at..at + len].copy_from_slice(&hy[*start..start + len]);
@@ -250,7 +253,8 @@ impl SmoothProblem<'_> {
         for (index, (h, offsets)) in self.histories.iter().enumerate() {
             let mut parts = h.parts.iter().zip(offsets).peekable();
             let band = bands.as_ref().and_then(|b| b.get(index).copied());
-            m.run_with(&h.input, band, |i, _, y| {
+            m.run_timed(&h.input, h.period, band, |i, s| {
+                let y = s.y;
                 while parts
                     .peek()
                     .is_some_and(|((_, start, len), _)| i >= start + len)
@@ -379,6 +383,7 @@ mod tests {
                 input,
                 validation,
                 continues,
+                period: None,
             }
         };
         let records = vec![

@@ -8,17 +8,26 @@ use crate::error::FitError;
 
 /// The output of `model` on every record of `data` (record order), each history run from its
 /// estimated start `starts` (per history,
-/// [`SmoothFit::starts`](crate::smooth::SmoothFit::starts)) or the start rule.
+/// [`SmoothFit::starts`](crate::smooth::SmoothFit::starts)) or the start rule; a model with
+/// dynamics or a rate term at each history's sample period.
 #[must_use]
 pub fn run_records(
     data: &Dataset,
     model: &SmoothModel,
     starts: Option<&[f64]>,
 ) -> Option<Vec<Vec<f64>>> {
+    let periods: Vec<Option<f64>> = if model.is_timed() {
+        data.histories().iter().map(|h| h.period).collect()
+    } else {
+        Vec::new()
+    };
     data.run_histories_with(|index, input| {
-        let mut y = vec![0.0; input.len()];
+        let mut y = Vec::with_capacity(input.len());
         let band = starts.and_then(|s| s.get(index).copied());
-        model.simulate_from(input, band, None, &mut y).ok()?;
+        let period = periods.get(index).copied().flatten();
+        model
+            .run_timed(input, period, band, |_, s| y.push(s.y))
+            .ok()?;
         Some(y)
     })
 }

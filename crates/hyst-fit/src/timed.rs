@@ -1,0 +1,409 @@
+//! Fitting a model with dynamics or a rate term (`--dynamics N`, `--rate-term viscous`): the
+//! nesting that starts its fit, the static view its hysteresis part is checked on, and what the
+//! report says of the plant and the rate term.
+//!
+//! - Nesting: a structure with a rate term contains the one without; one with dynamics of
+//!   order n contains order n − 1, down to the static structure ([`simpler_timed`]). Each is
+//!   fitted first (the static one with the whole static machinery), and its optimum starts the
+//!   richer fit: a plant whose time constants are far below the sample period is the static
+//!   model (the discretisation's limit), so a richer fit never ends worse.
+//! - Static view ([`static_view`]): each record's input replaced by the hysteresis input v the
+//!   fitted plant gives, its output by the output minus the rate term. The model's hysteresis
+//!   part reproduces that view exactly as the whole model reproduces the data, so the family
+//!   widths, the bound Δa and the check that the fit found hysteresis run on it unchanged.
+//!   They cover the hysteresis part for the fitted plant and rate term, not the errors of
+//!   a_i or c.
+//! - Findings ([`TimedFindings`]): whether the records identify each a_i (its standard error,
+//!   and whether order i fits better than order i − 1) and whether they support the rate term
+//!   (c positive beyond three standard errors, and a lower error than without it). A rate term
+//!   the data does not support is left out of the model.
+
+use hyst_core::Shaping;
+use hyst_io::number::sig;
+use hyst_model::dynamics::{DynamicsSection, RateSection};
+use hyst_model::{ErrorStats, Estimate, SmoothModel, Structure};
+use serde::{Deserialize, Serialize};
+
+use crate::data::Dataset;
+use crate::layout::{dynamics_name, RATE_C};
+
+/// Order i of the plant counts as identified when its fit's training RMS error is at least this
+/// fraction below that of order i − 1 (and a_i's standard error is below
+/// [`MAX_RELATIVE_ERROR`] of it).
+pub const MIN_IMPROVEMENT: f64 = 0.02;
+
+/// The largest standard error of an identified a_i or of a supported c, relative to its value.
+pub const MAX_RELATIVE_ERROR: f64 = 1.0 / 3.0;
+
+/// Whether a structure has dynamics or a rate term.
+#[must_use]
+pub fn is_timed(structure: Structure) -> bool {
+    structure.dynamics > 0 || structure.rate.is_some()
+}
+
+/// The structure one step down the timed nesting: without the rate term, else with one order
+/// of dynamics less; `None` for a static structure.
+#[must_use]
+pub fn simpler_timed(structure: Structure) -> Option<Structure> {
+    if structure.rate.is_some() {
+        Some(Structure {
+            rate: None,
+            ..structure
+        })
+    } else if structure.dynamics > 0 {
+        Some(Structure {
+            dynamics: structure.dynamics - 1,
+            ..structure
+        })
+    } else {
+        None
+    }
+}
+
+/// The static view of a timed `model` on `data` (see the module docs), with the model's
+/// hysteresis part (the model without plant and rate term). `None` when the model cannot run
+/// a record.
+#[must_use]
+pub fn static_view(data: &Dataset, model: &SmoothModel) -> Option<(Dataset, SmoothModel)> {
+    let mut view = data.clone();
+    for h in data.histories() {
+        let mut v = Vec::with_capacity(h.input.len());
+        let mut rate = Vec::with_capacity(h.input.len());
+        model
+            .run_timed(&h.input, h.period, None, |_, s| {
+                v.push(s.v);
+                rate.push(s.y - model.output(model.input_shaping.apply(s.v), s.z));
+            })
+            .ok()?;
+        for (i, start, len) in h.parts {
+            let r = view.records.get_mut(i)?;
+            r.input = v.get(start..start + len)?.to_vec();
+            for (o, c) in r.output.iter_mut().zip(rate.get(start..start + len)?) {
+                *o -= c;
+            }
+        }
+    }
+    let hysteresis = SmoothModel {
+        dynamics: None,
+        rate: None,
+        ..*model
+    };
+    Some((view, hysteresis))
+}
+
+/// One coefficient a_i of the fitted plant, as the report states it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Coefficient {
+    /// "dynamics.a1", …
+    pub name: String,
+    /// Its value (s^i).
+    pub value: f64,
+    /// Its standard error.
+    pub std_error: f64,
+    /// Whether the records identify it.
+    pub identified: bool,
+    /// Why not, when they do not.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub reason: String,
+}
+
+/// What the fit found of the plant and the rate term (the report's `timed`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+pub struct TimedFindings {
+    /// The training RMS error (% of span) of each order fitted, 0 (static) … n.
+    pub rms_by_order: Vec<f64>,
+    /// The plant's coefficients (empty without dynamics).
+    pub coefficients: Vec<Coefficient>,
+    /// The rate term, when one was asked for.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate: Option<RateFinding>,
+    /// The sample periods of the records (s): the smallest and the largest.
+    pub periods: (f64, f64),
+}
+
+/// Whether the data supports the rate term asked for.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RateFinding {
+    /// c as fitted (output units · s / input unit).
+    pub c: f64,
+    /// Its standard error.
+    pub std_error: f64,
+    /// The training RMS error (% of span) without and with the term.
+    pub rms_without: f64,
+    /// With it.
+    pub rms_with: f64,
+    /// Whether the data supports it; when not, the model leaves it out.
+    pub supported: bool,
+    /// Why (in words).
+    pub reason: String,
+}
+
+impl TimedFindings {
+    /// The findings of a timed fit: `rms_by_order` its nested fits' training errors (order 0
+    /// … n, without the rate term), `estimates` the full fit's parameters, `with_rate` its
+    /// training error with the rate term (when one was asked for).
+    #[must_use]
+    pub fn new(
+        data: &Dataset,
+        rms_by_order: Vec<f64>,
+        estimates: &[Estimate],
+        with_rate: Option<ErrorStats>,
+    ) -> Self {
+        let n = rms_by_order.len().saturating_sub(1);
+        let coefficients = (1..=n)
+            .map(|i| {
+                let name = dynamics_name(i);
+                let e = estimates.iter().find(|e| e.name == name);
+                let (value, std_error) = e.map_or((f64::NAN, f64::NAN), |e| (e.value, e.std_error));
+                let (before, after) = (rms_by_order[i - 1], rms_by_order[i]);
+                let better = after <= (1.0 - MIN_IMPROVEMENT) * before;
+                let precise = std_error.is_finite() && std_error <= MAX_RELATIVE_ERROR * value;
+                let reason = if !better {
+                    format!(
+                        "order {i} fits no better than order {} (training RMS {} % against {} % \
+                         of span): the records do not excite the plant where a_{i} acts; record at \
+                         rates nearer 1/τ",
+                        i - 1,
+                        sig(after, 3),
+                        sig(before, 3)
+                    )
+                } else if !precise {
+                    format!(
+                        "its standard error is {} of its value: the records do not pin it down",
+                        if std_error.is_finite() {
+                            format!("{} %", sig(100.0 * std_error / value, 2))
+                        } else {
+                            "not finite".into()
+                        }
+                    )
+                } else {
+                    String::new()
+                };
+                Coefficient {
+                    name,
+                    value,
+                    std_error,
+                    identified: reason.is_empty(),
+                    reason,
+                }
+            })
+            .collect();
+        let rate = with_rate.map(|with| {
+            let e = estimates.iter().find(|e| e.name == RATE_C);
+            let (c, std_error) = e.map_or((f64::NAN, f64::NAN), |e| (e.value, e.std_error));
+            let without = rms_by_order.last().copied().unwrap_or(f64::NAN);
+            let better = with.rms_pct_span <= (1.0 - MIN_IMPROVEMENT) * without;
+            let significant =
+                c > 0.0 && std_error.is_finite() && std_error <= MAX_RELATIVE_ERROR * c;
+            let reason = if c <= 0.0 {
+                format!(
+                    "c = {} is not positive: the output does not grow with the input's rate",
+                    sig(c, 3)
+                )
+            } else if !significant {
+                format!(
+                    "c = {} ± {}: not distinguishable from 0",
+                    sig(c, 3),
+                    sig(std_error, 2)
+                )
+            } else if !better {
+                format!(
+                    "it lowers the training RMS error from {} % to {} % of span only (less than \
+                     {} % of it)",
+                    sig(without, 3),
+                    sig(with.rms_pct_span, 3),
+                    sig(100.0 * MIN_IMPROVEMENT, 2)
+                )
+            } else {
+                format!(
+                    "c = {} ± {} lowers the training RMS error from {} % to {} % of span",
+                    sig(c, 3),
+                    sig(std_error, 2),
+                    sig(without, 3),
+                    sig(with.rms_pct_span, 3)
+                )
+            };
+            RateFinding {
+                c,
+                std_error,
+                rms_without: without,
+                rms_with: with.rms_pct_span,
+                supported: better && significant,
+                reason,
+            }
+        });
+        let periods = data
+            .records
+            .iter()
+            .filter_map(|r| r.period)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
+                (lo.min(h), hi.max(h))
+            });
+        Self {
+            rms_by_order,
+            coefficients,
+            rate,
+            periods,
+        }
+    }
+
+    /// The model file's `[dynamics]` section of `model`, with the standard errors and whether
+    /// each a_i is identified.
+    #[must_use]
+    pub fn dynamics_section(&self, model: &SmoothModel) -> Option<DynamicsSection> {
+        let d = model.dynamics?;
+        Some(DynamicsSection {
+            b: d.b,
+            a: d.a().to_vec(),
+            a_std_error: self.coefficients.iter().map(|c| c.std_error).collect(),
+            identified: self.coefficients.iter().map(|c| c.identified).collect(),
+        })
+    }
+
+    /// The model file's `[rate]` section of `model`.
+    #[must_use]
+    pub fn rate_section(&self, model: &SmoothModel) -> Option<RateSection> {
+        let r = model.rate?;
+        Some(RateSection {
+            c: r.c,
+            c_std_error: self.rate.as_ref().map_or(f64::NAN, |f| f.std_error),
+        })
+    }
+
+    /// The report's lines on the plant and the rate term, and on what the family widths cover.
+    #[must_use]
+    pub fn notes(&self) -> Vec<String> {
+        let mut notes = Vec::new();
+        if !self.coefficients.is_empty() {
+            let orders: Vec<String> = self
+                .rms_by_order
+                .iter()
+                .enumerate()
+                .map(|(i, r)| format!("order {i}: {} %", sig(*r, 3)))
+                .collect();
+            notes.push(format!(
+                "plant before the hysteresis, a_n v⁽ⁿ⁾ + … + a_1 v̇ + v = u (b = 1: ψ_in's gain \
+                 holds the plant gain), exact for a command linear between samples at periods \
+                 {} to {} s; training RMS error by order ({})",
+                sig(self.periods.0, 3),
+                sig(self.periods.1, 3),
+                orders.join(", ")
+            ));
+            for c in &self.coefficients {
+                notes.push(if c.identified {
+                    let power = &c.name["dynamics.a".len()..];
+                    format!(
+                        "{} = {} ± {} s{}",
+                        c.name,
+                        sig(c.value, 4),
+                        sig(c.std_error, 2),
+                        if power == "1" {
+                            String::new()
+                        } else {
+                            format!("^{power}")
+                        }
+                    )
+                } else {
+                    format!("{} not identified: {}", c.name, c.reason)
+                });
+            }
+            notes.push(
+                "the family widths and the bound Δa cover the hysteresis part for the fitted \
+                 plant (and rate term): they do not cover errors in a_i or c"
+                    .into(),
+            );
+        }
+        if let Some(r) = &self.rate {
+            notes.push(if r.supported {
+                format!("rate term supported: {}", r.reason)
+            } else {
+                format!(
+                    "rate term not supported by the data, left out of the model: {}",
+                    r.reason
+                )
+            });
+        }
+        notes
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
+    use super::*;
+    use hyst_model::RateTerm;
+
+    #[test]
+    fn nesting_removes_the_rate_term_then_one_order_at_a_time() {
+        let s = Structure {
+            dynamics: 2,
+            rate: Some(RateTerm::Viscous),
+            ..Structure::default()
+        };
+        let a = simpler_timed(s).unwrap();
+        assert_eq!((a.dynamics, a.rate), (2, None));
+        let b = simpler_timed(a).unwrap();
+        assert_eq!(b.dynamics, 1);
+        let c = simpler_timed(b).unwrap();
+        assert!(!is_timed(c));
+        assert!(simpler_timed(c).is_none());
+    }
+
+    fn estimate(name: &str, value: f64, std_error: f64) -> Estimate {
+        Estimate {
+            name: name.into(),
+            value,
+            std_error,
+            unit: String::new(),
+        }
+    }
+
+    #[test]
+    fn a_coefficient_is_identified_only_when_it_helps_and_is_precise() {
+        let data = Dataset::single(&[0.0, 1.0], &[0.0, 1.0]);
+        let estimates = [
+            estimate("dynamics.a1", 0.1, 0.001),
+            estimate("dynamics.a2", 1e-6, 1e-5),
+        ];
+        let f = TimedFindings::new(&data, vec![5.0, 1.0, 0.999], &estimates, None);
+        assert!(f.coefficients[0].identified);
+        assert!(!f.coefficients[1].identified);
+        assert!(f.coefficients[1].reason.contains("no better"), "{:?}", f);
+        let f = TimedFindings::new(&data, vec![5.0, 1.0, 0.5], &estimates, None);
+        assert!(
+            f.coefficients[1].reason.contains("standard error"),
+            "{:?}",
+            f
+        );
+    }
+
+    #[test]
+    fn a_rate_term_that_does_not_help_is_not_supported() {
+        let data = Dataset::single(&[0.0, 1.0], &[0.0, 1.0]);
+        let with = |rms| ErrorStats {
+            rms_pct_span: rms,
+            ..ErrorStats::default()
+        };
+        let f = TimedFindings::new(
+            &data,
+            vec![5.0],
+            &[estimate(RATE_C, 0.2, 0.01)],
+            Some(with(4.99)),
+        );
+        assert!(!f.rate.as_ref().unwrap().supported);
+        let f = TimedFindings::new(
+            &data,
+            vec![5.0],
+            &[estimate(RATE_C, 0.2, 0.01)],
+            Some(with(3.0)),
+        );
+        assert!(f.rate.as_ref().unwrap().supported);
+        let f = TimedFindings::new(
+            &data,
+            vec![5.0],
+            &[estimate(RATE_C, -0.2, 0.01)],
+            Some(with(3.0)),
+        );
+        assert!(!f.rate.as_ref().unwrap().supported);
+    }
+}

@@ -1,0 +1,414 @@
+//! A smooth model with dynamics or a rate term ([`SmoothModel::is_timed`]) run over a timed
+//! record, sample by sample: [`TimedRun`] (the model's output) and [`TimedCompensator`]
+//! (Lemma 5.1's compensator of its plant). Both use the one discretisation of
+//! [`crate::dynamics`]; a static model runs through them exactly as through
+//! [`SmoothModel::run_with`].
+
+use hyst_core::compensator::{Compensator, MAX_ORDER};
+use hyst_core::{AnyK2Law, Error, Hysteresis, Jet, Operator, ScaledShaping, Shaping};
+
+use crate::dynamics::{Discrete, PlantState};
+use crate::error::ModelError;
+use crate::smooth::{FitReal, Form, SmoothModel};
+
+/// One sample of a [`TimedRun`]: the hysteresis input v (input units, after the plant), the
+/// operator output z = H\[ψ_in(v)\] and the model output y.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TimedSample<T> {
+    /// The hysteresis input v (the plant's output; the command itself without dynamics).
+    pub v: T,
+    /// The operator output H\[ψ_in(v)\].
+    pub z: T,
+    /// The model output ψ_out(z) (or the stop form's), plus c·v̇ with a rate term.
+    pub y: T,
+}
+
+/// A smooth model running over one timed record of sample period h: the plant (if any) turns
+/// each command into v, the hysteresis and shapings give the static output, and the rate term
+/// (if any) adds c·v̇ with v̇ the backward difference.
+#[derive(Clone, Debug)]
+pub struct TimedRun<T = f64> {
+    model: SmoothModel<T>,
+    operator: Hysteresis<T, AnyK2Law<T>>,
+    plant: Option<(Discrete<T>, PlantState<T>)>,
+    previous: Option<T>,
+    inverse_period: T,
+}
+
+impl<T: FitReal> TimedRun<T> {
+    /// The run of `model` over a record of sample period `period` (s) whose first command is
+    /// `first`: the plant at rest there, the operator started by the model's start rule at
+    /// v = b·first.
+    ///
+    /// # Errors
+    /// A period that is not finite and positive, parameters the core refuses, a first sample
+    /// whose start is not finite.
+    pub fn new(model: &SmoothModel<T>, period: f64, first: T) -> Result<Self, Error> {
+        if !(period.is_finite() && period > 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "period",
+                value: period,
+                expected: "a finite, positive sample period (s)",
+            });
+        }
+        let plant = match model.dynamics {
+            Some(d) => {
+                let discrete = d.discretise(period)?;
+                let state = discrete.at_rest(first);
+                Some((discrete, state))
+            }
+            None => None,
+        };
+        let v0 = model.dynamics.map_or(first, |d| d.b * first);
+        let operator = model.initial_state.start(
+            Hysteresis::with_k2_law(model.k1, model.k2)?,
+            model.input_shaping.apply(v0),
+        )?;
+        Ok(Self {
+            model: *model,
+            operator,
+            plant,
+            previous: None,
+            inverse_period: T::from_f64(1.0 / period),
+        })
+    }
+
+    /// The next sample, for the command `u`.
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteOutput`] (naming the command) when the output is not finite, or the
+    /// core's error for the step; the run is then unchanged.
+    pub fn step(&mut self, u: T) -> Result<TimedSample<T>, Error> {
+        let mut plant = self.plant;
+        let v = match (&mut plant, self.previous) {
+            (Some((d, s)), Some(_)) => d.step(s, u),
+            (Some((_, s)), None) => s.x[0],
+            (None, _) => u,
+        };
+        let w = self.model.input_shaping.apply(v);
+        let before = self.operator.memory();
+        let z = self.operator.try_step(w)?;
+        let mut y = self.model.output(w, z);
+        if let Some(r) = self.model.rate {
+            let rate = self
+                .previous
+                .map_or_else(T::zero, |p| (v - p) * self.inverse_period);
+            y = y + r.c * rate;
+        }
+        if !y.is_finite() {
+            let _ = self.operator.set_memory(before);
+            return Err(Error::NonFiniteOutput {
+                input: u.as_f64(),
+                output: y.as_f64(),
+            });
+        }
+        self.plant = plant;
+        self.previous = Some(v);
+        Ok(TimedSample { v, z, y })
+    }
+}
+
+impl<T: FitReal> SmoothModel<T> {
+    /// Runs the model over one record of sample period `period` (s; `None` for a record
+    /// without time, which only a static model runs) and hands each sample's index and
+    /// [`TimedSample`] to `each`. A static model runs exactly as [`SmoothModel::run_with`]
+    /// (the estimated start `band` applies to it only).
+    ///
+    /// # Errors
+    /// A model with dynamics or a rate term without a period, or with a `band`; otherwise as
+    /// [`SmoothModel::simulate`].
+    pub fn run_timed(
+        &self,
+        input: &[f64],
+        period: Option<f64>,
+        band: Option<f64>,
+        mut each: impl FnMut(usize, TimedSample<T>),
+    ) -> Result<(), Error> {
+        if !self.is_timed() {
+            return self.run_with(input, band, |i, z, y| {
+                let v = T::from_f64(input.get(i).copied().unwrap_or(f64::NAN));
+                each(i, TimedSample { v, z, y });
+            });
+        }
+        let Some(period) = period.filter(|_| band.is_none()) else {
+            return Err(Error::InvalidParameter {
+                name: "period",
+                value: f64::NAN,
+                expected: "a timed record without an estimated start (the model has dynamics \
+                           or a rate term)",
+            });
+        };
+        let Some(first) = input.first() else {
+            return Ok(());
+        };
+        let mut run = TimedRun::new(self, period, T::from_f64(*first))?;
+        for (i, x) in input.iter().enumerate() {
+            each(i, run.step(T::from_f64(*x))?);
+        }
+        Ok(())
+    }
+}
+
+/// The core compensator type of a fitted model with dynamics (jets of [`MAX_ORDER`]).
+pub type CoreCompensator =
+    Compensator<f64, MAX_ORDER, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
+
+/// Lemma 5.1's compensator of a model with dynamics: for the desired output y_d and its first
+/// n time derivatives, the command u = (1/b) Σ a_i dⁱ/dtⁱ x, x = ψ_in⁻¹(H⁻¹\[ψ_out⁻¹(y_d)\])
+/// (a_0 = 1), with the derivatives of x by Taylor arithmetic through the inverse.
+#[derive(Clone, Debug)]
+pub struct TimedCompensator {
+    compensator: CoreCompensator,
+    order: usize,
+}
+
+impl TimedCompensator {
+    /// The compensator of `model` for a record whose first desired output is `first`, started
+    /// from the state the model's start rule implies for it.
+    ///
+    /// # Errors
+    /// [`ModelError::Invalid`] for a model without dynamics, with a rate term or of the stop
+    /// form (with the reason), and the core's errors for the first desired output.
+    pub fn new(model: &SmoothModel, first: f64) -> Result<Self, ModelError> {
+        Self::check(model)?;
+        let Some(dynamics) = model.dynamics else {
+            return Err(ModelError::Invalid("the model has no dynamics".into()));
+        };
+        let inverse = model.inverse_from_desired(first)?;
+        let compensator = Compensator::with_order(inverse, dynamics.b, dynamics.a())?;
+        Ok(Self {
+            compensator,
+            order: dynamics.order(),
+        })
+    }
+
+    /// Whether `model` has a compensator: a model with dynamics, of the operator form, without
+    /// a rate term.
+    ///
+    /// # Errors
+    /// [`ModelError::Invalid`] saying why not.
+    pub fn check(model: &SmoothModel) -> Result<(), ModelError> {
+        if model.dynamics.is_none() {
+            return Err(ModelError::Invalid(
+                "the model has no dynamics: its compensator is the exact inverse \
+                 (`hyst run --model M --inverse` without time)"
+                    .into(),
+            ));
+        }
+        if model.form == Form::Stop {
+            return Err(ModelError::Invalid(
+                "a stop-form (friction) model has no inverse: it predicts the force from the \
+                 position. Compensate friction by feed-forward of the predicted force: run the \
+                 model without --inverse on the desired motion (the rate term's force included)"
+                    .into(),
+            ));
+        }
+        if model.rate.is_some() {
+            return Err(ModelError::Invalid(
+                "an operator-form model with a rate term has no inverse hyst can compute: its \
+                 output depends on the rate of the command that the inverse would have to \
+                 compute. Fit without --rate-term to compensate it"
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The plant order n: the number of derivatives of the desired output a step takes.
+    #[must_use]
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// The command for the desired output `desired[0]` and its time derivatives
+    /// `desired[1..=n]` (missing ones are 0), and the hysteresis input x the plant must
+    /// follow.
+    ///
+    /// # Errors
+    /// The core's error for a desired output the model cannot produce, or a non-finite command
+    /// (the compensator is then unchanged).
+    pub fn step(&mut self, desired: &[f64]) -> Result<(f64, f64), ModelError> {
+        let value = desired.first().copied().unwrap_or(f64::NAN);
+        let d: [f64; MAX_ORDER] =
+            core::array::from_fn(|k| desired.get(k + 1).copied().unwrap_or(0.0));
+        let u = self.compensator.track(Jet::from_derivatives(value, d))?;
+        Ok((u, self.compensator.last_target().value()))
+    }
+}
+
+/// A reference prefilter of order n and bandwidth f (Hz): n equal real poles at ω = 2πf,
+/// y_r / r = 1 / (s/ω + 1)ⁿ, run by the discretisation of [`crate::dynamics`] (the
+/// reference linear between samples). It gives y_r and its first n derivatives, so that a
+/// compensator of a plant of order n tracks y_r exactly.
+#[derive(Clone, Debug)]
+pub struct Prefilter {
+    discrete: Discrete<f64>,
+    state: PlantState<f64>,
+    started: bool,
+    omega: f64,
+    order: usize,
+}
+
+impl Prefilter {
+    /// The prefilter of order `order` (1…4) and bandwidth `hz`, for a record of sample period
+    /// `period` (s) starting at rest at `first`.
+    ///
+    /// # Errors
+    /// A bandwidth that is not finite and positive, or the discretisation's errors.
+    pub fn new(order: usize, hz: f64, period: f64, first: f64) -> Result<Self, ModelError> {
+        if !(hz.is_finite() && hz > 0.0) {
+            return Err(ModelError::Invalid(format!(
+                "--prefilter-hz {hz}: the bandwidth must be a finite, positive frequency (Hz)"
+            )));
+        }
+        let omega = 2.0 * core::f64::consts::PI * hz;
+        // (s/ω + 1)ⁿ = Σ C(n, i) sⁱ / ωⁱ.
+        let a: Vec<f64> = (1..=order)
+            .map(|i| binomial(order, i) / omega.powi(i as i32))
+            .collect();
+        let discrete = crate::dynamics::Dynamics::new(1.0, &a)?.discretise(period)?;
+        let state = discrete.at_rest(first);
+        Ok(Self {
+            discrete,
+            state,
+            started: false,
+            omega,
+            order,
+        })
+    }
+
+    /// The prefiltered reference and its first n derivatives, for the next reference sample.
+    pub fn step(&mut self, reference: f64) -> [f64; MAX_ORDER + 1] {
+        if self.started {
+            self.discrete.step(&mut self.state, reference);
+        }
+        self.started = true;
+        let n = self.order;
+        let mut out = [0.0; MAX_ORDER + 1];
+        out[..n].copy_from_slice(&self.state.x[..n]);
+        // The n-th derivative from the filter's equation at this sample:
+        // y⁽ⁿ⁾ = ωⁿ (r − Σ_{i<n} C(n, i) y⁽ⁱ⁾ / ωⁱ).
+        let mut acc = reference;
+        for i in 0..n {
+            acc -= binomial(n, i) * out[i] / self.omega.powi(i as i32);
+        }
+        out[n] = acc * self.omega.powi(n as i32);
+        out
+    }
+}
+
+fn binomial(n: usize, k: usize) -> f64 {
+    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
+    use super::*;
+    use crate::dynamics::{Dynamics, Rate};
+    use hyst_core::{AnyShaping, Tanh};
+
+    fn model() -> SmoothModel {
+        SmoothModel {
+            k1: 0.06,
+            k2: AnyK2Law::Constant { value: 5.0 },
+            input_shaping: ScaledShaping::identity(),
+            output_shaping: ScaledShaping::new(
+                1.0,
+                0.0,
+                AnyShaping::Tanh(Tanh::new(1.0, 1.0).unwrap()),
+                1.0,
+                0.0,
+            )
+            .unwrap(),
+            initial_state: crate::InitialState::Line,
+            form: Form::Operator,
+            linear: 0.0,
+            dynamics: None,
+            rate: None,
+        }
+    }
+
+    /// A static model runs through `run_timed` bit for bit as through `run_with`.
+    #[test]
+    fn static_model_runs_as_before() {
+        let m = model();
+        let input: Vec<f64> = (0..200).map(|k| (0.05 * f64::from(k)).sin()).collect();
+        let mut a = Vec::new();
+        m.run_with(&input, None, |_, _, y| a.push(y)).unwrap();
+        let mut b = Vec::new();
+        m.run_timed(&input, None, None, |_, s| b.push(s.y)).unwrap();
+        assert_eq!(a, b);
+    }
+
+    /// The compensator of a first-order plant, driven by a smooth reference with its exact
+    /// derivative, gives a command that the forward model (plant and hysteresis) turns back
+    /// into the reference, to the discretisation's accuracy.
+    #[test]
+    fn compensator_inverts_the_timed_model() {
+        let mut m = model();
+        m.dynamics = Some(Dynamics::new(1.0, &[0.1]).unwrap());
+        let h = 1e-4;
+        // From rest (ṙ(0) = 0), so that the plant at rest at the first command starts where
+        // the compensator wants it.
+        let r = |t: f64| 0.8 * t.sin().powi(2) - 0.4;
+        let rd = |t: f64| 0.8 * (2.0 * t).sin();
+        let mut c = TimedCompensator::new(&m, r(0.0)).unwrap();
+        let command: Vec<f64> = (0..20_000)
+            .map(|k| {
+                let t = f64::from(k) * h;
+                c.step(&[r(t), rd(t)]).unwrap().0
+            })
+            .collect();
+        let mut worst: f64 = 0.0;
+        m.run_timed(&command, Some(h), None, |i, s| {
+            worst = worst.max((s.y - r(i as f64 * h)).abs());
+        })
+        .unwrap();
+        assert!(worst < 1e-3, "{worst}");
+    }
+
+    #[test]
+    fn compensator_refuses_what_it_cannot_invert() {
+        let mut m = model();
+        assert!(TimedCompensator::new(&m, 0.0).is_err());
+        m.dynamics = Some(Dynamics::new(1.0, &[0.1]).unwrap());
+        m.rate = Some(Rate { c: 0.1 });
+        let e = TimedCompensator::new(&m, 0.0).unwrap_err().to_string();
+        assert!(e.contains("rate term"), "{e}");
+    }
+
+    /// The rate term adds c times the backward difference of v, 0 at the first sample.
+    #[test]
+    fn rate_term_is_the_backward_difference() {
+        let mut m = model();
+        let input = [0.0, 0.1, 0.3, 0.2];
+        let mut plain = Vec::new();
+        m.run_with(&input, None, |_, _, y| plain.push(y)).unwrap();
+        m.rate = Some(Rate { c: 2.0 });
+        let mut with = Vec::new();
+        m.run_timed(&input, Some(0.5), None, |_, s| with.push(s.y))
+            .unwrap();
+        let expected = [0.0, 0.4, 0.8, -0.4];
+        for k in 0..4 {
+            assert!((with[k] - plain[k] - expected[k]).abs() < 1e-15, "{k}");
+        }
+        assert!(m.run_timed(&input, None, None, |_, _| {}).is_err());
+    }
+
+    /// The prefilter's derivatives are those of its output: integrating them gives it back.
+    #[test]
+    fn prefilter_derivatives_are_consistent() {
+        let h = 1e-4;
+        let mut p = Prefilter::new(2, 5.0, h, 0.0).unwrap();
+        let mut last = p.step(0.0);
+        for k in 1..5000 {
+            let now = p.step(if k > 100 { 1.0 } else { 0.0 });
+            // Trapezoid on y' and y''.
+            let dy = 0.5 * h * (now[1] + last[1]);
+            assert!((now[0] - last[0] - dy).abs() < 1e-6, "{k}");
+            last = now;
+        }
+        assert!((last[0] - 1.0).abs() < 1e-3, "{}", last[0]);
+    }
+}
