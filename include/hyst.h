@@ -104,6 +104,11 @@
 // the state is unchanged and the last output is written.
 #define HYST_ERR_OVERFLOW 13
 
+// The model cannot run this way (host part): a model with dynamics or a rate term has no
+// exact inverse (`hyst_model_compensate` is its Lemma 5.1 compensator) nor saturation, and a
+// compensator needs a model with dynamics, of the operator form, without a rate term.
+#define HYST_ERR_UNSUPPORTED 14
+
 // A bank of operators (opaque; create with `hyst_bank_create`, release with `hyst_bank_free`).
 typedef struct hyst_bank hyst_bank;
 
@@ -111,7 +116,8 @@ typedef struct hyst_bank hyst_bank;
 typedef struct hyst_bank_f32 hyst_bank_f32;
 
 // A fitted model loaded from a model file, with the state of its direct run and of its
-// inverse run (opaque; create with `hyst_model_load`, release with `hyst_model_free`).
+// inverse run (opaque; create with `hyst_model_load` or `hyst_model_load_timed`, release with
+// `hyst_model_free`).
 typedef struct hyst_model hyst_model;
 
 // The parametric operator H(k1, k2) (eq. 2) or H⁻¹(k1, k2) (eq. 4) with its memory: an opaque
@@ -1201,9 +1207,28 @@ void hyst_bank_free(struct hyst_bank *bank);
 // file, and the line and key where the file is wrong) into `error` (`error_len` bytes,
 // NUL-terminated, truncated if needed; `error` may be NULL).
 //
+// A model with dynamics or a rate term (a model file's `[dynamics]` or `[rate]`) is refused
+// with the reason: it needs the sample period of its record, which this function does not
+// take (`hyst_model_load_timed` does); its plant or rate term is never dropped.
+//
 // # Safety
 // `path` is NULL or a NUL-terminated string; `error` is NULL or writable for `error_len` bytes.
 struct hyst_model *hyst_model_load(const char *path, char *error, size_t error_len);
+
+// Loads and checks a model file whose records are sampled at the period `period_s` (seconds,
+// finite and > 0), as `hyst_model_load` does otherwise. A model with dynamics or a rate term
+// then runs as `hyst run --model` runs a timed record of that period (the period `hyst run`
+// takes from the record's time stamps: their mean step): `hyst_model_process` (direct only)
+// gives its output, `hyst_model_compensate` Lemma 5.1's command. A model without them runs
+// exactly as from `hyst_model_load` (the period is not used). Returns NULL on failure, with
+// the reason in `error` as `hyst_model_load`.
+//
+// # Safety
+// As `hyst_model_load`.
+struct hyst_model *hyst_model_load_timed(const char *path,
+                                         double period_s,
+                                         char *error,
+                                         size_t error_len);
 
 // Runs the model over `n` samples from `x` into `y` (which may be the same array): the direct
 // model (`inverse` = 0: input → output) or its exact inverse (`inverse` ≠ 0: desired output →
@@ -1212,18 +1237,51 @@ struct hyst_model *hyst_model_load(const char *path, char *error, size_t error_l
 // continue it, so a signal may be fed in blocks. Results are bit-identical to
 // `hyst run --model FILE [--inverse]` on the same samples.
 //
-// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or the status of the first sample the model
-// refuses (non-finite, beyond a saturating shaping function: `HYST_ERR_OUT_OF_RANGE`); `y` then
-// holds the outputs before it, and the run stops there with its state unchanged by that sample.
+// A model with dynamics or a rate term (loaded by `hyst_model_load_timed`) runs its direct
+// model over samples of the period given there, bit-identical to `hyst run --model FILE` on a
+// timed record of that period; its inverse is `hyst_model_compensate`, and `inverse` ≠ 0 gives
+// `HYST_ERR_UNSUPPORTED`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_UNSUPPORTED`, or the status of the first
+// sample the model refuses (non-finite, beyond a saturating shaping function:
+// `HYST_ERR_OUT_OF_RANGE`); `y` then holds the outputs before it, and the run stops there with
+// its state unchanged by that sample.
 //
 // # Safety
-// `m` is NULL or a model from `hyst_model_load` not yet freed; when n > 0, `x` and `y` are NULL
-// or hold `n` values.
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed; when
+// n > 0, `x` and `y` are NULL or hold `n` values.
 int32_t hyst_model_process(struct hyst_model *m,
                            int32_t inverse,
                            const double *x,
                            double *y,
                            size_t n);
+
+// Lemma 5.1's compensator of a model with dynamics (loaded by `hyst_model_load_timed`): for
+// `n` samples of the desired output and its first `order` time derivatives, the commands that
+// make the plant and the hysteresis give that output, bit-identical to
+// `hyst run --model FILE --inverse` on a timed record whose columns `NAME`, `NAME_d1`, …,
+// `NAME_dN` hold them. `desired` holds `n` rows of `order` + 1 values, one sample after the
+// other: `desired[i * (order + 1) + k]` is the k-th derivative of sample i (k = 0: the desired
+// output itself); `order` must be the plant order N (the model file's `[dynamics]` a has N
+// coefficients). Writes `n` commands into `command`. The first call after
+// `hyst_model_load_timed` or `hyst_model_reset` starts the compensator from the model's start
+// rule at `desired[0]`; later calls continue it, so a signal may be fed in blocks.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (`order` is not the plant
+// order), `HYST_ERR_UNSUPPORTED` (a model without dynamics, whose compensator is its exact
+// inverse, `hyst_model_process`; or with a rate term, or of the stop form: they have no
+// compensator), or the status of the first sample the compensator refuses; `command` then
+// holds the commands before it, and the compensator stops there, unchanged by that sample.
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load_timed` not yet freed; when n > 0, `desired` is
+// NULL or holds `n * (order + 1)` values and `command` is NULL or holds `n` values; they do not
+// overlap.
+int32_t hyst_model_compensate(struct hyst_model *m,
+                              const double *desired,
+                              size_t order,
+                              double *command,
+                              size_t n);
 
 // Makes the inverse (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
 // beyond a saturating model's limits (tanh or Langevin output shaping, whose range itself is
@@ -1232,11 +1290,13 @@ int32_t hyst_model_process(struct hyst_model *m,
 // `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
 // an inverse run already started. `hyst_model_clamped` counts the clamped values.
 //
-// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
-// and the model's output is unbounded (nothing could need clamping; nothing changes).
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
+// and the model's output is unbounded (nothing could need clamping; nothing changes), or
+// `HYST_ERR_UNSUPPORTED` when `on` ≠ 0 for a model with dynamics or a rate term (as
+// `hyst run --saturate` refuses it).
 //
 // # Safety
-// `m` is NULL or a model from `hyst_model_load` not yet freed.
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed.
 int32_t hyst_model_saturate(struct hyst_model *m, int32_t on);
 
 // Writes into `*count` how many desired outputs the inverse clamped
@@ -1245,19 +1305,22 @@ int32_t hyst_model_saturate(struct hyst_model *m, int32_t on);
 // Returns `HYST_OK` or `HYST_ERR_NULL_POINTER`.
 //
 // # Safety
-// `m` is NULL or a model from `hyst_model_load` not yet freed; `count` is NULL or writable.
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+// `count` is NULL or writable.
 int32_t hyst_model_clamped(const struct hyst_model *m, uint64_t *count);
 
-// Forgets both runs: the next `hyst_model_process` of each kind starts a new record.
+// Forgets every run: the next `hyst_model_process` of each kind (and the next
+// `hyst_model_compensate`) starts a new record.
 //
 // # Safety
-// `m` is NULL or a model from `hyst_model_load` not yet freed.
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed.
 int32_t hyst_model_reset(struct hyst_model *m);
 
-// Releases a model from `hyst_model_load` (NULL is ignored).
+// Releases a model from `hyst_model_load` or `hyst_model_load_timed` (NULL is ignored).
 //
 // # Safety
-// `m` is NULL or a model from `hyst_model_load` not yet freed; it must not be used afterwards.
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed; it
+// must not be used afterwards.
 void hyst_model_free(struct hyst_model *m);
 
 // The meaning of a status code, as a static NUL-terminated English sentence (never NULL; an

@@ -1,27 +1,47 @@
 //! The host part: fitted model files (the CLI's TOML, docs/formats.md), run exactly as
-//! `hyst run --model` runs them.
+//! `hyst run --model` runs them. A model with dynamics or a rate term (issue 25) needs the
+//! sample period of its record: `hyst_model_load` refuses it, `hyst_model_load_timed` takes the
+//! period and runs it as `hyst run --model` runs a timed record (`hyst_model_process`, direct),
+//! with Lemma 5.1's compensator from the desired output's derivatives
+//! (`hyst_model_compensate`).
 
 use std::ffi::{c_char, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 use std::ptr;
 
-use ::hyst_model::{Evaluator, ModelError, ModelFile, Saturated};
+use ::hyst_model::{
+    Evaluator, ModelError, ModelFile, Saturated, SmoothModel, TimedCompensator, TimedRun,
+};
 use hyst_core::Operator;
 
 use crate::status::{
-    self, HYST_ERR_INTERNAL, HYST_ERR_INVALID_PARAMETER, HYST_ERR_MODEL_FILE,
-    HYST_ERR_NULL_POINTER, HYST_OK,
+    self, HYST_ERR_INTERNAL, HYST_ERR_INVALID_PARAMETER, HYST_ERR_LENGTH, HYST_ERR_MODEL_FILE,
+    HYST_ERR_NULL_POINTER, HYST_ERR_UNSUPPORTED, HYST_OK,
 };
 
 /// A fitted model loaded from a model file, with the state of its direct run and of its
-/// inverse run (opaque; create with `hyst_model_load`, release with `hyst_model_free`).
+/// inverse run (opaque; create with `hyst_model_load` or `hyst_model_load_timed`, release with
+/// `hyst_model_free`).
 pub struct hyst_model {
     file: ModelFile,
+    /// The sample period (s) of `hyst_model_load_timed`; `None` from `hyst_model_load`.
+    period: Option<f64>,
     direct: Option<Saturated<Evaluator>>,
     inverse: Option<Saturated<Evaluator>>,
+    /// The direct run of a model with dynamics or a rate term.
+    timed: Option<TimedRun>,
+    /// Lemma 5.1's compensator of a model with dynamics (`hyst_model_compensate`).
+    compensator: Option<TimedCompensator>,
     /// The inverse's clamp limits (`hyst_model_saturate`); `None`: nothing is clamped.
     limits: Option<(f64, f64)>,
+}
+
+impl hyst_model {
+    /// The smooth model with dynamics or a rate term, if the file holds one.
+    fn timed_model(&self) -> Option<&SmoothModel> {
+        self.file.smooth.as_ref().filter(|m| m.is_timed())
+    }
 }
 
 /// Copies `message` into the caller's buffer (truncated at a character boundary, always
@@ -48,11 +68,50 @@ unsafe fn copy_message(buffer: *mut c_char, len: usize, message: &str) {
 /// file, and the line and key where the file is wrong) into `error` (`error_len` bytes,
 /// NUL-terminated, truncated if needed; `error` may be NULL).
 ///
+/// A model with dynamics or a rate term (a model file's `[dynamics]` or `[rate]`) is refused
+/// with the reason: it needs the sample period of its record, which this function does not
+/// take (`hyst_model_load_timed` does); its plant or rate term is never dropped.
+///
 /// # Safety
 /// `path` is NULL or a NUL-terminated string; `error` is NULL or writable for `error_len` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_model_load(
     path: *const c_char,
+    error: *mut c_char,
+    error_len: usize,
+) -> *mut hyst_model {
+    // SAFETY: the caller's contract.
+    unsafe { load(path, None, error, error_len) }
+}
+
+/// Loads and checks a model file whose records are sampled at the period `period_s` (seconds,
+/// finite and > 0), as `hyst_model_load` does otherwise. A model with dynamics or a rate term
+/// then runs as `hyst run --model` runs a timed record of that period (the period `hyst run`
+/// takes from the record's time stamps: their mean step): `hyst_model_process` (direct only)
+/// gives its output, `hyst_model_compensate` Lemma 5.1's command. A model without them runs
+/// exactly as from `hyst_model_load` (the period is not used). Returns NULL on failure, with
+/// the reason in `error` as `hyst_model_load`.
+///
+/// # Safety
+/// As `hyst_model_load`.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_load_timed(
+    path: *const c_char,
+    period_s: f64,
+    error: *mut c_char,
+    error_len: usize,
+) -> *mut hyst_model {
+    // SAFETY: the caller's contract.
+    unsafe { load(path, Some(period_s), error, error_len) }
+}
+
+/// `hyst_model_load` (`period` = `None`) and `hyst_model_load_timed`.
+///
+/// # Safety
+/// As `hyst_model_load`.
+unsafe fn load(
+    path: *const c_char,
+    period: Option<f64>,
     error: *mut c_char,
     error_len: usize,
 ) -> *mut hyst_model {
@@ -65,11 +124,25 @@ pub unsafe extern "C" fn hyst_model_load(
         let path = path
             .to_str()
             .map_err(|_| format!("the path {path:?} is not UTF-8"))?;
+        if let Some(p) = period.filter(|p| !(p.is_finite() && *p > 0.0)) {
+            return Err(format!(
+                "{path}: sample period {p}: must be finite and > 0 (seconds)"
+            ));
+        }
         let file = ModelFile::read(Path::new(path)).map_err(|e| e.to_string())?;
+        if period.is_none() {
+            file.untimed(
+                "the C host API without a sample period (load it with hyst_model_load_timed)",
+            )
+            .map_err(|e| format!("{path}: {e}"))?;
+        }
         Ok(Box::new(hyst_model {
             file,
+            period,
             direct: None,
             inverse: None,
+            timed: None,
+            compensator: None,
             limits: None,
         }))
     });
@@ -90,13 +163,19 @@ pub unsafe extern "C" fn hyst_model_load(
 /// continue it, so a signal may be fed in blocks. Results are bit-identical to
 /// `hyst run --model FILE [--inverse]` on the same samples.
 ///
-/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or the status of the first sample the model
-/// refuses (non-finite, beyond a saturating shaping function: `HYST_ERR_OUT_OF_RANGE`); `y` then
-/// holds the outputs before it, and the run stops there with its state unchanged by that sample.
+/// A model with dynamics or a rate term (loaded by `hyst_model_load_timed`) runs its direct
+/// model over samples of the period given there, bit-identical to `hyst run --model FILE` on a
+/// timed record of that period; its inverse is `hyst_model_compensate`, and `inverse` ≠ 0 gives
+/// `HYST_ERR_UNSUPPORTED`.
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_UNSUPPORTED`, or the status of the first
+/// sample the model refuses (non-finite, beyond a saturating shaping function:
+/// `HYST_ERR_OUT_OF_RANGE`); `y` then holds the outputs before it, and the run stops there with
+/// its state unchanged by that sample.
 ///
 /// # Safety
-/// `m` is NULL or a model from `hyst_model_load` not yet freed; when n > 0, `x` and `y` are NULL
-/// or hold `n` values.
+/// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed; when
+/// n > 0, `x` and `y` are NULL or hold `n` values.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_model_process(
     m: *mut hyst_model,
@@ -114,8 +193,18 @@ pub unsafe extern "C" fn hyst_model_process(
     if x.is_null() || y.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
-    // SAFETY: a live model from `hyst_model_load` (caller's contract), not aliased during the call.
+    // SAFETY: a live model (caller's contract), not aliased during the call.
     let model = unsafe { &mut *m };
+    if model.timed_model().is_some() {
+        if inverse != 0 {
+            return HYST_ERR_UNSUPPORTED;
+        }
+        // SAFETY: n > 0, and `x` and `y` hold n values (caller's contract).
+        return catch_unwind(AssertUnwindSafe(|| unsafe {
+            process_timed(model, x, y, n)
+        }))
+        .unwrap_or(HYST_ERR_INTERNAL);
+    }
     catch_unwind(AssertUnwindSafe(|| {
         let inverse = inverse != 0;
         let (slot, limits) = if inverse {
@@ -150,6 +239,126 @@ pub unsafe extern "C" fn hyst_model_process(
     .unwrap_or(HYST_ERR_INTERNAL)
 }
 
+/// The direct run of a model with dynamics or a rate term: `hyst_model_process` with
+/// `inverse` = 0.
+///
+/// # Safety
+/// n > 0; `x` and `y` hold `n` values.
+unsafe fn process_timed(model: &mut hyst_model, x: *const f64, y: *mut f64, n: usize) -> i32 {
+    let (Some(smooth), Some(period)) = (model.timed_model(), model.period) else {
+        return HYST_ERR_UNSUPPORTED;
+    };
+    if model.timed.is_none() {
+        // SAFETY: n > 0 and `x` holds n values.
+        let first = unsafe { x.read() };
+        match TimedRun::new(smooth, period, first) {
+            Ok(run) => model.timed = Some(run),
+            Err(e) => return status::of(&e),
+        }
+    }
+    let Some(run) = model.timed.as_mut() else {
+        return HYST_ERR_INTERNAL;
+    };
+    for i in 0..n {
+        // SAFETY: i < n, within the caller's arrays; read before write, so x == y is fine.
+        let xi = unsafe { x.add(i).read() };
+        match run.step(xi) {
+            // SAFETY: as above.
+            Ok(s) => unsafe { y.add(i).write(s.y) },
+            Err(e) => return status::of(&e),
+        }
+    }
+    HYST_OK
+}
+
+/// Lemma 5.1's compensator of a model with dynamics (loaded by `hyst_model_load_timed`): for
+/// `n` samples of the desired output and its first `order` time derivatives, the commands that
+/// make the plant and the hysteresis give that output, bit-identical to
+/// `hyst run --model FILE --inverse` on a timed record whose columns `NAME`, `NAME_d1`, …,
+/// `NAME_dN` hold them. `desired` holds `n` rows of `order` + 1 values, one sample after the
+/// other: `desired[i * (order + 1) + k]` is the k-th derivative of sample i (k = 0: the desired
+/// output itself); `order` must be the plant order N (the model file's `[dynamics]` a has N
+/// coefficients). Writes `n` commands into `command`. The first call after
+/// `hyst_model_load_timed` or `hyst_model_reset` starts the compensator from the model's start
+/// rule at `desired[0]`; later calls continue it, so a signal may be fed in blocks.
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_LENGTH` (`order` is not the plant
+/// order), `HYST_ERR_UNSUPPORTED` (a model without dynamics, whose compensator is its exact
+/// inverse, `hyst_model_process`; or with a rate term, or of the stop form: they have no
+/// compensator), or the status of the first sample the compensator refuses; `command` then
+/// holds the commands before it, and the compensator stops there, unchanged by that sample.
+///
+/// # Safety
+/// `m` is NULL or a model from `hyst_model_load_timed` not yet freed; when n > 0, `desired` is
+/// NULL or holds `n * (order + 1)` values and `command` is NULL or holds `n` values; they do not
+/// overlap.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_compensate(
+    m: *mut hyst_model,
+    desired: *const f64,
+    order: usize,
+    command: *mut f64,
+    n: usize,
+) -> i32 {
+    if m.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: a live model (caller's contract), not aliased during the call.
+    let model = unsafe { &mut *m };
+    let Some(smooth) = model.timed_model() else {
+        return HYST_ERR_UNSUPPORTED;
+    };
+    if TimedCompensator::check(smooth).is_err() {
+        return HYST_ERR_UNSUPPORTED;
+    }
+    if smooth.dynamics.map(|d| d.order()) != Some(order) {
+        return HYST_ERR_LENGTH;
+    }
+    if n == 0 {
+        return HYST_OK;
+    }
+    if desired.is_null() || command.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    let Some(len) = n.checked_mul(order + 1) else {
+        return HYST_ERR_LENGTH;
+    };
+    // SAFETY: non-NULL, `len` values (caller's contract), not written during the call.
+    let desired = unsafe { std::slice::from_raw_parts(desired, len) };
+    // SAFETY: non-NULL, `n` values (caller's contract), not overlapping `desired`.
+    let command = unsafe { std::slice::from_raw_parts_mut(command, n) };
+    catch_unwind(AssertUnwindSafe(|| {
+        compensate(model, desired, order, command)
+    }))
+    .unwrap_or(HYST_ERR_INTERNAL)
+}
+
+/// The body of `hyst_model_compensate` on checked slices.
+fn compensate(model: &mut hyst_model, desired: &[f64], order: usize, command: &mut [f64]) -> i32 {
+    let Some(smooth) = model.timed_model() else {
+        return HYST_ERR_UNSUPPORTED;
+    };
+    if model.compensator.is_none() {
+        let first = desired.first().copied().unwrap_or(f64::NAN);
+        match TimedCompensator::new(smooth, first) {
+            Ok(c) => model.compensator = Some(c),
+            Err(ModelError::Core(e)) => return status::of(&e),
+            Err(_) => return HYST_ERR_UNSUPPORTED,
+        }
+    }
+    let Some(compensator) = model.compensator.as_mut() else {
+        return HYST_ERR_INTERNAL;
+    };
+    for (row, u) in desired.chunks_exact(order + 1).zip(command.iter_mut()) {
+        match compensator.step(row) {
+            Ok((value, _)) => *u = value,
+            Err(ModelError::Core(e)) => return status::of(&e),
+            Err(_) => return HYST_ERR_INTERNAL,
+        }
+    }
+    HYST_OK
+}
+
 /// Makes the inverse (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
 /// beyond a saturating model's limits (tanh or Langevin output shaping, whose range itself is
 /// unreachable: 99.9 % of the range about its centre, widened to every output over the model's
@@ -157,11 +366,13 @@ pub unsafe extern "C" fn hyst_model_process(
 /// `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
 /// an inverse run already started. `hyst_model_clamped` counts the clamped values.
 ///
-/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
-/// and the model's output is unbounded (nothing could need clamping; nothing changes).
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
+/// and the model's output is unbounded (nothing could need clamping; nothing changes), or
+/// `HYST_ERR_UNSUPPORTED` when `on` ≠ 0 for a model with dynamics or a rate term (as
+/// `hyst run --saturate` refuses it).
 ///
 /// # Safety
-/// `m` is NULL or a model from `hyst_model_load` not yet freed.
+/// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_model_saturate(m: *mut hyst_model, on: i32) -> i32 {
     if m.is_null() {
@@ -169,6 +380,9 @@ pub unsafe extern "C" fn hyst_model_saturate(m: *mut hyst_model, on: i32) -> i32
     }
     // SAFETY: a live model (caller's contract).
     let model = unsafe { &mut *m };
+    if on != 0 && model.timed_model().is_some() {
+        return HYST_ERR_UNSUPPORTED;
+    }
     let limits = if on != 0 {
         match model.file.saturation() {
             Some(s) => Some(s.limits),
@@ -190,7 +404,8 @@ pub unsafe extern "C" fn hyst_model_saturate(m: *mut hyst_model, on: i32) -> i32
 /// Returns `HYST_OK` or `HYST_ERR_NULL_POINTER`.
 ///
 /// # Safety
-/// `m` is NULL or a model from `hyst_model_load` not yet freed; `count` is NULL or writable.
+/// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+/// `count` is NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u64) -> i32 {
     if m.is_null() || count.is_null() {
@@ -203,10 +418,11 @@ pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u6
     HYST_OK
 }
 
-/// Forgets both runs: the next `hyst_model_process` of each kind starts a new record.
+/// Forgets every run: the next `hyst_model_process` of each kind (and the next
+/// `hyst_model_compensate`) starts a new record.
 ///
 /// # Safety
-/// `m` is NULL or a model from `hyst_model_load` not yet freed.
+/// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_model_reset(m: *mut hyst_model) -> i32 {
     if m.is_null() {
@@ -216,13 +432,16 @@ pub unsafe extern "C" fn hyst_model_reset(m: *mut hyst_model) -> i32 {
     let model = unsafe { &mut *m };
     model.direct = None;
     model.inverse = None;
+    model.timed = None;
+    model.compensator = None;
     HYST_OK
 }
 
-/// Releases a model from `hyst_model_load` (NULL is ignored).
+/// Releases a model from `hyst_model_load` or `hyst_model_load_timed` (NULL is ignored).
 ///
 /// # Safety
-/// `m` is NULL or a model from `hyst_model_load` not yet freed; it must not be used afterwards.
+/// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed; it
+/// must not be used afterwards.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_model_free(m: *mut hyst_model) {
     if !m.is_null() {

@@ -34,6 +34,10 @@ pub const HYST_ERR_INTERNAL: i32 = 12;
 /// A finite input gives an output beyond the float range (e.g. the output shaping overflows);
 /// the state is unchanged and the last output is written.
 pub const HYST_ERR_OVERFLOW: i32 = 13;
+/// The model cannot run this way (host part): a model with dynamics or a rate term has no
+/// exact inverse (`hyst_model_compensate` is its Lemma 5.1 compensator) nor saturation, and a
+/// compensator needs a model with dynamics, of the operator form, without a rate term.
+pub const HYST_ERR_UNSUPPORTED: i32 = 14;
 
 /// The status of a core error.
 pub(crate) fn of(error: &Error) -> i32 {
@@ -74,6 +78,10 @@ pub extern "C" fn hyst_status_message(status: i32) -> *const c_char {
         HYST_ERR_INTERNAL => c"internal error caught at the C boundary",
         HYST_ERR_OVERFLOW => {
             c"a finite input gives an output beyond the float range; the state is unchanged"
+        }
+        HYST_ERR_UNSUPPORTED => {
+            c"the model cannot run this way (dynamics or a rate term: no exact inverse nor \
+              saturation; a compensator needs dynamics, the operator form and no rate term)"
         }
         _ => c"unknown status",
     };

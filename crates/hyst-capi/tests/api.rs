@@ -541,6 +541,8 @@ fn fitted_model_file(dir: &std::path::Path) -> std::path::PathBuf {
         initial_state: ::hyst_model::InitialState::Rising,
         form: ::hyst_model::Form::Operator,
         linear: 0.0,
+        dynamics: None,
+        rate: None,
     };
     let file = ::hyst_model::ModelFile {
         format: ::hyst_model::file::FORMAT.into(),
@@ -557,6 +559,8 @@ fn fitted_model_file(dir: &std::path::Path) -> std::path::PathBuf {
         structure: Some(::hyst_model::Structure::default()),
         smooth: Some(model),
         prandtl_ishlinskii: None,
+        dynamics: None,
+        rate: None,
         family: None,
         provenance: Default::default(),
     };

@@ -159,8 +159,11 @@ fn model_name(output: &Path) -> Result<String> {
 
 /// Reads and checks the model file, keeping the bytes that were checked (they go into the FMU).
 fn read_model(path: &Path, output: &Path) -> Result<Kind> {
-    // The same checks and messages as `hyst run --model`.
-    ModelFile::read(path)?;
+    // The same checks and messages as `hyst run --model`; a model with dynamics or a rate term
+    // is refused here rather than by the FMU at instantiation.
+    ModelFile::read(path)?
+        .untimed("an FMU, which steps without a fixed sample period")
+        .with_context(|| path.display().to_string())?;
     if is_same_file(path, output) {
         bail!(
             "-o {}: that is the model file itself; write the FMU to another file",

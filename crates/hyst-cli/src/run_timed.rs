@@ -176,10 +176,11 @@ fn what(m: &SmoothModel) -> String {
 /// The rows of each record: runs of equal values of the record column (the whole file
 /// without one).
 fn records(len: usize, record: Option<&[f64]>) -> Vec<std::ops::Range<usize>> {
-    let Some(r) = record else {
-        return vec![0..len];
-    };
     let mut out = Vec::new();
+    let Some(r) = record else {
+        out.push(0..len);
+        return out;
+    };
     let mut start = 0;
     for i in 1..=len {
         if i == len || r[i].to_bits() != r[start].to_bits() {

@@ -569,6 +569,8 @@ mod tests {
             initial_state: InitialState::Rising,
             form: hyst_model::Form::Operator,
             linear: 0.0,
+            dynamics: None,
+            rate: None,
         }
     }
 

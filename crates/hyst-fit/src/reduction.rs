@@ -135,6 +135,8 @@ mod tests {
             initial_state: InitialState::Rising,
             form: hyst_model::Form::Operator,
             linear: 0.0,
+            dynamics: None,
+            rate: None,
         };
         let y = model.run(&x).unwrap();
         let data = Dataset::single(&x, &y);

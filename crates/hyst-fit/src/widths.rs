@@ -551,6 +551,8 @@ mod tests {
             initial_state: InitialState::Falling,
             form: hyst_model::Form::Operator,
             linear: 0.0,
+            dynamics: None,
+            rate: None,
         }
     }
 

@@ -260,6 +260,8 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
         smooth: Some(model),
         prandtl_ishlinskii: None,
         family: None,
+        dynamics: None,
+        rate: None,
         provenance: Provenance::default(),
     };
     let text = file.to_toml()?;
@@ -371,6 +373,8 @@ fn pi_model_file_with_output_polynomial_reads_back_exactly() -> Result<(), FitEr
         smooth: None,
         prandtl_ishlinskii: Some(fit.model.clone()),
         family: None,
+        dynamics: None,
+        rate: None,
         provenance: Provenance::default(),
     };
     assert_eq!(file.required_version(), 2);

@@ -128,19 +128,7 @@ impl Config {
                 check.map_err(|e| format!("{name}: k1 = {k1}, k2 = {k2}: {e}"))?;
                 Kind::Operator { k1, k2 }
             }
-            "model" => {
-                for (key, value) in [("k1", raw.k1), ("k2", raw.k2)] {
-                    if let Some(v) = value {
-                        return Err(format!(
-                            "{name}: {key} = {v}: only kind = \"operator\" has parameters \
-                             (a model's are in {MODEL_FILE})"
-                        ));
-                    }
-                }
-                let model = ModelFile::read(&dir.join(MODEL_FILE))
-                    .map_err(|e| format!("{name}: kind = \"model\": {e}"))?;
-                Kind::Model(Box::new(model))
-            }
+            "model" => model_kind(dir, &name.to_string(), &raw)?,
             other => {
                 return Err(format!(
                     "{name}: kind = \"{other}\": must be \"operator\" or \"model\""
@@ -171,6 +159,28 @@ impl Config {
             saturation,
         })
     }
+}
+
+/// The model of kind = "model": `model.toml` in `dir`, read and checked (`name`: fmu.toml's
+/// path, for messages).
+fn model_kind(dir: &Path, name: &str, raw: &RawConfig) -> Result<Kind, String> {
+    for (key, value) in [("k1", raw.k1), ("k2", raw.k2)] {
+        if let Some(v) = value {
+            return Err(format!(
+                "{name}: {key} = {v}: only kind = \"operator\" has parameters \
+                 (a model's are in {MODEL_FILE})"
+            ));
+        }
+    }
+    let path = dir.join(MODEL_FILE);
+    let model = ModelFile::read(&path).map_err(|e| format!("{name}: kind = \"model\": {e}"))?;
+    // A model with dynamics or a rate term needs the sample period of a timed record; an FMU
+    // steps at whatever communication step the master takes, so running it would silently
+    // drop the plant or the rate term.
+    model
+        .untimed("an FMU, which steps without a fixed sample period")
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(Kind::Model(Box::new(model)))
 }
 
 /// The folder named by fmi2Instantiate's `fmuResourceLocation`: a `file` URI (`file:///abs/path`,

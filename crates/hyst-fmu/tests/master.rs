@@ -146,6 +146,8 @@ fn model_file(smooth: Option<SmoothModel>, pi: Option<PiModel>) -> ModelFile {
         structure: smooth.as_ref().map(|_| hyst_model::Structure::default()),
         smooth,
         prandtl_ishlinskii: pi,
+        dynamics: None,
+        rate: None,
         family: None,
         provenance: Default::default(),
     }
@@ -170,6 +172,8 @@ fn fitted_model() -> ModelFile {
         initial_state: hyst_model::InitialState::Rising,
         form: hyst_model::Form::Operator,
         linear: 0.0,
+        dynamics: None,
+        rate: None,
     };
     model_file(Some(model), None)
 }
@@ -205,6 +209,8 @@ fn saturating_model() -> ModelFile {
             initial_state: InitialState::Line,
             form: hyst_model::Form::Operator,
             linear: 0.0,
+            dynamics: None,
+            rate: None,
         }),
         None,
     )
@@ -1065,6 +1071,36 @@ fn refused(location: &str, guid: &str, fmu_type: fmi2Type, parts: &[&str]) {
     assert!(entry.format_is_percent_s);
     for p in parts {
         assert!(entry.message.contains(p), "{:?} lacks {p:?}", entry.message);
+    }
+}
+
+/// Issue 25: a model with dynamics or a rate term needs the sample period of a timed record,
+/// which an FMU does not have: instantiation fails with NULL and fmi2Error, and the log names
+/// the model file and what it has, never running the model without its plant or rate term.
+#[test]
+fn a_timed_model_is_refused_at_instantiation() {
+    let text = fitted_model().to_toml().unwrap();
+    assert!(text.contains("\nversion = 1\n"), "{text}");
+    for (sections, what) in [
+        ("[dynamics]\nb = 1.0\na = [0.05]\n", "dynamics of order 1"),
+        ("[rate]\nc = 0.3\n", "a rate term"),
+        (
+            "[dynamics]\nb = 1.0\na = [0.05]\n[rate]\nc = 0.3\n",
+            "dynamics of order 1 and a rate term",
+        ),
+    ] {
+        let timed = text.replacen("\nversion = 1\n", "\nversion = 4\n", 1) + sections;
+        for inverse in [false, true] {
+            let dir = tempfile::tempdir().unwrap();
+            write_config(dir.path(), &model_config(inverse));
+            std::fs::write(dir.path().join("model.toml"), &timed).unwrap();
+            refused(
+                &uri(dir.path()),
+                GUID,
+                fmi2CoSimulation,
+                &["fmi2Instantiate", "model.toml", what, "an FMU"],
+            );
+        }
     }
 }
 

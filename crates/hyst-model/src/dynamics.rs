@@ -20,6 +20,9 @@
 //! **Rate.** v̇_k is the backward difference (v_k − v_{k−1}) / h, 0 at a record's first sample
 //! (at rest): causal, so a compensator can use it sample by sample.
 
+// Dense matrix kernels read best with explicit indices.
+#![allow(clippy::needless_range_loop)]
+
 use hyst_core::{Error, Real};
 use serde::{Deserialize, Serialize};
 

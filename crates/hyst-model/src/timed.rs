@@ -4,6 +4,9 @@
 //! [`crate::dynamics`]; a static model runs through them exactly as through
 //! [`SmoothModel::run_with`].
 
+// Dense matrix kernels read best with explicit indices.
+#![allow(clippy::needless_range_loop)]
+
 use hyst_core::compensator::{Compensator, MAX_ORDER};
 use hyst_core::{AnyK2Law, Error, Hysteresis, Jet, Operator, ScaledShaping, Shaping};
 
@@ -30,7 +33,8 @@ pub struct TimedSample<T> {
 pub struct TimedRun<T = f64> {
     model: SmoothModel<T>,
     operator: Hysteresis<T, AnyK2Law<T>>,
-    plant: Option<(Discrete<T>, PlantState<T>)>,
+    plant: Option<Discrete<T>>,
+    state: PlantState<T>,
     previous: Option<T>,
     inverse_period: T,
 }
@@ -52,13 +56,16 @@ impl<T: FitReal> TimedRun<T> {
             });
         }
         let plant = match model.dynamics {
-            Some(d) => {
-                let discrete = d.discretise(period)?;
-                let state = discrete.at_rest(first);
-                Some((discrete, state))
-            }
+            Some(d) => Some(d.discretise(period)?),
             None => None,
         };
+        let state = plant.map_or(
+            PlantState {
+                x: [first; crate::dynamics::MAX_DYNAMICS],
+                u: first,
+            },
+            |p| p.at_rest(first),
+        );
         let v0 = model.dynamics.map_or(first, |d| d.b * first);
         let operator = model.initial_state.start(
             Hysteresis::with_k2_law(model.k1, model.k2)?,
@@ -68,6 +75,7 @@ impl<T: FitReal> TimedRun<T> {
             model: *model,
             operator,
             plant,
+            state,
             previous: None,
             inverse_period: T::from_f64(1.0 / period),
         })
@@ -79,10 +87,11 @@ impl<T: FitReal> TimedRun<T> {
     /// [`Error::NonFiniteOutput`] (naming the command) when the output is not finite, or the
     /// core's error for the step; the run is then unchanged.
     pub fn step(&mut self, u: T) -> Result<TimedSample<T>, Error> {
-        let mut plant = self.plant;
-        let v = match (&mut plant, self.previous) {
-            (Some((d, s)), Some(_)) => d.step(s, u),
-            (Some((_, s)), None) => s.x[0],
+        // The plant's state is committed only once the sample succeeds.
+        let mut state = self.state;
+        let v = match (&self.plant, self.previous) {
+            (Some(d), Some(_)) => d.step(&mut state, u),
+            (Some(_), None) => state.x[0],
             (None, _) => u,
         };
         let w = self.model.input_shaping.apply(v);
@@ -102,7 +111,7 @@ impl<T: FitReal> TimedRun<T> {
                 output: y.as_f64(),
             });
         }
-        self.plant = plant;
+        self.state = state;
         self.previous = Some(v);
         Ok(TimedSample { v, z, y })
     }

@@ -21,9 +21,11 @@ use super::shared::{
 ///
 /// # Errors
 /// [`ModelError::Invalid`] for a name that is not a usable C identifier ([`check_name`]) and
-/// for a model the firmware cannot run (Prandtl–Ishlinskii), naming what it lacks.
+/// for a model the firmware cannot run (Prandtl–Ishlinskii; dynamics or a rate term, which
+/// need a sample period: [`ModelFile::untimed`]), naming what it lacks.
 pub fn c(file: &ModelFile, name: &str, source: &Source) -> Result<String, ModelError> {
     check_name(name)?;
+    file.untimed("a firmware export (`hyst export c`), whose step has no sample period")?;
     let m = smooth(file, "the C firmware API (hyst.h)")?;
     let mut out = String::new();
     header_comment(&mut out, file, m, name, source);

@@ -26,9 +26,12 @@ use super::shared::{affine_shapings, check_name, description, literal, smooth, S
 /// documentation).
 ///
 /// # Errors
-/// [`ModelError::Invalid`] for a name that is not a usable identifier ([`check_name`]).
+/// [`ModelError::Invalid`] for a name that is not a usable identifier ([`check_name`]), and
+/// for a model with dynamics or a rate term, which needs a sample period
+/// ([`ModelFile::untimed`]).
 pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, ModelError> {
     check_name(name)?;
+    file.untimed("a firmware export (`hyst export rust`), whose step has no sample period")?;
     let tool = format!("hyst export rust --name {name}");
     let camel = camel_case(name);
     let mut out = String::new();
