@@ -105,7 +105,7 @@ pub fn main(args: Args) -> Result<()> {
                 refuse_stop_form(&model, path)?;
             }
             if model.smooth.as_ref().is_some_and(|m| m.is_timed()) {
-                return crate::run_timed::main(&args, &model, path);
+                return crate::run_timed::main(&timed_options(&args), &model, path);
             }
             if args.prefilter_hz.is_some() {
                 bail!(
@@ -176,6 +176,21 @@ pub fn main(args: Args) -> Result<()> {
                 })
             }
         }
+    }
+}
+
+/// What a run of a model with dynamics or a rate term takes of the arguments.
+fn timed_options(args: &Args) -> crate::run_timed::Options<'_> {
+    crate::run_timed::Options {
+        inverse: args.source.inverse,
+        columns: &args.column,
+        time: args.time.as_deref(),
+        record: args.record.as_deref(),
+        prefilter_hz: args.prefilter_hz,
+        derivatives: args.derivatives,
+        saturate: args.saturate,
+        input: &args.input,
+        output: &args.output,
     }
 }
 

@@ -19,14 +19,34 @@ use hyst_io::{CsvWriter, Table};
 use hyst_model::dynamics::sample_period;
 use hyst_model::{ModelFile, Prefilter, SmoothModel, TimedCompensator, TimedRun};
 
-use crate::run::Args;
+/// What `hyst run` asks of a timed model (its arguments, as `crate::run` parsed them).
+pub struct Options<'a> {
+    /// `--inverse`.
+    pub inverse: bool,
+    /// `--column` (at most one is accepted).
+    pub columns: &'a [String],
+    /// `--time`.
+    pub time: Option<&'a str>,
+    /// `--record`.
+    pub record: Option<&'a str>,
+    /// `--prefilter-hz`.
+    pub prefilter_hz: Option<f64>,
+    /// `--derivatives` (refused when non-zero).
+    pub derivatives: u8,
+    /// `--saturate` (refused).
+    pub saturate: bool,
+    /// INPUT.
+    pub input: &'a Path,
+    /// OUTPUT.
+    pub output: &'a Path,
+}
 
 /// Runs a model with dynamics or a rate term (`model`, read from `path`) as `args` ask.
-pub fn main(args: &Args, model: &ModelFile, path: &Path) -> Result<()> {
+pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
     let Some(smooth) = model.smooth.as_ref() else {
         bail!("{}: the model file holds no smooth model", path.display());
     };
-    if args.derivatives > 0 || args.saturate || args.column.len() > 1 {
+    if args.derivatives > 0 || args.saturate || args.columns.len() > 1 {
         bail!(
             "{}: a model with dynamics or a rate term runs one column, without --derivatives or \
              --saturate (its compensator takes the desired output's derivatives from columns \
@@ -34,7 +54,7 @@ pub fn main(args: &Args, model: &ModelFile, path: &Path) -> Result<()> {
             path.display()
         );
     }
-    let inverse = args.source.inverse;
+    let inverse = args.inverse;
     if args.prefilter_hz.is_some() && !inverse {
         bail!("--prefilter-hz applies to --inverse (the compensator's reference)");
     }
@@ -42,9 +62,9 @@ pub fn main(args: &Args, model: &ModelFile, path: &Path) -> Result<()> {
         TimedCompensator::check(smooth)
             .with_context(|| format!("{}: --inverse", path.display()))?;
     }
-    hyst_io::check_all_distinct(&[args.input.as_path(), path], &[args.output.as_path()])?;
-    let table = Table::read(&args.input)?;
-    let name = args.column.first().map_or_else(
+    hyst_io::check_all_distinct(&[args.input, path], &[args.output])?;
+    let table = Table::read(args.input)?;
+    let name = args.columns.first().map_or_else(
         || {
             if inverse {
                 model.columns.output.clone()
@@ -55,8 +75,8 @@ pub fn main(args: &Args, model: &ModelFile, path: &Path) -> Result<()> {
         Clone::clone,
     );
     let values = table.column(&name)?;
-    let time_name = match &args.time {
-        Some(t) => t.clone(),
+    let time_name = match args.time {
+        Some(t) => t.to_string(),
         None => hyst_fit::data::TIME_COLUMNS
             .iter()
             .find(|n| table.column_index(n).is_some())
@@ -73,7 +93,7 @@ pub fn main(args: &Args, model: &ModelFile, path: &Path) -> Result<()> {
             })?,
     };
     let time = table.column(&time_name)?;
-    let record = match &args.record {
+    let record = match args.record {
         Some(r) => Some(table.column(r)?),
         None => None,
     };
@@ -98,11 +118,59 @@ pub fn main(args: &Args, model: &ModelFile, path: &Path) -> Result<()> {
     if filtered {
         names.push("x_filtered".into());
     }
-    if let Some(r) = &args.record {
-        names.push(r.clone());
+    if let Some(r) = args.record {
+        names.push(r.to_string());
     }
-    let mut out = CsvWriter::create(&args.output, names)?;
+    let mut out = CsvWriter::create(args.output, names)?;
+    let columns = Columns {
+        table: &table,
+        values,
+        time,
+        time_name: &time_name,
+        record,
+        derivatives: derivatives.as_deref(),
+        order,
+        filtered,
+    };
     for rows in records(table.len(), record) {
+        columns.run_record(smooth, args, rows, &mut out)?;
+    }
+    out.finish()?;
+    Ok(())
+}
+
+/// The columns of a timed run, read and checked.
+struct Columns<'a> {
+    table: &'a Table,
+    values: &'a [f64],
+    time: &'a [f64],
+    time_name: &'a str,
+    record: Option<&'a [f64]>,
+    derivatives: Option<&'a [&'a [f64]]>,
+    order: usize,
+    filtered: bool,
+}
+
+impl Columns<'_> {
+    /// Runs one record (`rows`) and writes its rows.
+    fn run_record(
+        &self,
+        smooth: &SmoothModel,
+        args: &Options<'_>,
+        rows: std::ops::Range<usize>,
+        out: &mut CsvWriter,
+    ) -> Result<()> {
+        let Columns {
+            table,
+            values,
+            time,
+            time_name,
+            record,
+            derivatives,
+            order,
+            filtered,
+        } = *self;
+        let inverse = args.inverse;
         let t: Vec<f64> = rows.clone().map(|i| time[i]).collect();
         let period = sample_period(&t).map_err(|(i, message)| {
             anyhow::anyhow!(
@@ -159,9 +227,8 @@ pub fn main(args: &Args, model: &ModelFile, path: &Path) -> Result<()> {
                 out.write_row(&row)?;
             }
         }
+        Ok(())
     }
-    out.finish()?;
-    Ok(())
 }
 
 /// What makes a model timed, in words.

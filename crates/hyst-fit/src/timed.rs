@@ -138,6 +138,53 @@ pub struct RateFinding {
     pub reason: String,
 }
 
+impl RateFinding {
+    /// The finding on the rate term of a fit with `estimates` and training errors `with`,
+    /// against the training RMS error `without` of the fit without it (% of span).
+    fn new(estimates: &[Estimate], without: f64, with: ErrorStats) -> Self {
+        let e = estimates.iter().find(|e| e.name == RATE_C);
+        let (c, std_error) = e.map_or((f64::NAN, f64::NAN), |e| (e.value, e.std_error));
+        let better = with.rms_pct_span <= (1.0 - MIN_IMPROVEMENT) * without;
+        let significant = c > 0.0 && std_error.is_finite() && std_error <= MAX_RELATIVE_ERROR * c;
+        let reason = if c <= 0.0 {
+            format!(
+                "c = {} is not positive: the output does not grow with the input's rate",
+                sig(c, 3)
+            )
+        } else if !significant {
+            format!(
+                "c = {} ± {}: not distinguishable from 0",
+                sig(c, 3),
+                sig(std_error, 2)
+            )
+        } else if !better {
+            format!(
+                "it lowers the training RMS error from {} % to {} % of span only (less than \
+                 {} % of it)",
+                sig(without, 3),
+                sig(with.rms_pct_span, 3),
+                sig(100.0 * MIN_IMPROVEMENT, 2)
+            )
+        } else {
+            format!(
+                "c = {} ± {} lowers the training RMS error from {} % to {} % of span",
+                sig(c, 3),
+                sig(std_error, 2),
+                sig(without, 3),
+                sig(with.rms_pct_span, 3)
+            )
+        };
+        RateFinding {
+            c,
+            std_error,
+            rms_without: without,
+            rms_with: with.rms_pct_span,
+            supported: better && significant,
+            reason,
+        }
+    }
+}
+
 impl TimedFindings {
     /// The findings of a timed fit: `rms_by_order` its nested fits' training errors (order 0
     /// … n, without the rate term), `estimates` the full fit's parameters, `with_rate` its
@@ -188,50 +235,8 @@ impl TimedFindings {
                 }
             })
             .collect();
-        let rate = with_rate.map(|with| {
-            let e = estimates.iter().find(|e| e.name == RATE_C);
-            let (c, std_error) = e.map_or((f64::NAN, f64::NAN), |e| (e.value, e.std_error));
-            let without = rms_by_order.last().copied().unwrap_or(f64::NAN);
-            let better = with.rms_pct_span <= (1.0 - MIN_IMPROVEMENT) * without;
-            let significant =
-                c > 0.0 && std_error.is_finite() && std_error <= MAX_RELATIVE_ERROR * c;
-            let reason = if c <= 0.0 {
-                format!(
-                    "c = {} is not positive: the output does not grow with the input's rate",
-                    sig(c, 3)
-                )
-            } else if !significant {
-                format!(
-                    "c = {} ± {}: not distinguishable from 0",
-                    sig(c, 3),
-                    sig(std_error, 2)
-                )
-            } else if !better {
-                format!(
-                    "it lowers the training RMS error from {} % to {} % of span only (less than \
-                     {} % of it)",
-                    sig(without, 3),
-                    sig(with.rms_pct_span, 3),
-                    sig(100.0 * MIN_IMPROVEMENT, 2)
-                )
-            } else {
-                format!(
-                    "c = {} ± {} lowers the training RMS error from {} % to {} % of span",
-                    sig(c, 3),
-                    sig(std_error, 2),
-                    sig(without, 3),
-                    sig(with.rms_pct_span, 3)
-                )
-            };
-            RateFinding {
-                c,
-                std_error,
-                rms_without: without,
-                rms_with: with.rms_pct_span,
-                supported: better && significant,
-                reason,
-            }
-        });
+        let without = rms_by_order.last().copied().unwrap_or(f64::NAN);
+        let rate = with_rate.map(|with| RateFinding::new(estimates, without, with));
         let periods = data
             .records
             .iter()
