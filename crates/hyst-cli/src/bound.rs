@@ -79,10 +79,10 @@ pub fn main(args: Args) -> Result<()> {
             "output_gain": gain,
             "delta_b_max": delta_b_max,
         });
-        println!("{}", serde_json::to_string_pretty(&out)?);
+        outln!("{}", serde_json::to_string_pretty(&out)?);
         return Ok(());
     }
-    print!("{}", text(&args, &b, gain));
+    out!("{}", text(&args, &b, gain));
     Ok(())
 }
 

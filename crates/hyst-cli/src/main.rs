@@ -5,6 +5,38 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+/// `print!` to standard output, for the commands' reports: a reader that went away (a closed
+/// pipe, `hyst bench | head`) ends the command quietly with status 141, as SIGPIPE would,
+/// instead of `print!`'s panic.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = write!(std::io::stdout().lock(), $($arg)*) {
+            crate::stdout_failed(&e)
+        }
+    }};
+}
+
+/// [`out!`] with a line break.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout().lock(), $($arg)*) {
+            crate::stdout_failed(&e)
+        }
+    }};
+}
+
+/// Ends the command after a failed write to standard output: quietly with 141 (128 + SIGPIPE)
+/// when the reader went away, else with the error and status 1.
+fn stdout_failed(e: &std::io::Error) -> ! {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        std::process::exit(141);
+    }
+    eprintln!("hyst: cannot write to standard output: {e}");
+    std::process::exit(1);
+}
+
 mod bench;
 mod bound;
 mod export;

@@ -157,17 +157,17 @@ pub fn main(args: Args) -> Result<()> {
     let numbers = Numbers::of(&c1, &e2, &e3);
 
     let rows = rows(&bounds, &numbers);
-    println!("{:<52} | {:<14} | this project", "quantity", "paper");
-    println!("{}", "-".repeat(100));
+    outln!("{:<52} | {:<14} | this project", "quantity", "paper");
+    outln!("{}", "-".repeat(100));
     for (q, p, m) in &rows {
-        println!("{q:<52} | {p:<14} | {m}");
+        outln!("{q:<52} | {p:<14} | {m}");
     }
-    println!("Δa = 0.007 for Example 1's nonlinear case is not reproducible from the stated values; the formulas give the numbers above (docs/paper.md).");
+    outln!("Δa = 0.007 for Example 1's nonlinear case is not reproducible from the stated values; the formulas give the numbers above (docs/paper.md).");
 
     let summary = summary(&bounds, &numbers, &figures, start);
     let path = dir.join("summary.json");
     hyst_io::write_atomic(&path, serde_json::to_string_pretty(&summary)?.as_bytes())?;
-    println!(
+    outln!(
         "wrote {} figures and {} in {:.1} s",
         figures.len(),
         path.display(),

@@ -27,7 +27,7 @@ pub const BANK_CHANNELS: usize = 1024;
 pub const BANK_TICKS: usize = 64;
 
 /// The names of the workloads, in report order, with their JSON keys.
-pub const NAMES: [(&str, &str); 9] = [
+pub const NAMES: [(&str, &str); 11] = [
     ("direct operator H (eq. 2)", "direct_ns"),
     ("inverse operator H^-1 (eq. 4)", "inverse_ns"),
     ("inverse with 2 derivatives (jet)", "inverse_d2_ns"),
@@ -40,6 +40,8 @@ pub const NAMES: [(&str, &str); 9] = [
         "bank of 1024 H^-1, f32 (per channel)",
         "bank_inverse_f32_ns",
     ),
+    ("fitted model, static (run_timed)", "fitted_static_ns"),
+    ("fitted model, dynamics of order 2", "fitted_dynamics_ns"),
 ];
 
 /// Precomputed inputs for all workloads.
@@ -125,7 +127,7 @@ impl Inputs {
     /// The (channel-)samples of one call of workload `index`.
     #[must_use]
     pub fn samples(&self, index: usize) -> usize {
-        if index >= 6 {
+        if (6..=8).contains(&index) {
             BANK_CHANNELS * BANK_TICKS
         } else {
             SAMPLES
@@ -175,9 +177,39 @@ impl Inputs {
                     _ => bank(&mut b.inverse32, &self.bank_x32, &mut b.y32)?,
                 }
             }
+            9 | 10 => {
+                let model = fitted_model(index == 10)?;
+                let mut sum = 0.0;
+                model
+                    .run_timed(black_box(&self.x), Some(1e-3), None, |_, s| sum += s.y)
+                    .ok()?;
+                sum
+            }
             _ => return None,
         })
     }
+}
+
+/// A fitted smooth model as the model runtime runs it (a model file's `[smooth]`):
+/// 2.02 H(0.105, 8)[in], with the plant 1e-4 s² v̈ + 0.02 s v̇ + v = u before it when `dynamics`
+/// (the model of `hyst run --model` for a model with dynamics, at a 1 ms period).
+fn fitted_model(dynamics: bool) -> Option<hyst_model::SmoothModel> {
+    use hyst_core::{AnyK2Law, AnyShaping, ScaledShaping};
+    Some(hyst_model::SmoothModel {
+        k1: 0.105,
+        k2: AnyK2Law::Constant { value: 8.0 },
+        input_shaping: ScaledShaping::identity(),
+        output_shaping: ScaledShaping::new(1.0, 0.0, AnyShaping::Identity, 2.02, 0.0).ok()?,
+        initial_state: hyst_core::InitialState::Rising,
+        form: hyst_model::Form::Operator,
+        linear: 0.0,
+        dynamics: if dynamics {
+            Some(hyst_model::Dynamics::new(1.0, &[0.02, 1e-4]).ok()?)
+        } else {
+            None
+        },
+        rate: None,
+    })
 }
 
 /// `bank` from no history over the ticks `x` (time-major) into `y`; a checksum of the outputs

@@ -659,3 +659,91 @@ fn solve3(a: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
     }
     x
 }
+
+/// Dynamics belong to the smooth model: a Prandtl–Ishlinskii fit with them is refused.
+#[test]
+fn dynamics_with_a_prandtl_ishlinskii_model_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("d.csv");
+    let rows: Vec<Vec<f64>> = (0..200)
+        .map(|k| {
+            let t = f64::from(k) * 0.01;
+            vec![t, t.sin(), t.sin() + 0.1 * t.cos()]
+        })
+        .collect();
+    write_csv(&data, "t,u,y", &rows);
+    let model = dir.path().join("m.toml");
+    let out = Command::new(HYST)
+        .args([
+            "fit",
+            data.to_str().unwrap(),
+            "--input",
+            "u",
+            "--output",
+            "y",
+        ])
+        .args(["--model-kind", "pi", "--dynamics", "1", "-o"])
+        .arg(&model)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("smooth model"),
+        "{err}"
+    );
+    assert!(!model.exists());
+}
+
+/// A viscous force on a counterclockwise hysteresis, y = 3 H(0.2, 5)[v] + 1 + 0.05 v̇: the
+/// force turns the loops clockwise, yet with `--rate-term viscous` the fit finds the operator
+/// form and c (the form the loops suggest is overruled, with a note).
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "minutes in a debug build: scripts/test-all runs it with --release"
+)]
+fn a_viscous_force_on_an_operator_is_found_whatever_the_loops_look_like() {
+    let dir = tempfile::tempdir().unwrap();
+    let h = 1e-3;
+    let v: Vec<f64> = (0..5000)
+        .map(|k| {
+            let t = k as f64 * h;
+            (2.0 * std::f64::consts::PI * 1.3 * t).sin() * (t / 0.3).min(1.0)
+                + 0.4 * (2.0 * std::f64::consts::PI * 4.1 * t + 1.0).sin()
+        })
+        .collect();
+    let mut op = InitialState::Rising
+        .start(Hysteresis::new(0.2, 5.0).unwrap(), v[0])
+        .unwrap();
+    let z = hysteresis(&mut op, &v);
+    let rows: Vec<Vec<f64>> = (0..v.len())
+        .map(|k| {
+            let rate = if k == 0 { 0.0 } else { (v[k] - v[k - 1]) / h };
+            vec![k as f64 * h, v[k], 3.0 * z[k] + 1.0 + 0.05 * rate]
+        })
+        .collect();
+    let data = dir.path().join("visc.csv");
+    write_csv(&data, "t,v,y", &rows);
+    let model = dir.path().join("m.toml");
+    let json: serde_json::Value = serde_json::from_str(&hyst(&[
+        "fit",
+        data.to_str().unwrap(),
+        "--input",
+        "v",
+        "--output",
+        "y",
+        "--rate-term",
+        "viscous",
+        "--json",
+        "-o",
+        model.to_str().unwrap(),
+    ]))
+    .unwrap();
+    let c = json["model"]["rate"]["c"].as_f64().unwrap();
+    println!("viscous force on an operator: c = {c:.5} (0.05)");
+    assert!((c / 0.05 - 1.0).abs() < 0.02, "{c}");
+    assert!(
+        json["model"]["smooth"]["form"].is_null(),
+        "the operator form"
+    );
+}

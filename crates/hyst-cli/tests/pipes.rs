@@ -323,3 +323,20 @@ fn long_values_are_cut_in_messages() {
         &err[..err.len().min(400)]
     );
 }
+
+/// A report whose reader went away (`hyst bench | head`) ends quietly with 141, as SIGPIPE
+/// would, not with a panic.
+#[test]
+fn a_closed_standard_output_ends_a_report_quietly() {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hyst"))
+        .args(["bench", "--seconds", "0.3"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("hyst runs");
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("hyst ends");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}

@@ -143,6 +143,13 @@ pub fn identify(
     interrupted: &dyn Fn() -> bool,
     mut provenance: Provenance,
 ) -> Result<Identified, FitError> {
+    if request.kind == ModelKind::PrandtlIshlinskii && crate::timed::is_timed(request.structure) {
+        return Err(FitError::Invalid(
+            "dynamics and rate terms belong to the smooth model: fit it (--model-kind smooth), \
+             or leave out --dynamics and --rate-term for the Prandtl–Ishlinskii model"
+                .into(),
+        ));
+    }
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
     let found = loops(data);
     let mut notes = Vec::new();
@@ -150,7 +157,9 @@ pub fn identify(
     let want_pi = pi_wanted(data, request, found.gap, &mut notes)?;
     let structure = structure(data, request, found.orientation, &mut notes);
     let smooth = if want_smooth {
-        Some(fit_smooth(data, structure, &request.options, observer)?)
+        Some(fit_smooth_form(
+            data, request, structure, observer, &mut notes,
+        )?)
     } else {
         None
     };
@@ -217,6 +226,45 @@ pub fn identify(
             plots: Vec::new(),
         },
     })
+}
+
+/// The smooth fit of `structure`. With a rate term and the form left to the data, both forms
+/// are fitted and the better kept: a viscous force turns the loops of the data clockwise
+/// whatever the hysteresis underneath, so the loop orientation no longer tells the form (a
+/// note says when the fit overrules it).
+fn fit_smooth_form(
+    data: &Dataset,
+    request: &Request,
+    structure: Structure,
+    observer: &mut dyn Observer,
+    notes: &mut Vec<String>,
+) -> Result<SmoothFit, FitError> {
+    let fit = fit_smooth(data, structure, &request.options, observer)?;
+    if structure.rate.is_none() || request.form != FormChoice::Auto {
+        return Ok(fit);
+    }
+    let other = Structure {
+        form: match structure.form {
+            Form::Operator => Form::Stop,
+            Form::Stop => Form::Operator,
+        },
+        ..structure
+    };
+    let Ok(alternative) = fit_smooth(data, other, &request.options, observer) else {
+        return Ok(fit);
+    };
+    if alternative.training.rms < fit.training.rms {
+        notes.push(format!(
+            "with the rate term, the {} form fits better than the {} form the loops' orientation \
+             suggests (training RMS {} % against {} % of span): kept (give --form to choose)",
+            other.form.name(),
+            structure.form.name(),
+            sig(alternative.training.rms_pct_span, 3),
+            sig(fit.training.rms_pct_span, 3)
+        ));
+        return Ok(alternative);
+    }
+    Ok(fit)
 }
 
 /// The error of a requested model kind that was not fitted (which [`identify`] never lets

@@ -323,12 +323,13 @@ impl<T: Real> Discrete<T> {
     /// Advances `state` to the next sample, whose command is `u`, and returns v there.
     #[inline]
     pub fn step(&self, state: &mut PlantState<T>, u: T) -> T {
-        let n = self.order;
+        // Over all MAX_DYNAMICS rows and columns, whatever the order: the entries beyond it are
+        // 0 (and stay 0 in the state), and fixed bounds let the compiler unroll the loops.
         let du = u - state.u;
         let mut next = [T::zero(); MAX_DYNAMICS];
-        for i in 0..n {
+        for i in 0..MAX_DYNAMICS {
             let mut acc = self.g0[i] * state.u + self.g1[i] * du;
-            for j in 0..n {
+            for j in 0..MAX_DYNAMICS {
                 acc = acc + self.phi[i][j] * state.x[j];
             }
             next[i] = acc;

@@ -51,6 +51,9 @@ macro_rules! each {
 /// the exact model the plant output follows v (eq. 20 with Δ = 0); with a hysteresis
 /// reproduced by a family, within the family's Δa. `last_reference`, `last_target` and
 /// `last_command` are v, x1 and u of the last step.
+///
+/// A `Model` with its own dynamics or a rate term is refused (ValueError): its plant is part of
+/// the model, and its compensator is `Model.compensate`.
 #[pyclass(module = "hyst")]
 pub struct Compensator {
     inner: Inner,
@@ -61,6 +64,14 @@ pub struct Compensator {
 fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverseShapedModel> {
     if let Ok(m) = model.cast::<Model>() {
         let m = m.borrow();
+        // Lemma 5.1's plant here is (b, a): a model with its own plant would lose it.
+        m.file
+            .untimed(
+                "hyst.Compensator, whose plant is its b and a: the compensator of the model's \
+                 own plant is Model.compensate(desired, t=..., derivatives=... or \
+                 prefilter_hz=...)",
+            )
+            .map_err(crate::errors::model)?;
         let smooth = match (m.file.kind, &m.file.smooth) {
             (ModelKind::Smooth, Some(s)) => *s,
             _ => {

@@ -11,9 +11,10 @@ use hyst_fit::lm::{Observer, Progress};
 use hyst_fit::pi_fit::PiOutputKind;
 use hyst_fit::report::{text_report, Findings, Report, Summary};
 use hyst_fit::{identify, DataOptions, Dataset, FitError, FitOptions, FormChoice, StartChoice};
+use hyst_io::number::shortest;
 use hyst_io::Table;
 use hyst_model::{file::fnv1a64, ModelKind, Provenance, Units};
-use hyst_model::{InitialState, K2Kind, ModelFile, ShapingKind, Structure};
+use hyst_model::{InitialState, K2Kind, ModelFile, RateTerm, ShapingKind, Structure};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -78,9 +79,16 @@ impl Observer for Signals {
 /// each record's start from its data), `form` ("auto": the stop form for clockwise loops
 /// such as friction, else the operator form; "operator"; "stop"), `keep_degenerate` (keep a
 /// fit that found no hysteresis instead of raising ValueError), `input_name`, `output_name`
-/// (the columns' names in the model file), `input_unit`, `output_unit`. Raises ValueError
-/// with the CLI's words for bad options or data; Ctrl-C stops the fit with
-/// KeyboardInterrupt. The GIL is released while it runs.
+/// (the columns' names in the model file), `input_unit`, `output_unit`.
+///
+/// Dynamics and rate (`hyst fit --dynamics N --rate-term viscous --time COLUMN`): `dynamics`
+/// (1 to 4) identifies Lemma 5.1's plant of order N between the input x (the command) and the
+/// hysteresis, a_N v⁽ᴺ⁾ + … + a_1 v̇ + v = x, jointly with the hysteresis; `rate_term`
+/// ("viscous") adds c·v̇ to the output. Both need `t`, the samples' time stamps in seconds
+/// (one per sample, increasing evenly within each record); `t` is refused without them.
+///
+/// Raises ValueError with the CLI's words for bad options or data (a bad time stamp is named
+/// as `t[i]`); Ctrl-C stops the fit with KeyboardInterrupt. The GIL is released while it runs.
 #[pyfunction]
 #[pyo3(signature = (
     x, y, *,
@@ -90,7 +98,7 @@ impl Observer for Signals {
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
     initial_state = "auto", estimate_initial_states = false, form = "auto",
     keep_degenerate = false, input_name = "x", output_name = "y", input_unit = "",
-    output_unit = ""
+    output_unit = "", t = None, dynamics = None, rate_term = None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
@@ -122,10 +130,15 @@ pub fn fit(
     output_name: &str,
     input_unit: &str,
     output_unit: &str,
+    t: Option<&Bound<'_, PyAny>>,
+    dynamics: Option<i64>,
+    rate_term: Option<&str>,
 ) -> PyResult<FitResult> {
     if starts == 0 {
         return Err(value_error("starts = 0: expected at least 1 start"));
     }
+    let t = t.filter(|t| !t.is_none());
+    let timed = timed(dynamics, rate_term, t.is_some(), estimate_initial_states)?;
     let options = Options {
         output_shaping,
         input_shaping,
@@ -149,14 +162,87 @@ pub fn fit(
         output_name,
         input_unit,
         output_unit,
+        timed,
     };
     let request = options.request()?;
-    let columns = Columns::read(x, y, record, weight, input_name, output_name)?;
+    let columns = Columns::read(x, y, record, weight, t, input_name, output_name)?;
     let data = options.data_options(&columns);
     let provenance = provenance(&columns.values);
+    let has_record = columns.record;
     let table = Table::new(columns.names, columns.values).map_err(|e| errors::fit(e.into()))?;
-    let report = identify_without_gil(py, &table, &data, &request, provenance)?;
+    let report =
+        identify_without_gil(py, &table, &data, &request, provenance).map_err(|e| match e {
+            // A time stamp is named as the sample of `t`, not as the line of the in-memory table.
+            Failed::Fit(FitError::BadTime {
+                line,
+                record,
+                message,
+                ..
+            }) => bad_time(
+                table.column(TIME).unwrap_or(&[]),
+                line,
+                has_record.then_some(record),
+                &message,
+            ),
+            e => e.into_err(),
+        })?;
     FitResult::new(py, report)
+}
+
+/// The plant order and rate term of a fit with dynamics or a rate term (`None` for a static
+/// fit), checked: an order of 1 to 4 (as `hyst fit --dynamics`), a rate term by its CLI name,
+/// `t` given exactly when one of them is, and no estimated starts beside them.
+fn timed(
+    dynamics: Option<i64>,
+    rate_term: Option<&str>,
+    has_time: bool,
+    estimate_initial_states: bool,
+) -> PyResult<Option<(u8, Option<RateTerm>)>> {
+    let order = match dynamics {
+        None => 0,
+        Some(n) => match u8::try_from(n) {
+            Ok(n) if (1..=4).contains(&n) => n,
+            _ => {
+                return Err(value_error(format!(
+                    "dynamics = {n}: the plant order must be 1 to 4 (None: no dynamics)"
+                )))
+            }
+        },
+    };
+    let rate = rate_term
+        .map(|r| choice::<RateTerm>("rate_term", r))
+        .transpose()?;
+    if order == 0 && rate.is_none() {
+        if has_time {
+            return Err(value_error(
+                "t: time stamps apply to a fit with dynamics or rate_term; a static fit does not \
+                 use them (leave t out, or give dynamics=N or rate_term=\"viscous\")",
+            ));
+        }
+        return Ok(None);
+    }
+    if !has_time {
+        return Err(value_error(
+            "t: a fit with dynamics or rate_term needs the samples' time stamps t (s), one per \
+             sample of x",
+        ));
+    }
+    if estimate_initial_states {
+        return Err(value_error(
+            "estimate_initial_states=True cannot be combined with dynamics or rate_term: a \
+             record of a model with dynamics starts at rest at its first sample",
+        ));
+    }
+    Ok(Some((order, rate)))
+}
+
+/// `ValueError` for the time stamp on `line` of the in-memory table (row `line − 2`), named as
+/// the sample `t[i]` (and its record when the fit was given record ids).
+fn bad_time(t: &[f64], line: usize, record: Option<i64>, message: &str) -> PyErr {
+    let i = line.saturating_sub(2);
+    let value = t.get(i).map_or_else(|| "?".into(), |v| shortest(*v));
+    let record = record.map_or_else(String::new, |r| format!(" (record {r})"));
+    value_error(format!("t[{i}] = {value}{record}: {message}"))
 }
 
 /// `segment` and its alias `segments`: the one given, or ValueError when both are, apart.
@@ -194,6 +280,8 @@ struct Options<'a> {
     output_name: &'a str,
     input_unit: &'a str,
     output_unit: &'a str,
+    /// The plant order (0: none) and the rate term of a fit with either.
+    timed: Option<(u8, Option<RateTerm>)>,
 }
 
 impl Options<'_> {
@@ -208,8 +296,8 @@ impl Options<'_> {
             output_offset: self.output_offset,
             initial_state: InitialState::Rising,
             form: hyst_model::Form::Operator,
-            dynamics: 0,
-            rate: None,
+            dynamics: self.timed.map_or(0, |(order, _)| order),
+            rate: self.timed.and_then(|(_, rate)| rate),
         };
         Ok(Request {
             kind: choice::<ModelKind>("model_kind", self.model_kind)?,
@@ -244,19 +332,20 @@ impl Options<'_> {
             segment: self.segment,
             validate: self.validate.clone(),
             validate_every: self.validate_every,
-            time: None,
-            timed: false,
+            time: columns.time.then(|| TIME.to_string()),
+            timed: self.timed.is_some(),
         }
     }
 }
 
-/// The names of the columns that hold the arrays `record` and `weight`.
+/// The names of the columns that hold the arrays `record`, `weight` and `t`.
 const RECORD: &str = "record";
 const WEIGHT: &str = "weight";
+const TIME: &str = "t";
 
 /// The arrays of a fit as the named columns of a table, as `hyst fit` reads them from a CSV
-/// file: x and y under `input_name` and `output_name`, then the record ids and the weights
-/// when given.
+/// file: x and y under `input_name` and `output_name`, then the record ids, the weights and
+/// the time stamps when given.
 struct Columns {
     names: Vec<String>,
     values: Vec<Vec<f64>>,
@@ -264,16 +353,19 @@ struct Columns {
     record: bool,
     /// Whether there is a weight column.
     weight: bool,
+    /// Whether there is a time column.
+    time: bool,
 }
 
 impl Columns {
     /// Reads the arrays (1-D, finite or not: the dataset checks the values) and checks their
-    /// names apart and their lengths equal.
+    /// names apart and their lengths equal; time stamps must be finite (named `t[i]`).
     fn read(
         x: &Bound<'_, PyAny>,
         y: &Bound<'_, PyAny>,
         record: Option<&Bound<'_, PyAny>>,
         weight: Option<&Bound<'_, PyAny>>,
+        t: Option<&Bound<'_, PyAny>>,
         input_name: &str,
         output_name: &str,
     ) -> PyResult<Self> {
@@ -286,7 +378,7 @@ impl Columns {
             )));
         }
         let mut values = vec![x, y];
-        for (array, name) in [(record, RECORD), (weight, WEIGHT)] {
+        for (array, name) in [(record, RECORD), (weight, WEIGHT), (t, TIME)] {
             if let Some(v) = array.filter(|v| !v.is_none()) {
                 if names.iter().any(|n| n == name) {
                     return Err(value_error(format!(
@@ -310,6 +402,17 @@ impl Columns {
                 )));
             }
         }
+        // The time stamps (always after x and y): a non-finite one is named here as `t[i]`.
+        let time = names.iter().skip(2).position(|n| n == TIME);
+        let stamps = time
+            .and_then(|i| values.get(i + 2))
+            .map_or(&[][..], Vec::as_slice);
+        if let Some((i, v)) = stamps.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(value_error(format!(
+                "t[{i}] = {}: the time stamp is not a finite number",
+                shortest(*v)
+            )));
+        }
         let record = names.iter().any(|n| n == RECORD);
         let weight = names.iter().any(|n| n == WEIGHT);
         Ok(Self {
@@ -317,6 +420,7 @@ impl Columns {
             values,
             record,
             weight,
+            time: time.is_some(),
         })
     }
 }
@@ -344,6 +448,26 @@ fn provenance(columns: &[Vec<f64>]) -> Provenance {
     }
 }
 
+/// Why a fit failed: the fit's error, or the exception a signal handler raised (Ctrl-C).
+enum Failed {
+    Fit(FitError),
+    Raised(PyErr),
+}
+
+impl Failed {
+    /// The Python exception: KeyboardInterrupt for an interrupted fit, the handler's own
+    /// exception, else as [`errors::fit`].
+    fn into_err(self) -> PyErr {
+        match self {
+            Failed::Raised(e) => e,
+            Failed::Fit(e @ FitError::Interrupted) => {
+                pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string())
+            }
+            Failed::Fit(e) => errors::fit(e),
+        }
+    }
+}
+
 /// Reads the dataset from `table` and identifies the model without the GIL, as `hyst fit`
 /// does; the report. A signal (Ctrl-C) during the fit stops it and raises its exception.
 fn identify_without_gil(
@@ -352,7 +476,7 @@ fn identify_without_gil(
     options: &DataOptions,
     request: &Request,
     provenance: Provenance,
-) -> PyResult<Report> {
+) -> Result<Report, Failed> {
     let (result, raised) = py.detach(|| {
         let data = match Dataset::from_table(table, options) {
             Ok(d) => d,
@@ -366,14 +490,11 @@ fn identify_without_gil(
         (result, observer.raised)
     });
     if let Some(e) = raised {
-        return Err(e);
+        return Err(Failed::Raised(e));
     }
     result
         .map(|identified| identified.report)
-        .map_err(|e| match e {
-            FitError::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
-            e => errors::fit(e),
-        })
+        .map_err(Failed::Fit)
 }
 
 /// The result of `hyst.fit`: the model, its parameters with standard errors, the errors of the

@@ -36,6 +36,7 @@ pub mod family;
 pub mod fit;
 pub mod model;
 pub mod operator;
+mod timed;
 
 /// The extension module `hyst._hyst`.
 #[pymodule]

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use hyst_model::FamilyWidths;
 use hyst_model::ModelKind;
 use hyst_model::{Estimate, Evaluator, ModelFile, Saturated};
+use hyst_model::{Prefilter, SmoothModel, TimedCompensator};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -14,6 +15,10 @@ use crate::arrays::{
     derivatives, pair, result_array, run_into, run_jets, samples, to_numpy, Samples,
 };
 use crate::errors::{self, value_error};
+use crate::timed::{
+    as_array_of, derivatives_from, desired_derivatives, period_of, run_compensator, timed_model,
+    timed_parts, untimed, values_of, Given, Halt, Reference,
+};
 
 /// A value as a Python object through JSON (dicts, lists, floats, strings; NaN becomes None).
 ///
@@ -57,6 +62,12 @@ pub fn reached(file: &ModelFile) -> Option<&FamilyWidths> {
 /// `process(x)` runs it over a record: the first sample starts it by the model's start rule,
 /// exactly as `hyst run --model FILE` does (bit-identical results). `inverse()` gives the
 /// exact inverse (desired output in, command out; `hyst run --model FILE --inverse`).
+///
+/// A model with dynamics or a rate term (`dynamics`, `rate`: fitted with `hyst.fit(...,
+/// t=..., dynamics=N, rate_term="viscous")`) runs on timed records only:
+/// `process(x, t=...)` or `process(x, period=...)`, and its Lemma 5.1 compensator is
+/// `compensate(desired, t=..., derivatives=... or prefilter_hz=...)`; `inverse()`, `step()`
+/// and the exports refuse it.
 #[pyclass(module = "hyst")]
 #[derive(Clone, Debug)]
 pub struct Model {
@@ -121,6 +132,28 @@ impl Model {
 }
 
 impl Model {
+    /// `ValueError` for the inverse of a model with dynamics or a rate term `m`: it has none
+    /// without time, and its compensator is `compensate`.
+    fn no_inverse(&self, m: &SmoothModel) -> PyErr {
+        let how = if TimedCompensator::check(m).is_ok() {
+            "its Lemma 5.1 compensator is Model.compensate(desired, t=..., derivatives=... or \
+             prefilter_hz=...)"
+        } else {
+            "it has no inverse"
+        };
+        match self
+            .file
+            .untimed(&format!("Model.inverse() (without time); {how}"))
+        {
+            Err(e) => errors::model(e),
+            Ok(()) => value_error(format!(
+                "the model {} has {}: {how}",
+                self.source,
+                timed_parts(m)
+            )),
+        }
+    }
+
     /// What an exported file names as its source.
     fn export_source(&self) -> hyst_model::export::Source {
         hyst_model::export::Source {
@@ -152,13 +185,40 @@ impl Model {
     /// Raises ValueError at the first sample the model refuses (NaN, infinity, a desired
     /// output beyond a saturating shaping's range), naming its index; the model is then as it
     /// was before the call.
-    #[pyo3(signature = (x, derivatives=None))]
+    ///
+    /// A model with dynamics or a rate term needs the record's time stamps `t` (s, one per
+    /// sample, increasing evenly: every step within 10 % of the mean, which is the sample
+    /// period) or its sample `period` (s), and runs each call as one record that starts at
+    /// rest at its first sample, as `hyst run --model FILE` runs a timed record (bit-identical
+    /// results); it takes no `derivatives` and keeps no history between calls. A static model
+    /// refuses `t` and `period`.
+    #[pyo3(signature = (x, derivatives=None, *, t=None, period=None))]
     fn process<'py>(
         &mut self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         derivatives: Option<&Bound<'py, PyAny>>,
+        t: Option<&Bound<'py, PyAny>>,
+        period: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let t = t.filter(|t| !t.is_none());
+        let derivatives = derivatives.filter(|d| !d.is_none());
+        if let Some(m) = timed_model(&self.file) {
+            if self.inverse {
+                return Err(self.no_inverse(m));
+            }
+            return crate::timed::process(py, m, &self.source, x, derivatives, t, period);
+        }
+        if let Some(name) = [(t.is_some(), "t"), (period.is_some(), "period")]
+            .into_iter()
+            .find_map(|(given, name)| given.then_some(name))
+        {
+            return Err(value_error(format!(
+                "{name} applies to a model with dynamics or a rate term; the model {} has \
+                 neither, and runs without time (process(x))",
+                self.source
+            )));
+        }
         let xs = samples(x, "x")?;
         let Some(first) = first_of(&xs) else {
             return match xs {
@@ -167,7 +227,7 @@ impl Model {
             };
         };
         let (op, fresh) = self.started(first)?;
-        let d = match derivatives.filter(|d| !d.is_none()) {
+        let d = match derivatives {
             Some(d) => {
                 let n = match &xs {
                     Samples::F64(a) => a.len()?,
@@ -218,9 +278,16 @@ impl Model {
         }
     }
 
-    /// One sample (starts the model by its start rule if it has no history yet).
+    /// One sample (starts the model by its start rule if it has no history yet). A model with
+    /// dynamics or a rate term has no sample period here: ValueError (run its records with
+    /// `process(x, t=...)`).
     fn step(&mut self, x: f64) -> PyResult<f64> {
         use hyst_core::Operator;
+        untimed(
+            &self.file,
+            "Model.step(x), which has no sample period: run whole records with \
+             Model.process(x, t=...) or Model.process(x, period=...)",
+        )?;
         let (op, fresh) = self.started(x)?;
         match op.try_step(x) {
             Ok(y) => Ok(y),
@@ -246,8 +313,14 @@ impl Model {
     /// `saturation`): a desired output beyond the limits is clamped to the nearer one instead of
     /// raising ValueError, as `hyst run --inverse --saturate` does; `clamped` counts them.
     /// ValueError for a model whose output is unbounded (nothing could need clamping).
+    ///
+    /// A model with dynamics or a rate term has no inverse without time: ValueError (its
+    /// compensator is `compensate(desired, t=..., derivatives=... or prefilter_hz=...)`).
     #[pyo3(signature = (*, saturate=false))]
     fn inverse(&self, saturate: bool) -> PyResult<Self> {
+        if let Some(m) = timed_model(&self.file) {
+            return Err(self.no_inverse(m));
+        }
         if let Some(m) = &self.file.smooth {
             // The model's own refusal, so that the words are the CLI's.
             m.invertible().map_err(errors::model)?;
@@ -261,6 +334,113 @@ impl Model {
         let mut m = Self::new(self.file.clone(), true, self.source.clone());
         m.saturate = saturate;
         Ok(m)
+    }
+
+    /// Lemma 5.1's compensator of a model with dynamics (and no rate term, of the operator
+    /// form): for the desired outputs `desired` (1-D, one record) it returns the commands u
+    /// that make the plant and the hysteresis give them, u = (1/b) Σ a_i dⁱx/dtⁱ with
+    /// x = ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y_d)]) (eq. 19), exactly as `hyst run --model FILE --inverse`
+    /// computes them on a timed record (bit-identical results).
+    ///
+    /// The record's time stamps `t` (s) or its sample `period` give the sample period. The
+    /// desired output's first n time derivatives (n the plant order) are `derivatives`, of
+    /// shape (len(desired), n) (1-D for n = 1; `hyst run`'s columns `y_d1 … y_dn`), or come
+    /// from the reference prefilter 1/(s/ω + 1)ⁿ, ω = 2π·`prefilter_hz` (`--prefilter-hz`):
+    /// the commands then make the plant track the prefiltered reference. Give one of them.
+    ///
+    /// Raises ValueError for a model without dynamics (its compensator is the exact inverse,
+    /// `inverse()`), with a rate term or of the stop form, and at the first desired output the
+    /// model cannot give, naming its index. Each call is one record, started at rest.
+    #[pyo3(signature = (desired, *, t=None, period=None, derivatives=None, prefilter_hz=None))]
+    fn compensate<'py>(
+        &self,
+        py: Python<'py>,
+        desired: &Bound<'py, PyAny>,
+        t: Option<&Bound<'py, PyAny>>,
+        period: Option<f64>,
+        derivatives: Option<&Bound<'py, PyAny>>,
+        prefilter_hz: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let smooth = match (&self.file.smooth, self.file.kind) {
+            (Some(m), ModelKind::Smooth) => *m,
+            _ => {
+                return Err(value_error(format!(
+                    "the model {} is a Prandtl-Ishlinskii model: it has no dynamics, and its \
+                     compensator is the exact inverse (inverse())",
+                    self.source
+                )))
+            }
+        };
+        TimedCompensator::check(&smooth).map_err(errors::model)?;
+        let order = smooth.dynamics.map_or(0, |d| d.order());
+        let t = t.filter(|t| !t.is_none());
+        let derivatives = derivatives.filter(|d| !d.is_none());
+        let (desired, f32) = values_of(desired, "desired")?;
+        let given = derivatives_from(derivatives, prefilter_hz, order)?;
+        let what = format!(
+            "the compensator of the model {} (dynamics of order {order})",
+            self.source
+        );
+        let Some(h) = period_of(t, period, desired.len(), &what)? else {
+            return Ok(as_array_of(py, desired, f32));
+        };
+        let reference = match given {
+            Given::Derivatives(d) => {
+                Reference::Given(desired_derivatives(d, desired.len(), order)?)
+            }
+            Given::Prefilter(hz) => {
+                let first = desired.first().copied().unwrap_or(0.0);
+                Reference::Prefilter(Box::new(
+                    Prefilter::new(order, hz, h, first).map_err(errors::model)?,
+                ))
+            }
+        };
+        let commands = py
+            .detach(|| run_compensator(&smooth, &desired, reference))
+            .map_err(|halt| match halt {
+                Halt::At(i, value, message) => {
+                    value_error(format!("desired[{i}] = {}: {message}", shortest(value)))
+                }
+                Halt::Interrupted(e) => e,
+            })?;
+        Ok(as_array_of(py, commands, f32))
+    }
+
+    /// Lemma 5.1's plant before the hysteresis, b / (a_n sⁿ + … + a_1 s + 1) (eq. 18), as the
+    /// model file's `[dynamics]` section: {"b": b, "a": [a_1, …, a_n], "a_std_error": […],
+    /// "identified": […]} (the last two when the fit recorded them); None for a model without
+    /// dynamics.
+    #[getter]
+    fn dynamics<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(d) = self.file.smooth.as_ref().and_then(|m| m.dynamics) else {
+            return Ok(None);
+        };
+        match &self.file.dynamics {
+            Some(section) => to_python(py, section).map(Some),
+            None => {
+                let out = PyDict::new(py);
+                out.set_item("b", d.b)?;
+                out.set_item("a", d.a().to_vec())?;
+                Ok(Some(out.into_any()))
+            }
+        }
+    }
+
+    /// The rate term c·v̇ added to the output, as the model file's `[rate]` section:
+    /// {"c": c, "c_std_error": …}; None for a model without one.
+    #[getter]
+    fn rate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(r) = self.file.smooth.as_ref().and_then(|m| m.rate) else {
+            return Ok(None);
+        };
+        match &self.file.rate {
+            Some(section) => to_python(py, section).map(Some),
+            None => {
+                let out = PyDict::new(py);
+                out.set_item("c", r.c)?;
+                Ok(Some(out.into_any()))
+            }
+        }
     }
 
     /// The output range of a saturating output shaping (tanh, Langevin) and the limits (99.9 %
@@ -371,15 +551,25 @@ impl Model {
     /// `name` (`NAME_state`, `NAME_init`, `NAME_init_inverse`, `NAME_step`, `NAME_reset`,
     /// `NAME_params` and their `_f32` twins): the text `hyst export c` writes for the same
     /// model file (docs/c.md). Raises ValueError for a name that is not a C identifier or
-    /// clashes with hyst.h's, and for a model the firmware cannot run (Prandtl–Ishlinskii).
+    /// clashes with hyst.h's, and for a model the firmware cannot run (Prandtl–Ishlinskii, or
+    /// a model with dynamics or a rate term).
     fn export_c(&self, name: &str) -> PyResult<String> {
+        untimed(
+            &self.file,
+            "export_c: the exported firmware steps samples without a sample period",
+        )?;
         hyst_model::export::c(&self.file, name, &self.export_source()).map_err(errors::model)
     }
 
     /// The model as `no_std` Rust over hyst-core (`NAME::<T>()`, `NAME_inverse::<T>()`,
     /// `NAME_clamp`): the text `hyst export rust` writes for the same model file (docs/c.md).
-    /// Raises ValueError for a name that is not an identifier.
+    /// Raises ValueError for a name that is not an identifier, and for a model with dynamics
+    /// or a rate term.
     fn export_rust(&self, name: &str) -> PyResult<String> {
+        untimed(
+            &self.file,
+            "export_rust: the exported firmware steps samples without a sample period",
+        )?;
         hyst_model::export::rust(&self.file, name, &self.export_source()).map_err(errors::model)
     }
 
@@ -442,6 +632,9 @@ pub fn model_from_toml(
 ) -> PyResult<Model> {
     let file = ModelFile::from_toml(text, Path::new(&source)).map_err(errors::model)?;
     let mut model = Model::new(file, inverse, source);
+    if let Some(m) = timed_model(&model.file).filter(|_| inverse) {
+        return Err(model.no_inverse(m));
+    }
     model.saturate = inverse && saturate;
     if let Some(h) = source_fnv1a64 {
         model.source_fnv1a64 = h;

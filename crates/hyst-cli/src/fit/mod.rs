@@ -210,9 +210,9 @@ pub fn main(args: Args) -> Result<()> {
     hyst_fit::file::write(&report.model, &args.model_out)?;
     report.model_file = args.model_out.display().to_string();
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        outln!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        print!("{}", text_report(&report));
+        out!("{}", text_report(&report));
     }
     Ok(())
 }

@@ -103,14 +103,44 @@ class Bank:
 
 class Model:
     """A fitted model from a model file (``hyst fit``): direct (input x, output y) or as its
-    exact inverse (desired output in, command out)."""
+    exact inverse (desired output in, command out). A model with dynamics or a rate term runs
+    on timed records: ``process(x, t=...)`` and ``compensate(desired, t=..., ...)``."""
 
     @overload
-    def process(self, x: ArrayLike, derivatives: None = None) -> FloatArray: ...
+    def process(
+        self,
+        x: ArrayLike,
+        derivatives: None = None,
+        *,
+        t: Optional[ArrayLike] = None,
+        period: Optional[float] = None,
+    ) -> FloatArray:
+        """With ``t`` (time stamps, s) or ``period`` (s): a model with dynamics or a rate
+        term over one record from rest (``hyst run --model M`` with a time column); a static
+        model refuses them."""
     @overload
     def process(self, x: ArrayLike, derivatives: ArrayLike) -> Tuple[FloatArray, FloatArray]:
         """With ``derivatives`` of shape (n, N), N <= MAX_ORDER (1-D: the first derivative):
         the outputs and their time derivatives ``(y, dy)``."""
+    def compensate(
+        self,
+        desired: ArrayLike,
+        *,
+        t: Optional[ArrayLike] = None,
+        period: Optional[float] = None,
+        derivatives: Optional[ArrayLike] = None,
+        prefilter_hz: Optional[float] = None,
+    ) -> FloatArray:
+        """Lemma 5.1's compensator of a model with dynamics: the commands for the desired
+        outputs of one record, given their first n time derivatives (shape (len, n)) or a
+        reference prefilter of bandwidth ``prefilter_hz``; as ``hyst run --model M --inverse``
+        on a timed record."""
+    @property
+    def dynamics(self) -> Optional[Dict[str, Any]]:
+        """The plant before the hysteresis, {"b": b, "a": [a_1, ..., a_n], ...}, or None."""
+    @property
+    def rate(self) -> Optional[Dict[str, float]]:
+        """The rate term c·v', {"c": c, "c_std_error": ...}, or None."""
     def step(self, x: float) -> float: ...
     def reset(self) -> None: ...
     def inverse(self, *, saturate: bool = False) -> Model:
@@ -223,9 +253,13 @@ def fit(
     output_name: str = "y",
     input_unit: str = "",
     output_unit: str = "",
+    t: Optional[ArrayLike] = None,
+    dynamics: Optional[int] = None,
+    rate_term: Optional[Literal["viscous"]] = None,
 ) -> FitResult:
     """Identifies a model from its input ``x`` and the measured output ``y`` as ``hyst fit``
-    does."""
+    does; ``dynamics`` (1 to 4) and ``rate_term`` (``hyst fit --dynamics``, ``--rate-term``)
+    need the time stamps ``t`` (s)."""
 
 class Family:
     """The family RH(k1, dk1, k2, dk2) (Definition 2.8) and its bound delta_a (Prop. 3.2)."""

@@ -1,0 +1,311 @@
+//! The Python side of a model with dynamics or a rate term (`Model.process(x, t=...)`,
+//! `Model.compensate`): its sample period from the time stamps, the run and the compensator of
+//! `hyst_model::timed`, as `hyst run --model` runs a timed record (bit-identical results).
+
+use hyst_io::number::shortest;
+use hyst_model::dynamics::sample_period;
+use hyst_model::ModelFile;
+use hyst_model::ModelKind;
+use hyst_model::{Prefilter, SmoothModel, TimedCompensator, TimedRun};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+
+use crate::arrays::{
+    as_dtype, samples, samples_f64, shape_of, signals, to_numpy, Samples, Stop, CHUNK,
+};
+use crate::errors::{self, value_error};
+
+/// `Model.process` of a timed model `m` (from the file `source`): the whole of `x` as one
+/// record starting at rest, at the period of `t` or `period`.
+pub(crate) fn process<'py>(
+    py: Python<'py>,
+    m: &SmoothModel,
+    source: &str,
+    x: &Bound<'py, PyAny>,
+    derivatives: Option<&Bound<'py, PyAny>>,
+    t: Option<&Bound<'py, PyAny>>,
+    period: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    if derivatives.is_some() {
+        return Err(value_error(format!(
+            "derivatives: the model {} has {}: it runs without derivatives (give the \
+             time stamps as t=..., or the sample period as period=...)",
+            source,
+            timed_parts(m)
+        )));
+    }
+    let (x, f32) = values_of(x, "x")?;
+    let what = format!("the model {} has {}", source, timed_parts(m));
+    let Some(h) = period_of(t, period, x.len(), &what)? else {
+        return Ok(as_array_of(py, x, f32));
+    };
+    let m = *m;
+    let y = py
+        .detach(|| run_timed(&m, &x, h))
+        .map_err(|e| e.into_err("x"))?;
+    Ok(as_array_of(py, y, f32))
+}
+
+/// The smooth model of a model with dynamics or a rate term; `None` for a static model.
+pub(crate) fn timed_model(file: &ModelFile) -> Option<&SmoothModel> {
+    file.smooth
+        .as_ref()
+        .filter(|m| file.kind == ModelKind::Smooth && m.is_timed())
+}
+
+/// `ValueError` refusing a model with dynamics or a rate term for `what` (the model's own
+/// words, [`ModelFile::untimed`]); `Ok` for a static model.
+pub(crate) fn untimed(file: &ModelFile, what: &str) -> PyResult<()> {
+    file.untimed(what).map_err(errors::model)
+}
+
+/// The sample period of a timed record of `n` samples: from its time stamps `t` (the mean
+/// step, every step within 10 % of it; a bad stamp is named as `t[i]`) or given as `period`
+/// (s). Exactly one of them. `None` for an empty record (with as many stamps, or a valid
+/// period): there is nothing to run.
+pub(crate) fn period_of(
+    t: Option<&Bound<'_, PyAny>>,
+    period: Option<f64>,
+    n: usize,
+    what: &str,
+) -> PyResult<Option<f64>> {
+    match (t, period) {
+        (Some(_), Some(_)) => Err(value_error(
+            "t and period: give one (the time stamps, or the sample period they imply)",
+        )),
+        (None, None) => Err(value_error(format!(
+            "{what}: it needs the record's time stamps t (s), one per sample, or its sample \
+             period (period=h, s)"
+        ))),
+        (None, Some(h)) => {
+            if h.is_finite() && h > 0.0 {
+                Ok((n > 0).then_some(h))
+            } else {
+                Err(value_error(format!(
+                    "period = {}: expected a finite, positive sample period (s)",
+                    shortest(h)
+                )))
+            }
+        }
+        (Some(t), None) => {
+            let t = samples_f64(t, "t")?;
+            if t.len() != n {
+                return Err(value_error(format!(
+                    "t has {} samples but the record has {n}",
+                    t.len()
+                )));
+            }
+            if n == 0 {
+                return Ok(None);
+            }
+            sample_period(&t).map(Some).map_err(|(i, message)| {
+                let value = t.get(i).map_or_else(|| "?".into(), |v| shortest(*v));
+                value_error(format!("t[{i}] = {value}: {message}"))
+            })
+        }
+    }
+}
+
+/// What a model has that makes it timed, in words ("dynamics of order 2", "a rate term", or
+/// both).
+pub(crate) fn timed_parts(m: &SmoothModel) -> String {
+    match (m.dynamics, m.rate) {
+        (Some(d), Some(_)) => format!("dynamics of order {} and a rate term", d.order()),
+        (Some(d), None) => format!("dynamics of order {}", d.order()),
+        _ => "a rate term".into(),
+    }
+}
+
+/// The samples of a 1-D array as float64 values, and whether they were float32 (the result
+/// then goes back to float32).
+pub(crate) fn values_of(x: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<f64>, bool)> {
+    Ok(match samples(x, name)? {
+        Samples::F64(a) => (a.as_array().iter().copied().collect(), false),
+        Samples::F32(a) => (a.as_array().iter().map(|v| f64::from(*v)).collect(), true),
+    })
+}
+
+/// Results as a numpy array of the input's dtype (float32 when `f32`, else float64).
+pub(crate) fn as_array_of(py: Python<'_>, values: Vec<f64>, f32: bool) -> Bound<'_, PyAny> {
+    if f32 {
+        #[allow(clippy::cast_possible_truncation)]
+        to_numpy(
+            py,
+            values.into_iter().map(|v| v as f32).collect::<Vec<f32>>(),
+        )
+    } else {
+        to_numpy(py, values)
+    }
+}
+
+/// The desired output's first `order` time derivatives, one row per desired output: shape
+/// (n, order) (1-D of length n for order 1), finite.
+pub(crate) fn desired_derivatives(
+    d: &Bound<'_, PyAny>,
+    n: usize,
+    order: usize,
+) -> PyResult<Vec<Vec<f64>>> {
+    use numpy::PyUntypedArrayMethods;
+    let a = as_dtype(d, "derivatives", "float64")?;
+    let expected = || {
+        format!(
+            "derivatives: the plant has order {order}: give the desired output's first {order} \
+             time derivatives, shape ({n}, {order}){}, got shape {}",
+            if order == 1 { " or (n,)" } else { "" },
+            shape_of(&a)
+        )
+    };
+    let one_d = a.cast::<PyArray1<f64>>().is_ok();
+    let rows: Vec<Vec<f64>> = if let Ok(a1) = a.cast::<PyArray1<f64>>() {
+        if order != 1 || a1.len() != n {
+            return Err(value_error(expected()));
+        }
+        let ro = a1
+            .try_readonly()
+            .map_err(|e| value_error(format!("derivatives: the array cannot be read: {e}")))?;
+        ro.as_array().iter().map(|v| vec![*v]).collect()
+    } else if let Ok(a2) = a.cast::<PyArray2<f64>>() {
+        if a2.shape() != [n, order] {
+            return Err(value_error(expected()));
+        }
+        let ro = a2
+            .try_readonly()
+            .map_err(|e| value_error(format!("derivatives: the array cannot be read: {e}")))?;
+        ro.as_array()
+            .rows()
+            .into_iter()
+            .map(|r| r.to_vec())
+            .collect()
+    } else {
+        return Err(value_error(expected()));
+    };
+    for (i, row) in rows.iter().enumerate() {
+        if let Some((k, v)) = row.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            let at = if one_d {
+                format!("{i}")
+            } else {
+                format!("{i}, {k}")
+            };
+            return Err(value_error(format!(
+                "derivatives[{at}] = {}: not a finite number",
+                shortest(*v)
+            )));
+        }
+    }
+    Ok(rows)
+}
+
+/// What `compensate` was given for the desired output's derivatives.
+pub(crate) enum Given<'a, 'py> {
+    /// The derivatives themselves (an array, checked later against the record).
+    Derivatives(&'a Bound<'py, PyAny>),
+    /// The bandwidth (Hz, finite and positive) of the reference prefilter that makes them.
+    Prefilter(f64),
+}
+
+/// Exactly one of `derivatives` and `prefilter_hz` (a finite, positive bandwidth), for a plant
+/// of order `order`.
+pub(crate) fn derivatives_from<'a, 'py>(
+    derivatives: Option<&'a Bound<'py, PyAny>>,
+    prefilter_hz: Option<f64>,
+    order: usize,
+) -> PyResult<Given<'a, 'py>> {
+    match (derivatives, prefilter_hz) {
+        (Some(d), None) => Ok(Given::Derivatives(d)),
+        (None, Some(hz)) if hz.is_finite() && hz > 0.0 => Ok(Given::Prefilter(hz)),
+        (None, Some(hz)) => Err(value_error(format!(
+            "prefilter_hz = {}: the bandwidth must be a finite, positive frequency (Hz)",
+            shortest(hz)
+        ))),
+        (Some(_), Some(_)) => Err(value_error(
+            "derivatives and prefilter_hz: give one (the desired output's derivatives, or the \
+             bandwidth of the prefilter that makes them)",
+        )),
+        (None, None) => Err(value_error(format!(
+            "the compensator of a plant of order {order} needs the desired output's first \
+             {order} time derivatives: give derivatives (shape (n, {order})) or a reference \
+             prefilter (prefilter_hz=F, the bandwidth in Hz the commands then track)"
+        ))),
+    }
+}
+
+/// Where the desired output's derivatives come from: given, or a reference prefilter.
+pub(crate) enum Reference {
+    Given(Vec<Vec<f64>>),
+    Prefilter(Box<Prefilter>),
+}
+
+/// Runs the model with dynamics or a rate term `m` over the commands `x` (one record of sample
+/// period `period`, started at rest at its first command): `hyst run --model M` on a timed
+/// record. Checks for Ctrl-C every [`CHUNK`] samples.
+pub(crate) fn run_timed(m: &SmoothModel, x: &[f64], period: f64) -> Result<Vec<f64>, Stop> {
+    let first = x.first().copied().unwrap_or(0.0);
+    let refused = |index: usize, value: f64, error| {
+        Stop::Refused(crate::arrays::Refused {
+            index,
+            value,
+            error,
+        })
+    };
+    let mut run = TimedRun::new(m, period, first).map_err(|e| refused(0, first, e))?;
+    let mut y = Vec::with_capacity(x.len());
+    for (i, u) in x.iter().enumerate() {
+        if i > 0 && i % CHUNK == 0 {
+            signals()?;
+        }
+        y.push(run.step(*u).map_err(|e| refused(i, *u, e))?.y);
+    }
+    Ok(y)
+}
+
+/// A model error's reason after the sample that caused it: the core's own words for a refused
+/// value (as the static model's `x[i] = v: …`), else the message of [`errors::model`].
+pub(crate) fn reason(e: hyst_model::ModelError) -> String {
+    match e {
+        hyst_model::ModelError::Core(e) => e.to_string(),
+        e => hyst_fit::FitError::from(e).to_string(),
+    }
+}
+
+/// Why a compensator run stopped: the desired output it refused (index, value, reason) or a
+/// signal handler's exception.
+pub(crate) enum Halt {
+    At(usize, f64, String),
+    Interrupted(PyErr),
+}
+
+/// Lemma 5.1's compensator of `m` over the desired outputs `desired` (one record of sample
+/// period `period`), their derivatives from `reference`: the computation of
+/// `hyst run --model M --inverse` on a timed record, command by command.
+pub(crate) fn run_compensator(
+    m: &SmoothModel,
+    desired: &[f64],
+    mut reference: Reference,
+) -> Result<Vec<f64>, Halt> {
+    let first = desired.first().copied().unwrap_or(0.0);
+    let order = m.dynamics.map_or(0, |d| d.order());
+    let mut c = TimedCompensator::new(m, first).map_err(|e| {
+        Halt::At(
+            0,
+            first,
+            format!("the compensator cannot start here: {}", reason(e)),
+        )
+    })?;
+    let mut out = Vec::with_capacity(desired.len());
+    for (i, value) in desired.iter().enumerate() {
+        if i > 0 && i % CHUNK == 0 {
+            if let Err(Stop::Interrupted(e)) = signals() {
+                return Err(Halt::Interrupted(e));
+            }
+        }
+        let jet: Vec<f64> = match &mut reference {
+            Reference::Prefilter(p) => p.step(*value).get(..=order).unwrap_or(&[]).to_vec(),
+            Reference::Given(d) => std::iter::once(*value)
+                .chain(d.get(i).into_iter().flatten().copied())
+                .collect(),
+        };
+        let (u, _) = c.step(&jet).map_err(|e| Halt::At(i, *value, reason(e)))?;
+        out.push(u);
+    }
+    Ok(out)
+}

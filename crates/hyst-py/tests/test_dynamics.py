@@ -1,0 +1,289 @@
+"""Models with dynamics or a rate term (issue 25) from Python: ``hyst.fit(x, y, t=...,
+dynamics=N, rate_term="viscous")``, ``Model.process(x, t=...)`` and Lemma 5.1's compensator
+``Model.compensate(...)``, bit for bit as ``hyst run --model M [--inverse]`` on the same CSV
+file, and the refusals of every entry point that would run such a model without time."""
+
+import pickle
+
+import numpy as np
+import pytest
+
+import hyst
+from conftest import read_csv
+
+H = 1e-3  # sample period (s)
+N = 4000  # samples
+TAU = 0.05  # the truth's plant: TAU v' + v = x (s)
+C = 0.05  # the truth's rate term c·v' (output units · s / input unit)
+
+
+def _command(t):
+    """A multisine command about 0.2 whose envelope rises over 0.3 s (the plant starts at rest)."""
+    freqs = np.array([0.4, 1.1, 2.3, 4.7])
+    phases = np.arange(1, 5)
+    ramp = np.minimum(t / 0.3, 1.0)
+    return 0.2 + 0.5 * ramp * np.sin(2 * np.pi * np.multiply.outer(t, freqs) + phases).sum(-1)
+
+
+def _plant(t):
+    """The command x(t) and the plant output v of TAU v' + v = x, sampled at t from rest at x(0):
+    RK4 with 20 steps per sample on the continuous command (not the model's discretisation)."""
+    steps = 20
+    dt = H / steps
+    fine = np.arange((N - 1) * steps + 1) * dt
+    at, mid = _command(fine), _command(fine[:-1] + dt / 2)
+    x = float(at[0])
+    v = np.empty(N)
+    v[0] = x
+    for i in range(1, N):
+        for k in range((i - 1) * steps, i * steps):
+            a, m, b = at[k], mid[k], at[k + 1]
+            k1 = (a - x) / TAU
+            k2 = (m - x - dt / 2 * k1) / TAU
+            k3 = (m - x - dt / 2 * k2) / TAU
+            k4 = (b - x - dt * k3) / TAU
+            x += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        v[i] = x
+    return _command(t), v
+
+
+@pytest.fixture(scope="module")
+def record():
+    """(t, x, y, y_rate): a first-order plant before y = 3 H(0.15, 6)[v] + 1 (the binding's own
+    operator, started on the line), with 0.1 % noise; y_rate adds C·v' (backward difference)."""
+    t = np.arange(N) * H
+    x, v = _plant(t)
+    z = hyst.Hysteresis(0.15, 6.0).process(v)
+    noise = 1e-3 * np.random.default_rng(5).standard_normal(N)
+    y = 3.0 * z + 1.0 + noise
+    rate = np.r_[0.0, np.diff(v)] / H
+    return t, x, y, y + C * rate
+
+
+@pytest.fixture(scope="module")
+def fitted(record):
+    t, x, y, _ = record
+    return hyst.fit(x, y, t=t, dynamics=1, initial_state="line")
+
+
+def write_csv(path, columns):
+    """A CSV file of `columns` ({name: array}) in the shortest round-trip decimals, which the
+    CLI parses to the same float64 values."""
+    lines = [",".join(columns)]
+    lines += [",".join(repr(float(v)) for v in row) for row in zip(*columns.values())]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_fit_recovers_the_plant(fitted, record):
+    t, x, y, _ = record
+    m = fitted.model
+    a1 = m.dynamics["a"][0]
+    assert abs(a1 / TAU - 1) < 0.02, a1
+    assert m.dynamics["b"] == 1.0 and m.dynamics["identified"] == [True]
+    assert fitted.params["dynamics.a1"] == a1 and fitted.stderr["dynamics.a1"] > 0
+    assert m.rate is None
+    # At the noise level (0.1 % of 3 against a span of about 6); the static fit is far off.
+    assert fitted.rms_percent < 0.03
+    assert hyst.fit(x, y, initial_state="line").rms_percent > 50 * fitted.rms_percent
+    assert "version = 4" in m.to_toml() and "[dynamics]" in m.to_toml()
+    # A static model has neither.
+    static = hyst.fit(x, y)
+    assert static.model.dynamics is None and static.model.rate is None
+
+
+def test_process_is_hyst_run(fitted, record, cli, tmp_path):
+    t, x, _, _ = record
+    path = tmp_path / "m.toml"
+    fitted.model.save(path)
+    data = write_csv(tmp_path / "x.csv", {"t": t, "x": x})
+    out = tmp_path / "y.csv"
+    cli("run", "--model", path, data, "-o", out)
+    expected = read_csv(out)["y"]
+    y = fitted.model.process(x, t=t)
+    assert y.dtype == np.float64 and np.array_equal(y, expected)
+    # The period itself gives the same; so do the loaded and the unpickled model; each call is
+    # one record from rest, so a second call repeats the first.
+    period = (t[-1] - t[0]) / (N - 1)
+    loaded = hyst.load_model(path)
+    assert np.array_equal(loaded.process(x, period=period), expected)
+    again = pickle.loads(pickle.dumps(fitted.model))
+    assert again.dynamics == fitted.model.dynamics
+    assert np.array_equal(again.process(x, t=t), expected)
+    assert np.array_equal(again.process(x, t=t), expected)
+    # float32 stays float32.
+    y32 = loaded.process(x.astype(np.float32), t=t)
+    assert y32.dtype == np.float32 and np.max(np.abs(y32 - expected)) < 1e-4 * np.ptp(expected)
+    assert loaded.process(np.empty(0), t=np.empty(0)).size == 0
+
+
+def test_compensate_is_hyst_run_inverse(fitted, record, cli, tmp_path):
+    t, _, y, _ = record
+    path = tmp_path / "m.toml"
+    fitted.model.save(path)
+    m = hyst.load_model(path)
+    # A desired output from rest, with its exact derivative.
+    f = 1.3
+    desired = 1.0 + 3.0 * np.sin(np.pi * f * t) ** 2
+    d1 = 3.0 * np.pi * f * np.sin(2 * np.pi * f * t)
+
+    given = write_csv(tmp_path / "d.csv", {"t": t, "y": desired, "y_d1": d1})
+    out = tmp_path / "u.csv"
+    cli("run", "--model", path, "--inverse", given, "-o", out)
+    command = m.compensate(desired, t=t, derivatives=d1)
+    assert np.array_equal(command, read_csv(out)["y"])
+    assert np.array_equal(m.compensate(desired, t=t, derivatives=d1[:, None]), command)
+    # The command makes the model give the desired output, to the discretisation's accuracy.
+    assert np.max(np.abs(m.process(command, t=t) - desired)) < 2e-4 * np.ptp(desired)
+
+    plain = write_csv(tmp_path / "r.csv", {"t": t, "y": desired})
+    out = tmp_path / "uf.csv"
+    cli("run", "--model", path, "--inverse", "--prefilter-hz", "20", plain, "-o", out)
+    filtered = m.compensate(desired, t=t, prefilter_hz=20.0)
+    assert np.array_equal(filtered, read_csv(out)["y"])
+    assert np.array_equal(m.compensate(desired, period=1e-3, prefilter_hz=20.0), filtered)
+
+
+def test_rate_term(record, cli, tmp_path):
+    t, x, _, y_rate = record
+    r = hyst.fit(x, y_rate, t=t, dynamics=1, rate_term="viscous", initial_state="line")
+    m = r.model
+    assert abs(m.rate["c"] / C - 1) < 0.02 and m.rate["c_std_error"] > 0
+    assert r.params["rate.c"] == m.rate["c"]
+    assert abs(m.dynamics["a"][0] / TAU - 1) < 0.02
+    path = tmp_path / "m.toml"
+    m.save(path)
+    out = tmp_path / "y.csv"
+    cli("run", "--model", path, write_csv(tmp_path / "x.csv", {"t": t, "x": x}), "-o", out)
+    assert np.array_equal(m.process(x, t=t), read_csv(out)["y"])
+    # Its output depends on the rate of the command: no compensator.
+    with pytest.raises(ValueError, match="rate term has no inverse"):
+        m.compensate(y_rate, t=t, prefilter_hz=5.0)
+    with pytest.raises(ValueError, match="a rate term: it runs on timed records only"):
+        m.inverse()
+
+
+def test_fit_errors_name_the_option_and_the_sample(record):
+    t, x, y, _ = record
+    with pytest.raises(ValueError, match=r"^t: a fit with dynamics or rate_term needs"):
+        hyst.fit(x, y, dynamics=1)
+    with pytest.raises(ValueError, match=r"^t: a fit with dynamics or rate_term needs"):
+        hyst.fit(x, y, rate_term="viscous")
+    with pytest.raises(ValueError, match=r"^t: time stamps apply to a fit with dynamics"):
+        hyst.fit(x, y, t=t)
+    with pytest.raises(ValueError, match=r"dynamics = 5: the plant order must be 1 to 4"):
+        hyst.fit(x, y, t=t, dynamics=5)
+    with pytest.raises(ValueError, match=r"dynamics = 0"):
+        hyst.fit(x, y, t=t, dynamics=0)
+    with pytest.raises(ValueError, match=r'rate_term = "coulomb": invalid value; possible values: viscous'):
+        hyst.fit(x, y, t=t, rate_term="coulomb")
+    with pytest.raises(ValueError, match="t has 3999 samples but x has 4000"):
+        hyst.fit(x, y, t=t[:-1], dynamics=1)
+    with pytest.raises(ValueError, match="estimate_initial_states=True cannot be combined"):
+        hyst.fit(x, y, t=t, dynamics=1, estimate_initial_states=True)
+    repeated = t.copy()
+    repeated[100] = repeated[99]
+    with pytest.raises(ValueError, match=r"^t\[100\] = 0\.099: time stamp 0\.099 repeats the one before"):
+        hyst.fit(x, y, t=repeated, dynamics=1)
+    uneven = t.copy()
+    uneven[200:] += 0.5 * H
+    with pytest.raises(ValueError, match=r"^t\[200\] = 0\.2005: time step .* differs from the record's mean step"):
+        hyst.fit(x, y, t=uneven, dynamics=1)
+    with pytest.raises(ValueError, match=r"^t\[300\] = NaN: the time stamp is not a finite number"):
+        hyst.fit(x, y, t=np.where(np.arange(N) == 300, np.nan, t), dynamics=1)
+    # With records, the record is named too.
+    with pytest.raises(ValueError, match=r"^t\[100\] = 0\.099 \(record 0\): time stamp"):
+        hyst.fit(x, y, t=repeated, dynamics=1, record=np.repeat([0, 1], N // 2))
+
+
+def test_timed_model_needs_time_and_static_model_refuses_it(fitted, record):
+    t, x, y, _ = record
+    m = fitted.model
+    with pytest.raises(ValueError, match=r"has dynamics of order 1: it needs the record's time stamps t"):
+        m.process(x)
+    with pytest.raises(ValueError, match="t and period: give one"):
+        m.process(x, t=t, period=H)
+    with pytest.raises(ValueError, match="^period = -0.001: expected a finite, positive sample period"):
+        m.process(x, period=-H)
+    with pytest.raises(ValueError, match="t has 3999 samples but the record has 4000"):
+        m.process(x, t=t[:-1])
+    with pytest.raises(ValueError, match=r"^t\[2\] = 0\.001: time stamp 0\.001 repeats"):
+        m.process(x[:4], t=np.array([0.0, 1e-3, 1e-3, 2e-3]))
+    with pytest.raises(ValueError, match="^derivatives: the model <fit> has dynamics of order 1: it runs without derivatives"):
+        m.process(x, t)  # the time stamps passed where derivatives go
+    with pytest.raises(ValueError, match=r"^x\[3\] = NaN: input sample NaN is not finite"):
+        m.process(np.where(np.arange(N) == 3, np.nan, x), t=t)
+
+    static = hyst.fit(x, y).model
+    before = static.process(x)
+    for kwargs, name in [({"t": t}, "t"), ({"period": H}, "period")]:
+        with pytest.raises(ValueError, match=f"^{name} applies to a model with dynamics or a rate term"):
+            static.process(x, **kwargs)
+    # Refused without effect: the static model runs on as before.
+    static.reset()
+    assert np.array_equal(static.process(x), before)
+    with pytest.raises(ValueError, match="the model has no dynamics: its compensator is the exact inverse"):
+        static.compensate(y, t=t, prefilter_hz=5.0)
+
+
+def test_entry_points_without_time_refuse_a_timed_model(fitted, record):
+    t, x, y, _ = record
+    m = fitted.model
+    refusals = [
+        (m.inverse, "Model.inverse"),
+        (lambda: m.inverse(saturate=True), "Model.inverse"),
+        (lambda: m.step(0.2), "Model.step"),
+        (lambda: m.export_c("piezo"), "export_c"),
+        (lambda: m.export_rust("piezo"), "export_rust"),
+        (lambda: hyst.Compensator(m, 1.0, [TAU]), "hyst.Compensator"),
+        (lambda: hyst._hyst._model_from_toml(m.to_toml(), True), "Model.inverse"),
+    ]
+    for call, what in refusals:
+        with pytest.raises(ValueError, match=rf"the model has dynamics of order 1: it runs on timed records only .*not for {what}"):
+            call()
+    # The compensator's own checks and arguments.
+    desired = y[:100]
+    with pytest.raises(ValueError, match=r"needs the desired output's first 1 time derivatives: give derivatives"):
+        m.compensate(desired, t=t[:100])
+    with pytest.raises(ValueError, match="derivatives and prefilter_hz: give one"):
+        m.compensate(desired, t=t[:100], derivatives=np.zeros(100), prefilter_hz=5.0)
+    with pytest.raises(ValueError, match=r"derivatives: the plant has order 1: .* got shape \(100, 2\)"):
+        m.compensate(desired, t=t[:100], derivatives=np.zeros((100, 2)))
+    with pytest.raises(ValueError, match=r"^derivatives\[7\] = inf: not a finite number"):
+        m.compensate(desired, t=t[:100], derivatives=np.where(np.arange(100) == 7, np.inf, 0.0))
+    with pytest.raises(ValueError, match="^prefilter_hz = 0: the bandwidth must be"):
+        m.compensate(desired, t=t[:100], prefilter_hz=0.0)
+    with pytest.raises(ValueError, match="it needs the record's time stamps t"):
+        m.compensate(desired, prefilter_hz=5.0)
+    with pytest.raises(ValueError, match=r"^desired\[5\] = NaN: input sample NaN is not finite"):
+        m.compensate(np.where(np.arange(100) == 5, np.nan, desired), t=t[:100], prefilter_hz=5.0)
+
+
+ODD = [None, "abc", [1.0, None, 2.0], np.ones((3, 3)), np.array([1 + 2j, 3]), [], [np.nan, 1.0], 5,
+       np.array([], dtype=np.float32), float("inf"), -0.0, object()]
+
+
+def test_odd_arguments_raise_value_or_type_errors(fitted, record):
+    """No panic and no other exception crosses into Python from the new arguments."""
+    t, x, y, _ = record
+    m = fitted.model
+    calls = [
+        lambda a, b: m.process(a, t=b),
+        lambda a, b: m.process(a, period=b),
+        lambda a, b: m.compensate(a, t=b, prefilter_hz=5.0),
+        lambda a, b: m.compensate(a, period=H, derivatives=b),
+        lambda a, b: m.compensate(y[:3], period=a, prefilter_hz=b),
+        lambda a, b: hyst.fit(x[:50], y[:50], t=a, dynamics=b),
+        lambda a, b: hyst.fit(x[:50], y[:50], t=t[:50], rate_term=a, dynamics=b),
+    ]
+    for call in calls:
+        for a in ODD:
+            for b in ODD:
+                try:
+                    call(a, b)
+                except (ValueError, TypeError):
+                    pass
+    # An empty record runs to an empty result, but still needs its time.
+    assert m.process(np.empty(0), period=H).size == 0
+    with pytest.raises(ValueError, match="it needs the record's time stamps t"):
+        m.process(np.empty(0))
