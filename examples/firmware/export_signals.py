@@ -10,7 +10,15 @@ grows from 0 to 95 % of the range, with minor loops), written to OUT/NAME.x.csv;
 (OUT/NAME.y.csv; `HYST run --model --inverse --saturate` gives OUT/NAME.inv.csv, except for the
 stop form, which has no inverse). OUT/export_signals.h holds the smooth models' x and desired
 outputs as C arrays of doubles, each written as the shortest decimal that reads back to the same
-double (the C firmware API has no Prandtl-Ishlinskii model)."""
+double (the C firmware API has no Prandtl-Ishlinskii model).
+
+A model with dynamics (a model file's [dynamics], order n) runs on timed records of period
+PERIOD (2^-10 s: the mean step of their time stamps is this number exactly, the period its
+exports take with --period): x with a time column gives OUT/NAME.dir.csv (the model with its
+plant), and a smooth desired output within the direct outputs' range, with its first n time
+derivatives in the columns y_d1 ... y_dn (OUT/NAME.desired.csv, from rest), gives `HYST run
+--model --inverse`'s commands OUT/NAME.inv.csv (Lemma 5.1's compensator). export_signals.h
+holds NAME_desired[EXP_SAMPLES][n + 1]."""
 import csv
 import math
 import pathlib
@@ -19,6 +27,7 @@ import sys
 import tomllib
 
 SAMPLES = 400
+PERIOD = 2.0 ** -10
 
 
 def input_range(model, ranges):
@@ -55,6 +64,44 @@ def saturation_range(model):
     return None
 
 
+def desired(lo, hi, order):
+    """A desired output in [lo, hi] from rest and its first `order` time derivatives: two
+    cosines, 5 Hz and 15 Hz (reversals and minor loops), rows of order + 1 values."""
+    span, w = hi - lo, 2 * math.pi * 5.0
+    parts = [(0.25 * span, w), (0.05 * span, 3 * w)]  # amplitude a: a (1 - cos(w t))
+    rows = []
+    for i in range(SAMPLES):
+        t = i * PERIOD
+        row = [lo + 0.2 * span + sum(a * (1 - math.cos(f * t)) for a, f in parts)]
+        for k in range(1, order + 1):
+            # d^k/dt^k (1 - cos(f t)) = f^k (sin, cos, -sin, -cos)(f t) for k = 1, 2, 3, 4 (mod 4)
+            wave = [lambda v: -math.cos(v), math.sin, math.cos, lambda v: -math.sin(v)][k % 4]
+            row.append(sum(a * f ** k * wave(f * t) for a, f in parts))
+        rows.append(row)
+    return rows
+
+
+def timed(hyst, out, name, path, model, x):
+    """The timed runs of a model with dynamics (see the module's documentation); the arrays of
+    export_signals.h."""
+    order = len(model["dynamics"]["a"])
+    with open(out / f"{name}.x.csv", "w", newline="") as f:
+        f.write("t,x\n")
+        for i, v in enumerate(x):
+            f.write(f"{i * PERIOD!r},{v!r}\n")
+    subprocess.run([hyst, "run", "--model", path, str(out / f"{name}.x.csv"), "--column", "x",
+                    "-o", str(out / f"{name}.dir.csv")], check=True)
+    y = column(out / f"{name}.dir.csv", "y")
+    rows = desired(min(y), max(y), order)
+    with open(out / f"{name}.desired.csv", "w", newline="") as f:
+        f.write(",".join(["t", "y"] + [f"y_d{k}" for k in range(1, order + 1)]) + "\n")
+        for i, row in enumerate(rows):
+            f.write(",".join(repr(v) for v in [i * PERIOD] + row) + "\n")
+    subprocess.run([hyst, "run", "--model", path, "--inverse", str(out / f"{name}.desired.csv"),
+                    "--column", "y", "-o", str(out / f"{name}.inv.csv")], check=True)
+    return [(f"{name}_x", x)], [(f"{name}_desired", rows)]
+
+
 def column(path, name):
     with open(path, newline="") as f:
         return [float(row[name]) for row in csv.DictReader(f)]
@@ -71,6 +118,7 @@ def main():
     hyst, out, models = sys.argv[1], pathlib.Path(sys.argv[2]), sys.argv[3:]
     out.mkdir(parents=True, exist_ok=True)
     arrays = []
+    tables = []
     ranges = {}
     loaded = [(path, tomllib.loads(pathlib.Path(path).read_text())) for path in models]
     # Smooth models first: they give a Prandtl-Ishlinskii model of the same input its range.
@@ -80,6 +128,11 @@ def main():
         x_range = input_range(model, ranges)
         ranges.setdefault(model["columns"]["input"], x_range)
         x = signal(*x_range)
+        if "dynamics" in model:
+            plain, rows = timed(hyst, out, name, path, model, x)
+            arrays += plain
+            tables += rows
+            continue
         write_csv(out / f"{name}.x.csv", "x", x)
         subprocess.run([hyst, "run", "--model", path, str(out / f"{name}.x.csv"), "--column",
                         "x", "-o", str(out / f"{name}.dir.csv")], check=True)
@@ -108,6 +161,10 @@ def main():
     for name, values in arrays:
         lines.append(f"static const double {name}[EXP_SAMPLES] = {{")
         lines += [f"    {v!r}," for v in values]
+        lines += ["};", ""]
+    for name, rows in tables:
+        lines.append(f"static const double {name}[EXP_SAMPLES][{len(rows[0])}] = {{")
+        lines += ["    {" + ", ".join(repr(v) for v in row) + "}," for row in rows]
         lines += ["};", ""]
     lines.append("#endif")
     (out / "export_signals.h").write_text("\n".join(lines) + "\n")

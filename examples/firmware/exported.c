@@ -1,12 +1,13 @@
 /*
- * exported.c: the exported models (piezo.h, steel.h, friction.h, written by `hyst export c` from
- * models/) over their test signals; see exported.h. Plain C99 without libc.
+ * exported.c: the exported models (piezo.h, steel.h, friction.h, piezo_dyn.h, written by
+ * `hyst export c` from models/) over their test signals; see exported.h. Plain C99 without libc.
  */
 #include "exported.h"
 
 #include "export_signals.h"
 #include "friction.h"
 #include "piezo.h"
+#include "piezo_dyn.h"
 #include "steel.h"
 
 #define LINE_MAX 64
@@ -141,6 +142,36 @@ int exp_run(drv_write_fn write) {
             value(write, "piezo.cmp", i, bits64(u), 16);
             value(write, "piezo.cmp32", i, bits32(u32), 8);
             values += 2;
+        }
+    }
+    /* A model with dynamics (piezo_dyn: piezo with a second-order plant): the model with its
+     * plant over the commands piezo_dyn_x, and Lemma 5.1's compensator of its fitted plant over
+     * the desired output and its derivatives piezo_dyn_desired, in double and float. */
+    {
+        piezo_dyn_timed_state s;
+        piezo_dyn_timed_state_f32 s32;
+        piezo_dyn_timed_compensator c;
+        piezo_dyn_timed_compensator_f32 c32;
+        int i, k;
+        errors += piezo_dyn_timed_init(&s) != HYST_OK;
+        errors += piezo_dyn_timed_init_f32(&s32) != HYST_OK;
+        errors += piezo_dyn_timed_compensator_init(&c) != HYST_OK;
+        errors += piezo_dyn_timed_compensator_init_f32(&c32) != HYST_OK;
+        for (i = 0; i < EXP_SAMPLES; i++) {
+            double y = 0.0, u = 0.0;
+            float y32 = 0.0f, u32 = 0.0f, desired32[PIEZO_DYN_ORDER + 1];
+            errors += piezo_dyn_timed_step(&s, piezo_dyn_x[i], &y) != HYST_OK;
+            errors += piezo_dyn_timed_step_f32(&s32, (float)piezo_dyn_x[i], &y32) != HYST_OK;
+            value(write, "piezo_dyn.dir", i, bits64(y), 16);
+            value(write, "piezo_dyn.dir32", i, bits32(y32), 8);
+            for (k = 0; k <= PIEZO_DYN_ORDER; k++) {
+                desired32[k] = (float)piezo_dyn_desired[i][k];
+            }
+            errors += piezo_dyn_timed_compensator_step(&c, piezo_dyn_desired[i], &u) != HYST_OK;
+            errors += piezo_dyn_timed_compensator_step_f32(&c32, desired32, &u32) != HYST_OK;
+            value(write, "piezo_dyn.inv", i, bits64(u), 16);
+            value(write, "piezo_dyn.inv32", i, bits32(u32), 8);
+            values += 4;
         }
     }
     /* The stop form has no compensator either. */

@@ -13,8 +13,9 @@
  *
  *   e <model>.<dir|inv|cmp>[32] <index> <IEEE-754 bits in hex>
  *
- * (cmp: the piezo model's Lemma 5.1 compensator of a second-order plant), "# <model>.inv
- * clamped <count>" after each inverse, "# friction.inv status <status>" and "# friction.cmp
+ * (cmp: the piezo model's Lemma 5.1 compensator of a second-order plant; for piezo_dyn, a model
+ * with dynamics: dir is the model with its plant, inv its compensator, from the desired output
+ * and its derivatives), "# <model>.inv clamped <count>" after each inverse, "# friction.inv status <status>" and "# friction.cmp
  * status <status>" (the stop form has no inverse and no compensator), and "# done: <values>
  * values, <errors> errors". Returns the number
  * of errors (a status other than HYST_OK where one is expected): 0 on success.

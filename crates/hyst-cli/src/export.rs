@@ -1,7 +1,9 @@
 //! `hyst export c|rust MODEL --name NAME -o FILE`: a model file as firmware source, exact from
 //! the first sample (the generators are `hyst_model::export`'s, shared with Python's
-//! `Model.export_c`/`export_rust`). Everything is checked before anything is written, and the
-//! file is written atomically: on failure no output file exists.
+//! `Model.export_c`/`export_rust`). A model with dynamics adds its compensator, and with
+//! `--period SECONDS` its forward model with the plant discretised for that period. Everything
+//! is checked before anything is written, and the file is written atomically: on failure no
+//! output file exists.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -22,10 +24,12 @@ pub struct Args {
 #[derive(clap::Subcommand, Debug)]
 pub enum Target {
     /// A header-only C99 file over hyst.h: NAME_state, NAME_init, NAME_init_inverse, NAME_step,
-    /// NAME_reset, NAME_params and their _f32 twins (docs/c.md).
+    /// NAME_reset, NAME_params and their _f32 twins; for a model with dynamics also
+    /// NAME_timed_compensator_* and, with --period, NAME_timed_* (docs/c.md).
     C(Files),
     /// no_std Rust over hyst-core: NAME::<T>(), NAME_inverse::<T>(), NAME_clamp and the model's
-    /// types, for embedded Rust (docs/c.md).
+    /// types, for embedded Rust; for a model with dynamics also NAME_timed_compensator::<T>()
+    /// and, with --period, NAME_timed::<T>() (docs/c.md).
     Rust(Files),
 }
 
@@ -42,6 +46,12 @@ pub struct Files {
     /// The file to write (written atomically); `-` or none: standard output.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// For a model with dynamics: the sample period in seconds of the exported model with its
+    /// plant (NAME_timed), which is discretised for it here. The records' mean time step (what
+    /// `hyst run` takes from their time stamps) gives `hyst run`'s outputs. Unused for a model
+    /// without dynamics.
+    #[arg(long, value_name = "SECONDS")]
+    pub period: Option<f64>,
 }
 
 impl Target {
@@ -66,9 +76,10 @@ pub fn main(args: Args) -> Result<()> {
         None => default_name(&a.model)?,
     };
     let source = Source::of_file(&a.model.display().to_string(), &bytes);
+    let options = export::Options { period: a.period };
     let (what, generated) = match &args.target {
-        Target::C(_) => ("C", export::c(&file, &name, &source)),
-        Target::Rust(_) => ("Rust", export::rust(&file, &name, &source)),
+        Target::C(_) => ("C", export::c_with(&file, &name, &source, &options)),
+        Target::Rust(_) => ("Rust", export::rust_with(&file, &name, &source, &options)),
     };
     let generated = generated.with_context(|| {
         format!(

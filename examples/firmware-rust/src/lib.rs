@@ -7,6 +7,7 @@ include!(concat!(env!("HYST_EXPORT_DIR"), "/piezo.rs"));
 include!(concat!(env!("HYST_EXPORT_DIR"), "/steel.rs"));
 include!(concat!(env!("HYST_EXPORT_DIR"), "/friction.rs"));
 include!(concat!(env!("HYST_EXPORT_DIR"), "/piezo_pi.rs"));
+include!(concat!(env!("HYST_EXPORT_DIR"), "/piezo_dyn.rs"));
 
 use hyst_core::Operator;
 
@@ -15,13 +16,18 @@ use hyst_core::Operator;
 ///
 /// # Errors
 /// A constructor's or a step's error.
-pub fn tick<T: hyst_core::Real>(x: T, desired: T) -> Result<[T; 6], hyst_core::Error> {
+pub fn tick<T: hyst_core::Real>(x: T, desired: T) -> Result<[T; 8], hyst_core::Error> {
     let mut model = piezo::<T>()?;
     let mut inverse = piezo_inverse::<T>()?;
     let mut magnet = steel_inverse::<T>()?;
     let mut stop = friction::<T>()?;
     let mut pi = piezo_pi::<T>()?;
     let mut pi_inverse = piezo_pi_inverse::<T>()?;
+    // A model with dynamics: its compensator (the desired output at rest) and its model with
+    // the plant.
+    let mut compensator = piezo_dyn_timed_compensator::<T>(desired)?;
+    let mut timed = piezo_dyn_timed::<T>()?;
+    let at_rest = [desired, T::zero(), T::zero()];
     Ok([
         model.try_step(x)?,
         inverse.try_step(desired)?,
@@ -29,6 +35,8 @@ pub fn tick<T: hyst_core::Real>(x: T, desired: T) -> Result<[T; 6], hyst_core::E
         stop.try_step(x)?,
         pi.try_step(x)?,
         pi_inverse.try_step(desired)?,
+        compensator.track(piezo_dyn_reference(&at_rest))?,
+        timed.try_step(x)?,
     ])
 }
 
@@ -36,7 +44,7 @@ pub fn tick<T: hyst_core::Real>(x: T, desired: T) -> Result<[T; 6], hyst_core::E
 ///
 /// # Errors
 /// As [`tick`].
-pub fn tick_f32(x: f32, desired: f32) -> Result<[f32; 6], hyst_core::Error> {
+pub fn tick_f32(x: f32, desired: f32) -> Result<[f32; 8], hyst_core::Error> {
     tick(x, desired)
 }
 
@@ -44,6 +52,6 @@ pub fn tick_f32(x: f32, desired: f32) -> Result<[f32; 6], hyst_core::Error> {
 ///
 /// # Errors
 /// As [`tick`].
-pub fn tick_f64(x: f64, desired: f64) -> Result<[f64; 6], hyst_core::Error> {
+pub fn tick_f64(x: f64, desired: f64) -> Result<[f64; 8], hyst_core::Error> {
     tick(x, desired)
 }

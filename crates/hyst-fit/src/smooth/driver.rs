@@ -343,17 +343,13 @@ fn widths(
     observer: &mut dyn Observer,
 ) -> Result<Option<FamilyWidths>, FitError> {
     if options.widths && model.is_timed() {
-        // On the static view: the hysteresis part for the fitted plant and rate term.
+        // On the static view: the hysteresis part for the fitted plant and rate term, a static
+        // dataset (searched on its reduction when it is long, as a static fit's).
         let (view, hysteresis) = static_view(data, model).ok_or_else(|| {
             FitError::NoConvergence("the fitted model cannot run the records".into())
         })?;
-        return Ok(Some(family_widths(
-            &view,
-            &hysteresis,
-            None,
-            options.coverage,
-            observer,
-        )?));
+        let reduced = reduce(&view);
+        return widths(&view, &hysteresis, None, options, reduced.as_ref(), observer);
     }
     Ok(match (options.widths, reduced) {
         (false, _) => None,
@@ -375,7 +371,8 @@ fn widths(
 /// The starts of a timed structure's fit from the fit of the structure `simple` one step down
 /// its nesting ([`simpler_timed`]): its optimum with the new parameter added. A rate term
 /// starts at c = 0 (the simpler fit itself); a new order of dynamics at P(s)(τs + 1) for the
-/// τ of [`TIME_CONSTANTS`] (in sample periods) that cost least (`options.starts` of them). The
+/// τ of [`TIME_CONSTANTS`] (in sample periods) that cost least (`options.starts` of them, at
+/// most 2). The
 /// limit (the fallback of [`descend`]) is the simpler fit at a τ of [`LIMIT_TIME_CONSTANT`].
 fn timed_candidates(
     problem: &SmoothProblem<'_>,
@@ -450,7 +447,9 @@ fn timed_candidates(
         })
         .collect();
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
-    candidates.truncate(options.starts.max(1));
+    // At most 2: the grid has ranked them on the full data already, and each descent is a
+    // pass of dual runs over every sample (no reduction with a plant).
+    candidates.truncate(options.starts.clamp(1, 2));
     Ok((candidates, limit))
 }
 

@@ -8,6 +8,11 @@
 //!   saturating output shaping (the identity otherwise), as `hyst run --inverse --saturate`;
 //! - the types of both, named from `NAME` in CamelCase, for statics and struct fields.
 //!
+//! A model with dynamics adds `NAME_ORDER` (upper case), `fn NAME_timed_compensator<T>(first)`:
+//! Lemma 5.1's compensator of its fitted plant (a `hyst_core::compensator::Compensator`, run by
+//! `track` on the desired output's jet, `NAME_reference` builds it), and with a sample period
+//! (`Options::period`) `NAME_PERIOD` and `fn NAME_timed<T>()`: the model with its plant.
+//!
 //! Every path is written in full (`hyst_core::…`), so the file can be `include!`d anywhere and
 //! several exported models can share one module.
 
@@ -20,18 +25,34 @@ use crate::file::{ModelFile, ModelKind};
 use crate::pi::PiModel;
 use crate::smooth::{Form, SmoothModel};
 
-use super::shared::{affine_shapings, check_name, description, literal, smooth, Source};
+use super::shared::{
+    affine_shapings, check_name, description, literal, smooth, timing, Options, Plant, Source,
+    Timing,
+};
+
+/// The generated Rust for the model `file` under the name `name` (see the module
+/// documentation), with the default [`Options`] (no sample period).
+///
+/// # Errors
+/// As [`rust_with`].
+pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, ModelError> {
+    rust_with(file, name, source, &Options::default())
+}
 
 /// The generated Rust for the model `file` under the name `name` (see the module
 /// documentation).
 ///
 /// # Errors
-/// [`ModelError::Invalid`] for a name that is not a usable identifier ([`check_name`]), and
-/// for a model with dynamics or a rate term, which needs a sample period
-/// ([`ModelFile::untimed`]).
-pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, ModelError> {
+/// [`ModelError::Invalid`] for a name that is not a usable identifier ([`check_name`]), for a
+/// model with a rate term or of the stop form with dynamics and no period (with the reason),
+/// and for a period its plant cannot be discretised at.
+pub fn rust_with(
+    file: &ModelFile,
+    name: &str,
+    source: &Source,
+    options: &Options,
+) -> Result<String, ModelError> {
     check_name(name)?;
-    file.untimed("a firmware export (`hyst export rust`), whose step has no sample period")?;
     let tool = format!("hyst export rust --name {name}");
     let camel = camel_case(name);
     let mut out = String::new();
@@ -42,12 +63,31 @@ pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, Mod
         }
     }
     let m = smooth(file, "hyst-core")?;
+    let timed = timing(m, options, "hyst export rust")?;
     let _ = writeln!(
         out,
         "// {name}: a hyst model as no_std Rust over hyst-core."
     );
     for line in description(file, m, source, &tool) {
         let _ = writeln!(out, "// {line}");
+    }
+    if let Some(t) = &timed {
+        let _ = writeln!(
+            out,
+            "// `{name}` and `{name}_inverse` are the hysteresis after the plant (v in, y out, and \
+             its inverse); {}.",
+            match (&t.plant, t.compensator) {
+                (Some(_), true) => format!(
+                    "`{name}_timed_compensator` is the plant's compensator, `{name}_timed` the \
+                     model with its plant"
+                ),
+                (None, _) => format!(
+                    "`{name}_timed_compensator` is the plant's compensator (export with --period \
+                     SECONDS for the model with its plant)"
+                ),
+                (Some(_), false) => format!("`{name}_timed` is the model with its plant"),
+            }
+        );
     }
     let _ = writeln!(
         out,
@@ -84,6 +124,22 @@ pub fn rust(file: &ModelFile, name: &str, source: &Source) -> Result<String, Mod
     }
     constructor(&mut out, m, name, &camel);
     clamp(&mut out, file, name);
+    if let Some(t) = &timed {
+        let upper = name.to_ascii_uppercase();
+        let _ = writeln!(
+            out,
+            "\n/// The plant order n of `{name}`'s dynamics: the derivatives of the desired output\n\
+             /// that its compensator takes.\n\
+             pub const {upper}_ORDER: usize = {};",
+            t.order()
+        );
+        if t.compensator {
+            timed_compensator(&mut out, name, &camel, &upper, psi, t);
+        }
+        if let Some(plant) = &t.plant {
+            timed_model(&mut out, name, &camel, &upper, t, plant);
+        }
+    }
     Ok(out)
 }
 
@@ -327,4 +383,196 @@ fn prandtl_ishlinskii(
          }}"
     );
     Ok(())
+}
+
+/// `NAME_timed_compensator` and `NAME_reference`: Lemma 5.1's compensator of the model's
+/// fitted plant, built exactly as `hyst_model::TimedCompensator::new` builds it (the inverse
+/// started by the rule for the first desired output, jets of `MAX_ORDER`), so that `track`
+/// gives `hyst run --model --inverse`'s commands bit for bit.
+fn timed_compensator(
+    out: &mut String,
+    name: &str,
+    camel: &str,
+    upper: &str,
+    psi: &str,
+    t: &Timing,
+) {
+    let n = t.order();
+    let a = t.a.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ");
+    let pad = (0..4)
+        .map(|k| {
+            if k < n {
+                format!("desired[{}]", k + 1)
+            } else {
+                "T::zero()".to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let _ = writeln!(
+        out,
+        "\n/// Lemma 5.1's compensator of `{name}`'s fitted plant: what [`{name}_timed_compensator`]\n\
+         /// returns. Its jets carry `hyst_core::compensator::MAX_ORDER` derivatives (those beyond\n\
+         /// [`{upper}_ORDER`] zero: [`{name}_reference`]), as `hyst run`'s compensator.\n\
+         pub type {camel}TimedCompensator<T> = hyst_core::compensator::Compensator<\n    \
+             T,\n    \
+             {{ hyst_core::compensator::MAX_ORDER }},\n    \
+             {psi},\n    \
+             hyst_core::AnyK2Law<T>,\n    \
+             {psi},\n\
+         >;\n\n\
+         /// The compensator of `{name}`'s plant for a record whose first desired output is `first`:\n\
+         /// its inverse starts where the start rule puts the model that produces `first`, as\n\
+         /// `hyst run --model --inverse` starts a record (and `reset` returns there). Each sample,\n\
+         /// `track({name}_reference(&desired))` with the desired output and its first\n\
+         /// [`{upper}_ORDER`] time derivatives gives the command u = (x + a_1 x' + ... + a_n x^(n)) / b.\n\
+         ///\n\
+         /// # Errors\n\
+         /// A `first` the model cannot produce (beyond a saturating output shaping).\n\
+         #[allow(non_snake_case, clippy::excessive_precision, clippy::unreadable_literal)]\n\
+         pub fn {name}_timed_compensator<T: hyst_core::Real>(\n    \
+             first: T,\n\
+         ) -> Result<{camel}TimedCompensator<T>, hyst_core::Error> {{\n    \
+             let c = T::from_f64;\n    \
+             let model = {name}::<T>()?;\n    \
+             let shaped = model.model();\n    \
+             let u0 = hyst_core::Shaping::invert(shaped.output_shaping(), first)?;\n    \
+             let operator = model.rule().start_from_output(*shaped.operator(), u0)?;\n    \
+             if let Some(m) = hyst_core::Operator::memory(&operator) {{\n        \
+                 hyst_core::Shaping::invert(shaped.input_shaping(), m.last_input)?;\n    \
+             }}\n    \
+             let inverse =\n        \
+                 hyst_core::ShapedModel::new(*shaped.input_shaping(), operator, *shaped.output_shaping())?\n            \
+                     .inverse();\n    \
+             hyst_core::compensator::Compensator::with_order(inverse, {b}, &[{a}])\n\
+         }}\n\n\
+         /// The jet that [`{name}_timed_compensator`]'s `track` takes: `desired` = the desired output\n\
+         /// and its first [`{upper}_ORDER`] time derivatives (the k-th in output units per s^k).\n\
+         #[allow(non_snake_case)]\n\
+         pub fn {name}_reference<T: hyst_core::Real>(\n    \
+             desired: &[T; {upper}_ORDER + 1],\n\
+         ) -> hyst_core::Jet<T, {{ hyst_core::compensator::MAX_ORDER }}> {{\n    \
+             hyst_core::Jet::from_derivatives(desired[0], [{pad}])\n\
+         }}",
+        b = num(t.b),
+    );
+}
+
+/// `NAME_timed`: the model with its plant discretised at export time for one sample period,
+/// stepped with `hyst_model::dynamics::Discrete::step`'s sums in its order, then the
+/// hysteresis: `hyst run --model`'s outputs on a record of that period, bit for bit.
+fn timed_model(out: &mut String, name: &str, camel: &str, upper: &str, t: &Timing, plant: &Plant) {
+    let n = t.order();
+    let list = |v: &[f64]| v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ");
+    let phi = plant
+        .phi
+        .iter()
+        .map(|row| format!("[{}]", list(row)))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let _ = writeln!(
+        out,
+        "\n/// The sample period (s) of [`{name}_timed`]'s step: its plant is discretised for it.\n\
+         pub const {upper}_PERIOD: f64 = {period};\n\n\
+         /// The model `{name}` with its plant (the command x in, y out), one sample every\n\
+         /// [`{upper}_PERIOD`] seconds: what [`{name}_timed`] returns.\n\
+         #[derive(Clone, Copy, Debug)]\n\
+         pub struct {camel}Timed<T> {{\n    \
+             model: {camel}<T>,\n    \
+             phi: [[T; {n}]; {n}],\n    \
+             g0: [T; {n}],\n    \
+             g1: [T; {n}],\n    \
+             b: T,\n    \
+             plant: [T; {n}],\n    \
+             last: T,\n    \
+             started: bool,\n\
+         }}\n\n\
+         /// The model `{name}` with its plant, with no history: at its first sample the plant is at\n\
+         /// rest (v = b x) and the hysteresis starts by the start rule, as `hyst run --model` starts\n\
+         /// a record of period [`{upper}_PERIOD`].\n\
+         ///\n\
+         /// # Errors\n\
+         /// As [`{name}`].\n\
+         #[allow(non_snake_case, clippy::excessive_precision, clippy::unreadable_literal)]\n\
+         pub fn {name}_timed<T: hyst_core::Real>() -> Result<{camel}Timed<T>, hyst_core::Error> {{\n    \
+             let c = T::from_f64;\n    \
+             Ok({camel}Timed {{\n        \
+                 model: {name}::<T>()?,\n        \
+                 phi: [{phi}],\n        \
+                 g0: [{g0}],\n        \
+                 g1: [{g1}],\n        \
+                 b: {b},\n        \
+                 plant: [T::zero(); {n}],\n        \
+                 last: T::zero(),\n        \
+                 started: false,\n    \
+             }})\n\
+         }}",
+        period = literal(plant.period, "f64::INFINITY"),
+        g0 = list(&plant.g0),
+        g1 = list(&plant.g1),
+        b = num(t.b),
+    );
+    timed_step(out, camel, n);
+}
+
+/// The `impl` of `NAME_timed`'s type: `try_step` (the plant's sums in
+/// `hyst_model::dynamics::Discrete::step`'s order, then the hysteresis) and `reset`.
+fn timed_step(out: &mut String, camel: &str, n: usize) {
+    let v = (0..n)
+        .map(|j| format!("v{j}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let rows = (0..n)
+        .map(|i| {
+            let mut sum = format!("g0[{i}] * u + g1[{i}] * du");
+            for j in 0..n {
+                let _ = write!(sum, " + phi[{i}][{j}] * v{j}");
+            }
+            sum
+        })
+        .collect::<Vec<_>>()
+        .join(",\n                ");
+    let rest = (1..n).map(|_| ", T::zero()").collect::<String>();
+    let _ = writeln!(
+        out,
+        "\n\
+         impl<T: hyst_core::Real> {camel}Timed<T> {{\n    \
+             /// One sample: the output for the command `x`; x_k+1 = Phi x_k + G0 u_k +\n    \
+             /// G1 (u_k+1 - u_k), the command linear between samples.\n    \
+             ///\n    \
+             /// # Errors\n    \
+             /// The hysteresis's error for this sample, or a non-finite output; the model is\n    \
+             /// then unchanged.\n    \
+             pub fn try_step(&mut self, x: T) -> Result<T, hyst_core::Error> {{\n        \
+                 let next = if self.started {{\n            \
+                     let (u, du) = (self.last, x - self.last);\n            \
+                     let [{v}] = self.plant;\n            \
+                     let (phi, g0, g1) = (&self.phi, &self.g0, &self.g1);\n            \
+                     [\n                \
+                         {rows},\n            \
+                     ]\n        \
+                 }} else {{\n            \
+                     [self.b * x{rest}]\n        \
+                 }};\n        \
+                 let mut model = self.model;\n        \
+                 let y = hyst_core::Operator::try_step(&mut model, next[0])?;\n        \
+                 if !y.is_finite() {{\n            \
+                     return Err(hyst_core::Error::NonFiniteOutput {{\n                \
+                         input: x.as_f64(),\n                \
+                         output: y.as_f64(),\n            \
+                     }});\n        \
+                 }}\n        \
+                 self.model = model;\n        \
+                 self.plant = next;\n        \
+                 self.last = x;\n        \
+                 self.started = true;\n        \
+                 Ok(y)\n    \
+             }}\n\n    \
+             /// Forgets the history: the plant starts at rest at the next sample.\n    \
+             pub fn reset(&mut self) {{\n        \
+                 hyst_core::Operator::reset(&mut self.model);\n        \
+                 self.started = false;\n    \
+             }}\n\
+         }}"
+    );
 }

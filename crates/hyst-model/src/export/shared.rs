@@ -4,6 +4,7 @@
 
 use hyst_core::{AnyK2Law, AnyShaping, ScaledShaping, Shaping as _};
 
+use crate::dynamics::{PlantState, MAX_DYNAMICS};
 use crate::error::ModelError;
 use crate::file::{ModelFile, ModelKind};
 use crate::smooth::{Form, SmoothModel};
@@ -26,6 +27,136 @@ impl Source {
             fnv1a64: crate::file::fnv1a64(bytes),
         }
     }
+}
+
+/// What an export takes beyond the model file: for a model with dynamics, the sample period
+/// of its exported forward model (`hyst export --period SECONDS`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Options {
+    /// The sample period (s) at which the exported forward model of a model with dynamics
+    /// steps: its plant is discretised for it at export time (Φ, Γ0, Γ1 of
+    /// [`crate::dynamics`], written as constants). `None`: no forward model with the plant is
+    /// written (the compensator needs no period). Unused for a model without dynamics.
+    pub period: Option<f64>,
+}
+
+/// The dynamics part of an export: Lemma 5.1's plant a_n v⁽ⁿ⁾ + … + a_1 v̇ + v = b u of a
+/// model with dynamics, and, for a sample period, its discretisation.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Timing {
+    /// The plant gain b.
+    pub b: f64,
+    /// [a_1, …, a_n].
+    pub a: Vec<f64>,
+    /// Whether the model has a compensator (operator form).
+    pub compensator: bool,
+    /// The plant discretised for `Options::period`, when given.
+    pub plant: Option<Plant>,
+}
+
+/// A plant discretised for one sample period, as [`crate::dynamics::Discrete`] steps it:
+/// x_{k+1} = Φ x_k + Γ0 u_k + Γ1 (u_{k+1} − u_k), v = x[0]; at the first sample the plant is
+/// at rest, x = (b u_0, 0, …).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Plant {
+    /// The sample period (s).
+    pub period: f64,
+    /// Φ, n × n.
+    pub phi: Vec<Vec<f64>>,
+    /// Γ0.
+    pub g0: Vec<f64>,
+    /// Γ1 (per unit step of the command over one period).
+    pub g1: Vec<f64>,
+}
+
+impl Timing {
+    /// The order n.
+    pub fn order(&self) -> usize {
+        self.a.len()
+    }
+}
+
+/// The timed part of the export of `m` for `target` (`hyst export c` or `rust`): `None` for a
+/// static model; the plant (and its discretisation for `options.period`) for a model with
+/// dynamics. A rate term is refused, and so is a stop-form model with dynamics without a
+/// period (it has no compensator, and its forward model needs the period), each with the
+/// reason.
+pub(super) fn timing(
+    m: &SmoothModel,
+    options: &Options,
+    target: &str,
+) -> Result<Option<Timing>, ModelError> {
+    if m.rate.is_some() {
+        let what = match m.dynamics {
+            Some(d) => format!("dynamics of order {} and a rate term", d.order()),
+            None => "a rate term".to_string(),
+        };
+        return Err(ModelError::Invalid(format!(
+            "the model has {what}: {target} writes no rate term (c times the backward \
+             difference of v at the record's sample period, added to the output), and a model \
+             with one has no compensator; run it on the host with its sample period \
+             (hyst_model_load_timed, or `hyst run` on a record with a time column)"
+        )));
+    }
+    let Some(d) = m.dynamics else {
+        return Ok(None);
+    };
+    let compensator = m.form == Form::Operator;
+    if !compensator && options.period.is_none() {
+        return Err(ModelError::Invalid(format!(
+            "the model is of the stop form with dynamics of order {}: it has no compensator \
+             (no inverse), and its forward model needs the sample period its plant is \
+             discretised at: give `{target} --period SECONDS` (the records' mean time step, \
+             as `hyst run` takes it from their time stamps)",
+            d.order()
+        )));
+    }
+    let plant = match options.period {
+        Some(period) => Some(plant(&d, period)?),
+        None => None,
+    };
+    Ok(Some(Timing {
+        b: d.b,
+        a: d.a().to_vec(),
+        compensator,
+        plant,
+    }))
+}
+
+/// Φ, Γ0 and Γ1 of `d` discretised for `period`, read from [`crate::dynamics::Discrete::step`]
+/// itself: a step from x = e_j with the command 0 gives column j of Φ, a step with the command
+/// held at 1 gives Γ0, a unit step of the command from 0 gives Γ1 (each exactly: the other
+/// terms of the step's sums are zeros).
+fn plant(d: &crate::Dynamics, period: f64) -> Result<Plant, ModelError> {
+    let discrete = d.discretise(period).map_err(|e| {
+        ModelError::Invalid(format!(
+            "--period {period}: {e} (the sample period in seconds of the exported model's step)"
+        ))
+    })?;
+    let n = d.order();
+    let step = |x: [f64; MAX_DYNAMICS], from: f64, to: f64| {
+        let mut state = PlantState { x, u: from };
+        discrete.step(&mut state, to);
+        state.x
+    };
+    let unit = |j: usize| core::array::from_fn(|i| if i == j { 1.0 } else { 0.0 });
+    let columns: Vec<[f64; MAX_DYNAMICS]> = (0..n).map(|j| step(unit(j), 0.0, 0.0)).collect();
+    let phi = (0..n)
+        .map(|i| {
+            columns
+                .iter()
+                .map(|c| c.get(i).copied().unwrap_or(0.0))
+                .collect()
+        })
+        .collect();
+    let g0 = step([0.0; MAX_DYNAMICS], 1.0, 1.0);
+    let g1 = step([0.0; MAX_DYNAMICS], 0.0, 1.0);
+    Ok(Plant {
+        period,
+        phi,
+        g0: g0.iter().take(n).copied().collect(),
+        g1: g1.iter().take(n).copied().collect(),
+    })
 }
 
 /// C and C++ keywords and the names of `<stdint.h>` and `<math.h>` that a generated identifier
@@ -301,11 +432,27 @@ pub(super) fn description(
             initial_state_name(m)
         ),
         columns(file),
+    ];
+    if let Some(d) = m.dynamics {
+        lines.push(format!(
+            "dynamics: the command x drives Lemma 5.1's plant {} = b x (b = {:?}, a = [{}], a_i \
+             in s^i), whose output v is the input of the formula above; `hyst run --model` runs \
+             it on timed records.",
+            plant_equation(d.order()),
+            d.b,
+            d.a()
+                .iter()
+                .map(|a| format!("{a:?}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    lines.push(
         "k1 and k2 are in the operator's units (those of psi_in's value): `hyst fit` scales x \
          and y affinely so that the data span [-1, 1], and psi_in and psi_out hold that \
          scaling. They are not the k1, k2 of the plain operator between x and y."
             .to_string(),
-    ];
+    );
     // f32 resolves the normalised operator input (|v| up to about 1) to its epsilon.
     lines.push(format!(
         "In float (the _f32 twins) the operator input is resolved to about 6e-8 of its \
@@ -325,6 +472,20 @@ pub(super) fn description(
         ));
     }
     lines
+}
+
+/// a_n v^(n) + ... + a_1 v' + v, in ASCII.
+fn plant_equation(n: usize) -> String {
+    let mut terms: Vec<String> = (1..=n)
+        .rev()
+        .map(|i| match i {
+            1 => "a_1 v'".to_string(),
+            2 => "a_2 v''".to_string(),
+            _ => format!("a_{i} v^({i})"),
+        })
+        .collect();
+    terms.push("v".to_string());
+    terms.join(" + ")
 }
 
 /// A fraction as a percentage with two significant figures or so: "0.0073 %", "3.7e-5 %".
@@ -389,6 +550,53 @@ mod tests {
             "piezo.h",
         ] {
             assert!(check_name(bad).is_err(), "{bad}");
+        }
+    }
+
+    /// Φ, Γ0 and Γ1 read from `Discrete::step` give its steps back bit for bit, summed as the
+    /// exported code sums them, for every order.
+    #[test]
+    #[allow(
+        clippy::unwrap_used,
+        clippy::indexing_slicing,
+        clippy::needless_range_loop,
+        clippy::assign_op_pattern
+    )]
+    fn the_exported_plant_steps_as_the_discretisation() {
+        for a in [
+            &[0.05][..],
+            &[0.05, 0.001],
+            &[0.02, 1e-4, 1e-7],
+            &[0.3, 0.03, 1e-3, 1e-5],
+        ] {
+            let d = crate::Dynamics::new(1.5, a).unwrap();
+            let p = plant(&d, 1.0 / 1024.0).unwrap();
+            let discrete = d.discretise(1.0 / 1024.0).unwrap();
+            let n = a.len();
+            let command = |k: usize| (0.01 * k as f64).sin() + 0.3 * (0.37 * k as f64).cos();
+            let mut state = discrete.at_rest(command(0));
+            let mut x: Vec<f64> = (0..n).map(|i| state.x[i]).collect();
+            let mut last = command(0);
+            for k in 1..500 {
+                let u = command(k);
+                let v = discrete.step(&mut state, u);
+                let du = u - last;
+                let next: Vec<f64> = (0..n)
+                    .map(|i| {
+                        let mut acc = p.g0[i] * last + p.g1[i] * du;
+                        for j in 0..n {
+                            acc = acc + p.phi[i][j] * x[j];
+                        }
+                        acc
+                    })
+                    .collect();
+                assert_eq!(next[0].to_bits(), v.to_bits(), "order {n}, sample {k}");
+                for i in 0..n {
+                    assert_eq!(next[i].to_bits(), state.x[i].to_bits(), "order {n}");
+                }
+                x = next;
+                last = u;
+            }
         }
     }
 
