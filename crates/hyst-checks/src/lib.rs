@@ -117,6 +117,16 @@ fn check_export(file: &ModelFile) -> Result<(), String> {
             Err(e) if language == "c" && file.kind == hyst_model::ModelKind::PrandtlIshlinskii => {
                 one_line("export c", &e.to_string())?;
             }
+            // A rate term, or a stop form with dynamics without a period, is refused with the
+            // reason (docs/c.md); the refusal must be one line.
+            Err(e)
+                if file
+                    .smooth
+                    .as_ref()
+                    .is_some_and(|m| m.rate.is_some() || m.dynamics.is_some()) =>
+            {
+                one_line(&format!("export {language}"), &e.to_string())?;
+            }
             Err(e) => return Err(format!("export {language} refused an accepted model: {e}")),
         }
     }
