@@ -6,8 +6,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 /// `print!` to standard output, for the commands' reports: a reader that went away (a closed
-/// pipe, `hyst bench | head`) ends the command quietly with status 141, as SIGPIPE would,
-/// instead of `print!`'s panic.
+/// pipe, `hyst bench | head`) ends the command quietly with status 0, instead of `print!`'s
+/// panic.
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
@@ -27,11 +27,11 @@ macro_rules! outln {
     }};
 }
 
-/// Ends the command after a failed write to standard output: quietly with 141 (128 + SIGPIPE)
-/// when the reader went away, else with the error and status 1.
+/// Ends the command after a failed write to standard output: quietly with status 0 when the
+/// reader went away (it has what it wanted), else with the error and status 1.
 fn stdout_failed(e: &std::io::Error) -> ! {
     if e.kind() == std::io::ErrorKind::BrokenPipe {
-        std::process::exit(141);
+        std::process::exit(0);
     }
     eprintln!("hyst: cannot write to standard output: {e}");
     std::process::exit(1);
@@ -97,6 +97,9 @@ fn main() -> ExitCode {
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        // `-o -` into a pipe whose reader went away (`hyst run ... -o - | head`): it has what it
+        // wanted; quietly, with success.
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) if is_interrupted(&e) => {
             eprintln!("error: {}", message(&e));
             ExitCode::from(signals::EXIT_INTERRUPTED)
@@ -106,6 +109,15 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Whether `e` comes from a write into a pipe whose reader went away.
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|cause| {
+        cause
+            .downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }
 
 /// Refuses, before anything is read or written, an output that is one of the command's inputs
