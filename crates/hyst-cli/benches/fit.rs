@@ -31,7 +31,13 @@ fn data() -> Dataset {
         .expect("a stable plant");
     let mut state = plant.at_rest(u[0]);
     let v: Vec<f64> = (0..SAMPLES)
-        .map(|k| if k == 0 { u[0] } else { plant.step(&mut state, u[k]) })
+        .map(|k| {
+            if k == 0 {
+                u[0]
+            } else {
+                plant.step(&mut state, u[k])
+            }
+        })
         .collect();
     let mut op = InitialState::Rising
         .start(Hysteresis::new(0.1, 5.0).expect("valid"), v[0])

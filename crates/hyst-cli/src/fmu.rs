@@ -8,8 +8,8 @@
 //!   `libhyst_fmu.so`, copied byte for byte), `resources/fmu.toml` (kind, inverse, the GUID and
 //!   k1, k2), `resources/model.toml` (with `--model`: the model file, byte for byte) and
 //!   `documentation/index.html`.
-//! - Variables: 0 `x` (input), 1 `y` (output, direct feedthrough), and for the operator
-//!   2 `k1`, 3 `k2` (parameters, fixed, set before initialisation).
+//! - Variables: 0 `x` (input), 1 `y` (output, direct feedthrough), for the operator 2 `k1`, 3 `k2`
+//!   (fixed parameters), for a timed model's compensator 2.. `x_d1`.. (`hyst_fmu::timed`).
 //! - The binary is `libhyst_fmu.so` beside the running `hyst` (cargo puts both in target/release),
 //!   or the file named by `HYST_FMU_LIBRARY`.
 //! - The inputs are checked before anything is written (k1, k2 by the core, the model file by
@@ -24,6 +24,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use crate::source::{Chosen, Source};
 use anyhow::{bail, Context, Result};
 use hyst_fmu::layout::{CONFIG_FILE, FORMAT, MODEL_FILE, VERSION, VR_K1, VR_K2, VR_X, VR_Y};
+use hyst_fmu::layout::{DERIVATIVE_NAMES, VR_X_D1};
+use hyst_fmu::timed::Timing;
 use hyst_model::ModelFile;
 use hyst_model::ModelKind;
 use zip::write::SimpleFileOptions;
@@ -72,10 +74,12 @@ pub struct Args {
 enum Kind {
     /// H(k1, k2) or its inverse; k1, k2 are the parameters' start values.
     Operator { k1: f64, k2: f64 },
-    /// A fitted model (or its inverse): the parsed file and its bytes.
+    /// A fitted model (or its inverse): the parsed file, its bytes, and for a model with
+    /// dynamics or a rate term what the FMU needs.
     Model {
         file: Box<ModelFile>,
         bytes: Vec<u8>,
+        timing: Option<Timing>,
     },
 }
 
@@ -99,7 +103,7 @@ struct Fmu {
 pub fn main(args: Args) -> Result<()> {
     let model_name = model_name(&args.output)?;
     let kind = match args.source.chosen()? {
-        Chosen::Model(path) => read_model(path, &args.output)?,
+        Chosen::Model(path) => read_model(path, &args)?,
         Chosen::Parameters { k1, k2 } => Kind::Operator { k1, k2 },
     };
     if args.saturate {
@@ -132,7 +136,7 @@ pub fn main(args: Args) -> Result<()> {
     };
     let bytes = fmu.archive(&library)?;
     hyst_io::write_atomic(&args.output, &bytes)?;
-    println!(
+    outln!(
         "wrote {} (FMI 2.0 co-simulation, linux64: {}; guid {})",
         args.output.display(),
         fmu.what(),
@@ -158,16 +162,16 @@ fn model_name(output: &Path) -> Result<String> {
 }
 
 /// Reads and checks the model file, keeping the bytes that were checked (they go into the FMU).
-fn read_model(path: &Path, output: &Path) -> Result<Kind> {
-    // The same checks and messages as `hyst run --model`; a model with dynamics or a rate term
-    // is refused here rather than by the FMU at instantiation.
-    ModelFile::read(path)?
-        .untimed("an FMU, which steps without a fixed sample period")
+/// What the FMU cannot run (`Timing::of`) is refused here rather than at instantiation.
+fn read_model(path: &Path, args: &Args) -> Result<Kind> {
+    let model = ModelFile::read(path)?; // the same checks and messages as `hyst run --model`
+    let timing = Timing::of(&model, args.source.inverse, args.saturate)
+        .map_err(anyhow::Error::msg)
         .with_context(|| path.display().to_string())?;
-    if is_same_file(path, output) {
+    if is_same_file(path, &args.output) {
         bail!(
             "-o {}: that is the model file itself; write the FMU to another file",
-            output.display()
+            args.output.display()
         );
     }
     let bytes = std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
@@ -177,6 +181,7 @@ fn read_model(path: &Path, output: &Path) -> Result<Kind> {
     Ok(Kind::Model {
         file: Box::new(file),
         bytes,
+        timing,
     })
 }
 
@@ -354,6 +359,7 @@ fn number(v: f64) -> String {
 }
 
 /// One variable of the FMU.
+#[derive(Clone)]
 struct Variable {
     name: &'static str,
     value_reference: u32,
@@ -367,6 +373,14 @@ struct Variable {
 }
 
 impl Fmu {
+    /// What the FMU needs for a model with dynamics or a rate term.
+    fn timing(&self) -> Option<&Timing> {
+        match &self.kind {
+            Kind::Model { timing, .. } => timing.as_ref(),
+            Kind::Operator { .. } => None,
+        }
+    }
+
     /// A short description of what the FMU computes.
     fn what(&self) -> String {
         match (&self.kind, self.inverse) {
@@ -376,11 +390,13 @@ impl Fmu {
             (Kind::Operator { k1, k2 }, true) => format!(
                 "the inverse operator H^-1(k1 = {k1}, k2 = {k2}): desired output in, command out"
             ),
-            (Kind::Model { file, .. }, inverse) => {
+            (Kind::Model { file, timing, .. }, inverse) => {
                 let kind = match file.kind {
                     ModelKind::Smooth => "smooth",
                     ModelKind::PrandtlIshlinskii => "Prandtl-Ishlinskii",
                 };
+                let with = timing.as_ref().map(|t| format!(" with {}", t.what));
+                let kind = format!("{kind} hysteresis model{}", with.unwrap_or_default());
                 let (input, output) = (&file.columns.input, &file.columns.output);
                 if inverse {
                     let clamped = match file.saturation().filter(|_| self.saturate) {
@@ -390,12 +406,13 @@ impl Fmu {
                         ),
                         None => String::new(),
                     };
-                    format!(
-                        "the exact inverse of a fitted {kind} hysteresis model \
-                         ({output} -> {input}){clamped}"
-                    )
+                    let inverse = match timing {
+                        Some(_) => "Lemma 5.1's compensator",
+                        None => "the exact inverse",
+                    };
+                    format!("{inverse} of a fitted {kind} ({output} -> {input}){clamped}")
                 } else {
-                    format!("a fitted {kind} hysteresis model ({input} -> {output})")
+                    format!("a fitted {kind} ({input} -> {output})")
                 }
             }
         }
@@ -428,6 +445,19 @@ impl Fmu {
         ];
         if let Kind::Operator { k1, k2 } = self.kind {
             vars.extend(self.parameters(k1, k2));
+        }
+        if let (Some(t), Kind::Model { file, .. }) = (self.timing(), &self.kind) {
+            for (k, name) in DERIVATIVE_NAMES.iter().enumerate().take(t.derivatives) {
+                let description = Timing::derivative_description(k + 1, file);
+                let (value_reference, unit) = (VR_X_D1 + k as u32, String::new());
+                vars.push(Variable {
+                    name,
+                    value_reference,
+                    description,
+                    unit,
+                    ..vars[0].clone()
+                });
+            }
         }
         vars
     }
@@ -564,17 +594,20 @@ impl Fmu {
             env!("CARGO_PKG_VERSION"),
             self.generated
         );
+        let timing = self.timing();
+        let variable_step = timing.is_none_or(|t| !t.constant_step);
         let _ = writeln!(
             x,
             "  <CoSimulation\n    modelIdentifier=\"{MODEL_IDENTIFIER}\"\n    \
              needsExecutionTool=\"false\"\n    \
-             canHandleVariableCommunicationStepSize=\"true\"\n    \
+             canHandleVariableCommunicationStepSize=\"{variable_step}\"\n    \
              canInterpolateInputs=\"false\"\n    maxOutputDerivativeOrder=\"0\"\n    \
              canRunAsynchronuously=\"false\"\n    \
              canBeInstantiatedOnlyOncePerProcess=\"false\"\n    \
              canNotUseMemoryManagementFunctions=\"true\"\n    \
-             canGetAndSetFMUstate=\"true\"\n    canSerializeFMUstate=\"true\"\n    \
-             providesDirectionalDerivative=\"false\"/>"
+             canGetAndSetFMUstate=\"true\"\n    canSerializeFMUstate=\"{}\"\n    \
+             providesDirectionalDerivative=\"false\"/>",
+            timing.is_none()
         );
         if !units.is_empty() {
             x.push_str("  <UnitDefinitions>\n");
@@ -609,22 +642,25 @@ impl Fmu {
             x.push_str("/>\n    </ScalarVariable>\n");
         }
         x.push_str("  </ModelVariables>\n");
-        // y depends directly on x; initially also on the parameters k1, k2 (a variable's index
-        // is its value reference + 1).
+        // y depends directly on the inputs (x, and x_d1 ... of a compensator); initially also on
+        // the parameters k1, k2 (a variable's index is its value reference + 1).
         let index = |vr: u32| (vr + 1).to_string();
-        let (y_index, x_index) = (index(VR_Y), index(VR_X));
-        let initial: Vec<String> = vars
-            .iter()
-            .filter(|v| v.causality != "output")
-            .map(|v| index(v.value_reference))
-            .collect();
-        let initial = initial.join(" ");
-        let kinds = vec!["dependent"; initial.split(' ').count()].join(" ");
+        let y_index = index(VR_Y);
+        let on = |causalities: &[&str]| {
+            let on = vars.iter().filter(|v| causalities.contains(&v.causality));
+            let indices: Vec<String> = on.map(|v| index(v.value_reference)).collect();
+            (
+                indices.join(" "),
+                vec!["dependent"; indices.len()].join(" "),
+            )
+        };
+        let ((inputs, input_kinds), (initial, kinds)) =
+            (on(&["input"]), on(&["input", "parameter"]));
         let _ = write!(
             x,
             "  <ModelStructure>\n    <Outputs>\n      \
-             <Unknown index=\"{y_index}\" dependencies=\"{x_index}\" \
-             dependenciesKind=\"dependent\"/>\n    \
+             <Unknown index=\"{y_index}\" dependencies=\"{inputs}\" \
+             dependenciesKind=\"{input_kinds}\"/>\n    \
              </Outputs>\n    <InitialUnknowns>\n      \
              <Unknown index=\"{y_index}\" dependencies=\"{initial}\" \
              dependenciesKind=\"{kinds}\"/>\n    \
@@ -669,18 +705,17 @@ impl Fmu {
             "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
              <title>{name}: hyst FMU</title>\n</head>\n<body>\n<h1>{name}</h1>\n\
              <p>An FMI 2.0 Co-Simulation FMU (linux64) made by hyst {version}: {what}.</p>\n\
-             <p>Direct feedthrough and rate independence: after <code>x</code> is set, \
-             <code>y</code> is the output for the input history including that value; \
-             <code>fmi2DoStep</code> commits it to the hysteresis memory. So <code>y</code> at \
-             each communication point equals <code>hyst run</code> on the sequence of inputs \
-             set at those points, whatever the step size. The state (the memory) can be \
-             saved, restored and serialised.</p>\n\
+             <p>Direct feedthrough: after <code>x</code> is set, <code>y</code> is the output \
+             for the input history including that value; <code>fmi2DoStep</code> commits it to \
+             the memory. So <code>y</code> at each communication point equals <code>hyst \
+             run</code> on the sequence of inputs set at those points. {time}</p>\n\
              <h2>Variables</h2>\n<table>\n\
              <tr><th>name</th><th>causality</th><th>start</th><th>unit</th>\
              <th>description</th></tr>\n",
             name = escape(&self.model_name),
             version = env!("CARGO_PKG_VERSION"),
             what = escape(&self.what()),
+            time = escape(&hyst_fmu::timed::summary(self.timing())),
         );
         for v in self.variables() {
             let _ = writeln!(

@@ -330,7 +330,9 @@ fn long_values_are_cut_in_messages() {
 fn a_closed_standard_output_ends_quietly() {
     let dir = tempfile::tempdir().expect("a directory");
     let data = dir.path().join("x.csv");
-    let rows: String = (0..200_000).map(|k| format!("{}\n", f64::from(k) * 1e-4)).collect();
+    let rows: String = (0..200_000)
+        .map(|k| format!("{}\n", f64::from(k) * 1e-4))
+        .collect();
     fs::write(&data, format!("x\n{rows}")).expect("written");
     let data = data.to_string_lossy().into_owned();
     let commands: [&[&str]; 2] = [

@@ -12,6 +12,9 @@
 //! k1 = 0.2            # kind = "operator" only: the start values of the parameters
 //! k2 = 8.0
 //! ```
+//!
+//! A model with dynamics or a rate term is checked by [`Timing::of`] (which `hyst fmu` calls
+//! too): the inverse of one without a compensator, or `saturate` with one, is refused.
 
 use std::path::{Path, PathBuf};
 
@@ -21,6 +24,7 @@ use hyst_model::Saturation;
 use serde::Deserialize;
 
 use crate::layout::{CONFIG_FILE, FORMAT, MODEL_FILE, VERSION};
+use crate::timed::Timing;
 
 /// What the FMU runs.
 #[derive(Clone, Debug)]
@@ -51,6 +55,9 @@ pub struct Config {
     /// inverse sees them, as `hyst run --saturate` clamps them.
     /// `None`: a desired output beyond the range is refused.
     pub saturation: Option<Saturation>,
+    /// A model with dynamics or a rate term ([`Timing`]); `None` for a static model or the
+    /// operator.
+    pub timing: Option<Timing>,
 }
 
 /// fmu.toml as written, after its `format` and `version` (checked first, so that a file of
@@ -135,6 +142,12 @@ impl Config {
                 ))
             }
         };
+        // A model with dynamics or a rate term: what the FMU needs, or why it cannot run it.
+        let timing = match &kind {
+            Kind::Model(model) => Timing::of(model, raw.inverse, raw.saturate)
+                .map_err(|e| format!("{}: {e}", dir.join(MODEL_FILE).display()))?,
+            Kind::Operator { .. } => None,
+        };
         let saturation = match (&kind, raw.saturate) {
             (_, false) => None,
             (Kind::Model(model), true) if raw.inverse => {
@@ -157,6 +170,7 @@ impl Config {
             inverse: raw.inverse,
             kind,
             saturation,
+            timing,
         })
     }
 }
@@ -174,12 +188,6 @@ fn model_kind(dir: &Path, name: &str, raw: &RawConfig) -> Result<Kind, String> {
     }
     let path = dir.join(MODEL_FILE);
     let model = ModelFile::read(&path).map_err(|e| format!("{name}: kind = \"model\": {e}"))?;
-    // A model with dynamics or a rate term needs the sample period of a timed record; an FMU
-    // steps at whatever communication step the master takes, so running it would silently
-    // drop the plant or the rate term.
-    model
-        .untimed("an FMU, which steps without a fixed sample period")
-        .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(Kind::Model(Box::new(model)))
 }
 

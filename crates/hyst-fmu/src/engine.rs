@@ -1,10 +1,13 @@
 //! The committed stepping state of an instance: the parametric operator or the model file's
-//! evaluator, run through `hyst_core::Operator` only (no formula is written here).
+//! evaluator, run through `hyst_core::Operator` only, or a model with dynamics or a rate term,
+//! run by hyst-model's `TimedRun` or `TimedCompensator` ([`TimedEngine`]); no formula is
+//! written here.
 
 use hyst_core::{Error, Hysteresis, InverseHysteresis, Operator};
 use hyst_model::{Evaluator, ModelFile};
 
 use crate::state::History;
+use crate::timed::TimedEngine;
 
 /// What an instance steps once it has one.
 #[derive(Clone, Debug)]
@@ -20,15 +23,18 @@ pub enum Engine {
         /// The evaluator.
         evaluator: Evaluator,
     },
+    /// A model with dynamics or a rate term.
+    Timed(Box<TimedEngine>),
 }
 
-/// Forwards one call to the operator the engine holds.
+/// Forwards one call to the operator the engine holds (`$timed` for a timed model).
 macro_rules! each {
-    ($self:expr, $op:ident => $e:expr) => {
+    ($self:expr, $op:ident => $e:expr, $t:ident => $timed:expr) => {
         match $self {
             Engine::Direct($op) => $e,
             Engine::Inverse($op) => $e,
             Engine::Model { evaluator: $op, .. } => $e,
+            Engine::Timed($t) => $timed,
         }
     };
 }
@@ -51,32 +57,57 @@ impl Engine {
         })
     }
 
-    /// The model file's evaluator for a record whose first sample is `first`.
+    /// The model file's evaluator for a record whose first sample is `first`; for a model with
+    /// dynamics or a rate term its [`TimedEngine`], with the sample period `period` (the first
+    /// fmi2DoStep's step; `None` before it).
     ///
     /// # Errors
     /// The model cannot start at `first` (a desired output beyond a saturating shaping function,
-    /// a non-finite value).
-    pub fn model(file: &ModelFile, first: f64, inverse: bool) -> Result<Self, String> {
+    /// a non-finite value), or `period` is not > 0.
+    pub fn model(
+        file: &ModelFile,
+        first: f64,
+        inverse: bool,
+        period: Option<f64>,
+    ) -> Result<Self, String> {
+        if let Some(model) = file.smooth.as_ref().filter(|m| m.is_timed()) {
+            let engine = TimedEngine::new(model, first, inverse, period)?;
+            return Ok(Engine::Timed(Box::new(engine)));
+        }
         let evaluator = file
             .evaluator(first, inverse)
             .map_err(|e| format!("the model cannot start at {first}: {e}"))?;
         Ok(Engine::Model { first, evaluator })
     }
 
-    /// The output for the committed history followed by `x`; nothing is committed.
+    /// The output for the committed history followed by `x` (with x's time derivatives
+    /// `derivatives`, which only a timed model's compensator uses); nothing is committed.
     ///
     /// # Errors
-    /// The core's refusal of `x` (non-finite, beyond a saturating shaping function).
-    pub fn peek(&self, x: f64) -> Result<f64, Error> {
-        each!(self, op => peek(op, x))
+    /// The refusal of `x` (non-finite, beyond a saturating shaping function), its message.
+    pub fn peek(&self, x: f64, derivatives: &[f64]) -> Result<f64, String> {
+        each!(self, op => peek(op, x).map_err(|e| e.to_string()), t => t.peek(x, derivatives))
     }
 
-    /// Steps `x` and commits it; on error nothing changes (the `Operator` contract).
+    /// Steps `x` (with `derivatives`, as [`Engine::peek`]) and commits it; on error nothing
+    /// changes (the `Operator` contract).
     ///
     /// # Errors
     /// As [`Engine::peek`].
-    pub fn step(&mut self, x: f64) -> Result<f64, Error> {
-        each!(self, op => op.try_step(x))
+    pub fn step(&mut self, x: f64, derivatives: &[f64]) -> Result<f64, String> {
+        each!(self, op => op.try_step(x).map_err(|e| e.to_string()), t => t.step(x, derivatives))
+    }
+
+    /// Checks the communication step of an fmi2DoStep after the first ([`TimedEngine::check_step`];
+    /// any step ≥ 0 for the others).
+    ///
+    /// # Errors
+    /// A timed model's step that differs from its sample period.
+    pub fn check_step(&self, step: f64) -> Result<(), String> {
+        match self {
+            Engine::Timed(t) => t.check_step(step),
+            _ => Ok(()),
+        }
     }
 
     /// The history to save.
@@ -89,6 +120,7 @@ impl Engine {
                 first: *first,
                 memory: evaluator.memory(),
             },
+            Engine::Timed(t) => History::Timed(t.clone()),
         }
     }
 
@@ -105,6 +137,10 @@ impl Engine {
             (Engine::Inverse(op), History::Operator(m)) => op.set_memory(Some(*m)),
             (Engine::Model { evaluator, .. }, History::Model { memory, .. }) => {
                 evaluator.set_memory(memory.clone())
+            }
+            (Engine::Timed(t), History::Timed(saved)) => {
+                t.clone_from(saved);
+                Ok(())
             }
             _ => return Err("the saved history is of another kind of FMU".into()),
         };

@@ -3,14 +3,18 @@
 //!
 //! Semantics (direct feedthrough, rate independent): after fmi2SetReal(x), y is the operator
 //! applied to the committed input history followed by x, computed on a copy; fmi2DoStep
-//! commits x. The time only matters for fmi2GetRealStatus(fmi2LastSuccessfulTime).
+//! commits x. The time only matters for fmi2GetRealStatus(fmi2LastSuccessfulTime), and the
+//! step size only for a model with dynamics or a rate term (`crate::timed`: the direct model's
+//! sample period is the communication step).
 
 use std::fmt;
+
+use hyst_model::MAX_DYNAMICS;
 
 use crate::config::{Config, Kind};
 use crate::engine::Engine;
 use crate::fmi2::fmi2FMUstate;
-use crate::layout::{VR_K1, VR_K2, VR_X, VR_Y};
+use crate::layout::{DERIVATIVE_NAMES, VR_K1, VR_K2, VR_X, VR_X_D1, VR_Y};
 use crate::logger::Logger;
 use crate::state::{self, FmuState, History, Owner};
 
@@ -49,6 +53,8 @@ enum Variable {
     Y,
     K1,
     K2,
+    /// x_d(k + 1), the (k + 1)-th time derivative of x (a timed model's compensator).
+    Derivative(usize),
 }
 
 impl Variable {
@@ -58,6 +64,7 @@ impl Variable {
             Variable::Y => "y",
             Variable::K1 => "k1",
             Variable::K2 => "k2",
+            Variable::Derivative(k) => DERIVATIVE_NAMES.get(k).copied().unwrap_or("x_d"),
         }
     }
 }
@@ -73,6 +80,9 @@ pub struct Instance {
     /// The current mode.
     pub phase: Phase,
     x: f64,
+    /// x_d1 … x_dn: the inputs of a timed model's compensator (n = `Timing::derivatives`; the
+    /// rest stay 0).
+    derivatives: [f64; MAX_DYNAMICS],
     parameters: Option<(f64, f64)>,
     /// `None` until fmi2ExitInitializationMode (operator) or the first fmi2DoStep (model).
     engine: Option<Engine>,
@@ -104,6 +114,7 @@ impl Instance {
             logging_at_instantiation,
             phase: Phase::Instantiated,
             x: 0.0,
+            derivatives: [0.0; MAX_DYNAMICS],
             parameters: None,
             engine: None,
             time: 0.0,
@@ -119,6 +130,7 @@ impl Instance {
     pub fn reset(&mut self) {
         self.phase = Phase::Instantiated;
         self.x = 0.0;
+        self.derivatives = [0.0; MAX_DYNAMICS];
         self.parameters = match self.config.kind {
             Kind::Operator { k1, k2 } => Some((k1, k2)),
             Kind::Model(_) => None,
@@ -129,12 +141,22 @@ impl Instance {
         self.log.debug = self.logging_at_instantiation;
     }
 
+    /// The number n of derivative inputs x_d1 … x_dn.
+    fn order(&self) -> usize {
+        self.config.timing.as_ref().map_or(0, |t| t.derivatives)
+    }
+
     fn variable(&self, vr: u32) -> Result<Variable, String> {
-        match (vr, self.parameters.is_some()) {
-            (VR_X, _) => Ok(Variable::X),
-            (VR_Y, _) => Ok(Variable::Y),
-            (VR_K1, true) => Ok(Variable::K1),
-            (VR_K2, true) => Ok(Variable::K2),
+        let derivative = vr
+            .checked_sub(VR_X_D1)
+            .and_then(|k| usize::try_from(k).ok())
+            .filter(|k| *k < self.order());
+        match (vr, self.parameters.is_some(), derivative) {
+            (VR_X, _, _) => Ok(Variable::X),
+            (VR_Y, _, _) => Ok(Variable::Y),
+            (VR_K1, true, _) => Ok(Variable::K1),
+            (VR_K2, true, _) => Ok(Variable::K2),
+            (_, false, Some(k)) => Ok(Variable::Derivative(k)),
             _ => Err(format!("no Real variable has value reference {vr}")),
         }
     }
@@ -178,7 +200,7 @@ impl Instance {
         for (vr, value) in vrs.iter().zip(values) {
             let v = self.variable(*vr)?;
             match v {
-                Variable::X => {}
+                Variable::X | Variable::Derivative(_) => {}
                 Variable::Y => return Err("y (value reference 1) is an output".into()),
                 Variable::K1 | Variable::K2 => {
                     if !matches!(self.phase, Phase::Instantiated | Phase::InitializationMode) {
@@ -197,6 +219,11 @@ impl Instance {
         for (v, value) in targets {
             match (v, &mut self.parameters) {
                 (Variable::X, _) => self.x = value,
+                (Variable::Derivative(k), _) => {
+                    if let Some(d) = self.derivatives.get_mut(k) {
+                        *d = value;
+                    }
+                }
                 (Variable::K1, Some((k1, _))) => *k1 = value,
                 (Variable::K2, Some((_, k2))) => *k2 = value,
                 _ => {}
@@ -218,23 +245,34 @@ impl Instance {
         }
     }
 
+    /// A sample for messages: "x = …", and ", x_d1 = …" … for a compensator (`derivatives`:
+    /// x_d1 … x_dn).
+    fn sample(x: f64, derivatives: &[f64]) -> String {
+        let mut text = format!("x = {x}");
+        for (name, d) in DERIVATIVE_NAMES.iter().zip(derivatives) {
+            text.push_str(&format!(", {name} = {d}"));
+        }
+        text
+    }
+
     /// y for the committed history followed by the current x, without committing anything.
     /// Before the operator is built (initialisation) a fresh operator with the current k1, k2
     /// is used; before a model's first fmi2DoStep, an evaluator started at x.
     fn output(&self) -> Result<f64, String> {
-        let refused = |e: &dyn fmt::Display| format!("x = {}: {e}", self.x);
         let (x, _) = self.input();
+        let d = self.derivatives.get(..self.order()).unwrap_or(&[]);
+        let refused = |e: &dyn fmt::Display| format!("{}: {e}", Self::sample(self.x, d));
         match (&self.engine, &self.config.kind, self.parameters) {
-            (Some(engine), _, _) => engine.peek(x).map_err(|e| refused(&e)),
+            (Some(engine), _, _) => engine.peek(x, d).map_err(|e| refused(&e)),
             (None, Kind::Operator { .. }, Some((k1, k2))) => {
                 Engine::operator(k1, k2, self.config.inverse)
                     .map_err(|e| e.to_string())?
-                    .peek(x)
+                    .peek(x, d)
                     .map_err(|e| refused(&e))
             }
-            (None, Kind::Model(file), _) => Engine::model(file, x, self.config.inverse)
+            (None, Kind::Model(file), _) => Engine::model(file, x, self.config.inverse, None)
                 .map_err(|e| refused(&e))?
-                .peek(x)
+                .peek(x, d)
                 .map_err(|e| refused(&e)),
             (None, Kind::Operator { .. }, None) => {
                 Err("internal error: an operator without parameters".into())
@@ -263,6 +301,7 @@ impl Instance {
                 },
                 (Variable::K1, Some((k1, _))) => k1,
                 (Variable::K2, Some((_, k2))) => k2,
+                (Variable::Derivative(k), _) => self.derivatives.get(k).copied().unwrap_or(0.0),
                 (v, None) => return Err(format!("{} does not exist", v.name())),
             };
         }
@@ -270,13 +309,17 @@ impl Instance {
     }
 
     /// fmi2DoStep: commits the current x (a model's evaluator is created at the first step,
-    /// started at x as `hyst run --model` starts a record). Any step size ≥ 0 is fine. With
+    /// started at x as `hyst run --model` starts a record). Any step size ≥ 0 is fine, but for
+    /// the direct model of a model with dynamics or a rate term: the first step's size is its
+    /// sample period, and a later step must not differ from it by more than
+    /// `hyst_model::dynamics::TIME_TOLERANCE` (`crate::timed`). With
     /// `saturate = true` a desired output beyond the limits is clamped into them; the step
     /// then returns the warning to send when it is the first clamped step after an unclamped
     /// one (the desired output enters saturation).
     ///
     /// # Errors
-    /// A negative or non-finite step, or x refused; nothing changes then.
+    /// A negative or non-finite step, a timed model's step that is not its sample period, or
+    /// x refused; nothing changes then.
     pub fn do_step(&mut self, current: f64, step: f64) -> Result<Option<String>, String> {
         if !(current.is_finite() && step.is_finite() && step >= 0.0) {
             return Err(format!(
@@ -284,16 +327,19 @@ impl Instance {
                  must be finite and the step >= 0"
             ));
         }
-        let refused = |e: &dyn fmt::Display| format!("x = {}: {e}", self.x);
         let (x, clamped) = self.input();
+        let d = self.derivatives.get(..self.order()).unwrap_or(&[]);
+        let raw = self.x;
+        let refused = |e: &dyn fmt::Display| format!("{}: {e}", Self::sample(raw, d));
         match (&mut self.engine, &self.config.kind) {
             (Some(engine), _) => {
-                engine.step(x).map_err(|e| refused(&e))?;
+                engine.check_step(step)?;
+                engine.step(x, d).map_err(|e| refused(&e))?;
             }
             (None, Kind::Model(file)) => {
-                let mut engine =
-                    Engine::model(file, x, self.config.inverse).map_err(|e| refused(&e))?;
-                engine.step(x).map_err(|e| refused(&e))?;
+                let mut engine = Engine::model(file, x, self.config.inverse, Some(step))
+                    .map_err(|e| refused(&e))?;
+                engine.step(x, d).map_err(|e| refused(&e))?;
                 self.engine = Some(engine);
             }
             (None, Kind::Operator { .. }) => {
@@ -324,6 +370,7 @@ impl Instance {
     pub fn snapshot(&self) -> FmuState {
         FmuState {
             x: self.x,
+            derivatives: self.derivatives,
             parameters: self.parameters,
             time: self.time,
             history: self.engine.as_ref().map_or(History::Empty, Engine::history),
@@ -337,7 +384,7 @@ impl Instance {
         if state.parameters.is_some() != self.parameters.is_some() {
             return Err("the state is of another kind of FMU".into());
         }
-        let has_history = state.history != History::Empty;
+        let has_history = !matches!(state.history, History::Empty);
         if !stepping {
             if has_history {
                 return Err(format!(
@@ -353,9 +400,13 @@ impl Instance {
                 Engine::operator(k1, k2, self.config.inverse).map_err(|e| e.to_string())?
             }
             (Kind::Model(file), _, History::Model { first, .. }) => {
-                Engine::model(file, *first, self.config.inverse)?
+                Engine::model(file, *first, self.config.inverse, None)?
             }
             (Kind::Model(_), _, History::Empty) => return Ok(None),
+            // A copy of this instance's own engine (timed states are never deserialised).
+            (Kind::Model(_), _, History::Timed(engine)) if self.config.timing.is_some() => {
+                return Ok(Some(Engine::Timed(engine.clone())));
+            }
             _ => return Err("the state is of another kind of FMU".into()),
         };
         engine.restore(&state.history)?;
@@ -371,6 +422,7 @@ impl Instance {
         let engine = self.engine_for(state, stepping)?;
         self.engine = engine;
         self.x = state.x;
+        self.derivatives = state.derivatives;
         self.parameters = state.parameters;
         self.time = state.time;
         Ok(())
@@ -430,13 +482,28 @@ impl Instance {
         Ok(())
     }
 
+    /// Whether this FMU's states are serialised: not for a model with dynamics or a rate term
+    /// (canSerializeFMUstate = false; `crate::timed`).
+    fn serialisable(&self) -> Result<(), String> {
+        match &self.config.timing {
+            Some(t) => Err(format!(
+                "the model has {}: its FMU states are saved and restored in memory \
+                 (fmi2GetFMUstate, fmi2SetFMUstate) but not serialised \
+                 (canSerializeFMUstate = false)",
+                t.what
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// The serialised form of `state`, refused when it could not be read back (a non-finite x,
     /// k1 or k2: such a state can be restored in memory but not serialised).
     ///
     /// # Errors
     /// What [`Instance::deserialize`] would refuse.
     pub fn serialize(&self, state: &FmuState) -> Result<Vec<u8>, String> {
-        let bytes = state::encode(state, &self.owner);
+        self.serialisable()?;
+        let bytes = state::encode(state, &self.owner)?;
         self.deserialize(&bytes)
             .map_err(|e| format!("the state cannot be serialised: {e}"))?;
         Ok(bytes)
@@ -448,8 +515,9 @@ impl Instance {
     /// # Errors
     /// A message naming what is wrong.
     pub fn deserialize(&self, bytes: &[u8]) -> Result<FmuState, String> {
+        self.serialisable()?;
         let state = state::decode(bytes, &self.owner)?;
-        if state.history != History::Empty {
+        if !matches!(state.history, History::Empty) {
             self.engine_for(&state, true)?;
         }
         Ok(state)

@@ -18,12 +18,17 @@
 //! - a refused sample (non-finite x, a desired output beyond a saturating shaping function)
 //!   makes fmi2GetReal(y) / fmi2DoStep return fmi2Error with a logged message, and changes
 //!   nothing;
+//! - a model with dynamics or a rate term ([`timed`]) runs as `hyst run` runs a timed record:
+//!   the direct model's sample period is the communication step (fixed by the first
+//!   fmi2DoStep), the inverse is Lemma 5.1's compensator with the inputs x_d1 … x_dn (the
+//!   desired output's derivatives); its states are kept in memory, not serialised;
 //! - FMU states copy the whole instance state; their serialised form is versioned and checked
 //!   completely when read ([`state`]);
 //! - instances are independent (no global state); every function checks its pointers and
 //!   nothing panics across the boundary ([`api`]).
 //!
-//! Everything steps through `hyst_core::Operator` ([`engine`]); no formula is written here.
+//! Everything steps through `hyst_core::Operator` or hyst-model's timed runs ([`engine`]); no
+//! formula is written here.
 #![allow(non_camel_case_types, non_snake_case, non_upper_case_globals)]
 #![deny(unsafe_op_in_unsafe_fn)]
 #![cfg_attr(not(test), deny(clippy::indexing_slicing))]
@@ -36,5 +41,6 @@ pub mod instance;
 pub mod layout;
 pub mod logger;
 pub mod state;
+pub mod timed;
 
 pub use api::*;

@@ -4,6 +4,9 @@
 //! the time of the last communication point and the committed history (the operator's memory,
 //! or the model's first input and its evaluator's memory; none before the first fmi2DoStep).
 //! The mode (initialisation, step mode, …) is not part of it: fmi2SetFMUstate keeps the mode.
+//! A model with dynamics or a rate term (`crate::timed`) also has the inputs x_d1 … x_dn, and
+//! its history is a copy of its engine: such a state is never serialised (the FMU says
+//! canSerializeFMUstate = false, and [`encode`] refuses it).
 //!
 //! # Serialised form, version 1 (all numbers little-endian)
 //!
@@ -34,7 +37,9 @@
 use hyst_core::{Direction, Memory, PlayMemory};
 use hyst_model::file::fnv1a64;
 use hyst_model::pi::MAX_PLAYS;
-use hyst_model::EvaluatorMemory;
+use hyst_model::{EvaluatorMemory, MAX_DYNAMICS};
+
+use crate::timed::TimedEngine;
 
 /// The first 8 bytes of a serialised state.
 pub const MAGIC: [u8; 8] = *b"hystFMUs";
@@ -46,7 +51,7 @@ pub const HEADER_LEN: usize = 24;
 pub const CHECKSUM_LEN: usize = 8;
 
 /// The history-dependent part of a state.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub enum History {
     /// Nothing committed yet (before the first fmi2DoStep).
     Empty,
@@ -59,13 +64,18 @@ pub enum History {
         /// `Operator::memory` of the evaluator.
         memory: EvaluatorMemory,
     },
+    /// A model with dynamics or a rate term: its engine, as it was (not serialisable).
+    Timed(Box<TimedEngine>),
 }
 
 /// A saved instance state.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct FmuState {
     /// The input x (value reference 0).
     pub x: f64,
+    /// The inputs x_d1 … x_d4 (the inverse of a model with dynamics; 0 for every other FMU,
+    /// and not serialised).
+    pub derivatives: [f64; MAX_DYNAMICS],
     /// (k1, k2) for kind = "operator"; `None` for a model.
     pub parameters: Option<(f64, f64)>,
     /// The end of the last communication step (fmi2GetRealStatus(fmi2LastSuccessfulTime)).
@@ -118,8 +128,19 @@ fn put_memory(out: &mut Vec<u8>, m: &Memory<f64>) {
 
 /// The serialised form of `state` (see the module docs). It is read back by [`decode`] only
 /// when every number is finite.
-#[must_use]
-pub fn encode(state: &FmuState, owner: &Owner) -> Vec<u8> {
+///
+/// # Errors
+/// The state of a model with dynamics or a rate term (its history is an engine whose state
+/// hyst-model does not expose), or with derivative inputs.
+pub fn encode(state: &FmuState, owner: &Owner) -> Result<Vec<u8>, String> {
+    if matches!(state.history, History::Timed(_)) || state.derivatives.iter().any(|d| *d != 0.0) {
+        return Err(
+            "the state of a model with dynamics or a rate term cannot be serialised \
+                    (canSerializeFMUstate = false); fmi2GetFMUstate and fmi2SetFMUstate save \
+                    and restore it in memory"
+                .into(),
+        );
+    }
     let mut out = Vec::with_capacity(HEADER_LEN + 64 + CHECKSUM_LEN);
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&STATE_VERSION.to_le_bytes());
@@ -137,6 +158,7 @@ pub fn encode(state: &FmuState, owner: &Owner) -> Vec<u8> {
             memory: EvaluatorMemory::Plays(_),
             ..
         } => 3,
+        History::Timed(_) => 4, // refused above
     });
     out.push(0);
     put_f64(&mut out, state.x);
@@ -146,7 +168,7 @@ pub fn encode(state: &FmuState, owner: &Owner) -> Vec<u8> {
         put_f64(&mut out, k2);
     }
     match &state.history {
-        History::Empty => {}
+        History::Empty | History::Timed(_) => {}
         History::Operator(m) => put_memory(&mut out, m),
         History::Model { first, memory } => {
             put_f64(&mut out, *first);
@@ -177,7 +199,7 @@ pub fn encode(state: &FmuState, owner: &Owner) -> Vec<u8> {
     }
     let sum = fnv1a64(&out);
     out.extend_from_slice(&sum.to_le_bytes());
-    out
+    Ok(out)
 }
 
 /// Reads the body of a serialised state, every read checked.
@@ -288,6 +310,7 @@ pub fn decode(bytes: &[u8], owner: &Owner) -> Result<FmuState, String> {
     }
     Ok(FmuState {
         x,
+        derivatives: [0.0; MAX_DYNAMICS],
         parameters,
         time,
         history,
@@ -457,14 +480,16 @@ mod tests {
         for (model, parameters, history) in cases {
             let state = FmuState {
                 x: 0.75,
+                derivatives: [0.0; MAX_DYNAMICS],
                 parameters,
                 time: 12.5,
                 history,
             };
             for inverse in [false, true] {
                 let owner = Owner::new("{g}", model, inverse);
-                let bytes = encode(&state, &owner);
-                assert_eq!(decode(&bytes, &owner).unwrap(), state);
+                let bytes = encode(&state, &owner).unwrap();
+                let back = decode(&bytes, &owner).unwrap();
+                assert_eq!(format!("{back:?}"), format!("{state:?}"));
                 for other in [
                     Owner::new("{h}", model, inverse),
                     Owner::new("{g}", !model, inverse),

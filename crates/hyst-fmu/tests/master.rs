@@ -243,6 +243,8 @@ struct Fmu {
     c: fmi2Component,
     log: Box<Log>,
     time: Cell<f64>,
+    /// The communication step size of `do_step` (0.01 unless a test sets it).
+    step_size: Cell<f64>,
 }
 
 impl Fmu {
@@ -282,6 +284,7 @@ impl Fmu {
                 c,
                 log,
                 time: Cell::new(0.0),
+                step_size: Cell::new(0.01),
             })
         }
     }
@@ -325,10 +328,10 @@ impl Fmu {
     }
 
     fn do_step(&self) -> fmi2Status {
-        let t = self.time.get();
-        let status = unsafe { fmi2DoStep(self.c, t, 0.01, fmi2True) };
+        let (t, h) = (self.time.get(), self.step_size.get());
+        let status = unsafe { fmi2DoStep(self.c, t, h, fmi2True) };
         if status == OK {
-            self.time.set(t + 0.01);
+            self.time.set(t + h);
         }
         status
     }
@@ -1074,36 +1077,6 @@ fn refused(location: &str, guid: &str, fmu_type: fmi2Type, parts: &[&str]) {
     }
 }
 
-/// Issue 25: a model with dynamics or a rate term needs the sample period of a timed record,
-/// which an FMU does not have: instantiation fails with NULL and fmi2Error, and the log names
-/// the model file and what it has, never running the model without its plant or rate term.
-#[test]
-fn a_timed_model_is_refused_at_instantiation() {
-    let text = fitted_model().to_toml().unwrap();
-    assert!(text.contains("\nversion = 1\n"), "{text}");
-    for (sections, what) in [
-        ("[dynamics]\nb = 1.0\na = [0.05]\n", "dynamics of order 1"),
-        ("[rate]\nc = 0.3\n", "a rate term"),
-        (
-            "[dynamics]\nb = 1.0\na = [0.05]\n[rate]\nc = 0.3\n",
-            "dynamics of order 1 and a rate term",
-        ),
-    ] {
-        let timed = text.replacen("\nversion = 1\n", "\nversion = 4\n", 1) + sections;
-        for inverse in [false, true] {
-            let dir = tempfile::tempdir().unwrap();
-            write_config(dir.path(), &model_config(inverse));
-            std::fs::write(dir.path().join("model.toml"), &timed).unwrap();
-            refused(
-                &uri(dir.path()),
-                GUID,
-                fmi2CoSimulation,
-                &["fmi2Instantiate", "model.toml", what, "an FMU"],
-            );
-        }
-    }
-}
-
 #[test]
 fn bad_resources_give_null_and_a_message() {
     let dir = operator_resources(false, 0.2, 8.0);
@@ -1388,4 +1361,273 @@ fn saturate_needs_the_inverse_of_a_saturating_model() {
             &["fmu.toml", "saturate = true", part],
         );
     }
+}
+
+// ------------------------------------------------------------------------------------------
+// Models with dynamics or a rate term (issue 25): the direct model's sample period is the
+// communication step size, fixed by the first fmi2DoStep; the inverse is Lemma 5.1's
+// compensator, with the desired output's derivatives as the inputs x_d1 … x_dn.
+
+/// The dynamics and rate sections the timed tests append to a model file.
+const DYNAMICS_2: &str = "[dynamics]\nb = 1.0\na = [0.05, 0.001]\n";
+const RATE: &str = "[rate]\nc = 0.3\n";
+
+/// A sample period that is exact in binary (2⁻¹⁰ s), so `hyst run`'s mean step equals it.
+const H: f64 = 1.0 / 1024.0;
+
+/// `fitted_model()` as a version-4 file with `sections` appended: its text and the model as
+/// `ModelFile::read` reads it.
+fn timed_model(sections: &str) -> (String, ModelFile) {
+    let text = fitted_model().to_toml().unwrap();
+    assert!(text.contains("\nversion = 1\n"), "{text}");
+    let text = text.replacen("\nversion = 1\n", "\nversion = 4\n", 1) + "\n" + sections;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("timed.toml");
+    std::fs::write(&path, &text).unwrap();
+    let file = ModelFile::read(&path).unwrap();
+    assert!(file.smooth.as_ref().unwrap().is_timed());
+    (text, file)
+}
+
+fn timed_resources(text: &str, inverse: bool) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    write_config(dir.path(), &model_config(inverse));
+    std::fs::write(dir.path().join("model.toml"), text).unwrap();
+    dir
+}
+
+/// `TimedRun` over `xs` at the period `h`, as `hyst run --model` runs a timed record.
+fn timed_run(file: &ModelFile, h: f64, xs: &[f64]) -> Vec<f64> {
+    let smooth = file.smooth.as_ref().unwrap();
+    let mut run = hyst_model::TimedRun::new(smooth, h, xs[0]).unwrap();
+    xs.iter().map(|x| run.step(*x).unwrap().y).collect()
+}
+
+/// A smooth desired output and its first two time derivatives at sample k (period H).
+fn desired(k: usize) -> [f64; 3] {
+    let (t, w, a) = (k as f64 * H, 2.0 * std::f64::consts::PI * 3.0, 0.5);
+    [
+        1.0 + a * (w * t).sin(),
+        a * w * (w * t).cos(),
+        -a * w * w * (w * t).sin(),
+    ]
+}
+
+/// One communication step of a timed model: set x, read y, step. Unlike `Fmu::step`, y read
+/// after fmi2DoStep may differ from y before it: time has passed (the plant moved on, and the
+/// rate term sees the held x), so it is y at the next communication point for x held.
+fn timed_step(fmu: &Fmu, x: f64) -> f64 {
+    assert_eq!(fmu.set(VR_X, x), OK);
+    let y = fmu.y();
+    assert_eq!(fmu.do_step(), OK);
+    y
+}
+
+fn timed_steps(fmu: &Fmu, xs: &[f64]) -> Vec<f64> {
+    xs.iter().map(|x| timed_step(fmu, *x)).collect()
+}
+
+#[test]
+fn a_timed_model_runs_as_timed_run_bit_for_bit() {
+    let xs: Vec<f64> = (0..2500).map(signal).collect();
+    let both = format!("{DYNAMICS_2}{RATE}");
+    for sections in [DYNAMICS_2, RATE, both.as_str()] {
+        let (text, file) = timed_model(sections);
+        let dir = timed_resources(&text, false);
+        let fmu = Fmu::started(dir.path());
+        fmu.step_size.set(H);
+        // y before the first fmi2DoStep (the period not fixed yet) is the first doStep's.
+        assert_eq!(fmu.set(VR_X, xs[0]), OK);
+        let before = fmu.y();
+        let ys = timed_steps(&fmu, &xs);
+        let reference = timed_run(&file, H, &xs);
+        // y after the last doStep is the next sample's, for the last x held.
+        let held: Vec<f64> = xs.iter().chain(xs.last()).copied().collect();
+        assert_eq!(
+            fmu.y().to_bits(),
+            timed_run(&file, H, &held)[xs.len()].to_bits()
+        );
+        assert_eq!(before.to_bits(), reference[0].to_bits(), "{sections}");
+        assert_eq!(bits(&ys), bits(&reference), "{sections}");
+        // The plant or the rate term matters: the static model gives other outputs.
+        assert_ne!(bits(&ys), bits(&evaluator_run(&fitted_model(), false, &xs)));
+        // Steps within the tolerance are taken as the period (as hyst run takes the mean step).
+        let again = Fmu::started(dir.path());
+        again.step_size.set(H);
+        let mut ys = timed_steps(&again, &xs[..10]);
+        for (k, x) in xs[10..].iter().enumerate() {
+            again
+                .step_size
+                .set(H * if k % 2 == 0 { 1.09 } else { 0.92 });
+            ys.push(timed_step(&again, *x));
+        }
+        assert_eq!(bits(&ys), bits(&reference), "{sections}");
+        assert!(fmu.errors().is_empty() && again.errors().is_empty());
+    }
+}
+
+#[test]
+fn a_varying_or_zero_step_is_refused_for_a_timed_model() {
+    let xs: Vec<f64> = (0..400).map(signal).collect();
+    let (text, file) = timed_model(DYNAMICS_2);
+    let reference = timed_run(&file, H, &xs);
+    let dir = timed_resources(&text, false);
+    let fmu = Fmu::started(dir.path());
+    // A first step of 0 cannot be the sample period.
+    fmu.step_size.set(0.0);
+    assert_eq!(fmu.set(VR_X, xs[0]), OK);
+    assert_eq!(fmu.do_step(), ERROR);
+    fmu.expect_error(&["fmi2DoStep", "communicationStepSize = 0", "sample period"]);
+    fmu.step_size.set(H);
+    let mut ys = timed_steps(&fmu, &xs[..200]);
+    // 15 % longer, and 12 % shorter: refused, naming both steps; nothing changes.
+    for factor in [1.15, 0.88, 0.0, 2.0] {
+        fmu.step_size.set(H * factor);
+        assert_eq!(fmu.set(VR_X, xs[200]), OK);
+        assert_eq!(fmu.do_step(), ERROR, "{factor}");
+        let step = format!("communicationStepSize = {}", H * factor);
+        fmu.expect_error(&["fmi2DoStep", &step, &format!("{H}"), "constant"]);
+    }
+    fmu.step_size.set(H);
+    ys.extend(timed_steps(&fmu, &xs[200..]));
+    assert_eq!(bits(&ys), bits(&reference));
+    // fmi2Reset forgets the period: the next first step fixes another one.
+    assert_eq!(unsafe { fmi2Reset(fmu.c) }, OK);
+    fmu.initialise();
+    fmu.step_size.set(2.0 * H);
+    let ys = timed_steps(&fmu, &xs);
+    assert_eq!(bits(&ys), bits(&timed_run(&file, 2.0 * H, &xs)));
+    assert!(fmu.errors().is_empty());
+    // The inverse (the compensator) takes the derivatives as inputs: any steps are fine.
+    let inverse = Fmu::started(timed_resources(&text, true).path());
+    for (k, h) in [H, 3.0 * H, 0.0, 0.5 * H].into_iter().enumerate() {
+        inverse.step_size.set(h);
+        let d = desired(k);
+        assert_eq!(inverse.set(VR_X, d[0]), OK);
+        assert_eq!(inverse.do_step(), OK);
+    }
+}
+
+#[test]
+fn the_inverse_of_a_timed_model_is_its_compensator_with_derivative_inputs() {
+    let (text, file) = timed_model(DYNAMICS_2);
+    let dir = timed_resources(&text, true);
+    let fmu = Fmu::started(dir.path());
+    fmu.step_size.set(H);
+    let smooth = file.smooth.as_ref().unwrap();
+    let mut compensator = hyst_model::TimedCompensator::new(smooth, desired(0)[0]).unwrap();
+    let mut commands = Vec::new();
+    for k in 0..3000 {
+        let d = desired(k);
+        let vrs = [VR_X, 2, 3];
+        assert_eq!(
+            unsafe { fmi2SetReal(fmu.c, vrs.as_ptr(), 3, d.as_ptr()) },
+            OK
+        );
+        let y = fmu.y();
+        assert_eq!(fmu.do_step(), OK);
+        let (u, _) = compensator.step(&d).unwrap();
+        assert_eq!(y.to_bits(), u.to_bits(), "sample {k}");
+        commands.push(u);
+    }
+    // The command drives the plant and the hysteresis along the desired output (once the
+    // start, at rest, has settled).
+    let ys = timed_run(&file, H, &commands);
+    let worst = (1000..3000)
+        .map(|k| (ys[k] - desired(k)[0]).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 5e-3, "{worst}"); // 1.4e-3 here: a sanity check, the bits are checked above
+                                      // The derivatives read back; there are exactly n = 2 of them.
+    assert_eq!(fmu.get(2), Ok(desired(2999)[1]));
+    assert_eq!(fmu.get(3), Ok(desired(2999)[2]));
+    assert_eq!(fmu.get(4), Err(ERROR));
+    fmu.expect_error(&["value reference 4"]);
+    assert_eq!(fmu.set(4, 1.0), ERROR);
+    fmu.expect_error(&["value reference 4"]);
+    // A non-finite derivative is refused and changes nothing.
+    assert_eq!(fmu.set(3, f64::NAN), OK);
+    assert_eq!(fmu.do_step(), ERROR);
+    fmu.expect_error(&["fmi2DoStep", "x_d2 = NaN"]);
+    // The direct FMU of the same model has no derivative inputs.
+    let direct = Fmu::started(timed_resources(&text, false).path());
+    assert_eq!(direct.set(2, 1.0), ERROR);
+    direct.expect_error(&["value reference 2"]);
+}
+
+#[test]
+fn timed_states_are_restored_in_memory_and_not_serialised() {
+    let xs: Vec<f64> = (0..800).map(signal).collect();
+    for inverse in [false, true] {
+        let (text, _) = timed_model(DYNAMICS_2);
+        let dir = timed_resources(&text, inverse);
+        let fmu = Fmu::started(dir.path());
+        fmu.step_size.set(H);
+        let drive = |range: std::ops::Range<usize>| -> Vec<f64> {
+            range
+                .map(|k| {
+                    let d = if inverse {
+                        desired(k)
+                    } else {
+                        [xs[k], 0.0, 0.0]
+                    };
+                    if inverse {
+                        assert_eq!(fmu.set(2, d[1]), OK);
+                        assert_eq!(fmu.set(3, d[2]), OK);
+                    }
+                    timed_step(&fmu, d[0])
+                })
+                .collect()
+        };
+        drive(0..400);
+        let saved = fmu.get_state();
+        let first = drive(400..800);
+        assert_eq!(fmu.set_state(saved), OK);
+        assert_eq!(bits(&drive(400..800)), bits(&first), "inverse = {inverse}");
+        let mut size = 0;
+        assert_eq!(
+            unsafe { fmi2SerializedFMUstateSize(fmu.c, saved, &mut size) },
+            ERROR
+        );
+        fmu.expect_error(&["dynamics of order 2", "not serialised"]);
+        let bytes = vec![0u8; 64];
+        assert_eq!(fmu.deserialize(&bytes), Err(ERROR));
+        fmu.expect_error(&["fmi2DeSerializeFMUstate", "not serialised"]);
+    }
+}
+
+/// What the FMU cannot run is refused at instantiation (NULL, and the reason logged): the
+/// inverse of a model without a compensator (a rate term), and saturate with a timed model.
+#[test]
+fn a_timed_model_without_a_compensator_is_refused_as_an_inverse() {
+    let both = format!("{DYNAMICS_2}{RATE}");
+    for (sections, what) in [
+        (RATE, "a rate term"),
+        (both.as_str(), "dynamics of order 2 and a rate term"),
+    ] {
+        let (text, _) = timed_model(sections);
+        let dir = timed_resources(&text, true);
+        refused(
+            &uri(dir.path()),
+            GUID,
+            fmi2CoSimulation,
+            &["fmi2Instantiate", "model.toml", what, "inverse"],
+        );
+        // Its direct model runs.
+        Fmu::started(timed_resources(&text, false).path());
+    }
+    let (text, _) = timed_model(DYNAMICS_2);
+    let dir = timed_resources(&text, true);
+    let config = model_config(true) + "saturate = true\n";
+    write_config(dir.path(), &config);
+    refused(
+        &uri(dir.path()),
+        GUID,
+        fmi2CoSimulation,
+        &[
+            "fmi2Instantiate",
+            "model.toml",
+            "saturate",
+            "dynamics of order 2",
+        ],
+    );
 }

@@ -349,7 +349,14 @@ fn widths(
             FitError::NoConvergence("the fitted model cannot run the records".into())
         })?;
         let reduced = reduce(&view);
-        return widths(&view, &hysteresis, None, options, reduced.as_ref(), observer);
+        return widths(
+            &view,
+            &hysteresis,
+            None,
+            options,
+            reduced.as_ref(),
+            observer,
+        );
     }
     Ok(match (options.widths, reduced) {
         (false, _) => None,
