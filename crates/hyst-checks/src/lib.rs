@@ -39,11 +39,28 @@ pub fn check_csv(data: &[u8]) -> Result<(), String> {
         Err(e) => return one_line("csv", &e.to_string()),
     };
     let names = table.names().to_vec();
-    let mut columns = Vec::with_capacity(names.len());
+    // Each column as numbers, or (a column with a cell that is not a finite number) as text:
+    // then asking for its numbers is a one-line refusal, and its labels are one per row.
+    let mut columns: Vec<Result<Vec<f64>, Vec<String>>> = Vec::with_capacity(names.len());
     for name in &names {
-        let column = table
-            .column(name)
-            .map_err(|e| format!("column {name:?}: {e}"))?;
+        let labels = table
+            .labels(name)
+            .map_err(|e| format!("labels of {name:?}: {e}"))?;
+        if labels.len() != table.len() {
+            return Err(format!(
+                "column {name:?} has {} labels for {} rows",
+                labels.len(),
+                table.len()
+            ));
+        }
+        let column = match table.column(name) {
+            Ok(column) => column,
+            Err(e) => {
+                one_line(&format!("column {name:?}"), &e.to_string())?;
+                columns.push(Err(labels.into_owned()));
+                continue;
+            }
+        };
         if let Some(v) = column.iter().find(|v| !v.is_finite()) {
             return Err(format!("column {name:?} holds the non-finite value {v}"));
         }
@@ -54,7 +71,7 @@ pub fn check_csv(data: &[u8]) -> Result<(), String> {
                 table.len()
             ));
         }
-        columns.push(column.to_vec());
+        columns.push(Ok(column.to_vec()));
     }
     let mut last_line = 0;
     for row in 0..table.len() {
@@ -77,12 +94,20 @@ pub fn check_csv(data: &[u8]) -> Result<(), String> {
         ));
     }
     for (name, column) in names.iter().zip(&columns) {
-        let back = again.column(name).map_err(|e| e.to_string())?;
-        let same = back.len() == column.len()
-            && back
-                .iter()
-                .zip(column)
-                .all(|(a, b)| a.to_bits() == b.to_bits());
+        let same = match column {
+            Ok(column) => {
+                let back = again.column(name).map_err(|e| e.to_string())?;
+                back.len() == column.len()
+                    && back
+                        .iter()
+                        .zip(column)
+                        .all(|(a, b)| a.to_bits() == b.to_bits())
+            }
+            Err(labels) => {
+                let back = again.labels(name).map_err(|e| e.to_string())?;
+                back.as_ref() == labels.as_slice()
+            }
+        };
         if !same {
             return Err(format!("column {name:?} does not read back bit for bit"));
         }

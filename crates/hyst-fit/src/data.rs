@@ -1,7 +1,7 @@
 //! Measured data: one or more independent records of (input, output) samples with optional
 //! weights, read from a CSV table, and the split into training and validation records.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 
 use hyst_io::Table;
 
@@ -118,6 +118,11 @@ pub struct Dataset {
     pub columns: Columns,
     /// The records, in file order.
     pub records: Vec<Record>,
+    /// The labels of the records when the record column holds text: record `i` (its
+    /// [`Record::id`]) is the rows labelled `labels[i]`, numbered in order of first
+    /// appearance. Empty for numeric record ids, and after `--segment` (whose segments are
+    /// numbered afresh).
+    pub labels: Vec<String>,
 }
 
 /// Column names recognised as record columns when none is named. `segment` is one because a
@@ -126,8 +131,10 @@ pub struct Dataset {
 pub const RECORD_COLUMNS: [&str; 4] = ["loop", "curve_index", "record", "segment"];
 
 impl Dataset {
-    /// Builds a dataset from a table read by `hyst_io` (which has already refused non-numeric
-    /// and non-finite cells, naming file, line and column).
+    /// Builds a dataset from a table read by `hyst_io` (which refuses a column used as numbers
+    /// that holds a cell that is not a finite number, naming file, line and column). A record
+    /// column with a cell that is not a number is read as labels: records numbered 0, 1, …
+    /// in order of first appearance ([`Dataset::labels`]).
     ///
     /// # Errors
     /// Missing columns ([`FitError::Io`]), non-integer record ids, negative weights, unknown
@@ -137,16 +144,21 @@ impl Dataset {
         let output = table.column(&options.output)?;
         check_columns(table, options, input, output)?;
         let record_name = record_column(table, options);
-        let record = match &record_name {
-            Some(name) => Some((name.as_str(), table.column(name)?)),
-            None => None,
+        let labels = match &record_name {
+            Some(name) if table.is_text(name) => Some(table.labels(name)?),
+            _ => None,
+        };
+        let record = match (&record_name, &labels) {
+            (Some(_), Some(labels)) => Some(RecordColumn::Labels(labels)),
+            (Some(name), None) => Some(RecordColumn::Ids(name, table.column(name)?)),
+            (None, _) => None,
         };
         let weight = match &options.weight {
             Some(name) => Some((name.as_str(), table.column(name)?)),
             None => None,
         };
         let file = table.source().to_string();
-        let mut records = group_rows(table, input, output, record, weight)?;
+        let (mut records, mut labels) = group_rows(table, input, output, record, weight)?;
         let time = if options.timed {
             Some(set_periods(table, options, &mut records)?)
         } else {
@@ -154,8 +166,9 @@ impl Dataset {
         };
         if let Some(len) = options.segment {
             records = segment(records, len)?;
+            labels.clear();
         }
-        hold_out(&mut records, options, &file)?;
+        hold_out(&mut records, &labels, options, &file)?;
         normalise_weights(&mut records);
         Ok(Self {
             source: file,
@@ -167,7 +180,17 @@ impl Dataset {
                 time,
             },
             records,
+            labels,
         })
+    }
+
+    /// The label of record `id` when the record column holds text ([`Dataset::labels`]).
+    #[must_use]
+    pub fn label(&self, id: i64) -> Option<&str> {
+        usize::try_from(id)
+            .ok()
+            .and_then(|i| self.labels.get(i))
+            .map(String::as_str)
     }
 
     /// Builds a dataset from records in memory (tests, synthetic data).
@@ -177,6 +200,7 @@ impl Dataset {
             source: source.to_string(),
             columns,
             records,
+            labels: Vec::new(),
         }
     }
 
@@ -468,10 +492,19 @@ fn normalise_weights(records: &mut [Record]) {
     }
 }
 
-/// The rows of `table` grouped into records by the value of the `record` column (name and
-/// values; one record without it), each sample with its weight from the `weight` column (1
-/// without it). A record is a run of equal ids; an id that comes back later continues its
-/// record.
+/// The record column of a table.
+enum RecordColumn<'a> {
+    /// Numeric record ids: the column's name and values.
+    Ids(&'a str, &'a [f64]),
+    /// Text labels, one per row.
+    Labels(&'a [String]),
+}
+
+/// The rows of `table` grouped into records by the value of the `record` column (one record
+/// without it), each sample with its weight from the `weight` column (1 without it). A record
+/// is a run of equal ids (or labels); an id that comes back later continues its record.
+/// Labels are numbered 0, 1, … in order of first appearance; the labels are returned in that
+/// order (none for numeric ids).
 ///
 /// # Errors
 /// A record id that is not an integer of at most [`MAX_RECORD_ID`], a negative weight.
@@ -479,14 +512,24 @@ fn group_rows(
     table: &Table,
     input: &[f64],
     output: &[f64],
-    record: Option<(&str, &[f64])>,
+    record: Option<RecordColumn<'_>>,
     weight: Option<(&str, &[f64])>,
-) -> Result<Vec<Record>, FitError> {
+) -> Result<(Vec<Record>, Vec<String>), FitError> {
     let mut records: Vec<Record> = Vec::new();
     let mut index_of: BTreeMap<i64, usize> = BTreeMap::new();
+    let mut label_ids: HashMap<&str, i64> = HashMap::new();
+    let mut labels: Vec<String> = Vec::new();
     for row in 0..table.len() {
-        let id = match record {
-            Some((name, col)) => {
+        let id = match &record {
+            Some(RecordColumn::Labels(cells)) => {
+                let label = cells[row].as_str();
+                let next = label_ids.len() as i64;
+                *label_ids.entry(label).or_insert_with(|| {
+                    labels.push(label.to_string());
+                    next
+                })
+            }
+            Some(RecordColumn::Ids(name, col)) => {
                 let v = col[row];
                 if v.fract() != 0.0 || v.abs() > MAX_RECORD_ID {
                     return Err(FitError::BadRecordId {
@@ -535,7 +578,7 @@ fn group_rows(
         r.weight.push(w);
         r.rows.push(row);
     }
-    Ok(records)
+    Ok((records, labels))
 }
 
 /// Every record cut into consecutive segments of `len` samples (`--segment`), each its own
@@ -576,13 +619,26 @@ fn segment(records: Vec<Record>, len: usize) -> Result<Vec<Record>, FitError> {
 /// # Errors
 /// A record to hold out that does not exist, `--validate-every` below 2, a split that holds
 /// out every record (`file` names the data in the messages).
-fn hold_out(records: &mut [Record], options: &DataOptions, file: &str) -> Result<(), FitError> {
+fn hold_out(
+    records: &mut [Record],
+    labels: &[String],
+    options: &DataOptions,
+    file: &str,
+) -> Result<(), FitError> {
     if !options.validate.is_empty() {
         for id in &options.validate {
             match records.iter_mut().find(|r| r.id == *id) {
                 Some(r) => r.validation = true,
                 None => {
-                    let ids: Vec<String> = records.iter().map(|r| r.id.to_string()).collect();
+                    let ids: Vec<String> = records
+                        .iter()
+                        .map(
+                            |r| match usize::try_from(r.id).ok().and_then(|i| labels.get(i)) {
+                                Some(label) => format!("{} ({label:?})", r.id),
+                                None => r.id.to_string(),
+                            },
+                        )
+                        .collect();
                     return Err(FitError::Invalid(format!(
                         "{file}: no record {id} to hold out for validation (records: {})",
                         abbreviate(&ids)

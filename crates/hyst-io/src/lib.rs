@@ -3,7 +3,9 @@
 //!
 //! - [`Table`] holds named `f64` columns read from a CSV file with a header row
 //!   ([`Table::read`]) or built in memory ([`Table::new`]), and remembers the
-//!   source line of every row.
+//!   source line of every row. A column of a file with a cell that is not a
+//!   finite number is kept as text ([`Table::labels`]); asked for as numbers
+//!   ([`Table::column`]), it gives the error of that cell.
 //! - [`Table::write_atomic`] writes a table so that every value parses back to
 //!   the identical `f64`, and [`write_atomic`] writes arbitrary bytes (JSON,
 //!   TOML, PNG, SVG, ...); both replace the destination atomically (a
@@ -29,7 +31,9 @@
 //! assert_eq!(table.line_of_row(1), 4);
 //!
 //! write_atomic(&path, b"x,y\n1,2\n3,1.2.3\n")?;
-//! let err = Table::read(&path).unwrap_err();
+//! let table = Table::read(&path)?;
+//! assert_eq!(table.labels("y")?[..], ["2", "1.2.3"]);
+//! let err = table.column("y").unwrap_err();
 //! assert_eq!(
 //!     err.to_string(),
 //!     format!(r#"{}:3: column 2 ("y"): cannot parse "1.2.3" as a number"#, path.display())

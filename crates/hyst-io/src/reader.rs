@@ -17,7 +17,8 @@ const DROP_AFTER: usize = 64 * 1024;
 /// A CSV file with a header row, read one data row at a time.
 ///
 /// The header and every row are checked as [`Table::read`](crate::Table::read) documents (the
-/// two share this code): every cell must parse as a finite `f64`, every row must have one cell
+/// two share this code), except that every cell must parse as a finite `f64` here (a
+/// [`Table`](crate::Table) keeps a column of text as text): every row must have one cell
 /// per column, blank lines and `#` comment lines are skipped but counted, and errors name the
 /// file, the line, the column and the value. Memory stays constant: only the current row, the
 /// parser's buffer and the bytes of the current line are held.
@@ -201,6 +202,23 @@ impl<R: Read> CsvReader<R> {
     /// [`IoError::InvalidUtf8`], [`IoError::Csv`] or [`IoError::Read`] for this row, and
     /// [`IoError::NoData`] when the file ends before its first data row.
     pub fn next_row(&mut self) -> Result<Option<(usize, &[f64])>, IoError> {
+        let Some(line) = self.next_cells()? else {
+            return Ok(None);
+        };
+        let file = self.source.as_str();
+        for (i, (name, slot)) in self.names.iter().zip(&mut self.values).enumerate() {
+            let text = cell(&self.record, i, file, line, name)?;
+            *slot = number(text, file, line, i, name)?;
+        }
+        Ok(Some((line, &self.values)))
+    }
+
+    /// Reads the next data row, checking only its number of cells, and returns its 1-based
+    /// line (`None` after the last row); [`CsvReader::cell_text`] then gives its cells.
+    ///
+    /// # Errors
+    /// As [`CsvReader::next_row`], except the errors of single cells.
+    pub(crate) fn next_cells(&mut self) -> Result<Option<usize>, IoError> {
         let Some(line) = self.next_record()? else {
             if self.rows == 0 {
                 return Err(IoError::NoData {
@@ -211,7 +229,6 @@ impl<R: Read> CsvReader<R> {
             return Ok(None);
         };
         let record = &self.record;
-        let file = self.source.as_str();
         if record.len() != self.names.len() {
             let cells = (0..record.len())
                 .map(|i| {
@@ -221,7 +238,7 @@ impl<R: Read> CsvReader<R> {
                 })
                 .collect();
             return Err(IoError::CellCount {
-                file: file.to_string(),
+                file: self.source.clone(),
                 line,
                 expected: self.names.len(),
                 found: record.len(),
@@ -229,28 +246,17 @@ impl<R: Read> CsvReader<R> {
                 cells,
             });
         }
-        for (i, (name, slot)) in self.names.iter().zip(&mut self.values).enumerate() {
-            let text = cell(record, i, file, line, name)?;
-            let value: f64 = text.parse().map_err(|_| IoError::Parse {
-                file: file.to_string(),
-                line,
-                column: i + 1,
-                name: name.clone(),
-                value: text.to_string(),
-            })?;
-            if !value.is_finite() {
-                return Err(IoError::NonFinite {
-                    file: file.to_string(),
-                    line,
-                    column: i + 1,
-                    name: name.clone(),
-                    value: text.to_string(),
-                });
-            }
-            *slot = value;
-        }
         self.rows += 1;
-        Ok(Some((line, &self.values)))
+        Ok(Some(line))
+    }
+
+    /// Cell `index` (0-based) of the row [`CsvReader::next_cells`] read from `line`, trimmed.
+    ///
+    /// # Errors
+    /// [`IoError::InvalidUtf8`].
+    pub(crate) fn cell_text(&self, index: usize, line: usize) -> Result<&str, IoError> {
+        let name = self.names.get(index).map_or("", String::as_str);
+        cell(&self.record, index, &self.source, line, name)
     }
 
     /// Reads the next non-blank record into `self.record` and returns its 1-based start line.
@@ -403,6 +409,34 @@ fn cell<'r>(
             column: index + 1,
             name: name.to_string(),
             value: String::from_utf8_lossy(raw).trim().to_string(),
+        }),
+    }
+}
+
+/// The value of a (trimmed) cell: a finite number, else the error naming the file, line,
+/// column (0-based `index`, and `name`) and the cell.
+pub(crate) fn number(
+    text: &str,
+    file: &str,
+    line: usize,
+    index: usize,
+    name: &str,
+) -> Result<f64, IoError> {
+    match text.parse::<f64>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        Ok(_) => Err(IoError::NonFinite {
+            file: file.to_string(),
+            line,
+            column: index + 1,
+            name: name.to_string(),
+            value: text.to_string(),
+        }),
+        Err(_) => Err(IoError::Parse {
+            file: file.to_string(),
+            line,
+            column: index + 1,
+            name: name.to_string(),
+            value: text.to_string(),
         }),
     }
 }

@@ -1,5 +1,6 @@
-//! Numeric CSV tables.
+//! CSV tables of numbers (and, where a column holds words, of text).
 
+use std::borrow::Cow;
 use std::io::{self, Write};
 use std::path::Path;
 
@@ -7,10 +8,8 @@ use crate::atomic::write_atomic_with;
 use crate::digest::{Digest, Hashing};
 use crate::error::IoError;
 use crate::reader::CsvReader;
-use crate::reader::{pick_column, unknown_column};
-#[cfg(test)]
-use crate::writer::push_f64;
-use crate::writer::{check_names, push_row, write_header};
+use crate::reader::{number, pick_column, unknown_column};
+use crate::writer::{check_names, push_f64, push_row, write_header};
 
 /// Source name of tables built with [`Table::new`].
 const MEMORY_SOURCE: &str = "<memory>";
@@ -19,15 +18,20 @@ const MEMORY_SOURCE: &str = "<memory>";
 /// written to a CSV file with a header row.
 ///
 /// Every value is finite and every name is non-empty and unique; the
-/// constructors ([`Table::read`], [`Table::new`]) enforce this. Each row remembers the line of the source file it came from,
+/// constructors ([`Table::read`], [`Table::new`]) enforce this. A column of a
+/// file that holds a cell that is not a finite number is kept as text: it gives
+/// its cells with [`Table::labels`], and [`Table::column`] refuses it with the
+/// error of its first such cell. Each row remembers the line of the source file it came from,
 /// so later checks (for example by the fitting code) can point at the exact
 /// line of bad data.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
     /// Column names, in file order.
     names: Vec<String>,
-    /// Column values; `columns[i]` belongs to `names[i]`.
+    /// Column values; `columns[i]` belongs to `names[i]` (empty for a text column).
     columns: Vec<Vec<f64>>,
+    /// The cells of the columns kept as text; `None` for a column of numbers.
+    text: Vec<Option<TextColumn>>,
     /// 1-based source line of each row.
     lines: Vec<usize>,
     /// File path or other name of the source, used in error messages.
@@ -37,9 +41,12 @@ pub struct Table {
 impl Table {
     /// Reads a CSV file with a header row.
     ///
-    /// All cells must parse as `f64` (leading and trailing spaces are allowed);
-    /// `nan`, `inf` and out-of-range values such as `1e999` are rejected as
-    /// non-finite. Blank lines and lines starting with `#` are skipped, but
+    /// Cells are trimmed of leading and trailing spaces. A column whose cells
+    /// all parse as finite `f64` is a column of numbers; a column with any other
+    /// cell (a word, an empty cell, or `nan`, `inf` and out-of-range values such
+    /// as `1e999`) is kept as text, and [`Table::column`] refuses it with the
+    /// error that cell gives ([`IoError::Parse`] or [`IoError::NonFinite`]),
+    /// so that only the columns used as numbers need to be numbers. Blank lines and lines starting with `#` are skipped, but
     /// still count for line numbers. `\r\n` line endings and a UTF-8 byte order
     /// mark are accepted. The path (as displayed) becomes the table's
     /// [`source`](Table::source).
@@ -51,8 +58,7 @@ impl Table {
     /// - [`IoError::NoHeader`] if the first row contains only numbers;
     /// - [`IoError::EmptyName`] / [`IoError::DuplicateName`] for bad header cells;
     /// - [`IoError::CellCount`] if a row does not have one cell per column;
-    /// - [`IoError::Parse`] / [`IoError::NonFinite`] / [`IoError::InvalidUtf8`]
-    ///   for bad cells;
+    /// - [`IoError::InvalidUtf8`] for a cell that is not UTF-8;
     /// - [`IoError::Csv`] if the CSV parser itself fails;
     /// - [`IoError::NoData`] if there is a header but no data rows.
     pub fn read(path: &Path) -> Result<Table, IoError> {
@@ -137,6 +143,7 @@ impl Table {
             }
         }
         Ok(Table {
+            text: vec![None; names.len()],
             names,
             columns,
             lines: (2..len + 2).collect(),
@@ -164,12 +171,63 @@ impl Table {
     /// # Errors
     ///
     /// [`IoError::UnknownColumn`], listing the available columns, if there is no
-    /// such column.
+    /// such column; for a column kept as text, the [`IoError::Parse`] or
+    /// [`IoError::NonFinite`] error of its first cell that is not a finite
+    /// number (file, line, column and cell), as reading the file once gave.
     pub fn column(&self, name: &str) -> Result<&[f64], IoError> {
         match self.column_index(name) {
-            Some(i) => Ok(&self.columns[i]),
+            Some(i) => self.numbers(i),
             None => Err(unknown_column(&self.source, &self.names, name)),
         }
+    }
+
+    /// The cells of the column called `name` as text: the cells as written
+    /// (trimmed) in a column kept as text, except that the numbers before its
+    /// first other cell are given in their shortest form (`1.50` as `1.5`), as
+    /// are all the values of a column of numbers.
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::UnknownColumn`], listing the available columns, if there is no
+    /// such column.
+    pub fn labels(&self, name: &str) -> Result<Cow<'_, [String]>, IoError> {
+        let i = self
+            .column_index(name)
+            .ok_or_else(|| unknown_column(&self.source, &self.names, name))?;
+        Ok(match &self.text[i] {
+            Some(text) => Cow::Borrowed(&text.cells),
+            None => Cow::Owned(self.columns[i].iter().map(|&v| shortest(v)).collect()),
+        })
+    }
+
+    /// Whether the column called `name` holds a cell that is not a number at all
+    /// (a word or an empty cell; `nan`, `inf` and `1e999` are numbers here, if not
+    /// finite ones); `false` if there is no such column.
+    pub fn is_text(&self, name: &str) -> bool {
+        self.column_index(name)
+            .and_then(|i| self.text[i].as_ref())
+            .is_some_and(|text| text.words)
+    }
+
+    /// The values of column `i`, or the error of its first cell that is not a
+    /// finite number.
+    fn numbers(&self, i: usize) -> Result<&[f64], IoError> {
+        let Some(text) = &self.text[i] else {
+            return Ok(&self.columns[i]);
+        };
+        let name = &self.names[i];
+        let error = match number(&text.bad_value, &self.source, text.bad_line, i, name) {
+            Err(e) => e,
+            // Cannot happen: the cell was refused when the file was read.
+            Ok(_) => IoError::Parse {
+                file: self.source.clone(),
+                line: text.bad_line,
+                column: i + 1,
+                name: name.clone(),
+                value: text.bad_value.clone(),
+            },
+        };
+        Err(error)
     }
 
     /// The 0-based index of the column called `name` (exact, case-sensitive match).
@@ -201,10 +259,10 @@ impl Table {
     /// [`IoError::UnknownColumn`] if `name` is given but not a column, and
     /// [`IoError::AmbiguousColumn`] (listing the columns and suggesting
     /// `--column`) if no name is given, there is no `x` column and there is more
-    /// than one column.
+    /// than one column; as [`Table::column`] for a column kept as text.
     pub fn pick_column(&self, name: Option<&str>) -> Result<(usize, &[f64]), IoError> {
         let index = pick_column(&self.source, &self.names, name)?;
-        Ok((index, &self.columns[index]))
+        Ok((index, self.numbers(index)?))
     }
 
     /// Writes the table as CSV with a header row, atomically (see
@@ -214,7 +272,8 @@ impl Table {
     /// identical `f64` (including `-0`), in plain notation for magnitudes in
     /// `[1e-5, 1e16)` and in exponent notation (`1e300`, `5e-324`) otherwise.
     /// Names containing `,` or `"`, or a first name starting with `#`, are
-    /// quoted. Lines end with `\n`.
+    /// quoted, as are the cells of a column kept as text that would not read
+    /// back as themselves. Lines end with `\n`.
     ///
     /// # Errors
     ///
@@ -228,28 +287,118 @@ impl Table {
     fn write_csv(&self, w: &mut dyn Write) -> io::Result<()> {
         write_header(w, &self.names)?;
         let mut line = String::new();
+        let all_numbers = self.text.iter().all(Option::is_none);
         for row in 0..self.len() {
             line.clear();
-            push_row(&mut line, self.columns.iter().map(|column| column[row]));
+            if all_numbers {
+                push_row(&mut line, self.columns.iter().map(|column| column[row]));
+            } else {
+                for (i, (column, text)) in self.columns.iter().zip(&self.text).enumerate() {
+                    if i > 0 {
+                        line.push(',');
+                    }
+                    match text {
+                        Some(text) => push_text(&mut line, &text.cells[row], i == 0),
+                        None => push_f64(&mut line, column[row]),
+                    }
+                }
+                line.push('\n');
+            }
             w.write_all(line.as_bytes())?;
         }
         Ok(())
     }
 }
 
+/// The cells of a column kept as text, because one of them is not a finite number.
+#[derive(Debug, Clone, PartialEq)]
+struct TextColumn {
+    /// Every cell, trimmed (numbers before the first other cell in shortest form).
+    cells: Vec<String>,
+    /// The 1-based line of the first cell that is not a finite number.
+    bad_line: usize,
+    /// That cell.
+    bad_value: String,
+    /// Whether some cell is not a number at all (rather than a non-finite one).
+    words: bool,
+}
+
+impl TextColumn {
+    /// A column whose cells were the numbers `values`, then `cell` (not a finite number) on
+    /// line `line`.
+    fn after(values: &[f64], line: usize, cell: &str) -> TextColumn {
+        let mut cells: Vec<String> = values.iter().map(|&v| shortest(v)).collect();
+        cells.push(cell.to_string());
+        TextColumn {
+            cells,
+            bad_line: line,
+            bad_value: cell.to_string(),
+            words: cell.parse::<f64>().is_err(),
+        }
+    }
+
+    /// Adds the next cell.
+    fn push(&mut self, cell: &str) {
+        if !self.words && cell.parse::<f64>().is_err() {
+            self.words = true;
+        }
+        self.cells.push(cell.to_string());
+    }
+}
+
+/// `v` in its shortest round-trip form.
+fn shortest(v: f64) -> String {
+    let mut s = String::new();
+    push_f64(&mut s, v);
+    s
+}
+
+/// Appends a text cell, quoted when it would not read back as itself (a separator, a quote or
+/// a line break in it, surrounding whitespace, empty, or a `#` starting the line).
+fn push_text(line: &mut String, cell: &str, first: bool) {
+    let needs_quotes = cell.is_empty()
+        || cell.contains([',', '"', '\n', '\r'])
+        || cell.trim() != cell
+        || (first && cell.starts_with('#'));
+    if needs_quotes {
+        line.push('"');
+        line.push_str(&cell.replace('"', "\"\""));
+        line.push('"');
+    } else {
+        line.push_str(cell);
+    }
+}
+
 /// Reads a whole CSV input into a table.
+///
+/// A column stays a column of numbers while its cells are finite numbers; at its first other
+/// cell it becomes a [`TextColumn`] (its numbers so far in shortest form), so that only the
+/// columns that need it hold text.
 fn collect<R: std::io::Read>(mut rows: CsvReader<R>) -> Result<Table, IoError> {
-    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); rows.names().len()];
+    let n = rows.names().len();
+    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); n];
+    let mut text: Vec<Option<TextColumn>> = vec![None; n];
     let mut lines = Vec::new();
-    while let Some((line, values)) = rows.next_row()? {
-        for (column, value) in columns.iter_mut().zip(values) {
-            column.push(*value);
+    while let Some(line) = rows.next_cells()? {
+        for (i, (column, text)) in columns.iter_mut().zip(&mut text).enumerate() {
+            let cell = rows.cell_text(i, line)?;
+            match text {
+                Some(text) => text.push(cell),
+                None => match number(cell, "", line, i, "") {
+                    Ok(value) => column.push(value),
+                    Err(_) => {
+                        *text = Some(TextColumn::after(column, line, cell));
+                        *column = Vec::new();
+                    }
+                },
+            }
         }
         lines.push(line);
     }
     Ok(Table {
         names: rows.names().to_vec(),
         columns,
+        text,
         lines,
         source: rows.source().to_string(),
     })
@@ -267,9 +416,30 @@ mod tests {
     use super::*;
     use std::fs;
 
-    /// Parses `text` as a file called `data.csv`.
+    /// Parses `text` as a file called `data.csv`, and asks for every column as numbers (the
+    /// error of the first cell, in file order, that is not a finite number).
     fn read_str(text: &str) -> Result<Table, IoError> {
-        parse(text.as_bytes(), "data.csv")
+        numbers(parse(text.as_bytes(), "data.csv")?)
+    }
+
+    /// `table` if every column is one of numbers, else the error of the first cell (in file
+    /// order) that is not a finite number.
+    fn numbers(table: Table) -> Result<Table, IoError> {
+        let place = |e: &IoError| match e {
+            IoError::Parse { line, column, .. } | IoError::NonFinite { line, column, .. } => {
+                (*line, *column)
+            }
+            _ => (0, 0),
+        };
+        let first = table
+            .names()
+            .iter()
+            .filter_map(|name| table.column(name).err())
+            .min_by_key(place);
+        match first {
+            Some(e) => Err(e),
+            None => Ok(table),
+        }
     }
 
     /// The message of the error from parsing `text`.
@@ -447,6 +617,61 @@ mod tests {
         ));
     }
 
+    /// Issue 27, item 2: a column of words is kept as text; used as numbers it gives the
+    /// error reading it as numbers gave; its cells are there as text.
+    #[test]
+    fn a_text_column_is_kept_as_text() {
+        let t = parse(
+            b"record,x,y\n 3 ,1,2\nrun b,1.50,4\n# c\nrun \"a\",2,nan\n",
+            "data.csv",
+        )
+        .unwrap();
+        assert_eq!(t.len(), 3);
+        assert_eq!(t.column("x").unwrap(), [1.0, 1.5, 2.0]);
+        assert_eq!(
+            t.column("record").unwrap_err().to_string(),
+            r#"data.csv:3: column 1 ("record"): cannot parse "run b" as a number"#
+        );
+        assert!(matches!(
+            t.column("record").unwrap_err(),
+            IoError::Parse {
+                line: 3,
+                column: 1,
+                ..
+            }
+        ));
+        assert_eq!(
+            t.pick_column(Some("record")).unwrap_err().to_string(),
+            t.column("record").unwrap_err().to_string()
+        );
+        // Non-finite text keeps its error.
+        assert_eq!(
+            t.column("y").unwrap_err().to_string(),
+            r#"data.csv:5: column 3 ("y"): "nan" is not a finite number"#
+        );
+        assert_eq!(t.labels("record").unwrap()[..], ["3", "run b", "run \"a\""]);
+        assert_eq!(t.labels("x").unwrap()[..], ["1", "1.5", "2"]);
+        assert_eq!(t.labels("y").unwrap()[..], ["2", "4", "nan"]);
+        assert!(t.is_text("record"));
+        assert!(!t.is_text("y") && !t.is_text("x") && !t.is_text("z"));
+        assert!(matches!(
+            t.labels("z").unwrap_err(),
+            IoError::UnknownColumn { .. }
+        ));
+        // Only the text column holds text.
+        assert_eq!(t.columns[1], [1.0, 1.5, 2.0]);
+        assert!(t.text[1].is_none() && t.text[0].is_some());
+        // Written and read back: the same cells.
+        let again = parse(&t.to_csv(), "again.csv").unwrap();
+        assert_eq!(again.labels("record").unwrap(), t.labels("record").unwrap());
+        assert_eq!(again.column("x").unwrap(), t.column("x").unwrap());
+        let odd = parse(b"a,b\n\"#1\",1\n\"\",\"p, q\"\n", "odd.csv").unwrap();
+        let back = parse(&odd.to_csv(), "back.csv").unwrap();
+        assert_eq!(back.labels("a").unwrap()[..], ["#1", ""]);
+        assert_eq!(back.labels("b").unwrap()[..], ["1", "p, q"]);
+        assert_eq!(back.len(), 2);
+    }
+
     #[test]
     fn tiny_values_underflow_to_subnormal_or_zero_and_are_accepted() {
         let t = read_str("x\n5e-324\n1e-400\n-1e-400\n").unwrap();
@@ -558,7 +783,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("meas.csv");
         fs::write(&path, "x,y\r\n1,2\r\n3,abc\r\n").unwrap();
-        let err = Table::read(&path).unwrap_err();
+        let err = Table::read(&path).and_then(numbers).unwrap_err();
         assert_eq!(
             err.to_string(),
             format!(
