@@ -386,6 +386,12 @@ fn a_plant_the_records_do_not_excite_is_reported_not_identified() {
     let text = hyst(&args);
     assert!(text.contains("dynamics.a1 not identified"), "{text}");
     assert!(!text.contains("dynamics.a1 = "), "{text}");
+    // The parameter table prints no value for it either.
+    let row = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("dynamics.a1 "))
+        .unwrap();
+    assert!(row.contains("not identified"), "{row}");
     let json: serde_json::Value =
         serde_json::from_str(&hyst(&[&args[..], &["--json"]].concat())).unwrap();
     assert_eq!(

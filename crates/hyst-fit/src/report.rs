@@ -232,13 +232,22 @@ fn errors_table(r: &Report, u: &str) -> String {
 fn parameter_table(m: &ModelFile) -> String {
     let mut s = String::new();
     s += "\nparameter              value           std. error     unit\n";
+    // A plant coefficient the records do not identify has no value to print (the notes say
+    // why): the model file keeps the fitted number, which has no measurable effect on the data.
+    let unidentified = |name: &str| {
+        let i: usize = name.strip_prefix("dynamics.a")?.parse().ok()?;
+        let d = m.dynamics.as_ref()?;
+        (d.identified.get(i.checked_sub(1)?) == Some(&false)).then_some(())
+    };
     for e in m.parameters.iter().take(40) {
+        let (value, error) = if unidentified(&e.name).is_some() {
+            ("not identified".to_string(), "-".to_string())
+        } else {
+            (sig(e.value, 7), sig(e.std_error, 3))
+        };
         s += &format!(
             "  {:<20} {:>14}  {:>14}     {}\n",
-            e.name,
-            sig(e.value, 7),
-            sig(e.std_error, 3),
-            e.unit
+            e.name, value, error, e.unit
         );
     }
     if m.parameters.len() > 40 {

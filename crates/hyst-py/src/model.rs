@@ -550,27 +550,30 @@ impl Model {
     /// The model as one header-only C99 file over `hyst.h` whose identifiers all start with
     /// `name` (`NAME_state`, `NAME_init`, `NAME_init_inverse`, `NAME_step`, `NAME_reset`,
     /// `NAME_params` and their `_f32` twins): the text `hyst export c` writes for the same
-    /// model file (docs/c.md). Raises ValueError for a name that is not a C identifier or
-    /// clashes with hyst.h's, and for a model the firmware cannot run (Prandtl–Ishlinskii, or
-    /// a model with dynamics or a rate term).
-    fn export_c(&self, name: &str) -> PyResult<String> {
-        untimed(
-            &self.file,
-            "export_c: the exported firmware steps samples without a sample period",
-        )?;
-        hyst_model::export::c(&self.file, name, &self.export_source()).map_err(errors::model)
+    /// model file (docs/c.md). For a model with dynamics it also holds the Lemma 5.1
+    /// compensator with the fitted plant (`NAME_timed_compensator_*`), and with `period` (s)
+    /// the forward model with its plant discretised for that period (`NAME_timed_*`), as
+    /// `hyst export c --period`. Raises ValueError for a name that is not a C identifier or
+    /// clashes with hyst.h's, and for a model the firmware cannot run (Prandtl–Ishlinskii, a
+    /// rate term, a stop form with dynamics without `period`).
+    #[pyo3(signature = (name, *, period=None))]
+    fn export_c(&self, name: &str, period: Option<f64>) -> PyResult<String> {
+        let options = hyst_model::export::Options { period };
+        hyst_model::export::c_with(&self.file, name, &self.export_source(), &options)
+            .map_err(errors::model)
     }
 
     /// The model as `no_std` Rust over hyst-core (`NAME::<T>()`, `NAME_inverse::<T>()`,
-    /// `NAME_clamp`): the text `hyst export rust` writes for the same model file (docs/c.md).
-    /// Raises ValueError for a name that is not an identifier, and for a model with dynamics
-    /// or a rate term.
-    fn export_rust(&self, name: &str) -> PyResult<String> {
-        untimed(
-            &self.file,
-            "export_rust: the exported firmware steps samples without a sample period",
-        )?;
-        hyst_model::export::rust(&self.file, name, &self.export_source()).map_err(errors::model)
+    /// `NAME_clamp`): the text `hyst export rust` writes for the same model file (docs/c.md);
+    /// for a model with dynamics also its compensator, and with `period` its forward model with
+    /// the plant (`hyst export rust --period`). Raises ValueError for a name that is not an
+    /// identifier, and for a model the export cannot run (a rate term, a stop form with
+    /// dynamics without `period`).
+    #[pyo3(signature = (name, *, period=None))]
+    fn export_rust(&self, name: &str, period: Option<f64>) -> PyResult<String> {
+        let options = hyst_model::export::Options { period };
+        hyst_model::export::rust_with(&self.file, name, &self.export_source(), &options)
+            .map_err(errors::model)
     }
 
     /// Writes the model file to `path` (atomically: a failed write leaves no partial file and

@@ -233,8 +233,6 @@ def test_entry_points_without_time_refuse_a_timed_model(fitted, record):
         (m.inverse, "Model.inverse"),
         (lambda: m.inverse(saturate=True), "Model.inverse"),
         (lambda: m.step(0.2), "Model.step"),
-        (lambda: m.export_c("piezo"), "export_c"),
-        (lambda: m.export_rust("piezo"), "export_rust"),
         (lambda: hyst.Compensator(m, 1.0, [TAU]), "hyst.Compensator"),
         (lambda: hyst._hyst._model_from_toml(m.to_toml(), True), "Model.inverse"),
     ]

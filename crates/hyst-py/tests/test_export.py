@@ -34,3 +34,19 @@ def test_bad_names_and_kinds_raise_value_error(root):
             piezo.export_c(bad)
     with pytest.raises(ValueError, match="Prandtl-Ishlinskii"):
         hyst.load_model(str(models / "piezo_pi.toml")).export_c("pi")
+
+
+def test_timed_model_exports_are_the_cli_text(root, cli):
+    """A model with dynamics: the compensator always, the forward model with its plant with
+    period, as `hyst export c|rust [--period]`."""
+    path = root / "examples" / "firmware" / "models" / "piezo_dyn.toml"
+    model = hyst.load_model(str(path))
+    for language, export in [("c", model.export_c), ("rust", model.export_rust)]:
+        assert export("stage") == cli("export", language, str(path), "--name", "stage").stdout
+        with_period = export("stage", period=1e-3)
+        assert with_period == cli(
+            "export", language, str(path), "--name", "stage", "--period", "0.001"
+        ).stdout
+        assert "timed" in with_period
+    with pytest.raises(ValueError, match="period"):
+        model.export_c("stage", period=float("nan"))

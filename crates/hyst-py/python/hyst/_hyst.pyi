@@ -173,10 +173,13 @@ class Model:
     @property
     def delta_a(self) -> Optional[float]: ...
     def to_toml(self) -> str: ...
-    def export_c(self, name: str) -> str:
-        """The model as a header-only C99 file over hyst.h (what ``hyst export c`` writes)."""
-    def export_rust(self, name: str) -> str:
-        """The model as no_std Rust over hyst-core (what ``hyst export rust`` writes)."""
+    def export_c(self, name: str, *, period: Optional[float] = None) -> str:
+        """The model as a header-only C99 file over hyst.h (what ``hyst export c [--period]``
+        writes; a model with dynamics also gets its compensator, and with ``period`` its forward
+        model with the plant)."""
+    def export_rust(self, name: str, *, period: Optional[float] = None) -> str:
+        """The model as no_std Rust over hyst-core (what ``hyst export rust [--period]``
+        writes)."""
     def save(self, path: StrPath) -> None: ...
 
 def load_model(path: StrPath) -> Model:
