@@ -77,10 +77,8 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
     let values = table.column(&name)?;
     let time_name = match args.time {
         Some(t) => t.to_string(),
-        None => hyst_fit::data::TIME_COLUMNS
-            .iter()
-            .find(|n| table.column_index(n).is_some())
-            .map(|n| (*n).to_string())
+        None => hyst_fit::data::default_time_column(&table)
+            .map(str::to_string)
             .with_context(|| {
                 format!(
                     "{}: the model {} has {}: it needs the records' time stamps, and the file has \

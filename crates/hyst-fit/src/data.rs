@@ -109,6 +109,14 @@ pub struct DataOptions {
 /// Column names recognised as the time column (s) when none is named.
 pub const TIME_COLUMNS: [&str; 4] = ["t", "t_s", "time", "time_s"];
 
+/// The time column of `table` when none is named: the first of [`TIME_COLUMNS`] it has.
+#[must_use]
+pub fn default_time_column(table: &Table) -> Option<&'static str> {
+    TIME_COLUMNS
+        .into_iter()
+        .find(|n| table.column_index(n).is_some())
+}
+
 /// A dataset: named columns, records, and the file it came from.
 #[derive(Clone, Debug)]
 pub struct Dataset {
@@ -437,10 +445,8 @@ fn set_periods(
 ) -> Result<String, FitError> {
     let name = match &options.time {
         Some(name) => name.clone(),
-        None => TIME_COLUMNS
-            .iter()
-            .find(|n| table.column_index(n).is_some())
-            .map(|n| (*n).to_string())
+        None => default_time_column(table)
+            .map(str::to_string)
             .ok_or_else(|| {
                 FitError::Invalid(format!(
                     "{}: a model with dynamics or a rate term needs time stamps, and the file has \
