@@ -13,56 +13,8 @@ use hyst::host::*;
 use hyst::status::*;
 
 /// A static smooth model file as `hyst fit` writes it (format version 1): y = 3 H(0.2, 6)[v] + 1,
-/// v = x / 2 − 1.
-const STATIC: &str = r#"
-format = "hyst-model"
-version = 1
-kind = "smooth"
-parameters = []
-[columns]
-input = "x"
-output = "y"
-[units]
-input = ""
-output = ""
-[metrics]
-parameters = 0
-fit_seconds = 0.0
-ns_per_sample = 0.0
-[metrics.training]
-samples = 0
-rms = 0.0
-max_abs = 0.0
-rms_pct_span = 0.0
-max_pct_span = 0.0
-[smooth]
-k1 = 0.2
-initial_state = "rising"
-[smooth.k2]
-law = "constant"
-value = 6.0
-[smooth.input_shaping]
-pre_gain = 0.5
-pre_offset = -1.0
-shape = "identity"
-post_gain = 1.0
-post_offset = 0.0
-[smooth.output_shaping]
-pre_gain = 1.0
-pre_offset = 0.0
-shape = "identity"
-post_gain = 3.0
-post_offset = 1.0
-[provenance]
-file = "none"
-bytes = 0
-fnv1a64 = "0"
-rows = 0
-records = 0
-command = "hand-written"
-hyst_version = "0.1.0"
-created_unix = 0
-"#;
+/// v = x / 2 − 1 (hyst-model's test fixture, shared with its export tests).
+const STATIC: &str = include_str!("../../hyst-model/testdata/static-model.toml");
 
 const FIRST_ORDER: &str = "[dynamics]\nb = 1.0\na = [0.05]\n";
 const SECOND_ORDER: &str = "[dynamics]\nb = 1.0\na = [0.05, 0.0004]\n";
