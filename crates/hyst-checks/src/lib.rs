@@ -11,23 +11,19 @@
 //!   one-line error; an accepted model runs, direct and inverse, with finite outputs or an error.
 //! - [`check_operators`]: the operator pair, shaped models, the compensator and jets, f64 and
 //!   f32, with arbitrary parameters and inputs: see [`operators`].
+//! - [`check_timed`]: a smooth model with Lemma 5.1's plant (order 1…4) and a rate term, any
+//!   coefficients, sample period and commands, and its compensator: see [`timed`].
 
+mod message;
 pub mod operators;
+pub mod timed;
 
 pub use operators::check_operators;
+pub use timed::check_timed;
 
 use hyst_io::Table;
 use hyst_model::ModelFile;
-
-/// An error message must be one line (the tools print it after `error: `).
-fn one_line(what: &str, message: &str) -> Result<(), String> {
-    if message.is_empty() || message.contains('\n') {
-        return Err(format!(
-            "{what}: the error message is not one line: {message:?}"
-        ));
-    }
-    Ok(())
-}
+use message::one_line;
 
 /// The CSV reader on arbitrary bytes.
 ///

@@ -41,10 +41,10 @@ pub fn identity_tolerance<T: Real>() -> f64 {
 }
 
 /// Reads the fuzzer's bytes.
-struct Bytes<'a>(&'a [u8]);
+pub(crate) struct Bytes<'a>(pub(crate) &'a [u8]);
 
 impl Bytes<'_> {
-    fn u8(&mut self) -> Option<u8> {
+    pub(crate) fn u8(&mut self) -> Option<u8> {
         let (&b, rest) = self.0.split_first()?;
         self.0 = rest;
         Some(b)
@@ -60,7 +60,7 @@ impl Bytes<'_> {
 
     /// A number of either precision: raw bits (every pattern, NaN included) or a "nice" signed
     /// power of ten 10^(e/64), e in [−128·64, 127·64]/… of the byte pair.
-    fn number<T: Precision>(&mut self) -> Option<T> {
+    pub(crate) fn number<T: Precision>(&mut self) -> Option<T> {
         let tag = self.u8()?;
         if tag & 1 == 0 {
             Some(T::from_bits(self.bits()?))
@@ -73,7 +73,7 @@ impl Bytes<'_> {
     }
 
     /// The next input sample: a number, a small step from `last`, or `last` again.
-    fn sample<T: Precision>(&mut self, last: T, k1: T) -> Option<T> {
+    pub(crate) fn sample<T: Precision>(&mut self, last: T, k1: T) -> Option<T> {
         let tag = self.u8()?;
         match tag % 4 {
             0 => self.number(),

@@ -20,3 +20,8 @@ fn model_file_corpus() {
 fn operators_corpus() {
     replay("corpus", "operators", hyst_checks::check_operators, 10);
 }
+
+#[test]
+fn timed_corpus() {
+    replay("corpus", "timed", hyst_checks::check_timed, 10);
+}

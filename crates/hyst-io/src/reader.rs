@@ -72,7 +72,7 @@ impl CsvReader<File> {
 ///
 /// # Errors
 /// [`IoError::IsDirectory`], [`IoError::Read`].
-pub(crate) fn open_file(path: &Path) -> Result<(File, String), IoError> {
+pub fn open_file(path: &Path) -> Result<(File, String), IoError> {
     let file = path.display().to_string();
     if path.is_dir() {
         return Err(IoError::IsDirectory {
@@ -121,9 +121,11 @@ impl<R: Read> CsvReader<R> {
         let mut names = Vec::with_capacity(this.record.len());
         for i in 0..this.record.len() {
             let name = cell(&this.record, i, &this.source, header_line, "")?;
-            // csv-core strips a BOM at the start of the input; be safe if it did not.
+            // csv-core strips a BOM at the start of the input; be safe if it did not (and
+            // strip BOMs and spaces in any order, so that a written name reads back as itself).
             let name = if i == 0 {
-                name.trim_start_matches('\u{feff}').trim()
+                name.trim_start_matches(|c: char| c == '\u{feff}' || c.is_whitespace())
+                    .trim_end()
             } else {
                 name
             };
@@ -214,11 +216,12 @@ impl<R: Read> CsvReader<R> {
     }
 
     /// Reads the next data row, checking only its number of cells, and returns its 1-based
-    /// line (`None` after the last row); [`CsvReader::cell_text`] then gives its cells.
+    /// line (`None` after the last row); [`CsvReader::cell_text`] and [`CsvReader::value`] then
+    /// give its cells, as text or as numbers (for a file whose other columns may hold text).
     ///
     /// # Errors
     /// As [`CsvReader::next_row`], except the errors of single cells.
-    pub(crate) fn next_cells(&mut self) -> Result<Option<usize>, IoError> {
+    pub fn next_cells(&mut self) -> Result<Option<usize>, IoError> {
         let Some(line) = self.next_record()? else {
             if self.rows == 0 {
                 return Err(IoError::NoData {
@@ -254,9 +257,21 @@ impl<R: Read> CsvReader<R> {
     ///
     /// # Errors
     /// [`IoError::InvalidUtf8`].
-    pub(crate) fn cell_text(&self, index: usize, line: usize) -> Result<&str, IoError> {
+    pub fn cell_text(&self, index: usize, line: usize) -> Result<&str, IoError> {
         let name = self.names.get(index).map_or("", String::as_str);
         cell(&self.record, index, &self.source, line, name)
+    }
+
+    /// Cell `index` (0-based) of the row [`CsvReader::next_cells`] read from `line`, as a
+    /// finite number.
+    ///
+    /// # Errors
+    /// [`IoError::Parse`], [`IoError::NonFinite`] or [`IoError::InvalidUtf8`], naming the file,
+    /// line, column and cell.
+    pub fn value(&self, index: usize, line: usize) -> Result<f64, IoError> {
+        let name = self.names.get(index).map_or("", String::as_str);
+        let text = cell(&self.record, index, &self.source, line, name)?;
+        number(text, &self.source, line, index, name)
     }
 
     /// Reads the next non-blank record into `self.record` and returns its 1-based start line.
@@ -442,12 +457,14 @@ pub(crate) fn number(
 }
 
 /// Whether the record is an all-whitespace line (the parser skips truly empty lines itself, but
-/// not lines of spaces).
+/// not lines of spaces). Whitespace is what a cell is trimmed of ([`str::trim`], Unicode's), so
+/// a line that would be one empty cell is blank: a table never holds a row the writer could
+/// only write as a line the reader skips.
 fn is_blank(record: &csv::ByteRecord) -> bool {
     record.len() == 1
         && record
             .get(0)
-            .is_some_and(|c| c.iter().all(|b| b.is_ascii_whitespace()))
+            .is_some_and(|c| std::str::from_utf8(c).is_ok_and(|s| s.trim().is_empty()))
 }
 
 /// Whether a (trimmed) cell parses as a number, finite or not.

@@ -1,0 +1,8 @@
+//! Fuzz target: hyst_checks::check_timed (see crates/hyst-checks).
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    if let Err(broken) = hyst_checks::check_timed(data) {
+        panic!("{broken}");
+    }
+});
