@@ -42,8 +42,10 @@ mod bound;
 mod export;
 mod fit;
 mod fmu;
+mod naming;
 mod paper;
 mod plot;
+mod progress;
 mod run;
 mod run_timed;
 mod signals;
@@ -140,6 +142,12 @@ fn distinct_files(command: &Command) -> anyhow::Result<()> {
             let mut outputs = vec![args.model_out.as_path()];
             outputs.extend(plots.iter().map(PathBuf::as_path));
             hyst_io::check_all_distinct(&[args.data.as_path()], &outputs)?;
+            // And writable, before the data is read and fitted: a fit of a long record is not
+            // thrown away for a missing directory.
+            hyst_io::check_writable(&args.model_out)?;
+            if let Some(dir) = &args.plot {
+                hyst_io::check_writable_dir(dir)?;
+            }
         }
         Command::Export(args) => {
             let a = args.target.args();

@@ -2,16 +2,22 @@
 //! the sample period, and the model runs with the one discretisation of
 //! `hyst_model::dynamics`.
 //!
-//! - Direct: the command column in, the model output out (`t,x,y`).
-//! - `--inverse`: Lemma 5.1's compensator, the desired output in, the command out (`t,x,y`). The
-//!   desired output's derivatives come from the columns `<name>_d1 … <name>_dn` when the file has
-//!   them all (n the plant order), else from a reference prefilter of order n and bandwidth
-//!   `--prefilter-hz F`: the command then makes the plant track the prefiltered reference
-//!   (written as the column `x_filtered`), not the raw one.
+//! - Direct: the command column in, the model output out (named after the model's output
+//!   column).
+//! - `--inverse`: Lemma 5.1's compensator, the desired output in, the command out (named after
+//!   the model's input column). The desired output's derivatives come from the columns
+//!   `<name>_d1 … <name>_dn` when the file has them all (n the plant order), else from a
+//!   reference prefilter of order n and bandwidth `--prefilter-hz F`: the command then makes the
+//!   plant track the prefiltered reference (written as the column `<name>_filtered`), not the
+//!   raw one.
+//!
+//! OUTPUT holds every column of INPUT first, as `hyst run` does for a static model
+//! ([`crate::naming`]).
 //!
 //! The file is read whole (a record's period comes from all its stamps), checked, then run; the
 //! output is written atomically.
 
+use std::io::Read as _;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
@@ -63,7 +69,24 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
             .with_context(|| format!("{}: --inverse", path.display()))?;
     }
     hyst_io::check_all_distinct(&[args.input, path], &[args.output])?;
-    let table = Table::read(args.input)?;
+    let reading = crate::progress::reading(
+        args.input,
+        format!("reading {}", args.input.display()),
+        crate::progress::LARGE_FILE,
+        false,
+    );
+    // Read once (a pipe cannot be read twice), then parsed twice: as numbers, and as the cells
+    // OUTPUT passes through as they were written.
+    let (file, source) = hyst_io::open_file(args.input)?;
+    let mut bytes = Vec::new();
+    hyst_io::CountingReader::new(file, reading.unwrap_or_else(|| Box::new(|_| {})))
+        .read_to_end(&mut bytes)
+        .map_err(|e| hyst_io::IoError::Read {
+            file: source.clone(),
+            source: e,
+        })?;
+    let table = Table::parse(&bytes, &source)?;
+    let passed = Passed::read(&bytes, &source)?;
     let name = args.columns.first().map_or_else(
         || {
             if inverse {
@@ -91,8 +114,8 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
             })?,
     };
     let time = table.column(&time_name)?;
-    let record = match args.record {
-        Some(r) => Some(table.column(r)?),
+    let labels = match args.record {
+        Some(r) => Some(table.labels(r)?),
         None => None,
     };
     let order = smooth.dynamics.map_or(0, |d| d.order());
@@ -112,38 +135,84 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
         );
     }
     let filtered = inverse && derivatives.is_none();
-    let mut names = vec![time_name.clone(), "x".into(), "y".into()];
-    if filtered {
-        names.push("x_filtered".into());
-    }
-    if let Some(r) = args.record {
-        names.push(r.to_string());
-    }
+    let base = if inverse {
+        &model.columns.input
+    } else {
+        &model.columns.output
+    };
+    let names = crate::naming::output_names(
+        table.names(),
+        &crate::naming::Computed {
+            base,
+            columns: &[name.as_str()],
+            derivatives: 0,
+            extra: filtered.then_some("filtered"),
+        },
+    )?;
     let mut out = CsvWriter::create(args.output, names)?;
     let columns = Columns {
         table: &table,
+        passed: &passed,
         values,
         time,
         time_name: &time_name,
-        record,
         derivatives: derivatives.as_deref(),
         order,
         filtered,
     };
-    for rows in records(table.len(), record) {
+    for rows in records(table.len(), labels.as_deref()) {
         columns.run_record(smooth, args, rows, &mut out)?;
     }
     out.finish()?;
     Ok(())
 }
 
+/// Every row's cells as read, formatted for OUTPUT, each followed by `,`.
+struct Passed {
+    /// The cells of all rows.
+    text: String,
+    /// Where each row's cells end in `text`.
+    ends: Vec<usize>,
+    /// Cells per row.
+    width: usize,
+}
+
+impl Passed {
+    /// The cells of every row of the CSV `bytes` (`source` names it in errors).
+    fn read(bytes: &[u8], source: &str) -> Result<Passed> {
+        let mut rows = hyst_io::CsvReader::new(bytes, source)?;
+        let width = rows.names().len();
+        let mut text = String::new();
+        let mut ends = Vec::new();
+        while let Some(line) = rows.next_cells()? {
+            for i in 0..width {
+                hyst_io::push_cell(&mut text, rows.cell_text(i, line)?, i == 0);
+                text.push(',');
+            }
+            ends.push(text.len());
+        }
+        Ok(Passed { text, ends, width })
+    }
+
+    /// Row `i`'s cells.
+    fn row(&self, i: usize) -> &str {
+        let from = i
+            .checked_sub(1)
+            .and_then(|j| self.ends.get(j))
+            .copied()
+            .unwrap_or(0);
+        let to = self.ends.get(i).copied().unwrap_or(from);
+        self.text.get(from..to).unwrap_or_default()
+    }
+}
+
 /// The columns of a timed run, read and checked.
 struct Columns<'a> {
     table: &'a Table,
+    passed: &'a Passed,
     values: &'a [f64],
     time: &'a [f64],
     time_name: &'a str,
-    record: Option<&'a [f64]>,
     derivatives: Option<&'a [&'a [f64]]>,
     order: usize,
     filtered: bool,
@@ -160,10 +229,10 @@ impl Columns<'_> {
     ) -> Result<()> {
         let Columns {
             table,
+            passed,
             values,
             time,
             time_name,
-            record,
             derivatives,
             order,
             filtered,
@@ -202,14 +271,9 @@ impl Columns<'_> {
                         hyst_io::number::sig(desired[0], 6)
                     )
                 })?;
-                let mut row = vec![time[i], values[i], u];
-                if filtered {
-                    row.push(desired[0]);
-                }
-                if let Some(r) = record {
-                    row.push(r[i]);
-                }
-                out.write_row(&row)?;
+                let computed = [u, desired[0]];
+                let n = if filtered { 2 } else { 1 };
+                write_row(passed, i, computed.get(..n).unwrap_or_default(), out)?;
             }
         } else {
             let mut run = TimedRun::new(smooth, period, first)
@@ -218,11 +282,7 @@ impl Columns<'_> {
                 let s = run
                     .step(values[i])
                     .with_context(|| format!("{}: input {}", at(i), values[i]))?;
-                let mut row = vec![time[i], values[i], s.y];
-                if let Some(r) = record {
-                    row.push(r[i]);
-                }
-                out.write_row(&row)?;
+                write_row(passed, i, &[s.y], out)?;
             }
         }
         Ok(())
@@ -238,9 +298,15 @@ fn what(m: &SmoothModel) -> String {
     }
 }
 
-/// The rows of each record: runs of equal values of the record column (the whole file
+/// Writes row `i` of INPUT (every cell, as read) followed by the `computed` values.
+fn write_row(passed: &Passed, i: usize, computed: &[f64], out: &mut CsvWriter) -> Result<()> {
+    out.write_row_after(passed.row(i), passed.width, computed)?;
+    Ok(())
+}
+
+/// The rows of each record: runs of equal labels of the record column (the whole file
 /// without one).
-fn records(len: usize, record: Option<&[f64]>) -> Vec<std::ops::Range<usize>> {
+fn records(len: usize, record: Option<&[String]>) -> Vec<std::ops::Range<usize>> {
     let mut out = Vec::new();
     let Some(r) = record else {
         out.push(0..len);
@@ -248,7 +314,7 @@ fn records(len: usize, record: Option<&[f64]>) -> Vec<std::ops::Range<usize>> {
     };
     let mut start = 0;
     for i in 1..=len {
-        if i == len || r[i].to_bits() != r[start].to_bits() {
+        if i == len || r.get(i) != r.get(start) {
             out.push(start..i);
             start = i;
         }

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 mod common;
-use common::read_csv;
+use common::{column, read_csv};
 
 fn hyst(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_hyst"))
@@ -89,32 +89,36 @@ fn several_plain_columns_equal_their_single_runs_within_the_tolerance() {
             let mut all = args.clone();
             all.extend(["--column", "a", "--column", "b", "--column", "c"]);
             let (header, together) = run_ok(&all, &input, &out);
-            let mut expected: Vec<String> = ["a", "b", "c", "y_a", "y_b", "y_c"]
-                .map(String::from)
-                .to_vec();
-            if record {
-                expected.push("curve".into());
-            }
-            assert_eq!(header, expected);
+            // Every input column first (the record column in its place), then one output per
+            // column run.
+            let inputs = ["t", "a", "b", "c", "u_actuator_V", "curve"];
+            assert_eq!(header, [&inputs[..], &["y_a", "y_b", "y_c"]].concat());
             assert_eq!(together.len(), 9000);
-            for (k, column) in ["a", "b", "c"].iter().enumerate() {
+            for name in ["a", "b", "c"] {
                 let mut alone_args = args.clone();
-                alone_args.extend(["--column", column]);
-                let (_, alone) = run_ok(&alone_args, &input, &dir.path().join("alone.csv"));
-                for (i, (t, a)) in together.iter().zip(&alone).enumerate() {
-                    assert_eq!(t[k], a[0], "{all:?} row {i}: the input is copied");
-                    let (yb, ys) = (t[3 + k], a[1]);
-                    assert!(
-                        close(yb, ys, 0.2),
-                        "{all:?}, column {column}, row {i}: bank {yb} vs alone {ys}"
+                alone_args.extend(["--column", name]);
+                let (alone_header, alone) =
+                    run_ok(&alone_args, &input, &dir.path().join("alone.csv"));
+                assert_eq!(alone_header, [&inputs[..], &["y"]].concat());
+                for input in inputs {
+                    assert_eq!(
+                        column(&header, &together, input),
+                        column(&alone_header, &alone, input),
+                        "{all:?}: the input column {input} is copied"
                     );
-                    if record {
-                        assert_eq!(t[6], a[2]);
-                    }
+                }
+                let x = column(&alone_header, &alone, name);
+                let ys = column(&alone_header, &alone, "y");
+                let yb = column(&header, &together, &format!("y_{name}"));
+                for (i, (yb, ys)) in yb.iter().zip(&ys).enumerate() {
+                    assert!(
+                        close(*yb, *ys, 0.2),
+                        "{all:?}, column {name}, row {i}: bank {yb} vs alone {ys}"
+                    );
                 }
                 // The outputs do move off the line y = x (a test that could not fail otherwise).
-                let moved = alone.iter().filter(|r| r[0] != r[1]).count();
-                assert!(moved > 1000, "{column}: {moved} outputs off the line y = x");
+                let moved = x.iter().zip(&ys).filter(|(x, y)| x != y).count();
+                assert!(moved > 1000, "{name}: {moved} outputs off the line y = x");
             }
         }
     }
@@ -137,12 +141,18 @@ fn records_restart_every_column() {
         let mut args = vec!["--k1", "0.3", "--k2", "5", "--record", "r"];
         args.extend_from_slice(extra);
         args.extend(["--column", "a", "--column", "b"]);
-        let (_, rows) = run_ok(&args, &input, &dir.path().join("out.csv"));
+        let (header, rows) = run_ok(&args, &input, &dir.path().join("out.csv"));
+        assert_eq!(header, ["a", "b", "r", "y_a", "y_b"]);
+        let (a, ya, yb) = (
+            column(&header, &rows, "a"),
+            column(&header, &rows, "y_a"),
+            column(&header, &rows, "y_b"),
+        );
         let n = samples.len();
         for i in 0..n {
-            assert_eq!(rows[i][2..4], rows[i + n][2..4], "{args:?} row {i}");
+            assert_eq!((ya[i], yb[i]), (ya[i + n], yb[i + n]), "{args:?} row {i}");
         }
-        assert_ne!(rows[1][2], rows[1][0], "the operator moves off the line");
+        assert_ne!(ya[1], a[1], "the operator moves off the line");
     }
 }
 
@@ -150,7 +160,18 @@ fn records_restart_every_column() {
 fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("in.csv");
-    let mut text = String::from("a,a_d1,a_d2,b,b_d1,b_d2,u_actuator_V,v,curve\n");
+    let inputs = [
+        "a",
+        "a_d1",
+        "a_d2",
+        "b",
+        "b_d1",
+        "b_d2",
+        "u_actuator_V",
+        "v",
+        "curve",
+    ];
+    let mut text = inputs.join(",") + "\n";
     for i in 0..5000 {
         let t = i as f64 * 1e-3;
         let (a, da, dda) = (
@@ -171,10 +192,12 @@ fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
     std::fs::write(&input, text).unwrap();
     let smooth = corpus("smooth.toml");
     let pi = corpus("pi.toml");
-    let cases: Vec<(Vec<&str>, [&str; 2])> = vec![
+    // The arguments, the columns run, and the name of what is computed.
+    let cases: Vec<(Vec<&str>, [&str; 2], &str)> = vec![
         (
             vec!["--k1", "0.2", "--k2", "8", "--derivatives", "2"],
             ["a", "b"],
+            "y",
         ),
         (
             vec![
@@ -189,15 +212,25 @@ fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
                 "curve",
             ],
             ["a", "b"],
+            "y",
         ),
-        (vec!["--model", s(&smooth)], ["u_actuator_V", "v"]),
+        (
+            vec!["--model", s(&smooth)],
+            ["u_actuator_V", "v"],
+            "y_capsensor_um",
+        ),
         (
             vec!["--model", s(&smooth), "--record", "curve"],
             ["u_actuator_V", "v"],
+            "y_capsensor_um",
         ),
-        (vec!["--model", s(&pi)], ["u_actuator_V", "v"]),
+        (
+            vec!["--model", s(&pi)],
+            ["u_actuator_V", "v"],
+            "y_capsensor_um",
+        ),
     ];
-    for (args, columns) in cases {
+    for (args, columns, base) in cases {
         let mut all = args.clone();
         all.extend(["--column", columns[0], "--column", columns[1]]);
         let (header, together) = run_ok(&all, &input, &dir.path().join("out.csv"));
@@ -205,30 +238,101 @@ fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
             .iter()
             .position(|a| *a == "--derivatives")
             .map_or(0, |i| args[i + 1].parse().unwrap());
-        let record = args.contains(&"--record");
-        assert_eq!(
-            header.len(),
-            2 * (2 + n) + usize::from(record),
-            "{header:?}"
-        );
-        for (k, column) in columns.iter().enumerate() {
-            assert_eq!(header[2 + k], format!("y_{column}"));
+        // Every input column, then BASE_a, BASE_b, then their derivatives column by column.
+        let mut expected: Vec<String> = inputs.map(String::from).to_vec();
+        expected.extend(columns.map(|c| format!("{base}_{c}")));
+        for c in columns {
+            expected.extend((1..=n).map(|d| format!("{base}_{c}_d{d}")));
+        }
+        assert_eq!(header, expected);
+        for name in columns {
             let mut alone_args = args.clone();
-            alone_args.extend(["--column", column]);
-            let (_, alone) = run_ok(&alone_args, &input, &dir.path().join("alone.csv"));
-            for (i, (t, a)) in together.iter().zip(&alone).enumerate() {
-                assert_eq!(t[k], a[0], "{all:?} row {i}");
-                assert_eq!(t[2 + k], a[1], "{all:?} row {i}: y_{column}");
-                for d in 0..n {
-                    assert_eq!(
-                        t[4 + k * n + d],
-                        a[2 + d],
-                        "{all:?} row {i}: y_{column}_d{d}"
-                    );
-                }
+            alone_args.extend(["--column", name]);
+            let (alone_header, alone) = run_ok(&alone_args, &input, &dir.path().join("alone.csv"));
+            let mut alone_expected: Vec<String> = inputs.map(String::from).to_vec();
+            alone_expected.push(base.to_string());
+            alone_expected.extend((1..=n).map(|d| format!("{base}_d{d}")));
+            assert_eq!(alone_header, alone_expected);
+            for input in inputs {
+                assert_eq!(
+                    column(&header, &together, input),
+                    column(&alone_header, &alone, input),
+                    "{all:?}: {input}"
+                );
+            }
+            let bits = |h: &[String], rows: &[Vec<f64>], c: &str| -> Vec<u64> {
+                column(h, rows, c).iter().map(|v| v.to_bits()).collect()
+            };
+            assert_eq!(
+                bits(&header, &together, &format!("{base}_{name}")),
+                bits(&alone_header, &alone, base),
+                "{all:?}: {base}_{name}"
+            );
+            for d in 1..=n {
+                assert_eq!(
+                    bits(&header, &together, &format!("{base}_{name}_d{d}")),
+                    bits(&alone_header, &alone, &format!("{base}_d{d}")),
+                    "{all:?}: {base}_{name}_d{d}"
+                );
             }
         }
     }
+}
+
+/// A computed name that INPUT already has is no longer refused: it gets `_out` appended
+/// (`--column a --column y_a` computes `y_a`, written `y_a_out`, and `y_y_a`), and a record
+/// column named like an output is passed through in its place.
+#[test]
+fn a_computed_name_the_input_has_gets_the_suffix_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    let samples = [(0.0, 1.0), (0.6, 0.2), (1.0, -0.5), (0.3, 0.4), (-0.2, 0.9)];
+    let mut text = String::from("a,y_a\n");
+    for (a, b) in samples {
+        text += &format!("{a},{b}\n");
+    }
+    std::fs::write(&input, text).unwrap();
+    let k = ["--k1", "0.2", "--k2", "8"];
+    let out = dir.path().join("out.csv");
+    for extra in [&[][..], &["--inverse"][..]] {
+        let args = [&k[..], extra, &["--column", "a", "--column", "y_a"]].concat();
+        let (header, rows) = run_ok(&args, &input, &out);
+        assert_eq!(header, ["a", "y_a", "y_a_out", "y_y_a"], "{args:?}");
+        // INPUT's y_a is passed through; the outputs are those of each column alone.
+        let y_a_in: Vec<f64> = samples.iter().map(|s| s.1).collect();
+        assert_eq!(column(&header, &rows, "y_a"), y_a_in);
+        for (name, computed) in [("a", "y_a_out"), ("y_a", "y_y_a")] {
+            let (alone_header, alone) = run_ok(
+                &[&k[..], extra, &["--column", name]].concat(),
+                &input,
+                &dir.path().join("alone.csv"),
+            );
+            assert_eq!(alone_header, ["a", "y_a", "y"]);
+            let (together, alone) = (
+                column(&header, &rows, computed),
+                column(&alone_header, &alone, "y"),
+            );
+            for (t, a) in together.iter().zip(&alone) {
+                assert!(close(*t, *a, 0.2), "{args:?} {computed}: {t} vs {a}");
+            }
+        }
+    }
+    // The record column y_b: passed through, and the output for b is y_b_out.
+    let input = dir.path().join("rec.csv");
+    std::fs::write(&input, "a,b,y_b\n1,2,0\n0.5,2.5,0\n0,1,1\n").unwrap();
+    let (header, rows) = run_ok(
+        &[
+            &k[..],
+            &["--column", "a", "--column", "b", "--record", "y_b"],
+        ]
+        .concat(),
+        &input,
+        &out,
+    );
+    assert_eq!(header, ["a", "b", "y_b", "y_a", "y_b_out"]);
+    assert_eq!(column(&header, &rows, "y_b"), [0.0, 0.0, 1.0]);
+    // The third row starts a record: no history, on the line y = x.
+    assert_eq!(column(&header, &rows, "y_b_out")[2], 1.0);
 }
 
 fn fails(args: &[&str], input: &str, expected: &[&str]) {
@@ -281,18 +385,6 @@ fn errors_name_the_file_line_column_and_value() {
         &["--k1", "0.2", "--k2", "8", "--column", "a", "--column", "a"],
         "a,b\n1,2\n",
         &["--column a: given twice"],
-    );
-    fails(
-        &[
-            "--k1", "0.2", "--k2", "8", "--column", "a", "--column", "y_a",
-        ],
-        "a,y_a\n1,2\n",
-        &["the column \"y_a\" twice"],
-    );
-    fails(
-        &[&k[..], &["--record", "y_b"]].concat(),
-        "a,b,y_b\n1,2,0\n",
-        &["--record y_b: the output already has a column \"y_b\""],
     );
     fails(
         &["--k1", "0.2", "--k2", "8", "--column", "a", "--column", "c"],

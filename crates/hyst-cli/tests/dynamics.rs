@@ -273,7 +273,8 @@ fn example2_first_order_plant_is_identified_and_compensated() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    let dynamic_error = through_truth(&read_column(&out, "y"));
+    // The command is named after the model's input column.
+    let dynamic_error = through_truth(&read_column(&out, "u"));
     let out_static = dir.path().join("command-static.csv");
     hyst(&[
         "run",
@@ -286,7 +287,7 @@ fn example2_first_order_plant_is_identified_and_compensated() {
         "-o",
         out_static.to_str().unwrap(),
     ]);
-    let static_error = through_truth(&read_column(&out_static, "y"));
+    let static_error = through_truth(&read_column(&out_static, "u"));
     println!(
         "example 2, compensation of a new reference through the true plant: max flux error \
          {:.3} % of span with the fitted plant, {:.2} % with the static model",
@@ -515,8 +516,11 @@ fn prefilter_gives_a_command_that_tracks_the_filtered_reference() {
         "-o",
         command.to_str().unwrap(),
     ]);
-    let u = read_column(&command, "y");
-    let filtered = read_column(&command, "x_filtered");
+    // INPUT's columns, the command (the model's input column) and the prefiltered reference.
+    let header = std::fs::read_to_string(&command).unwrap();
+    assert_eq!(header.lines().next(), Some("t,y,u,y_filtered"));
+    let u = read_column(&command, "u");
+    let filtered = read_column(&command, "y_filtered");
     let forward_in: Vec<Vec<f64>> = (0..u.len()).map(|k| vec![k as f64 * h, u[k]]).collect();
     let commands = dir.path().join("u.csv");
     write_csv(&commands, "t,u", &forward_in);
@@ -529,6 +533,10 @@ fn prefilter_gives_a_command_that_tracks_the_filtered_reference() {
         "-o",
         back.to_str().unwrap(),
     ]);
+    assert_eq!(
+        std::fs::read_to_string(&back).unwrap().lines().next(),
+        Some("t,u,y")
+    );
     let y = read_column(&back, "y");
     let worst = y
         .iter()

@@ -260,7 +260,9 @@ fn timed_reference(dir: &Path, rows: usize) -> (Vec<[f64; 3]>, Vec<f64>, Vec<f64
         commands.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
-    let u = csv_column(&commands, "y");
+    // The commands are named after the model's input column, its outputs after its output
+    // column.
+    let u = csv_column(&commands, "u_actuator_V");
     let mut text = String::from("t,u_actuator_V\n");
     for (i, x) in u.iter().enumerate() {
         text += &format!("{:?},{x:?}\n", i as f64 * PERIOD);
@@ -277,7 +279,7 @@ fn timed_reference(dir: &Path, rows: usize) -> (Vec<[f64; 3]>, Vec<f64>, Vec<f64
         outputs.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
-    (y, u, csv_column(&outputs, "y"))
+    (y, u, csv_column(&outputs, "y_capsensor_um"))
 }
 
 /// `hyst export LANGUAGE` of piezo_dyn.toml (dynamics of order 2) with `--period` into `dir`.

@@ -33,18 +33,25 @@ fn column(csv: &str, name: &str) -> Result<Vec<f64>, Box<dyn std::error::Error>>
         .collect::<Result<_, _>>()?)
 }
 
-/// Feeds a direct run's output (y, y_d1, y_d2) back through `hyst run --model MODEL --inverse
-/// --derivatives 2` and returns the inverse's CSV.
+/// The header of the piezo data (data/piezo-sine) and of `hyst run --model` of a model fitted
+/// on it, run on it: the prediction is named after the model's output column, which the data
+/// already has, so with the suffix `_out`.
+const PIEZO_HEADER: &str = "t_s,u_actuator_V,y_capsensor_um";
+const PIEZO_RUN_HEADER: &str = "t_s,u_actuator_V,y_capsensor_um,y_capsensor_um_out";
+
+/// Feeds a direct run's output (y_capsensor_um and its derivatives _d1, _d2) back through
+/// `hyst run --model MODEL --inverse --derivatives 2` (the model's output column is the
+/// default) and returns the inverse's CSV: the command is `u_actuator_V`, with `_d1`, `_d2`.
 fn invert_with_derivatives(
     dir: &Path,
     model: &str,
     direct: &str,
     name: &str,
 ) -> Result<String, Box<dyn std::error::Error>> {
-    let y = column(direct, "y")?;
-    let d1 = column(direct, "y_d1")?;
-    let d2 = column(direct, "y_d2")?;
-    let mut back = String::from("y,y_d1,y_d2\n");
+    let y = column(direct, "y_capsensor_um")?;
+    let d1 = column(direct, "y_capsensor_um_d1")?;
+    let d2 = column(direct, "y_capsensor_um_d2")?;
+    let mut back = String::from("y_capsensor_um,y_capsensor_um_d1,y_capsensor_um_d2\n");
     for ((a, b), c) in y.iter().zip(&d1).zip(&d2) {
         back += &format!("{a},{b},{c}\n");
     }
@@ -56,8 +63,6 @@ fn invert_with_derivatives(
         "--model",
         model,
         "--inverse",
-        "--column",
-        "y",
         "--derivatives",
         "2",
         desired.to_str().ok_or("path")?,
@@ -67,7 +72,12 @@ fn invert_with_derivatives(
     if !out.status.success() {
         return Err(text(&out.stderr).into());
     }
-    Ok(std::fs::read_to_string(&inv_out)?)
+    let inverse = std::fs::read_to_string(&inv_out)?;
+    assert!(inverse.starts_with(
+        "y_capsensor_um,y_capsensor_um_d1,y_capsensor_um_d2,u_actuator_V,u_actuator_V_d1,\
+         u_actuator_V_d2\n"
+    ));
+    Ok(inverse)
 }
 
 #[test]
@@ -108,7 +118,10 @@ fn piezo_fit_is_accurate_and_run_reads_the_model_back() -> R {
         run_out.to_str().ok_or("path")?,
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    let y = column(&std::fs::read_to_string(&run_out)?, "y")?;
+    let run_csv = std::fs::read_to_string(&run_out)?;
+    assert!(std::fs::read_to_string(&data)?.starts_with(&format!("{PIEZO_HEADER}\n")));
+    assert!(run_csv.starts_with(&format!("{PIEZO_RUN_HEADER}\n")));
+    let y = column(&run_csv, "y_capsensor_um_out")?;
     let measured = column(&std::fs::read_to_string(&data)?, "y_capsensor_um")?;
     let n = y.len() as f64;
     let rms_back = (y
@@ -128,13 +141,16 @@ fn piezo_fit_is_accurate_and_run_reads_the_model_back() -> R {
         model.to_str().ok_or("path")?,
         "--inverse",
         "--column",
-        "y",
+        "y_capsensor_um_out",
         run_out.to_str().ok_or("path")?,
         "-o",
         inv_out.to_str().ok_or("path")?,
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    let back = column(&std::fs::read_to_string(&inv_out)?, "y")?;
+    // The command is named after the model's input column, which the file has: `_out`.
+    let inv_csv = std::fs::read_to_string(&inv_out)?;
+    assert!(inv_csv.starts_with(&format!("{PIEZO_RUN_HEADER},u_actuator_V_out\n")));
+    let back = column(&inv_csv, "u_actuator_V_out")?;
     let input = column(&std::fs::read_to_string(&data)?, "u_actuator_V")?;
     for (a, b) in back.iter().zip(&input) {
         assert!((a - b).abs() < 1e-9, "{a} vs {b}");
@@ -294,6 +310,10 @@ fn decreasing_output_and_bad_split_are_explained() -> R {
     Ok(())
 }
 
+/// The header of `hyst run --model M --derivatives 2` of a piezo model on [`jet_csv`]'s file.
+const JETS_RUN_HEADER: &str = "u_actuator_V,u_actuator_V_d1,u_actuator_V_d2,y_capsensor_um,\
+                               y_capsensor_um_d1,y_capsensor_um_d2\n";
+
 /// A smooth test signal with its first two time derivatives, as a CSV with the given column.
 fn jet_csv(name: &str, n: usize, lo: f64, hi: f64) -> String {
     let mut s = format!("{name},{name}_d1,{name}_d2\n");
@@ -313,13 +333,14 @@ fn jet_csv(name: &str, n: usize, lo: f64, hi: f64) -> String {
     s
 }
 
-/// Checks y_d1 (y_d2) against centred differences of y (y_d1) at dt = 1e-3, away from the
-/// input's reversals (where the output's derivatives have a kink in time): all but
-/// `allowed_misses` samples (where a piecewise model switches) must agree.
+/// Checks the output's derivatives (the model's output column y_capsensor_um, with _d1 and _d2)
+/// against centred differences of y (y_d1) at dt = 1e-3, away from the input's reversals (where
+/// the output's derivatives have a kink in time): all but `allowed_misses` samples (where a
+/// piecewise model switches) must agree.
 fn check_derivatives(csv: &str, input_d1: &[f64], tolerance: f64, allowed_misses: usize) -> R {
-    let y = column(csv, "y")?;
-    let d1 = column(csv, "y_d1")?;
-    let d2 = column(csv, "y_d2")?;
+    let y = column(csv, "y_capsensor_um")?;
+    let d1 = column(csv, "y_capsensor_um_d1")?;
+    let d2 = column(csv, "y_capsensor_um_d2")?;
     let scale1 = d1.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let scale2 = d2.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let mut misses = 0;
@@ -395,8 +416,8 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let run_csv = std::fs::read_to_string(&run_out)?;
-    assert!(run_csv.starts_with("x,y\n"));
-    let y = column(&run_csv, "y")?;
+    assert!(run_csv.starts_with(&format!("{PIEZO_RUN_HEADER}\n")));
+    let y = column(&run_csv, "y_capsensor_um_out")?;
     let measured = column(&std::fs::read_to_string(&data)?, "y_capsensor_um")?;
     let rms = (y
         .iter()
@@ -418,14 +439,14 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
         m,
         "--inverse",
         "--column",
-        "y",
+        "y_capsensor_um_out",
         run_out.to_str().ok_or("path")?,
         "-o",
         command.to_str().ok_or("path")?,
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    let u = column(&std::fs::read_to_string(&command)?, "y")?;
-    let original = column(&run_csv, "x")?;
+    let u = column(&std::fs::read_to_string(&command)?, "u_actuator_V_out")?;
+    let original = column(&run_csv, "u_actuator_V")?;
     let worst = u
         .iter()
         .zip(&original)
@@ -450,7 +471,7 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let direct = std::fs::read_to_string(&out_jets)?;
-    assert!(direct.starts_with("x,y,y_d1,y_d2\n"));
+    assert!(direct.starts_with(JETS_RUN_HEADER));
     // Each of the 16 plays engages once after each of the 4 reversals, which upsets at most 3
     // centred differences.
     let input_d1 = column(&std::fs::read_to_string(&jets)?, "u_actuator_V_d1")?;
@@ -461,7 +482,10 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
         column(&input, "u_actuator_V")?,
         column(&input, "u_actuator_V_d1")?,
     );
-    let (u, ud1) = (column(&inverse, "y")?, column(&inverse, "y_d1")?);
+    let (u, ud1) = (
+        column(&inverse, "u_actuator_V")?,
+        column(&inverse, "u_actuator_V_d1")?,
+    );
     let scale = xd1.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let mut misses = 0;
     for k in 0..x.len() {
@@ -526,7 +550,7 @@ fn smooth_model_derivatives_through_run_model() -> R {
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let direct = std::fs::read_to_string(&out_jets)?;
-    assert!(direct.starts_with("x,y,y_d1,y_d2\n"));
+    assert!(direct.starts_with(JETS_RUN_HEADER));
     // Smooth away from the reversals: every sample agrees.
     let input_d1 = column(&std::fs::read_to_string(&jets)?, "u_actuator_V_d1")?;
     check_derivatives(&direct, &input_d1, 1e-3, 0)?;
@@ -537,7 +561,10 @@ fn smooth_model_derivatives_through_run_model() -> R {
         column(&input, "u_actuator_V_d1")?,
         column(&input, "u_actuator_V_d2")?,
     );
-    let (ud1, ud2) = (column(&inverse, "y_d1")?, column(&inverse, "y_d2")?);
+    let (ud1, ud2) = (
+        column(&inverse, "u_actuator_V_d1")?,
+        column(&inverse, "u_actuator_V_d2")?,
+    );
     for k in 0..xd1.len() {
         assert!(
             (ud1[k] - xd1[k]).abs() < 1e-6 * (1.0 + xd1[k].abs()),

@@ -37,6 +37,25 @@ fn run_ok(args: &[&str], input: &Path, output: &Path) -> String {
     std::fs::read_to_string(output).unwrap()
 }
 
+/// The header of a CSV text, split at commas.
+fn header(text: &str) -> Vec<String> {
+    text.lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect()
+}
+
+/// The index of the column `name` in the header of a CSV text.
+fn index(text: &str, name: &str) -> usize {
+    let header = header(text);
+    header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name:?} in {header:?}"))
+}
+
 /// The data rows of a CSV text, split at commas.
 fn rows(text: &str) -> Vec<Vec<String>> {
     text.lines()
@@ -91,7 +110,8 @@ fn k1_k2_records_restart_the_operator_and_repeats_are_new_records() {
             args.push("--inverse");
         }
         let text = run_ok(&args, &input, &dir.path().join("out.csv"));
-        assert!(text.starts_with("x,y,curve\n"), "{text}");
+        // INPUT's columns (the record column in its place), then the output.
+        assert!(text.starts_with("H,H_d1,curve,y\n"), "{text}");
         let got = rows(&text);
         let mut i = 0;
         for (id, samples) in &records {
@@ -107,7 +127,7 @@ fn k1_k2_records_restart_the_operator_and_repeats_are_new_records() {
                 let row = &got[i];
                 assert_eq!(row[0].parse::<f64>().unwrap(), *x);
                 assert_eq!(
-                    row[1].parse::<f64>().unwrap().to_bits(),
+                    row[3].parse::<f64>().unwrap().to_bits(),
                     want.to_bits(),
                     "row {i}, inverse {inverse}"
                 );
@@ -118,10 +138,10 @@ fn k1_k2_records_restart_the_operator_and_repeats_are_new_records() {
         assert_eq!(i, got.len());
         // Without --record the file is one history: the third curve differs.
         let one = run_ok(&args[..6], &input, &dir.path().join("one.csv"));
-        assert!(one.starts_with("x,y\n"));
+        assert!(one.starts_with("H,H_d1,curve,y\n"));
         let one = rows(&one);
         let (a, b) = (&one[80], &got[80]);
-        assert_ne!(a[1], b[1], "the third record must restart");
+        assert_ne!(a[3], b[3], "the third record must restart");
     }
 }
 
@@ -164,21 +184,32 @@ fn model_records_start_by_the_model_rule_at_each_first_sample() {
         }
     }
     assert!(header_and_loops.len() >= 3);
-    for args in [
-        &["--model", s(&model)][..],
-        &["--model", s(&model), "--inverse", "--saturate"][..],
+    for (args, computed) in [
+        (&["--model", s(&model)][..], "B_T_out"),
+        (
+            &["--model", s(&model), "--inverse", "--saturate"][..],
+            "H_A_per_m_out,B_T_saturated",
+        ),
     ] {
         let mut all: Vec<&str> = args.to_vec();
         all.extend_from_slice(&["--record", "loop"]);
-        let together = rows(&run_ok(&all, &data, &dir.path().join("all.csv")));
+        let text = run_ok(&all, &data, &dir.path().join("all.csv"));
+        // The data's columns (the record column first, in its place), then what is computed,
+        // named after the model's columns (which the data has: `_out`).
+        assert!(
+            text.starts_with(&format!("loop,H_A_per_m,B_T,{computed}\n")),
+            "{args:?}"
+        );
+        let together = rows(&text);
         let mut i = 0;
         for (k, (id, body)) in header_and_loops.iter().enumerate() {
             let part = dir.path().join(format!("loop{k}.csv"));
             std::fs::write(&part, body).unwrap();
             let alone = rows(&run_ok(args, &part, &dir.path().join("alone.csv")));
             for row in alone {
-                assert_eq!(together[i][..2], row[..], "{args:?} loop {id} row {i}");
-                assert_eq!(together[i][2], *id);
+                // Every cell, the loop's label and the computed ones, as the loop alone gives.
+                assert_eq!(together[i], row, "{args:?} loop {id} row {i}");
+                assert_eq!(together[i][0], *id);
                 i += 1;
             }
         }
@@ -221,7 +252,9 @@ fn records_carry_derivatives_through_a_model() {
         "--record",
         "curve",
     ];
-    let got = rows(&run_ok(&args, &input, &dir.path().join("out.csv")));
+    let text = run_ok(&args, &input, &dir.path().join("out.csv"));
+    assert!(text.starts_with("H,H_d1,curve,M,M_d1\n"), "{text}");
+    let got = rows(&text);
     // Record by record, alone.
     let mut i = 0;
     for (k, (_, samples)) in records.iter().enumerate() {
@@ -231,9 +264,13 @@ fn records_carry_derivatives_through_a_model() {
         }
         let part = dir.path().join(format!("c{k}.csv"));
         std::fs::write(&part, body).unwrap();
-        let alone = rows(&run_ok(&args[..6], &part, &dir.path().join("alone.csv")));
-        for row in alone {
-            assert_eq!(got[i][..3], row[..], "record {k}, row {i}");
+        let alone = run_ok(&args[..6], &part, &dir.path().join("alone.csv"));
+        assert!(alone.starts_with("H,H_d1,M,M_d1\n"), "{alone}");
+        for row in rows(&alone) {
+            // The row without its record column.
+            let mut together = got[i].clone();
+            together.remove(2);
+            assert_eq!(together, row, "record {k}, row {i}");
             i += 1;
         }
     }
@@ -259,19 +296,26 @@ fn forc_file_runs_record_by_record() {
         &data,
         &out_path,
     );
+    assert!(text.starts_with("H_Oe,moment_emu,is_calibration_point,curve_index,y\n"));
+    let (h, y, curve) = (
+        index(&text, "H_Oe"),
+        index(&text, "y"),
+        index(&text, "curve_index"),
+    );
     let got = rows(&text);
     assert_eq!(got.len(), 30628);
     // Every curve starts on the line y = x (no history: the first sample is a reversal point).
     let mut last = String::new();
     let mut starts = 0;
     for row in &got {
-        if row[2] != last {
+        if row[curve] != last {
             assert_eq!(
-                row[0], row[1],
+                row[h].parse::<f64>().unwrap(),
+                row[y].parse::<f64>().unwrap(),
                 "curve {} starts at its first sample",
-                row[2]
+                row[curve]
             );
-            last.clone_from(&row[2]);
+            last.clone_from(&row[curve]);
             starts += 1;
         }
     }
@@ -383,10 +427,27 @@ fn saturate_clamps_into_the_stated_fraction_of_the_range_and_says_so() {
     );
     assert!(err.contains("99.9 % of the range"), "{err}");
     assert!(err.contains("desired.csv:4 (value 2)"), "{err}");
-    let got = rows(&std::fs::read_to_string(&out).unwrap());
-    let x: Vec<f64> = got.iter().map(|r| r[0].parse().unwrap()).collect();
-    let command: Vec<f64> = got.iter().map(|r| r[1].parse().unwrap()).collect();
+    let text = std::fs::read_to_string(&out).unwrap();
+    // The desired output as read, the command (named after the model's input column), and the
+    // desired output actually inverted (after clamping).
+    assert!(text.starts_with("B_T,H_A_per_m,B_T_saturated\n"), "{text}");
+    let got = rows(&text);
+    let column = |name: &str| -> Vec<f64> {
+        let k = index(&text, name);
+        got.iter().map(|r| r[k].parse().unwrap()).collect()
+    };
+    assert_eq!(
+        column("B_T"),
+        values,
+        "the desired outputs are passed through"
+    );
+    let x = column("B_T_saturated");
+    let command = column("H_A_per_m");
     assert!(command.iter().all(|c| c.is_finite()));
+    // Values inside the limits are inverted as they are.
+    for k in [0, 1, 4] {
+        assert_eq!(x[k], values[k]);
+    }
     assert_eq!(x[0], 0.1);
     assert!(
         (x[2] - b).abs() < 1e-12 && (x[3] - b).abs() < 1e-12,
@@ -401,12 +462,13 @@ fn saturate_clamps_into_the_stated_fraction_of_the_range_and_says_so() {
     }
     let fwd_in = dir.path().join("commands.csv");
     std::fs::write(&fwd_in, fwd).unwrap();
-    let back = rows(&run_ok(
+    let back = run_ok(
         &["--model", s(&model)],
         &fwd_in,
         &dir.path().join("back.csv"),
-    ));
-    for (row, want) in back.iter().zip(&x) {
+    );
+    assert!(back.starts_with("H_A_per_m,B_T\n"), "{back}");
+    for (row, want) in rows(&back).iter().zip(&x) {
         let y: f64 = row[1].parse().unwrap();
         assert!(
             (y - want).abs() < 1e-6,

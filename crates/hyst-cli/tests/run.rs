@@ -8,7 +8,7 @@ use std::process::Command;
 use hyst_core::Operator;
 
 mod common;
-use common::read_csv;
+use common::{column, read_csv};
 
 fn hyst() -> Command {
     Command::new(env!("CARGO_BIN_EXE_hyst"))
@@ -99,8 +99,12 @@ fn agrees_with_the_equations_and_writes_full_precision() {
             let status = cmd.arg(&input).arg("-o").arg(&output).status().unwrap();
             assert!(status.success());
             let (header, rows) = read_csv(&output);
-            assert_eq!(header, ["x", "y"]);
+            assert_eq!(header, ["t", "u", "y"]);
             assert_eq!(rows.len(), xs.len());
+            assert_eq!(
+                column(&header, &rows, "t"),
+                (0..xs.len()).map(|i| i as f64).collect::<Vec<_>>()
+            );
             let mut reference = Reference {
                 k1,
                 k2,
@@ -114,17 +118,17 @@ fn agrees_with_the_equations_and_writes_full_precision() {
                 let mut op = hyst_core::Hysteresis::new(k1, k2).unwrap();
                 Box::new(move |x| op.step(x))
             };
-            for (row, &x) in rows.iter().zip(&xs) {
-                assert_eq!(row[0].to_bits(), x.to_bits(), "input echoed exactly");
+            let (u, y) = (column(&header, &rows, "u"), column(&header, &rows, "y"));
+            for ((&u, &y), &x) in u.iter().zip(&y).zip(&xs) {
+                assert_eq!(u.to_bits(), x.to_bits(), "input passed through exactly");
                 let want = reference.step(x);
                 let scale = x.abs().max(want.abs()).max(k1);
                 assert!(
-                    (row[1] - want).abs() <= 1e-11 * scale,
-                    "k1 {k1} k2 {k2} inverse {inverse}: x {x}: hyst {} vs equations {want}",
-                    row[1]
+                    (y - want).abs() <= 1e-11 * scale,
+                    "k1 {k1} k2 {k2} inverse {inverse}: x {x}: hyst {y} vs equations {want}"
                 );
                 // Full precision: the file holds exactly what the library computed.
-                assert_eq!(row[1].to_bits(), core(x).to_bits());
+                assert_eq!(y.to_bits(), core(x).to_bits());
             }
         }
     }
@@ -154,10 +158,14 @@ fn derivatives_columns() {
         .unwrap();
     assert!(status.success());
     let (header, rows) = read_csv(&output);
-    assert_eq!(header, ["x", "y", "y_d1", "y_d2"]);
+    assert_eq!(header, ["x", "x_d1", "x_d2", "y", "y_d1", "y_d2"]);
     // At the first sample (on the line, rising): v' = (1 + k2 k1) u', v'' = −k1 k2² u'^2.
-    assert!((rows[0][2] - (1.0 + 8.0 * 0.2)).abs() < 1e-12);
-    assert!((rows[0][3] + 0.2 * 64.0).abs() < 1e-12);
+    let (d1, d2) = (
+        column(&header, &rows, "y_d1"),
+        column(&header, &rows, "y_d2"),
+    );
+    assert!((d1[0] - (1.0 + 8.0 * 0.2)).abs() < 1e-12);
+    assert!((d2[0] + 0.2 * 64.0).abs() < 1e-12);
 }
 
 fn assert_fails_cleanly(args: &[&str], input: &str, expected: &[&str]) {
@@ -230,14 +238,32 @@ fn errors_name_file_line_and_column_and_write_nothing() {
         &["--record: ", "no column named \"loop\""],
     );
     assert_fails_cleanly(
-        &[&k[..], &["--record", "x"]].concat(),
-        "x,curve\n0,0\n",
-        &["--record x: the output already has a column \"x\""],
-    );
-    assert_fails_cleanly(
         &[&k[..], &["--inverse", "--saturate"]].concat(),
         "x\n1\n",
         &["--saturate applies to --model FILE --inverse"],
+    );
+}
+
+/// The record column may be the column run (the output used to have a column `x` of its own,
+/// and this was refused): every change of `x` starts a record, so each sample starts afresh on
+/// the line y = x; the record column `curve` next to it is just passed through.
+#[test]
+fn the_column_run_may_be_the_record_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    std::fs::write(&input, "x,curve\n0,0\n0.5,0\n1,1\n0.25,1\n").unwrap();
+    let output = dir.path().join("out.csv");
+    let status = hyst()
+        .args(["run", "--k1", "0.2", "--k2", "8", "--record", "x"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    assert_eq!(
+        std::fs::read_to_string(&output).unwrap(),
+        "x,curve,y\n0,0,0\n0.5,0,0.5\n1,1,1\n0.25,1,0.25\n"
     );
 }
 

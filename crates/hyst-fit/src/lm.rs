@@ -34,17 +34,91 @@ pub trait Problem {
     fn jacobian(&self, theta: &[f64], r: &[f64], jac: &mut [f64]) -> Result<(), Infeasible>;
 }
 
+/// The stage of a fit a [`Progress`] belongs to (what `hyst fit` shows on a terminal).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Stage {
+    /// The search for the optimum: multi-start descents (on a long record's reduction), the
+    /// nested fits of simpler structures they start from.
+    #[default]
+    Search,
+    /// The descent on the full data from the search's optimum.
+    Polish,
+    /// The search for the family widths (Δk1, Δk2) that cover the data.
+    Widths,
+}
+
 /// What an observer sees after each accepted (or final) iteration.
 #[derive(Clone, Copy, Debug)]
 pub struct Progress {
-    /// Iteration number (0 is the starting point).
+    /// Iteration number (0 is the starting point), or step of the width search.
     pub iteration: usize,
-    /// Σ r² at the current point.
+    /// The method's limit on iterations (`usize::MAX` when it has none).
+    pub max_iterations: usize,
+    /// Σ r² at the current point (NaN in the width search).
     pub cost: f64,
-    /// The damping λ.
+    /// The damping λ (NaN in the width search).
     pub lambda: f64,
-    /// Which start of a multi-start fit (0-based; 0 for a single run).
+    /// Which start of a multi-start fit (0-based; 0 for a single run; `usize::MAX` in the width
+    /// search).
     pub start: usize,
+    /// How many starts the multi-start fit runs (1 for a single run).
+    pub starts: usize,
+    /// How many of them have ended.
+    pub finished: usize,
+    /// The stage.
+    pub stage: Stage,
+}
+
+impl Progress {
+    /// The fraction of the stage done, in [0, 1]: the starts ended plus the running one's
+    /// iterations over its limit (an upper bound on the work left: a descent usually ends
+    /// earlier); the width search's steps over its usual count.
+    #[must_use]
+    pub fn fraction(&self) -> f64 {
+        let part = |done: usize, of: usize| {
+            if of == 0 || of == usize::MAX {
+                0.0
+            } else {
+                (done as f64 / of as f64).min(1.0)
+            }
+        };
+        let f = match self.stage {
+            Stage::Widths => part(self.iteration, WIDTH_STEPS),
+            Stage::Search | Stage::Polish => {
+                let starts = self.starts.max(1);
+                (self.finished.min(starts) as f64 + part(self.iteration, self.max_iterations))
+                    / starts as f64
+            }
+        };
+        f.clamp(0.0, 1.0)
+    }
+}
+
+/// The most steps of a width search (five rays, each one step and a bisection of ten), after
+/// which the confirmation's steps are counted.
+pub const WIDTH_SEARCH_STEPS: usize = 55;
+
+/// The scale of [`Progress::fraction`] for [`Stage::Widths`]: the search's steps and about 15 of
+/// the confirmation (fewer when rays end early: the fraction then jumps ahead at the
+/// confirmation, never back).
+pub const WIDTH_STEPS: usize = WIDTH_SEARCH_STEPS + 15;
+
+/// Passes progress on to `inner` as progress of `stage` (a stage of an outer fit holds the
+/// stages of the fits nested in it).
+pub struct Staged<'a> {
+    /// Where the progress goes.
+    pub inner: &'a mut dyn Observer,
+    /// The stage it is tagged with.
+    pub stage: Stage,
+}
+
+impl Observer for Staged<'_> {
+    fn observe(&mut self, progress: &Progress) -> ControlFlow<()> {
+        self.inner.observe(&Progress {
+            stage: self.stage,
+            ..*progress
+        })
+    }
 }
 
 /// Watches the iterations; returning `ControlFlow::Break` stops the method (Ctrl-C).
@@ -317,7 +391,7 @@ impl LevenbergMarquardt {
             });
         }
         let mut state = Iterate::new(theta, r, p);
-        observe(observer, 0, state.cost, state.lambda)?;
+        observe(observer, 0, self.max_iterations, state.cost, state.lambda)?;
         let mut termination = Termination::MaxIterations;
         let mut iterations = 0;
         for it in 1..=self.max_iterations {
@@ -426,7 +500,7 @@ impl LevenbergMarquardt {
         let f = 1.0 - (2.0 * rho - 1.0).powi(3);
         s.lambda *= f.max(1.0 / 3.0);
         s.nu = 2.0;
-        observe(observer, it, s.cost, s.lambda)?;
+        observe(observer, it, self.max_iterations, s.cost, s.lambda)?;
         if step <= self.xtol * (size + self.xtol) {
             return Ok(Some(Termination::SmallStep));
         }
@@ -512,15 +586,20 @@ impl Iterate {
 fn observe(
     observer: &mut dyn Observer,
     iteration: usize,
+    max_iterations: usize,
     cost: f64,
     lambda: f64,
 ) -> Result<(), FitError> {
     if observer
         .observe(&Progress {
             iteration,
+            max_iterations,
             cost,
             lambda,
             start: 0,
+            starts: 1,
+            finished: 0,
+            stage: Stage::Search,
         })
         .is_break()
     {

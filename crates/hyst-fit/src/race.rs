@@ -126,9 +126,18 @@ impl Observer for Racer<'_> {
         if self.stop.load(Ordering::Relaxed) {
             return ControlFlow::Break(());
         }
+        let (starts, finished) = {
+            let shared = self.shared.lock().unwrap_or_else(PoisonError::into_inner);
+            (
+                shared.runs.len(),
+                shared.runs.iter().filter(|r| r.is_some()).count(),
+            )
+        };
         self.report.send(
             &Progress {
                 start: self.start,
+                starts,
+                finished,
                 ..*progress
             },
             self.stop,

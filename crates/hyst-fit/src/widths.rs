@@ -275,9 +275,13 @@ pub fn bound(
 fn tick(observer: &mut dyn Observer, step: usize) -> Result<(), FitError> {
     match observer.observe(&Progress {
         iteration: step,
+        max_iterations: usize::MAX,
         cost: f64::NAN,
         lambda: f64::NAN,
         start: usize::MAX,
+        starts: 1,
+        finished: 0,
+        stage: crate::lm::Stage::Widths,
     }) {
         ControlFlow::Continue(()) => Ok(()),
         ControlFlow::Break(()) => Err(FitError::Interrupted),
@@ -376,7 +380,8 @@ pub fn confirm(
     let lim = limits(data, model)?;
     let Limits { d1_max, d2_max, .. } = lim;
     let mut scratch = Scratch::new();
-    let mut step = 0;
+    // Counted after the search's steps (a progress display's fraction only moves on).
+    let mut step = crate::lm::WIDTH_SEARCH_STEPS;
     let mut cover = |d1: f64, d2: f64| -> Result<f64, FitError> {
         step += 1;
         tick(observer, step)?;

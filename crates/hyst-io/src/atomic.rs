@@ -114,6 +114,64 @@ pub fn check_all_distinct(inputs: &[&Path], outputs: &[&Path]) -> Result<(), IoE
     Ok(())
 }
 
+/// Checks, before a long computation, that `path` can be written as [`write_atomic`] will write
+/// it: standard output and an existing device or FIFO pass (nothing is opened: a FIFO would
+/// block); a directory is refused; otherwise a temporary file is created in the destination's
+/// directory and removed again, so a missing or read-only directory is found now rather than
+/// after the work.
+///
+/// # Errors
+/// [`IoError::IsDirectory`], or [`IoError::Write`] naming the step that failed.
+pub fn check_writable(path: &Path) -> Result<(), IoError> {
+    if path.as_os_str() == STDOUT {
+        return Ok(());
+    }
+    match fs::metadata(path) {
+        Ok(meta) if meta.is_dir() => Err(IoError::IsDirectory {
+            path: path.to_path_buf(),
+        }),
+        Ok(meta) if !meta.is_file() => Ok(()),
+        _ => Output::create(path).map(drop),
+    }
+}
+
+/// Checks, before a long computation, that files can be written into the directory `dir`
+/// (created later if it does not exist yet): an existing `dir` must be a writable directory;
+/// otherwise its nearest existing ancestor must be one (nothing is created: a command that then
+/// fails leaves no empty directory behind).
+///
+/// # Errors
+/// [`IoError::Write`] naming the directory and the step that failed.
+pub fn check_writable_dir(dir: &Path) -> Result<(), IoError> {
+    let mut existing = dir;
+    while !existing.as_os_str().is_empty() && fs::symlink_metadata(existing).is_err() {
+        match existing.parent() {
+            Some(parent) => existing = parent,
+            None => break,
+        }
+    }
+    let probe = if existing.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        existing
+    };
+    let action = if probe == dir {
+        "write into the directory".to_string()
+    } else {
+        format!("create the directory in {:?}", probe.display().to_string())
+    };
+    match fs::metadata(probe) {
+        Ok(meta) if meta.is_dir() => tempfile::tempfile_in(probe)
+            .map(drop)
+            .map_err(|e| write_error(dir, action)(e)),
+        Ok(_) => Err(write_error(dir, action)(io::Error::new(
+            io::ErrorKind::NotADirectory,
+            format!("{} is not a directory", probe.display()),
+        ))),
+        Err(e) => Err(write_error(dir, action)(e)),
+    }
+}
+
 /// Whether two paths name the same existing file, by device and inode from their metadata
 /// (through symbolic links). Nothing is opened: opening a FIFO would block until a writer
 /// comes.

@@ -66,6 +66,34 @@ impl<R: Read> Read for Hashing<R> {
     }
 }
 
+/// A reader that tells `on_read` how many bytes it has read so far after every read (a
+/// progress display of a long file: `hyst fit` and `hyst run` on a terminal).
+pub struct CountingReader<R> {
+    inner: R,
+    read: u64,
+    on_read: Box<dyn FnMut(u64)>,
+}
+
+impl<R> CountingReader<R> {
+    /// `inner`, counted for `on_read`.
+    pub fn new(inner: R, on_read: Box<dyn FnMut(u64)>) -> Self {
+        Self {
+            inner,
+            read: 0,
+            on_read,
+        }
+    }
+}
+
+impl<R: Read> Read for CountingReader<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.read = self.read.saturating_add(n as u64);
+        (self.on_read)(self.read);
+        Ok(n)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

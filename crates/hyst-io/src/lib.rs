@@ -53,10 +53,11 @@ mod table;
 mod writer;
 
 pub use atomic::{
-    check_all_distinct, check_distinct, remove_temporary_files, write_atomic, STDOUT,
+    check_all_distinct, check_distinct, check_writable, check_writable_dir, remove_temporary_files,
+    write_atomic, STDOUT,
 };
-pub use digest::Digest;
+pub use digest::{CountingReader, Digest};
 pub use error::IoError;
-pub use reader::CsvReader;
+pub use reader::{open_file, CsvReader};
 pub use table::Table;
-pub use writer::CsvWriter;
+pub use writer::{push_cell, CsvWriter};

@@ -5,11 +5,11 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use crate::atomic::write_atomic_with;
-use crate::digest::{Digest, Hashing};
+use crate::digest::{CountingReader, Digest, Hashing};
 use crate::error::IoError;
 use crate::reader::CsvReader;
 use crate::reader::{number, pick_column, unknown_column};
-use crate::writer::{check_names, push_f64, push_row, write_header};
+use crate::writer::{check_names, push_cell, push_f64, push_row, write_header};
 
 /// Source name of tables built with [`Table::new`].
 const MEMORY_SOURCE: &str = "<memory>";
@@ -71,8 +71,20 @@ impl Table {
     /// # Errors
     /// As [`Table::read`].
     pub fn read_digest(path: &Path) -> Result<(Table, Digest), IoError> {
+        Self::read_digest_with(path, Box::new(|_| {}))
+    }
+
+    /// [`Table::read_digest`], telling `on_read` how many bytes it has read so far as it goes
+    /// (a progress display).
+    ///
+    /// # Errors
+    /// As [`Table::read`].
+    pub fn read_digest_with(
+        path: &Path,
+        on_read: Box<dyn FnMut(u64)>,
+    ) -> Result<(Table, Digest), IoError> {
         let (file, name) = crate::reader::open_file(path)?;
-        let (hashing, digest) = Hashing::new(file);
+        let (hashing, digest) = Hashing::new(CountingReader::new(file, on_read));
         let table = collect(CsvReader::new(hashing, &name)?)?;
         Ok((table, digest.get()))
     }
@@ -298,7 +310,7 @@ impl Table {
                         line.push(',');
                     }
                     match text {
-                        Some(text) => push_text(&mut line, &text.cells[row], i == 0),
+                        Some(text) => push_cell(&mut line, &text.cells[row], i == 0),
                         None => push_f64(&mut line, column[row]),
                     }
                 }
@@ -351,22 +363,6 @@ fn shortest(v: f64) -> String {
     let mut s = String::new();
     push_f64(&mut s, v);
     s
-}
-
-/// Appends a text cell, quoted when it would not read back as itself (a separator, a quote or
-/// a line break in it, surrounding whitespace, empty, or a `#` starting the line).
-fn push_text(line: &mut String, cell: &str, first: bool) {
-    let needs_quotes = cell.is_empty()
-        || cell.contains([',', '"', '\n', '\r'])
-        || cell.trim() != cell
-        || (first && cell.starts_with('#'));
-    if needs_quotes {
-        line.push('"');
-        line.push_str(&cell.replace('"', "\"\""));
-        line.push('"');
-    } else {
-        line.push_str(cell);
-    }
 }
 
 /// Reads a whole CSV input into a table.

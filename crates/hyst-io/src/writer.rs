@@ -103,6 +103,52 @@ impl CsvWriter {
         Ok(())
     }
 
+    /// Writes one row whose first `cells` cells are `prefix`, already formatted as CSV and each
+    /// followed by `,` (cells a command passes through unchanged: [`push_cell`],
+    /// [`Table::push_cells`](crate::Table::push_cells)), then `values`, one finite value per
+    /// remaining column.
+    ///
+    /// # Errors
+    /// As [`CsvWriter::write_row`], for `cells + values.len()` columns.
+    pub fn write_row_after(
+        &mut self,
+        prefix: &str,
+        cells: usize,
+        values: &[f64],
+    ) -> Result<(), IoError> {
+        if cells + values.len() != self.names.len() {
+            return Err(IoError::ShapeMismatch {
+                file: self.file.clone(),
+                names: self.names.len(),
+                columns: cells + values.len(),
+            });
+        }
+        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            return Err(IoError::NonFiniteValue {
+                file: self.file.clone(),
+                column: cells + i + 1,
+                name: self.names.get(cells + i).cloned().unwrap_or_default(),
+                row: self.rows + 1,
+                value: values.get(i).copied().unwrap_or(f64::NAN),
+            });
+        }
+        self.write_header()?;
+        self.line.clear();
+        self.line.push_str(prefix);
+        if values.is_empty() {
+            // The prefix's last separator ends the line instead.
+            if self.line.ends_with(',') {
+                self.line.pop();
+            }
+            self.line.push('\n');
+        } else {
+            push_row(&mut self.line, values.iter().copied());
+        }
+        self.out.write_bytes(self.line.as_bytes())?;
+        self.rows += 1;
+        Ok(())
+    }
+
     /// Completes the output: flushes it and, for a regular file, renames the temporary file
     /// over the destination.
     ///
@@ -210,4 +256,20 @@ pub(crate) fn push_f64(out: &mut String, v: f64) {
     } else {
         write!(out, "{v:e}")
     };
+}
+
+/// Appends a text cell to a CSV line, quoted when it would not read back as itself (a separator, a quote or
+/// a line break in it, surrounding whitespace, empty, or a `#` starting the line).
+pub fn push_cell(line: &mut String, cell: &str, first: bool) {
+    let needs_quotes = cell.is_empty()
+        || cell.contains([',', '"', '\n', '\r'])
+        || cell.trim() != cell
+        || (first && cell.starts_with('#'));
+    if needs_quotes {
+        line.push('"');
+        line.push_str(&cell.replace('"', "\"\""));
+        line.push('"');
+    } else {
+        line.push_str(cell);
+    }
 }

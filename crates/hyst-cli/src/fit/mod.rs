@@ -13,7 +13,6 @@ pub(crate) mod plots;
 mod progress;
 
 use std::path::PathBuf;
-use std::time::Instant;
 
 use anyhow::Result;
 use hyst_fit::identify::Request;
@@ -161,7 +160,14 @@ fn record_id(s: &str) -> Result<i64, String> {
 /// Runs `hyst fit`.
 pub fn main(args: Args) -> Result<()> {
     // Read once, hashed on the way: a pipe or a FIFO cannot be read a second time.
-    let (table, digest) = Table::read_digest(&args.data)?;
+    let reading = crate::progress::reading(
+        &args.data,
+        format!("reading {}", args.data.display()),
+        0,
+        args.json,
+    );
+    let (table, digest) =
+        Table::read_digest_with(&args.data, reading.unwrap_or_else(|| Box::new(|_| {})))?;
     let data = Dataset::from_table(&table, &data_options(&args))?;
     // Checked before the fit, so a bad --time costs nothing and writes nothing.
     let time = match &args.plot {
@@ -170,11 +176,7 @@ pub fn main(args: Args) -> Result<()> {
     };
     let request = request(&args);
     let provenance = provenance(&args, &table);
-    let mut observer = ProgressObserver {
-        started: Instant::now(),
-        bar: None,
-        starts: args.starts.max(1),
-    };
+    let mut observer = ProgressObserver::new(args.json);
     let identified = identify(&data, &request, &mut observer, &|| false, provenance);
     let identified = identified.map_err(|e| match e {
         // The library names its parameter; the user knows it as the flag (named once).

@@ -10,8 +10,9 @@
 //!   `documentation/index.html`.
 //! - Variables: 0 `x` (input), 1 `y` (output, direct feedthrough), for the operator 2 `k1`, 3 `k2`
 //!   (fixed parameters), for a timed model's compensator 2.. `x_d1`.. (`hyst_fmu::timed`).
-//! - The binary is `libhyst_fmu.so` beside the running `hyst` (cargo puts both in target/release),
-//!   or the file named by `HYST_FMU_LIBRARY`.
+//! - The binary is the file named by `HYST_FMU_LIBRARY`, else the one a release build of
+//!   `hyst` embeds (crates/hyst-cli/build.rs: an installed `hyst` needs nothing beside it), else
+//!   `libhyst_fmu.so` beside the running `hyst` (cargo puts both in target/debug).
 //! - The inputs are checked before anything is written (k1, k2 by the core, the model file by
 //!   hyst-fit, the binary as an x86-64 ELF shared object exporting the FMI 2.0 functions), and the
 //!   FMU is written atomically: on failure no output file exists.
@@ -31,25 +32,11 @@ use hyst_model::ModelKind;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipWriter};
 
-/// The environment variable that names the FMU binary (`libhyst_fmu.so`) to pack.
-pub const LIBRARY_ENV: &str = "HYST_FMU_LIBRARY";
-
-/// The file name cargo gives the cdylib of crates/hyst-fmu.
-const LIBRARY_FILE: &str = "libhyst_fmu.so";
+mod library;
+use library::read_library;
 
 /// The FMI modelIdentifier: the binary's name inside the FMU (binaries/linux64/hyst.so).
 const MODEL_IDENTIFIER: &str = "hyst";
-
-/// Functions the binary must export (checked by name in its dynamic symbol table's strings):
-/// a library without them is not the FMU binary.
-const REQUIRED_SYMBOLS: [&str; 6] = [
-    "fmi2Instantiate",
-    "fmi2DoStep",
-    "fmi2GetReal",
-    "fmi2SetReal",
-    "fmi2GetFMUstate",
-    "fmi2DeSerializeFMUstate",
-];
 
 /// Arguments of `hyst fmu`.
 #[derive(clap::Args, Debug)]
@@ -191,66 +178,6 @@ fn is_same_file(a: &Path, b: &Path) -> bool {
         (Ok(a), Ok(b)) => a == b,
         _ => false,
     }
-}
-
-/// Finds, reads and checks the FMU binary (see [`LIBRARY_ENV`]).
-fn read_library() -> Result<Vec<u8>> {
-    let build = "build it with `cargo build --release -p hyst-fmu` (cargo puts \
-                 libhyst_fmu.so beside target/release/hyst)";
-    let (path, from) = match std::env::var_os(LIBRARY_ENV) {
-        Some(p) if !p.is_empty() => (PathBuf::from(p), format!(" (from {LIBRARY_ENV})")),
-        _ => {
-            let exe = std::env::current_exe()
-                .context("cannot locate the running hyst executable to find the FMU binary")?;
-            let dir = exe.parent().unwrap_or(Path::new("."));
-            (dir.join(LIBRARY_FILE), String::new())
-        }
-    };
-    let bytes = match std::fs::read(&path) {
-        Ok(b) => b,
-        Err(e) => bail!(
-            "the FMU binary {}{from} cannot be read: {e}; {build}, or set {LIBRARY_ENV} to \
-             the path of libhyst_fmu.so",
-            path.display()
-        ),
-    };
-    check_library(&bytes).with_context(|| {
-        format!(
-            "the FMU binary {}{from} is not usable; {build}",
-            path.display()
-        )
-    })?;
-    Ok(bytes)
-}
-
-/// Checks that `bytes` is an x86-64 ELF shared object (what FMI 2.0 calls linux64) that names
-/// the FMI 2.0 functions.
-fn check_library(bytes: &[u8]) -> Result<()> {
-    let u16_at = |i: usize| {
-        bytes
-            .get(i..i + 2)
-            .map(|b| u16::from_le_bytes([b[0], b[1]]))
-    };
-    if bytes.get(..4) != Some(b"\x7fELF".as_slice()) {
-        bail!("not an ELF file");
-    }
-    // EI_CLASS = ELFCLASS64, EI_DATA = little endian, e_type = ET_DYN, e_machine = EM_X86_64.
-    if bytes.get(4) != Some(&2) || bytes.get(5) != Some(&1) || u16_at(18) != Some(62) {
-        bail!("not a 64-bit x86-64 ELF file (the FMU's platform is linux64)");
-    }
-    if u16_at(16) != Some(3) {
-        bail!("not a shared library");
-    }
-    for name in REQUIRED_SYMBOLS {
-        let mut needle = Vec::with_capacity(name.len() + 2);
-        needle.push(0);
-        needle.extend_from_slice(name.as_bytes());
-        needle.push(0);
-        if !bytes.windows(needle.len()).any(|w| w == needle) {
-            bail!("it does not export {name}");
-        }
-    }
-    Ok(())
 }
 
 /// A fresh GUID, `{8-4-4-4-12}` lowercase hex (a random UUID, version 4).
@@ -833,35 +760,5 @@ mod tests {
         assert_eq!(number(0.2), "0.2");
         assert_eq!(number(1e-7), "1e-7");
         assert_eq!(number(1e300).parse::<f64>().unwrap(), 1e300);
-    }
-
-    #[test]
-    fn library_checks() {
-        let mut elf = vec![0u8; 64];
-        elf[..4].copy_from_slice(b"\x7fELF");
-        elf[4] = 2;
-        elf[5] = 1;
-        elf[16] = 3;
-        elf[18] = 62;
-        assert!(check_library(&elf)
-            .unwrap_err()
-            .to_string()
-            .contains("fmi2Instantiate"));
-        for s in REQUIRED_SYMBOLS {
-            elf.push(0);
-            elf.extend_from_slice(s.as_bytes());
-        }
-        elf.push(0);
-        check_library(&elf).unwrap();
-        let mut exe = elf.clone();
-        exe[16] = 2;
-        assert!(check_library(&exe).is_err());
-        let mut arm = elf.clone();
-        arm[18] = 183;
-        assert!(check_library(&arm)
-            .unwrap_err()
-            .to_string()
-            .contains("x86-64"));
-        assert!(check_library(b"#!/bin/sh\n").is_err());
     }
 }

@@ -4,20 +4,25 @@
 //! - INPUT has a header row. The input column is `--column NAME`, else `x`, else the only column
 //!   (with `--model`: else the model's input column, its output column with `--inverse`).
 //! - With `--derivatives N` INPUT also holds `<name>_d1 … <name>_dN`, the input's time
-//!   derivatives, and OUTPUT gets `y_d1 … y_dN` (Proposition 2.7 and beyond, by jets). This
+//!   derivatives, and OUTPUT gets `BASE_d1 … BASE_dN` (Proposition 2.7 and beyond, by jets). This
 //!   holds for `--model` too: smooth models carry the jets through ψ_in, H (or H⁻¹) and ψ_out;
 //!   Prandtl–Ishlinskii models give the piecewise derivatives of their plays (a play at the edge
 //!   of its band that the input pushes moves with the input, every other play is stuck).
 //! - With `--record COLUMN` the operator starts afresh (by its start rule, at the record's first
 //!   sample) wherever the value of COLUMN changes from one row to the next: a value that comes
-//!   back later starts a new record. OUTPUT then ends with COLUMN.
-//! - OUTPUT has the header `x,y[,y_d1…][,RECORD]`, one row per input row, every value in full
-//!   `f64` precision (parses back to the identical number).
+//!   back later starts a new record. COLUMN may hold numbers or text labels.
+//! - OUTPUT holds every column of INPUT first, unchanged (each cell as read, trimmed; text
+//!   columns included), then the computed columns, named after what they are
+//!   ([`crate::naming`]): `BASE[,BASE_d1…]`, BASE the model's output column, its input column
+//!   with `--inverse` (the command), or `y` for `--k1/--k2`; with `--saturate` also
+//!   `COLUMN_saturated`, the desired output after clamping. One row per input row, every
+//!   computed value in full `f64` precision (parses back to the identical number).
 //! - `--column` may be repeated: one operator per column (the same parameters or model, each
-//!   its own memory), OUTPUT `a,b,…,y_a,y_b,…[,y_a_d1…,y_b_d1…][,RECORD]`, and a record restarts
-//!   every column. Plain `--k1/--k2` columns without derivatives run as one bank (outputs within
-//!   a few ulp of the single-column run, not bit for bit); everything else runs each column
-//!   exactly as alone. A single column takes the exact path always (its output is unchanged).
+//!   its own memory), computed columns `BASE_a,BASE_b,…[,BASE_a_d1…,BASE_b_d1…]`, and a record
+//!   restarts every column. Plain `--k1/--k2` columns without derivatives run as one bank
+//!   (outputs within a few ulp of the single-column run, not bit for bit); everything else runs
+//!   each column exactly as alone. A single column takes the exact path always.
+//! - Only the columns run (and their derivatives, and the record column) must hold numbers.
 //! - The file is streamed: memory does not grow with its length.
 //! - Errors name the file, line and column; nothing is written on failure (temporary file, then
 //!   rename), and an OUTPUT that is INPUT (or the model file) is refused before anything is read.
@@ -35,6 +40,11 @@ use hyst_io::number::sig;
 use hyst_io::{CsvReader, CsvWriter};
 use hyst_model::saturation::Saturation;
 
+mod columns;
+mod rows;
+use columns::{Columns, Input, Num};
+use rows::{label_of, read_row, Block, Records, BLOCK};
+
 use hyst_core::compensator::MAX_ORDER;
 
 /// Arguments of `hyst run`.
@@ -46,26 +56,27 @@ pub struct Args {
     /// The input column (default: `x`, or the only column; with --model the model's input
     /// column, or its output column with --inverse). Repeat it for several columns, one
     /// operator each (the same parameters or model, each with its own memory): OUTPUT then
-    /// has the input columns under their names, then `y_<column>` for each (see
-    /// docs/formats.md).
+    /// has every input column, then `<output>_<column>` for each (see docs/formats.md).
     #[arg(long, value_name = "NAME")]
     pub column: Vec<String>,
-    /// Also propagate N time derivatives (columns <column>_d1 … <column>_dN in, y_d1 … out).
+    /// Also propagate N time derivatives (columns <column>_d1 … <column>_dN in, <output>_d1 …
+    /// out).
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=MAX_ORDER as i64))]
     pub derivatives: u8,
     /// Restart the operator wherever the value of COLUMN changes (FORC curves, B-H loops): each
     /// record starts by the start rule (--model: the model's initial_state at the record's first
     /// sample; --k1/--k2: no history). A value that comes back after another is a new record,
-    /// not a continuation. COLUMN is copied to the end of OUTPUT. With several --column, every
-    /// column restarts at a new record.
+    /// not a continuation. COLUMN may hold numbers or text labels. With several --column,
+    /// every column restarts at a new record.
     #[arg(long, value_name = "COLUMN")]
     pub record: Option<String>,
     /// With --model --inverse, for a model whose output shaping saturates (tanh, Langevin; open
     /// range (lo, hi), unreachable): clamp every desired output beyond the limits (99.9 % of the
     /// range about its centre, widened to every output the model gives over its fitted input
     /// range: docs/formats.md) to them, instead of stopping at the first one outside (lo, hi). A
-    /// clamped row gets the clamped value in x and zero derivatives; stderr says how many rows
-    /// were clamped and which was first.
+    /// clamped row is inverted at the clamped value (with zero derivatives), which OUTPUT's
+    /// column `<column>_saturated` holds; stderr says how many rows were clamped and which was
+    /// first.
     #[arg(long)]
     pub saturate: bool,
     /// The time column (s) of a model with dynamics or a rate term (default: a column named t,
@@ -75,7 +86,7 @@ pub struct Args {
     /// With --model --inverse for a model with dynamics of order n, when the file does not
     /// hold the desired output's n derivatives: a reference prefilter 1/(s/ω + 1)ⁿ, ω = 2πF,
     /// gives them, and the command makes the plant track the prefiltered reference exactly
-    /// (written as the column x_filtered).
+    /// (written as the column `<column>_filtered`).
     #[arg(long, value_name = "F")]
     pub prefilter_hz: Option<f64>,
     /// Input CSV file.
@@ -95,7 +106,7 @@ pub fn main(args: Args) -> Result<()> {
         );
     }
     // The data is opened only once the model is known to do what is asked.
-    let open = || CsvReader::open(&args.input);
+    let open = || open_input(&args.input);
     let mut columns: Vec<Option<&str>> = args.column.iter().map(|c| Some(c.as_str())).collect();
     match args.source.chosen()? {
         Chosen::Model(path) => {
@@ -139,7 +150,12 @@ pub fn main(args: Args) -> Result<()> {
                     .with_context(|| format!("the model {} cannot start here", path.display()))
             };
             let scalar = Scalar::new(start, limits);
-            run(&mut rows, &args, &columns, |rows, c, out| {
+            let base = if inverse {
+                &model.columns.input
+            } else {
+                &model.columns.output
+            };
+            run(&mut rows, &args, &columns, base, |rows, c, out| {
                 scalar.stream(rows, c, out, args.derivatives)
             })
         }
@@ -149,12 +165,12 @@ pub fn main(args: Args) -> Result<()> {
             let n = columns.len();
             if args.source.inverse {
                 let bank = Banked::<Inverse>::new(k1, k2, n)?;
-                run(&mut rows, &args, &columns, |rows, c, out| {
+                run(&mut rows, &args, &columns, PLAIN_OUTPUT, |rows, c, out| {
                     stream::<_, _, 0>(bank, rows, c, out)
                 })
             } else {
                 let bank = Banked::<Direct>::new(k1, k2, n)?;
-                run(&mut rows, &args, &columns, |rows, c, out| {
+                run(&mut rows, &args, &columns, PLAIN_OUTPUT, |rows, c, out| {
                     stream::<_, _, 0>(bank, rows, c, out)
                 })
             }
@@ -166,17 +182,34 @@ pub fn main(args: Args) -> Result<()> {
             }
             if args.source.inverse {
                 let start = |_: f64| InverseHysteresis::new(k1, k2).context("--k1/--k2");
-                run(&mut rows, &args, &columns, |rows, c, out| {
+                run(&mut rows, &args, &columns, PLAIN_OUTPUT, |rows, c, out| {
                     Scalar::new(start, None).stream(rows, c, out, args.derivatives)
                 })
             } else {
                 let start = |_: f64| Hysteresis::new(k1, k2).context("--k1/--k2");
-                run(&mut rows, &args, &columns, |rows, c, out| {
+                run(&mut rows, &args, &columns, PLAIN_OUTPUT, |rows, c, out| {
                     Scalar::new(start, None).stream(rows, c, out, args.derivatives)
                 })
             }
         }
     }
+}
+
+/// Opens INPUT for streaming; a large file shows the bytes read on a terminal
+/// ([`crate::progress::LARGE_FILE`]).
+fn open_input(path: &std::path::Path) -> Result<CsvReader<hyst_io::CountingReader<std::fs::File>>> {
+    let (file, source) = hyst_io::open_file(path)?;
+    let on_read = crate::progress::reading(
+        path,
+        format!("reading {}", path.display()),
+        crate::progress::LARGE_FILE,
+        false,
+    )
+    .unwrap_or_else(|| Box::new(|_| {}));
+    Ok(CsvReader::new(
+        hyst_io::CountingReader::new(file, on_read),
+        &source,
+    )?)
 }
 
 /// What a run of a model with dynamics or a rate term takes of the arguments.
@@ -226,64 +259,17 @@ struct Limits {
     clamp: bool,
 }
 
-/// One input column of a run.
-struct Input {
-    /// Its index in INPUT.
-    index: usize,
-    /// Its name.
-    name: String,
-    /// The derivative columns `<name>_d1 …`.
-    derivatives: Vec<usize>,
-}
-
-/// The columns of one run.
-struct Columns {
-    /// The input columns, one operator each.
-    inputs: Vec<Input>,
-    /// The record column.
-    record: Option<usize>,
-}
-
-/// The header of OUTPUT for the input columns `names` (N derivatives, maybe a record column):
-/// `x,y[,y_d1…]` for one column (the format of a single-operator run), and for several
-/// `a,b,…,y_a,y_b,…[,y_a_d1…,y_b_d1…]`; then the record column.
-fn output_names(names: &[&str], n: usize, record: Option<&str>) -> Result<Vec<String>> {
-    let mut out = Vec::new();
-    if let [_] = names {
-        out.extend(["x".to_string(), "y".to_string()]);
-        out.extend((1..=n).map(|k| format!("y_d{k}")));
-    } else {
-        out.extend(names.iter().map(|c| (*c).to_string()));
-        out.extend(names.iter().map(|c| format!("y_{c}")));
-        for c in names {
-            out.extend((1..=n).map(|k| format!("y_{c}_d{k}")));
-        }
-        let twice = out
-            .iter()
-            .enumerate()
-            .find(|(i, c)| out.get(..*i).is_some_and(|before| before.contains(c)));
-        if let Some((_, c)) = twice {
-            bail!(
-                "the output would have the column {c:?} twice (an input column is named like \
-                 the output of another); rename that input column"
-            );
-        }
-    }
-    if let Some(r) = record {
-        if out.iter().any(|c| c == r) {
-            bail!("--record {r}: the output already has a column {r:?}; rename the record column");
-        }
-        out.push(r.to_string());
-    }
-    Ok(out)
-}
+/// The computed column of a run with `--k1/--k2` (either direction).
+const PLAIN_OUTPUT: &str = "y";
 
 /// Streams INPUT through one operator per input column into OUTPUT: `go` runs the rows
-/// (it holds the operators); `columns` names the input columns (`None`: the default one).
+/// (it holds the operators); `columns` names the input columns (`None`: the default one);
+/// `base` names what the operators compute ([`crate::naming`]).
 fn run<R: Read>(
     rows: &mut CsvReader<R>,
     args: &Args,
     columns: &[Option<&str>],
+    base: &str,
     go: impl FnOnce(&mut CsvReader<R>, &Columns, &mut CsvWriter) -> Result<Clamped>,
 ) -> Result<()> {
     let n = usize::from(args.derivatives);
@@ -314,9 +300,23 @@ fn run<R: Read>(
         Some(r) => Some(rows.column(r).context("--record")?),
         None => None,
     };
-    let names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
-    let names = output_names(&names, n, args.record.as_deref())?;
-    let columns = Columns { inputs, record };
+    let run_names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
+    let saturated = args.saturate;
+    let names = crate::naming::output_names(
+        rows.names(),
+        &crate::naming::Computed {
+            base,
+            columns: &run_names,
+            derivatives: n,
+            extra: saturated.then_some("saturated"),
+        },
+    )?;
+    let columns = Columns {
+        inputs,
+        record,
+        width: rows.names().len(),
+        saturated,
+    };
     let mut out = CsvWriter::create(&args.output, names)?;
     let clamped = go(rows, &columns, &mut out)?;
     out.finish()?;
@@ -353,23 +353,6 @@ struct Clamped {
     of: usize,
     /// Line and value of the first clamped one.
     first: Option<(usize, f64)>,
-}
-
-/// Rows read, run and written at a time: each phase runs over a block in a tight loop (as
-/// when the whole file was held), and memory stays bounded by the block.
-const BLOCK: usize = 4096;
-
-/// One block of rows: where they are and what the operators get, time-major (row after row,
-/// each row's K input columns together).
-struct Block<const N: usize> {
-    /// Source lines.
-    lines: Vec<usize>,
-    /// Operator inputs (after `--saturate`) with their time derivatives, K per row.
-    x: Vec<Jet<f64, N>>,
-    /// Record ids (empty without `--record`).
-    id: Vec<f64>,
-    /// Outputs, K per row.
-    y: Vec<Jet<f64, N>>,
 }
 
 /// Where a value is, for messages.
@@ -518,7 +501,11 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>, const N: usize> Channels<N> f
                 let at = || place.at(line, c, x.value());
                 if fresh {
                     let started = (self.start)(x.value()).with_context(|| match id {
-                        Some(id) => format!("{} (first sample of record {})", at(), Num(id)),
+                        Some(id) => format!(
+                            "{} (first sample of record {})",
+                            at(),
+                            label_of(&block.labels, id)
+                        ),
                         None => at(),
                     })?;
                     self.ops.push(started);
@@ -681,33 +668,27 @@ fn stream<R: Read, C: Channels<N>, const N: usize>(
         lines: Vec::with_capacity(BLOCK),
         x: Vec::with_capacity(BLOCK * k),
         id: Vec::with_capacity(BLOCK),
+        labels: Vec::new(),
+        cells: String::new(),
+        ends: Vec::with_capacity(BLOCK),
         y: Vec::with_capacity(BLOCK * k),
     };
     let mut values = Vec::with_capacity(k * (N + 2) + 1);
+    let mut record = Records::default();
     loop {
         // Read.
         block.lines.clear();
         block.x.clear();
         block.id.clear();
+        block.labels.clear();
+        block.cells.clear();
+        block.ends.clear();
         block.y.clear();
         let mut unread = None;
         while block.lines.len() < BLOCK {
-            match rows.next_row() {
-                Ok(Some((line, row))) => {
-                    for input in &columns.inputs {
-                        let x = row.get(input.index).copied().unwrap_or_default();
-                        let mut d = [0.0; N];
-                        for (slot, &c) in d.iter_mut().zip(&input.derivatives) {
-                            *slot = row.get(c).copied().unwrap_or_default();
-                        }
-                        block.x.push(Jet::from_derivatives(x, d));
-                    }
-                    block.lines.push(line);
-                    block
-                        .id
-                        .extend(columns.record.and_then(|r| row.get(r).copied()));
-                }
-                Ok(None) => break,
+            match read_row(rows, columns, &mut block, &mut record) {
+                Ok(true) => {}
+                Ok(false) => break,
                 Err(e) => {
                     unread = Some(e);
                     break;
@@ -727,30 +708,21 @@ fn stream<R: Read, C: Channels<N>, const N: usize>(
         if let Some(e) = unread {
             return Err(e.into());
         }
-        // Write: one column, `x,y,y_d…`; several, `a,b,…,y_a,y_b,…,y_a_d…,y_b_d…`.
-        for (i, (x, y)) in block.x.chunks(k).zip(block.y.chunks(k)).enumerate() {
+        // Write: INPUT's cells, then the outputs, their derivatives and (--saturate) the
+        // desired outputs inverted.
+        let mut from = 0;
+        for ((x, y), &end) in block.x.chunks(k).zip(block.y.chunks(k)).zip(&block.ends) {
             values.clear();
-            values.extend(x.iter().map(Jet::value));
             values.extend(y.iter().map(Jet::value));
             for y in y {
                 values.extend_from_slice(&y.derivatives());
             }
-            values.extend(block.id.get(i).copied());
-            out.write_row(&values)?;
-        }
-    }
-}
-
-/// A number in a message: shortest round trip, in exponent form outside [1e-5, 1e16).
-struct Num(f64);
-
-impl std::fmt::Display for Num {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let a = self.0.abs();
-        if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
-            write!(f, "{}", self.0)
-        } else {
-            write!(f, "{:e}", self.0)
+            if columns.saturated {
+                values.extend(x.iter().map(Jet::value));
+            }
+            let cells = block.cells.get(from..end).unwrap_or_default();
+            out.write_row_after(cells, columns.width, &values)?;
+            from = end;
         }
     }
 }

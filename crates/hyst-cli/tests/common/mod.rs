@@ -1,5 +1,5 @@
 //! What several integration test files of `hyst` share.
-#![allow(clippy::unwrap_used, dead_code)]
+#![allow(clippy::unwrap_used, clippy::panic, dead_code)]
 
 use std::path::Path;
 
@@ -17,4 +17,69 @@ pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
         .map(|l| l.split(',').map(|c| c.parse::<f64>().unwrap()).collect())
         .collect();
     (header, rows)
+}
+
+/// The index of the column `name` in `header` (panics naming the header if there is none).
+pub fn index(header: &[String], name: &str) -> usize {
+    header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name:?} in {header:?}"))
+}
+
+/// The column `name` of a file read by [`read_csv`].
+pub fn column(header: &[String], rows: &[Vec<f64>], name: &str) -> Vec<f64> {
+    let k = index(header, name);
+    rows.iter().map(|r| r[k]).collect()
+}
+
+/// The cells of a CSV text (RFC 4180: a quoted cell may hold commas, doubled quotes and line
+/// ends; the quotes are removed): its header and its rows of text.
+pub fn parse_cells(text: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut records: Vec<Vec<String>> = Vec::new();
+    let mut record: Vec<String> = Vec::new();
+    let mut cell = String::new();
+    let mut quoted = false;
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                cell.push('"');
+            }
+            (true, '"') => quoted = false,
+            (true, c) => cell.push(c),
+            (false, '"') => quoted = true,
+            (false, ',') => record.push(std::mem::take(&mut cell)),
+            (false, '\r') => {}
+            (false, '\n') => {
+                record.push(std::mem::take(&mut cell));
+                records.push(std::mem::take(&mut record));
+            }
+            (false, c) => cell.push(c),
+        }
+    }
+    if !cell.is_empty() || !record.is_empty() {
+        record.push(cell);
+        records.push(record);
+    }
+    let mut records = records.into_iter();
+    let header = records.next().unwrap_or_default();
+    (header, records.collect())
+}
+
+/// [`parse_cells`] of the file `path`.
+pub fn read_cells(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    parse_cells(&std::fs::read_to_string(path).unwrap())
+}
+
+/// The column `name` of rows of text (as [`parse_cells`] gives them), as numbers.
+pub fn numbers(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
+    let k = index(header, name);
+    rows.iter()
+        .map(|r| {
+            r[k].parse::<f64>()
+                .unwrap_or_else(|e| panic!("{name}: {:?}: {e}", r[k]))
+        })
+        .collect()
 }

@@ -10,7 +10,7 @@ use hyst_model::{FamilyWidths, Form, SmoothModel, Structure};
 use crate::data::Dataset;
 use crate::error::FitError;
 use crate::layout::{Layout, Normalisation};
-use crate::lm::{LevenbergMarquardt, Observer, Solution};
+use crate::lm::{LevenbergMarquardt, Observer, Solution, Stage, Staged};
 use crate::race::{best_of, threads};
 use crate::reduction::reduce;
 use crate::smooth::fit::{FitOptions, SmoothFit};
@@ -99,11 +99,23 @@ fn fit_smooth_with(
         structure,
         options,
         reduced.as_ref(),
-        observer,
+        &mut Staged {
+            inner: &mut *observer,
+            stage: Stage::Search,
+        },
         contained,
     )?;
     let method = polish_method(options, reduced.is_some(), layout.len())?;
-    let best = descend(&method, &problem, candidates, limits, observer)?;
+    let best = descend(
+        &method,
+        &problem,
+        candidates,
+        limits,
+        &mut Staged {
+            inner: &mut *observer,
+            stage: Stage::Polish,
+        },
+    )?;
     let model = layout.model(&best.theta, problem.input_range)?;
     let estimates = estimates(&layout, &model, &best, problem.n);
 

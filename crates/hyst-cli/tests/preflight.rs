@@ -1,0 +1,104 @@
+//! `hyst fit` checks where it will write before it reads or fits anything (issue 27, "Long
+//! work"): a model file in a missing directory, or a plot directory under a file, is refused
+//! first, so a long fit is never thrown away at the end.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+
+use std::fs;
+use std::process::Command;
+
+fn hyst() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_hyst"))
+}
+
+const FIT: [&str; 4] = ["--input", "u", "--output", "y"];
+
+/// The data does not exist: an error about the output proves the output was checked first.
+#[test]
+fn a_model_file_in_a_missing_directory_is_refused_before_the_data_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("missing/model.toml");
+    let o = hyst()
+        .arg("fit")
+        .arg(dir.path().join("no-such-data.csv"))
+        .args(FIT)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("missing/model.toml"), "{err}");
+    assert!(
+        err.contains("cannot create a file in its directory"),
+        "{err}"
+    );
+    assert!(!err.contains("no-such-data"), "{err}");
+    assert!(!dir.path().join("missing").exists());
+}
+
+#[test]
+fn a_model_file_that_is_a_directory_is_refused_before_the_data_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = hyst()
+        .arg("fit")
+        .arg(dir.path().join("no-such-data.csv"))
+        .args(FIT)
+        .arg("-o")
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("directory"), "{err}");
+    assert!(!err.contains("no-such-data"), "{err}");
+}
+
+#[test]
+fn a_plot_directory_under_a_file_is_refused_before_the_data_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a-file");
+    fs::write(&file, "not a directory").unwrap();
+    let o = hyst()
+        .arg("fit")
+        .arg(dir.path().join("no-such-data.csv"))
+        .args(FIT)
+        .arg("-o")
+        .arg(dir.path().join("m.toml"))
+        .arg("--plot")
+        .arg(file.join("plots"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("a-file/plots"), "{err}");
+    assert!(err.contains("is not a directory"), "{err}");
+    assert!(!err.contains("no-such-data"), "{err}");
+    assert_eq!(fs::read_to_string(&file).unwrap(), "not a directory");
+    // Nothing was left behind: no model file, no temporary file.
+    let names: Vec<_> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, vec![std::ffi::OsString::from("a-file")]);
+}
+
+/// A plot directory that does not exist yet is fine (it is created once the fit is done), and
+/// the check creates nothing.
+#[test]
+fn a_new_plot_directory_passes_the_check_and_is_not_created_by_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = hyst()
+        .arg("fit")
+        .arg(dir.path().join("no-such-data.csv"))
+        .args(FIT)
+        .arg("-o")
+        .arg(dir.path().join("m.toml"))
+        .arg("--plot")
+        .arg(dir.path().join("new/plots"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("no-such-data"), "the data is read next: {err}");
+    assert!(!dir.path().join("new").exists());
+}
