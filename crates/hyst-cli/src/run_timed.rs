@@ -49,44 +49,10 @@ pub struct Options<'a> {
 
 /// Runs a model with dynamics or a rate term (`model`, read from `path`) as `args` ask.
 pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
-    let Some(smooth) = model.smooth.as_ref() else {
-        bail!("{}: the model file holds no smooth model", path.display());
-    };
-    if args.derivatives > 0 || args.saturate || args.columns.len() > 1 {
-        bail!(
-            "{}: a model with dynamics or a rate term runs one column, without --derivatives or \
-             --saturate (its compensator takes the desired output's derivatives from columns \
-             <name>_d1 ... or from --prefilter-hz)",
-            path.display()
-        );
-    }
-    let inverse = args.inverse;
-    if args.prefilter_hz.is_some() && !inverse {
-        bail!("--prefilter-hz applies to --inverse (the compensator's reference)");
-    }
-    if inverse {
-        TimedCompensator::check(smooth)
-            .with_context(|| format!("{}: --inverse", path.display()))?;
-    }
+    let smooth = check(args, model, path)?;
     hyst_io::check_all_distinct(&[args.input, path], &[args.output])?;
-    let reading = crate::progress::reading(
-        args.input,
-        format!("reading {}", args.input.display()),
-        crate::progress::LARGE_FILE,
-        false,
-    );
-    // Read once (a pipe cannot be read twice), then parsed twice: as numbers, and as the cells
-    // OUTPUT passes through as they were written.
-    let (file, source) = hyst_io::open_file(args.input)?;
-    let mut bytes = Vec::new();
-    hyst_io::CountingReader::new(file, reading.unwrap_or_else(|| Box::new(|_| {})))
-        .read_to_end(&mut bytes)
-        .map_err(|e| hyst_io::IoError::Read {
-            file: source.clone(),
-            source: e,
-        })?;
-    let table = Table::parse(&bytes, &source)?;
-    let passed = Passed::read(&bytes, &source)?;
+    let (table, passed) = read(args.input)?;
+    let inverse = args.inverse;
     let name = args.columns.first().map_or_else(
         || {
             if inverse {
@@ -165,6 +131,53 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
     }
     out.finish()?;
     Ok(())
+}
+
+/// Refuses, before the data is read, what a timed model cannot do as `args` ask; returns its
+/// smooth model.
+fn check<'m>(args: &Options<'_>, model: &'m ModelFile, path: &Path) -> Result<&'m SmoothModel> {
+    let Some(smooth) = model.smooth.as_ref() else {
+        bail!("{}: the model file holds no smooth model", path.display());
+    };
+    if args.derivatives > 0 || args.saturate || args.columns.len() > 1 {
+        bail!(
+            "{}: a model with dynamics or a rate term runs one column, without --derivatives or \
+             --saturate (its compensator takes the desired output's derivatives from columns \
+             <name>_d1 ... or from --prefilter-hz)",
+            path.display()
+        );
+    }
+    let inverse = args.inverse;
+    if args.prefilter_hz.is_some() && !inverse {
+        bail!("--prefilter-hz applies to --inverse (the compensator's reference)");
+    }
+    if inverse {
+        TimedCompensator::check(smooth)
+            .with_context(|| format!("{}: --inverse", path.display()))?;
+    }
+    Ok(smooth)
+}
+
+/// Reads INPUT once (a pipe cannot be read twice) and parses it twice: as numbers, and as the
+/// cells OUTPUT passes through as they were written.
+fn read(input: &Path) -> Result<(Table, Passed)> {
+    let reading = crate::progress::reading(
+        input,
+        format!("reading {}", input.display()),
+        crate::progress::LARGE_FILE,
+        false,
+    );
+    let (file, source) = hyst_io::open_file(input)?;
+    let mut bytes = Vec::new();
+    hyst_io::CountingReader::new(file, reading.unwrap_or_else(|| Box::new(|_| {})))
+        .read_to_end(&mut bytes)
+        .map_err(|e| hyst_io::IoError::Read {
+            file: source.clone(),
+            source: e,
+        })?;
+    let table = Table::parse(&bytes, &source)?;
+    let passed = Passed::read(&bytes, &source)?;
+    Ok((table, passed))
 }
 
 /// Every row's cells as read, formatted for OUTPUT, each followed by `,`.
