@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyType;
 
 use crate::arrays::{as_dtype, shape_of, signals, Stop, CHUNK};
-use crate::errors::value_error;
+use crate::errors::{self, borrow_mut, value_error, Shared};
 use crate::operator::{from_core, to_core, Memory, Precision};
 
 /// The core bank in the chosen formula and precision.
@@ -225,6 +225,11 @@ pub struct Bank {
     engine: Engine,
 }
 
+impl Shared for Bank {
+    const OWN: &'static str = "one Bank holds the memories of its channels, so give each thread \
+                               its own object (copy.copy(bank))";
+}
+
 /// The constructor arguments of a `Bank`, as pickling stores them.
 type BankArgs = (Vec<f64>, Vec<f64>, bool, &'static str);
 
@@ -292,6 +297,34 @@ impl Bank {
         Ok(Self { engine })
     }
 
+    /// The number of channels.
+    fn count(&self) -> usize {
+        each!(&self.engine, b => b.channels())
+    }
+
+    /// Whether the channels are inverse operators.
+    fn is_inverse(&self) -> bool {
+        matches!(self.engine, Engine::I64(_) | Engine::I32(_))
+    }
+
+    /// The memory of the channel `c` (in range).
+    fn memory_of(&self, c: usize) -> Option<Memory> {
+        each!(&self.engine, b => b.memory(c).map(|m| from_core(&m))).map(|inner| Memory { inner })
+    }
+
+    /// `set_memory(channel, memory)`.
+    fn put_memory(&mut self, channel: isize, memory: Option<&Memory>) -> PyResult<()> {
+        let c = self.channel(channel)?;
+        let m = memory.map(|m| m.inner);
+        let wrap = |e: BankError| value_error(format!("memory of channel {c}: {}", e.error));
+        match &mut self.engine {
+            Engine::D64(b) => b.set_memory(c, m).map_err(wrap),
+            Engine::I64(b) => b.set_memory(c, m).map_err(wrap),
+            Engine::D32(b) => b.set_memory(c, m.map(|m| to_core(&m))).map_err(wrap),
+            Engine::I32(b) => b.set_memory(c, m.map(|m| to_core(&m))).map_err(wrap),
+        }
+    }
+
     fn precision(&self) -> Precision {
         match self.engine {
             Engine::D64(_) | Engine::I64(_) => Precision::F64,
@@ -300,7 +333,7 @@ impl Bank {
     }
 
     fn channel(&self, channel: isize) -> PyResult<usize> {
-        let n = self.channels();
+        let n = self.count();
         usize::try_from(channel)
             .ok()
             .filter(|c| *c < n)
@@ -320,9 +353,7 @@ impl Bank {
     }
 
     fn memories(&self) -> Vec<Option<Memory>> {
-        (0..self.channels())
-            .map(|c| self.memory(c as isize).ok().flatten())
-            .collect()
+        (0..self.count()).map(|c| self.memory_of(c)).collect()
     }
 }
 
@@ -473,32 +504,34 @@ impl Bank {
 
     /// The number of channels.
     #[getter]
-    fn channels(&self) -> usize {
-        each!(&self.engine, b => b.channels())
+    fn channels(slf: &Bound<'_, Self>) -> PyResult<usize> {
+        Ok(errors::borrow(slf)?.count())
     }
 
     /// The channels' k1 (a new float64 array).
     #[getter]
-    fn k1<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_vec(py, self.parameters(true))
+    fn k1<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let k1 = errors::borrow(slf)?.parameters(true);
+        Ok(PyArray1::from_vec(slf.py(), k1))
     }
 
     /// The channels' k2 (a new float64 array).
     #[getter]
-    fn k2<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_vec(py, self.parameters(false))
+    fn k2<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let k2 = errors::borrow(slf)?.parameters(false);
+        Ok(PyArray1::from_vec(slf.py(), k2))
     }
 
     /// Whether the channels are the inverse operators H⁻¹ (eq. 4).
     #[getter]
-    fn inverse(&self) -> bool {
-        matches!(self.engine, Engine::I64(_) | Engine::I32(_))
+    fn inverse(slf: &Bound<'_, Self>) -> PyResult<bool> {
+        Ok(errors::borrow(slf)?.is_inverse())
     }
 
     /// The arithmetic and the dtype of the results: "float64" or "float32".
     #[getter]
-    fn dtype(&self) -> &'static str {
-        self.precision().name()
+    fn dtype(slf: &Bound<'_, Self>) -> PyResult<&'static str> {
+        Ok(errors::borrow(slf)?.precision().name())
     }
 
     /// One tick: `x` holds one sample per channel (a 1-D array-like of length `channels`);
@@ -509,14 +542,14 @@ impl Bank {
     /// naming its channel and value; every memory is then as before the call.
     #[pyo3(signature = (x, *, out=None))]
     fn step<'py>(
-        &mut self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         x: &Bound<'py, PyAny>,
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let n = self.channels();
-        let dtype = self.dtype();
-        typed!(&mut self.engine, b, T => {
+        let py = slf.py();
+        let mut me = borrow_mut(slf)?;
+        let (n, dtype) = (me.count(), me.precision().name());
+        typed!(&mut me.engine, b, T => {
             let a = array1::<T>(x, "x", dtype)?;
             if a.len() != n {
                 return Err(value_error(format!(
@@ -544,14 +577,14 @@ impl Bank {
     /// (and `out` may hold partial results).
     #[pyo3(signature = (x, *, out=None))]
     fn process<'py>(
-        &mut self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         x: &Bound<'py, PyAny>,
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let n = self.channels();
-        let dtype = self.dtype();
-        typed!(&mut self.engine, b, T => {
+        let py = slf.py();
+        let mut me = borrow_mut(slf)?;
+        let (n, dtype) = (me.count(), me.precision().name());
+        typed!(&mut me.engine, b, T => {
             let a = array2::<T>(x, "x", dtype)?;
             let shape = a.shape().to_vec();
             let ticks_n = shape.first().copied().unwrap_or(0);
@@ -572,16 +605,16 @@ impl Bank {
 
     /// Forgets every channel's history (the next sample of each lies on the line output =
     /// input).
-    fn reset(&mut self) {
-        each!(&mut self.engine, b => b.reset());
+    fn reset(slf: &Bound<'_, Self>) -> PyResult<()> {
+        each!(&mut borrow_mut(slf)?.engine, b => b.reset());
+        Ok(())
     }
 
     /// The memory of Definition 2.1 of `channel` (a `Memory`, or None before its first
     /// sample). IndexError for a channel outside the bank.
-    fn memory(&self, channel: isize) -> PyResult<Option<Memory>> {
-        let c = self.channel(channel)?;
-        Ok(each!(&self.engine, b => b.memory(c).map(|m| from_core(&m)))
-            .map(|inner| Memory { inner }))
+    fn memory(slf: &Bound<'_, Self>, channel: isize) -> PyResult<Option<Memory>> {
+        let me = errors::borrow(slf)?;
+        Ok(me.memory_of(me.channel(channel)?))
     }
 
     /// Restores the memory of `channel` (None: no history), e.g. one saved from this bank or
@@ -589,57 +622,55 @@ impl Bank {
     /// outside the bank; ValueError for a memory outside the channel's band |output − input| ≤
     /// k1 (nothing changes then).
     #[pyo3(signature = (channel, memory))]
-    fn set_memory(&mut self, channel: isize, memory: Option<PyRef<'_, Memory>>) -> PyResult<()> {
-        let c = self.channel(channel)?;
-        let m = memory.map(|m| m.inner);
-        let wrap = |e: BankError| value_error(format!("memory of channel {c}: {}", e.error));
-        match &mut self.engine {
-            Engine::D64(b) => b.set_memory(c, m).map_err(wrap),
-            Engine::I64(b) => b.set_memory(c, m).map_err(wrap),
-            Engine::D32(b) => b.set_memory(c, m.map(|m| to_core(&m))).map_err(wrap),
-            Engine::I32(b) => b.set_memory(c, m.map(|m| to_core(&m))).map_err(wrap),
-        }
+    fn set_memory(
+        slf: &Bound<'_, Self>,
+        channel: isize,
+        memory: Option<PyRef<'_, Memory>>,
+    ) -> PyResult<()> {
+        borrow_mut(slf)?.put_memory(channel, memory.as_deref())
     }
 
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyType>, BankArgs, Vec<Option<Memory>>)> {
-        let me = slf.borrow();
+        let me = errors::borrow(slf)?;
         Ok((
             slf.get_type(),
             (
                 me.parameters(true),
                 me.parameters(false),
-                me.inverse(),
-                me.dtype(),
+                me.is_inverse(),
+                me.precision().name(),
             ),
             me.memories(),
         ))
     }
 
-    fn __setstate__(&mut self, state: Vec<Option<PyRef<'_, Memory>>>) -> PyResult<()> {
-        if state.len() != self.channels() {
+    fn __setstate__(slf: &Bound<'_, Self>, state: Vec<Option<PyRef<'_, Memory>>>) -> PyResult<()> {
+        let mut me = borrow_mut(slf)?;
+        if state.len() != me.count() {
             return Err(value_error(format!(
                 "state: {} memories for a bank of {} channels",
                 state.len(),
-                self.channels()
+                me.count()
             )));
         }
         for (c, m) in state.into_iter().enumerate() {
-            self.set_memory(c as isize, m)?;
+            me.put_memory(c as isize, m.as_deref())?;
         }
         Ok(())
     }
 
-    fn __repr__(&self) -> String {
-        let dtype = match self.precision() {
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        let me = errors::borrow(slf)?;
+        let dtype = match me.precision() {
             Precision::F64 => String::new(),
             Precision::F32 => ", dtype='float32'".into(),
         };
-        format!(
+        Ok(format!(
             "Bank(channels={}, inverse={}{dtype})",
-            self.channels(),
-            if self.inverse() { "True" } else { "False" }
-        )
+            me.count(),
+            if me.is_inverse() { "True" } else { "False" }
+        ))
     }
 }

@@ -10,7 +10,7 @@ use numpy::ndarray::ArrayView1;
 use pyo3::prelude::*;
 
 use crate::arrays::{samples, signals, to_numpy, Refused, Samples, Stop, CHUNK};
-use crate::errors::{core, value_error};
+use crate::errors::{borrow, borrow_mut, core, value_error, Shared};
 use crate::model::Model;
 use crate::operator::{Hysteresis, InverseHysteresis};
 
@@ -61,9 +61,15 @@ pub struct Compensator {
     a: Vec<f64>,
 }
 
+impl Shared for Compensator {
+    const OWN: &'static str = "one Compensator holds the state of one plant, so give each thread \
+                               its own object (a Compensator cannot be copied: build one per \
+                               thread with hyst.Compensator(model, b, a, state))";
+}
+
 fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverseShapedModel> {
     if let Ok(m) = model.cast::<Model>() {
-        let m = m.borrow();
+        let m = borrow(m)?;
         // Lemma 5.1's plant here is (b, a): a model with its own plant would lose it.
         m.file
             .untimed(
@@ -91,10 +97,10 @@ fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverseShapedMo
         });
     }
     let (k1, k2) = if let Ok(h) = model.cast::<Hysteresis>() {
-        let h = h.borrow();
+        let h = borrow(h)?;
         (h.engine.k1(), h.engine.k2())
     } else if let Ok(h) = model.cast::<InverseHysteresis>() {
-        let h = h.borrow();
+        let h = borrow(h)?;
         (h.engine.k1(), h.engine.k2())
     } else {
         return Err(value_error(format!(
@@ -184,9 +190,9 @@ impl Compensator {
     /// One sample: the plant command u for the new input u_new = v⁽ⁿ⁾ (held over the next
     /// `dt` seconds, dt ≥ 0). Raises ValueError for a non-finite value or a reference the
     /// model cannot produce (the compensator is then unchanged).
-    fn step(&mut self, u_new: f64, dt: f64) -> PyResult<f64> {
+    fn step(slf: &Bound<'_, Self>, u_new: f64, dt: f64) -> PyResult<f64> {
         check_dt(dt)?;
-        each!(&mut self.inner, c => c.try_step(u_new, dt)).map_err(|e| {
+        each!(&mut borrow_mut(slf)?.inner, c => c.try_step(u_new, dt)).map_err(|e| {
             core(
                 format!("u_new = {}, dt = {}", shortest(u_new), shortest(dt)),
                 e,
@@ -198,8 +204,7 @@ impl Compensator {
     /// fixed step `dt`: the commands. At a refused sample raises ValueError naming its index,
     /// and the compensator is as it was before the call.
     fn process<'py>(
-        &mut self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         u_new: &Bound<'py, PyAny>,
         dt: f64,
     ) -> PyResult<Bound<'py, PyAny>> {
@@ -248,7 +253,9 @@ impl Compensator {
             ),
             Stop::Interrupted(e) => e,
         };
-        let inner = &mut self.inner;
+        let py = slf.py();
+        let mut me = borrow_mut(slf)?;
+        let inner = &mut me.inner;
         match samples(u_new, "u_new")? {
             Samples::F64(a) => {
                 let view = a.as_array();
@@ -264,65 +271,68 @@ impl Compensator {
     }
 
     /// Back to the start state (the integrators' `state`, the inverse model's history).
-    fn reset(&mut self) {
-        each!(&mut self.inner, c => c.reset());
+    fn reset(slf: &Bound<'_, Self>) -> PyResult<()> {
+        each!(&mut borrow_mut(slf)?.inner, c => c.reset());
+        Ok(())
     }
 
     /// The plant order n = len(a).
     #[getter]
-    fn order(&self) -> usize {
-        self.a.len()
+    fn order(slf: &Bound<'_, Self>) -> PyResult<usize> {
+        Ok(borrow(slf)?.a.len())
     }
 
     /// The plant gain b.
     #[getter]
-    fn b(&self) -> f64 {
-        self.b
+    fn b(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(borrow(slf)?.b)
     }
 
     /// The denominator coefficients [a_1, …, a_n].
     #[getter]
-    fn a(&self) -> Vec<f64> {
-        self.a.clone()
+    fn a(slf: &Bound<'_, Self>) -> PyResult<Vec<f64>> {
+        Ok(borrow(slf)?.a.clone())
     }
 
     /// The integrators' state (v, v̇, …, v⁽ⁿ⁻¹⁾) now.
     #[getter]
-    fn state(&self) -> Vec<f64> {
-        let n = self.a.len();
-        match &self.inner {
+    fn state(slf: &Bound<'_, Self>) -> PyResult<Vec<f64>> {
+        let me = borrow(slf)?;
+        let n = me.a.len();
+        Ok(match &me.inner {
             Inner::Small(c) => c.state().iter().take(n).copied().collect(),
             Inner::Large(c) => c.state().iter().take(n).copied().collect(),
-        }
+        })
     }
 
     /// The reference v of the last step: the plant output the command aims at (u_new
     /// integrated n times; u_new itself for n = 0).
     #[getter]
-    fn last_reference(&self) -> f64 {
-        each!(&self.inner, c => c.last_reference())
+    fn last_reference(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&borrow(slf)?.inner, c => c.last_reference()))
     }
 
     /// The target x1 of the last step: the hysteresis input (the plant state x1 of eq. 18)
     /// that the exact inverse model gives for the reference v, x1 = ψ_in⁻¹(H⁻¹[ψ_out⁻¹(v)]).
     #[getter]
-    fn last_target(&self) -> f64 {
-        each!(&self.inner, c => c.last_target().value())
+    fn last_target(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&borrow(slf)?.inner, c => c.last_target().value()))
     }
 
     /// The command u of the last step (eq. 19): the plant input.
     #[getter]
-    fn last_command(&self) -> f64 {
-        each!(&self.inner, c => c.last_command())
+    fn last_command(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&borrow(slf)?.inner, c => c.last_command()))
     }
 
-    fn __repr__(&self) -> String {
-        format!(
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        let me = borrow(slf)?;
+        Ok(format!(
             "Compensator(order={}, b={:?}, a={:?})",
-            self.a.len(),
-            self.b,
-            self.a
-        )
+            me.a.len(),
+            me.b,
+            me.a
+        ))
     }
 }
 

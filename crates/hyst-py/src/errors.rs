@@ -1,6 +1,7 @@
 //! Rust errors as Python exceptions, with the words the CLI prints: `ValueError` for bad
 //! values and data, `OSError` (or its subclass for the cause) for files, `KeyboardInterrupt`
-//! passed through from a fit stopped by Ctrl-C.
+//! passed through from a fit stopped by Ctrl-C, and `RuntimeError` for an object used by a
+//! second thread while a call that released the GIL holds it ([`borrow`], [`borrow_mut`]).
 
 use std::fmt::Display;
 use std::io;
@@ -9,11 +10,13 @@ use std::path::Path;
 use hyst_fit::FitError;
 use hyst_io::IoError;
 use hyst_model::ModelError;
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::exceptions::{
     PyFileExistsError, PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError,
     PyValueError,
 };
-use pyo3::PyErr;
+use pyo3::prelude::*;
+use pyo3::{PyClass, PyErr};
 
 /// `ValueError(message)`.
 pub fn value_error(message: impl Display) -> PyErr {
@@ -60,4 +63,51 @@ pub fn fit(error: FitError) -> PyErr {
 /// A [`ModelError`] (reading, checking or running a model): as the same fault of a fit.
 pub fn model(error: ModelError) -> PyErr {
     fit(FitError::from(error))
+}
+
+/// A class whose objects a call holds while it releases the GIL (`process()` runs without
+/// it): what the message for a second thread that uses such an object meanwhile says (the
+/// class is named by its Python name, `PyClass::NAME`).
+pub trait Shared: PyClass<Frozen = pyo3::pyclass::boolean_struct::False> {
+    /// The call that holds the object for writing with the GIL released ("process()").
+    const WRITER: &'static str = "process()";
+    /// What one object holds and how each thread gets its own ("one Hysteresis holds one
+    /// actuator's memory, so give each thread its own object (copy.copy(op))").
+    const OWN: &'static str;
+}
+
+/// `RuntimeError` for an object of `T` that another thread holds, where `running` is the
+/// call that holds it (`None`: not known).
+fn in_use<T: Shared>(running: Option<&str>) -> PyErr {
+    let running = running.map_or_else(
+        || "another of its calls is running".to_string(),
+        |call| format!("its {call} is running"),
+    );
+    PyRuntimeError::new_err(format!(
+        "{} is in use by another thread ({running}): {}, or guard it with a threading.Lock",
+        <T as PyClass>::NAME,
+        T::OWN
+    ))
+}
+
+/// Read access to `slf`.
+///
+/// # Errors
+/// `RuntimeError` saying so when another thread's call holds it for writing (PyO3's own would
+/// be "Already mutably borrowed").
+pub fn borrow<'py, T: Shared>(slf: &Bound<'py, T>) -> PyResult<PyRef<'py, T>> {
+    slf.try_borrow().map_err(|_| in_use::<T>(Some(T::WRITER)))
+}
+
+/// Write access to `slf`.
+///
+/// # Errors
+/// `RuntimeError` saying so when another thread's call holds it (PyO3's own would be
+/// "Already borrowed"). It names the writer when the object cannot even be read (no call
+/// holds it for reading while the GIL is released).
+pub fn borrow_mut<'py, T: Shared>(slf: &Bound<'py, T>) -> PyResult<PyRefMut<'py, T>> {
+    slf.try_borrow_mut().map_err(|_| {
+        let writing = slf.try_borrow().is_err();
+        in_use::<T>(writing.then_some(T::WRITER))
+    })
 }

@@ -17,7 +17,8 @@
 //! Arrays ([`arrays`]): any 1-D array-like in; float32 stays float32 and float64 stays float64;
 //! contiguous input is read in place; results are numpy arrays that own a Rust `Vec` (no copy);
 //! the GIL is released while samples are processed. Errors ([`errors`]) are `ValueError` (or
-//! `OSError` for files) with the CLI's words; nothing here panics on user input (the workspace
+//! `OSError` for files) with the CLI's words, and `RuntimeError` saying what to do for an object
+//! that a second thread uses while a call that released the GIL holds it; nothing here panics on user input (the workspace
 //! denies `unwrap`, `expect` and `panic!`), and PyO3 would turn a panic into an exception
 //! rather than abort the interpreter.
 
@@ -35,6 +36,7 @@ pub mod errors;
 pub mod family;
 pub mod fit;
 pub mod model;
+mod model_memory;
 pub mod operator;
 mod timed;
 

@@ -14,7 +14,8 @@ use pyo3::types::PyDict;
 use crate::arrays::{
     derivatives, pair, result_array, run_into, run_jets, samples, to_numpy, Samples,
 };
-use crate::errors::{self, value_error};
+use crate::errors::{self, borrow, borrow_mut, value_error, Shared};
+use crate::model_memory;
 use crate::timed::{
     as_array_of, derivatives_from, desired_derivatives, period_of, run_compensator, timed_model,
     timed_parts, untimed, values_of, Given, Halt, Reference,
@@ -161,39 +162,17 @@ impl Model {
             fnv1a64: self.source_fnv1a64,
         }
     }
-}
 
-/// What pickling a `Model` stores: its TOML text, `inverse`, `source`, `saturate` and the
-/// source's hash (the arguments of `_model_from_toml`).
-type Pickled = (String, bool, String, bool, u64);
-
-fn first_of(xs: &Samples<'_>) -> Option<f64> {
-    match xs {
-        Samples::F64(a) => a.as_array().first().copied(),
-        Samples::F32(a) => a.as_array().first().map(|v| f64::from(*v)),
+    /// "smooth" or "prandtl-ishlinskii".
+    fn kind_name(&self) -> &'static str {
+        match self.file.kind {
+            ModelKind::Smooth => "smooth",
+            ModelKind::PrandtlIshlinskii => "prandtl-ishlinskii",
+        }
     }
-}
 
-#[pymethods]
-impl Model {
-    /// Runs the model over the samples `x` (any 1-D array-like; float32 stays float32) and
-    /// returns its outputs; with `derivatives` of shape (n, N) (N ≤ `hyst.MAX_ORDER`; a 1-D
-    /// array is the first derivative), returns `(y, dy)` with the outputs' time derivatives
-    /// (as `hyst run --model FILE --derivatives N`). The first sample ever (or after
-    /// `reset()`) starts the model by its start rule; later calls continue.
-    ///
-    /// Raises ValueError at the first sample the model refuses (NaN, infinity, a desired
-    /// output beyond a saturating shaping's range), naming its index; the model is then as it
-    /// was before the call.
-    ///
-    /// A model with dynamics or a rate term needs the record's time stamps `t` (s, one per
-    /// sample, increasing evenly: every step within 10 % of the mean, which is the sample
-    /// period) or its sample `period` (s), and runs each call as one record that starts at
-    /// rest at its first sample, as `hyst run --model FILE` runs a timed record (bit-identical
-    /// results); it takes no `derivatives` and keeps no history between calls. A static model
-    /// refuses `t` and `period`.
-    #[pyo3(signature = (x, derivatives=None, *, t=None, period=None))]
-    fn process<'py>(
+    /// `process` of a static model (`t` and `period` refused).
+    fn process_static<'py>(
         &mut self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
@@ -201,14 +180,6 @@ impl Model {
         t: Option<&Bound<'py, PyAny>>,
         period: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let t = t.filter(|t| !t.is_none());
-        let derivatives = derivatives.filter(|d| !d.is_none());
-        if let Some(m) = timed_model(&self.file) {
-            if self.inverse {
-                return Err(self.no_inverse(m));
-            }
-            return crate::timed::process(py, m, &self.source, x, derivatives, t, period);
-        }
         if let Some(name) = [(t.is_some(), "t"), (period.is_some(), "period")]
             .into_iter()
             .find_map(|(given, name)| given.then_some(name))
@@ -278,10 +249,8 @@ impl Model {
         }
     }
 
-    /// One sample (starts the model by its start rule if it has no history yet). A model with
-    /// dynamics or a rate term has no sample period here: ValueError (run its records with
-    /// `process(x, t=...)`).
-    fn step(&mut self, x: f64) -> PyResult<f64> {
+    /// `step`.
+    fn step_one(&mut self, x: f64) -> PyResult<f64> {
         use hyst_core::Operator;
         untimed(
             &self.file,
@@ -300,24 +269,39 @@ impl Model {
         }
     }
 
-    /// Forgets the history: the next sample starts the model by its start rule again.
-    fn reset(&mut self) {
-        self.evaluator = None;
+    /// `memory = memory`: restores it (None: no history, as `reset()`), or refuses it and
+    /// changes nothing.
+    fn restore(&mut self, memory: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        use hyst_core::Operator;
+        let Some(memory) = memory.filter(|m| !m.is_none()) else {
+            self.evaluator = None;
+            return Ok(());
+        };
+        untimed(
+            &self.file,
+            "Model.memory, which it does not keep: each process(x, t=...) is one record from rest",
+        )?;
+        let m = model_memory::from_python(&self.file, memory)?;
+        let refused = |e| errors::core(format!("memory = {}", model_memory::shown(memory)), e);
+        match self.evaluator.as_mut() {
+            Some(e) => e.set_memory(m).map_err(refused),
+            None => {
+                let mut e = model_memory::blank(&self.file, self.inverse, &m).map_err(|e| {
+                    value_error(format!(
+                        "memory = {}: the model {} cannot start there: {e}",
+                        model_memory::shown(memory),
+                        self.source
+                    ))
+                })?;
+                e.set_memory(m).map_err(refused)?;
+                self.evaluator = Some(Saturated::new(e, self.limits()));
+                Ok(())
+            }
+        }
     }
 
-    /// The model's exact inverse ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y_d)]) (eq. 4 inside the shaping;
-    /// PI⁻¹ for a Prandtl–Ishlinskii model): desired output in, command out. No history.
-    /// Raises ValueError for a stop-form (friction) model, which has no inverse.
-    ///
-    /// `saturate=True` (a model whose output shaping saturates: tanh, Langevin; see
-    /// `saturation`): a desired output beyond the limits is clamped to the nearer one instead of
-    /// raising ValueError, as `hyst run --inverse --saturate` does; `clamped` counts them.
-    /// ValueError for a model whose output is unbounded (nothing could need clamping).
-    ///
-    /// A model with dynamics or a rate term has no inverse without time: ValueError (its
-    /// compensator is `compensate(desired, t=..., derivatives=... or prefilter_hz=...)`).
-    #[pyo3(signature = (*, saturate=false))]
-    fn inverse(&self, saturate: bool) -> PyResult<Self> {
+    /// `inverse(saturate=...)`.
+    fn inverted(&self, saturate: bool) -> PyResult<Self> {
         if let Some(m) = timed_model(&self.file) {
             return Err(self.no_inverse(m));
         }
@@ -334,6 +318,131 @@ impl Model {
         let mut m = Self::new(self.file.clone(), true, self.source.clone());
         m.saturate = saturate;
         Ok(m)
+    }
+}
+
+impl Shared for Model {
+    const OWN: &'static str = "one Model holds one actuator's memory, so give each thread its own \
+                               object (copy.copy(model), which starts with no history)";
+}
+
+/// What pickling a `Model` stores: its TOML text, `inverse`, `source`, `saturate` and the
+/// source's hash (the arguments of `_model_from_toml`).
+type Pickled = (String, bool, String, bool, u64);
+
+fn first_of(xs: &Samples<'_>) -> Option<f64> {
+    match xs {
+        Samples::F64(a) => a.as_array().first().copied(),
+        Samples::F32(a) => a.as_array().first().map(|v| f64::from(*v)),
+    }
+}
+
+#[pymethods]
+impl Model {
+    /// Runs the model over the samples `x` (any 1-D array-like; float32 stays float32) and
+    /// returns its outputs; with `derivatives` of shape (n, N) (N ≤ `hyst.MAX_ORDER`; a 1-D
+    /// array is the first derivative), returns `(y, dy)` with the outputs' time derivatives
+    /// (as `hyst run --model FILE --derivatives N`). The first sample ever (or after
+    /// `reset()`) starts the model by its start rule; later calls continue.
+    ///
+    /// Raises ValueError at the first sample the model refuses (NaN, infinity, a desired
+    /// output beyond a saturating shaping's range), naming its index; the model is then as it
+    /// was before the call.
+    ///
+    /// A model with dynamics or a rate term needs the record's time stamps `t` (s, one per
+    /// sample, increasing evenly: every step within 10 % of the mean, which is the sample
+    /// period) or its sample `period` (s), and runs each call as one record that starts at
+    /// rest at its first sample, as `hyst run --model FILE` runs a timed record (bit-identical
+    /// results); it takes no `derivatives` and keeps no history between calls. A static model
+    /// refuses `t` and `period`.
+    #[pyo3(signature = (x, derivatives=None, *, t=None, period=None))]
+    fn process<'py>(
+        slf: &Bound<'py, Self>,
+        x: &Bound<'py, PyAny>,
+        derivatives: Option<&Bound<'py, PyAny>>,
+        t: Option<&Bound<'py, PyAny>>,
+        period: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let t = t.filter(|t| !t.is_none());
+        let derivatives = derivatives.filter(|d| !d.is_none());
+        let timed = {
+            let me = borrow(slf)?;
+            match timed_model(&me.file) {
+                Some(m) if me.inverse => return Err(me.no_inverse(m)),
+                Some(m) => Some((*m, me.source.clone())),
+                None => None,
+            }
+        };
+        if let Some((m, source)) = timed {
+            // A timed run keeps no history: the model is not held while it runs, and other
+            // threads may use it meanwhile.
+            return crate::timed::process(slf.py(), &m, &source, x, derivatives, t, period);
+        }
+        borrow_mut(slf)?.process_static(slf.py(), x, derivatives, t, period)
+    }
+
+    /// One sample (starts the model by its start rule if it has no history yet). A model with
+    /// dynamics or a rate term has no sample period here: ValueError (run its records with
+    /// `process(x, t=...)`).
+    fn step(slf: &Bound<'_, Self>, x: f64) -> PyResult<f64> {
+        borrow_mut(slf)?.step_one(x)
+    }
+
+    /// Forgets the history: the next sample starts the model by its start rule again.
+    fn reset(slf: &Bound<'_, Self>) -> PyResult<()> {
+        borrow_mut(slf)?.evaluator = None;
+        Ok(())
+    }
+
+    /// The model's memory: where it stands in its history, to save and assign back (to this
+    /// model or a copy of it: the same model file, direction and `saturate`) so that it goes
+    /// on exactly, bit for bit, as the model that had it.
+    ///
+    /// None before the first sample (and after `reset()`); assigning None forgets the history
+    /// as `reset()` does (the next sample starts the model by its start rule). A smooth model's
+    /// memory is its operator's, a `hyst.Memory` (Definition 2.1) in operator units, between
+    /// the shaping functions: of H(k1, k2) for the direct model (reversal_input, last_input:
+    /// ψ_in(x); reversal_output, last_output: H's output), of H⁻¹ for the inverse (inputs:
+    /// ψ_out⁻¹(y_d); outputs: H⁻¹'s, ψ_in of the command). A Prandtl–Ishlinskii model's is the
+    /// pair `(plays, last_output)`: a tuple of its play outputs p_1 … p_n (one per play; in
+    /// input units for the direct model, for the inverse in the units of the PI sum's output
+    /// less its offset) and the last output of its PI sum (the direct model's before its
+    /// output polynomial; the inverse's is the last command). `clamped` is a count, not part
+    /// of the memory.
+    ///
+    /// Assigning raises TypeError for an object that is not a memory of this kind of model and
+    /// ValueError for one the model cannot be in (a non-finite value, a `Memory` outside the
+    /// band |output − input| ≤ k1 or off its branch, the wrong number of play outputs),
+    /// naming it; the model is then unchanged. A model with dynamics or a rate term keeps no
+    /// memory (None; assigning one raises ValueError). Pickling and `copy.copy` keep the model,
+    /// not its memory: a copy starts with no history (assign `copy.memory = model.memory`).
+    #[getter]
+    fn get_memory<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        use hyst_core::Operator;
+        let me = borrow(slf)?;
+        let memory = me.evaluator.as_ref().map(Operator::memory);
+        model_memory::to_python(slf.py(), &me.file, memory)
+    }
+
+    #[setter]
+    fn set_memory(slf: &Bound<'_, Self>, memory: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        borrow_mut(slf)?.restore(memory)
+    }
+
+    /// The model's exact inverse ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y_d)]) (eq. 4 inside the shaping;
+    /// PI⁻¹ for a Prandtl–Ishlinskii model): desired output in, command out. No history.
+    /// Raises ValueError for a stop-form (friction) model, which has no inverse.
+    ///
+    /// `saturate=True` (a model whose output shaping saturates: tanh, Langevin; see
+    /// `saturation`): a desired output beyond the limits is clamped to the nearer one instead of
+    /// raising ValueError, as `hyst run --inverse --saturate` does; `clamped` counts them.
+    /// ValueError for a model whose output is unbounded (nothing could need clamping).
+    ///
+    /// A model with dynamics or a rate term has no inverse without time: ValueError (its
+    /// compensator is `compensate(desired, t=..., derivatives=... or prefilter_hz=...)`).
+    #[pyo3(signature = (*, saturate=false))]
+    fn inverse(slf: &Bound<'_, Self>, saturate: bool) -> PyResult<Self> {
+        borrow(slf)?.inverted(saturate)
     }
 
     /// Lemma 5.1's compensator of a model with dynamics (and no rate term, of the operator
@@ -353,22 +462,27 @@ impl Model {
     /// model cannot give, naming its index. Each call is one record, started at rest.
     #[pyo3(signature = (desired, *, t=None, period=None, derivatives=None, prefilter_hz=None))]
     fn compensate<'py>(
-        &self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         desired: &Bound<'py, PyAny>,
         t: Option<&Bound<'py, PyAny>>,
         period: Option<f64>,
         derivatives: Option<&Bound<'py, PyAny>>,
         prefilter_hz: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let smooth = match (&self.file.smooth, self.file.kind) {
-            (Some(m), ModelKind::Smooth) => *m,
-            _ => {
-                return Err(value_error(format!(
-                    "the model {} is a Prandtl-Ishlinskii model: it has no dynamics, and its \
-                     compensator is the exact inverse (inverse())",
-                    self.source
-                )))
+        let py = slf.py();
+        // What the run needs, copied: the model is not held while it runs (it keeps no
+        // history), and other threads may use it meanwhile.
+        let (smooth, source) = {
+            let me = borrow(slf)?;
+            match (&me.file.smooth, me.file.kind) {
+                (Some(m), ModelKind::Smooth) => (*m, me.source.clone()),
+                _ => {
+                    return Err(value_error(format!(
+                        "the model {} is a Prandtl-Ishlinskii model: it has no dynamics, and \
+                         its compensator is the exact inverse (inverse())",
+                        me.source
+                    )))
+                }
             }
         };
         TimedCompensator::check(&smooth).map_err(errors::model)?;
@@ -377,10 +491,7 @@ impl Model {
         let derivatives = derivatives.filter(|d| !d.is_none());
         let (desired, f32) = values_of(desired, "desired")?;
         let given = derivatives_from(derivatives, prefilter_hz, order)?;
-        let what = format!(
-            "the compensator of the model {} (dynamics of order {order})",
-            self.source
-        );
+        let what = format!("the compensator of the model {source} (dynamics of order {order})");
         let Some(h) = period_of(t, period, desired.len(), &what)? else {
             return Ok(as_array_of(py, desired, f32));
         };
@@ -411,11 +522,12 @@ impl Model {
     /// "identified": […]} (the last two when the fit recorded them); None for a model without
     /// dynamics.
     #[getter]
-    fn dynamics<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        let Some(d) = self.file.smooth.as_ref().and_then(|m| m.dynamics) else {
+    fn dynamics<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        let Some(d) = me.file.smooth.as_ref().and_then(|m| m.dynamics) else {
             return Ok(None);
         };
-        match &self.file.dynamics {
+        match &me.file.dynamics {
             Some(section) => to_python(py, section).map(Some),
             None => {
                 let out = PyDict::new(py);
@@ -429,11 +541,12 @@ impl Model {
     /// The rate term c·v̇ added to the output, as the model file's `[rate]` section:
     /// {"c": c, "c_std_error": …}; None for a model without one.
     #[getter]
-    fn rate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        let Some(r) = self.file.smooth.as_ref().and_then(|m| m.rate) else {
+    fn rate<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        let Some(r) = me.file.smooth.as_ref().and_then(|m| m.rate) else {
             return Ok(None);
         };
-        match &self.file.rate {
+        match &me.file.rate {
             Some(section) => to_python(py, section).map(Some),
             None => {
                 let out = PyDict::new(py);
@@ -449,8 +562,9 @@ impl Model {
     /// {"shaping": "tanh", "range": (lo, hi), "limits": (lo, hi)}; None for a model whose
     /// output is unbounded.
     #[getter]
-    fn saturation<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let Some(s) = self.file.saturation() else {
+    fn saturation<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        let Some(s) = me.file.saturation() else {
             return Ok(None);
         };
         let d = PyDict::new(py);
@@ -462,89 +576,95 @@ impl Model {
 
     /// Whether this inverse clamps desired outputs (`inverse(saturate=True)`).
     #[getter]
-    fn saturate(&self) -> bool {
-        self.saturate
+    fn saturate(slf: &Bound<'_, Self>) -> PyResult<bool> {
+        Ok(borrow(slf)?.saturate)
     }
 
     /// How many desired outputs were clamped since the model was made or `reset()` (0 unless
     /// it is an inverse with `saturate=True`).
     #[getter]
-    fn clamped(&self) -> u64 {
-        self.evaluator.as_ref().map_or(0, |e| e.clamped)
+    fn clamped(slf: &Bound<'_, Self>) -> PyResult<u64> {
+        let me = borrow(slf)?;
+        Ok(me.evaluator.as_ref().map_or(0, |e| e.clamped))
     }
 
     /// The direct model ψ_out(H[ψ_in(x)]), with no history.
-    fn direct(&self) -> Self {
-        Self::new(self.file.clone(), false, self.source.clone())
+    fn direct(slf: &Bound<'_, Self>) -> PyResult<Self> {
+        let me = borrow(slf)?;
+        Ok(Self::new(me.file.clone(), false, me.source.clone()))
     }
 
     /// Whether this is the exact inverse (from `inverse()`).
     #[getter]
-    fn is_inverse(&self) -> bool {
-        self.inverse
+    fn is_inverse(slf: &Bound<'_, Self>) -> PyResult<bool> {
+        Ok(borrow(slf)?.inverse)
     }
 
     /// "smooth" or "prandtl-ishlinskii".
     #[getter]
-    fn kind(&self) -> &'static str {
-        match self.file.kind {
-            ModelKind::Smooth => "smooth",
-            ModelKind::PrandtlIshlinskii => "prandtl-ishlinskii",
-        }
+    fn kind(slf: &Bound<'_, Self>) -> PyResult<&'static str> {
+        Ok(borrow(slf)?.kind_name())
     }
 
     /// The fitted parameters by name ("k1", "k2", "out.gain", …), in the units of `units`.
     #[getter]
-    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        by_parameter(py, &self.file, |e| e.value)
+    fn params<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        by_parameter(py, &me.file, |e| e.value)
     }
 
     /// The parameters' standard errors by name (NaN where the data do not identify one).
     #[getter]
-    fn stderr<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        by_parameter(py, &self.file, |e| e.std_error)
+    fn stderr<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        by_parameter(py, &me.file, |e| e.std_error)
     }
 
     /// The parameters' units by name.
     #[getter]
-    fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        by_parameter(py, &self.file, |e| e.unit.clone())
+    fn units<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        by_parameter(py, &me.file, |e| e.unit.clone())
     }
 
     /// The data columns the model was fitted on, with their units: {"input", "output",
     /// "input_unit", "output_unit", …}.
     #[getter]
-    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let d = to_python(py, &self.file.columns)?;
-        d.set_item("input_unit", &self.file.units.input)?;
-        d.set_item("output_unit", &self.file.units.output)?;
+    fn columns<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        let d = to_python(py, &me.file.columns)?;
+        d.set_item("input_unit", &me.file.units.input)?;
+        d.set_item("output_unit", &me.file.units.output)?;
         Ok(d)
     }
 
     /// The fit's error statistics ({"training": {...}, "validation": {...} or None, …}).
     #[getter]
-    fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        to_python(py, &self.file.metrics)
+    fn metrics<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        to_python(py, &me.file.metrics)
     }
 
     /// The family RH(k1, Δk1, k2, Δk2) that reproduces the data (Definition 2.8) with its
     /// bound, as a dict; None when the model has none or the family does not reach the
     /// coverage asked.
     #[getter]
-    fn family<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        reached(&self.file).map(|w| to_python(py, w)).transpose()
+    fn family<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        reached(&me.file).map(|w| to_python(py, w)).transpose()
     }
 
     /// Δa of the family (Proposition 3.2; operator units), None when there is no reached
     /// family.
     #[getter]
-    fn delta_a(&self) -> Option<f64> {
-        reached(&self.file).and_then(|w| w.delta_a)
+    fn delta_a(slf: &Bound<'_, Self>) -> PyResult<Option<f64>> {
+        let me = borrow(slf)?;
+        Ok(reached(&me.file).and_then(|w| w.delta_a))
     }
 
     /// The model file's text (TOML, docs/formats.md).
-    fn to_toml(&self) -> PyResult<String> {
-        self.file.to_toml().map_err(errors::model)
+    fn to_toml(slf: &Bound<'_, Self>) -> PyResult<String> {
+        borrow(slf)?.file.to_toml().map_err(errors::model)
     }
 
     /// The model as one header-only C99 file over `hyst.h` whose identifiers all start with
@@ -557,9 +677,10 @@ impl Model {
     /// clashes with hyst.h's, and for a model the firmware cannot run (Prandtl–Ishlinskii, a
     /// rate term, a stop form with dynamics without `period`).
     #[pyo3(signature = (name, *, period=None))]
-    fn export_c(&self, name: &str, period: Option<f64>) -> PyResult<String> {
+    fn export_c(slf: &Bound<'_, Self>, name: &str, period: Option<f64>) -> PyResult<String> {
+        let me = borrow(slf)?;
         let options = hyst_model::export::Options { period };
-        hyst_model::export::c_with(&self.file, name, &self.export_source(), &options)
+        hyst_model::export::c_with(&me.file, name, &me.export_source(), &options)
             .map_err(errors::model)
     }
 
@@ -570,25 +691,26 @@ impl Model {
     /// identifier, and for a model the export cannot run (a rate term, a stop form with
     /// dynamics without `period`).
     #[pyo3(signature = (name, *, period=None))]
-    fn export_rust(&self, name: &str, period: Option<f64>) -> PyResult<String> {
+    fn export_rust(slf: &Bound<'_, Self>, name: &str, period: Option<f64>) -> PyResult<String> {
+        let me = borrow(slf)?;
         let options = hyst_model::export::Options { period };
-        hyst_model::export::rust_with(&self.file, name, &self.export_source(), &options)
+        hyst_model::export::rust_with(&me.file, name, &me.export_source(), &options)
             .map_err(errors::model)
     }
 
     /// Writes the model file to `path` (atomically: a failed write leaves no partial file and
     /// an existing file untouched). Raises OSError when it cannot be written.
-    fn save(&self, path: PathBuf) -> PyResult<()> {
-        hyst_fit::file::write(&self.file, &path).map_err(errors::fit)
+    fn save(slf: &Bound<'_, Self>, path: PathBuf) -> PyResult<()> {
+        hyst_fit::file::write(&borrow(slf)?.file, &path).map_err(errors::fit)
     }
 
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Pickled)> {
-        let me = slf.borrow();
+        let me = borrow(slf)?;
         let restore = slf.py().import("hyst._hyst")?.getattr("_model_from_toml")?;
         Ok((
             restore,
             (
-                me.to_toml()?,
+                me.file.to_toml().map_err(errors::model)?,
                 me.inverse,
                 me.source.clone(),
                 me.saturate,
@@ -597,17 +719,18 @@ impl Model {
         ))
     }
 
-    fn __repr__(&self) -> String {
-        format!(
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        let me = borrow(slf)?;
+        Ok(format!(
             "Model(kind={:?}, source={:?}{})",
-            self.kind(),
-            self.source,
-            match (self.inverse, self.saturate) {
+            me.kind_name(),
+            me.source,
+            match (me.inverse, me.saturate) {
                 (true, true) => ", inverse, saturate",
                 (true, false) => ", inverse",
                 _ => "",
             }
-        )
+        ))
     }
 }
 

@@ -14,7 +14,7 @@ use pyo3::types::{PyDict, PyType};
 use crate::arrays::{
     derivatives, pair, result_array, run_into, run_jets, samples, samples_f64, Samples,
 };
-use crate::errors::{core, value_error};
+use crate::errors::{borrow, borrow_mut, core, value_error, Shared};
 
 /// The arithmetic of an operator: float64 (default) or float32 (as on a microcontroller's FPU;
 /// the same results as the C API's float twins, `hyst_operator_init_direct_f32` and the other
@@ -414,6 +414,14 @@ impl Memory {
 /// The Python surface shared by `Hysteresis` and `InverseHysteresis`.
 macro_rules! operator_class {
     ($name:ident, $formula:ty, $other:ident, $flip:ident, $flip_doc:literal, $what:literal) => {
+        impl Shared for $name {
+            const OWN: &'static str = concat!(
+                "one ",
+                $what,
+                " holds one actuator's memory, so give each thread its own object (copy.copy(op))"
+            );
+        }
+
         #[pymethods]
         impl $name {
             #[new]
@@ -427,20 +435,20 @@ macro_rules! operator_class {
             /// k1 > 0: the half-width of the loop (the asymptotes are u = v ∓ k1), in the
             /// output units of the direct operator H.
             #[getter]
-            fn k1(&self) -> f64 {
-                self.engine.k1()
+            fn k1(slf: &Bound<'_, Self>) -> PyResult<f64> {
+                Ok(borrow(slf)?.engine.k1())
             }
 
             /// k2 > 0: the rate of the transition to the asymptotes, in 1 / (input units of H).
             #[getter]
-            fn k2(&self) -> f64 {
-                self.engine.k2()
+            fn k2(slf: &Bound<'_, Self>) -> PyResult<f64> {
+                Ok(borrow(slf)?.engine.k2())
             }
 
             /// The arithmetic: "float64" or "float32".
             #[getter]
-            fn dtype(&self) -> &'static str {
-                self.engine.precision().name()
+            fn dtype(slf: &Bound<'_, Self>) -> PyResult<&'static str> {
+                Ok(borrow(slf)?.engine.precision().name())
             }
 
             /// Processes the samples `x` (any 1-D array-like) in order and returns the outputs
@@ -461,67 +469,82 @@ macro_rules! operator_class {
             /// partial results). Ctrl-C stops a long call with KeyboardInterrupt, likewise.
             #[pyo3(signature = (x, derivatives=None, *, out=None))]
             fn process<'py>(
-                &mut self,
-                py: Python<'py>,
+                slf: &Bound<'py, Self>,
                 x: &Bound<'py, PyAny>,
                 derivatives: Option<&Bound<'py, PyAny>>,
                 out: Option<&Bound<'py, PyAny>>,
             ) -> PyResult<Bound<'py, PyAny>> {
-                self.engine.process(py, x, derivatives, out)
+                borrow_mut(slf)?
+                    .engine
+                    .process(slf.py(), x, derivatives, out)
             }
 
             /// One sample: returns the output as a float. Raises ValueError for NaN or
             /// infinity (the memory is unchanged).
-            fn step(&mut self, x: f64) -> PyResult<f64> {
-                self.engine.step(x)
+            fn step(slf: &Bound<'_, Self>, x: f64) -> PyResult<f64> {
+                borrow_mut(slf)?.engine.step(x)
             }
 
             /// Forgets the history: the next sample starts on the line output = input.
-            fn reset(&mut self) {
-                self.engine.reset();
+            fn reset(slf: &Bound<'_, Self>) -> PyResult<()> {
+                borrow_mut(slf)?.engine.reset();
+                Ok(())
             }
 
             /// The memory of Definition 2.1 (a `Memory`, or None before the first sample).
             /// Assign a saved one to resume exactly where it was (checked against the band
             /// |output − input| ≤ k1; ValueError otherwise, and nothing changes).
             #[getter]
-            fn get_memory(&self) -> Option<Memory> {
-                self.engine.memory()
+            fn get_memory(slf: &Bound<'_, Self>) -> PyResult<Option<Memory>> {
+                Ok(borrow(slf)?.engine.memory())
             }
 
             #[setter]
-            fn set_memory(&mut self, memory: Option<PyRef<'_, Memory>>) -> PyResult<()> {
-                self.engine.set_memory(memory.as_deref())
+            fn set_memory(
+                slf: &Bound<'_, Self>,
+                memory: Option<PyRef<'_, Memory>>,
+            ) -> PyResult<()> {
+                borrow_mut(slf)?.engine.set_memory(memory.as_deref())
             }
 
             #[doc = $flip_doc]
-            fn $flip(&self) -> $other {
-                $other {
-                    engine: self.engine.$flip(),
-                }
+            fn $flip(slf: &Bound<'_, Self>) -> PyResult<$other> {
+                Ok($other {
+                    engine: borrow(slf)?.engine.$flip(),
+                })
             }
 
             fn __reduce__<'py>(
                 slf: &Bound<'py, Self>,
             ) -> PyResult<(Bound<'py, PyType>, (f64, f64, &'static str), Option<Memory>)> {
-                let me = slf.borrow();
+                let me = borrow(slf)?;
+                let e = &me.engine;
                 Ok((
                     slf.get_type(),
-                    (me.k1(), me.k2(), me.dtype()),
-                    me.engine.memory(),
+                    (e.k1(), e.k2(), e.precision().name()),
+                    e.memory(),
                 ))
             }
 
-            fn __setstate__(&mut self, state: Option<PyRef<'_, Memory>>) -> PyResult<()> {
-                self.engine.set_memory(state.as_deref())
+            fn __setstate__(
+                slf: &Bound<'_, Self>,
+                state: Option<PyRef<'_, Memory>>,
+            ) -> PyResult<()> {
+                borrow_mut(slf)?.engine.set_memory(state.as_deref())
             }
 
-            fn __repr__(&self) -> String {
-                let dtype = match self.engine.precision() {
+            fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+                let e = &borrow(slf)?.engine;
+                let dtype = match e.precision() {
                     Precision::F64 => String::new(),
                     Precision::F32 => ", dtype='float32'".into(),
                 };
-                format!("{}(k1={:?}, k2={:?}{dtype})", $what, self.k1(), self.k2())
+                Ok(format!(
+                    "{}(k1={:?}, k2={:?}{dtype})",
+                    $what,
+                    e.k1(),
+                    e.k2()
+                ))
             }
         }
     };
