@@ -13,6 +13,11 @@ worker process is right). Records travel to the workers as arrays and models com
 model-file text, so the workers need no shared file system. Any extra `--option value` pairs
 after `--` are passed to `hyst.fit` (e.g. `-- --output_shaping poly2 --k2 affine`).
 
+A record that fails (a file that cannot be read, a missing column, a value that is not a number,
+an error of its fit, a task lost with its worker) does not stop the others: its row of
+summary.csv holds the error message, the message goes to standard error too, and the script
+exits with status 1 once every record has been tried.
+
 Synthetic actuators: y = gain * H(k1, k2)[x] + offset + noise, the input x spanning [-1, 1]
 exactly (so the fit's normalised input units are the truth's units) and starting without history (the fit's
 `initial_state="line"`). The summary then holds each true value and its z-score
@@ -20,6 +25,7 @@ exactly (so the fit's normalised input units are the truth's units) and starting
 """
 
 import argparse
+import asyncio
 import csv
 import json
 import sys
@@ -58,14 +64,42 @@ def synthetic_record(seed: int, samples: int, noise: float) -> Tuple[Any, Any, D
     return x, y, truth
 
 
+def read_record(path: Path, input_column: str, output_column: str) -> Tuple[Any, Any]:
+    """(x, y) of one CSV record. Raises OSError for a file that cannot be read and ValueError
+    naming the file for a missing column or a value that is not a number."""
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        raise ValueError(f"{path}: no data rows")
+    for col in (input_column, output_column):
+        if col not in rows[0]:
+            raise ValueError(f"{path}: no column {col!r} (columns: {', '.join(rows[0])})")
+    try:
+        x = np.array([float(r[input_column]) for r in rows])
+        y = np.array([float(r[output_column]) for r in rows])
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"{path}: {e}") from e
+    return x, y
+
+
+def error_row(name: str, error: BaseException) -> Tuple[Dict[str, Any], Optional[str]]:
+    """The summary row of a record that could not be fitted (no model file)."""
+    message = str(error) or type(error).__name__
+    if not isinstance(error, ValueError):  # say what kind of failure it was
+        message = f"{type(error).__name__}: {message}"
+    return {"record": name, "error": message}, None
+
+
 def fit_one(name: str, x: Any, y: Any, options: Dict[str, Any]) -> Tuple[Dict[str, Any], Optional[str]]:
-    """Runs on a worker: fits one record, returns the summary row and the model file text."""
+    """Runs on a worker: fits one record, returns the summary row and the model file text. Any
+    error of this record (the model cannot represent it, a bad option) is its row's `error`,
+    not the batch's."""
     import hyst
 
     try:
         r = hyst.fit(x, y, **options)
-    except ValueError as e:  # a record the model cannot represent: reported, not fatal
-        return {"record": name, "error": str(e)}, None
+    except Exception as e:  # reported in the summary, not fatal to the other records
+        return error_row(name, e)
     row: Dict[str, Any] = {"record": name, "rms": r.rms, "rms_percent": r.rms_percent, "delta_a": r.delta_a}
     for p, v in r.params.items():
         row[p] = v
@@ -99,6 +133,22 @@ def parse_extra(pairs: List[str]) -> Dict[str, Any]:
         except json.JSONDecodeError:
             options[key[2:].replace("-", "_")] = value
     return options
+
+
+def gather(tasks: List[Any], names: List[str]) -> List[Tuple[Dict[str, Any], Optional[str]]]:
+    """The results in the order of the records: a task's result, or the error row already made
+    for a record that was never sent. A task that failed on its worker (a lost worker, a
+    cancelled task) becomes its record's error row instead of stopping the others."""
+    results = []
+    for name, task in zip(names, tasks):
+        if isinstance(task, tuple):
+            results.append(task)
+            continue
+        try:
+            results.append(task.result())
+        except (Exception, asyncio.CancelledError) as e:
+            results.append(error_row(name, e))
+    return results
 
 
 def main(argv: Optional[List[str]] = None) -> int:
@@ -135,22 +185,22 @@ def main(argv: Optional[List[str]] = None) -> int:
     try:
         if args.synthetic:
             options.setdefault("initial_state", "line")
-            futures = [
+            names = [f"synthetic-{seed:04d}" for seed in range(args.synthetic)]
+            tasks: List[Any] = [
                 client.submit(fit_synthetic, seed, args.samples, args.noise, options, pure=False)
                 for seed in range(args.synthetic)
             ]
         else:
-            futures = []
+            names, tasks = [], []  # a task: a future, or the error row of a file not sent
             for path in args.records:
-                with open(path, newline="") as f:
-                    rows = list(csv.DictReader(f))
-                for col in (args.input, args.output):
-                    if rows and col not in rows[0]:
-                        raise SystemExit(f"{path}: no column {col!r} (columns: {', '.join(rows[0])})")
-                x = np.array([float(r[args.input]) for r in rows])
-                y = np.array([float(r[args.output]) for r in rows])
-                futures.append(client.submit(fit_one, path.stem, x, y, options, pure=False))
-        results = client.gather(futures)
+                names.append(path.stem)
+                try:
+                    x, y = read_record(path, args.input, args.output)
+                except (OSError, ValueError) as e:  # this file's failure, not the batch's
+                    tasks.append(error_row(path.stem, e))
+                    continue
+                tasks.append(client.submit(fit_one, path.stem, x, y, options, pure=False))
+        results = gather(tasks, names)
     finally:
         client.close()
         if cluster is not None:

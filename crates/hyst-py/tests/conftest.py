@@ -64,6 +64,13 @@ def read_csv(path):
     return {n: data[:, i] for i, n in enumerate(names)}
 
 
+def computed(path, k=1):
+    """The k-th last column of a CSV written by `hyst run`: its computed columns come after
+    every column of its input (docs/formats.md), the last one first."""
+    table = read_csv(path)
+    return table[list(table)[-k]]
+
+
 def interrupted(call):
     """Runs `call()` with a SIGINT 50 ms in (a run long enough to be interrupted) and checks
     that it raises KeyboardInterrupt."""

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import hyst
-from conftest import read_csv
+from conftest import computed
 
 H = 1e-3  # sample period (s)
 N = 4000  # samples
@@ -99,7 +99,7 @@ def test_process_is_hyst_run(fitted, record, cli, tmp_path):
     data = write_csv(tmp_path / "x.csv", {"t": t, "x": x})
     out = tmp_path / "y.csv"
     cli("run", "--model", path, data, "-o", out)
-    expected = read_csv(out)["y"]
+    expected = computed(out)
     y = fitted.model.process(x, t=t)
     assert y.dtype == np.float64 and np.array_equal(y, expected)
     # The period itself gives the same; so do the loaded and the unpickled model; each call is
@@ -131,7 +131,7 @@ def test_compensate_is_hyst_run_inverse(fitted, record, cli, tmp_path):
     out = tmp_path / "u.csv"
     cli("run", "--model", path, "--inverse", given, "-o", out)
     command = m.compensate(desired, t=t, derivatives=d1)
-    assert np.array_equal(command, read_csv(out)["y"])
+    assert np.array_equal(command, computed(out))
     assert np.array_equal(m.compensate(desired, t=t, derivatives=d1[:, None]), command)
     # The command makes the model give the desired output, to the discretisation's accuracy.
     assert np.max(np.abs(m.process(command, t=t) - desired)) < 2e-4 * np.ptp(desired)
@@ -140,7 +140,7 @@ def test_compensate_is_hyst_run_inverse(fitted, record, cli, tmp_path):
     out = tmp_path / "uf.csv"
     cli("run", "--model", path, "--inverse", "--prefilter-hz", "20", plain, "-o", out)
     filtered = m.compensate(desired, t=t, prefilter_hz=20.0)
-    assert np.array_equal(filtered, read_csv(out)["y"])
+    assert np.array_equal(filtered, computed(out, 2))  # then y_filtered
     assert np.array_equal(m.compensate(desired, period=1e-3, prefilter_hz=20.0), filtered)
 
 
@@ -155,7 +155,7 @@ def test_rate_term(record, cli, tmp_path):
     m.save(path)
     out = tmp_path / "y.csv"
     cli("run", "--model", path, write_csv(tmp_path / "x.csv", {"t": t, "x": x}), "-o", out)
-    assert np.array_equal(m.process(x, t=t), read_csv(out)["y"])
+    assert np.array_equal(m.process(x, t=t), computed(out))
     # Its output depends on the rate of the command: no compensator.
     with pytest.raises(ValueError, match="rate term has no inverse"):
         m.compensate(y_rate, t=t, prefilter_hz=5.0)

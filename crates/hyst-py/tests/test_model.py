@@ -1,12 +1,13 @@
 """hyst.load_model / hyst.Model: the CLI's model file, bit-identical to `hyst run --model`."""
 
+import copy
 import pickle
 
 import numpy as np
 import pytest
 
 import hyst
-from conftest import read_csv
+from conftest import computed
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +30,7 @@ def test_bit_identical_to_hyst_run(cli, models, piezo, piezo_path, tmp_path, kin
     out = tmp_path / "out.csv"
     flags = ["--inverse"] if inverse else []
     cli("run", "--model", models[kind], *flags, piezo_path, "-o", out)
-    ref = read_csv(out)["y"]
+    ref = computed(out)
     m = hyst.load_model(models[kind])
     if inverse:
         m = m.inverse()
@@ -54,9 +55,9 @@ def test_derivatives_bit_identical(cli, models, tmp_path):
         for a, b in zip(x, d1):
             f.write(f"{float(a)!r},{float(b)!r}\n")
     cli("run", "--model", models["smooth"], "--column", "x", "--derivatives", 1, path, "-o", tmp_path / "o.csv")
-    ref = read_csv(tmp_path / "o.csv")
     y, dy = hyst.load_model(models["smooth"]).process(x, derivatives=d1)
-    assert np.array_equal(y, ref["y"]) and np.array_equal(dy, ref["y_d1"])
+    out = tmp_path / "o.csv"
+    assert np.array_equal(y, computed(out, 2)) and np.array_equal(dy, computed(out))
 
 
 def test_properties_save_and_pickle(models, piezo, tmp_path):
@@ -128,7 +129,7 @@ def test_saturating_inverse_clamps_as_hyst_run_saturate(cli, models, piezo_path,
     with open(path, "w") as f:
         f.write("y\n" + "".join(f"{float(v)!r}\n" for v in desired))
     cli("run", "--model", tanh, "--inverse", "--saturate", "--column", "y", path, "-o", tmp_path / "o.csv")
-    ref = read_csv(tmp_path / "o.csv")["y"]
+    ref = computed(tmp_path / "o.csv", 2)  # then y_saturated
     inverse = m.inverse(saturate=True)
     assert inverse.saturate and inverse.clamped == 0 and not m.saturate
     assert not hasattr(inverse, "saturates")
@@ -148,3 +149,121 @@ def test_saturating_inverse_clamps_as_hyst_run_saturate(cli, models, piezo_path,
     assert affine.saturation is None
     with pytest.raises(ValueError, match="unbounded"):
         affine.inverse(saturate=True)
+
+
+@pytest.mark.parametrize("kind", ["smooth", "pi"])
+@pytest.mark.parametrize("inverse", [False, True])
+def test_memory_round_trip(models, piezo, kind, inverse):
+    """Model.memory after N samples, assigned to a fresh copy: the copy goes on exactly as the
+    model that had it; None before the first sample and after reset()."""
+    u, y = piezo
+    m = hyst.load_model(models[kind])
+    if inverse:
+        m = m.inverse()
+    x = y if inverse else u
+    assert m.memory is None
+    whole = m.process(x)
+    m.reset()
+    assert m.memory is None
+    k = 1234
+    first = m.process(x[:k])
+    saved = m.memory
+    if kind == "smooth":
+        assert isinstance(saved, hyst.Memory)
+    else:
+        plays, last = saved
+        assert isinstance(plays, tuple) and len(plays) > 1 and isinstance(last, float)
+        assert all(isinstance(p, float) for p in plays)
+    fresh = copy.copy(m)  # the model without its history
+    assert fresh.memory is None and fresh.is_inverse == inverse
+    fresh.memory = saved
+    assert fresh.memory == saved
+    assert np.array_equal(np.concatenate([first, fresh.process(x[k:])]), whole)
+    # Onto a model that has run elsewhere, and after pickling the memory: the same.
+    other = copy.copy(m)
+    other.process(x[::-1][:50])
+    other.memory = pickle.loads(pickle.dumps(saved))
+    assert np.array_equal(np.array([other.step(v) for v in x[k : k + 300]]), whole[k : k + 300])
+    # None forgets the history, as reset() does: the start rule again.
+    other.memory = None
+    assert other.memory is None
+    assert np.array_equal(other.process(x), whole)
+    # The model itself was not touched by its copies.
+    assert m.memory == saved
+
+
+def test_memory_of_a_saturating_inverse_keeps_clamping(piezo):
+    u, y = piezo
+    m = hyst.fit(u, y, output_shaping="tanh").model
+    lo, hi = m.saturation["range"]
+    desired = 0.5 * (lo + hi) + 0.6 * (hi - lo) * np.sin(np.linspace(0.0, 6.0, 900))
+    inverse = m.inverse(saturate=True)
+    whole = inverse.process(desired)
+    inverse.reset()
+    first = inverse.process(desired[:400])
+    fresh = copy.copy(inverse)
+    fresh.memory = inverse.memory
+    assert np.array_equal(np.concatenate([first, fresh.process(desired[400:])]), whole)
+    assert fresh.clamped + inverse.clamped == int(np.sum((desired < m.saturation["limits"][0]) | (desired > m.saturation["limits"][1])))
+
+
+def test_bad_memory_is_refused(models, piezo):
+    """A memory the model cannot be in raises ValueError naming it; a memory of the other kind
+    of model, TypeError; the model is then unchanged."""
+    u, _ = piezo
+    m = hyst.load_model(models["smooth"])
+    m.process(u[:100])
+    kept = m.memory
+    k1 = m.params["k1"]
+    for bad in (hyst.Memory(0.0, 10.0 * k1), hyst.Memory(1e300, 1e300, "rising", last_input=0.4, last_output=0.3)):
+        with pytest.raises(ValueError, match=r"memory = Memory\(reversal_input="):
+            m.memory = bad
+        assert m.memory == kept
+    with pytest.raises(TypeError, match=r"memory = \(\(0\.1,\), 0\.2\): a smooth model's memory is a hyst\.Memory"):
+        m.memory = ((0.1,), 0.2)
+    for odd in ("text", 1.0, object(), [1.0, 2.0]):
+        with pytest.raises(TypeError, match="memory = "):
+            m.memory = odd
+    assert m.memory == kept
+    fresh = copy.copy(m)
+    with pytest.raises(ValueError, match="memory = Memory"):
+        fresh.memory = hyst.Memory(0.0, 10.0 * k1)
+    assert fresh.memory is None  # a model that had not started has still not
+
+    pi = hyst.load_model(models["pi"])
+    pi.process(u[:100])
+    plays, last = kept_pi = pi.memory
+    n = len(plays)
+    with pytest.raises(ValueError, match=rf"memory = .*: {n + 1} play outputs for a model of {n} plays"):
+        pi.memory = ((0.0,) * (n + 1), 0.0)
+    with pytest.raises(ValueError, match=r"memory = .*: invalid parameter play output = NaN"):
+        pi.memory = ((float("nan"),) + plays[1:], last)
+    with pytest.raises(ValueError, match=r"memory = .*: invalid parameter last output = inf"):
+        pi.memory = (plays, float("inf"))
+    with pytest.raises(TypeError, match=r"Prandtl-Ishlinskii model's memory is \(plays, last_output\)"):
+        pi.memory = kept
+    assert pi.memory == kept_pi
+    pi.memory = (np.array(plays), last)  # any sequence of floats
+    assert pi.memory == kept_pi
+    # Odd objects: TypeError or ValueError, never a panic, and nothing changes.
+    odd = [None, "text", b"bytes", 1 + 2j, (plays, None), (plays, "x"), ([None] * n, 0.0), ((), 0.0),
+           (np.array(["a"] * n), 0.0), ((1e308,) * n, -1e308), ((5e-324,) * n, 0.0), (plays, last, 0.0),
+           hyst.Memory(1e308, -1e308), np.zeros(n + 1)]
+    for model in (m, pi, copy.copy(m), copy.copy(pi), m.inverse(), pi.inverse()):
+        for x in odd:
+            before = model.memory
+            try:
+                model.memory = x
+            except (TypeError, ValueError) as e:
+                assert str(e) and model.memory == before
+
+
+def test_a_timed_model_keeps_no_memory(root):
+    text = (root / "crates" / "hyst-model" / "testdata" / "static-model.toml").read_text()
+    timed = text.replace("version = 1", "version = 4").replace("[provenance]", "[dynamics]\nb = 1.0\na = [0.05]\n\n[provenance]")
+    m = hyst._hyst._model_from_toml(timed)
+    m.process(np.linspace(0.0, 1.0, 50), period=1e-3)
+    assert m.memory is None
+    with pytest.raises(ValueError, match=r"dynamics of order 1.*Model\.memory"):
+        m.memory = hyst.Memory(0.0, 0.0)
+    m.memory = None

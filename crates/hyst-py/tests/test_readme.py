@@ -5,7 +5,7 @@ import re
 
 import numpy as np
 
-from conftest import ROOT, read_csv
+from conftest import ROOT, computed
 
 README = ROOT / "README.md"
 
@@ -32,4 +32,4 @@ def test_readme_python_block_runs(cli, piezo_path, tmp_path, monkeypatch):
     path = tmp_path / "desired.csv"
     path.write_text("y_capsensor_um\n" + "".join(f"{float(v)!r}\n" for v in desired))
     cli("run", "--model", tmp_path / "piezo.toml", "--inverse", path, "-o", tmp_path / "cmd.csv")
-    assert np.array_equal(command, read_csv(tmp_path / "cmd.csv")["y"])
+    assert np.array_equal(command, computed(tmp_path / "cmd.csv"))

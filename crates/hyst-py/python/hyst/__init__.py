@@ -13,7 +13,8 @@ command line, the C API and the FMU), so results are bit-identical across them.
 >>> bool(np.max(np.abs(back - v)) < 1e-12)
 True
 
-See docs/python.md for the guide.
+``hyst.control.iosys(obj, dt)`` makes an operator or a fitted model a python-control system
+(the optional dependency ``pip install "hyst[control]"``). See docs/python.md for the guide.
 """
 
 from ._hyst import (
@@ -30,6 +31,7 @@ from ._hyst import (
     fit,
     load_model,
 )
+from . import control as control  # needs python-control only when iosys is called
 
 __all__ = [
     "Bank",

@@ -15,6 +15,7 @@ ArrayLike = npt.ArrayLike
 FloatArray = npt.NDArray[np.floating[Any]]
 DType = Union[str, type, np.dtype[Any], None]
 StrPath = Union[str, "PathLike[str]"]
+_Plays = Tuple[Tuple[float, ...], float]
 
 class Memory:
     """The memory of Definition 2.1: the last reversal point (alpha0, beta0), the direction
@@ -143,6 +144,15 @@ class Model:
         """The rate term c·v', {"c": c, "c_std_error": ...}, or None."""
     def step(self, x: float) -> float: ...
     def reset(self) -> None: ...
+    @property
+    def memory(self) -> Union[Memory, _Plays, None]:
+        """Where the model stands in its history (None before the first sample): a smooth
+        model's operator memory (a ``Memory``, operator units), a Prandtl–Ishlinskii model's
+        ``(plays, last_output)``. Assign it to the model or a copy to go on bit for bit (None:
+        as ``reset()``); TypeError for a memory of the other kind, ValueError for one the model
+        cannot be in. Not pickled: a copy starts with no history."""
+    @memory.setter
+    def memory(self, memory: Union[Memory, _Plays, None]) -> None: ...
     def inverse(self, *, saturate: bool = False) -> Model:
         """The exact inverse of the model (``hyst run --inverse``); with ``saturate=True`` it
         clamps desired outputs beyond a saturating output shaping's range."""
