@@ -106,7 +106,7 @@ pub fn main(args: Args) -> Result<()> {
         );
     }
     // The data is opened only once the model is known to do what is asked.
-    let open = || open_input(&args.input);
+    let open = || open_input(&args.input, &args.output);
     let mut columns: Vec<Option<&str>> = args.column.iter().map(|c| Some(c.as_str())).collect();
     match args.source.chosen()? {
         Chosen::Model(path) => {
@@ -195,15 +195,20 @@ pub fn main(args: Args) -> Result<()> {
     }
 }
 
+/// INPUT as streamed.
+type Streamed = CsvReader<hyst_io::CountingReader<std::fs::File>>;
+
 /// Opens INPUT for streaming; a large file shows the bytes read on a terminal
-/// ([`crate::progress::LARGE_FILE`]).
-fn open_input(path: &std::path::Path) -> Result<CsvReader<hyst_io::CountingReader<std::fs::File>>> {
+/// ([`crate::progress::LARGE_FILE`]), unless OUTPUT is that terminal (`-o -`).
+fn open_input(path: &std::path::Path, output: &std::path::Path) -> Result<Streamed> {
+    use std::io::IsTerminal as _;
     let (file, source) = hyst_io::open_file(path)?;
+    let to_terminal = output.as_os_str() == hyst_io::STDOUT && std::io::stdout().is_terminal();
     let on_read = crate::progress::reading(
         path,
         format!("reading {}", path.display()),
         crate::progress::LARGE_FILE,
-        false,
+        to_terminal,
     )
     .unwrap_or_else(|| Box::new(|_| {}));
     Ok(CsvReader::new(
