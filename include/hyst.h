@@ -61,6 +61,14 @@
 // order n of the compensator.
 #define HYST_MAX_ORDER 4
 
+// `hyst_model_column`'s `which`: the model file's input column (`[columns]` `input`), the
+// command: what the direct model takes and its inverse gives.
+#define HYST_COLUMN_INPUT 0
+
+// `hyst_model_column`'s `which`: the model file's output column (`[columns]` `output`), the
+// measured output: what the direct model gives and its inverse takes.
+#define HYST_COLUMN_OUTPUT 1
+
 // Success.
 #define HYST_OK 0
 
@@ -1229,6 +1237,31 @@ struct hyst_model *hyst_model_load_timed(const char *path,
                                          double period_s,
                                          char *error,
                                          size_t error_len);
+
+// Writes the name of one of the model's data columns, as the model file's `[columns]` names it
+// (the columns `hyst fit` fitted it on), into `name`: `which` = `HYST_COLUMN_INPUT` (0) the
+// input column (the command), `HYST_COLUMN_OUTPUT` (1) the output column. These are the names
+// `hyst run --model` uses: its default input column (the input column, the output column with
+// `--inverse`) and the name of the column it computes (the output column, the input column
+// with `--inverse`). The name is UTF-8, written NUL-terminated into `name` (`name_len` bytes);
+// `*needed` gets the bytes it takes with its NUL (`needed` may be NULL), so a call with
+// `name` = NULL and `name_len` = 0 sizes the buffer.
+//
+// Returns `HYST_OK` when the whole name was written; `HYST_ERR_LENGTH` when it does not fit
+// (`name` then holds as much of it as fits, cut at a character boundary and NUL-terminated when
+// `name_len` > 0; `*needed` says the size to give); `HYST_ERR_NULL_POINTER` when `m` is NULL,
+// or `name` is NULL and `name_len` > 0; `HYST_ERR_INVALID_PARAMETER` for another `which`;
+// `HYST_ERR_MODEL_FILE` for a name holding a NUL byte, which a C string cannot hold. Nothing
+// is written on the last three.
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+// `name` is NULL or writable for `name_len` bytes; `needed` is NULL or writable.
+int32_t hyst_model_column(const struct hyst_model *m,
+                          int32_t which,
+                          char *name,
+                          size_t name_len,
+                          size_t *needed);
 
 // Runs the model over `n` samples from `x` into `y` (which may be the same array): the direct
 // model (`inverse` = 0: input → output) or its exact inverse (`inverse` ≠ 0: desired output →

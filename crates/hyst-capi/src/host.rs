@@ -156,6 +156,67 @@ unsafe fn load(
     ptr::null_mut()
 }
 
+/// `hyst_model_column`'s `which`: the model file's input column (`[columns]` `input`), the
+/// command: what the direct model takes and its inverse gives.
+pub const HYST_COLUMN_INPUT: i32 = 0;
+/// `hyst_model_column`'s `which`: the model file's output column (`[columns]` `output`), the
+/// measured output: what the direct model gives and its inverse takes.
+pub const HYST_COLUMN_OUTPUT: i32 = 1;
+
+/// Writes the name of one of the model's data columns, as the model file's `[columns]` names it
+/// (the columns `hyst fit` fitted it on), into `name`: `which` = `HYST_COLUMN_INPUT` (0) the
+/// input column (the command), `HYST_COLUMN_OUTPUT` (1) the output column. These are the names
+/// `hyst run --model` uses: its default input column (the input column, the output column with
+/// `--inverse`) and the name of the column it computes (the output column, the input column
+/// with `--inverse`). The name is UTF-8, written NUL-terminated into `name` (`name_len` bytes);
+/// `*needed` gets the bytes it takes with its NUL (`needed` may be NULL), so a call with
+/// `name` = NULL and `name_len` = 0 sizes the buffer.
+///
+/// Returns `HYST_OK` when the whole name was written; `HYST_ERR_LENGTH` when it does not fit
+/// (`name` then holds as much of it as fits, cut at a character boundary and NUL-terminated when
+/// `name_len` > 0; `*needed` says the size to give); `HYST_ERR_NULL_POINTER` when `m` is NULL,
+/// or `name` is NULL and `name_len` > 0; `HYST_ERR_INVALID_PARAMETER` for another `which`;
+/// `HYST_ERR_MODEL_FILE` for a name holding a NUL byte, which a C string cannot hold. Nothing
+/// is written on the last three.
+///
+/// # Safety
+/// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+/// `name` is NULL or writable for `name_len` bytes; `needed` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_column(
+    m: *const hyst_model,
+    which: i32,
+    name: *mut c_char,
+    name_len: usize,
+    needed: *mut usize,
+) -> i32 {
+    if m.is_null() || (name.is_null() && name_len > 0) {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: a live model (caller's contract).
+    let model = unsafe { &*m };
+    let column = match which {
+        HYST_COLUMN_INPUT => model.file.columns.input.as_str(),
+        HYST_COLUMN_OUTPUT => model.file.columns.output.as_str(),
+        _ => return HYST_ERR_INVALID_PARAMETER,
+    };
+    if column.contains('\0') {
+        return HYST_ERR_MODEL_FILE;
+    }
+    let size = column.len().saturating_add(1);
+    if !needed.is_null() {
+        // SAFETY: non-NULL and writable (caller's contract).
+        unsafe { needed.write(size) };
+    }
+    // SAFETY: `name` is NULL (then `name_len` is 0) or writable for `name_len` bytes.
+    unsafe { copy_message(name, name_len, column) };
+    if name_len < size {
+        HYST_ERR_LENGTH
+    } else {
+        HYST_OK
+    }
+}
+
 /// Runs the model over `n` samples from `x` into `y` (which may be the same array): the direct
 /// model (`inverse` = 0: input → output) or its exact inverse (`inverse` ≠ 0: desired output →
 /// command). The first call of each kind after `hyst_model_load` or `hyst_model_reset` starts a

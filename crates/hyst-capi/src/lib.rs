@@ -9,8 +9,9 @@
 //!   [`hyst_status_message`](status::hyst_status_message).
 //! - **Host part** (feature `std`, the default): fitted model files, the same as `hyst run
 //!   --model` and bit-identical to it (`hyst_model_load`, `hyst_model_process`,
-//!   `hyst_model_reset`, `hyst_model_free`); banks of N operators stepped together in SIMD
-//!   lanes (`hyst_bank_*`, `hyst_bank_*_f32`: a deformable mirror's actuators, a stage's axes).
+//!   `hyst_model_column`, `hyst_model_reset`, `hyst_model_free`); banks of N operators stepped
+//!   together in SIMD lanes (`hyst_bank_*`, `hyst_bank_*_f32`: a deformable mirror's actuators,
+//!   a stage's axes).
 //!
 //! NULL pointers, misaligned or uninitialised states, bad lengths and non-finite numbers give a
 //! status, never a crash. Nothing here panics on any input; the host part also catches a panic
