@@ -1,8 +1,8 @@
 //! `hyst run`: the operator or a fitted model, or its exact inverse, over a CSV file.
 //!
 //! Contract (relied on by tests and other tools):
-//! - INPUT has a header row. The input column is `--column NAME`, else `x`, else the only column
-//!   (with `--model`: else the model's input column, its output column with `--inverse`).
+//! - INPUT has a header row. The input column is `--column NAME`; else with `--model` the model's
+//!   input column (its output column with `--inverse`); else `x`, else the only column.
 //! - With `--derivatives N` INPUT also holds `<name>_d1 … <name>_dN`, the input's time
 //!   derivatives, and OUTPUT gets `BASE_d1 … BASE_dN` (Proposition 2.7 and beyond, by jets). This
 //!   holds for `--model` too: smooth models carry the jets through ψ_in, H (or H⁻¹) and ψ_out;
@@ -53,8 +53,8 @@ pub struct Args {
     /// The operator.
     #[command(flatten)]
     pub source: Source,
-    /// The input column (default: `x`, or the only column; with --model the model's input
-    /// column, or its output column with --inverse). Repeat it for several columns, one
+    /// The input column (default: with --model the model's input column, or its output column
+    /// with --inverse; else `x`, or the only column). Repeat it for several columns, one
     /// operator each (the same parameters or model, each with its own memory): OUTPUT then
     /// has every input column, then `<output>_<column>` for each (see docs/formats.md).
     #[arg(long, value_name = "NAME")]
