@@ -128,7 +128,8 @@ class Hyst:
         self.runs = 0
 
     def run(self, args, xs):
-        """`hyst run ARGS --column x IN -o OUT` on xs; returns the y column."""
+        """`hyst run ARGS --column x IN -o OUT` on xs; returns the column it computes (the last:
+        hyst run passes the input's x through first)."""
         self.runs += 1
         src = os.path.join(self.dir, f"run{self.runs}-in.csv")
         dst = os.path.join(self.dir, f"run{self.runs}-out.csv")
@@ -137,11 +138,11 @@ class Hyst:
             f.writelines(f"{float(x)!r}\n" for x in xs)
         subprocess.run([self.exe, "run", *args, "--column", "x", src, "-o", dst], check=True)
         with open(dst, newline="") as f:
-            rows = list(csv.DictReader(f))
-        xs_back = [float(r["x"]) for r in rows]
+            rows = list(csv.reader(f))[1:]
+        xs_back = [float(r[0]) for r in rows]
         if xs_back != [float(x) for x in xs]:
             raise RuntimeError("hyst run did not read back the signal exactly")
-        return [float(r["y"]) for r in rows]
+        return [float(r[-1]) for r in rows]
 
 
 # ---------------------------------------------------------------------------------------------

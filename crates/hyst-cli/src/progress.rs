@@ -1,6 +1,7 @@
 //! Progress on a terminal (stderr), for long work: `hyst fit` (reading, then the fit's stages)
 //! and `hyst run` on large files. Nothing is shown when stderr is not a terminal (a pipe, a
-//! file, CI) or with `--json`, and nothing for work that ends within [`DELAY`].
+//! file, CI) or with `--json`, and nothing for work that ends within [`delay`] (one second, or
+//! the milliseconds of the environment variable `HYST_PROGRESS_DELAY_MS`).
 
 use std::io::IsTerminal;
 use std::path::Path;
@@ -8,8 +9,17 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 
-/// How long work runs before its progress appears (no flicker for quick commands).
-pub const DELAY: Duration = Duration::from_secs(1);
+/// The environment variable that sets [`delay`] in milliseconds (0: at once).
+pub const DELAY_ENV: &str = "HYST_PROGRESS_DELAY_MS";
+
+/// How long work runs before its progress appears (no flicker for quick commands): one second,
+/// or [`DELAY_ENV`]'s milliseconds.
+pub fn delay() -> Duration {
+    std::env::var(DELAY_ENV)
+        .ok()
+        .and_then(|ms| ms.trim().parse::<u64>().ok())
+        .map_or(Duration::from_secs(1), Duration::from_millis)
+}
 
 /// `hyst run` shows the bytes it has read for input files of at least this size (bytes).
 pub const LARGE_FILE: u64 = 50_000_000;
@@ -31,7 +41,7 @@ pub fn bar(len: u64, template: &str) -> ProgressBar {
 
 /// The bytes of `path` read so far, for [`hyst_io::CountingReader`]: a callback that shows
 /// `what` (e.g. "reading data.csv") with the bytes read, the file's size and the time left,
-/// once reading has taken [`DELAY`] and if the file has at least `min_size` bytes; `None` when
+/// once reading has taken [`delay`] and if the file has at least `min_size` bytes; `None` when
 /// nothing would be shown (not a terminal, `quiet`, a small file or one of unknown size).
 pub fn reading(
     path: &Path,
@@ -48,9 +58,10 @@ pub fn reading(
         .map(|m| m.len())
         .filter(|&len| len >= min_size.max(1))?;
     let started = Instant::now();
+    let after = delay();
     let mut shown: Option<ProgressBar> = None;
     Some(Box::new(move |read: u64| {
-        if shown.is_none() && started.elapsed() >= DELAY {
+        if shown.is_none() && started.elapsed() >= after {
             let b = bar(size, "{prefix} [{bar:30}] {bytes}/{total_bytes} {msg}");
             b.set_prefix(what.clone());
             shown = Some(b);

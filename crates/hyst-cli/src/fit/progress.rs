@@ -9,16 +9,18 @@ use std::time::Instant;
 use hyst_fit::lm::{Observer, Progress, Stage};
 use indicatif::ProgressBar;
 
-use crate::progress::{bar, on_terminal, time_left, DELAY};
+use crate::progress::{bar, delay, on_terminal, time_left};
 
 /// The bar's resolution: positions per stage.
 const STEPS: u64 = 1000;
 
-/// Progress on stderr, shown once a fit has run for [`DELAY`] (never with `--json` or when
+/// Progress on stderr, shown once a fit has run for [`delay`] (never with `--json` or when
 /// stderr is not a terminal).
 pub(super) struct ProgressObserver {
     /// When the fit started.
     started: Instant,
+    /// When to show it.
+    after: std::time::Duration,
     /// Whether to show anything.
     enabled: bool,
     /// The bar, once shown.
@@ -32,6 +34,7 @@ impl ProgressObserver {
     pub(super) fn new(quiet: bool) -> Self {
         Self {
             started: Instant::now(),
+            after: delay(),
             enabled: !quiet && on_terminal(),
             bar: None,
             stage: None,
@@ -53,7 +56,7 @@ impl Observer for ProgressObserver {
         if !self.enabled {
             return ControlFlow::Continue(());
         }
-        if self.bar.is_none() && self.started.elapsed() >= DELAY {
+        if self.bar.is_none() && self.started.elapsed() >= self.after {
             self.bar = Some(bar(STEPS, "{prefix:>18} [{bar:30}] {percent:>3}% {msg}"));
         }
         let Some(bar) = &self.bar else {
