@@ -29,6 +29,12 @@ pub fn on_terminal() -> bool {
     std::io::stderr().is_terminal()
 }
 
+/// Whether a command writing its output to `output` must show no progress: `-o -` to the
+/// terminal stderr would draw on too (the bar would interleave with the rows).
+pub fn writes_to_terminal(output: &Path) -> bool {
+    output.as_os_str() == hyst_io::STDOUT && std::io::stdout().is_terminal()
+}
+
 /// A bar of `len` units with `template`, cleared when dropped or finished.
 pub fn bar(len: u64, template: &str) -> ProgressBar {
     let style = ProgressStyle::with_template(template)
@@ -40,27 +46,23 @@ pub fn bar(len: u64, template: &str) -> ProgressBar {
 }
 
 /// The bytes of `path` read so far, for [`hyst_io::CountingReader`]: a callback that shows
-/// `what` (e.g. "reading data.csv") with the bytes read, the file's size and the time left,
-/// once reading has taken [`delay`] and if the file has at least `min_size` bytes; `None` when
-/// nothing would be shown (not a terminal, `quiet`, a small file or one of unknown size).
-pub fn reading(
-    path: &Path,
-    what: String,
-    min_size: u64,
-    quiet: bool,
-) -> Option<Box<dyn FnMut(u64)>> {
-    if quiet || !on_terminal() {
-        return None;
-    }
+/// "reading PATH" with the bytes read, the file's size and the time left, once reading has
+/// taken [`delay`] and if the file has at least `min_size` bytes; a callback that does nothing
+/// when nothing would be shown (not a terminal, `quiet`, a small file or one of unknown size).
+pub fn reading(path: &Path, min_size: u64, quiet: bool) -> Box<dyn FnMut(u64)> {
     let size = std::fs::metadata(path)
         .ok()
         .filter(std::fs::Metadata::is_file)
         .map(|m| m.len())
-        .filter(|&len| len >= min_size.max(1))?;
+        .filter(|&len| len >= min_size.max(1));
+    let (Some(size), false) = (size, quiet || !on_terminal()) else {
+        return Box::new(|_| {});
+    };
+    let what = format!("reading {}", path.display());
     let started = Instant::now();
     let after = delay();
     let mut shown: Option<ProgressBar> = None;
-    Some(Box::new(move |read: u64| {
+    Box::new(move |read: u64| {
         if shown.is_none() && started.elapsed() >= after {
             let b = bar(size, "{prefix} [{bar:30}] {bytes}/{total_bytes} {msg}");
             b.set_prefix(what.clone());
@@ -70,7 +72,7 @@ pub fn reading(
             b.set_position(read.min(size));
             b.set_message(time_left(started.elapsed(), read as f64 / size as f64));
         }
-    }))
+    })
 }
 
 /// The time left for work that is `fraction` done after `elapsed`, in words ("about 12 s

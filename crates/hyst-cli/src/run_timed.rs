@@ -51,7 +51,7 @@ pub struct Options<'a> {
 pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
     let smooth = check(args, model, path)?;
     hyst_io::check_all_distinct(&[args.input, path], &[args.output])?;
-    let (table, passed) = read(args.input)?;
+    let (table, passed) = read(args.input, args.output)?;
     let inverse = args.inverse;
     let name = args.columns.first().map_or_else(
         || {
@@ -160,16 +160,12 @@ fn check<'m>(args: &Options<'_>, model: &'m ModelFile, path: &Path) -> Result<&'
 
 /// Reads INPUT once (a pipe cannot be read twice) and parses it twice: as numbers, and as the
 /// cells OUTPUT passes through as they were written.
-fn read(input: &Path) -> Result<(Table, Passed)> {
-    let reading = crate::progress::reading(
-        input,
-        format!("reading {}", input.display()),
-        crate::progress::LARGE_FILE,
-        false,
-    );
+fn read(input: &Path, output: &Path) -> Result<(Table, Passed)> {
+    let quiet = crate::progress::writes_to_terminal(output);
+    let reading = crate::progress::reading(input, crate::progress::LARGE_FILE, quiet);
     let (file, source) = hyst_io::open_file(input)?;
     let mut bytes = Vec::new();
-    hyst_io::CountingReader::new(file, reading.unwrap_or_else(|| Box::new(|_| {})))
+    hyst_io::CountingReader::new(file, reading)
         .read_to_end(&mut bytes)
         .map_err(|e| hyst_io::IoError::Read {
             file: source.clone(),
@@ -198,10 +194,7 @@ impl Passed {
         let mut text = String::new();
         let mut ends = Vec::new();
         while let Some(line) = rows.next_cells()? {
-            for i in 0..width {
-                hyst_io::push_cell(&mut text, rows.cell_text(i, line)?, i == 0);
-                text.push(',');
-            }
+            rows.push_cells(line, &mut text)?;
             ends.push(text.len());
         }
         Ok(Passed { text, ends, width })

@@ -45,6 +45,7 @@
 #![forbid(unsafe_code)]
 
 mod atomic;
+mod cell;
 mod digest;
 mod error;
 pub mod number;
@@ -60,4 +61,4 @@ pub use digest::{CountingReader, Digest};
 pub use error::IoError;
 pub use reader::{open_file, CsvReader};
 pub use table::Table;
-pub use writer::{push_cell, CsvWriter};
+pub use writer::CsvWriter;

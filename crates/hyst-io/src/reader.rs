@@ -274,6 +274,21 @@ impl<R: Read> CsvReader<R> {
         number(text, &self.source, line, index, name)
     }
 
+    /// Appends every cell of the row [`CsvReader::next_cells`] read from `line` to `out`, as
+    /// read (trimmed) and quoted where it would not read back as itself, each followed by `,`: the cells a command passes through before its own columns
+    /// ([`CsvWriter::write_row_after`](crate::CsvWriter::write_row_after)). On an error `out`
+    /// may hold part of the row.
+    ///
+    /// # Errors
+    /// [`IoError::InvalidUtf8`].
+    pub fn push_cells(&self, line: usize, out: &mut String) -> Result<(), IoError> {
+        for i in 0..self.names.len() {
+            crate::cell::push_cell(out, self.cell_text(i, line)?, i == 0);
+            out.push(',');
+        }
+        Ok(())
+    }
+
     /// Reads the next non-blank record into `self.record` and returns its 1-based start line.
     fn next_record(&mut self) -> Result<Option<usize>, IoError> {
         loop {

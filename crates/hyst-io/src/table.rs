@@ -5,11 +5,12 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use crate::atomic::write_atomic_with;
+use crate::cell::push_cell;
 use crate::digest::{CountingReader, Digest, Hashing};
 use crate::error::IoError;
 use crate::reader::CsvReader;
 use crate::reader::{number, pick_column, unknown_column};
-use crate::writer::{check_names, push_cell, push_f64, push_row, write_header};
+use crate::writer::{check_names, push_f64, push_row, write_header};
 
 /// Source name of tables built with [`Table::new`].
 const MEMORY_SOURCE: &str = "<memory>";

@@ -79,34 +79,13 @@ impl CsvWriter {
     /// [`IoError::ShapeMismatch`] for a row of the wrong length, [`IoError::NonFiniteValue`]
     /// for NaN or an infinity (nothing of the row is written), [`IoError::Write`].
     pub fn write_row(&mut self, values: &[f64]) -> Result<(), IoError> {
-        if values.len() != self.names.len() {
-            return Err(IoError::ShapeMismatch {
-                file: self.file.clone(),
-                names: self.names.len(),
-                columns: values.len(),
-            });
-        }
-        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(IoError::NonFiniteValue {
-                file: self.file.clone(),
-                column: i + 1,
-                name: self.names.get(i).cloned().unwrap_or_default(),
-                row: self.rows + 1,
-                value: values.get(i).copied().unwrap_or(f64::NAN),
-            });
-        }
-        self.write_header()?;
-        self.line.clear();
-        push_row(&mut self.line, values.iter().copied());
-        self.out.write_bytes(self.line.as_bytes())?;
-        self.rows += 1;
-        Ok(())
+        self.write_row_after("", 0, values)
     }
 
     /// Writes one row whose first `cells` cells are `prefix`, already formatted as CSV and each
-    /// followed by `,` (cells a command passes through unchanged: [`push_cell`],
-    /// [`Table::push_cells`](crate::Table::push_cells)), then `values`, one finite value per
-    /// remaining column.
+    /// followed by `,` (cells a command passes through unchanged:
+    /// [`CsvReader::push_cells`](crate::CsvReader::push_cells)), then `values`, one finite value
+    /// per remaining column.
     ///
     /// # Errors
     /// As [`CsvWriter::write_row`], for `cells + values.len()` columns.
@@ -256,20 +235,4 @@ pub(crate) fn push_f64(out: &mut String, v: f64) {
     } else {
         write!(out, "{v:e}")
     };
-}
-
-/// Appends a text cell to a CSV line, quoted when it would not read back as itself (a separator, a quote or
-/// a line break in it, surrounding whitespace, empty, or a `#` starting the line).
-pub fn push_cell(line: &mut String, cell: &str, first: bool) {
-    let needs_quotes = cell.is_empty()
-        || cell.contains([',', '"', '\n', '\r'])
-        || cell.trim() != cell
-        || (first && cell.starts_with('#'));
-    if needs_quotes {
-        line.push('"');
-        line.push_str(&cell.replace('"', "\"\""));
-        line.push('"');
-    } else {
-        line.push_str(cell);
-    }
 }

@@ -160,14 +160,8 @@ fn record_id(s: &str) -> Result<i64, String> {
 /// Runs `hyst fit`.
 pub fn main(args: Args) -> Result<()> {
     // Read once, hashed on the way: a pipe or a FIFO cannot be read a second time.
-    let reading = crate::progress::reading(
-        &args.data,
-        format!("reading {}", args.data.display()),
-        0,
-        args.json,
-    );
-    let (table, digest) =
-        Table::read_digest_with(&args.data, reading.unwrap_or_else(|| Box::new(|_| {})))?;
+    let reading = crate::progress::reading(&args.data, 0, args.json);
+    let (table, digest) = Table::read_digest_with(&args.data, reading)?;
     let data = Dataset::from_table(&table, &data_options(&args))?;
     // Checked before the fit, so a bad --time costs nothing and writes nothing.
     let time = match &args.plot {

@@ -201,16 +201,9 @@ type Streamed = CsvReader<hyst_io::CountingReader<std::fs::File>>;
 /// Opens INPUT for streaming; a large file shows the bytes read on a terminal
 /// ([`crate::progress::LARGE_FILE`]), unless OUTPUT is that terminal (`-o -`).
 fn open_input(path: &std::path::Path, output: &std::path::Path) -> Result<Streamed> {
-    use std::io::IsTerminal as _;
     let (file, source) = hyst_io::open_file(path)?;
-    let to_terminal = output.as_os_str() == hyst_io::STDOUT && std::io::stdout().is_terminal();
-    let on_read = crate::progress::reading(
-        path,
-        format!("reading {}", path.display()),
-        crate::progress::LARGE_FILE,
-        to_terminal,
-    )
-    .unwrap_or_else(|| Box::new(|_| {}));
+    let quiet = crate::progress::writes_to_terminal(output);
+    let on_read = crate::progress::reading(path, crate::progress::LARGE_FILE, quiet);
     Ok(CsvReader::new(
         hyst_io::CountingReader::new(file, on_read),
         &source,

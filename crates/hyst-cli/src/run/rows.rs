@@ -100,10 +100,7 @@ pub(super) fn read_row<R: Read, const N: usize>(
             }
             block.x.push(Jet::from_derivatives(x, d));
         }
-        for i in 0..columns.width {
-            hyst_io::push_cell(&mut block.cells, rows.cell_text(i, line)?, i == 0);
-            block.cells.push(',');
-        }
+        rows.push_cells(line, &mut block.cells)?;
         columns.record.map(|r| rows.cell_text(r, line)).transpose()
     };
     let cell = match read() {
