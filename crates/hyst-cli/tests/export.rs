@@ -7,6 +7,9 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod common;
+use common::hyst;
+
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
@@ -15,13 +18,6 @@ fn model(name: &str) -> PathBuf {
     repo()
         .join("examples/firmware/models")
         .join(format!("{name}.toml"))
-}
-
-fn hyst(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hyst"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 fn stderr(out: &Output) -> String {

@@ -4,29 +4,33 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use std::fs;
+use std::path::Path;
 use std::process::Command;
 
-fn hyst() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_hyst"))
+/// `hyst fit` of a data file in `dir` that does not exist, with `-o OUT` (and `--plot PLOT`):
+/// it must fail with status 1; returns its stderr.
+fn fit_missing_data(dir: &Path, out: &Path, plot: Option<&Path>) -> String {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_hyst"));
+    command
+        .arg("fit")
+        .arg(dir.join("no-such-data.csv"))
+        .args(["--input", "u", "--output", "y", "-o"])
+        .arg(out);
+    if let Some(plot) = plot {
+        command.arg("--plot").arg(plot);
+    }
+    let o = command.output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    err
 }
-
-const FIT: [&str; 4] = ["--input", "u", "--output", "y"];
 
 /// The data does not exist: an error about the output proves the output was checked first.
 #[test]
 fn a_model_file_in_a_missing_directory_is_refused_before_the_data_is_read() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("missing/model.toml");
-    let o = hyst()
-        .arg("fit")
-        .arg(dir.path().join("no-such-data.csv"))
-        .args(FIT)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    let err = fit_missing_data(dir.path(), &out, None);
     assert!(err.contains("missing/model.toml"), "{err}");
     assert!(
         err.contains("cannot create a file in its directory"),
@@ -39,16 +43,7 @@ fn a_model_file_in_a_missing_directory_is_refused_before_the_data_is_read() {
 #[test]
 fn a_model_file_that_is_a_directory_is_refused_before_the_data_is_read() {
     let dir = tempfile::tempdir().unwrap();
-    let o = hyst()
-        .arg("fit")
-        .arg(dir.path().join("no-such-data.csv"))
-        .args(FIT)
-        .arg("-o")
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    let err = fit_missing_data(dir.path(), dir.path(), None);
     assert!(err.contains("directory"), "{err}");
     assert!(!err.contains("no-such-data"), "{err}");
 }
@@ -58,18 +53,11 @@ fn a_plot_directory_under_a_file_is_refused_before_the_data_is_read() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("a-file");
     fs::write(&file, "not a directory").unwrap();
-    let o = hyst()
-        .arg("fit")
-        .arg(dir.path().join("no-such-data.csv"))
-        .args(FIT)
-        .arg("-o")
-        .arg(dir.path().join("m.toml"))
-        .arg("--plot")
-        .arg(file.join("plots"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    let err = fit_missing_data(
+        dir.path(),
+        &dir.path().join("m.toml"),
+        Some(&file.join("plots")),
+    );
     assert!(err.contains("a-file/plots"), "{err}");
     assert!(err.contains("is not a directory"), "{err}");
     assert!(!err.contains("no-such-data"), "{err}");
@@ -87,18 +75,11 @@ fn a_plot_directory_under_a_file_is_refused_before_the_data_is_read() {
 #[test]
 fn a_new_plot_directory_passes_the_check_and_is_not_created_by_it() {
     let dir = tempfile::tempdir().unwrap();
-    let o = hyst()
-        .arg("fit")
-        .arg(dir.path().join("no-such-data.csv"))
-        .args(FIT)
-        .arg("-o")
-        .arg(dir.path().join("m.toml"))
-        .arg("--plot")
-        .arg(dir.path().join("new/plots"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    let err = fit_missing_data(
+        dir.path(),
+        &dir.path().join("m.toml"),
+        Some(&dir.path().join("new/plots")),
+    );
     assert!(err.contains("no-such-data"), "the data is read next: {err}");
     assert!(!dir.path().join("new").exists());
 }

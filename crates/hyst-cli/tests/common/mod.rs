@@ -2,6 +2,20 @@
 #![allow(clippy::unwrap_used, clippy::panic, dead_code)]
 
 use std::path::Path;
+use std::process::{Command, Output};
+
+/// `hyst ARGS` (the binary of this build), run to its end.
+pub fn hyst(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hyst"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// A path as the `&str` an argument list takes.
+pub fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
 
 /// A CSV file written by `hyst run`: its header and its rows as numbers.
 pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
