@@ -136,10 +136,6 @@ const FREQS: &[f64] = &[0.31, 0.77, 1.6, 3.3, 6.1];
 /// `--dynamics 1` recovers L/R within 2 % and k1, k2 within 5 %; the compensator of a new
 /// reference keeps the flux error through the true plant within 1 % of span.
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "minutes in a debug build: scripts/test-all runs it with --release"
-)]
 fn example2_first_order_plant_is_identified_and_compensated() {
     let dir = tempfile::tempdir().unwrap();
     let h = 1e-3;
@@ -301,10 +297,6 @@ fn example2_first_order_plant_is_identified_and_compensated() {
 /// Example 3's plant m ẍ + c ẋ + k x = k u (m = 1, c = 0.9, k = 1: a_1 = 0.9 s, a_2 = 1 s²)
 /// before a near-hard backlash H(0.2, 40): `--dynamics 2` recovers a_1 and a_2 within 5 %.
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "minutes in a debug build: scripts/test-all runs it with --release"
-)]
 fn second_order_plant_before_a_backlash_is_identified() {
     let dir = tempfile::tempdir().unwrap();
     let h = 0.01;
@@ -353,10 +345,6 @@ fn second_order_plant_before_a_backlash_is_identified() {
 /// Records of a static truth do not identify a plant: the report says a_1 is not identified
 /// and why, instead of printing a time constant.
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "minutes in a debug build: scripts/test-all runs it with --release"
-)]
 fn a_plant_the_records_do_not_excite_is_reported_not_identified() {
     let dir = tempfile::tempdir().unwrap();
     let h = 1e-3;
@@ -552,10 +540,6 @@ fn prefilter_gives_a_command_that_tracks_the_filtered_reference() {
 /// viscous term there (the damper's force barely follows velocity) and leaves it out. Beside it,
 /// a Coulomb + viscous fit F = F_c sign(v) + c v + F_0 by least squares.
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "minutes in a debug build: scripts/test-all runs it with --release"
-)]
 fn friction_damper_predicts_other_frequencies_without_an_invented_rate_term() {
     let dir = tempfile::tempdir().unwrap();
     let source = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -712,10 +696,6 @@ fn dynamics_with_a_prandtl_ishlinskii_model_are_refused() {
 /// force turns the loops clockwise, yet with `--rate-term viscous` the fit finds the operator
 /// form and c (the form the loops suggest is overruled, with a note).
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "minutes in a debug build: scripts/test-all runs it with --release"
-)]
 fn a_viscous_force_on_an_operator_is_found_whatever_the_loops_look_like() {
     let dir = tempfile::tempdir().unwrap();
     let h = 1e-3;
