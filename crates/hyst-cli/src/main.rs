@@ -37,6 +37,7 @@ fn stdout_failed(e: &std::io::Error) -> ! {
     std::process::exit(1);
 }
 
+mod adapt;
 mod bench;
 mod bound;
 mod export;
@@ -80,6 +81,10 @@ enum Command {
     /// Write a model file as firmware source: header-only C over hyst.h, or no_std Rust over
     /// hyst-core, exact from the first sample.
     Export(export::Args),
+    /// Follow a fitted model's parameters over a record as the actuator drifts (recursive
+    /// estimator): one-step prediction y_pred and each parameter per row, rms_fixed and
+    /// rms_adaptive.
+    Adapt(adapt::Args),
 }
 
 fn main() -> ExitCode {
@@ -96,6 +101,7 @@ fn main() -> ExitCode {
         Command::Fmu(args) => fmu::main(args),
         Command::Bench(args) => bench::main(args),
         Command::Export(args) => export::main(args),
+        Command::Adapt(args) => adapt::main(args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -147,6 +153,14 @@ fn distinct_files(command: &Command) -> anyhow::Result<()> {
             hyst_io::check_writable(&args.model_out)?;
             if let Some(dir) = &args.plot {
                 hyst_io::check_writable_dir(dir)?;
+            }
+        }
+        Command::Adapt(args) => {
+            let mut outputs = vec![args.output_file.as_path()];
+            outputs.extend(args.model_out.as_deref());
+            hyst_io::check_all_distinct(&[args.data.as_path(), args.model.as_path()], &outputs)?;
+            for path in &outputs {
+                hyst_io::check_writable(path)?;
             }
         }
         Command::Export(args) => {

@@ -114,6 +114,7 @@ macro_rules! linear_ops {
     };
 }
 
+pub mod adaptive;
 pub mod any_shaping;
 pub mod bank;
 pub mod compensator;
@@ -136,6 +137,7 @@ pub mod shaping;
 pub mod start;
 pub mod stop;
 
+pub use adaptive::{Adaptive, AdaptiveCompensator, AdaptiveConfig};
 pub use any_shaping::{AnyShaping, LinearShaping};
 #[cfg(feature = "std")]
 pub use bank::BankVec;

@@ -66,6 +66,16 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> ShapedModel<T, I, K, O>
         })
     }
 
+    /// Composes parts already checked (a model whose gains and offsets were changed within
+    /// their valid ranges: [`crate::adaptive`]).
+    pub(crate) fn from_parts(input: I, operator: Hysteresis<T, K>, output: O) -> Self {
+        Self {
+            input,
+            operator,
+            output,
+        }
+    }
+
     /// The input shaping ψ_in.
     #[must_use]
     pub fn input_shaping(&self) -> &I {

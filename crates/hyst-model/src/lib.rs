@@ -28,6 +28,7 @@
 
 #![forbid(unsafe_code)]
 
+pub mod adaptive;
 pub mod dynamics;
 pub mod error;
 pub mod evaluator;

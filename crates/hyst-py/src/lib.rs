@@ -12,6 +12,7 @@
 //! | `fit`, `FitResult` ([`fit`]) | `hyst_fit::identify` (what `hyst fit` runs) |
 //! | `Family` ([`family`]) | `hyst_core::Family` (Definition 2.8, Proposition 3.2) |
 //! | `Compensator` ([`compensator`]) | `hyst_core::compensator::Compensator` (Lemma 5.1) |
+//! | `Adaptive` ([`adaptive`]) | `hyst_core::adaptive::AdaptiveCompensator`: the recursive estimator and the compensator that follows it |
 //! | `MAX_ORDER` | `hyst_core::compensator::MAX_ORDER`: the largest plant order n of `Compensator` and the most time derivatives of `process(x, derivatives)` |
 //!
 //! Arrays ([`arrays`]): any 1-D array-like in; float32 stays float32 and float64 stays float64;
@@ -29,6 +30,7 @@
 
 use pyo3::prelude::*;
 
+pub mod adaptive;
 pub mod arrays;
 pub mod bank;
 pub mod compensator;
@@ -55,6 +57,7 @@ fn _hyst(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<fit::FitResult>()?;
     m.add_class::<family::Family>()?;
     m.add_class::<compensator::Compensator>()?;
+    m.add_class::<adaptive::Adaptive>()?;
     m.add_function(wrap_pyfunction!(model::load_model, m)?)?;
     m.add_function(wrap_pyfunction!(model::model_from_toml, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit, m)?)?;

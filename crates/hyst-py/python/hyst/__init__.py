@@ -19,6 +19,7 @@ True
 
 from ._hyst import (
     MAX_ORDER,
+    Adaptive,
     Bank,
     Compensator,
     Family,
@@ -34,6 +35,7 @@ from ._hyst import (
 from . import control as control  # needs python-control only when iosys is called
 
 __all__ = [
+    "Adaptive",
     "Bank",
     "Compensator",
     "Family",

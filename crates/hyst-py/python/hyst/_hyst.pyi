@@ -335,6 +335,42 @@ class Compensator:
     def last_command(self) -> float:
         """The command u of the last step (eq. 19): the plant input."""
 
+class Adaptive:
+    """Online adaptation: the recursive estimator of a fitted model's parameters (k1, k2, the
+    output gain and offset; input gain and offset where asked) and the compensator that
+    follows a drifting actuator (docs/adaptation.md)."""
+
+    def __init__(
+        self,
+        model: Model,
+        *,
+        parameters: Optional[Sequence[str]] = None,
+        noise: Optional[float] = None,
+        drift: float = 1e-3,
+        uncertainty: float = 0.1,
+        rest: float = 1e-3,
+        step: float = 0.01,
+        range: float = 4.0,
+        dead_zone: float = 0.0,
+        input_range: Optional[Tuple[float, float]] = None,
+        strict: bool = False,
+    ) -> None: ...
+    def process(self, x: ArrayLike, y: ArrayLike) -> Tuple[FloatArray, FloatArray]:
+        """(y_pred, params): one-step predictions, and the parameters after each sample
+        (n, len(parameters))."""
+    def update(self, x: float, y: float) -> Tuple[float, str]: ...
+    def command(self, desired: float) -> float: ...
+    def measure(self, y: float) -> Optional[float]: ...
+    def model(self) -> Model: ...
+    @property
+    def parameters(self) -> List[str]: ...
+    @property
+    def values(self) -> Dict[str, float]: ...
+    @property
+    def sigmas(self) -> Dict[str, float]: ...
+    @property
+    def counts(self) -> Dict[str, int]: ...
+
 def _bench_core(
     k1: float,
     k2: float,

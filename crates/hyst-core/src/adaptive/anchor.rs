@@ -1,0 +1,148 @@
+//! The memory carried across a change of parameters: the state (the last input and output) does
+//! not jump, the branch it is on is moved.
+//!
+//! Definition 2.1's output is a function of the input and the reversal point (α0, β0). New k1
+//! and k2 from the same reversal point would put the last output elsewhere: a jump in the
+//! model's output, and in a compensator's command. So the reversal input α0 and the direction
+//! stay, and β0 moves until the new branch passes through the last point (α, β):
+//! with ṽ = s (α − α0), a = s (β − α0) and w = s (β − β0), eq. (2) written as
+//! ṽ − w = M* (1 − e^(−k2 w)), M* = a − w + k1, gives
+//!
+//! g(w) = (a + k1 − w)(1 − e^(−k2 w)) − (ṽ − w) = 0,
+//!
+//! increasing in w on [max(0, a − k1), min(ṽ, a + k1)] (where 0 ≤ M* ≤ 2 k1), g ≤ 0 at the left
+//! end and ≥ 0 at the right end once the last point is in the band. Solved by Newton steps kept
+//! in the bracket; the root's gradient comes from the implicit-function theorem. Far along a
+//! branch (g' below √ε) the output no longer depends on β0 and the memory is kept: there the
+//! output is the asymptote v ∓ k1 whatever the history, and a new k1 moves it by the change
+//! of k1, which no memory can undo.
+
+use super::MAX_PARAMETERS as N;
+use crate::dual::Dual;
+use crate::memory::Memory;
+use crate::real::Real;
+use num_traits::Float;
+
+type D<T> = Dual<T, N>;
+
+/// `m` for the parameters k1 and k2 (k2 at the last input): the last point moved into the band
+/// |β − α| ≤ k1 (onto its edge), then β0 moved so that the branch passes through it.
+pub(super) fn reanchor<T: Real>(m: Memory<D<T>>, k1: D<T>, k2: D<T>) -> Memory<D<T>> {
+    let mut m = into_band(m, k1);
+    let s = m.direction.sign::<D<T>>();
+    let vt = (m.last_input - m.reversal_input) * s;
+    let a = (m.last_output - m.reversal_input) * s;
+    let w_now = (m.last_output - m.reversal_output) * s;
+    let Some(w) = root(vt.value(), a.value(), k1.value(), k2.value(), w_now.value()) else {
+        return m;
+    };
+    let w = D::constant(w).implicit_root(|w| {
+        let decay = (-(k2 * w)).exp();
+        let g = (a + k1 - w) * (D::constant(T::one()) - decay) - (vt - w);
+        (g, decay * (k2 * (a + k1 - w) + T::one()))
+    });
+    m.reversal_output = m.last_output - w * s;
+    m
+}
+
+/// The root w of g on its bracket (plain numbers), starting from `guess`; `None` when the
+/// branch is flat in w there (nothing to move) or the numbers are not finite.
+fn root<T: Real>(vt: T, a: T, k1: T, k2: T, guess: T) -> Option<T> {
+    let zero = T::zero();
+    if vt.partial_cmp(&zero) != Some(core::cmp::Ordering::Greater) {
+        return None;
+    }
+    let mut lo = (a - k1).max(zero);
+    let mut hi = vt.min(a + k1);
+    if hi < lo || !hi.is_finite() || !lo.is_finite() {
+        return None;
+    }
+    let g = |w: T| {
+        let decay = (-(k2 * w)).exp();
+        (
+            (a + k1 - w) * (-(-(k2 * w)).exp_m1()) - (vt - w),
+            decay * (k2 * (a + k1 - w) + T::one()),
+        )
+    };
+    let mut w = if guess >= lo && guess <= hi {
+        guess
+    } else {
+        (lo + hi) * T::from_f64(0.5)
+    };
+    for _ in 0..60 {
+        let (gw, slope) = g(w);
+        if gw == zero {
+            break;
+        }
+        if gw < zero {
+            lo = w;
+        } else {
+            hi = w;
+        }
+        let next = w - gw / slope;
+        let next = if next > lo && next < hi {
+            next
+        } else {
+            (lo + hi) * T::from_f64(0.5)
+        };
+        if (next - w).abs() <= T::epsilon() * (T::one() + w.abs()) {
+            w = next;
+            break;
+        }
+        w = next;
+    }
+    // The root's gradient is −(∂g/∂p) / slope: where the branch barely depends on β0 its
+    // rounding would be amplified beyond the precision (√ε: 1.5e-8 for f64, 3.5e-4 for f32).
+    let (_, slope) = g(w);
+    (slope > T::epsilon().sqrt() && w.is_finite()).then_some(w)
+}
+
+/// The memory with each output moved into the band |output − input| ≤ k1 (onto its edge).
+pub(super) fn into_band<T: Real>(mut m: Memory<D<T>>, k1: D<T>) -> Memory<D<T>> {
+    let clamp = |input: D<T>, output: D<T>| {
+        if output.value() > input.value() + k1.value() {
+            input + k1
+        } else if output.value() < input.value() - k1.value() {
+            input - k1
+        } else {
+            output
+        }
+    };
+    m.reversal_output = clamp(m.reversal_input, m.reversal_output);
+    m.last_output = clamp(m.last_input, m.last_output);
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::operator::Operator;
+    use crate::parametric::Hysteresis;
+
+    /// After new k1 and k2, the operator from the re-anchored memory gives the last output again
+    /// at the last input (no jump), and its gradient matches central differences.
+    #[test]
+    fn the_new_branch_passes_through_the_last_point() -> Result<(), crate::Error> {
+        let mut h = Hysteresis::new(D::<f64>::constant(0.2), D::constant(8.0))?;
+        for v in [0.0, 0.5, 0.9, 0.4, 0.1, 0.25] {
+            h.step(D::constant(v));
+        }
+        let m = h
+            .memory()
+            .ok_or(crate::Error::NonFiniteInput { value: 0.0 })?;
+        let run = |k1: f64, k2: f64| -> Result<(f64, f64), crate::Error> {
+            let (k1d, k2d) = (D::variable(k1, 0), D::variable(k2, 1));
+            let m2 = reanchor(m, k1d, k2d);
+            let mut h2 = Hysteresis::new(k1d, k2d)?;
+            h2.set_memory(Some(m2))?;
+            let again = h2.step(m.last_input);
+            assert!((again.value() - m.last_output.value()).abs() < 1e-12);
+            Ok((m2.reversal_output.value(), m2.reversal_output.gradient()[0]))
+        };
+        let (_, d) = run(0.23, 7.0)?;
+        let e = 1e-6;
+        let fd = (run(0.23 + e, 7.0)?.0 - run(0.23 - e, 7.0)?.0) / (2.0 * e);
+        assert!((d - fd).abs() < 1e-6, "{d} {fd}");
+        Ok(())
+    }
+}

@@ -1,0 +1,469 @@
+//! [`Adaptive`]: the recursive estimator (the method is in the module's documentation).
+
+use super::anchor::reanchor;
+use super::covariance::Covariance;
+use super::{AdaptiveConfig, Counts, Parameter, Status, Update, MAX_PARAMETERS as N};
+use crate::dual::Dual;
+use crate::error::Error;
+use crate::jet::Jet;
+use crate::k2law::{AffineK2, AnyK2Law, K2Law};
+use crate::memory::Memory;
+use crate::operator::Operator;
+use crate::parametric::Hysteresis;
+use crate::real::Real;
+use crate::scaled_shaping::ScaledShaping;
+use crate::shaped_model::ShapedModel;
+use crate::shaping::Shaping;
+use crate::start::InitialState;
+
+/// The shaped model an [`Adaptive`] estimator follows: ψ_out ∘ H ∘ ψ_in with scaled shaping
+/// functions and any built-in k2 law (a fitted smooth model of the operator form).
+pub type AdaptiveModel<T> = ShapedModel<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
+
+type D<T> = Dual<T, N>;
+
+/// A recursive estimator of a shaped model's parameters (k1, k2, output gain and offset; input
+/// gain and offset where asked), updated from each pair of command x and measured output y by
+/// an extended Kalman filter on the exact sensitivities (see [the module](super)).
+///
+/// `no_std`, no allocation, `f32` or `f64`. About 400 bytes of state for f64.
+///
+/// # Examples
+/// A truth whose output gain is 20 % above the fitted model's: the estimator finds it.
+/// ```
+/// use hyst_core::adaptive::{Adaptive, AdaptiveConfig, AdaptiveModel, Parameter};
+/// use hyst_core::{AnyK2Law, Hysteresis, InitialState, Operator, ScaledShaping, ShapedModel};
+/// # fn main() -> Result<(), hyst_core::Error> {
+/// let fitted: AdaptiveModel<f64> = ShapedModel::new(
+///     ScaledShaping::identity(),
+///     Hysteresis::with_k2_law(0.2, AnyK2Law::Constant { value: 8.0 })?,
+///     ScaledShaping::identity(),
+/// )?;
+/// let mut truth = fitted;
+/// let mut out = ScaledShaping::identity();
+/// out.post_gain = 1.2;
+/// let mut truth = ShapedModel::new(ScaledShaping::identity(), *truth.operator(), out)?;
+///
+/// let mut a = Adaptive::new(&fitted, InitialState::Line, AdaptiveConfig::new(1e-3))?;
+/// for k in 0..20_000 {
+///     let x = (k as f64 * 0.01).sin();
+///     let y = truth.step(x);
+///     a.update(x, y);
+/// }
+/// assert!((a.value(Parameter::Gain) - 1.2).abs() < 0.01);
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Adaptive<T: Real> {
+    fitted: AdaptiveModel<T>,
+    config: AdaptiveConfig<T>,
+    mask: [bool; N],
+    /// Relative parameters: value = fitted · (1 + θ), or fitted + θ · scale for an offset.
+    theta: [T; N],
+    /// The scale of each θ: the fitted value, or a half-width for an offset.
+    scale: [T; N],
+    p: Covariance<T>,
+    operator: Hysteresis<D<T>, AnyK2Law<D<T>>>,
+    start: InitialState,
+    last_v: Option<T>,
+    travel: T,
+    counts: Counts,
+}
+
+impl<T: Real> Adaptive<T> {
+    /// An estimator starting from `fitted`'s parameters and memory (a model with no history
+    /// starts by `start`, the model file's start rule, at its first sample).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a bad setting ([`AdaptiveConfig::validate`]), for no
+    /// parameter to adapt, or for k2 asked of a law that cannot be scaled.
+    pub fn new(
+        fitted: &AdaptiveModel<T>,
+        start: InitialState,
+        config: AdaptiveConfig<T>,
+    ) -> Result<Self, Error> {
+        config.validate()?;
+        if config.parameters.is_empty() {
+            return Err(Error::InvalidParameter {
+                name: "parameters",
+                value: 0.0,
+                expected: "at least one of k1, k2, gain, offset, input_gain, input_offset",
+            });
+        }
+        let mut mask = [false; N];
+        for p in config.parameters.iter() {
+            if let Some(m) = mask.get_mut(p.index()) {
+                *m = true;
+            }
+        }
+        let scale = scales(fitted, config.noise);
+        let u = config.uncertainty;
+        let mut a = Self {
+            fitted: *fitted,
+            config,
+            mask,
+            theta: [T::zero(); N],
+            scale,
+            p: Covariance::diagonal(u * u, mask),
+            operator: Hysteresis::with_k2_law(D::constant(T::one()), constant_law(T::one()))?,
+            start,
+            last_v: None,
+            travel: T::zero(),
+            counts: Counts::default(),
+        };
+        let memory = fitted.operator().memory().map(|m| lift(&m));
+        a.operator = a.dual_operator(&a.theta, memory)?;
+        Ok(a)
+    }
+
+    /// One sample: the prediction of `y` from `x` with the current parameters, then the update
+    /// from the measured `y`. Never fails: a sample that cannot update says why in its
+    /// [`Status`] and its count.
+    pub fn update(&mut self, x: T, y: T) -> Update<T> {
+        let (prediction, status) = self.sample(x, y);
+        self.counts.add(status);
+        Update { prediction, status }
+    }
+
+    fn sample(&mut self, x: T, y: T) -> (T, Status) {
+        if !x.is_finite() {
+            return (T::nan(), Status::BadInput);
+        }
+        let Ok((prediction, phi, v)) = self.predict(x) else {
+            return (T::nan(), Status::Refused);
+        };
+        if let Some(last) = self.last_v {
+            self.travel = self.travel + (v - last).abs();
+        }
+        self.last_v = Some(v);
+        let (lo, hi) = self.config.input_range;
+        let status = if x < lo || x > hi {
+            Status::OutOfRange
+        } else if !y.is_finite() {
+            Status::BadOutput
+        } else if self.travel < self.config.rest * self.k1_fitted() {
+            Status::Rest
+        } else if let Some(phi) = phi {
+            self.correct(y - prediction, &phi)
+        } else {
+            Status::Refused
+        };
+        (prediction, status)
+    }
+
+    /// Steps the dual model on `x`: (ŷ, ∂ŷ/∂θ, v), the gradient `None` when it is beyond the
+    /// float range. On error the memory is unchanged.
+    fn predict(&mut self, x: T) -> Result<(T, Option<[T; N]>, T), Error> {
+        let input = &self.fitted.input_shaping();
+        let s_in = input.shape.apply(x * input.pre_gain + input.pre_offset);
+        let (gi, ci) = (
+            self.value(Parameter::InputGain),
+            self.value(Parameter::InputOffset),
+        );
+        let mut dv = [T::zero(); N];
+        self.seed(&mut dv, Parameter::InputGain, s_in);
+        self.seed(&mut dv, Parameter::InputOffset, T::one());
+        let v = D::new(s_in * gi + ci, dv);
+        if self.operator.memory().is_none() {
+            let memory = self.start.memory(v, self.operator.k1())?;
+            self.operator.restore(memory);
+        }
+        let before = self.operator.memory();
+        let u = self.operator.try_step(v)?;
+        let out = self.fitted.output_shaping();
+        let z = u.value() * out.pre_gain + out.pre_offset;
+        let s = out.shape.apply(z);
+        let slope = out
+            .shape
+            .apply(Jet::<T, 1>::variable(z))
+            .taylor()
+            .first()
+            .copied()
+            .unwrap_or_else(T::zero);
+        let (g, c) = (self.value(Parameter::Gain), self.value(Parameter::Offset));
+        let prediction = s * g + c;
+        if !prediction.is_finite() {
+            self.operator.restore(before);
+            return Err(Error::NonFiniteOutput {
+                input: x.as_f64(),
+                output: prediction.as_f64(),
+            });
+        }
+        let dy_du = g * slope * out.pre_gain;
+        let mut phi = u.gradient().map(|d| dy_du * d);
+        self.seed(&mut phi, Parameter::Gain, s);
+        self.seed(&mut phi, Parameter::Offset, T::one());
+        if !phi.iter().all(|p| p.is_finite()) {
+            // Sensitivities beyond the float range: the memory keeps its values and starts its
+            // gradients afresh (the next reversals rebuild them); no update from this sample.
+            self.operator
+                .restore(self.operator.memory().map(|m| lift(&lower(&m))));
+            return Ok((prediction, None, v.value()));
+        }
+        Ok((prediction, Some(phi), v.value()))
+    }
+
+    /// Adds ∂/∂θ_p = `d` · (p's scale) to `grad` if p adapts.
+    fn seed(&self, grad: &mut [T; N], p: Parameter, d: T) {
+        let i = p.index();
+        if let (Some(true), Some(g), Some(s)) =
+            (self.mask.get(i), grad.get_mut(i), self.scale.get(i))
+        {
+            *g = *g + d * *s;
+        }
+    }
+
+    /// The Kalman filter's time and measurement update for the prediction error `e`.
+    fn correct(&mut self, e: T, phi: &[T; N]) -> Status {
+        let c = &self.config;
+        let q = c.drift * c.drift * self.travel / self.k1_fitted();
+        self.travel = T::zero();
+        self.p.grow(q, self.mask);
+        let h = self.p.times(phi);
+        let d = c.noise * c.noise + dot(phi, &h);
+        if d <= T::zero() || !d.is_finite() {
+            return Status::Refused;
+        }
+        let bound = T::from_f64(5.0) * d.sqrt();
+        let e = e.max(-bound).min(bound);
+        if e.abs() <= c.dead_zone {
+            return Status::DeadZone;
+        }
+        let mut delta = h.map(|hi| hi * e / d);
+        let largest = delta.iter().fold(T::zero(), |m, x| m.max(x.abs()));
+        if largest > c.step {
+            let f = c.step / largest;
+            delta = delta.map(|x| x * f);
+        }
+        let mut theta = self.theta;
+        for (i, (t, dt)) in theta.iter_mut().zip(delta.iter()).enumerate() {
+            *t = self.clamp(i, *t + *dt);
+        }
+        let memory = self.operator.memory();
+        let Ok(operator) = self.dual_operator(&theta, memory) else {
+            return Status::Refused;
+        };
+        self.operator = operator;
+        self.theta = theta;
+        let cap = c.uncertainty * c.uncertainty;
+        self.p.update(&h, d, cap);
+        Status::Updated
+    }
+
+    /// θ_i kept in its range.
+    fn clamp(&self, i: usize, t: T) -> T {
+        let r = self.config.range;
+        let offset = Parameter::ALL.get(i).is_some_and(|p| p.is_offset());
+        let (lo, hi) = if offset {
+            (-r, r)
+        } else {
+            (r.recip() - T::one(), r - T::one())
+        };
+        if t.is_nan() {
+            T::zero()
+        } else {
+            t.max(lo).min(hi)
+        }
+    }
+
+    /// The dual operator at θ with `memory`, re-anchored so that its last point stays
+    /// ([`reanchor`]).
+    fn dual_operator(
+        &self,
+        theta: &[T; N],
+        memory: Option<Memory<D<T>>>,
+    ) -> Result<Hysteresis<D<T>, AnyK2Law<D<T>>>, Error> {
+        let op = self.fitted.operator();
+        let mut gk1 = [T::zero(); N];
+        self.seed(&mut gk1, Parameter::K1, T::one());
+        let k1 = D::new(self.at(theta, Parameter::K1), gk1);
+        let f = T::one()
+            + theta
+                .get(Parameter::K2.index())
+                .copied()
+                .unwrap_or_else(T::zero);
+        // Each coefficient c of the law is c · (1 + θ_k2): its gradient is c in that slot.
+        let mut gk2 = [T::zero(); N];
+        if let (Some(true), Some(g)) = (self.mask.get(1), gk2.get_mut(1)) {
+            *g = T::one();
+        }
+        let law = scaled_law(op.k2_law(), f, gk2);
+        let mut h = Hysteresis::with_k2_law(k1, law)?;
+        let memory = memory.map(|m| reanchor(m, k1, h.k2_law().k2(m.last_input)));
+        h.restore(memory);
+        Ok(h)
+    }
+
+    /// The current value of parameter `p` (its fitted value if it does not adapt).
+    #[must_use]
+    pub fn value(&self, p: Parameter) -> T {
+        self.at(&self.theta, p)
+    }
+
+    fn at(&self, theta: &[T; N], p: Parameter) -> T {
+        let i = p.index();
+        let t = theta.get(i).copied().unwrap_or_else(T::zero);
+        let s = self.scale.get(i).copied().unwrap_or_else(T::zero);
+        let (input, output) = (self.fitted.input_shaping(), self.fitted.output_shaping());
+        match p {
+            Parameter::K1 => self.k1_fitted() * (T::one() + t),
+            Parameter::K2 => self.fitted.operator().k2_law().at_zero() * (T::one() + t),
+            Parameter::Gain => output.post_gain * (T::one() + t),
+            Parameter::Offset => output.post_offset + t * s,
+            Parameter::InputGain => input.post_gain * (T::one() + t),
+            Parameter::InputOffset => input.post_offset + t * s,
+        }
+    }
+
+    /// σ of parameter `p`'s estimate (its units), from the filter's covariance.
+    #[must_use]
+    pub fn sigma(&self, p: Parameter) -> T {
+        let i = p.index();
+        self.p.sigma(i) * self.scale.get(i).copied().unwrap_or_else(T::zero)
+    }
+
+    fn k1_fitted(&self) -> T {
+        self.fitted.operator().k1()
+    }
+
+    /// The model with the current parameters and memory: what the compensator inverts.
+    ///
+    /// # Errors
+    /// None in practice (the parameters were checked when they were taken); the core's own
+    /// checks of a model's parameters.
+    pub fn model(&self) -> Result<AdaptiveModel<T>, Error> {
+        let op = self.fitted.operator();
+        let f = T::one()
+            + self
+                .theta
+                .get(Parameter::K2.index())
+                .copied()
+                .unwrap_or_else(T::zero);
+        let law = scaled_law(op.k2_law(), f, [T::zero(); N]);
+        let law = plain_law(&law);
+        let mut h = Hysteresis::with_k2_law(self.value(Parameter::K1), law)?;
+        h.restore(self.operator.memory().map(|m| lower(&m)));
+        let mut input = *self.fitted.input_shaping();
+        input.post_gain = self.value(Parameter::InputGain);
+        input.post_offset = self.value(Parameter::InputOffset);
+        let mut output = *self.fitted.output_shaping();
+        output.post_gain = self.value(Parameter::Gain);
+        output.post_offset = self.value(Parameter::Offset);
+        Ok(ShapedModel::from_parts(input, h, output))
+    }
+
+    /// The model as fitted (with the memory it was given).
+    #[must_use]
+    pub fn fitted(&self) -> &AdaptiveModel<T> {
+        &self.fitted
+    }
+
+    /// The start rule of a model with no history.
+    #[must_use]
+    pub fn start(&self) -> InitialState {
+        self.start
+    }
+
+    /// The settings.
+    #[must_use]
+    pub fn config(&self) -> &AdaptiveConfig<T> {
+        &self.config
+    }
+
+    /// How many samples had each status.
+    #[must_use]
+    pub fn counts(&self) -> Counts {
+        self.counts
+    }
+
+    /// The operator's memory (operator units), `None` before the first sample.
+    #[must_use]
+    pub fn memory(&self) -> Option<Memory<T>> {
+        self.operator.memory().map(|m| lower(&m))
+    }
+}
+
+/// The scale of each θ: the fitted value for k1, k2 and the gains; for the output offset the
+/// loop's half-width in output units, |ψ_out(k1) − ψ_out(−k1)| / 2 (at least `noise`); for
+/// the input offset k1.
+fn scales<T: Real>(m: &AdaptiveModel<T>, noise: T) -> [T; N] {
+    let k1 = m.operator().k1();
+    let out = m.output_shaping();
+    let half = ((out.apply(k1) - out.apply(-k1)) / T::from_f64(2.0)).abs();
+    let half = if half.is_finite() && half > noise {
+        half
+    } else {
+        noise
+    };
+    [
+        k1,
+        m.operator().k2_law().at_zero(),
+        out.post_gain,
+        half,
+        m.input_shaping().post_gain,
+        k1,
+    ]
+}
+
+fn dot<T: Real>(a: &[T; N], b: &[T; N]) -> T {
+    a.iter()
+        .zip(b.iter())
+        .fold(T::zero(), |s, (x, y)| s + *x * *y)
+}
+
+fn constant_law<T: Real>(k2: T) -> AnyK2Law<D<T>> {
+    AnyK2Law::Constant {
+        value: D::constant(k2),
+    }
+}
+
+/// The law scaled by `f` (its value at θ), each coefficient c with gradient c · `grad`.
+fn scaled_law<T: Real>(law: &AnyK2Law<T>, f: T, grad: [T; N]) -> AnyK2Law<D<T>> {
+    let scaled = |c: T| D::new(c * f, grad.map(|g| g * c));
+    match law {
+        AnyK2Law::Constant { value } => AnyK2Law::Constant {
+            value: scaled(*value),
+        },
+        AnyK2Law::Affine(a) => AnyK2Law::Affine(AffineK2 {
+            at_zero: scaled(a.at_zero),
+            slope: scaled(a.slope),
+            min: scaled(a.min),
+            max: scaled(a.max),
+        }),
+    }
+}
+
+fn plain_law<T: Real>(law: &AnyK2Law<D<T>>) -> AnyK2Law<T> {
+    match law {
+        AnyK2Law::Constant { value } => AnyK2Law::Constant {
+            value: value.value(),
+        },
+        AnyK2Law::Affine(a) => AnyK2Law::Affine(AffineK2 {
+            at_zero: a.at_zero.value(),
+            slope: a.slope.value(),
+            min: a.min.value(),
+            max: a.max.value(),
+        }),
+    }
+}
+
+fn lift<T: Real>(m: &Memory<T>) -> Memory<D<T>> {
+    Memory {
+        reversal_input: D::constant(m.reversal_input),
+        reversal_output: D::constant(m.reversal_output),
+        direction: m.direction,
+        last_input: D::constant(m.last_input),
+        last_output: D::constant(m.last_output),
+    }
+}
+
+fn lower<T: Real>(m: &Memory<D<T>>) -> Memory<T> {
+    Memory {
+        reversal_input: m.reversal_input.value(),
+        reversal_output: m.reversal_output.value(),
+        direction: m.direction,
+        last_input: m.last_input.value(),
+        last_output: m.last_output.value(),
+    }
+}
