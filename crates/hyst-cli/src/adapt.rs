@@ -45,31 +45,38 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', default_value = "k1,k2,gain,offset")]
     pub parameters: Vec<String>,
     /// σ of the measurement noise (output units; default: the model's training RMS).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub noise: Option<f64>,
     /// σ of the parameters' relative drift per k1 of input travel.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = 1e-3, allow_negative_numbers = true)]
     pub drift: f64,
-    /// σ of the fitted parameters' relative error at the start, and the cap of every σ.
-    #[arg(long, default_value_t = 0.1)]
+    /// σ of the fitted parameters' relative error at the start (later σ grow with the drift,
+    /// up to the larger of this and 0.1).
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
     pub uncertainty: f64,
     /// Input travel (in units of k1) between updates: at a constant input nothing moves.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = 1e-3, allow_negative_numbers = true)]
     pub rest: f64,
     /// Largest relative change of any parameter in one update.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
     pub step: f64,
     /// Each gain, k1 and k2 stays within [fitted / R, fitted · R]; each offset within R
     /// half-widths of the loop.
-    #[arg(long, default_value_t = 4.0)]
+    #[arg(long, default_value_t = 4.0, allow_negative_numbers = true)]
     pub range: f64,
     /// Prediction errors of at most this size (output units) do not update.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub dead_zone: f64,
     /// Commands outside MIN,MAX (input units) do not update (default: for a fitted model, the
     /// input range it was fitted on widened by 10 % of its span on each side; else none).
-    #[arg(long, value_delimiter = ',', num_args = 2, value_names = ["MIN", "MAX"], allow_negative_numbers = true)]
-    pub input_range: Option<Vec<f64>>,
+    #[arg(long, value_name = "MIN,MAX", allow_hyphen_values = true)]
+    pub input_range: Option<String>,
+    /// Records that are separate experiments (B-H loops of other amplitudes): wherever the
+    /// value of COLUMN changes, the model and the estimator start afresh from the fitted
+    /// parameters (by the start rule). COLUMN may hold numbers or text labels. A record that is
+    /// one history (FORC curves in measurement order) needs no --record.
+    #[arg(long, value_name = "COLUMN")]
+    pub record: Option<String>,
     /// The first SAMPLES rows are left out of rms_fixed and rms_adaptive (a settling time).
     #[arg(long, default_value_t = 0, value_name = "SAMPLES")]
     pub settle: usize,
@@ -99,6 +106,12 @@ pub fn main(args: Args) -> Result<()> {
     let y_name = args.output.as_deref().unwrap_or(&file.columns.output);
     let xi = reader.column(x_name)?;
     let yi = reader.column(y_name)?;
+    let ri = args
+        .record
+        .as_deref()
+        .map(|r| reader.column(r))
+        .transpose()?;
+    let mut label: Option<String> = None;
     let adapted: Vec<Parameter> = config.parameters.iter().collect();
     let names = output_names(reader.names(), &adapted);
     let mut out = CsvWriter::create(&args.output_file, names)?;
@@ -108,6 +121,15 @@ pub fn main(args: Args) -> Result<()> {
     while let Some(line) = reader.next_cells()? {
         let x = measured(&reader, xi, line)?;
         let y = measured(&reader, yi, line)?;
+        if let Some(ri) = ri {
+            let this = reader.cell_text(ri, line)?;
+            if label.as_deref().is_some_and(|l| l != this) {
+                run.restart();
+            }
+            if label.as_deref() != Some(this) {
+                label = Some(this.to_string());
+            }
+        }
         let prediction = run.sample(x, y)?;
         row.clear();
         reader.push_cells(line, &mut row)?;
@@ -173,8 +195,7 @@ fn config(args: &Args, file: &ModelFile, smooth: &SmoothModel) -> Result<Adaptiv
         ),
     };
     let input_range = match args.input_range.as_deref() {
-        Some([lo, hi]) => (*lo, *hi),
-        Some(_) => bail!("--input-range takes two numbers, MIN,MAX"),
+        Some(text) => parse_range(text)?,
         None => hyst_model::adaptive::fitted_input_range(file, smooth),
     };
     let config = AdaptiveConfig {
@@ -192,6 +213,16 @@ fn config(args: &Args, file: &ModelFile, smooth: &SmoothModel) -> Result<Adaptiv
         .validate()
         .map_err(|e| anyhow::anyhow!("--{}", flag_of(&e)))?;
     Ok(config)
+}
+
+/// `--input-range MIN,MAX`.
+fn parse_range(text: &str) -> Result<(f64, f64)> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let numbers: Vec<Option<f64>> = parts.iter().map(|p| p.parse::<f64>().ok()).collect();
+    match numbers.as_slice() {
+        [Some(lo), Some(hi)] if lo <= hi => Ok((*lo, *hi)),
+        _ => bail!("--input-range {text:?}: give two numbers MIN,MAX with MIN <= MAX"),
+    }
 }
 
 /// The setting's flag and the core's message.
@@ -275,21 +306,33 @@ impl<'a> Run<'a> {
         }
     }
 
+    /// A new record (a separate experiment): both models start afresh from the fitted
+    /// parameters at its first command.
+    fn restart(&mut self) {
+        if let Some(a) = self.adaptive.as_mut() {
+            a.reset();
+        }
+        self.fixed = None;
+    }
+
     /// One row: the one-step prediction (NaN for a command that is not finite).
     fn sample(&mut self, x: f64, y: f64) -> Result<f64> {
         self.rows += 1;
-        if self.adaptive.is_none() {
+        if self.fixed.is_none() {
             if !x.is_finite() {
                 self.bad_before_start.bad_input += 1;
                 return Ok(f64::NAN);
             }
-            // Both start by the model's start rule at the first command, as `hyst run` does.
+            // Both start by the model's start rule at the record's first command, as `hyst
+            // run` does.
             self.fixed = Some(
                 self.smooth
                     .core(x)
                     .context("the model cannot start at the first command")?,
             );
-            self.adaptive = Some(hyst_model::adaptive::estimator(self.smooth, self.config)?);
+            if self.adaptive.is_none() {
+                self.adaptive = Some(hyst_model::adaptive::estimator(self.smooth, self.config)?);
+            }
         }
         let (Some(a), Some(fixed)) = (self.adaptive.as_mut(), self.fixed.as_mut()) else {
             return Ok(f64::NAN);
@@ -353,6 +396,7 @@ impl<'a> Run<'a> {
             "counts": {
                 "updated": counts.updated,
                 "rest": counts.rest,
+                "starting": counts.starting,
                 "dead_zone": counts.dead_zone,
                 "bad_input": counts.bad_input,
                 "out_of_range": counts.out_of_range,
@@ -418,10 +462,11 @@ fn text(s: &serde_json::Value) -> String {
     }
     let c = &s["counts"];
     t += &format!(
-        "updates {}, at rest {}, dead zone {}, skipped: bad input {}, out of range {}, bad \
-         output {}; refused {}\n",
+        "updates {}, at rest {}, starting {}, dead zone {}; skipped: bad input {}, out of \
+         range {}, bad output {}; refused {}\n",
         c["updated"],
         c["rest"],
+        c["starting"],
         c["dead_zone"],
         c["bad_input"],
         c["out_of_range"],

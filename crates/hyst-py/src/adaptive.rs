@@ -17,7 +17,7 @@ use crate::model::Model;
 /// The recursive estimator of a fitted model's parameters, and the compensator that uses them.
 ///
 /// `Adaptive(model, *, parameters=("k1", "k2", "gain", "offset"), noise=None, drift=1e-3,
-/// uncertainty=0.1, rest=1e-3, step=0.01, range=4.0, dead_zone=0.0, input_range=None,
+/// uncertainty=0.01, rest=1e-3, step=0.01, range=4.0, dead_zone=0.0, input_range=None,
 /// strict=False)`: `model` a smooth `Model` of the operator form without dynamics (as `hyst
 /// adapt` takes); `noise` the measurement noise σ (output units; default the model's training
 /// RMS); the other settings as `hyst adapt`'s flags (docs/adaptation.md). `input_range`
@@ -52,6 +52,7 @@ fn status_name(s: Status) -> &'static str {
     match s {
         Status::Updated => "updated",
         Status::Rest => "rest",
+        Status::Starting => "starting",
         Status::DeadZone => "dead_zone",
         Status::BadInput => "bad_input",
         Status::OutOfRange => "out_of_range",
@@ -102,7 +103,7 @@ impl Adaptive {
 #[pymethods]
 impl Adaptive {
     #[new]
-    #[pyo3(signature = (model, *, parameters=None, noise=None, drift=1e-3, uncertainty=0.1, rest=1e-3, step=0.01, range=4.0, dead_zone=0.0, input_range=None, strict=false))]
+    #[pyo3(signature = (model, *, parameters=None, noise=None, drift=1e-3, uncertainty=0.01, rest=1e-3, step=0.01, range=4.0, dead_zone=0.0, input_range=None, strict=false))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         model: &Bound<'_, Model>,
@@ -217,7 +218,7 @@ impl Adaptive {
         Ok((to_numpy(py, pred), params.into_pyarray(py).into_any()))
     }
 
-    /// One sample: (prediction, status), status one of "updated", "rest", "dead_zone",
+    /// One sample: (prediction, status), status one of "updated", "rest", "starting", "dead_zone",
     /// "bad_input", "out_of_range", "bad_output", "refused".
     fn update(slf: &Bound<'_, Self>, x: f64, y: f64) -> PyResult<(f64, &'static str)> {
         let mut me = borrow_mut(slf)?;
@@ -247,6 +248,19 @@ impl Adaptive {
         };
         me.check(None, x, y, u)?;
         Ok(Some(u.prediction))
+    }
+
+    /// A separate experiment follows: back to the fitted parameters, their initial
+    /// uncertainty and no history (the counts stay).
+    fn reset(slf: &Bound<'_, Self>) -> PyResult<()> {
+        let mut me = borrow_mut(slf)?;
+        let estimator = {
+            let mut e = *me.compensator.estimator();
+            e.reset();
+            e
+        };
+        me.compensator = AdaptiveCompensator::new(estimator);
+        Ok(())
     }
 
     /// The names of the adapted parameters, in the order of `process`'s columns.
@@ -279,6 +293,7 @@ impl Adaptive {
         for (k, v) in [
             ("updated", c.updated),
             ("rest", c.rest),
+            ("starting", c.starting),
             ("dead_zone", c.dead_zone),
             ("bad_input", c.bad_input),
             ("out_of_range", c.out_of_range),

@@ -12,7 +12,9 @@
 //!
 //! increasing in w on [max(0, a − k1), min(ṽ, a + k1)] (where 0 ≤ M* ≤ 2 k1), g ≤ 0 at the left
 //! end and ≥ 0 at the right end once the last point is in the band. Solved by Newton steps kept
-//! in the bracket; the root's gradient comes from the implicit-function theorem. Far along a
+//! in the bracket. β0 keeps its gradient (its sensitivity to the parameters before the move):
+//! the sensitivities stay those of the run, and are not divided by g', which vanishes where the
+//! reversal point nears the band's edge. Far along a
 //! branch (g' below √ε) the output no longer depends on β0 and the memory is kept: there the
 //! output is the asymptote v ∓ k1 whatever the history, and a new k1 moves it by the change
 //! of k1, which no memory can undo.
@@ -21,7 +23,6 @@ use super::MAX_PARAMETERS as N;
 use crate::dual::Dual;
 use crate::memory::Memory;
 use crate::real::Real;
-use num_traits::Float;
 
 type D<T> = Dual<T, N>;
 
@@ -36,12 +37,11 @@ pub(super) fn reanchor<T: Real>(m: Memory<D<T>>, k1: D<T>, k2: D<T>) -> Memory<D
     let Some(w) = root(vt.value(), a.value(), k1.value(), k2.value(), w_now.value()) else {
         return m;
     };
-    let w = D::constant(w).implicit_root(|w| {
-        let decay = (-(k2 * w)).exp();
-        let g = (a + k1 - w) * (D::constant(T::one()) - decay) - (vt - w);
-        (g, decay * (k2 * (a + k1 - w) + T::one()))
-    });
-    m.reversal_output = m.last_output - w * s;
+    // The value moves; the gradient stays β0's own. Differentiating through the root would
+    // divide by g', which is small where the reversal point lies near the band's edge (M* → 0),
+    // and an update at every sample would compound that division into an overflow.
+    let beta0 = m.last_output.value() - w * s.value();
+    m.reversal_output = D::new(beta0, m.reversal_output.gradient());
     m
 }
 
@@ -120,7 +120,7 @@ mod tests {
     use crate::parametric::Hysteresis;
 
     /// After new k1 and k2, the operator from the re-anchored memory gives the last output again
-    /// at the last input (no jump), and its gradient matches central differences.
+    /// at the last input (no jump).
     #[test]
     fn the_new_branch_passes_through_the_last_point() -> Result<(), crate::Error> {
         let mut h = Hysteresis::new(D::<f64>::constant(0.2), D::constant(8.0))?;
@@ -130,19 +130,16 @@ mod tests {
         let m = h
             .memory()
             .ok_or(crate::Error::NonFiniteInput { value: 0.0 })?;
-        let run = |k1: f64, k2: f64| -> Result<(f64, f64), crate::Error> {
-            let (k1d, k2d) = (D::variable(k1, 0), D::variable(k2, 1));
-            let m2 = reanchor(m, k1d, k2d);
+        for (k1, k2) in [(0.23, 7.0), (0.21, 12.0), (0.2, 8.0)] {
+            let (k1d, k2d) = (D::constant(k1), D::constant(k2));
             let mut h2 = Hysteresis::new(k1d, k2d)?;
-            h2.set_memory(Some(m2))?;
+            h2.set_memory(Some(reanchor(m, k1d, k2d)))?;
             let again = h2.step(m.last_input);
-            assert!((again.value() - m.last_output.value()).abs() < 1e-12);
-            Ok((m2.reversal_output.value(), m2.reversal_output.gradient()[0]))
-        };
-        let (_, d) = run(0.23, 7.0)?;
-        let e = 1e-6;
-        let fd = (run(0.23 + e, 7.0)?.0 - run(0.23 - e, 7.0)?.0) / (2.0 * e);
-        assert!((d - fd).abs() < 1e-6, "{d} {fd}");
+            assert!(
+                (again.value() - m.last_output.value()).abs() < 1e-12,
+                "{k1} {k2}"
+            );
+        }
         Ok(())
     }
 }

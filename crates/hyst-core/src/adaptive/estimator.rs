@@ -68,6 +68,9 @@ pub struct Adaptive<T: Real> {
     start: InitialState,
     last_v: Option<T>,
     travel: T,
+    /// Whether the model has met a reversal since it started (before, its state is the start
+    /// rule's guess, and a prediction error says as much about that guess as about θ).
+    settled: bool,
     counts: Counts,
 }
 
@@ -110,6 +113,7 @@ impl<T: Real> Adaptive<T> {
             start,
             last_v: None,
             travel: T::zero(),
+            settled: fitted.operator().memory().is_some(),
             counts: Counts::default(),
         };
         let memory = fitted.operator().memory().map(|m| lift(&m));
@@ -130,9 +134,14 @@ impl<T: Real> Adaptive<T> {
         if !x.is_finite() {
             return (T::nan(), Status::BadInput);
         }
+        let reversal = self.operator.memory().map(|m| m.reversal_input.value());
         let Ok((prediction, phi, v)) = self.predict(x) else {
             return (T::nan(), Status::Refused);
         };
+        if !self.settled {
+            let now = self.operator.memory().map(|m| m.reversal_input.value());
+            self.settled = reversal.is_some() && now != reversal;
+        }
         if let Some(last) = self.last_v {
             self.travel = self.travel + (v - last).abs();
         }
@@ -142,6 +151,9 @@ impl<T: Real> Adaptive<T> {
             Status::OutOfRange
         } else if !y.is_finite() {
             Status::BadOutput
+        } else if !self.settled {
+            self.travel = T::zero();
+            Status::Starting
         } else if self.travel < self.config.rest * self.k1_fitted() {
             Status::Rest
         } else if let Some(phi) = phi {
@@ -223,6 +235,9 @@ impl<T: Real> Adaptive<T> {
         let h = self.p.times(phi);
         let d = c.noise * c.noise + dot(phi, &h);
         if d <= T::zero() || !d.is_finite() {
+            // Sensitivities too large to square: the memory starts its gradients afresh.
+            self.operator
+                .restore(self.operator.memory().map(|m| lift(&lower(&m))));
             return Status::Refused;
         }
         let bound = T::from_f64(5.0) * d.sqrt();
@@ -246,7 +261,8 @@ impl<T: Real> Adaptive<T> {
         };
         self.operator = operator;
         self.theta = theta;
-        let cap = c.uncertainty * c.uncertainty;
+        let cap = c.cap();
+        let cap = cap * cap;
         self.p.update(&h, d, cap);
         Status::Updated
     }
@@ -293,6 +309,28 @@ impl<T: Real> Adaptive<T> {
         let memory = memory.map(|m| reanchor(m, k1, h.k2_law().k2(m.last_input)));
         h.restore(memory);
         Ok(h)
+    }
+
+    /// Starts a new record: the model forgets its history (it starts again by its start rule
+    /// at the next sample), the parameters and their covariance stay.
+    pub fn restart(&mut self) {
+        self.operator.restore(None);
+        self.last_v = None;
+        self.travel = T::zero();
+        self.settled = false;
+    }
+
+    /// Back to the fitted parameters, their initial uncertainty and no history (a separate
+    /// experiment); the counts stay.
+    pub fn reset(&mut self) {
+        let u = self.config.uncertainty;
+        self.theta = [T::zero(); N];
+        self.p = Covariance::diagonal(u * u, self.mask);
+        self.restart();
+        // The fitted parameters were taken before: the operator at θ = 0 is valid.
+        if let Ok(op) = self.dual_operator(&self.theta, None) {
+            self.operator = op;
+        }
     }
 
     /// The current value of parameter `p` (its fitted value if it does not adapt).

@@ -16,20 +16,24 @@
 //! 1. **Prediction.** The model steps once on [`Dual`] numbers: the one-step prediction ŷ with
 //!    parameters before the update, and φ = ∂ŷ/∂θ, exact, through the operator's memory (the
 //!    reversal point carries its own sensitivities: Definition 2.1 on duals).
-//! 2. **Excitation gate.** The input's travel since the last update, |Δv| summed in operator
+//! 2. **Start.** Until the model meets its first reversal after a start (its first sample, or
+//!    [`Adaptive::restart`] for a new record), its state is the start rule's guess and the
+//!    prediction error says as much about that guess as about the parameters: nothing is
+//!    updated.
+//! 3. **Excitation gate.** The input's travel since the last update, |Δv| summed in operator
 //!    units, must reach `rest` · k1. Until it does, nothing is updated and nothing grows: at a
 //!    constant input the parameters do not move at all, and a slowly creeping input updates
 //!    them as often as it moves (a rest of 10⁶ samples leaves them bit-identical).
-//! 3. **Time update.** P ← P + (`drift`² · travel / k1) I on the adapted parameters: the
+//! 4. **Time update.** P ← P + (`drift`² · travel / k1) I on the adapted parameters: the
 //!    uncertainty grows with the input travel since the last update, not with time, so the
 //!    sample rate does not change the behaviour.
-//! 4. **Measurement update.** With R = `noise`², h = P φ, d = R + φᵀh: the innovation
+//! 5. **Measurement update.** With R = `noise`², h = P φ, d = R + φᵀh: the innovation
 //!    e = y − ŷ is clipped to ±5 √d (one wild sample cannot throw the parameters), a dead zone
 //!    |e| ≤ `dead_zone` skips the update, θ ← θ + h e / d with the step scaled so that no
 //!    parameter moves by more than `step` (relative) per update, P ← P − h hᵀ / d.
-//! 5. **Ranges.** Each gain, k1 and k2 stays in \[fitted / `range`, fitted · `range`\] (so > 0),
+//! 6. **Ranges.** Each gain, k1 and k2 stays in \[fitted / `range`, fitted · `range`\] (so > 0),
 //!    each offset within ± `range` half-widths of its fitted value, and P's diagonal never
-//!    exceeds `uncertainty`² (a congruence scaling, which keeps P positive semidefinite): no
+//!    exceeds the cap, max(`uncertainty`, 0.1)² (a congruence scaling, which keeps P positive semidefinite): no
 //!    burst when excitation returns after a long rest. A change that the core refuses (k1 k2
 //!    below the float resolution) is not taken.
 //!
@@ -180,8 +184,9 @@ pub struct AdaptiveConfig<T> {
     /// How fast the parameters may drift: the σ of their relative random walk per k1 of input
     /// travel (default 1e-3: about 1 % over 100 loops of ±5 k1), ≥ 0.
     pub drift: T,
-    /// σ of the fitted parameters' relative error at the start, and the cap of every σ later
-    /// (default 0.1), > 0.
+    /// σ of the fitted parameters' relative error at the start (default 0.01: a model fitted
+    /// on the actuator, whose parameters the fit's standard errors put well within 1 %), > 0.
+    /// Later σ grow with the drift up to a cap ([`AdaptiveConfig::cap`]).
     pub uncertainty: T,
     /// The input travel (in units of k1) that must accumulate before an update (default 1e-3),
     /// ≥ 0. At a constant input nothing moves.
@@ -205,13 +210,19 @@ impl<T: Real> AdaptiveConfig<T> {
             parameters: Parameters::DEFAULT,
             noise,
             drift: T::from_f64(1e-3),
-            uncertainty: T::from_f64(0.1),
+            uncertainty: T::from_f64(0.01),
             rest: T::from_f64(1e-3),
             step: T::from_f64(0.01),
             range: T::from_f64(4.0),
             dead_zone: T::zero(),
             input_range: (T::neg_infinity(), T::infinity()),
         }
+    }
+
+    /// The cap of every parameter's σ (relative): the larger of `uncertainty` and 0.1.
+    #[must_use]
+    pub fn cap(&self) -> T {
+        self.uncertainty.max(T::from_f64(0.1))
     }
 
     /// Checks every field.
@@ -260,6 +271,9 @@ pub enum Status {
     Updated,
     /// The input has not travelled `rest` · k1 since the last update: nothing changed.
     Rest,
+    /// The model has not met a reversal since it started (at its first sample, or after
+    /// [`Adaptive::restart`]): its state is still the start rule's guess, so nothing is learnt.
+    Starting,
     /// The prediction error was within the dead zone: nothing changed.
     DeadZone,
     /// The command was not finite: the sample was skipped, the memory is unchanged.
@@ -290,6 +304,8 @@ pub struct Counts {
     pub updated: u64,
     /// [`Status::Rest`].
     pub rest: u64,
+    /// [`Status::Starting`].
+    pub starting: u64,
     /// [`Status::DeadZone`].
     pub dead_zone: u64,
     /// [`Status::BadInput`].
@@ -307,6 +323,7 @@ impl Counts {
         let c = match s {
             Status::Updated => &mut self.updated,
             Status::Rest => &mut self.rest,
+            Status::Starting => &mut self.starting,
             Status::DeadZone => &mut self.dead_zone,
             Status::BadInput => &mut self.bad_input,
             Status::OutOfRange => &mut self.out_of_range,
