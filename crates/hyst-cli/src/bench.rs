@@ -16,14 +16,14 @@ use crate::workloads::{Inputs, NAMES};
 pub struct Args {
     /// Print JSON (keys direct_ns, inverse_ns, inverse_d2_ns, model_ns, exp_ns, lambert_w0_ns,
     /// bank_inverse_ns, bank_direct_ns, bank_inverse_f32_ns (banks of 1,024 channels in blocks
-    /// of 64 ticks, ns per channel-sample), fitted_static_ns, fitted_dynamics_ns, the goal ratios
-    /// and goals_met, the banks' ratios to the scalar operators and to each other,
-    /// bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static and
-    /// dynamics_goal_met) instead of a table.
+    /// of 64 ticks, ns per channel-sample), fitted_static_ns, fitted_dynamics_ns, adaptive_ns,
+    /// the goal ratios and goals_met, the banks' ratios to the scalar operators and to each
+    /// other, bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static,
+    /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met) instead of a table.
     #[arg(long)]
     pub json: bool,
     /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
-    /// takes this plus about 0.1 s of calibration). The time is shared by the eleven workloads,
+    /// takes this plus about 0.1 s of calibration). The time is shared by the twelve workloads,
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
@@ -124,6 +124,9 @@ struct Ratios {
     /// A fitted model with dynamics of order 2 over the same model without (issue 25's goal:
     /// at most 2).
     dynamics: f64,
+    /// The adaptive estimator (k1, k2, gain, offset) over the direct operator, per sample
+    /// (issue 30's goal: at most 10).
+    adaptive: f64,
 }
 
 impl Ratios {
@@ -173,6 +176,7 @@ impl Ratios {
             f32_rate,
             bank_goals,
             dynamics: at(10) / at(9),
+            adaptive: at(11) / direct,
         }
     }
 
@@ -204,6 +208,8 @@ fn print_json(best: &[f64], ratios: &Ratios) -> Result<()> {
     map.insert("bank_goals_met".into(), json!(ratios.bank_goals_met()));
     map.insert("dynamics_over_static".into(), json!(ratios.dynamics));
     map.insert("dynamics_goal_met".into(), json!(ratios.dynamics <= 2.0));
+    map.insert("adaptive_over_direct".into(), json!(ratios.adaptive));
+    map.insert("adaptive_goal_met".into(), json!(ratios.adaptive <= 10.0));
     outln!("{}", serde_json::to_string_pretty(&map)?);
     Ok(())
 }
@@ -243,5 +249,10 @@ fn print_table(best: &[f64], ratios: &Ratios) {
         "goal fitted model with dynamics <= 2 x static: {:.2} ({})",
         ratios.dynamics,
         verdict(ratios.dynamics <= 2.0)
+    );
+    outln!(
+        "goal adaptive estimator <= 10 x direct H:      {:.2} ({})",
+        ratios.adaptive,
+        verdict(ratios.adaptive <= 10.0)
     );
 }

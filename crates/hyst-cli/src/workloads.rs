@@ -27,7 +27,7 @@ pub const BANK_CHANNELS: usize = 1024;
 pub const BANK_TICKS: usize = 64;
 
 /// The names of the workloads, in report order, with their JSON keys.
-pub const NAMES: [(&str, &str); 11] = [
+pub const NAMES: [(&str, &str); 12] = [
     ("direct operator H (eq. 2)", "direct_ns"),
     ("inverse operator H^-1 (eq. 4)", "inverse_ns"),
     ("inverse with 2 derivatives (jet)", "inverse_d2_ns"),
@@ -42,6 +42,7 @@ pub const NAMES: [(&str, &str); 11] = [
     ),
     ("fitted model, static (run_timed)", "fitted_static_ns"),
     ("fitted model, dynamics of order 2", "fitted_dynamics_ns"),
+    ("adaptive estimator, 4 parameters", "adaptive_ns"),
 ];
 
 /// Precomputed inputs for all workloads.
@@ -54,6 +55,9 @@ pub struct Inputs {
     bank_x: Vec<f64>,
     /// The same in f32.
     bank_x32: Vec<f32>,
+    /// Measured outputs for the adaptive estimator: a truth with k1 and the output gain 10 %
+    /// off the model's, on `x`.
+    adapt_y: Vec<f64>,
     /// The banks and their output buffers, made once (`None`: they could not be built).
     banks: RefCell<Option<Banks>>,
 }
@@ -113,7 +117,11 @@ impl Inputs {
             .map(|i| x.get(i).copied().unwrap_or_default())
             .collect();
         let bank_x32 = bank_x.iter().map(|&v| v as f32).collect();
+        let adapt_y = adaptive_model(0.154, 1.1).map_or_else(Vec::new, |mut truth| {
+            x.iter().map(|&v| truth.step(v)).collect()
+        });
         Self {
+            adapt_y,
             x,
             jets,
             w_args,
@@ -185,9 +193,31 @@ impl Inputs {
                     .ok()?;
                 sum
             }
+            11 => {
+                use hyst_core::adaptive::{Adaptive, AdaptiveConfig};
+                use hyst_core::InitialState;
+                let model = adaptive_model(0.14, 1.0)?;
+                let config = AdaptiveConfig::new(1e-3);
+                let mut a = Adaptive::new(&model, InitialState::Line, config).ok()?;
+                self.x
+                    .iter()
+                    .zip(&self.adapt_y)
+                    .map(|(&x, &y)| a.update(black_box(x), black_box(y)).prediction)
+                    .sum()
+            }
             _ => return None,
         })
     }
+}
+
+/// gain · H(k1, 8)\[x\], the model of the adaptive workload (k1, k2, the output gain and offset
+/// adapt).
+fn adaptive_model(k1: f64, gain: f64) -> Option<hyst_core::adaptive::AdaptiveModel<f64>> {
+    use hyst_core::{AnyK2Law, ScaledShaping, ShapedModel};
+    let mut out = ScaledShaping::identity();
+    out.post_gain = gain;
+    let h = Hysteresis::with_k2_law(k1, AnyK2Law::Constant { value: 8.0 }).ok()?;
+    ShapedModel::new(ScaledShaping::identity(), h, out).ok()
 }
 
 /// A fitted smooth model as the model runtime runs it (a model file's `[smooth]`):

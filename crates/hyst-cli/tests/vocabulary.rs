@@ -71,7 +71,9 @@ fn hyst(args: &[&str]) -> String {
 /// `hyst run` output.
 fn cli_surface() -> String {
     let mut text = hyst(&["--help"]);
-    for command in ["run", "bound", "paper", "fit", "fmu", "bench", "export"] {
+    for command in [
+        "run", "bound", "paper", "fit", "fmu", "bench", "export", "adapt",
+    ] {
         text += &hyst(&[command, "--help"]);
     }
     for language in ["c", "rust"] {
@@ -236,7 +238,9 @@ fn no_surface_exposes_an_old_name() {
     assert!(old.len() >= 8, "the old-names table has {} rows", old.len());
     let help = {
         let mut text = hyst(&["--help"]);
-        for command in ["run", "bound", "paper", "fit", "fmu", "bench", "export"] {
+        for command in [
+            "run", "bound", "paper", "fit", "fmu", "bench", "export", "adapt",
+        ] {
             text += &hyst(&[command, "--help"]);
         }
         for language in ["c", "rust"] {

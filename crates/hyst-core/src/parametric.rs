@@ -298,6 +298,18 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
     /// Large products k1 k2 (beyond the float range: `new(1e300, 1e300)`) are accepted: the
     /// operator then evaluates eq. (2) in an overflow-free form (see [`Operator::try_step`]).
     pub fn with_k2_law(k1: T, law: K) -> Result<Self, Error> {
+        Self::check_parameters(k1, &law)?;
+        Ok(Self {
+            k1,
+            law,
+            initial: None,
+            memory: None,
+            formula: PhantomData,
+        })
+    }
+
+    /// The checks of [`ParametricHysteresis::with_k2_law`].
+    fn check_parameters(k1: T, law: &K) -> Result<(), Error> {
         positive_normal("k1", k1)?;
         if k1 > T::max_value() * T::from_f64(0.25) {
             return Err(Error::InvalidParameter {
@@ -317,13 +329,29 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
                 });
             }
         }
-        Ok(Self {
-            k1,
-            law,
-            initial: None,
-            memory: None,
-            formula: PhantomData,
-        })
+        Ok(())
+    }
+
+    /// New parameters for this operator, its memory kept as it is (the caller keeps it valid
+    /// for them: [`crate::adaptive`] re-anchors it).
+    ///
+    /// # Errors
+    /// As [`ParametricHysteresis::with_k2_law`]; the operator is then unchanged.
+    pub(crate) fn set_parameters(&mut self, k1: T, law: K) -> Result<(), Error> {
+        Self::check_parameters(k1, &law)?;
+        self.k1 = k1;
+        self.law = law;
+        Ok(())
+    }
+
+    /// The memory, in place (`None` before the first sample).
+    pub(crate) fn memory_mut(&mut self) -> Option<&mut Memory<T>> {
+        self.memory.as_mut()
+    }
+
+    /// The memory, by reference.
+    pub(crate) fn memory_ref(&self) -> Option<&Memory<T>> {
+        self.memory.as_ref()
     }
 
     /// Starts the operator at rest at (input, output), heading in `direction`: that point is the

@@ -26,7 +26,7 @@ use crate::model::Model;
 /// - `process(x, y)`: a record of commands and measured outputs → `(y_pred, params)`, the
 ///   one-step predictions (float64, n) and the parameters after each sample (float64, (n, p),
 ///   columns in the order of `parameters`).
-/// - `command(desired)` → the command for a desired output with the current parameters;
+/// - `step(desired)` → the command for a desired output with the current parameters;
 ///   `measure(y)` → the update with the output measured for that command (its prediction).
 /// - `values`, `sigmas`, `counts`, `parameters`; `model()` the model with the current
 ///   parameters (a `Model`: save it, export it, run it).
@@ -227,9 +227,10 @@ impl Adaptive {
         Ok((u.prediction, status_name(u.status)))
     }
 
-    /// The command for the desired output `desired` with the current parameters. Raises
-    /// ValueError for a desired output the model cannot produce (the state is unchanged).
-    fn command(slf: &Bound<'_, Self>, desired: f64) -> PyResult<f64> {
+    /// The compensator's step: the command for the desired output `desired` with the current
+    /// parameters. Raises ValueError for a desired output the model cannot produce (the state
+    /// is unchanged).
+    fn step(slf: &Bound<'_, Self>, desired: f64) -> PyResult<f64> {
         let mut me = borrow_mut(slf)?;
         me.compensator
             .command(desired)

@@ -11,8 +11,8 @@
 //! g(w) = (a + k1 − w)(1 − e^(−k2 w)) − (ṽ − w) = 0,
 //!
 //! increasing in w on [max(0, a − k1), min(ṽ, a + k1)] (where 0 ≤ M* ≤ 2 k1), g ≤ 0 at the left
-//! end and ≥ 0 at the right end once the last point is in the band. Solved by Newton steps kept
-//! in the bracket. β0 keeps its gradient (its sensitivity to the parameters before the move):
+//! end and ≥ 0 at the right end once the last point is in the band. Its root has a closed form
+//! through Lambert's W, as eq. (2) itself (see `root`). β0 keeps its gradient (its sensitivity to the parameters before the move):
 //! the sensitivities stay those of the run, and are not divided by g', which vanishes where the
 //! reversal point nears the band's edge. Far along a
 //! branch (g' below √ε) the output no longer depends on β0 and the memory is kept: there the
@@ -21,84 +21,54 @@
 
 use super::MAX_PARAMETERS as N;
 use crate::dual::Dual;
+use crate::lambert::{omega, w0};
 use crate::memory::Memory;
 use crate::real::Real;
 
 type D<T> = Dual<T, N>;
 
-/// `m` for the parameters k1 and k2 (k2 at the last input): the last point moved into the band
-/// |β − α| ≤ k1 (onto its edge), then β0 moved so that the branch passes through it.
-pub(super) fn reanchor<T: Real>(m: Memory<D<T>>, k1: D<T>, k2: D<T>) -> Memory<D<T>> {
-    let mut m = into_band(m, k1);
-    let s = m.direction.sign::<D<T>>();
-    let vt = (m.last_input - m.reversal_input) * s;
-    let a = (m.last_output - m.reversal_input) * s;
-    let w_now = (m.last_output - m.reversal_output) * s;
-    let Some(w) = root(vt.value(), a.value(), k1.value(), k2.value(), w_now.value()) else {
-        return m;
+/// `m` made right for the parameters k1 and k2 (k2 at the last input): the last point moved
+/// into the band |β − α| ≤ k1 (onto its edge), then β0 moved so that the branch passes
+/// through it.
+pub(super) fn reanchor<T: Real>(m: &mut Memory<D<T>>, k1: D<T>, k2: D<T>) {
+    into_band(m, k1);
+    let s = m.direction.sign::<T>();
+    let vt = (m.last_input.value() - m.reversal_input.value()) * s;
+    let a = (m.last_output.value() - m.reversal_input.value()) * s;
+    let Some(w) = root(vt, a, k1.value(), k2.value()) else {
+        return;
     };
     // The value moves; the gradient stays β0's own. Differentiating through the root would
     // divide by g', which is small where the reversal point lies near the band's edge (M* → 0),
     // and an update at every sample would compound that division into an overflow.
-    let beta0 = m.last_output.value() - w * s.value();
-    m.reversal_output = D::new(beta0, m.reversal_output.gradient());
-    m
+    m.reversal_output = D::new(m.last_output.value() - w * s, m.reversal_output.gradient());
 }
 
-/// The root w of g on its bracket (plain numbers), starting from `guess`; `None` when the
-/// branch is flat in w there (nothing to move) or the numbers are not finite.
-fn root<T: Real>(vt: T, a: T, k1: T, k2: T, guess: T) -> Option<T> {
+/// The root w of g (plain numbers), in closed form: with z = A − w and A = a + k1, g(w) = 0 is
+/// z e^(k2 z) = (A − ṽ) e^(k2 A), so k2 z = W0(k2 (A − ṽ) e^(k2 A)) = ω(ln(k2 (A − ṽ)) + k2 A)
+/// (the Wright omega: no overflow of e^(k2 A)). `None` when the branch is flat in w there
+/// (g' = e^(−k2 w) (1 + k2 z) = (A − ṽ)(1 + k2 z) / z below √ε: 1.5e-8 for f64, 3.5e-4 for
+/// f32), at the reversal point itself (ṽ = 0), or when the numbers are not finite.
+fn root<T: Real>(vt: T, a: T, k1: T, k2: T) -> Option<T> {
     let zero = T::zero();
-    if vt.partial_cmp(&zero) != Some(core::cmp::Ordering::Greater) {
+    let big_a = a + k1;
+    let gap = big_a - vt;
+    if vt.partial_cmp(&zero) != Some(core::cmp::Ordering::Greater) || gap <= zero {
         return None;
     }
-    let mut lo = (a - k1).max(zero);
-    let mut hi = vt.min(a + k1);
-    if hi < lo || !hi.is_finite() || !lo.is_finite() {
-        return None;
-    }
-    let g = |w: T| {
-        let decay = (-(k2 * w)).exp();
-        (
-            (a + k1 - w) * (-(-(k2 * w)).exp_m1()) - (vt - w),
-            decay * (k2 * (a + k1 - w) + T::one()),
-        )
-    };
-    let mut w = if guess >= lo && guess <= hi {
-        guess
+    let y = k2 * big_a;
+    let z = if y <= T::EXP_ARG_MAX {
+        w0(k2 * gap * y.exp()) / k2
     } else {
-        (lo + hi) * T::from_f64(0.5)
+        omega((k2 * gap).ln() + y) / k2
     };
-    for _ in 0..60 {
-        let (gw, slope) = g(w);
-        if gw == zero {
-            break;
-        }
-        if gw < zero {
-            lo = w;
-        } else {
-            hi = w;
-        }
-        let next = w - gw / slope;
-        let next = if next > lo && next < hi {
-            next
-        } else {
-            (lo + hi) * T::from_f64(0.5)
-        };
-        if (next - w).abs() <= T::epsilon() * (T::one() + w.abs()) {
-            w = next;
-            break;
-        }
-        w = next;
-    }
-    // The root's gradient is −(∂g/∂p) / slope: where the branch barely depends on β0 its
-    // rounding would be amplified beyond the precision (√ε: 1.5e-8 for f64, 3.5e-4 for f32).
-    let (_, slope) = g(w);
-    (slope > T::epsilon().sqrt() && w.is_finite()).then_some(w)
+    let slope = gap * (T::one() + k2 * z) / z;
+    let w = (big_a - z).max((a - k1).max(zero)).min(vt.min(big_a));
+    (z > zero && slope > T::epsilon().sqrt() && w.is_finite()).then_some(w)
 }
 
-/// The memory with each output moved into the band |output − input| ≤ k1 (onto its edge).
-pub(super) fn into_band<T: Real>(mut m: Memory<D<T>>, k1: D<T>) -> Memory<D<T>> {
+/// Each output of `m` moved into the band |output − input| ≤ k1 (onto its edge).
+fn into_band<T: Real>(m: &mut Memory<D<T>>, k1: D<T>) {
     let clamp = |input: D<T>, output: D<T>| {
         if output.value() > input.value() + k1.value() {
             input + k1
@@ -110,7 +80,6 @@ pub(super) fn into_band<T: Real>(mut m: Memory<D<T>>, k1: D<T>) -> Memory<D<T>> 
     };
     m.reversal_output = clamp(m.reversal_input, m.reversal_output);
     m.last_output = clamp(m.last_input, m.last_output);
-    m
 }
 
 #[cfg(test)]
@@ -133,7 +102,9 @@ mod tests {
         for (k1, k2) in [(0.23, 7.0), (0.21, 12.0), (0.2, 8.0)] {
             let (k1d, k2d) = (D::constant(k1), D::constant(k2));
             let mut h2 = Hysteresis::new(k1d, k2d)?;
-            h2.set_memory(Some(reanchor(m, k1d, k2d)))?;
+            let mut m2 = m;
+            reanchor(&mut m2, k1d, k2d);
+            h2.set_memory(Some(m2))?;
             let again = h2.step(m.last_input);
             assert!(
                 (again.value() - m.last_output.value()).abs() < 1e-12,

@@ -68,6 +68,7 @@ impl<T: Real> AdaptiveCompensator<T> {
         if let Some(x) = self.pending.take() {
             self.estimator.update(x, T::nan());
         }
+        self.estimator.anchor();
         let model = self.estimator.model()?;
         let mut inverse = model.inverse();
         if model.memory().is_none() {

@@ -45,12 +45,23 @@ impl<T: Real> Covariance<T> {
 
     /// P ← P − h hᵀ / d, then the diagonal capped at `cap` and kept ≥ 0.
     pub(super) fn update(&mut self, h: &[T; N], d: T, cap: T) {
-        for (row, hi) in self.p.iter_mut().zip(h.iter()) {
-            for (pij, hj) in row.iter_mut().zip(h.iter()) {
-                *pij = *pij - *hi * *hj / d;
+        let inv = d.recip();
+        let mut over = false;
+        for (i, (row, hi)) in self.p.iter_mut().zip(h.iter()).enumerate() {
+            // A parameter that does not adapt has h_i = 0 and a zero row: nothing to do.
+            if *hi == T::zero() {
+                continue;
             }
+            let f = *hi * inv;
+            for (pij, hj) in row.iter_mut().zip(h.iter()) {
+                *pij = *pij - f * *hj;
+            }
+            let pii = row.get(i).copied().unwrap_or_else(T::zero);
+            over |= !(pii > T::zero() && pii <= cap);
         }
-        self.cap(cap);
+        if over {
+            self.cap(cap);
+        }
     }
 
     /// Each diagonal entry above `cap` brought down to it by scaling its row and column (a

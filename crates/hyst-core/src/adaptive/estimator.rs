@@ -3,6 +3,7 @@
 use super::anchor::reanchor;
 use super::covariance::Covariance;
 use super::{AdaptiveConfig, Counts, Parameter, Status, Update, MAX_PARAMETERS as N};
+use crate::any_shaping::AnyShaping;
 use crate::dual::Dual;
 use crate::error::Error;
 use crate::jet::Jet;
@@ -71,6 +72,8 @@ pub struct Adaptive<T: Real> {
     /// Whether the model has met a reversal since it started (before, its state is the start
     /// rule's guess, and a prediction error says as much about that guess as about θ).
     settled: bool,
+    /// Whether the memory is anchored for the current parameters ([`Adaptive::anchor`]).
+    anchored: bool,
     counts: Counts,
 }
 
@@ -114,6 +117,7 @@ impl<T: Real> Adaptive<T> {
             last_v: None,
             travel: T::zero(),
             settled: fitted.operator().memory().is_some(),
+            anchored: true,
             counts: Counts::default(),
         };
         let memory = fitted.operator().memory().map(|m| lift(&m));
@@ -134,12 +138,12 @@ impl<T: Real> Adaptive<T> {
         if !x.is_finite() {
             return (T::nan(), Status::BadInput);
         }
-        let reversal = self.operator.memory().map(|m| m.reversal_input.value());
+        let reversal = self.operator.memory_ref().map(|m| m.reversal_input.value());
         let Ok((prediction, phi, v)) = self.predict(x) else {
             return (T::nan(), Status::Refused);
         };
         if !self.settled {
-            let now = self.operator.memory().map(|m| m.reversal_input.value());
+            let now = self.operator.memory_ref().map(|m| m.reversal_input.value());
             self.settled = reversal.is_some() && now != reversal;
         }
         if let Some(last) = self.last_v {
@@ -177,7 +181,7 @@ impl<T: Real> Adaptive<T> {
         self.seed(&mut dv, Parameter::InputGain, s_in);
         self.seed(&mut dv, Parameter::InputOffset, T::one());
         let v = D::new(s_in * gi + ci, dv);
-        if self.operator.memory().is_none() {
+        if self.operator.memory_ref().is_none() {
             let memory = self.start.memory(v, self.operator.k1())?;
             self.operator.restore(memory);
         }
@@ -185,14 +189,18 @@ impl<T: Real> Adaptive<T> {
         let u = self.operator.try_step(v)?;
         let out = self.fitted.output_shaping();
         let z = u.value() * out.pre_gain + out.pre_offset;
-        let s = out.shape.apply(z);
-        let slope = out
-            .shape
-            .apply(Jet::<T, 1>::variable(z))
-            .taylor()
-            .first()
-            .copied()
-            .unwrap_or_else(T::zero);
+        let (s, slope) = match out.shape {
+            AnyShaping::Identity => (z, T::one()),
+            shape => (
+                shape.apply(z),
+                shape
+                    .apply(Jet::<T, 1>::variable(z))
+                    .taylor()
+                    .first()
+                    .copied()
+                    .unwrap_or_else(T::zero),
+            ),
+        };
         let (g, c) = (self.value(Parameter::Gain), self.value(Parameter::Offset));
         let prediction = s * g + c;
         if !prediction.is_finite() {
@@ -228,7 +236,7 @@ impl<T: Real> Adaptive<T> {
 
     /// The Kalman filter's time and measurement update for the prediction error `e`.
     fn correct(&mut self, e: T, phi: &[T; N]) -> Status {
-        let c = &self.config;
+        let c = self.config;
         let q = c.drift * c.drift * self.travel / self.k1_fitted();
         self.travel = T::zero();
         self.p.grow(q, self.mask);
@@ -240,12 +248,18 @@ impl<T: Real> Adaptive<T> {
                 .restore(self.operator.memory().map(|m| lift(&lower(&m))));
             return Status::Refused;
         }
-        let bound = T::from_f64(5.0) * d.sqrt();
-        let e = e.max(-bound).min(bound);
+        // Clipped at 5 σ of the innovation (the square root only for a sample beyond it).
+        let e = if e * e > T::from_f64(25.0) * d {
+            let bound = T::from_f64(5.0) * d.sqrt();
+            e.max(-bound).min(bound)
+        } else {
+            e
+        };
         if e.abs() <= c.dead_zone {
             return Status::DeadZone;
         }
-        let mut delta = h.map(|hi| hi * e / d);
+        let gain = e / d;
+        let mut delta = h.map(|hi| hi * gain);
         let largest = delta.iter().fold(T::zero(), |m, x| m.max(x.abs()));
         if largest > c.step {
             let f = c.step / largest;
@@ -255,11 +269,9 @@ impl<T: Real> Adaptive<T> {
         for (i, (t, dt)) in theta.iter_mut().zip(delta.iter()).enumerate() {
             *t = self.clamp(i, *t + *dt);
         }
-        let memory = self.operator.memory();
-        let Ok(operator) = self.dual_operator(&theta, memory) else {
+        if self.take(&theta).is_err() {
             return Status::Refused;
-        };
-        self.operator = operator;
+        }
         self.theta = theta;
         let cap = c.cap();
         let cap = cap * cap;
@@ -283,13 +295,8 @@ impl<T: Real> Adaptive<T> {
         }
     }
 
-    /// The dual operator at θ with `memory`, re-anchored so that its last point stays
-    /// ([`reanchor`]).
-    fn dual_operator(
-        &self,
-        theta: &[T; N],
-        memory: Option<Memory<D<T>>>,
-    ) -> Result<Hysteresis<D<T>, AnyK2Law<D<T>>>, Error> {
+    /// k1 and the k2 law at θ, as duals seeded for the adapted parameters.
+    fn dual_parameters(&self, theta: &[T; N]) -> (D<T>, AnyK2Law<D<T>>) {
         let op = self.fitted.operator();
         let mut gk1 = [T::zero(); N];
         self.seed(&mut gk1, Parameter::K1, T::one());
@@ -304,11 +311,49 @@ impl<T: Real> Adaptive<T> {
         if let (Some(true), Some(g)) = (self.mask.get(1), gk2.get_mut(1)) {
             *g = T::one();
         }
-        let law = scaled_law(op.k2_law(), f, gk2);
+        (k1, scaled_law(op.k2_law(), f, gk2))
+    }
+
+    /// The dual operator at θ with `memory` (as given: it is the fitted one or none).
+    fn dual_operator(
+        &self,
+        theta: &[T; N],
+        memory: Option<Memory<D<T>>>,
+    ) -> Result<Hysteresis<D<T>, AnyK2Law<D<T>>>, Error> {
+        let (k1, law) = self.dual_parameters(theta);
         let mut h = Hysteresis::with_k2_law(k1, law)?;
-        let memory = memory.map(|m| reanchor(m, k1, h.k2_law().k2(m.last_input)));
         h.restore(memory);
         Ok(h)
+    }
+
+    /// Takes θ into the dual operator; its memory is re-anchored when a compensator next asks
+    /// for a command ([`Adaptive::anchor`]).
+    fn take(&mut self, theta: &[T; N]) -> Result<(), Error> {
+        let (k1, law) = self.dual_parameters(theta);
+        self.operator.set_parameters(k1, law)?;
+        self.anchored = false;
+        Ok(())
+    }
+
+    /// Re-anchors the memory for the current parameters, if they changed since it was last:
+    /// the reversal output moves so that the branch passes through the last point
+    /// ([`reanchor`]), so that the command a compensator computes from it does not jump. The
+    /// estimate alone does not need it (its predictions are as good either way): only
+    /// [`AdaptiveCompensator::command`](super::AdaptiveCompensator::command) calls it, once per
+    /// command.
+    pub fn anchor(&mut self) {
+        if self.anchored {
+            return;
+        }
+        self.anchored = true;
+        let k1 = self.operator.k1();
+        let k2 = self
+            .operator
+            .memory_ref()
+            .map(|m| self.operator.k2_law().k2(m.last_input));
+        if let (Some(m), Some(k2)) = (self.operator.memory_mut(), k2) {
+            reanchor(m, k1, k2);
+        }
     }
 
     /// Starts a new record: the model forgets its history (it starts again by its start rule

@@ -37,11 +37,12 @@
 //!    burst when excitation returns after a long rest. A change that the core refuses (k1 k2
 //!    below the float resolution) is not taken.
 //!
-//! The memory stays in operator units across an update and the state does not jump: the last
-//! point stays (moved onto the band's edge if a smaller k1 leaves it outside), and the reversal
-//! output moves so that the new branch passes through it (`anchor`). A compensator that
-//! inverts the current model therefore gives, for the desired output it last met, the command
-//! it last gave: switching parameters adds no jump to the command.
+//! The memory stays in operator units across an update. Before a compensator computes a
+//! command the memory is re-anchored for the current parameters (`anchor`): the last point
+//! stays (moved onto the band's edge if a smaller k1 leaves it outside) and the reversal output
+//! moves so that the new branch passes through it. The command for the desired output last met
+//! is then the last command wherever the branch still depends on its reversal point: switching
+//! parameters adds no jump to the command ([`AdaptiveCompensator`]).
 //!
 //! Bad samples: a non-finite x, or one outside `input_range`, skips the update (and a
 //! non-finite x leaves the memory unchanged); a non-finite y skips it too; each is counted

@@ -228,7 +228,10 @@ fn the_compensator_switches_without_a_jump() {
         let u = c.measure(truth.step(x)).unwrap();
         if u.status == Status::Updated {
             updates += 1;
-            let mut inverse = c.estimator().model().unwrap().inverse();
+            // What the next command does: anchor, then invert the current model.
+            let mut e = *c.estimator();
+            e.anchor();
+            let mut inverse = e.model().unwrap().inverse();
             let again = inverse.step(desired);
             // On the asymptote the output is v ∓ k1 whatever the memory: the command moves by
             // the change of k1 there, and by nothing elsewhere.

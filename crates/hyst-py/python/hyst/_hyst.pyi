@@ -338,7 +338,8 @@ class Compensator:
 class Adaptive:
     """Online adaptation: the recursive estimator of a fitted model's parameters (k1, k2, the
     output gain and offset; input gain and offset where asked) and the compensator that
-    follows a drifting actuator (docs/adaptation.md)."""
+    follows a drifting actuator (docs/adaptation.md). Parameter names: k1, k2, gain, offset,
+    input_gain, input_offset."""
 
     def __init__(
         self,
@@ -359,7 +360,8 @@ class Adaptive:
         """(y_pred, params): one-step predictions, and the parameters after each sample
         (n, len(parameters))."""
     def update(self, x: float, y: float) -> Tuple[float, str]: ...
-    def command(self, desired: float) -> float: ...
+    def step(self, desired: float) -> float:
+        """The compensator: the command for a desired output, with the current parameters."""
     def measure(self, y: float) -> Optional[float]: ...
     def reset(self) -> None: ...
     def model(self) -> Model: ...
