@@ -200,3 +200,82 @@ fn the_adaptive_compensator_tracks_the_drifting_truth() {
     );
     assert!(ra <= 1.5 * ro, "{ra} vs {ro}");
 }
+
+mod hostile {
+    use super::*;
+    use hyst_core::adaptive::Parameters;
+    use proptest::prelude::*;
+
+    /// A sample from a mix of ordinary values, extremes and non-finite ones.
+    fn sample() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            8 => -3.0f64..3.0,
+            1 => prop::sample::select(vec![
+                f64::NAN,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                1e300,
+                -1e300,
+                0.0,
+                5e-324,
+            ]),
+            1 => any::<f64>(),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+        /// Any model, any settings, any samples: no panic; every parameter in its range and
+        /// finite; a prediction that is finite or NaN; every sample counted once; the f32 twin
+        /// the same.
+        #[test]
+        fn anything_in_nothing_broken(
+            k1 in 1e-3f64..10.0,
+            k2 in 1e-2f64..1e3,
+            gain in 1e-2f64..1e2,
+            offset in -10.0f64..10.0,
+            mask in 1u8..64,
+            noise in 1e-6f64..1.0,
+            drift in 0.0f64..0.1,
+            step in 1e-4f64..0.5,
+            samples in prop::collection::vec((sample(), sample()), 1..400),
+        ) {
+            let mut out = ScaledShaping::identity();
+            out.post_gain = gain;
+            out.post_offset = offset;
+            let h = Hysteresis::with_k2_law(k1, AnyK2Law::Constant { value: k2 }).unwrap();
+            let m: AdaptiveModel<f64> = ShapedModel::new(ScaledShaping::identity(), h, out).unwrap();
+            let parameters: Parameters = Parameter::ALL
+                .into_iter()
+                .filter(|p| mask & (1 << p.index()) != 0)
+                .collect();
+            let config = AdaptiveConfig { parameters, drift, step, ..AdaptiveConfig::new(noise) };
+            let mut a = Adaptive::new(&m, InitialState::Rising, config).unwrap();
+            let mut c = AdaptiveCompensator::new(Adaptive::new(&m, InitialState::Line, config).unwrap());
+            for (k, &(x, y)) in samples.iter().enumerate() {
+                let u = a.update(x, y);
+                prop_assert!(u.prediction.is_finite() || u.prediction.is_nan());
+                if k % 3 == 0 {
+                    if c.command(y).is_ok() {
+                        c.measure(x);
+                    }
+                } else {
+                    c.update(x, y);
+                }
+            }
+            for e in [&a, c.estimator()] {
+                for p in Parameter::ALL {
+                    let v = e.value(p);
+                    prop_assert!(v.is_finite(), "{} = {v}", p.name());
+                    if matches!(p, Parameter::K1 | Parameter::K2 | Parameter::Gain | Parameter::InputGain) {
+                        prop_assert!(v > 0.0, "{} = {v}", p.name());
+                    }
+                }
+            }
+            let n = a.counts();
+            let total = n.updated + n.rest + n.starting + n.dead_zone + n.skipped() + n.refused;
+            prop_assert_eq!(total, samples.len() as u64);
+        }
+    }
+}
