@@ -198,7 +198,9 @@ impl Inputs {
                 use hyst_core::InitialState;
                 let model = adaptive_model(0.14, 1.0)?;
                 let config = AdaptiveConfig::new(1e-3);
-                let mut a = Adaptive::new(&model, InitialState::Line, config).ok()?;
+                // Width 4: the duals of the four parameters that adapt.
+                let mut a =
+                    Adaptive::<f64, 4>::of_width(&model, InitialState::Line, config).ok()?;
                 self.x
                     .iter()
                     .zip(&self.adapt_y)

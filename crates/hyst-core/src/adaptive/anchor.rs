@@ -19,18 +19,17 @@
 //! output is the asymptote v ∓ k1 whatever the history, and a new k1 moves it by the change
 //! of k1, which no memory can undo.
 
-use super::MAX_PARAMETERS as N;
 use crate::dual::Dual;
 use crate::lambert::{omega, w0};
 use crate::memory::Memory;
 use crate::real::Real;
 
-type D<T> = Dual<T, N>;
+type D<T, const W: usize> = Dual<T, W>;
 
 /// `m` made right for the parameters k1 and k2 (k2 at the last input): the last point moved
 /// into the band |β − α| ≤ k1 (onto its edge), then β0 moved so that the branch passes
 /// through it.
-pub(super) fn reanchor<T: Real>(m: &mut Memory<D<T>>, k1: D<T>, k2: D<T>) {
+pub(super) fn reanchor<T: Real, const W: usize>(m: &mut Memory<D<T, W>>, k1: D<T, W>, k2: D<T, W>) {
     into_band(m, k1);
     let s = m.direction.sign::<T>();
     let vt = (m.last_input.value() - m.reversal_input.value()) * s;
@@ -68,8 +67,8 @@ fn root<T: Real>(vt: T, a: T, k1: T, k2: T) -> Option<T> {
 }
 
 /// Each output of `m` moved into the band |output − input| ≤ k1 (onto its edge).
-fn into_band<T: Real>(m: &mut Memory<D<T>>, k1: D<T>) {
-    let clamp = |input: D<T>, output: D<T>| {
+fn into_band<T: Real, const W: usize>(m: &mut Memory<D<T, W>>, k1: D<T, W>) {
+    let clamp = |input: D<T, W>, output: D<T, W>| {
         if output.value() > input.value() + k1.value() {
             input + k1
         } else if output.value() < input.value() - k1.value() {
@@ -92,7 +91,7 @@ mod tests {
     /// at the last input (no jump).
     #[test]
     fn the_new_branch_passes_through_the_last_point() -> Result<(), crate::Error> {
-        let mut h = Hysteresis::new(D::<f64>::constant(0.2), D::constant(8.0))?;
+        let mut h = Hysteresis::new(D::<f64, 6>::constant(0.2), D::constant(8.0))?;
         for v in [0.0, 0.5, 0.9, 0.4, 0.1, 0.25] {
             h.step(D::constant(v));
         }

@@ -1,7 +1,7 @@
 //! [`AdaptiveCompensator`]: the exact inverse of the estimator's current model, in a loop with
 //! the estimator.
 
-use super::{Adaptive, Update};
+use super::{Adaptive, Update, MAX_PARAMETERS};
 use crate::error::Error;
 use crate::operator::Operator;
 use crate::real::Real;
@@ -41,16 +41,16 @@ use crate::start::Start;
 /// # }
 /// ```
 #[derive(Clone, Copy, Debug)]
-pub struct AdaptiveCompensator<T: Real> {
-    estimator: Adaptive<T>,
+pub struct AdaptiveCompensator<T: Real, const W: usize = MAX_PARAMETERS> {
+    estimator: Adaptive<T, W>,
     /// The last command, waiting for its measurement.
     pending: Option<T>,
 }
 
-impl<T: Real> AdaptiveCompensator<T> {
+impl<T: Real, const W: usize> AdaptiveCompensator<T, W> {
     /// A compensator around `estimator`.
     #[must_use]
-    pub fn new(estimator: Adaptive<T>) -> Self {
+    pub fn new(estimator: Adaptive<T, W>) -> Self {
         Self {
             estimator,
             pending: None,
@@ -104,7 +104,7 @@ impl<T: Real> AdaptiveCompensator<T> {
 
     /// The estimator (its parameters, counts and memory).
     #[must_use]
-    pub fn estimator(&self) -> &Adaptive<T> {
+    pub fn estimator(&self) -> &Adaptive<T, W> {
         &self.estimator
     }
 }

@@ -1,39 +1,39 @@
 //! The estimator's covariance P of the relative parameters θ (a 6 × 6 symmetric matrix) and the
 //! Kalman filter's arithmetic on it: time update, gain and measurement update, the cap.
 
-use super::MAX_PARAMETERS as N;
 use crate::real::Real;
 
-/// P, with rows and columns of parameters that do not adapt kept at zero.
+/// P (W × W, by slot), with the rows and columns of the slots beyond the adapted parameters
+/// kept at zero.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Covariance<T> {
-    p: [[T; N]; N],
+pub(super) struct Covariance<T, const W: usize> {
+    p: [[T; W]; W],
 }
 
-impl<T: Real> Covariance<T> {
-    /// σ² on the diagonal for the adapted parameters (`mask`), zero elsewhere.
-    pub(super) fn diagonal(variance: T, mask: [bool; N]) -> Self {
-        let mut p = [[T::zero(); N]; N];
-        for (i, row) in p.iter_mut().enumerate() {
-            if let (Some(slot), Some(true)) = (row.get_mut(i), mask.get(i)) {
+impl<T: Real, const W: usize> Covariance<T, W> {
+    /// σ² on the diagonal of the first `n` slots, zero elsewhere.
+    pub(super) fn diagonal(variance: T, n: usize) -> Self {
+        let mut p = [[T::zero(); W]; W];
+        for (i, row) in p.iter_mut().enumerate().take(n) {
+            if let Some(slot) = row.get_mut(i) {
                 *slot = variance;
             }
         }
         Self { p }
     }
 
-    /// P ← P + q I on the adapted parameters.
-    pub(super) fn grow(&mut self, q: T, mask: [bool; N]) {
-        for (i, row) in self.p.iter_mut().enumerate() {
-            if let (Some(slot), Some(true)) = (row.get_mut(i), mask.get(i)) {
+    /// P ← P + q I on the first `n` slots.
+    pub(super) fn grow(&mut self, q: T, n: usize) {
+        for (i, row) in self.p.iter_mut().enumerate().take(n) {
+            if let Some(slot) = row.get_mut(i) {
                 *slot = *slot + q;
             }
         }
     }
 
     /// h = P φ.
-    pub(super) fn times(&self, phi: &[T; N]) -> [T; N] {
-        let mut h = [T::zero(); N];
+    pub(super) fn times(&self, phi: &[T; W]) -> [T; W] {
+        let mut h = [T::zero(); W];
         for (hi, row) in h.iter_mut().zip(self.p.iter()) {
             *hi = row
                 .iter()
@@ -44,7 +44,7 @@ impl<T: Real> Covariance<T> {
     }
 
     /// P ← P − h hᵀ / d, then the diagonal capped at `cap` and kept ≥ 0.
-    pub(super) fn update(&mut self, h: &[T; N], d: T, cap: T) {
+    pub(super) fn update(&mut self, h: &[T; W], d: T, cap: T) {
         let inv = d.recip();
         let mut over = false;
         for (i, (row, hi)) in self.p.iter_mut().zip(h.iter()).enumerate() {
@@ -68,7 +68,7 @@ impl<T: Real> Covariance<T> {
     /// congruence D P D with D diagonal: P stays positive semidefinite); a negative diagonal
     /// entry (rounding) set to zero with its row and column.
     fn cap(&mut self, cap: T) {
-        for i in 0..N {
+        for i in 0..W {
             let pii = self.p.get(i).and_then(|r| r.get(i)).copied();
             let Some(pii) = pii else { continue };
             let scale = if pii <= T::zero() || !pii.is_finite() {
@@ -111,11 +111,11 @@ mod tests {
 
     #[test]
     fn the_cap_keeps_p_symmetric_and_bounded() {
-        let mask = [true; N];
-        let mut p = Covariance::diagonal(0.01_f64, mask);
+        const N: usize = 6;
+        let mut p = Covariance::<f64, N>::diagonal(0.01_f64, N);
         let phi = [1.0, 0.5, -0.2, 0.3, 0.0, 0.1];
         for _ in 0..50 {
-            p.grow(0.02, mask);
+            p.grow(0.02, N);
             let h = p.times(&phi);
             let d = 1e-4 + phi.iter().zip(h.iter()).map(|(a, b)| a * b).sum::<f64>();
             p.update(&h, d, 0.01);

@@ -3,6 +3,7 @@
 use super::anchor::reanchor;
 use super::covariance::Covariance;
 use super::{AdaptiveConfig, Counts, Parameter, Status, Update, MAX_PARAMETERS as N};
+
 use crate::any_shaping::AnyShaping;
 use crate::dual::Dual;
 use crate::error::Error;
@@ -21,13 +22,17 @@ use crate::start::InitialState;
 /// functions and any built-in k2 law (a fitted smooth model of the operator form).
 pub type AdaptiveModel<T> = ShapedModel<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
 
-type D<T> = Dual<T, N>;
+/// The dual numbers of an estimator of width `W`.
+type D<T, const W: usize> = Dual<T, W>;
 
 /// A recursive estimator of a shaped model's parameters (k1, k2, output gain and offset; input
 /// gain and offset where asked), updated from each pair of command x and measured output y by
 /// an extended Kalman filter on the exact sensitivities (see [the module](super)).
 ///
-/// `no_std`, no allocation, `f32` or `f64`. About 400 bytes of state for f64.
+/// `no_std`, no allocation, `f32` or `f64`. `W` is the width of the dual numbers: at least the
+/// number of adapted parameters (the default, [`MAX_PARAMETERS`](super::MAX_PARAMETERS) = 6,
+/// takes any set; `Adaptive<T, 4>` takes up to four, the default set, a quarter faster and
+/// smaller).
 ///
 /// # Examples
 /// A truth whose output gain is 20 % above the fitted model's: the estimator finds it.
@@ -40,10 +45,10 @@ type D<T> = Dual<T, N>;
 ///     Hysteresis::with_k2_law(0.2, AnyK2Law::Constant { value: 8.0 })?,
 ///     ScaledShaping::identity(),
 /// )?;
-/// let mut truth = fitted;
-/// let mut out = ScaledShaping::identity();
+/// let mut out = *fitted.output_shaping();
 /// out.post_gain = 1.2;
-/// let mut truth = ShapedModel::new(ScaledShaping::identity(), *truth.operator(), out)?;
+/// let mut truth: AdaptiveModel<f64> =
+///     ShapedModel::new(ScaledShaping::identity(), *fitted.operator(), out)?;
 ///
 /// let mut a = Adaptive::new(&fitted, InitialState::Line, AdaptiveConfig::new(1e-3))?;
 /// for k in 0..20_000 {
@@ -56,16 +61,22 @@ type D<T> = Dual<T, N>;
 /// # }
 /// ```
 #[derive(Clone, Copy, Debug)]
-pub struct Adaptive<T: Real> {
+pub struct Adaptive<T: Real, const W: usize = N> {
     fitted: AdaptiveModel<T>,
     config: AdaptiveConfig<T>,
-    mask: [bool; N],
-    /// Relative parameters: value = fitted · (1 + θ), or fitted + θ · scale for an offset.
-    theta: [T; N],
-    /// The scale of each θ: the fitted value, or a half-width for an offset.
+    /// The slot (0 to W − 1) of each adapted parameter in θ, the duals and P; W for one that
+    /// does not adapt (every lookup of that slot then finds nothing).
+    slot: [usize; N],
+    /// The parameter in each slot.
+    kind: [Parameter; W],
+    /// Relative parameters, by slot: value = fitted · (1 + θ), or fitted + θ · scale for an
+    /// offset.
+    theta: [T; W],
+    /// The scale of each parameter's θ (by parameter): the fitted value, or a half-width for
+    /// an offset.
     scale: [T; N],
-    p: Covariance<T>,
-    operator: Hysteresis<D<T>, AnyK2Law<D<T>>>,
+    p: Covariance<T, W>,
+    operator: Hysteresis<D<T, W>, AnyK2Law<D<T, W>>>,
     start: InitialState,
     last_v: Option<T>,
     travel: T,
@@ -78,13 +89,29 @@ pub struct Adaptive<T: Real> {
 }
 
 impl<T: Real> Adaptive<T> {
-    /// An estimator starting from `fitted`'s parameters and memory (a model with no history
-    /// starts by `start`, the model file's start rule, at its first sample).
+    /// An estimator of any set of parameters (width 6) starting from `fitted`'s parameters and
+    /// memory (a model with no history starts by `start`, the model file's start rule, at its
+    /// first sample). [`Adaptive::of_width`] builds a narrower one.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a bad setting ([`AdaptiveConfig::validate`]), for no
-    /// parameter to adapt, or for k2 asked of a law that cannot be scaled.
+    /// [`Error::InvalidParameter`] for a bad setting ([`AdaptiveConfig::validate`]) or for no
+    /// parameter to adapt.
     pub fn new(
+        fitted: &AdaptiveModel<T>,
+        start: InitialState,
+        config: AdaptiveConfig<T>,
+    ) -> Result<Self, Error> {
+        Self::of_width(fitted, start, config)
+    }
+}
+
+impl<T: Real, const W: usize> Adaptive<T, W> {
+    /// As [`Adaptive::new`], with duals of width `W`: `Adaptive::<f64, 4>::of_width(…)` for
+    /// up to four parameters (the default set k1, k2, gain, offset).
+    ///
+    /// # Errors
+    /// As [`Adaptive::new`]; also [`Error::InvalidParameter`] for more parameters than `W`.
+    pub fn of_width(
         fitted: &AdaptiveModel<T>,
         start: InitialState,
         config: AdaptiveConfig<T>,
@@ -97,10 +124,21 @@ impl<T: Real> Adaptive<T> {
                 expected: "at least one of k1, k2, gain, offset, input_gain, input_offset",
             });
         }
-        let mut mask = [false; N];
-        for p in config.parameters.iter() {
-            if let Some(m) = mask.get_mut(p.index()) {
-                *m = true;
+        let n = config.parameters.len();
+        if n > W {
+            return Err(Error::InvalidParameter {
+                name: "parameters",
+                value: n as f64,
+                expected: "at most as many as the estimator's width W (Adaptive<T, W>; the \
+                           default, 6, takes all)",
+            });
+        }
+        let mut slot = [W; N];
+        let mut kind = [Parameter::K1; W];
+        for (j, p) in config.parameters.iter().enumerate() {
+            if let (Some(s), Some(k)) = (slot.get_mut(p.index()), kind.get_mut(j)) {
+                *s = j;
+                *k = p;
             }
         }
         let scale = scales(fitted, config.noise);
@@ -108,10 +146,11 @@ impl<T: Real> Adaptive<T> {
         let mut a = Self {
             fitted: *fitted,
             config,
-            mask,
-            theta: [T::zero(); N],
+            slot,
+            kind,
+            theta: [T::zero(); W],
             scale,
-            p: Covariance::diagonal(u * u, mask),
+            p: Covariance::diagonal(u * u, n),
             operator: Hysteresis::with_k2_law(D::constant(T::one()), constant_law(T::one()))?,
             start,
             last_v: None,
@@ -170,14 +209,14 @@ impl<T: Real> Adaptive<T> {
 
     /// Steps the dual model on `x`: (ŷ, ∂ŷ/∂θ, v), the gradient `None` when it is beyond the
     /// float range. On error the memory is unchanged.
-    fn predict(&mut self, x: T) -> Result<(T, Option<[T; N]>, T), Error> {
+    fn predict(&mut self, x: T) -> Result<(T, Option<[T; W]>, T), Error> {
         let input = &self.fitted.input_shaping();
         let s_in = input.shape.apply(x * input.pre_gain + input.pre_offset);
         let (gi, ci) = (
             self.value(Parameter::InputGain),
             self.value(Parameter::InputOffset),
         );
-        let mut dv = [T::zero(); N];
+        let mut dv = [T::zero(); W];
         self.seed(&mut dv, Parameter::InputGain, s_in);
         self.seed(&mut dv, Parameter::InputOffset, T::one());
         let v = D::new(s_in * gi + ci, dv);
@@ -225,21 +264,20 @@ impl<T: Real> Adaptive<T> {
     }
 
     /// Adds ∂/∂θ_p = `d` · (p's scale) to `grad` if p adapts.
-    fn seed(&self, grad: &mut [T; N], p: Parameter, d: T) {
+    fn seed(&self, grad: &mut [T; W], p: Parameter, d: T) {
         let i = p.index();
-        if let (Some(true), Some(g), Some(s)) =
-            (self.mask.get(i), grad.get_mut(i), self.scale.get(i))
-        {
+        let j = self.slot.get(i).copied().unwrap_or(W);
+        if let (Some(g), Some(s)) = (grad.get_mut(j), self.scale.get(i)) {
             *g = *g + d * *s;
         }
     }
 
     /// The Kalman filter's time and measurement update for the prediction error `e`.
-    fn correct(&mut self, e: T, phi: &[T; N]) -> Status {
+    fn correct(&mut self, e: T, phi: &[T; W]) -> Status {
         let c = self.config;
         let q = c.drift * c.drift * self.travel / self.k1_fitted();
         self.travel = T::zero();
-        self.p.grow(q, self.mask);
+        self.p.grow(q, self.config.parameters.len());
         let h = self.p.times(phi);
         let d = c.noise * c.noise + dot(phi, &h);
         if d <= T::zero() || !d.is_finite() {
@@ -279,10 +317,10 @@ impl<T: Real> Adaptive<T> {
         Status::Updated
     }
 
-    /// θ_i kept in its range.
-    fn clamp(&self, i: usize, t: T) -> T {
+    /// θ of slot `j` kept in its range.
+    fn clamp(&self, j: usize, t: T) -> T {
         let r = self.config.range;
-        let offset = Parameter::ALL.get(i).is_some_and(|p| p.is_offset());
+        let offset = self.kind.get(j).is_some_and(|p| p.is_offset());
         let (lo, hi) = if offset {
             (-r, r)
         } else {
@@ -296,19 +334,19 @@ impl<T: Real> Adaptive<T> {
     }
 
     /// k1 and the k2 law at θ, as duals seeded for the adapted parameters.
-    fn dual_parameters(&self, theta: &[T; N]) -> (D<T>, AnyK2Law<D<T>>) {
+    fn dual_parameters(&self, theta: &[T; W]) -> (D<T, W>, AnyK2Law<D<T, W>>) {
         let op = self.fitted.operator();
-        let mut gk1 = [T::zero(); N];
+        let mut gk1 = [T::zero(); W];
         self.seed(&mut gk1, Parameter::K1, T::one());
         let k1 = D::new(self.at(theta, Parameter::K1), gk1);
-        let f = T::one()
-            + theta
-                .get(Parameter::K2.index())
-                .copied()
-                .unwrap_or_else(T::zero);
+        let f = T::one() + self.theta_of(theta, Parameter::K2);
         // Each coefficient c of the law is c · (1 + θ_k2): its gradient is c in that slot.
-        let mut gk2 = [T::zero(); N];
-        if let (Some(true), Some(g)) = (self.mask.get(1), gk2.get_mut(1)) {
+        let mut gk2 = [T::zero(); W];
+        if let Some(g) = self
+            .slot
+            .get(Parameter::K2.index())
+            .and_then(|&j| gk2.get_mut(j))
+        {
             *g = T::one();
         }
         (k1, scaled_law(op.k2_law(), f, gk2))
@@ -317,9 +355,9 @@ impl<T: Real> Adaptive<T> {
     /// The dual operator at θ with `memory` (as given: it is the fitted one or none).
     fn dual_operator(
         &self,
-        theta: &[T; N],
-        memory: Option<Memory<D<T>>>,
-    ) -> Result<Hysteresis<D<T>, AnyK2Law<D<T>>>, Error> {
+        theta: &[T; W],
+        memory: Option<Memory<D<T, W>>>,
+    ) -> Result<Hysteresis<D<T, W>, AnyK2Law<D<T, W>>>, Error> {
         let (k1, law) = self.dual_parameters(theta);
         let mut h = Hysteresis::with_k2_law(k1, law)?;
         h.restore(memory);
@@ -328,7 +366,7 @@ impl<T: Real> Adaptive<T> {
 
     /// Takes θ into the dual operator; its memory is re-anchored when a compensator next asks
     /// for a command ([`Adaptive::anchor`]).
-    fn take(&mut self, theta: &[T; N]) -> Result<(), Error> {
+    fn take(&mut self, theta: &[T; W]) -> Result<(), Error> {
         let (k1, law) = self.dual_parameters(theta);
         self.operator.set_parameters(k1, law)?;
         self.anchored = false;
@@ -369,8 +407,8 @@ impl<T: Real> Adaptive<T> {
     /// experiment); the counts stay.
     pub fn reset(&mut self) {
         let u = self.config.uncertainty;
-        self.theta = [T::zero(); N];
-        self.p = Covariance::diagonal(u * u, self.mask);
+        self.theta = [T::zero(); W];
+        self.p = Covariance::diagonal(u * u, self.config.parameters.len());
         self.restart();
         // The fitted parameters were taken before: the operator at θ = 0 is valid.
         if let Ok(op) = self.dual_operator(&self.theta, None) {
@@ -384,10 +422,15 @@ impl<T: Real> Adaptive<T> {
         self.at(&self.theta, p)
     }
 
-    fn at(&self, theta: &[T; N], p: Parameter) -> T {
-        let i = p.index();
-        let t = theta.get(i).copied().unwrap_or_else(T::zero);
-        let s = self.scale.get(i).copied().unwrap_or_else(T::zero);
+    /// θ of parameter `p` (0 if it does not adapt).
+    fn theta_of(&self, theta: &[T; W], p: Parameter) -> T {
+        let j = self.slot.get(p.index()).copied().unwrap_or(W);
+        theta.get(j).copied().unwrap_or_else(T::zero)
+    }
+
+    fn at(&self, theta: &[T; W], p: Parameter) -> T {
+        let t = self.theta_of(theta, p);
+        let s = self.scale.get(p.index()).copied().unwrap_or_else(T::zero);
         let (input, output) = (self.fitted.input_shaping(), self.fitted.output_shaping());
         match p {
             Parameter::K1 => self.k1_fitted() * (T::one() + t),
@@ -403,7 +446,8 @@ impl<T: Real> Adaptive<T> {
     #[must_use]
     pub fn sigma(&self, p: Parameter) -> T {
         let i = p.index();
-        self.p.sigma(i) * self.scale.get(i).copied().unwrap_or_else(T::zero)
+        let j = self.slot.get(i).copied().unwrap_or(W);
+        self.p.sigma(j) * self.scale.get(i).copied().unwrap_or_else(T::zero)
     }
 
     fn k1_fitted(&self) -> T {
@@ -417,13 +461,8 @@ impl<T: Real> Adaptive<T> {
     /// checks of a model's parameters.
     pub fn model(&self) -> Result<AdaptiveModel<T>, Error> {
         let op = self.fitted.operator();
-        let f = T::one()
-            + self
-                .theta
-                .get(Parameter::K2.index())
-                .copied()
-                .unwrap_or_else(T::zero);
-        let law = scaled_law(op.k2_law(), f, [T::zero(); N]);
+        let f = T::one() + self.theta_of(&self.theta, Parameter::K2);
+        let law = scaled_law(op.k2_law(), f, [T::zero(); W]);
         let law = plain_law(&law);
         let mut h = Hysteresis::with_k2_law(self.value(Parameter::K1), law)?;
         h.restore(self.operator.memory().map(|m| lower(&m)));
@@ -489,20 +528,20 @@ fn scales<T: Real>(m: &AdaptiveModel<T>, noise: T) -> [T; N] {
     ]
 }
 
-fn dot<T: Real>(a: &[T; N], b: &[T; N]) -> T {
+fn dot<T: Real, const W: usize>(a: &[T; W], b: &[T; W]) -> T {
     a.iter()
         .zip(b.iter())
         .fold(T::zero(), |s, (x, y)| s + *x * *y)
 }
 
-fn constant_law<T: Real>(k2: T) -> AnyK2Law<D<T>> {
+fn constant_law<T: Real, const W: usize>(k2: T) -> AnyK2Law<D<T, W>> {
     AnyK2Law::Constant {
         value: D::constant(k2),
     }
 }
 
 /// The law scaled by `f` (its value at θ), each coefficient c with gradient c · `grad`.
-fn scaled_law<T: Real>(law: &AnyK2Law<T>, f: T, grad: [T; N]) -> AnyK2Law<D<T>> {
+fn scaled_law<T: Real, const W: usize>(law: &AnyK2Law<T>, f: T, grad: [T; W]) -> AnyK2Law<D<T, W>> {
     let scaled = |c: T| D::new(c * f, grad.map(|g| g * c));
     match law {
         AnyK2Law::Constant { value } => AnyK2Law::Constant {
@@ -517,7 +556,7 @@ fn scaled_law<T: Real>(law: &AnyK2Law<T>, f: T, grad: [T; N]) -> AnyK2Law<D<T>> 
     }
 }
 
-fn plain_law<T: Real>(law: &AnyK2Law<D<T>>) -> AnyK2Law<T> {
+fn plain_law<T: Real, const W: usize>(law: &AnyK2Law<D<T, W>>) -> AnyK2Law<T> {
     match law {
         AnyK2Law::Constant { value } => AnyK2Law::Constant {
             value: value.value(),
@@ -531,7 +570,7 @@ fn plain_law<T: Real>(law: &AnyK2Law<D<T>>) -> AnyK2Law<T> {
     }
 }
 
-fn lift<T: Real>(m: &Memory<T>) -> Memory<D<T>> {
+fn lift<T: Real, const W: usize>(m: &Memory<T>) -> Memory<D<T, W>> {
     Memory {
         reversal_input: D::constant(m.reversal_input),
         reversal_output: D::constant(m.reversal_output),
@@ -541,7 +580,7 @@ fn lift<T: Real>(m: &Memory<T>) -> Memory<D<T>> {
     }
 }
 
-fn lower<T: Real>(m: &Memory<D<T>>) -> Memory<T> {
+fn lower<T: Real, const W: usize>(m: &Memory<D<T, W>>) -> Memory<T> {
     Memory {
         reversal_input: m.reversal_input.value(),
         reversal_output: m.reversal_output.value(),

@@ -280,3 +280,30 @@ fn f32_follows_too() {
     assert!((a.value(Parameter::Gain) - 1.2).abs() < 0.02);
     assert_eq!(a.counts().refused, 0);
 }
+
+/// A narrower estimator gives the same numbers bit for bit, and refuses more parameters than
+/// its width.
+#[test]
+fn width_four_is_width_six_for_four_parameters() {
+    let m = model(0.2, 8.0, 1.0, 0.0);
+    let mut truth = model(0.24, 6.5, 1.15, -0.05);
+    let config = AdaptiveConfig::new(1e-3);
+    let mut six = Adaptive::new(&m, InitialState::Line, config).unwrap();
+    let mut four = Adaptive::<f64, 4>::of_width(&m, InitialState::Line, config).unwrap();
+    for k in 0..20_000 {
+        let x = command(k);
+        let y = truth.step(x);
+        assert_eq!(six.update(x, y), four.update(x, y), "sample {k}");
+    }
+    let five = AdaptiveConfig {
+        parameters: Parameters::DEFAULT.with(Parameter::InputOffset),
+        ..config
+    };
+    assert!(matches!(
+        Adaptive::<f64, 4>::of_width(&m, InitialState::Line, five),
+        Err(crate::Error::InvalidParameter {
+            name: "parameters",
+            ..
+        })
+    ));
+}
