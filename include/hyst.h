@@ -57,6 +57,52 @@
 // clockwise loop (friction); it has no inverse.
 #define HYST_FORM_STOP 1
 
+// `hyst_adaptive_config.parameters`: k1, the loop's half-width (operator units).
+#define HYST_ADAPT_K1 (1 << 0)
+
+// k2 (1 / operator units); an affine k2 law is scaled as a whole.
+#define HYST_ADAPT_K2 (1 << 1)
+
+// The output gain: ψ_out's `post_gain` (output units).
+#define HYST_ADAPT_GAIN (1 << 2)
+
+// The output offset: ψ_out's `post_offset` (output units).
+#define HYST_ADAPT_OFFSET (1 << 3)
+
+// The input gain: ψ_in's `post_gain` (operator units).
+#define HYST_ADAPT_INPUT_GAIN (1 << 4)
+
+// The input offset: ψ_in's `post_offset` (operator units).
+#define HYST_ADAPT_INPUT_OFFSET (1 << 5)
+
+// What one sample did to an adaptive compensator (`*status` of `hyst_adaptive_measure` and
+// `hyst_adaptive_update`): the parameters were updated.
+#define HYST_ADAPT_UPDATED 0
+
+// The input has not travelled `rest` · k1 since the last update: nothing changed.
+#define HYST_ADAPT_REST 1
+
+// The model has not met a reversal since it started (its first samples): its state is still
+// the start rule's guess, so nothing is learnt.
+#define HYST_ADAPT_STARTING 2
+
+// The prediction error was within the dead zone: nothing changed.
+#define HYST_ADAPT_DEAD_ZONE 3
+
+// The command was not finite: the sample was skipped, the memory is unchanged.
+#define HYST_ADAPT_BAD_INPUT 4
+
+// The command was outside [`input_min`, `input_max`]: the model stepped, the parameters did
+// not.
+#define HYST_ADAPT_OUT_OF_RANGE 5
+
+// The measurement was not finite: the model stepped, the parameters did not.
+#define HYST_ADAPT_BAD_OUTPUT 6
+
+// The model could not evaluate the sample or take the update (a float overflow, a product
+// k1 k2 below the float resolution): the parameters did not change.
+#define HYST_ADAPT_REFUSED 7
+
 // The highest time-derivative order of the `_step_derivatives` functions and the highest plant
 // order n of the compensator.
 #define HYST_MAX_ORDER 4
@@ -116,6 +162,10 @@
 // exact inverse (`hyst_model_compensate` is its Lemma 5.1 compensator) nor saturation, and a
 // compensator needs a model with dynamics, of the operator form, without a rate term.
 #define HYST_ERR_UNSUPPORTED 14
+
+// A measurement came with no command waiting for it (`hyst_adaptive_measure` without a
+// `hyst_adaptive_command` since the last measurement); nothing changed.
+#define HYST_ERR_NO_COMMAND 15
 
 // A bank of operators (opaque; create with `hyst_bank_create`, release with `hyst_bank_free`).
 typedef struct hyst_bank hyst_bank;
@@ -255,6 +305,68 @@ typedef struct hyst_linear_compensator_f32 {
   uint64_t opaque[28];
 } hyst_linear_compensator_f32;
 
+// The settings of an adaptive compensator (`hyst_adaptive_init_f32`).
+// `hyst_adaptive_config_default_f32` fills them for a noise level; change the fields you need
+// after it.
+typedef struct hyst_adaptive_config_f32 {
+  // The parameters that adapt: a bit mask of `HYST_ADAPT_K1`, `HYST_ADAPT_K2`,
+  // `HYST_ADAPT_GAIN`, `HYST_ADAPT_OFFSET`, `HYST_ADAPT_INPUT_GAIN` and
+  // `HYST_ADAPT_INPUT_OFFSET`, at least one (default: k1, k2, gain and offset, 0x0f).
+  uint32_t parameters;
+  // σ of the measurement noise (output units), finite and > 0: the filter's R = noise².
+  float noise;
+  // How fast the parameters may drift: σ of their relative random walk per k1 of input
+  // travel (default 1e-3: about 1 % over 100 loops of ±5 k1), finite and ≥ 0.
+  float drift;
+  // σ of the fitted parameters' relative error at the start (default 0.01), finite and > 0;
+  // later σ grow with the drift up to max(uncertainty, 0.1).
+  float uncertainty;
+  // The input travel, in units of k1, that must accumulate before an update (default 1e-3),
+  // finite and ≥ 0: at a constant command nothing moves.
+  float rest;
+  // The largest relative change of any parameter in one update (default 0.01), finite and
+  // > 0.
+  float step;
+  // k1, k2 and each gain stay within [fitted / range, fitted · range], each offset within
+  // ± range half-widths of the loop of its fitted value (default 4), finite and > 1.
+  float range;
+  // Prediction errors of at most this size (output units) do not update (default 0),
+  // finite and ≥ 0.
+  float dead_zone;
+  // Commands below this (input units) do not update (default -INFINITY); ≤ `input_max`.
+  float input_min;
+  // Commands above this (input units) do not update (default INFINITY).
+  float input_max;
+} hyst_adaptive_config_f32;
+
+// An adaptive compensator: the estimator of a shaped model's drifting parameters and the exact
+// inverse of its current model, with the command waiting for its measurement: an opaque
+// block of 1024 bytes, 8-byte aligned, plain data (copyable with memcpy).
+typedef struct hyst_adaptive_f32 {
+  uint64_t opaque[128];
+} hyst_adaptive_f32;
+
+// How many samples of an adaptive compensator had each `HYST_ADAPT_*` status
+// (`hyst_adaptive_counts`, `hyst_adaptive_counts_f32`).
+typedef struct hyst_adaptive_sample_counts {
+  // `HYST_ADAPT_UPDATED`.
+  uint64_t updated;
+  // `HYST_ADAPT_REST`.
+  uint64_t rest;
+  // `HYST_ADAPT_STARTING`.
+  uint64_t starting;
+  // `HYST_ADAPT_DEAD_ZONE`.
+  uint64_t dead_zone;
+  // `HYST_ADAPT_BAD_INPUT`.
+  uint64_t bad_input;
+  // `HYST_ADAPT_OUT_OF_RANGE`.
+  uint64_t out_of_range;
+  // `HYST_ADAPT_BAD_OUTPUT`.
+  uint64_t bad_output;
+  // `HYST_ADAPT_REFUSED`.
+  uint64_t refused;
+} hyst_adaptive_sample_counts;
+
 // The parametric operator H(k1, k2) (eq. 2) or H⁻¹(k1, k2) (eq. 4) with its memory: an opaque
 // block of 128 bytes, 8-byte aligned, plain data (copyable with memcpy).
 typedef struct hyst_operator {
@@ -381,6 +493,47 @@ typedef struct hyst_linear_model {
 typedef struct hyst_linear_compensator {
   uint64_t opaque[56];
 } hyst_linear_compensator;
+
+// The settings of an adaptive compensator (`hyst_adaptive_init`).
+// `hyst_adaptive_config_default` fills them for a noise level; change the fields you need
+// after it.
+typedef struct hyst_adaptive_config {
+  // The parameters that adapt: a bit mask of `HYST_ADAPT_K1`, `HYST_ADAPT_K2`,
+  // `HYST_ADAPT_GAIN`, `HYST_ADAPT_OFFSET`, `HYST_ADAPT_INPUT_GAIN` and
+  // `HYST_ADAPT_INPUT_OFFSET`, at least one (default: k1, k2, gain and offset, 0x0f).
+  uint32_t parameters;
+  // σ of the measurement noise (output units), finite and > 0: the filter's R = noise².
+  double noise;
+  // How fast the parameters may drift: σ of their relative random walk per k1 of input
+  // travel (default 1e-3: about 1 % over 100 loops of ±5 k1), finite and ≥ 0.
+  double drift;
+  // σ of the fitted parameters' relative error at the start (default 0.01), finite and > 0;
+  // later σ grow with the drift up to max(uncertainty, 0.1).
+  double uncertainty;
+  // The input travel, in units of k1, that must accumulate before an update (default 1e-3),
+  // finite and ≥ 0: at a constant command nothing moves.
+  double rest;
+  // The largest relative change of any parameter in one update (default 0.01), finite and
+  // > 0.
+  double step;
+  // k1, k2 and each gain stay within [fitted / range, fitted · range], each offset within
+  // ± range half-widths of the loop of its fitted value (default 4), finite and > 1.
+  double range;
+  // Prediction errors of at most this size (output units) do not update (default 0),
+  // finite and ≥ 0.
+  double dead_zone;
+  // Commands below this (input units) do not update (default -INFINITY); ≤ `input_max`.
+  double input_min;
+  // Commands above this (input units) do not update (default INFINITY).
+  double input_max;
+} hyst_adaptive_config;
+
+// An adaptive compensator: the estimator of a shaped model's drifting parameters and the exact
+// inverse of its current model, with the command waiting for its measurement: an opaque
+// block of 2048 bytes, 8-byte aligned, plain data (copyable with memcpy).
+typedef struct hyst_adaptive {
+  uint64_t opaque[256];
+} hyst_adaptive;
 
 #ifdef __cplusplus
 extern "C" {
@@ -714,6 +867,109 @@ int32_t hyst_linear_compensator_get_state_f32(struct hyst_linear_compensator_f32
 // `c` is NULL or an initialised `hyst_linear_compensator_f32`.
 int32_t hyst_linear_compensator_reset_f32(struct hyst_linear_compensator_f32 *c);
 
+// Fills `*cfg` with the default settings for measurements with noise σ `noise` (output units):
+// k1, k2, the output gain and offset adapt, and the core's defaults for the rest (see each
+// field of `hyst_adaptive_config_f32`): no dead zone, every command taken.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_INVALID_PARAMETER` unless `noise` is
+// finite and > 0 (`*cfg` is then untouched).
+//
+// # Safety
+// `cfg` is NULL or points to a writable `hyst_adaptive_config_f32`.
+int32_t hyst_adaptive_config_default_f32(struct hyst_adaptive_config_f32 *cfg, float noise);
+
+// Initialises `a` as the adaptive compensator of the shaped model `params` (the fitted model:
+// its parameters are where the estimator starts; operator form only, its start rule applies
+// at the first command) with the settings `cfg`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_NOT_MONOTONE`
+// (a shaping function that is not increasing), or `HYST_ERR_INVALID_PARAMETER`: a bad model
+// parameter, the stop form (`HYST_FORM_STOP`: it has no inverse), a bad setting (see each
+// field of `hyst_adaptive_config_f32`), no parameter to adapt or an unknown bit in its mask, k2
+// asked of a k2 law that cannot be scaled. `a` is then untouched.
+//
+// # Safety
+// `a` is NULL or points to a writable `hyst_adaptive_f32`; `params` and `cfg` are NULL or
+// readable.
+int32_t hyst_adaptive_init_f32(struct hyst_adaptive_f32 *a,
+                               const struct hyst_shaped_model_params_f32 *params,
+                               const struct hyst_adaptive_config_f32 *cfg);
+
+// The command: `*x` (input units) = the exact inverse of the current model for the desired
+// output `desired` (output units), from the model's memory. Send it to the actuator, then give
+// its measured output to `hyst_adaptive_measure_f32`. A command still waiting for its measurement
+// is first taken as unmeasured (`HYST_ADAPT_BAD_OUTPUT`: the model follows the actuator, the
+// parameters do not move).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_NOT_INITIALISED`,
+// or for a desired output the model cannot produce `HYST_ERR_NON_FINITE` (NaN, infinite) or
+// `HYST_ERR_OUT_OF_RANGE` (beyond a saturating ψ_out): then no command waits for a
+// measurement, the model stays where the last command left it, and `*x` receives that command
+// (the actuator holds still), or is untouched before the first.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive_f32`; `x` is NULL or writable.
+int32_t hyst_adaptive_command_f32(struct hyst_adaptive_f32 *a, float desired, float *x);
+
+// The measurement: the output `y` (output units) measured for the last command updates the
+// estimator. `*prediction` receives the model's prediction of `y` (parameters before the
+// update) and `*status` what the sample did (`HYST_ADAPT_*`); either may be NULL. A non-finite
+// `y` is not an error: `HYST_OK` with `HYST_ADAPT_BAD_OUTPUT` (the model follows the command,
+// the parameters do not move).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_NOT_INITIALISED`,
+// or `HYST_ERR_NO_COMMAND` when no command waits for a measurement (nothing is written then).
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive_f32`; `prediction` and `status` are NULL or
+// writable.
+int32_t hyst_adaptive_measure_f32(struct hyst_adaptive_f32 *a,
+                                  float y,
+                                  float *prediction,
+                                  int32_t *status);
+
+// A recorded sample, not commanded here (a record played back, a command from elsewhere):
+// the estimator's update for command `x` (input units) and measured output `y` (output units),
+// after any command still waiting for its measurement (taken as unmeasured). `*prediction` and
+// `*status` as in `hyst_adaptive_measure_f32`. A non-finite `x` or `y` is not an error: `HYST_OK`
+// with `HYST_ADAPT_BAD_INPUT` (the sample is skipped, the memory unchanged) or
+// `HYST_ADAPT_BAD_OUTPUT`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED` or
+// `HYST_ERR_NOT_INITIALISED`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive_f32`; `prediction` and `status` are NULL or
+// writable.
+int32_t hyst_adaptive_update_f32(struct hyst_adaptive_f32 *a,
+                                 float x,
+                                 float y,
+                                 float *prediction,
+                                 int32_t *status);
+
+// `*value` = the current value of parameter `which`: the index of its `HYST_ADAPT_*` bit, 0 k1
+// (operator units), 1 k2 (at v = 0 for an affine law; 1 / operator units), 2 the output gain
+// and 3 the output offset (ψ_out's `post_gain`, `post_offset`; output units), 4 the input gain
+// and 5 the input offset (ψ_in's; operator units). A parameter that does not adapt keeps its
+// fitted value.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_NOT_INITIALISED`
+// or `HYST_ERR_INVALID_PARAMETER` for `which` outside 0 … 5 (`*value` untouched).
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive_f32`; `value` is NULL or writable.
+int32_t hyst_adaptive_parameter_f32(const struct hyst_adaptive_f32 *a, int32_t which, float *value);
+
+// `*counts` = how many samples had each `HYST_ADAPT_*` status since `hyst_adaptive_init_f32`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED` or
+// `HYST_ERR_NOT_INITIALISED`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive_f32`; `counts` is NULL or writable.
+int32_t hyst_adaptive_counts_f32(const struct hyst_adaptive_f32 *a,
+                                 struct hyst_adaptive_sample_counts *counts);
+
 // Initialises `op` as the direct operator u = H(k1, k2)[v] (eq. 2), with no history (its first
 // sample is a reversal point on the line u = v).
 //
@@ -1034,6 +1290,109 @@ int32_t hyst_linear_compensator_get_state(struct hyst_linear_compensator *c,
 // # Safety
 // `c` is NULL or an initialised `hyst_linear_compensator`.
 int32_t hyst_linear_compensator_reset(struct hyst_linear_compensator *c);
+
+// Fills `*cfg` with the default settings for measurements with noise σ `noise` (output units):
+// k1, k2, the output gain and offset adapt, and the core's defaults for the rest (see each
+// field of `hyst_adaptive_config`): no dead zone, every command taken.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_INVALID_PARAMETER` unless `noise` is
+// finite and > 0 (`*cfg` is then untouched).
+//
+// # Safety
+// `cfg` is NULL or points to a writable `hyst_adaptive_config`.
+int32_t hyst_adaptive_config_default(struct hyst_adaptive_config *cfg, double noise);
+
+// Initialises `a` as the adaptive compensator of the shaped model `params` (the fitted model:
+// its parameters are where the estimator starts; operator form only, its start rule applies
+// at the first command) with the settings `cfg`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_NOT_MONOTONE`
+// (a shaping function that is not increasing), or `HYST_ERR_INVALID_PARAMETER`: a bad model
+// parameter, the stop form (`HYST_FORM_STOP`: it has no inverse), a bad setting (see each
+// field of `hyst_adaptive_config`), no parameter to adapt or an unknown bit in its mask, k2
+// asked of a k2 law that cannot be scaled. `a` is then untouched.
+//
+// # Safety
+// `a` is NULL or points to a writable `hyst_adaptive`; `params` and `cfg` are NULL or
+// readable.
+int32_t hyst_adaptive_init(struct hyst_adaptive *a,
+                           const struct hyst_shaped_model_params *params,
+                           const struct hyst_adaptive_config *cfg);
+
+// The command: `*x` (input units) = the exact inverse of the current model for the desired
+// output `desired` (output units), from the model's memory. Send it to the actuator, then give
+// its measured output to `hyst_adaptive_measure`. A command still waiting for its measurement
+// is first taken as unmeasured (`HYST_ADAPT_BAD_OUTPUT`: the model follows the actuator, the
+// parameters do not move).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_NOT_INITIALISED`,
+// or for a desired output the model cannot produce `HYST_ERR_NON_FINITE` (NaN, infinite) or
+// `HYST_ERR_OUT_OF_RANGE` (beyond a saturating ψ_out): then no command waits for a
+// measurement, the model stays where the last command left it, and `*x` receives that command
+// (the actuator holds still), or is untouched before the first.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive`; `x` is NULL or writable.
+int32_t hyst_adaptive_command(struct hyst_adaptive *a, double desired, double *x);
+
+// The measurement: the output `y` (output units) measured for the last command updates the
+// estimator. `*prediction` receives the model's prediction of `y` (parameters before the
+// update) and `*status` what the sample did (`HYST_ADAPT_*`); either may be NULL. A non-finite
+// `y` is not an error: `HYST_OK` with `HYST_ADAPT_BAD_OUTPUT` (the model follows the command,
+// the parameters do not move).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_NOT_INITIALISED`,
+// or `HYST_ERR_NO_COMMAND` when no command waits for a measurement (nothing is written then).
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive`; `prediction` and `status` are NULL or
+// writable.
+int32_t hyst_adaptive_measure(struct hyst_adaptive *a,
+                              double y,
+                              double *prediction,
+                              int32_t *status);
+
+// A recorded sample, not commanded here (a record played back, a command from elsewhere):
+// the estimator's update for command `x` (input units) and measured output `y` (output units),
+// after any command still waiting for its measurement (taken as unmeasured). `*prediction` and
+// `*status` as in `hyst_adaptive_measure`. A non-finite `x` or `y` is not an error: `HYST_OK`
+// with `HYST_ADAPT_BAD_INPUT` (the sample is skipped, the memory unchanged) or
+// `HYST_ADAPT_BAD_OUTPUT`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED` or
+// `HYST_ERR_NOT_INITIALISED`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive`; `prediction` and `status` are NULL or
+// writable.
+int32_t hyst_adaptive_update(struct hyst_adaptive *a,
+                             double x,
+                             double y,
+                             double *prediction,
+                             int32_t *status);
+
+// `*value` = the current value of parameter `which`: the index of its `HYST_ADAPT_*` bit, 0 k1
+// (operator units), 1 k2 (at v = 0 for an affine law; 1 / operator units), 2 the output gain
+// and 3 the output offset (ψ_out's `post_gain`, `post_offset`; output units), 4 the input gain
+// and 5 the input offset (ψ_in's; operator units). A parameter that does not adapt keeps its
+// fitted value.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED`, `HYST_ERR_NOT_INITIALISED`
+// or `HYST_ERR_INVALID_PARAMETER` for `which` outside 0 … 5 (`*value` untouched).
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive`; `value` is NULL or writable.
+int32_t hyst_adaptive_parameter(const struct hyst_adaptive *a, int32_t which, double *value);
+
+// `*counts` = how many samples had each `HYST_ADAPT_*` status since `hyst_adaptive_init`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_MISALIGNED` or
+// `HYST_ERR_NOT_INITIALISED`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_adaptive`; `counts` is NULL or writable.
+int32_t hyst_adaptive_counts(const struct hyst_adaptive *a,
+                             struct hyst_adaptive_sample_counts *counts);
 
 // Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
 // H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the inverses) when `inverse` ≠ 0, each with no history.

@@ -67,6 +67,83 @@ pub const HYST_FORM_OPERATOR: i32 = 0;
 /// clockwise loop (friction); it has no inverse.
 pub const HYST_FORM_STOP: i32 = 1;
 
+// Online adaptation (`hyst_adaptive_*`, issue 30): the bits of `hyst_adaptive_config.parameters`
+// in the order of `hyst_core::adaptive::Parameter::ALL` (bit i is the parameter of index i in
+// `hyst_adaptive_parameter`), and the status of one sample.
+
+/// `hyst_adaptive_config.parameters`: k1, the loop's half-width (operator units).
+pub const HYST_ADAPT_K1: u32 = 1 << 0;
+/// k2 (1 / operator units); an affine k2 law is scaled as a whole.
+pub const HYST_ADAPT_K2: u32 = 1 << 1;
+/// The output gain: ψ_out's `post_gain` (output units).
+pub const HYST_ADAPT_GAIN: u32 = 1 << 2;
+/// The output offset: ψ_out's `post_offset` (output units).
+pub const HYST_ADAPT_OFFSET: u32 = 1 << 3;
+/// The input gain: ψ_in's `post_gain` (operator units).
+pub const HYST_ADAPT_INPUT_GAIN: u32 = 1 << 4;
+/// The input offset: ψ_in's `post_offset` (operator units).
+pub const HYST_ADAPT_INPUT_OFFSET: u32 = 1 << 5;
+
+/// What one sample did to an adaptive compensator (`*status` of `hyst_adaptive_measure` and
+/// `hyst_adaptive_update`): the parameters were updated.
+pub const HYST_ADAPT_UPDATED: i32 = 0;
+/// The input has not travelled `rest` · k1 since the last update: nothing changed.
+pub const HYST_ADAPT_REST: i32 = 1;
+/// The model has not met a reversal since it started (its first samples): its state is still
+/// the start rule's guess, so nothing is learnt.
+pub const HYST_ADAPT_STARTING: i32 = 2;
+/// The prediction error was within the dead zone: nothing changed.
+pub const HYST_ADAPT_DEAD_ZONE: i32 = 3;
+/// The command was not finite: the sample was skipped, the memory is unchanged.
+pub const HYST_ADAPT_BAD_INPUT: i32 = 4;
+/// The command was outside [`input_min`, `input_max`]: the model stepped, the parameters did
+/// not.
+pub const HYST_ADAPT_OUT_OF_RANGE: i32 = 5;
+/// The measurement was not finite: the model stepped, the parameters did not.
+pub const HYST_ADAPT_BAD_OUTPUT: i32 = 6;
+/// The model could not evaluate the sample or take the update (a float overflow, a product
+/// k1 k2 below the float resolution): the parameters did not change.
+pub const HYST_ADAPT_REFUSED: i32 = 7;
+
+/// How many samples of an adaptive compensator had each `HYST_ADAPT_*` status
+/// (`hyst_adaptive_counts`, `hyst_adaptive_counts_f32`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct hyst_adaptive_sample_counts {
+    /// `HYST_ADAPT_UPDATED`.
+    pub updated: u64,
+    /// `HYST_ADAPT_REST`.
+    pub rest: u64,
+    /// `HYST_ADAPT_STARTING`.
+    pub starting: u64,
+    /// `HYST_ADAPT_DEAD_ZONE`.
+    pub dead_zone: u64,
+    /// `HYST_ADAPT_BAD_INPUT`.
+    pub bad_input: u64,
+    /// `HYST_ADAPT_OUT_OF_RANGE`.
+    pub out_of_range: u64,
+    /// `HYST_ADAPT_BAD_OUTPUT`.
+    pub bad_output: u64,
+    /// `HYST_ADAPT_REFUSED`.
+    pub refused: u64,
+}
+
+impl hyst_adaptive_sample_counts {
+    /// The core's counts as C sees them.
+    pub(crate) fn of(c: &hyst_core::adaptive::Counts) -> Self {
+        Self {
+            updated: c.updated,
+            rest: c.rest,
+            starting: c.starting,
+            dead_zone: c.dead_zone,
+            bad_input: c.bad_input,
+            out_of_range: c.out_of_range,
+            bad_output: c.bad_output,
+            refused: c.refused,
+        }
+    }
+}
+
 /// The firmware build has no unwinding and no way to report a panic; nothing in this crate or
 /// in hyst-core panics on any input (the workspace denies `unwrap`, `expect` and `panic!`, and
 /// indexing goes through checked accessors), so this handler is unreachable.

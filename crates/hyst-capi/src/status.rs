@@ -38,6 +38,9 @@ pub const HYST_ERR_OVERFLOW: i32 = 13;
 /// exact inverse (`hyst_model_compensate` is its Lemma 5.1 compensator) nor saturation, and a
 /// compensator needs a model with dynamics, of the operator form, without a rate term.
 pub const HYST_ERR_UNSUPPORTED: i32 = 14;
+/// A measurement came with no command waiting for it (`hyst_adaptive_measure` without a
+/// `hyst_adaptive_command` since the last measurement); nothing changed.
+pub const HYST_ERR_NO_COMMAND: i32 = 15;
 
 /// The status of a core error.
 pub(crate) fn of(error: &Error) -> i32 {
@@ -82,6 +85,9 @@ pub extern "C" fn hyst_status_message(status: i32) -> *const c_char {
         HYST_ERR_UNSUPPORTED => {
             c"the model cannot run this way (dynamics or a rate term: no exact inverse nor \
               saturation; a compensator needs dynamics, the operator form and no rate term)"
+        }
+        HYST_ERR_NO_COMMAND => {
+            c"a measurement came with no command waiting for it; nothing changed"
         }
         _ => c"unknown status",
     };

@@ -1,12 +1,13 @@
 //! The firmware API in `float`, one module per concept: the memory of Definition 2.1, the
-//! operator H / H⁻¹, the shaped model and its inverse, the Lemma 5.1 compensators, and the
-//! argument checks they share. No allocation, no standard library; every state lives in caller
-//! memory.
+//! operator H / H⁻¹, the shaped model and its inverse, the Lemma 5.1 compensators, the adaptive
+//! compensator (online adaptation), and the argument checks they share. No allocation, no
+//! standard library; every state lives in caller memory.
 //!
 //! GENERATED from `api_f64/mod.rs` by `scripts/gen-capi-f32`: do not edit.
 
 // In the order of include/hyst.h (cbindgen reads the modules in this order): the memory, the
-// operator, the shaped model, the compensators, the shaped model with affine shapings.
+// operator, the shaped model, the compensators, the shaped model with affine shapings, the
+// adaptive compensator.
 pub mod memory;
 
 pub mod operator;
@@ -17,8 +18,11 @@ pub mod compensator;
 
 pub mod linear_model;
 
+pub mod adaptive;
+
 pub(crate) mod checks;
 
+pub use adaptive::*;
 pub use compensator::*;
 pub use linear_model::*;
 pub use memory::hyst_memory_f32;
