@@ -164,7 +164,7 @@
 #define HYST_ERR_UNSUPPORTED 14
 
 // A measurement came with no command waiting for it (`hyst_adaptive_measure` without a
-// `hyst_adaptive_command` since the last measurement); nothing changed.
+// `hyst_adaptive_step` since the last measurement); nothing changed.
 #define HYST_ERR_NO_COMMAND 15
 
 // A bank of operators (opaque; create with `hyst_bank_create`, release with `hyst_bank_free`).
@@ -909,7 +909,7 @@ int32_t hyst_adaptive_init_f32(struct hyst_adaptive_f32 *a,
 //
 // # Safety
 // `a` is NULL or an initialised `hyst_adaptive_f32`; `x` is NULL or writable.
-int32_t hyst_adaptive_command_f32(struct hyst_adaptive_f32 *a, float desired, float *x);
+int32_t hyst_adaptive_step_f32(struct hyst_adaptive_f32 *a, float desired, float *x);
 
 // The measurement: the output `y` (output units) measured for the last command updates the
 // estimator. `*prediction` receives the model's prediction of `y` (parameters before the
@@ -1333,7 +1333,7 @@ int32_t hyst_adaptive_init(struct hyst_adaptive *a,
 //
 // # Safety
 // `a` is NULL or an initialised `hyst_adaptive`; `x` is NULL or writable.
-int32_t hyst_adaptive_command(struct hyst_adaptive *a, double desired, double *x);
+int32_t hyst_adaptive_step(struct hyst_adaptive *a, double desired, double *x);
 
 // The measurement: the output `y` (output units) measured for the last command updates the
 // estimator. `*prediction` receives the model's prediction of `y` (parameters before the

@@ -203,7 +203,7 @@ int main(void) {
     for (k = 0; k < SAMPLES; k++) {
         float d = desired(k), n = noise(), x, xf, y, yf;
         int32_t what;
-        status |= hyst_adaptive_command_f32(&adaptive, d, &x);
+        status |= hyst_adaptive_step_f32(&adaptive, d, &x);
         status |= truth_at(&truth, k);
         status |= hyst_shaped_model_step_f32(&truth, x, &y);
         y += n;

@@ -35,7 +35,7 @@ int main(void) {
     for (tick = 0; tick < 1000; tick++) {
         float command, prediction, gain;
         int32_t what;
-        status |= hyst_adaptive_command_f32(&adaptive, trajectory, &command);
+        status |= hyst_adaptive_step_f32(&adaptive, trajectory, &command);
         dac_command = command;
         adc_measured = 2.1f * command; /* the actuator, here a wire with some gain */
         status |= hyst_adaptive_measure_f32(&adaptive, adc_measured, &prediction, &what);

@@ -39,7 +39,7 @@ pub const HYST_ERR_OVERFLOW: i32 = 13;
 /// compensator needs a model with dynamics, of the operator form, without a rate term.
 pub const HYST_ERR_UNSUPPORTED: i32 = 14;
 /// A measurement came with no command waiting for it (`hyst_adaptive_measure` without a
-/// `hyst_adaptive_command` since the last measurement); nothing changed.
+/// `hyst_adaptive_step` since the last measurement); nothing changed.
 pub const HYST_ERR_NO_COMMAND: i32 = 15;
 
 /// The status of a core error.

@@ -198,12 +198,8 @@ fn f64_equals_the_core_bit_for_bit() {
     for k in 0..6000 {
         let d = desired(k);
         let mut x = f64::NAN;
-        unsafe { assert_eq!(hyst_adaptive_command(&mut a, d, &mut x), HYST_OK) };
-        assert_eq!(
-            x.to_bits(),
-            core.command(d).unwrap().to_bits(),
-            "command {k}"
-        );
+        unsafe { assert_eq!(hyst_adaptive_step(&mut a, d, &mut x), HYST_OK) };
+        assert_eq!(x.to_bits(), core.step(d).unwrap().to_bits(), "command {k}");
         // Every 997th measurement is lost; every 1009th a command is never measured.
         let y = if k % 997 == 3 {
             f64::NAN
@@ -294,11 +290,8 @@ fn f64_equals_the_core_bit_for_bit() {
     for k in 9000..9100 {
         let (mut x1, mut x2) = (0.0, 0.0);
         unsafe {
-            assert_eq!(hyst_adaptive_command(&mut a, desired(k), &mut x1), HYST_OK);
-            assert_eq!(
-                hyst_adaptive_command(&mut copy, desired(k), &mut x2),
-                HYST_OK
-            );
+            assert_eq!(hyst_adaptive_step(&mut a, desired(k), &mut x1), HYST_OK);
+            assert_eq!(hyst_adaptive_step(&mut copy, desired(k), &mut x2), HYST_OK);
         }
         assert_eq!(x1.to_bits(), x2.to_bits());
     }
@@ -347,7 +340,7 @@ fn f32_twin_follows_a_truth_with_20_percent_more_gain() {
     for k in 0..n {
         let d = 0.1 + 1.6 * desired(k) as f32;
         let mut x = 0.0_f32;
-        unsafe { assert_eq!(hyst_adaptive_command_f32(&mut a, d, &mut x), HYST_OK) };
+        unsafe { assert_eq!(hyst_adaptive_step_f32(&mut a, d, &mut x), HYST_OK) };
         let y = truth.step(x) + noise.next(f64::from(noise_sigma) * 3.0_f64.sqrt()) as f32;
         let mut status = -1;
         unsafe {
@@ -422,7 +415,7 @@ fn bad_arguments_give_statuses_and_change_nothing() {
 
         // uninitialised (zeroed) block: every function
         assert_eq!(
-            hyst_adaptive_command(&mut a, 0.1, &mut x),
+            hyst_adaptive_step(&mut a, 0.1, &mut x),
             HYST_ERR_NOT_INITIALISED
         );
         assert_eq!(
@@ -457,7 +450,7 @@ fn bad_arguments_give_statuses_and_change_nothing() {
             HYST_ERR_NULL_POINTER
         );
         assert_eq!(
-            hyst_adaptive_command(ptr::null_mut(), 0.1, &mut x),
+            hyst_adaptive_step(ptr::null_mut(), 0.1, &mut x),
             HYST_ERR_NULL_POINTER
         );
         assert_eq!(
@@ -551,7 +544,7 @@ fn bad_arguments_give_statuses_and_change_nothing() {
             HYST_ERR_NOT_MONOTONE
         );
         assert_eq!(
-            hyst_adaptive_command(&mut a, 0.1, &mut x),
+            hyst_adaptive_step(&mut a, 0.1, &mut x),
             HYST_ERR_NOT_INITIALISED
         );
 
@@ -567,7 +560,7 @@ fn bad_arguments_give_statuses_and_change_nothing() {
             HYST_ERR_MISALIGNED
         );
         assert_eq!(
-            hyst_adaptive_command(misaligned, 0.1, &mut x),
+            hyst_adaptive_step(misaligned, 0.1, &mut x),
             HYST_ERR_MISALIGNED
         );
         let mut a32: hyst_adaptive_f32 = zeroed();
@@ -588,7 +581,7 @@ fn bad_arguments_give_statuses_and_change_nothing() {
             128,
         );
         assert_eq!(
-            hyst_adaptive_command(fake.as_mut_ptr().cast::<hyst_adaptive>(), 0.1, &mut x),
+            hyst_adaptive_step(fake.as_mut_ptr().cast::<hyst_adaptive>(), 0.1, &mut x),
             HYST_ERR_NOT_INITIALISED
         );
 
@@ -601,7 +594,7 @@ fn bad_arguments_give_statuses_and_change_nothing() {
         assert_eq!((prediction, status), (7.0, 7));
         // NULL outputs
         assert_eq!(
-            hyst_adaptive_command(&mut a, 0.1, ptr::null_mut()),
+            hyst_adaptive_step(&mut a, 0.1, ptr::null_mut()),
             HYST_ERR_NULL_POINTER
         );
         assert_eq!(
@@ -614,14 +607,14 @@ fn bad_arguments_give_statuses_and_change_nothing() {
         );
         // before any command, a refused desired output leaves *x alone
         assert_eq!(
-            hyst_adaptive_command(&mut a, 1.5, &mut x),
+            hyst_adaptive_step(&mut a, 1.5, &mut x),
             HYST_ERR_OUT_OF_RANGE
         );
         assert_eq!(x, 7.0);
         // a few samples; the prediction and status outputs may be NULL
         for k in 0..200 {
             assert_eq!(
-                hyst_adaptive_command(&mut a, 0.6 * desired(k), &mut x),
+                hyst_adaptive_step(&mut a, 0.6 * desired(k), &mut x),
                 HYST_OK
             );
             let y = 0.6 * desired(k);
@@ -646,7 +639,7 @@ fn bad_arguments_give_statuses_and_change_nothing() {
                 HYST_ERR_NON_FINITE
             };
             x = 7.0;
-            assert_eq!(hyst_adaptive_command(&mut a, d, &mut x), expected, "{d}");
+            assert_eq!(hyst_adaptive_step(&mut a, d, &mut x), expected, "{d}");
             assert_eq!(x, last);
             assert_eq!(
                 hyst_adaptive_measure(&mut a, 0.1, &mut prediction, &mut status),
@@ -654,7 +647,7 @@ fn bad_arguments_give_statuses_and_change_nothing() {
             );
         }
         // a NaN measurement: HYST_OK, HYST_ADAPT_BAD_OUTPUT
-        assert_eq!(hyst_adaptive_command(&mut a, 0.3, &mut x), HYST_OK);
+        assert_eq!(hyst_adaptive_step(&mut a, 0.3, &mut x), HYST_OK);
         assert_eq!(
             hyst_adaptive_measure(&mut a, f64::NAN, &mut prediction, &mut status),
             HYST_OK
@@ -676,11 +669,11 @@ fn bad_arguments_give_statuses_and_change_nothing() {
         for k in 200..400 {
             let (mut x1, mut x2) = (0.0, 0.0);
             assert_eq!(
-                hyst_adaptive_command(&mut a, 0.6 * desired(k), &mut x1),
+                hyst_adaptive_step(&mut a, 0.6 * desired(k), &mut x1),
                 HYST_OK
             );
             assert_eq!(
-                hyst_adaptive_command(&mut copy, 0.6 * desired(k), &mut x2),
+                hyst_adaptive_step(&mut copy, 0.6 * desired(k), &mut x2),
                 HYST_OK
             );
             assert_eq!(x1.to_bits(), x2.to_bits());

@@ -177,7 +177,7 @@ fn the_adaptive_compensator_tracks_the_drifting_truth() {
     let (mut sa, mut sf, mut so, mut n) = (0.0, 0.0, 0.0, 0);
     for k in 0..SAMPLES {
         let desired = OFFSET + GAIN * 0.8 * command(k);
-        let x = c.command(desired).unwrap();
+        let x = c.step(desired).unwrap();
         let y = truth.at(k).step(x) + noise.next();
         c.measure(y);
         let yf = fixed_truth.at(k).step(fixed.step(desired)) + noise.next();
@@ -257,7 +257,7 @@ mod hostile {
                 let u = a.update(x, y);
                 prop_assert!(u.prediction.is_finite() || u.prediction.is_nan());
                 if k % 3 == 0 {
-                    if c.command(y).is_ok() {
+                    if c.step(y).is_ok() {
                         c.measure(x);
                     }
                 } else {

@@ -233,7 +233,7 @@ impl Adaptive {
     fn step(slf: &Bound<'_, Self>, desired: f64) -> PyResult<f64> {
         let mut me = borrow_mut(slf)?;
         me.compensator
-            .command(desired)
+            .step(desired)
             .map_err(|e| core(format!("desired = {}", shortest(desired)), e))
     }
 

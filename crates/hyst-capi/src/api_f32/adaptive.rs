@@ -4,7 +4,7 @@
 //! from each pair of command and measured output (`hyst_core::adaptive`), and its settings
 //! (`hyst_adaptive_config_f32`).
 //!
-//! A control loop calls `hyst_adaptive_command_f32` with the desired output, sends the command to
+//! A control loop calls `hyst_adaptive_step_f32` with the desired output, sends the command to
 //! the actuator, and calls `hyst_adaptive_measure_f32` with the output it measured for it.
 //!
 //! GENERATED from `api_f64/adaptive.rs` by `scripts/gen-capi-f32`: do not edit.
@@ -257,7 +257,7 @@ pub unsafe extern "C" fn hyst_adaptive_init_f32(
 /// # Safety
 /// `a` is NULL or an initialised `hyst_adaptive_f32`; `x` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_adaptive_command_f32(
+pub unsafe extern "C" fn hyst_adaptive_step_f32(
     a: *mut hyst_adaptive_f32,
     desired: f32,
     x: *mut f32,
@@ -266,7 +266,7 @@ pub unsafe extern "C" fn hyst_adaptive_command_f32(
         return HYST_ERR_NULL_POINTER;
     }
     done(state(a).map(|s| {
-        let (value, result) = match s.compensator.command(desired) {
+        let (value, result) = match s.compensator.step(desired) {
             Ok(command) => {
                 s.held = Some(command);
                 (Some(command), HYST_OK)

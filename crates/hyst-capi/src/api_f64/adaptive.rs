@@ -4,7 +4,7 @@
 //! from each pair of command and measured output (`hyst_core::adaptive`), and its settings
 //! (`hyst_adaptive_config`).
 //!
-//! A control loop calls `hyst_adaptive_command` with the desired output, sends the command to
+//! A control loop calls `hyst_adaptive_step` with the desired output, sends the command to
 //! the actuator, and calls `hyst_adaptive_measure` with the output it measured for it.
 //!
 //! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
@@ -257,7 +257,7 @@ pub unsafe extern "C" fn hyst_adaptive_init(
 /// # Safety
 /// `a` is NULL or an initialised `hyst_adaptive`; `x` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_adaptive_command(
+pub unsafe extern "C" fn hyst_adaptive_step(
     a: *mut hyst_adaptive,
     desired: f64,
     x: *mut f64,
@@ -266,7 +266,7 @@ pub unsafe extern "C" fn hyst_adaptive_command(
         return HYST_ERR_NULL_POINTER;
     }
     done(state(a).map(|s| {
-        let (value, result) = match s.compensator.command(desired) {
+        let (value, result) = match s.compensator.step(desired) {
             Ok(command) => {
                 s.held = Some(command);
                 (Some(command), HYST_OK)

@@ -11,7 +11,7 @@ use crate::start::Start;
 /// through the shaping) of the estimator's current model, from the estimator's memory; each
 /// measurement updates the estimator ([`Adaptive`]).
 ///
-/// A control loop calls [`AdaptiveCompensator::command`] with the desired output, sends the
+/// A control loop calls [`AdaptiveCompensator::step`] with the desired output, sends the
 /// command to the actuator, and calls [`AdaptiveCompensator::measure`] with the output it
 /// measured for that command. The memory is the estimator's, re-anchored at each update so that
 /// the state does not jump (see [the module](super)): the compensator and the model never
@@ -32,7 +32,7 @@ use crate::start::Start;
 /// let mut actuator = fitted; // the truth, here equal to the model
 /// for k in 0..1000 {
 ///     let desired = 0.8 * (k as f64 * 0.02).sin();
-///     let command = compensator.command(desired)?;
+///     let command = compensator.step(desired)?;
 ///     let measured = actuator.step(command);
 ///     assert!((measured - desired).abs() < 1e-9);
 ///     compensator.measure(measured);
@@ -64,7 +64,7 @@ impl<T: Real, const W: usize> AdaptiveCompensator<T, W> {
     /// # Errors
     /// As the inverse model's step: a non-finite desired output, or one beyond a saturating
     /// ψ_out's range ([`Error::OutOfRange`]); the state is then unchanged.
-    pub fn command(&mut self, desired: T) -> Result<T, Error> {
+    pub fn step(&mut self, desired: T) -> Result<T, Error> {
         if let Some(x) = self.pending.take() {
             self.estimator.update(x, T::nan());
         }

@@ -377,7 +377,7 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
     /// the reversal output moves so that the branch passes through the last point
     /// ([`reanchor`]), so that the command a compensator computes from it does not jump. The
     /// estimate alone does not need it (its predictions are as good either way): only
-    /// [`AdaptiveCompensator::command`](super::AdaptiveCompensator::command) calls it, once per
+    /// [`AdaptiveCompensator::step`](super::AdaptiveCompensator::step) calls it, once per
     /// command.
     pub fn anchor(&mut self) {
         if self.anchored {

@@ -223,7 +223,7 @@ fn the_compensator_switches_without_a_jump() {
     let (mut updates, mut kept, mut largest, mut largest_dk1) = (0, 0, 0.0_f64, 0.0_f64);
     for k in 0..20_000 {
         let desired = 0.9 * command(k);
-        let x = c.command(desired).unwrap();
+        let x = c.step(desired).unwrap();
         let k1 = c.estimator().value(Parameter::K1);
         let u = c.measure(truth.step(x)).unwrap();
         if u.status == Status::Updated {
