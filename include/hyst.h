@@ -367,6 +367,13 @@ typedef struct hyst_adaptive_sample_counts {
   uint64_t refused;
 } hyst_adaptive_sample_counts;
 
+// The adaptive compensator of a model with affine shapings (identity or affine ψ_in and
+// ψ_out), adapting up to four parameters: an opaque block of 768 bytes, 8-byte aligned,
+// plain data (copyable with memcpy).
+typedef struct hyst_linear_adaptive_f32 {
+  uint64_t opaque[96];
+} hyst_linear_adaptive_f32;
+
 // The parametric operator H(k1, k2) (eq. 2) or H⁻¹(k1, k2) (eq. 4) with its memory: an opaque
 // block of 128 bytes, 8-byte aligned, plain data (copyable with memcpy).
 typedef struct hyst_operator {
@@ -534,6 +541,13 @@ typedef struct hyst_adaptive_config {
 typedef struct hyst_adaptive {
   uint64_t opaque[256];
 } hyst_adaptive;
+
+// The adaptive compensator of a model with affine shapings (identity or affine ψ_in and
+// ψ_out), adapting up to four parameters: an opaque block of 1536 bytes, 8-byte aligned,
+// plain data (copyable with memcpy).
+typedef struct hyst_linear_adaptive {
+  uint64_t opaque[192];
+} hyst_linear_adaptive;
 
 #ifdef __cplusplus
 extern "C" {
@@ -970,6 +984,59 @@ int32_t hyst_adaptive_parameter_f32(const struct hyst_adaptive_f32 *a, int32_t w
 int32_t hyst_adaptive_counts_f32(const struct hyst_adaptive_f32 *a,
                                  struct hyst_adaptive_sample_counts *counts);
 
+// As `hyst_adaptive_init_f32`; also `HYST_ERR_INVALID_PARAMETER` when a shaping's kind is not
+// `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE`, or more than four parameters adapt (use
+// `hyst_adaptive_*` then).
+//
+// # Safety
+// `a` is NULL or points to a writable `hyst_linear_adaptive_f32`; `params` and `cfg` are NULL or
+// readable.
+int32_t hyst_linear_adaptive_init_f32(struct hyst_linear_adaptive_f32 *a,
+                                      const struct hyst_shaped_model_params_f32 *params,
+                                      const struct hyst_adaptive_config_f32 *cfg);
+
+// As `hyst_adaptive_step_f32`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `x` is NULL or writable.
+int32_t hyst_linear_adaptive_step_f32(struct hyst_linear_adaptive_f32 *a, float desired, float *x);
+
+// As `hyst_adaptive_measure_f32`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `prediction` and `status` are NULL or
+// writable.
+int32_t hyst_linear_adaptive_measure_f32(struct hyst_linear_adaptive_f32 *a,
+                                         float y,
+                                         float *prediction,
+                                         int32_t *status);
+
+// As `hyst_adaptive_update_f32`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `prediction` and `status` are NULL or
+// writable.
+int32_t hyst_linear_adaptive_update_f32(struct hyst_linear_adaptive_f32 *a,
+                                        float x,
+                                        float y,
+                                        float *prediction,
+                                        int32_t *status);
+
+// As `hyst_adaptive_parameter_f32`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `value` is NULL or writable.
+int32_t hyst_linear_adaptive_parameter_f32(const struct hyst_linear_adaptive_f32 *a,
+                                           int32_t which,
+                                           float *value);
+
+// As `hyst_adaptive_counts_f32`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `counts` is NULL or writable.
+int32_t hyst_linear_adaptive_counts_f32(const struct hyst_linear_adaptive_f32 *a,
+                                        struct hyst_adaptive_sample_counts *counts);
+
 // Initialises `op` as the direct operator u = H(k1, k2)[v] (eq. 2), with no history (its first
 // sample is a reversal point on the line u = v).
 //
@@ -1393,6 +1460,59 @@ int32_t hyst_adaptive_parameter(const struct hyst_adaptive *a, int32_t which, do
 // `a` is NULL or an initialised `hyst_adaptive`; `counts` is NULL or writable.
 int32_t hyst_adaptive_counts(const struct hyst_adaptive *a,
                              struct hyst_adaptive_sample_counts *counts);
+
+// As `hyst_adaptive_init`; also `HYST_ERR_INVALID_PARAMETER` when a shaping's kind is not
+// `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE`, or more than four parameters adapt (use
+// `hyst_adaptive_*` then).
+//
+// # Safety
+// `a` is NULL or points to a writable `hyst_linear_adaptive`; `params` and `cfg` are NULL or
+// readable.
+int32_t hyst_linear_adaptive_init(struct hyst_linear_adaptive *a,
+                                  const struct hyst_shaped_model_params *params,
+                                  const struct hyst_adaptive_config *cfg);
+
+// As `hyst_adaptive_step`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive`; `x` is NULL or writable.
+int32_t hyst_linear_adaptive_step(struct hyst_linear_adaptive *a, double desired, double *x);
+
+// As `hyst_adaptive_measure`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive`; `prediction` and `status` are NULL or
+// writable.
+int32_t hyst_linear_adaptive_measure(struct hyst_linear_adaptive *a,
+                                     double y,
+                                     double *prediction,
+                                     int32_t *status);
+
+// As `hyst_adaptive_update`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive`; `prediction` and `status` are NULL or
+// writable.
+int32_t hyst_linear_adaptive_update(struct hyst_linear_adaptive *a,
+                                    double x,
+                                    double y,
+                                    double *prediction,
+                                    int32_t *status);
+
+// As `hyst_adaptive_parameter`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive`; `value` is NULL or writable.
+int32_t hyst_linear_adaptive_parameter(const struct hyst_linear_adaptive *a,
+                                       int32_t which,
+                                       double *value);
+
+// As `hyst_adaptive_counts`.
+//
+// # Safety
+// `a` is NULL or an initialised `hyst_linear_adaptive`; `counts` is NULL or writable.
+int32_t hyst_linear_adaptive_counts(const struct hyst_linear_adaptive *a,
+                                    struct hyst_adaptive_sample_counts *counts);
 
 // Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
 // H⁻¹(`k1[c]`, `k2[c]`) (eq. 4: the inverses) when `inverse` ≠ 0, each with no history.

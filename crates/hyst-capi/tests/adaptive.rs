@@ -745,3 +745,89 @@ fn f32_update_and_parameters() {
     assert_eq!(status, HYST_ADAPT_BAD_INPUT);
     assert!(prediction.is_nan());
 }
+
+/// The firmware variant: affine shapings, up to four parameters, bit for bit the core's
+/// width-4 compensator with affine shapes; a nonlinear shape or a fifth parameter refused.
+#[test]
+fn the_linear_variant_is_the_core_of_width_four() {
+    let mut p = params();
+    p.input = hyst_shaping {
+        kind: HYST_SHAPING_AFFINE,
+        p: [1.2, 0.05, 0.0, 0.0, 0.0, 0.0],
+        pre_gain: 0.8,
+        pre_offset: 0.05,
+        post_gain: 1.1,
+        post_offset: 0.0,
+    };
+    let mut cfg: hyst_adaptive_config = zeroed();
+    unsafe { assert_eq!(hyst_adaptive_config_default(&mut cfg, 2e-3), HYST_OK) };
+    let mut a: hyst_linear_adaptive = zeroed();
+    unsafe { assert_eq!(hyst_linear_adaptive_init(&mut a, &p, &cfg), HYST_OK) };
+    let linear = |s: &hyst_shaping| {
+        ScaledShaping::new(
+            s.pre_gain,
+            s.pre_offset,
+            hyst_core::LinearShaping::Affine(Affine::new(s.p[0], s.p[1]).unwrap()),
+            s.post_gain,
+            s.post_offset,
+        )
+        .unwrap()
+    };
+    let law = AnyK2Law::Affine(AffineK2::new(9.0, 1.5, 6.0, 12.0).unwrap());
+    let model = ShapedModel::new(
+        linear(&p.input),
+        Hysteresis::with_k2_law(0.12, law).unwrap(),
+        linear(&p.output),
+    )
+    .unwrap();
+    let estimator = Adaptive::<f64, 4, hyst_core::LinearShaping<f64>>::of_width(
+        &model,
+        InitialState::Rising,
+        AdaptiveConfig::new(2e-3),
+    )
+    .unwrap();
+    let mut core = AdaptiveCompensator::new(estimator);
+    let mut truth = model;
+    for k in 0..4000 {
+        let d = desired(k);
+        let mut x = 0.0;
+        unsafe { assert_eq!(hyst_linear_adaptive_step(&mut a, d, &mut x), HYST_OK) };
+        assert_eq!(x.to_bits(), core.step(d).unwrap().to_bits(), "sample {k}");
+        let y = 1.1 * truth.step(x);
+        let (mut pred, mut status) = (0.0, -1);
+        unsafe {
+            assert_eq!(
+                hyst_linear_adaptive_measure(&mut a, y, &mut pred, &mut status),
+                HYST_OK
+            )
+        };
+        assert_eq!(
+            pred.to_bits(),
+            core.measure(y).unwrap().prediction.to_bits()
+        );
+    }
+    let mut gain = 0.0;
+    unsafe { assert_eq!(hyst_linear_adaptive_parameter(&a, 2, &mut gain), HYST_OK) };
+    assert_eq!(gain, core.estimator().value(Parameter::Gain));
+
+    // A polynomial ψ_in, or five parameters: refused, the block untouched.
+    let mut b: hyst_linear_adaptive = zeroed();
+    unsafe {
+        assert_eq!(
+            hyst_linear_adaptive_init(&mut b, &params(), &cfg),
+            HYST_ERR_INVALID_PARAMETER
+        )
+    };
+    cfg.parameters |= HYST_ADAPT_INPUT_OFFSET;
+    unsafe {
+        assert_eq!(
+            hyst_linear_adaptive_init(&mut b, &p, &cfg),
+            HYST_ERR_INVALID_PARAMETER
+        );
+        let mut x = 0.0;
+        assert_eq!(
+            hyst_linear_adaptive_step(&mut b, 0.1, &mut x),
+            HYST_ERR_NOT_INITIALISED
+        );
+    }
+}

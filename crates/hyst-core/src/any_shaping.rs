@@ -68,6 +68,13 @@ impl<T: Real> Shaping<T> for AnyShaping<T> {
     fn lipschitz(&self, lo: T, hi: T) -> T {
         dispatch!(self, s => s.lipschitz(lo, hi))
     }
+    fn apply_with_slope(&self, x: T) -> (T, T) {
+        match self {
+            AnyShaping::Identity => (x, T::one()),
+            AnyShaping::Affine(a) => (a.apply(x), a.lipschitz(x, x)),
+            other => dispatch!(other, s => s.apply_with_slope(x)),
+        }
+    }
 }
 
 /// The affine shapes alone, identity or [`Affine`]: [`AnyShaping`]'s arithmetic for them, and
@@ -140,5 +147,11 @@ impl<T: Real> Shaping<T> for LinearShaping<T> {
     }
     fn lipschitz(&self, lo: T, hi: T) -> T {
         linear_dispatch!(self, s => s.lipschitz(lo, hi))
+    }
+    fn apply_with_slope(&self, x: T) -> (T, T) {
+        match self {
+            LinearShaping::Identity => (x, T::one()),
+            LinearShaping::Affine(a) => (a.apply(x), a.lipschitz(x, x)),
+        }
     }
 }

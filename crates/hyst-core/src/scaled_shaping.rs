@@ -91,13 +91,15 @@ impl<T: Real, S: Shaping<T>> ScaledShaping<T, S> {
     /// (-1.32, 1.32)", not "1.51 is outside the range (-1, 1)").
     fn in_own_units(&self, y: T, e: Error) -> Error {
         match e {
+            // In T: f64 arithmetic would link soft double-precision maths into an f32
+            // firmware (the Cortex-M4F has no double FPU) for an error message.
             Error::OutOfRange { name, min, max, .. } => {
-                let (gain, offset) = (self.post_gain.as_f64(), self.post_offset.as_f64());
+                let own = |m: f64| (self.post_gain * T::from_f64(m) + self.post_offset).as_f64();
                 Error::OutOfRange {
                     name,
                     value: y.as_f64(),
-                    min: gain * min + offset,
-                    max: gain * max + offset,
+                    min: own(min),
+                    max: own(max),
                 }
             }
             other => other,

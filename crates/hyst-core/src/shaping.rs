@@ -58,6 +58,19 @@ pub trait Shaping<T: Real> {
         )
     }
 
+    /// ψ(x) and ψ'(x) on the whole line (as [`Shaping::apply`]): what a chain rule through ψ
+    /// needs (the adaptive estimator's, [`crate::adaptive`]). The value is `apply`'s, bit for
+    /// bit.
+    fn apply_with_slope(&self, x: T) -> (T, T) {
+        let slope = self
+            .apply(Jet::<T, 1>::variable(x))
+            .taylor()
+            .first()
+            .copied()
+            .unwrap_or_else(T::zero);
+        (self.apply(x), slope)
+    }
+
     /// ψ(x) on the whole line: the formula on the domain, the tangent beyond its ends.
     fn apply<S: Sample<T>>(&self, x: S) -> S {
         let (lo, hi) = self.domain();

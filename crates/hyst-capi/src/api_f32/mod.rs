@@ -20,10 +20,13 @@ pub mod linear_model;
 
 pub mod adaptive;
 
+pub mod linear_adaptive;
+
 pub(crate) mod checks;
 
 pub use adaptive::*;
 pub use compensator::*;
+pub use linear_adaptive::*;
 pub use linear_model::*;
 pub use memory::hyst_memory_f32;
 pub use operator::*;

@@ -11,7 +11,9 @@
 
 use hyst_core::adaptive::{
     Adaptive, AdaptiveCompensator, AdaptiveConfig, Parameter, Parameters, Status, Update,
+    MAX_PARAMETERS,
 };
+use hyst_core::{AnyShaping, ScaledShaping, Shaping};
 
 use crate::api_f64::checks::done;
 use crate::api_f64::shaped_model::hyst_shaped_model_params;
@@ -84,7 +86,7 @@ impl hyst_adaptive_config {
 
     /// The settings as the core takes them (checked by `Adaptive::new`), or
     /// `HYST_ERR_INVALID_PARAMETER` for a bit beyond `HYST_ADAPT_INPUT_OFFSET`.
-    fn config(&self) -> Result<AdaptiveConfig<f64>, i32> {
+    pub(crate) fn config(&self) -> Result<AdaptiveConfig<f64>, i32> {
         if self.parameters >> Parameter::ALL.len() != 0 {
             return Err(HYST_ERR_INVALID_PARAMETER);
         }
@@ -114,43 +116,153 @@ pub struct hyst_adaptive {
     opaque: [u64; 256],
 }
 
-/// The compensator and the last command it gave or was told about (what `*x` holds when a
-/// command is refused).
+/// The compensator (duals of width `W`, shapes `S`) and the last command it gave or was told
+/// about (what `*x` holds when a command is refused): the value behind `hyst_adaptive` and
+/// `hyst_linear_adaptive`.
 #[derive(Clone, Copy, Debug)]
-struct State {
-    compensator: AdaptiveCompensator<f64>,
+pub(crate) struct State<const W: usize, S> {
+    compensator: AdaptiveCompensator<f64, W, S>,
     held: Option<f64>,
 }
 
+/// The state of `hyst_adaptive`: any shapes, any parameters.
+type AnyState = State<MAX_PARAMETERS, AnyShaping<f64>>;
+
 const TAG_ADAPTIVE: u32 = 0x4859_4164; // "HYAd"
 
-const _: () = assert!(slot::fits::<hyst_adaptive, State>());
+const _: () = assert!(slot::fits::<hyst_adaptive, AnyState>());
+
+impl<const W: usize, S: Shaping<f64> + Copy> State<W, S> {
+    /// The state of the model `params` with the settings `cfg` (`shaping` builds its shapes), or
+    /// the status that refuses them.
+    pub(crate) fn build(
+        p: &hyst_shaped_model_params,
+        c: &hyst_adaptive_config,
+        shaping: engine::ShapingFn<f64, ScaledShaping<f64, S>>,
+    ) -> Result<Self, i32> {
+        let config = c.config()?;
+        if p.form != HYST_FORM_OPERATOR || p.linear != 0.0 {
+            return Err(HYST_ERR_INVALID_PARAMETER);
+        }
+        let built = engine::initial_state(p.initial_state).and_then(|start| {
+            let model = p.model_with(shaping)?;
+            Adaptive::<f64, W, S>::of_width(&model, start, config)
+        });
+        match built {
+            Ok(estimator) => Ok(Self {
+                compensator: AdaptiveCompensator::new(estimator),
+                held: None,
+            }),
+            Err(e) => Err(status::of(&e)),
+        }
+    }
+
+    /// `hyst_*adaptive_step` on this state.
+    ///
+    /// # Safety
+    /// `x` is non-NULL and writable.
+    pub(crate) unsafe fn step(&mut self, desired: f64, x: *mut f64) -> i32 {
+        let (value, result) = match self.compensator.step(desired) {
+            Ok(command) => {
+                self.held = Some(command);
+                (Some(command), HYST_OK)
+            }
+            Err(e) => (self.held, status::of(&e)),
+        };
+        if let Some(v) = value {
+            // SAFETY: non-NULL, writable (caller's contract).
+            unsafe { x.write(v) };
+        }
+        result
+    }
+
+    /// `hyst_*adaptive_measure` on this state.
+    ///
+    /// # Safety
+    /// `prediction` and `status` are NULL or writable.
+    pub(crate) unsafe fn measure(&mut self, y: f64, prediction: *mut f64, status: *mut i32) -> i32 {
+        match self.compensator.measure(y) {
+            // SAFETY: forwarded contract.
+            Some(u) => unsafe { report(u, prediction, status) },
+            None => HYST_ERR_NO_COMMAND,
+        }
+    }
+
+    /// `hyst_*adaptive_update` on this state.
+    ///
+    /// # Safety
+    /// `prediction` and `status` are NULL or writable.
+    pub(crate) unsafe fn update(
+        &mut self,
+        x: f64,
+        y: f64,
+        prediction: *mut f64,
+        status: *mut i32,
+    ) -> i32 {
+        let u = self.compensator.update(x, y);
+        if x.is_finite() {
+            self.held = Some(x);
+        }
+        // SAFETY: forwarded contract.
+        unsafe { report(u, prediction, status) }
+    }
+
+    /// `hyst_*adaptive_parameter` on this state.
+    ///
+    /// # Safety
+    /// `value` is non-NULL and writable.
+    pub(crate) unsafe fn parameter(&self, which: i32, value: *mut f64) -> i32 {
+        let Some(p) = usize::try_from(which)
+            .ok()
+            .and_then(|i| Parameter::ALL.get(i))
+        else {
+            return HYST_ERR_INVALID_PARAMETER;
+        };
+        // SAFETY: non-NULL, writable (caller's contract).
+        unsafe { value.write(self.compensator.estimator().value(*p)) };
+        HYST_OK
+    }
+
+    /// `hyst_*adaptive_counts` on this state.
+    ///
+    /// # Safety
+    /// `counts` is non-NULL and writable.
+    pub(crate) unsafe fn counts(&self, counts: *mut hyst_adaptive_sample_counts) -> i32 {
+        let c = self.compensator.estimator().counts();
+        // SAFETY: non-NULL, writable (caller's contract).
+        unsafe { counts.write(hyst_adaptive_sample_counts::of(&c)) };
+        HYST_OK
+    }
+}
 
 /// The initialised adaptive compensator behind `a`, or the status of the failed check.
-fn state<'a>(a: *mut hyst_adaptive) -> Result<&'a mut State, i32> {
+fn state<'a>(a: *mut hyst_adaptive) -> Result<&'a mut AnyState, i32> {
     // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut::<_, State>(a, TAG_ADAPTIVE) }
+    unsafe { slot::value_mut::<_, AnyState>(a, TAG_ADAPTIVE) }
 }
 
 /// As [`state`], read only.
-fn state_ref<'a>(a: *const hyst_adaptive) -> Result<&'a State, i32> {
+fn state_ref<'a>(a: *const hyst_adaptive) -> Result<&'a AnyState, i32> {
     // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value::<_, State>(a, TAG_ADAPTIVE) }
+    unsafe { slot::value::<_, AnyState>(a, TAG_ADAPTIVE) }
 }
 
-/// The `HYST_ADAPT_*` code of a sample's status.
+/// The `HYST_ADAPT_*` code of a sample's status: the codes are the statuses in the order of
+/// `Status` (checked below at compile time), so the code is the discriminant.
 fn code(s: Status) -> i32 {
-    match s {
-        Status::Updated => HYST_ADAPT_UPDATED,
-        Status::Rest => HYST_ADAPT_REST,
-        Status::Starting => HYST_ADAPT_STARTING,
-        Status::DeadZone => HYST_ADAPT_DEAD_ZONE,
-        Status::BadInput => HYST_ADAPT_BAD_INPUT,
-        Status::OutOfRange => HYST_ADAPT_OUT_OF_RANGE,
-        Status::BadOutput => HYST_ADAPT_BAD_OUTPUT,
-        Status::Refused => HYST_ADAPT_REFUSED,
-    }
+    s as i32
 }
+
+const _: () = assert!(
+    Status::Updated as i32 == HYST_ADAPT_UPDATED
+        && Status::Rest as i32 == HYST_ADAPT_REST
+        && Status::Starting as i32 == HYST_ADAPT_STARTING
+        && Status::DeadZone as i32 == HYST_ADAPT_DEAD_ZONE
+        && Status::BadInput as i32 == HYST_ADAPT_BAD_INPUT
+        && Status::OutOfRange as i32 == HYST_ADAPT_OUT_OF_RANGE
+        && Status::BadOutput as i32 == HYST_ADAPT_BAD_OUTPUT
+        && Status::Refused as i32 == HYST_ADAPT_REFUSED
+);
 
 /// Writes a sample's prediction and status where the caller asked for them.
 ///
@@ -218,27 +330,10 @@ pub unsafe extern "C" fn hyst_adaptive_init(
     }
     // SAFETY: non-NULL (checked), readable (caller's contract).
     let (p, c) = unsafe { (params.read(), cfg.read()) };
-    let config = match c.config() {
-        Ok(config) => config,
-        Err(s) => return s,
-    };
-    if p.form != HYST_FORM_OPERATOR || p.linear != 0.0 {
-        return HYST_ERR_INVALID_PARAMETER;
-    }
-    let built = engine::initial_state(p.initial_state).and_then(|start| {
-        let model = p.model()?;
-        Adaptive::new(&model, start, config)
-    });
-    match built {
-        Ok(estimator) => {
-            let value = State {
-                compensator: AdaptiveCompensator::new(estimator),
-                held: None,
-            };
-            // SAFETY: `a` is NULL or a writable block of the type's size; `fits` holds.
-            unsafe { slot::write(a, TAG_ADAPTIVE, value) }
-        }
-        Err(e) => status::of(&e),
+    match AnyState::build(&p, &c, engine::shaping) {
+        // SAFETY: `a` is NULL or a writable block of the type's size; `fits` holds.
+        Ok(value) => unsafe { slot::write(a, TAG_ADAPTIVE, value) },
+        Err(s) => s,
     }
 }
 
@@ -265,20 +360,8 @@ pub unsafe extern "C" fn hyst_adaptive_step(
     if x.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
-    done(state(a).map(|s| {
-        let (value, result) = match s.compensator.step(desired) {
-            Ok(command) => {
-                s.held = Some(command);
-                (Some(command), HYST_OK)
-            }
-            Err(e) => (s.held, status::of(&e)),
-        };
-        if let Some(v) = value {
-            // SAFETY: non-NULL (checked), writable (caller's contract).
-            unsafe { x.write(v) };
-        }
-        result
-    }))
+    // SAFETY: `x` is non-NULL (checked) and writable (caller's contract).
+    done(state(a).map(|s| unsafe { s.step(desired, x) }))
 }
 
 /// The measurement: the output `y` (output units) measured for the last command updates the
@@ -300,11 +383,8 @@ pub unsafe extern "C" fn hyst_adaptive_measure(
     prediction: *mut f64,
     status: *mut i32,
 ) -> i32 {
-    done(state(a).map(|s| match s.compensator.measure(y) {
-        // SAFETY: forwarded contract.
-        Some(u) => unsafe { report(u, prediction, status) },
-        None => HYST_ERR_NO_COMMAND,
-    }))
+    // SAFETY: forwarded contract.
+    done(state(a).map(|s| unsafe { s.measure(y, prediction, status) }))
 }
 
 /// A recorded sample, not commanded here (a record played back, a command from elsewhere):
@@ -328,14 +408,8 @@ pub unsafe extern "C" fn hyst_adaptive_update(
     prediction: *mut f64,
     status: *mut i32,
 ) -> i32 {
-    done(state(a).map(|s| {
-        let u = s.compensator.update(x, y);
-        if x.is_finite() {
-            s.held = Some(x);
-        }
-        // SAFETY: forwarded contract.
-        unsafe { report(u, prediction, status) }
-    }))
+    // SAFETY: forwarded contract.
+    done(state(a).map(|s| unsafe { s.update(x, y, prediction, status) }))
 }
 
 /// `*value` = the current value of parameter `which`: the index of its `HYST_ADAPT_*` bit, 0 k1
@@ -358,15 +432,8 @@ pub unsafe extern "C" fn hyst_adaptive_parameter(
     if value.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
-    done(state_ref(a).and_then(|s| {
-        let p = usize::try_from(which)
-            .ok()
-            .and_then(|i| Parameter::ALL.get(i))
-            .ok_or(HYST_ERR_INVALID_PARAMETER)?;
-        // SAFETY: non-NULL (checked), writable (caller's contract).
-        unsafe { value.write(s.compensator.estimator().value(*p)) };
-        Ok(HYST_OK)
-    }))
+    // SAFETY: `value` is non-NULL (checked) and writable (caller's contract).
+    done(state_ref(a).map(|s| unsafe { s.parameter(which, value) }))
 }
 
 /// `*counts` = how many samples had each `HYST_ADAPT_*` status since `hyst_adaptive_init`.
@@ -384,10 +451,6 @@ pub unsafe extern "C" fn hyst_adaptive_counts(
     if counts.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
-    done(state_ref(a).map(|s| {
-        let c = s.compensator.estimator().counts();
-        // SAFETY: non-NULL (checked), writable (caller's contract).
-        unsafe { counts.write(hyst_adaptive_sample_counts::of(&c)) };
-        HYST_OK
-    }))
+    // SAFETY: `counts` is non-NULL (checked) and writable (caller's contract).
+    done(state_ref(a).map(|s| unsafe { s.counts(counts) }))
 }

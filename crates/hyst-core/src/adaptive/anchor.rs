@@ -20,7 +20,7 @@
 //! of k1, which no memory can undo.
 
 use crate::dual::Dual;
-use crate::lambert::{omega, w0};
+use crate::lambert::w0;
 use crate::memory::Memory;
 use crate::real::Real;
 
@@ -44,8 +44,8 @@ pub(super) fn reanchor<T: Real, const W: usize>(m: &mut Memory<D<T, W>>, k1: D<T
 }
 
 /// The root w of g (plain numbers), in closed form: with z = A − w and A = a + k1, g(w) = 0 is
-/// z e^(k2 z) = (A − ṽ) e^(k2 A), so k2 z = W0(k2 (A − ṽ) e^(k2 A)) = ω(ln(k2 (A − ṽ)) + k2 A)
-/// (the Wright omega: no overflow of e^(k2 A)). `None` when the branch is flat in w there
+/// z e^(k2 z) = (A − ṽ) e^(k2 A), so k2 z = W0(k2 (A − ṽ) e^(k2 A)). `None` when k2 A is
+/// beyond the exponent range (`Real::EXP_ARG_MAX`), when the branch is flat in w there
 /// (g' = e^(−k2 w) (1 + k2 z) = (A − ṽ)(1 + k2 z) / z below √ε: 1.5e-8 for f64, 3.5e-4 for
 /// f32), at the reversal point itself (ṽ = 0), or when the numbers are not finite.
 fn root<T: Real>(vt: T, a: T, k1: T, k2: T) -> Option<T> {
@@ -55,12 +55,14 @@ fn root<T: Real>(vt: T, a: T, k1: T, k2: T) -> Option<T> {
     if vt.partial_cmp(&zero) != Some(core::cmp::Ordering::Greater) || gap <= zero {
         return None;
     }
+    // Beyond the exponent range (a near-hard backlash far past its reversal, where the branch
+    // has all but met its asymptote) the memory is kept: the Wright omega that would reach
+    // there costs a firmware its own code for an edge the no-jump promise can spare.
     let y = k2 * big_a;
-    let z = if y <= T::EXP_ARG_MAX {
-        w0(k2 * gap * y.exp()) / k2
-    } else {
-        omega((k2 * gap).ln() + y) / k2
-    };
+    if y > T::EXP_ARG_MAX {
+        return None;
+    }
+    let z = w0(k2 * gap * y.exp()) / k2;
     let slope = gap * (T::one() + k2 * z) / z;
     let w = (big_a - z).max((a - k1).max(zero)).min(vt.min(big_a));
     (z > zero && slope > T::epsilon().sqrt() && w.is_finite()).then_some(w)

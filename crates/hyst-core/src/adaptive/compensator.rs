@@ -1,10 +1,14 @@
 //! [`AdaptiveCompensator`]: the exact inverse of the estimator's current model, in a loop with
 //! the estimator.
 
-use super::{Adaptive, Update, MAX_PARAMETERS};
+use crate::adaptive::estimator::Adaptive;
+use crate::adaptive::settings::MAX_PARAMETERS;
+use crate::adaptive::status::Update;
+use crate::any_shaping::AnyShaping;
 use crate::error::Error;
 use crate::operator::Operator;
 use crate::real::Real;
+use crate::shaping::Shaping;
 use crate::start::Start;
 
 /// A compensator that follows a drifting actuator: each command is the exact inverse (eq. 4
@@ -41,16 +45,16 @@ use crate::start::Start;
 /// # }
 /// ```
 #[derive(Clone, Copy, Debug)]
-pub struct AdaptiveCompensator<T: Real, const W: usize = MAX_PARAMETERS> {
-    estimator: Adaptive<T, W>,
+pub struct AdaptiveCompensator<T: Real, const W: usize = MAX_PARAMETERS, S = AnyShaping<T>> {
+    estimator: Adaptive<T, W, S>,
     /// The last command, waiting for its measurement.
     pending: Option<T>,
 }
 
-impl<T: Real, const W: usize> AdaptiveCompensator<T, W> {
+impl<T: Real, const W: usize, S: Shaping<T> + Copy> AdaptiveCompensator<T, W, S> {
     /// A compensator around `estimator`.
     #[must_use]
-    pub fn new(estimator: Adaptive<T, W>) -> Self {
+    pub fn new(estimator: Adaptive<T, W, S>) -> Self {
         Self {
             estimator,
             pending: None,
@@ -59,7 +63,7 @@ impl<T: Real, const W: usize> AdaptiveCompensator<T, W> {
 
     /// The command x that gives the desired output `desired` (output units) with the current
     /// parameters. A command whose measurement never came is given to the estimator first as
-    /// unmeasured ([`Status::BadOutput`]), so that the model still follows the actuator.
+    /// unmeasured ([`Status::BadOutput`](crate::adaptive::Status::BadOutput)), so that the model still follows the actuator.
     ///
     /// # Errors
     /// As the inverse model's step: a non-finite desired output, or one beyond a saturating
@@ -104,7 +108,7 @@ impl<T: Real, const W: usize> AdaptiveCompensator<T, W> {
 
     /// The estimator (its parameters, counts and memory).
     #[must_use]
-    pub fn estimator(&self) -> &Adaptive<T, W> {
+    pub fn estimator(&self) -> &Adaptive<T, W, S> {
         &self.estimator
     }
 }

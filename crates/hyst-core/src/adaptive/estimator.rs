@@ -1,13 +1,13 @@
 //! [`Adaptive`]: the recursive estimator (the method is in the module's documentation).
 
-use super::anchor::reanchor;
-use super::covariance::Covariance;
-use super::{AdaptiveConfig, Counts, Parameter, Status, Update, MAX_PARAMETERS as N};
+use crate::adaptive::anchor::reanchor;
+use crate::adaptive::covariance::Covariance;
+use crate::adaptive::settings::{AdaptiveConfig, Parameter, MAX_PARAMETERS as N};
+use crate::adaptive::status::{Counts, Status, Tally, Update};
 
 use crate::any_shaping::AnyShaping;
 use crate::dual::Dual;
 use crate::error::Error;
-use crate::jet::Jet;
 use crate::k2law::{AffineK2, AnyK2Law, K2Law};
 use crate::memory::Memory;
 use crate::operator::Operator;
@@ -19,8 +19,11 @@ use crate::shaping::Shaping;
 use crate::start::InitialState;
 
 /// The shaped model an [`Adaptive`] estimator follows: ψ_out ∘ H ∘ ψ_in with scaled shaping
-/// functions and any built-in k2 law (a fitted smooth model of the operator form).
-pub type AdaptiveModel<T> = ShapedModel<T, ScaledShaping<T>, AnyK2Law<T>, ScaledShaping<T>>;
+/// functions and any built-in k2 law (a fitted smooth model of the operator form). The shapes
+/// are any of the built-in ones (`S` = [`AnyShaping`], the default), or only the affine ones
+/// ([`LinearShaping`](crate::LinearShaping): a firmware then links no nonlinear shape).
+pub type AdaptiveModel<T, S = AnyShaping<T>> =
+    ShapedModel<T, ScaledShaping<T, S>, AnyK2Law<T>, ScaledShaping<T, S>>;
 
 /// The dual numbers of an estimator of width `W`.
 type D<T, const W: usize> = Dual<T, W>;
@@ -61,8 +64,8 @@ type D<T, const W: usize> = Dual<T, W>;
 /// # }
 /// ```
 #[derive(Clone, Copy, Debug)]
-pub struct Adaptive<T: Real, const W: usize = N> {
-    fitted: AdaptiveModel<T>,
+pub struct Adaptive<T: Real, const W: usize = N, S = AnyShaping<T>> {
+    fitted: AdaptiveModel<T, S>,
     config: AdaptiveConfig<T>,
     /// The slot (0 to W − 1) of each adapted parameter in θ, the duals and P; W for one that
     /// does not adapt (every lookup of that slot then finds nothing).
@@ -85,7 +88,7 @@ pub struct Adaptive<T: Real, const W: usize = N> {
     settled: bool,
     /// Whether the memory is anchored for the current parameters ([`Adaptive::anchor`]).
     anchored: bool,
-    counts: Counts,
+    counts: Tally,
 }
 
 impl<T: Real> Adaptive<T> {
@@ -105,32 +108,26 @@ impl<T: Real> Adaptive<T> {
     }
 }
 
-impl<T: Real, const W: usize> Adaptive<T, W> {
+impl<T: Real, const W: usize, S: Shaping<T> + Copy> Adaptive<T, W, S> {
     /// As [`Adaptive::new`], with duals of width `W`: `Adaptive::<f64, 4>::of_width(…)` for
     /// up to four parameters (the default set k1, k2, gain, offset).
     ///
     /// # Errors
     /// As [`Adaptive::new`]; also [`Error::InvalidParameter`] for more parameters than `W`.
     pub fn of_width(
-        fitted: &AdaptiveModel<T>,
+        fitted: &AdaptiveModel<T, S>,
         start: InitialState,
         config: AdaptiveConfig<T>,
     ) -> Result<Self, Error> {
         config.validate()?;
-        if config.parameters.is_empty() {
-            return Err(Error::InvalidParameter {
-                name: "parameters",
-                value: 0.0,
-                expected: "at least one of k1, k2, gain, offset, input_gain, input_offset",
-            });
-        }
         let n = config.parameters.len();
-        if n > W {
+        if n == 0 || n > W {
             return Err(Error::InvalidParameter {
                 name: "parameters",
-                value: n as f64,
-                expected: "at most as many as the estimator's width W (Adaptive<T, W>; the \
-                           default, 6, takes all)",
+                // Through T: a usize to f64 conversion is soft double on an f32-only FPU.
+                value: T::from_usize(n).as_f64(),
+                expected: "1 to W (the width; 6 for Adaptive::new) of k1, k2, gain, offset, \
+                           input_gain, input_offset",
             });
         }
         let mut slot = [W; N];
@@ -157,7 +154,7 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
             travel: T::zero(),
             settled: fitted.operator().memory().is_some(),
             anchored: true,
-            counts: Counts::default(),
+            counts: Tally::default(),
         };
         let memory = fitted.operator().memory().map(|m| lift(&m));
         a.operator = a.dual_operator(&a.theta, memory)?;
@@ -228,18 +225,7 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
         let u = self.operator.try_step(v)?;
         let out = self.fitted.output_shaping();
         let z = u.value() * out.pre_gain + out.pre_offset;
-        let (s, slope) = match out.shape {
-            AnyShaping::Identity => (z, T::one()),
-            shape => (
-                shape.apply(z),
-                shape
-                    .apply(Jet::<T, 1>::variable(z))
-                    .taylor()
-                    .first()
-                    .copied()
-                    .unwrap_or_else(T::zero),
-            ),
-        };
+        let (s, slope) = out.shape.apply_with_slope(z);
         let (g, c) = (self.value(Parameter::Gain), self.value(Parameter::Offset));
         let prediction = s * g + c;
         if !prediction.is_finite() {
@@ -254,13 +240,20 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
         self.seed(&mut phi, Parameter::Gain, s);
         self.seed(&mut phi, Parameter::Offset, T::one());
         if !phi.iter().all(|p| p.is_finite()) {
-            // Sensitivities beyond the float range: the memory keeps its values and starts its
-            // gradients afresh (the next reversals rebuild them); no update from this sample.
-            self.operator
-                .restore(self.operator.memory().map(|m| lift(&lower(&m))));
+            // Sensitivities beyond the float range: no update from this sample.
+            self.forget_sensitivities();
             return Ok((prediction, None, v.value()));
         }
         Ok((prediction, Some(phi), v.value()))
+    }
+
+    /// The memory keeps its values and starts its gradients afresh (the next reversals rebuild
+    /// them): after sensitivities beyond the float range.
+    #[inline(never)]
+    fn forget_sensitivities(&mut self) {
+        if let Some(m) = self.operator.memory_mut() {
+            *m = lift(&lower(m));
+        }
     }
 
     /// Adds ∂/∂θ_p = `d` · (p's scale) to `grad` if p adapts.
@@ -281,9 +274,8 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
         let h = self.p.times(phi);
         let d = c.noise * c.noise + dot(phi, &h);
         if d <= T::zero() || !d.is_finite() {
-            // Sensitivities too large to square: the memory starts its gradients afresh.
-            self.operator
-                .restore(self.operator.memory().map(|m| lift(&lower(&m))));
+            // Sensitivities too large to square.
+            self.forget_sensitivities();
             return Status::Refused;
         }
         // Clipped at 5 σ of the innovation (the square root only for a sample beyond it).
@@ -375,7 +367,7 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
 
     /// Re-anchors the memory for the current parameters, if they changed since it was last:
     /// the reversal output moves so that the branch passes through the last point
-    /// ([`reanchor`]), so that the command a compensator computes from it does not jump. The
+    /// (`anchor::reanchor`), so that the command a compensator computes from it does not jump. The
     /// estimate alone does not need it (its predictions are as good either way): only
     /// [`AdaptiveCompensator::step`](super::AdaptiveCompensator::step) calls it, once per
     /// command.
@@ -459,7 +451,7 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
     /// # Errors
     /// None in practice (the parameters were checked when they were taken); the core's own
     /// checks of a model's parameters.
-    pub fn model(&self) -> Result<AdaptiveModel<T>, Error> {
+    pub fn model(&self) -> Result<AdaptiveModel<T, S>, Error> {
         let op = self.fitted.operator();
         let f = T::one() + self.theta_of(&self.theta, Parameter::K2);
         let law = scaled_law(op.k2_law(), f, [T::zero(); W]);
@@ -477,7 +469,7 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
 
     /// The model as fitted (with the memory it was given).
     #[must_use]
-    pub fn fitted(&self) -> &AdaptiveModel<T> {
+    pub fn fitted(&self) -> &AdaptiveModel<T, S> {
         &self.fitted
     }
 
@@ -496,7 +488,7 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
     /// How many samples had each status.
     #[must_use]
     pub fn counts(&self) -> Counts {
-        self.counts
+        self.counts.counts()
     }
 
     /// The operator's memory (operator units), `None` before the first sample.
@@ -509,7 +501,7 @@ impl<T: Real, const W: usize> Adaptive<T, W> {
 /// The scale of each θ: the fitted value for k1, k2 and the gains; for the output offset the
 /// loop's half-width in output units, |ψ_out(k1) − ψ_out(−k1)| / 2 (at least `noise`); for
 /// the input offset k1.
-fn scales<T: Real>(m: &AdaptiveModel<T>, noise: T) -> [T; N] {
+fn scales<T: Real, S: Shaping<T>>(m: &AdaptiveModel<T, S>, noise: T) -> [T; N] {
     let k1 = m.operator().k1();
     let out = m.output_shaping();
     let half = ((out.apply(k1) - out.apply(-k1)) / T::from_f64(2.0)).abs();

@@ -1,0 +1,151 @@
+//! The adaptive compensator of a model with affine shapings (`hyst_linear_adaptive_*`): the
+//! same estimator and compensator as `hyst_adaptive_*` on duals of width 4 (up to four
+//! parameters) and with no nonlinear shape linked, for firmware where code size counts (as
+//! `hyst_linear_model_*` is to `hyst_shaped_model_*`).
+//!
+//! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
+
+use hyst_core::LinearShaping;
+
+use crate::api_f64::adaptive::{hyst_adaptive_config, State};
+use crate::api_f64::checks::done;
+use crate::api_f64::shaped_model::hyst_shaped_model_params;
+use crate::engine;
+use crate::hyst_adaptive_sample_counts;
+use crate::slot;
+use crate::status::HYST_ERR_NULL_POINTER;
+
+/// The adaptive compensator of a model with affine shapings (identity or affine ψ_in and
+/// ψ_out), adapting up to four parameters: an opaque block of 1536 bytes, 8-byte aligned,
+/// plain data (copyable with memcpy).
+#[repr(C)]
+pub struct hyst_linear_adaptive {
+    opaque: [u64; 192],
+}
+
+/// Its state: duals of width 4, affine shapes.
+type LinearState = State<4, LinearShaping<f64>>;
+
+const TAG_LINEAR_ADAPTIVE: u32 = 0x4859_6164; // "HYad"
+
+const _: () = assert!(slot::fits::<hyst_linear_adaptive, LinearState>());
+
+/// The initialised adaptive compensator behind `a`, or the status of the failed check.
+fn state<'a>(a: *mut hyst_linear_adaptive) -> Result<&'a mut LinearState, i32> {
+    // SAFETY: as in the operator module's `operator`.
+    unsafe { slot::value_mut::<_, LinearState>(a, TAG_LINEAR_ADAPTIVE) }
+}
+
+/// As [`state`], read only.
+fn state_ref<'a>(a: *const hyst_linear_adaptive) -> Result<&'a LinearState, i32> {
+    // SAFETY: as in the operator module's `operator`.
+    unsafe { slot::value::<_, LinearState>(a, TAG_LINEAR_ADAPTIVE) }
+}
+
+/// As `hyst_adaptive_init`; also `HYST_ERR_INVALID_PARAMETER` when a shaping's kind is not
+/// `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE`, or more than four parameters adapt (use
+/// `hyst_adaptive_*` then).
+///
+/// # Safety
+/// `a` is NULL or points to a writable `hyst_linear_adaptive`; `params` and `cfg` are NULL or
+/// readable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_adaptive_init(
+    a: *mut hyst_linear_adaptive,
+    params: *const hyst_shaped_model_params,
+    cfg: *const hyst_adaptive_config,
+) -> i32 {
+    if params.is_null() || cfg.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: non-NULL (checked), readable (caller's contract).
+    let (p, c) = unsafe { (params.read(), cfg.read()) };
+    match LinearState::build(&p, &c, engine::linear_shaping) {
+        // SAFETY: `a` is NULL or a writable block of the type's size; `fits` holds.
+        Ok(value) => unsafe { slot::write(a, TAG_LINEAR_ADAPTIVE, value) },
+        Err(s) => s,
+    }
+}
+
+/// As `hyst_adaptive_step`.
+///
+/// # Safety
+/// `a` is NULL or an initialised `hyst_linear_adaptive`; `x` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_adaptive_step(
+    a: *mut hyst_linear_adaptive,
+    desired: f64,
+    x: *mut f64,
+) -> i32 {
+    if x.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: `x` is non-NULL (checked) and writable (caller's contract).
+    done(state(a).map(|s| unsafe { s.step(desired, x) }))
+}
+
+/// As `hyst_adaptive_measure`.
+///
+/// # Safety
+/// `a` is NULL or an initialised `hyst_linear_adaptive`; `prediction` and `status` are NULL or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_adaptive_measure(
+    a: *mut hyst_linear_adaptive,
+    y: f64,
+    prediction: *mut f64,
+    status: *mut i32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    done(state(a).map(|s| unsafe { s.measure(y, prediction, status) }))
+}
+
+/// As `hyst_adaptive_update`.
+///
+/// # Safety
+/// `a` is NULL or an initialised `hyst_linear_adaptive`; `prediction` and `status` are NULL or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_adaptive_update(
+    a: *mut hyst_linear_adaptive,
+    x: f64,
+    y: f64,
+    prediction: *mut f64,
+    status: *mut i32,
+) -> i32 {
+    // SAFETY: forwarded contract.
+    done(state(a).map(|s| unsafe { s.update(x, y, prediction, status) }))
+}
+
+/// As `hyst_adaptive_parameter`.
+///
+/// # Safety
+/// `a` is NULL or an initialised `hyst_linear_adaptive`; `value` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_adaptive_parameter(
+    a: *const hyst_linear_adaptive,
+    which: i32,
+    value: *mut f64,
+) -> i32 {
+    if value.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: `value` is non-NULL (checked) and writable (caller's contract).
+    done(state_ref(a).map(|s| unsafe { s.parameter(which, value) }))
+}
+
+/// As `hyst_adaptive_counts`.
+///
+/// # Safety
+/// `a` is NULL or an initialised `hyst_linear_adaptive`; `counts` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_linear_adaptive_counts(
+    a: *const hyst_linear_adaptive,
+    counts: *mut hyst_adaptive_sample_counts,
+) -> i32 {
+    if counts.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: `counts` is non-NULL (checked) and writable (caller's contract).
+    done(state_ref(a).map(|s| unsafe { s.counts(counts) }))
+}
