@@ -10,6 +10,7 @@ use hyst_io::number::shortest;
 use serde_json::json;
 
 use crate::workloads::{Inputs, NAMES};
+use hyst_core::bank::{force_isa, isa, Isa};
 
 /// Arguments of `hyst bench`.
 #[derive(clap::Args, Debug)]
@@ -19,9 +20,14 @@ pub struct Args {
     /// of 64 ticks, ns per channel-sample), fitted_static_ns, fitted_dynamics_ns, adaptive_ns,
     /// the goal ratios and goals_met, the banks' ratios to the scalar operators and to each
     /// other, bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static,
-    /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met) instead of a table.
+    /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, and kernel, the bank's
+    /// instruction set) instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Run the banks on this kernel instead of the best this processor has (to see how a
+    /// processor without AVX-512 fares): avx512, avx2 (with FMA), sse2 or portable.
+    #[arg(long, value_name = "ISA", value_parser = ["avx512", "avx2", "sse2", "portable"])]
+    pub kernel: Option<String>,
     /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
     /// takes this plus about 0.1 s of calibration). The time is shared by the twelve workloads,
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
@@ -48,6 +54,21 @@ fn batch_ns(inputs: &Inputs, index: usize, calls: usize) -> f64 {
 pub fn main(args: Args) -> Result<()> {
     if !(args.seconds.is_finite() && args.seconds > 0.0 && args.seconds <= 60.0) {
         bail!("--seconds {}: must be in (0, 60]", shortest(args.seconds));
+    }
+    if let Some(name) = &args.kernel {
+        let isa = Isa::ALL.into_iter().find(|i| i.name() == name);
+        if let Some(Err(isa)) = isa.map(|i| force_isa(Some(i))) {
+            bail!(
+                "--kernel {}: this processor cannot run it (it runs {})",
+                isa.name(),
+                Isa::ALL
+                    .into_iter()
+                    .filter(|i| i.available())
+                    .map(Isa::name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
     }
     let inputs = Inputs::new();
     for (index, (name, _)) in NAMES.iter().enumerate() {
@@ -210,6 +231,7 @@ fn print_json(best: &[f64], ratios: &Ratios) -> Result<()> {
     map.insert("dynamics_goal_met".into(), json!(ratios.dynamics <= 2.0));
     map.insert("adaptive_over_direct".into(), json!(ratios.adaptive));
     map.insert("adaptive_goal_met".into(), json!(ratios.adaptive <= 10.0));
+    map.insert("kernel".into(), json!(isa().name()));
     outln!("{}", serde_json::to_string_pretty(&map)?);
     Ok(())
 }
@@ -232,6 +254,7 @@ fn print_table(best: &[f64], ratios: &Ratios) {
         verdict(direct_ratio <= 1.5)
     );
     outln!();
+    outln!("{:<37} {}", "bank kernel:", isa().name());
     for (_, name, ratio) in ratios.bank {
         outln!("{:<37} {ratio:.2}", format!("{name}:"));
     }

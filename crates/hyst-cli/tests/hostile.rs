@@ -523,9 +523,22 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         "bank H f64 / scalar H:",
         "bank H^-1 f32 / bank H^-1 f64:",
         "goal bank H^-1 f32 >= 500 M channel-samples/s",
+        "bank kernel:",
     ] {
         assert!(text.contains(row), "{text}");
     }
+    // The kernel that ran, which --kernel forces (portable runs everywhere); one this
+    // processor cannot run is refused by name, an unknown one by clap.
+    assert!(json["kernel"].as_str().is_some_and(|k| !k.is_empty()));
+    let forced = hyst()
+        .args(["bench", "--seconds", "0.05", "--json", "--kernel", "portable"])
+        .output()
+        .unwrap();
+    assert!(forced.status.success(), "{}", stderr(&forced));
+    let forced: serde_json::Value = serde_json::from_slice(&forced.stdout).unwrap();
+    assert_eq!(forced["kernel"], "portable");
+    let unknown = hyst().args(["bench", "--kernel", "neon"]).output().unwrap();
+    assert!(!unknown.status.success() && stderr(&unknown).contains("neon"));
 }
 
 #[test]
