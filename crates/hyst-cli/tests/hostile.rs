@@ -531,7 +531,14 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
     // processor cannot run is refused by name, an unknown one by clap.
     assert!(json["kernel"].as_str().is_some_and(|k| !k.is_empty()));
     let forced = hyst()
-        .args(["bench", "--seconds", "0.05", "--json", "--kernel", "portable"])
+        .args([
+            "bench",
+            "--seconds",
+            "0.05",
+            "--json",
+            "--kernel",
+            "portable",
+        ])
         .output()
         .unwrap();
     assert!(forced.status.success(), "{}", stderr(&forced));
