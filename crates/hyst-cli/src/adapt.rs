@@ -21,7 +21,7 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use hyst_core::adaptive::{Adaptive, AdaptiveConfig, Counts, Parameter, Parameters, Status};
+use hyst_core::adaptive::{Adaptive, AdaptiveConfig, Parameter, Parameters, Status};
 use hyst_core::Operator;
 use hyst_io::number::{shortest, sig};
 use hyst_io::{CsvReader, CsvWriter, IoError};
@@ -257,13 +257,10 @@ fn measured<R: std::io::Read>(reader: &CsvReader<R>, index: usize, line: usize) 
 /// OUTPUT's names: DATA's, then `y_pred` and the parameters, each made distinct with `_out`.
 fn output_names(input: &[String], adapted: &[Parameter]) -> Vec<String> {
     let mut names = input.to_vec();
+    let mut taken = input.iter().cloned().collect();
     let computed = std::iter::once("y_pred").chain(adapted.iter().map(|p| p.name()));
     for name in computed {
-        let mut name = name.to_string();
-        while names.contains(&name) {
-            name.push_str(crate::naming::CLASH_SUFFIX);
-        }
-        names.push(name);
+        crate::naming::push_distinct(&mut names, &mut taken, name.to_string());
     }
     names
 }
@@ -287,7 +284,8 @@ struct Run<'a> {
     used: usize,
     sum_fixed: f64,
     sum_adaptive: f64,
-    bad_before_start: Counts,
+    /// Rows with a command that is not finite before the first model started.
+    bad_before_start: u64,
 }
 
 impl<'a> Run<'a> {
@@ -302,7 +300,7 @@ impl<'a> Run<'a> {
             used: 0,
             sum_fixed: 0.0,
             sum_adaptive: 0.0,
-            bad_before_start: Counts::default(),
+            bad_before_start: 0,
         }
     }
 
@@ -320,7 +318,7 @@ impl<'a> Run<'a> {
         self.rows += 1;
         if self.fixed.is_none() {
             if !x.is_finite() {
-                self.bad_before_start.bad_input += 1;
+                self.bad_before_start += 1;
                 return Ok(f64::NAN);
             }
             // Both start by the model's start rule at the record's first command, as `hyst
@@ -370,7 +368,7 @@ impl<'a> Run<'a> {
             .as_ref()
             .map(Adaptive::counts)
             .unwrap_or_default();
-        counts.bad_input += self.bad_before_start.bad_input;
+        counts.bad_input += self.bad_before_start;
         let values = |f: &dyn Fn(&Adaptive<f64>, Parameter) -> f64| {
             let map: serde_json::Map<String, serde_json::Value> = adapted
                 .iter()
@@ -390,19 +388,13 @@ impl<'a> Run<'a> {
             "rms_fixed": json_number(rms(self.sum_fixed)),
             "rms_adaptive": json_number(rms(self.sum_adaptive)),
             "parameters": adapted.iter().map(|p| p.name()).collect::<Vec<_>>(),
-            "fitted": values(&|a, p| fitted_value(a, p)),
+            "fitted": values(&|a, p| a.fitted_value(p)),
             "final": values(&|a, p| a.value(p)),
             "sigma": values(&|a, p| a.sigma(p)),
-            "counts": {
-                "updated": counts.updated,
-                "rest": counts.rest,
-                "starting": counts.starting,
-                "dead_zone": counts.dead_zone,
-                "bad_input": counts.bad_input,
-                "out_of_range": counts.out_of_range,
-                "bad_output": counts.bad_output,
-                "refused": counts.refused,
-            },
+            "counts": Status::ALL
+                .into_iter()
+                .map(|s| (s.name().to_string(), serde_json::json!(counts.of(s))))
+                .collect::<serde_json::Map<_, _>>(),
             "settings": {
                 "noise": config.noise,
                 "drift": config.drift,
@@ -414,19 +406,6 @@ impl<'a> Run<'a> {
                 "input_range": [json_number(config.input_range.0), json_number(config.input_range.1)],
             },
         })
-    }
-}
-
-/// The fitted value of a parameter (the estimator's starting point).
-fn fitted_value(a: &Adaptive<f64>, p: Parameter) -> f64 {
-    let m = a.fitted();
-    match p {
-        Parameter::K1 => m.operator().k1(),
-        Parameter::K2 => m.operator().k2_law().at_zero(),
-        Parameter::Gain => m.output_shaping().post_gain,
-        Parameter::Offset => m.output_shaping().post_offset,
-        Parameter::InputGain => m.input_shaping().post_gain,
-        Parameter::InputOffset => m.input_shaping().post_offset,
     }
 }
 

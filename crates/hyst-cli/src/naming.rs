@@ -40,14 +40,7 @@ pub fn output_names(input: &[String], run: &Computed<'_>) -> Result<Vec<String>>
     let mut names: Vec<String> = input.to_vec();
     // A set of the names so far: a file of thousands of actuator columns is named in linear time.
     let mut taken: HashSet<String> = input.iter().cloned().collect();
-    let mut push = |names: &mut Vec<String>, name: String| {
-        let mut name = name;
-        while taken.contains(&name) {
-            name.push_str(CLASH_SUFFIX);
-        }
-        taken.insert(name.clone());
-        names.push(name);
-    };
+    let mut push = |names: &mut Vec<String>, name: String| push_distinct(names, &mut taken, name);
     let outputs: Vec<String> = match run.columns {
         [_] => vec![run.base.to_string()],
         several => several
@@ -71,6 +64,17 @@ pub fn output_names(input: &[String], run: &Computed<'_>) -> Result<Vec<String>>
         }
     }
     Ok(names)
+}
+
+/// Appends `name` to `names`, with [`CLASH_SUFFIX`] appended until `taken` (the names so far)
+/// does not hold it, and records it in `taken`.
+pub fn push_distinct(names: &mut Vec<String>, taken: &mut HashSet<String>, name: String) {
+    let mut name = name;
+    while taken.contains(&name) {
+        name.push_str(CLASH_SUFFIX);
+    }
+    taken.insert(name.clone());
+    names.push(name);
 }
 
 #[cfg(test)]

@@ -52,9 +52,7 @@ pub fn fitted_input_range(file: &ModelFile, smooth: &SmoothModel) -> (f64, f64) 
     if file.provenance.rows == 0 {
         return whole;
     }
-    let psi = &smooth.input_shaping;
-    let x = |z: f64| (z - psi.pre_offset) / psi.pre_gain;
-    let (lo, hi) = (x(-1.0), x(1.0));
+    let (lo, hi) = smooth.fitted_input_interval();
     let margin = 0.1 * (hi - lo);
     if lo.is_finite() && hi.is_finite() && lo < hi {
         (lo - margin, hi + margin)

@@ -512,6 +512,15 @@ impl SmoothModel {
         (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
     }
 
+    /// The input interval that ψ_in's scaling maps to \[−1, 1\] (input units): for a model
+    /// `hyst fit` wrote, the range of the data it was fitted on.
+    #[must_use]
+    pub fn fitted_input_interval(&self) -> (f64, f64) {
+        let psi = &self.input_shaping;
+        let x = |z: f64| (z - psi.pre_offset) / psi.pre_gain;
+        (x(-1.0), x(1.0))
+    }
+
     /// The outputs the model gives over the input interval that ψ_in's scaling maps to
     /// [−1, 1] (for a model `hyst fit` wrote, the range of the data it was fitted on):
     /// ψ_out of every operator output within k1 of ψ_in over that interval, (lo, hi). `None`
@@ -522,8 +531,8 @@ impl SmoothModel {
             return None;
         }
         let psi = &self.input_shaping;
-        let x = |z: f64| (z - psi.pre_offset) / psi.pre_gain;
-        let (v_lo, v_hi) = (psi.apply(x(-1.0)), psi.apply(x(1.0)));
+        let (x_lo, x_hi) = self.fitted_input_interval();
+        let (v_lo, v_hi) = (psi.apply(x_lo), psi.apply(x_hi));
         let lo = self.output_shaping.apply(v_lo - self.k1);
         let hi = self.output_shaping.apply(v_hi + self.k1);
         (lo.is_finite() && hi.is_finite() && lo < hi).then_some((lo, hi))

@@ -48,19 +48,6 @@ impl Shared for Adaptive {
                                object (hyst.Adaptive(model, ...))";
 }
 
-fn status_name(s: Status) -> &'static str {
-    match s {
-        Status::Updated => "updated",
-        Status::Rest => "rest",
-        Status::Starting => "starting",
-        Status::DeadZone => "dead_zone",
-        Status::BadInput => "bad_input",
-        Status::OutOfRange => "out_of_range",
-        Status::BadOutput => "bad_output",
-        Status::Refused => "refused",
-    }
-}
-
 /// Whether a status is a skipped bad sample (what `strict` refuses).
 fn bad(s: Status) -> bool {
     matches!(s, Status::BadInput | Status::OutOfRange | Status::BadOutput)
@@ -224,7 +211,7 @@ impl Adaptive {
         let mut me = borrow_mut(slf)?;
         let u = me.compensator.update(x, y);
         me.check(None, x, y, u)?;
-        Ok((u.prediction, status_name(u.status)))
+        Ok((u.prediction, u.status.name()))
     }
 
     /// The compensator's step: the command for the desired output `desired` with the current
@@ -291,17 +278,8 @@ impl Adaptive {
     fn counts<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let c = borrow(slf)?.compensator.estimator().counts();
         let d = PyDict::new(slf.py());
-        for (k, v) in [
-            ("updated", c.updated),
-            ("rest", c.rest),
-            ("starting", c.starting),
-            ("dead_zone", c.dead_zone),
-            ("bad_input", c.bad_input),
-            ("out_of_range", c.out_of_range),
-            ("bad_output", c.bad_output),
-            ("refused", c.refused),
-        ] {
-            d.set_item(k, v)?;
+        for s in Status::ALL {
+            d.set_item(s.name(), c.of(s))?;
         }
         Ok(d)
     }

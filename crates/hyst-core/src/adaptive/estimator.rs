@@ -408,6 +408,12 @@ impl<T: Real, const W: usize, S: Shaping<T> + Copy> Adaptive<T, W, S> {
         }
     }
 
+    /// The fitted value of parameter `p`: where the estimator started.
+    #[must_use]
+    pub fn fitted_value(&self, p: Parameter) -> T {
+        self.at(&[T::zero(); W], p)
+    }
+
     /// The current value of parameter `p` (its fitted value if it does not adapt).
     #[must_use]
     pub fn value(&self, p: Parameter) -> T {

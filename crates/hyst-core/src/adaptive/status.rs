@@ -23,6 +23,37 @@ pub enum Status {
     Refused,
 }
 
+impl Status {
+    /// Every status, in the order of their discriminants (the `HYST_ADAPT_*` codes of the C
+    /// API).
+    pub const ALL: [Status; 8] = [
+        Status::Updated,
+        Status::Rest,
+        Status::Starting,
+        Status::DeadZone,
+        Status::BadInput,
+        Status::OutOfRange,
+        Status::BadOutput,
+        Status::Refused,
+    ];
+
+    /// The name: `updated`, `rest`, `starting`, `dead_zone`, `bad_input`, `out_of_range`,
+    /// `bad_output`, `refused` (Python's statuses, the keys of `hyst adapt`'s `counts`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::Updated => "updated",
+            Status::Rest => "rest",
+            Status::Starting => "starting",
+            Status::DeadZone => "dead_zone",
+            Status::BadInput => "bad_input",
+            Status::OutOfRange => "out_of_range",
+            Status::BadOutput => "bad_output",
+            Status::Refused => "refused",
+        }
+    }
+}
+
 /// One sample's result: the one-step prediction (parameters before the update) and what
 /// happened.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,6 +114,21 @@ impl Tally {
 }
 
 impl Counts {
+    /// The count of status `s`.
+    #[must_use]
+    pub fn of(&self, s: Status) -> u64 {
+        match s {
+            Status::Updated => self.updated,
+            Status::Rest => self.rest,
+            Status::Starting => self.starting,
+            Status::DeadZone => self.dead_zone,
+            Status::BadInput => self.bad_input,
+            Status::OutOfRange => self.out_of_range,
+            Status::BadOutput => self.bad_output,
+            Status::Refused => self.refused,
+        }
+    }
+
     /// The samples skipped for bad data: [`Status::BadInput`], [`Status::OutOfRange`],
     /// [`Status::BadOutput`].
     #[must_use]
