@@ -124,12 +124,14 @@ fn check(case: Case, p: [f64; P], xs: &[f64]) -> Result<(), TestCaseError> {
             .chain(&dual_back)
             .map(|d| d.gradient()[j])
             .collect();
-        // Central differences with a relative step of 1e-6, then 1e-7 and 1e-8 where a sharp
-        // transition (k2 M* in the thousands) makes the larger step nonlinear: the dual must
-        // match one of them at every output.
+        // Central differences with a relative step of 1e-6, then down to 1e-10 where a sharp
+        // transition (k2 M* in the thousands) makes the larger step nonlinear, or where the
+        // inverse's first step is shorter than the move of its start point under the larger
+        // step (k2 = 18400: a step of 8.6e-10 from a start that 1e-8 · k1 moves by 1.5e-9, a
+        // reversal on one side): the dual must match one of them at every output.
         let mut pending: Vec<usize> = (0..gradient.len()).collect();
         let mut worst = String::new();
-        for step in [1e-6, 1e-7, 1e-8] {
+        for step in [1e-6, 1e-7, 1e-8, 1e-9, 1e-10] {
             let h = step * p[j].abs().max(1e-3);
             let (mut up, mut down) = (p, p);
             up[j] += h;
