@@ -32,6 +32,23 @@ pub trait Problem {
     /// # Errors
     /// [`Infeasible`] if it cannot be evaluated.
     fn jacobian(&self, theta: &[f64], r: &[f64], jac: &mut [f64]) -> Result<(), Infeasible>;
+
+    /// JᵀJ (row-major, p × p) and g = Jᵀr at θ, whose residuals are `r`. The provided method
+    /// stores the Jacobian ([`Problem::jacobian`], n × p numbers) and sums each entry over the
+    /// rows in order; a problem with many residuals may accumulate the same sums in one pass
+    /// without it.
+    ///
+    /// # Errors
+    /// [`Infeasible`] as [`Problem::jacobian`].
+    fn normal_equations(
+        &self,
+        theta: &[f64],
+        r: &[f64],
+        jtj: &mut [f64],
+        g: &mut [f64],
+    ) -> Result<(), Infeasible> {
+        jacobian_normal_equations(self, theta, r, jtj, g)
+    }
 }
 
 /// The stage of a fit a [`Progress`] belongs to (what `hyst fit` shows on a terminal).
@@ -402,12 +419,8 @@ impl LevenbergMarquardt {
             }
         }
         // JᵀJ at the final point, for the covariance.
-        if state.need_jacobian
-            && problem
-                .jacobian(&state.theta, &state.r, &mut state.jac)
-                .is_ok()
-        {
-            state.normal_equations();
+        if state.need_jacobian {
+            state.normal_equations(problem);
         }
         Ok(Solution {
             theta: state.theta,
@@ -431,10 +444,9 @@ impl LevenbergMarquardt {
     ) -> Result<Option<Termination>, FitError> {
         let (n, p) = (s.r.len(), s.theta.len());
         if s.need_jacobian {
-            if problem.jacobian(&s.theta, &s.r, &mut s.jac).is_err() {
+            if !s.normal_equations(problem) {
                 return Ok(Some(Termination::Stalled));
             }
-            s.normal_equations();
             s.need_jacobian = false;
         }
         let gmax = s.g.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
@@ -527,8 +539,6 @@ struct Iterate {
     r: Vec<f64>,
     /// Σ r² there.
     cost: f64,
-    /// The Jacobian (column-major) at the point it was last computed.
-    jac: Vec<f64>,
     /// JᵀJ (row-major) and g = Jᵀr from it.
     jtj: Vec<f64>,
     g: Vec<f64>,
@@ -554,7 +564,6 @@ impl Iterate {
             cost: sum_sq(&r),
             theta,
             r,
-            jac: vec![0.0; n * p],
             jtj: vec![0.0; p * p],
             g: vec![0.0; p],
             lambda: 1e-3,
@@ -567,10 +576,19 @@ impl Iterate {
         }
     }
 
-    /// JᵀJ and g = Jᵀr from the Jacobian and the residuals.
-    fn normal_equations(&mut self) {
-        let (n, p) = (self.r.len(), self.theta.len());
-        normal_equations(&self.jac, &self.r, n, p, &mut self.jtj, &mut self.g);
+    /// JᵀJ and g = Jᵀr at the current point ([`Problem::normal_equations`]); whether the
+    /// problem could compute them (if not, both stay those of the last point where it could).
+    fn normal_equations<P: Problem + ?Sized>(&mut self, problem: &P) -> bool {
+        let p = self.theta.len();
+        let mut jtj = vec![0.0; p * p];
+        let mut g = vec![0.0; p];
+        let ok = problem
+            .normal_equations(&self.theta, &self.r, &mut jtj, &mut g)
+            .is_ok();
+        if ok {
+            (self.jtj, self.g) = (jtj, g);
+        }
+        ok
     }
 
     /// Increases the damping after a step that failed; whether it is now too large (1e20) for
@@ -697,6 +715,24 @@ fn sum_sq(r: &[f64]) -> f64 {
 
 fn norm(v: &[f64]) -> f64 {
     sum_sq(v).sqrt()
+}
+
+/// [`Problem::normal_equations`] from the stored Jacobian of [`Problem::jacobian`].
+///
+/// # Errors
+/// [`Infeasible`] as [`Problem::jacobian`].
+pub fn jacobian_normal_equations<P: Problem + ?Sized>(
+    problem: &P,
+    theta: &[f64],
+    r: &[f64],
+    jtj: &mut [f64],
+    g: &mut [f64],
+) -> Result<(), Infeasible> {
+    let (n, p) = (r.len(), theta.len());
+    let mut jac = vec![0.0; n * p];
+    problem.jacobian(theta, r, &mut jac)?;
+    normal_equations(&jac, r, n, p, jtj, g);
+    Ok(())
 }
 
 /// JᵀJ (row-major) and Jᵀr from a column-major J.

@@ -14,9 +14,16 @@
 //! its own kind, carried the weight of the runs around them, and the reduction's optimum lay
 //! 180 relative offsets from the full data's on the 2M-row piezo record, against 13 now.)
 //! The fit uses it for the search (start grid, Levenberg–Marquardt from the starts, family
-//! widths) and then polishes the result on the full data. A record whose input is noisy has a
-//! turning point at almost every sample and is not reduced: the method needs no assumption on
-//! the data, it only gains less.
+//! widths) and then polishes the result on the full data.
+//!
+//! A record whose input turns at almost every sample (a random walk, a noisy input) has nothing
+//! to drop: then the search runs on a draw of windows instead ([`draw`]): contiguous stretches
+//! of the record, one at a random place in each block of the record, each simulated from the
+//! model's start rule. The state a window starts from is not the one the history would have
+//! left; the operator forgets it as the input travels (a branch approaches its asymptote as
+//! e^(−k2 ũ)), so the samples before the input has travelled over the record's span within the
+//! window have weight 0. The draw is an estimate, not exact where kept: the polish on the full
+//! data corrects it.
 
 use crate::data::{Dataset, Record};
 
@@ -51,11 +58,19 @@ fn picked(i: usize, stride: usize) -> bool {
     z.is_multiple_of(stride as u64)
 }
 
+/// Samples in a window of the [`draw`].
+pub const WINDOW: usize = 2_000;
+
+/// Samples around each extreme of a record's input and output that the [`draw`] keeps, at
+/// weight 0, so that the drawn data has the full data's ranges (and normalisation).
+const EXTREME_WINDOW: usize = 16;
+
 /// The dataset reduced to the turning points of each record's input, the samples where each
 /// record's output is extreme (so the normalisation is unchanged), and one in k other samples;
-/// a sample that must be kept has its own weight, one of the 1 in k has k times its own. `None` when `data` is small
-/// (below [`REDUCE_ABOVE`] training samples) or the reduction would keep more than half of the
-/// samples.
+/// a sample that must be kept has its own weight, one of the 1 in k has k times its own. When
+/// that would keep more than half of the samples (an input that turns at almost every
+/// sample), the [`draw`] of windows instead. `None` when `data` is small (below
+/// [`REDUCE_ABOVE`] training samples).
 #[must_use]
 pub fn reduce(data: &Dataset) -> Option<Dataset> {
     let total: usize = data.records.iter().map(Record::len).sum();
@@ -99,13 +114,115 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
         records.push(reduced);
     }
     if 2 * kept_total > total {
-        return None;
+        return Some(draw(data, stride));
     }
     Some(Dataset::from_records(
         &data.source,
         data.columns.clone(),
         records,
     ))
+}
+
+/// The search's data for records that do not reduce: in each block of `stride` · [`WINDOW`]
+/// samples of a record, one window of [`WINDOW`] contiguous samples at a place drawn by a hash
+/// of the block (each its own record, simulated from the start rule), and a few samples around
+/// each extreme of the record's input and output at weight 0 (the ranges stay the full
+/// data's). In a window, the samples before the input has travelled over the record's input
+/// span (at most the first half of the window) have weight 0: the state the window starts from
+/// is forgotten by then. The others carry the block's weight (block length over the samples
+/// counted), so the cost estimates the full cost. A record of at most two windows is kept
+/// whole.
+#[must_use]
+pub fn draw(data: &Dataset, stride: usize) -> Dataset {
+    let mut records = Vec::new();
+    for (index, r) in data.records.iter().enumerate() {
+        let n = r.len();
+        if n <= 2 * WINDOW {
+            records.push(r.clone());
+            continue;
+        }
+        let span = {
+            let (lo, hi) = crate::data::range(r.input.iter());
+            hi - lo
+        };
+        let block = WINDOW * stride.max(2);
+        let mut covered = vec![false; n];
+        let mut start = 0;
+        while start < n {
+            let len = block.min(n - start);
+            let room = len.saturating_sub(WINDOW) + 1;
+            let at = start + hash(index as u64, start as u64) % room;
+            let end = (at + WINDOW).min(n);
+            records.push(window(r, at..end, span, len));
+            covered[at..end].fill(true);
+            start += len;
+        }
+        for i in extremes(r) {
+            if !covered[i] {
+                let at = i.saturating_sub(EXTREME_WINDOW / 2);
+                let end = (at + EXTREME_WINDOW).min(n);
+                let mut kept = window(r, at..end, span, 0);
+                kept.weight.fill(0.0);
+                records.push(kept);
+                covered[at..end].fill(true);
+            }
+        }
+    }
+    Dataset::from_records(&data.source, data.columns.clone(), records)
+}
+
+/// The rows of the extremes of a record's input and output.
+fn extremes(r: &Record) -> Vec<usize> {
+    let mut rows = Vec::with_capacity(4);
+    for values in [&r.input, &r.output] {
+        for pick in [f64::total_cmp, |a: &f64, b: &f64| b.total_cmp(a)] {
+            if let Some((i, _)) = values.iter().enumerate().max_by(|a, b| pick(a.1, b.1)) {
+                rows.push(i);
+            }
+        }
+    }
+    rows
+}
+
+/// The samples `rows` of `r` as a record of their own (not continuing another), weight 0 until
+/// the input has travelled over `span` (at most the first half), the others weighted to stand
+/// for the `block` samples the window was drawn from.
+fn window(r: &Record, rows: core::ops::Range<usize>, span: f64, block: usize) -> Record {
+    let input = r.input[rows.clone()].to_vec();
+    let mut travel = 0.0;
+    let warm = input
+        .windows(2)
+        .position(|w| {
+            travel += (w[1] - w[0]).abs();
+            travel >= span
+        })
+        .map_or(input.len() / 2, |i| i + 1)
+        .min(input.len() / 2);
+    let counted = (input.len() - warm).max(1);
+    let scale = block as f64 / counted as f64;
+    let weight = r.weight[rows.clone()]
+        .iter()
+        .enumerate()
+        .map(|(k, w)| if k < warm { 0.0 } else { w * scale })
+        .collect();
+    Record {
+        id: r.id,
+        input,
+        output: r.output[rows.clone()].to_vec(),
+        weight,
+        rows: r.rows[rows].to_vec(),
+        validation: r.validation,
+        continues: false,
+        period: r.period,
+    }
+}
+
+/// A hash of (record, block start) (SplitMix64 of their mix): where the draw's window lies.
+fn hash(record: u64, start: u64) -> usize {
+    let mut z = (start ^ record.rotate_left(32)).wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    (z ^ (z >> 31)) as usize
 }
 
 #[cfg(test)]
@@ -163,10 +280,11 @@ mod tests {
     }
 
     #[test]
-    fn small_or_noisy_records_are_not_reduced() {
+    fn small_records_are_not_reduced_and_noisy_ones_are_drawn() {
         let x = sweep(50_000);
         assert!(reduce(&Dataset::single(&x, &x)).is_none());
-        // A noisy input turns at about every other sample.
+        // A noisy input turns at about every other sample: nothing to drop, so a draw of
+        // windows.
         let mut seed = 7u64;
         let noisy: Vec<f64> = sweep(300_000)
             .into_iter()
@@ -175,6 +293,48 @@ mod tests {
                 v + 1e-3 * ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
             })
             .collect();
-        assert!(reduce(&Dataset::single(&noisy, &noisy)).is_none());
+        let y: Vec<f64> = noisy.iter().map(|v| 2.0 * v + 0.1 * v * v).collect();
+        let data = Dataset::single(&noisy, &y);
+        let drawn = reduce(&data).unwrap();
+        let kept: usize = drawn.records.iter().map(Record::len).sum();
+        assert!(kept <= TARGET + 2 * WINDOW, "{kept}");
+        // Each window is a contiguous stretch of the record, as it was.
+        for r in &drawn.records {
+            assert!(r.len() <= WINDOW && !r.continues);
+            for (k, row) in r.rows.iter().enumerate() {
+                assert_eq!(r.rows[0] + k, *row);
+                assert_eq!(r.input[k].to_bits(), noisy[*row].to_bits());
+                assert_eq!(r.output[k].to_bits(), y[*row].to_bits());
+            }
+        }
+        // Same ranges (so the same normalisation); the weights estimate the sample count.
+        assert_eq!(drawn.input_range(), data.input_range());
+        assert_eq!(drawn.output_range(), data.output_range());
+        let w: f64 = drawn.records.iter().flat_map(|r| r.weight.iter()).sum();
+        assert!((w / 300_000.0 - 1.0).abs() < 1e-9, "{w}");
+    }
+
+    #[test]
+    fn a_window_counts_once_the_input_has_travelled_over_the_span() {
+        // A ramp over the span in 100 samples, then back: the first 100 have weight 0.
+        let x: Vec<f64> = (0..1000)
+            .map(|i| {
+                let p = i % 200;
+                if p < 100 {
+                    p as f64
+                } else {
+                    200.0 - p as f64
+                }
+            })
+            .collect();
+        let data = Dataset::single(&x, &x);
+        let w = window(&data.records[0], 0..1000, 99.0, 4000);
+        assert!(w.weight[..99].iter().all(|v| *v == 0.0));
+        assert!(w.weight[99..].iter().all(|v| *v > 0.0));
+        let total: f64 = w.weight.iter().sum();
+        assert!((total - 4000.0).abs() < 1e-9, "{total}");
+        // A window that never travels that far counts its second half.
+        let w = window(&data.records[0], 0..50, 99.0, 100);
+        assert_eq!(w.weight.iter().filter(|v| **v > 0.0).count(), 25);
     }
 }

@@ -12,7 +12,7 @@ use crate::error::FitError;
 use crate::layout::{Layout, Normalisation};
 use crate::lm::{LevenbergMarquardt, Observer, Solution, Stage, Staged};
 use crate::race::{best_of, threads};
-use crate::reduction::reduce;
+use crate::reduction::{draw, reduce, TARGET};
 use crate::smooth::fit::{FitOptions, SmoothFit};
 use crate::smooth::limits::LIMIT_SCALE;
 use crate::smooth::nesting::{contained, embed, NESTED_SCALE};
@@ -381,9 +381,45 @@ fn widths(
         )?),
         // Searched on the reduction, then checked (and widened if need be) on the full data.
         (true, Some(small)) => {
-            let found = family_widths(small, model, None, options.coverage, observer)?;
+            let found = match drawn_for_widths(data, small) {
+                Some(draw) => widths_on_draw(&draw, model, options.coverage, observer)?,
+                None => family_widths(small, model, None, options.coverage, observer)?,
+            };
             Some(confirm(data, model, found, observer)?)
         }
+    })
+}
+
+/// The draw of windows ([`draw`]) of the full data on which to search the family widths, when
+/// the reduction `small` is itself long (a random walk's turning points): each of the
+/// search's 50 or so coverages runs up to eight members of the family over it. `None` when
+/// the reduction is short enough.
+fn drawn_for_widths(data: &Dataset, small: &Dataset) -> Option<Dataset> {
+    (small.training_samples() > 2 * TARGET).then(|| draw(data, data.training_samples() / TARGET))
+}
+
+/// The family widths searched on a `draw`, at a coverage above `target` by three binomial
+/// standard errors of the drawn samples' count (at most halfway to 1), so that the check on
+/// the full data ([`confirm`]) seldom needs to widen them (each widening a bisection of passes
+/// over every sample); when that coverage is out of reach, at `target`. The widths say
+/// `target`.
+fn widths_on_draw(
+    draw: &Dataset,
+    model: &SmoothModel,
+    target: f64,
+    observer: &mut dyn Observer,
+) -> Result<FamilyWidths, FitError> {
+    let n = draw.training_samples().max(1) as f64;
+    let above = (target + 3.0 * (target * (1.0 - target) / n).sqrt()).min(0.5 * (1.0 + target));
+    let found = family_widths(draw, model, None, above, observer)?;
+    let found = if found.reachable {
+        found
+    } else {
+        family_widths(draw, model, None, target, observer)?
+    };
+    Ok(FamilyWidths {
+        coverage_target: target,
+        ..found
     })
 }
 
