@@ -158,7 +158,8 @@ fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
     let a = k2 * m_star;
     let b = k2 * (S::constant(m_star) - v_tilde);
     let x = a * b.exp();
-    let u_tilde = if x.value().is_finite() {
+    // x = a e^b is ≥ 0 or NaN (a = k2 M* ≥ 0 finite), so `x < ∞` is `is_finite`, in one compare.
+    let u_tilde = if x.value() < T::infinity() {
         let w = x.w0();
         // A dual's gradient of x = a e^b overflows before x does (e^b times k2's gradient);
         // for W > 1 it comes from w + ln w = ln a + b instead (identity on plain floats).
