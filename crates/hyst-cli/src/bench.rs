@@ -20,8 +20,9 @@ pub struct Args {
     /// of 64 ticks, ns per channel-sample), fitted_static_ns, fitted_dynamics_ns, adaptive_ns,
     /// the goal ratios and goals_met, the banks' ratios to the scalar operators and to each
     /// other, bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static,
-    /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, and kernel, the bank's
-    /// instruction set) instead of a table.
+    /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, c_peer_ns (a plain-C
+    /// inverse with no checks on the same signal), inverse_over_c_peer and c_peer_goal_met, and
+    /// kernel, the bank's instruction set) instead of a table.
     #[arg(long)]
     pub json: bool,
     /// Run the banks on this kernel instead of the best this processor has (to see how a
@@ -29,7 +30,7 @@ pub struct Args {
     #[arg(long, value_name = "ISA", value_parser = ["avx512", "avx2", "sse2", "portable"])]
     pub kernel: Option<String>,
     /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
-    /// takes this plus about 0.1 s of calibration). The time is shared by the twelve workloads,
+    /// takes this plus about 0.1 s of calibration). The time is shared by the thirteen workloads,
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
@@ -148,6 +149,8 @@ struct Ratios {
     /// The adaptive estimator (k1, k2, gain, offset) over the direct operator, per sample
     /// (issue 30's goal: at most 10).
     adaptive: f64,
+    /// Scalar H⁻¹ over the plain-C peer on the same signal (issue 29's goal: at most 1).
+    c_peer: f64,
 }
 
 impl Ratios {
@@ -198,6 +201,7 @@ impl Ratios {
             bank_goals,
             dynamics: at(10) / at(9),
             adaptive: at(11) / direct,
+            c_peer: inverse / at(12),
         }
     }
 
@@ -231,6 +235,8 @@ fn print_json(best: &[f64], ratios: &Ratios) -> Result<()> {
     map.insert("dynamics_goal_met".into(), json!(ratios.dynamics <= 2.0));
     map.insert("adaptive_over_direct".into(), json!(ratios.adaptive));
     map.insert("adaptive_goal_met".into(), json!(ratios.adaptive <= 10.0));
+    map.insert("inverse_over_c_peer".into(), json!(ratios.c_peer));
+    map.insert("c_peer_goal_met".into(), json!(ratios.c_peer <= 1.0));
     map.insert("kernel".into(), json!(isa().name()));
     outln!("{}", serde_json::to_string_pretty(&map)?);
     Ok(())
@@ -252,6 +258,11 @@ fn print_table(best: &[f64], ratios: &Ratios) {
     outln!(
         "goal direct <= 1.5 x (lambert_w0+exp): {direct_ratio:.2} ({})",
         verdict(direct_ratio <= 1.5)
+    );
+    outln!(
+        "goal inverse <= 1.0 x plain-C peer:   {:.2} ({})",
+        ratios.c_peer,
+        verdict(ratios.c_peer <= 1.0)
     );
     outln!();
     outln!("{:<37} {}", "bank kernel:", isa().name());

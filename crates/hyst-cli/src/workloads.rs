@@ -5,7 +5,8 @@
 //! with a slowly growing amplitude) and returns a checksum so the work cannot be optimised away.
 //! The bank workloads run [`BANK_CHANNELS`] channels (each its own stretch of that signal) for
 //! [`BANK_TICKS`] ticks from no history ([`Inputs::samples`] channel-samples per call), reported
-//! per channel-sample.
+//! per channel-sample. The C peer (`c_peer_ns`) is a plain-C inverse of eq. (4) with no checks
+//! (src/peer/peer.c, compiled by build.rs), on the inverse workload's signal.
 
 use std::cell::RefCell;
 use std::hint::black_box;
@@ -27,7 +28,7 @@ pub const BANK_CHANNELS: usize = 1024;
 pub const BANK_TICKS: usize = 64;
 
 /// The names of the workloads, in report order, with their JSON keys.
-pub const NAMES: [(&str, &str); 12] = [
+pub const NAMES: [(&str, &str); 13] = [
     ("direct operator H (eq. 2)", "direct_ns"),
     ("inverse operator H^-1 (eq. 4)", "inverse_ns"),
     ("inverse with 2 derivatives (jet)", "inverse_d2_ns"),
@@ -43,7 +44,12 @@ pub const NAMES: [(&str, &str); 12] = [
     ("fitted model, static (run_timed)", "fitted_static_ns"),
     ("fitted model, dynamics of order 2", "fitted_dynamics_ns"),
     ("adaptive estimator, 4 parameters", "adaptive_ns"),
+    ("plain-C inverse (peer, no checks)", "c_peer_ns"),
 ];
+
+/// The inverse workload's k1 and k2, shared by the C peer.
+const K1: f64 = 0.14;
+const K2: f64 = 8.0;
 
 /// Precomputed inputs for all workloads.
 pub struct Inputs {
@@ -156,7 +162,7 @@ impl Inputs {
                 self.x.iter().map(|&v| h.step(black_box(v))).sum()
             }
             1 => {
-                let mut h = InverseHysteresis::new(0.14, 8.0).ok()?;
+                let mut h = InverseHysteresis::new(K1, K2).ok()?;
                 self.x.iter().map(|&v| h.step(black_box(v))).sum()
             }
             2 => {
@@ -207,8 +213,38 @@ impl Inputs {
                     .map(|(&x, &y)| a.update(black_box(x), black_box(y)).prediction)
                     .sum()
             }
+            12 => peer::inverse_sum(K1, K2, black_box(&self.x)),
             _ => return None,
         })
+    }
+}
+
+/// The plain-C peer of the inverse operator (src/peer/peer.c): eq. (4) with Definition 2.1's
+/// memory, the same arithmetic as `InverseHysteresis` with no checks, compiled at -O2 by build.rs.
+pub mod peer {
+    // The only unsafe code of hyst-cli: two calls into C that read `x[..n]` and write `y[..n]`.
+    #![allow(unsafe_code)]
+
+    extern "C" {
+        #[cfg(test)]
+        fn hyst_peer_inverse(k1: f64, k2: f64, x: *const f64, y: *mut f64, n: usize);
+        fn hyst_peer_inverse_sum(k1: f64, k2: f64, x: *const f64, n: usize) -> f64;
+    }
+
+    /// H⁻¹(k1, k2) from no history over `x`, the sum of its outputs.
+    #[must_use]
+    pub fn inverse_sum(k1: f64, k2: f64, x: &[f64]) -> f64 {
+        // SAFETY: the C function reads x[0..n) only, n = x.len(), and keeps no pointer.
+        unsafe { hyst_peer_inverse_sum(k1, k2, x.as_ptr(), x.len()) }
+    }
+
+    /// H⁻¹(k1, k2) from no history over `x` into `y` (as many outputs as both have room for).
+    #[cfg(test)]
+    pub fn inverse(k1: f64, k2: f64, x: &[f64], y: &mut [f64]) {
+        let n = x.len().min(y.len());
+        // SAFETY: the C function reads x[0..n), writes y[0..n) (n within both slices, which
+        // cannot overlap: `y` is borrowed mutably) and keeps no pointer.
+        unsafe { hyst_peer_inverse(k1, k2, x.as_ptr(), y.as_mut_ptr(), n) }
     }
 }
 
@@ -272,4 +308,39 @@ fn example_model() -> Option<ExampleModel> {
     let psi_in = Polynomial::new([0.0, 1.0, -0.098, 0.0], -5.0, 5.0).ok()?;
     let psi_out = Affine::new(2.02, 0.0).ok()?;
     ShapedModel::new(psi_in, Hysteresis::new(0.105, 8.0).ok()?, psi_out).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    /// The C peer is a real inverse: on the benchmark's signal (and a signal of k1-sized
+    /// reversals) its outputs equal hyst's inverse within 4 ulp of max(|input|, k1) (the same
+    /// arithmetic; only hyst's band clamp may move an output by an ulp).
+    #[test]
+    fn the_c_peer_is_the_inverse_operator() {
+        // Here, not at the module's top: the criterion bench includes this file and drops the
+        // test, which would leave the import unused.
+        use super::{peer, Inputs, InverseHysteresis, Operator as _, K1, K2};
+        let inputs = Inputs::new();
+        let small: Vec<f64> = (0..2000)
+            .map(|k| 0.3 * (f64::from(k) * 0.05).sin() * (f64::from(k) * 0.013).cos())
+            .collect();
+        for (k1, k2, x) in [
+            (K1, K2, &inputs.x),
+            (0.2, 40.0, &small),
+            (0.05, 1.0, &small),
+        ] {
+            let mut y = vec![0.0; x.len()];
+            peer::inverse(k1, k2, x, &mut y);
+            let mut h = InverseHysteresis::new(k1, k2).unwrap();
+            for (i, (&u, &c)) in x.iter().zip(&y).enumerate() {
+                let v = h.try_step(u).unwrap();
+                let tol = 4.0 * f64::EPSILON * u.abs().max(k1);
+                assert!((v - c).abs() <= tol, "sample {i}: hyst {v}, C peer {c}");
+            }
+            let sum = y.iter().fold(0.0, |a, b| a + b);
+            assert_eq!(peer::inverse_sum(k1, k2, x).to_bits(), sum.to_bits());
+        }
+    }
 }

@@ -20,6 +20,13 @@ pub trait K2Law<T: Real> {
     /// `false` (the default) for laws that can return an invalid k2.
     const ALWAYS_VALID: bool = false;
 
+    /// True when [`K2Law::k2`] may be called with any input, NaN and ±∞ included (it returns
+    /// some value and never panics). With [`K2Law::ALWAYS_VALID`], the operator then tests a
+    /// plain sample for finiteness only after the formula, on its rare path (its band test
+    /// fails for every non-finite input), instead of before it. Leave it `false` (the default)
+    /// unless the law is total.
+    const ANY_INPUT: bool = false;
+
     /// k2 at the operator input `input` (a plain value or a jet). Must be finite and > 0.
     fn k2<S: Sample<T>>(&self, input: S) -> S;
 
@@ -73,6 +80,7 @@ pub struct ConstantK2<T>(pub T);
 
 impl<T: Real> K2Law<T> for ConstantK2<T> {
     const ALWAYS_VALID: bool = true;
+    const ANY_INPUT: bool = true;
     #[inline]
     fn k2<S: Sample<T>>(&self, _input: S) -> S {
         S::constant(self.0)
@@ -127,6 +135,8 @@ impl<T: Real> AffineK2<T> {
 impl<T: Real> K2Law<T> for AffineK2<T> {
     // Clamped to [min, max] with 0 < min ≤ max finite, and the input is finite.
     const ALWAYS_VALID: bool = true;
+    // Arithmetic and comparisons only (a NaN input gives a NaN k2).
+    const ANY_INPUT: bool = true;
     #[inline]
     fn k2<S: Sample<T>>(&self, input: S) -> S {
         let k = input * self.slope + self.at_zero;
@@ -198,6 +208,7 @@ impl<T: Real> AnyK2Law<T> {
 impl<T: Real> K2Law<T> for AnyK2Law<T> {
     // Both built-in laws give a finite k2 > 0 for every finite input once validated.
     const ALWAYS_VALID: bool = true;
+    const ANY_INPUT: bool = true;
     #[inline]
     fn k2<S: Sample<T>>(&self, input: S) -> S {
         match self {

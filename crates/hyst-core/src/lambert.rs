@@ -50,7 +50,8 @@ const SERIES_MAX: f64 = 1e-4;
 #[must_use]
 #[inline]
 pub(crate) fn w0_finite<T: Real>(x: T) -> T {
-    if x >= T::zero() && x < T::from_f64(SERIES_MAX) {
+    // The upper bound first: above it (most arguments near a reversal point) one compare.
+    if x < T::from_f64(SERIES_MAX) && x >= T::zero() {
         let c = |v: f64| T::from_f64(v);
         x * (T::one() - x * (T::one() - x * (c(1.5) - x * (c(8.0 / 3.0) - x * c(125.0 / 24.0)))))
     } else {

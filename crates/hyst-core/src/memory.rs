@@ -9,6 +9,8 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
+use core::ops::Neg;
+
 use crate::error::Error;
 use crate::real::Real;
 use crate::sample::Sample;
@@ -33,6 +35,17 @@ impl Direction {
         match self {
             Direction::Rising => T::one(),
             Direction::Falling => -T::one(),
+        }
+    }
+
+    /// s · x for s = [`Direction::sign`], written as a negation when falling: the same value
+    /// as the product (multiplying by ±1 is exact), without a ±1 to keep in a register.
+    #[must_use]
+    #[inline(always)]
+    pub(crate) fn apply<X: Neg<Output = X>>(self, x: X) -> X {
+        match self {
+            Direction::Rising => x,
+            Direction::Falling => -x,
         }
     }
 
@@ -152,8 +165,13 @@ impl<T: Real> Memory<T> {
     /// Applies the discrete direction rule to a new input sample: a non-zero step sets the
     /// direction (a zero step defers to `trend`, the sign of the input's first non-zero
     /// derivative when it has one); a change of direction makes the last sample the reversal point.
+    ///
+    /// Returns whether the direction changed. The previous reversal point then waits in
+    /// `last_input` and `last_output`, which the caller overwrites with the new sample when it
+    /// accepts it, or from where [`Memory::unobserve`] puts it back when it refuses the sample:
+    /// so nothing needs saving on the common path.
     #[inline]
-    pub(crate) fn observe(&mut self, x: T, trend: Option<bool>) {
+    pub(crate) fn observe(&mut self, x: T, trend: Option<bool>) -> bool {
         let direction = if x > self.last_input {
             Some(Direction::Rising)
         } else if x < self.last_input {
@@ -161,12 +179,25 @@ impl<T: Real> Memory<T> {
         } else {
             trend.map(Direction::from_rising)
         };
-        if let Some(d) = direction {
-            if d != self.direction {
-                self.reversal_input = self.last_input;
-                self.reversal_output = self.last_output;
+        match direction {
+            Some(d) if d != self.direction => {
+                core::mem::swap(&mut self.reversal_input, &mut self.last_input);
+                core::mem::swap(&mut self.reversal_output, &mut self.last_output);
                 self.direction = d;
+                true
             }
+            _ => false,
+        }
+    }
+
+    /// Undoes [`Memory::observe`], which returned `reversed`, before the caller wrote the
+    /// sample: the memory is then as it was before `observe`.
+    #[inline]
+    pub(crate) fn unobserve(&mut self, reversed: bool) {
+        if reversed {
+            core::mem::swap(&mut self.reversal_input, &mut self.last_input);
+            core::mem::swap(&mut self.reversal_output, &mut self.last_output);
+            self.direction = self.direction.reversed();
         }
     }
 
@@ -186,13 +217,13 @@ impl<T: Real> Memory<T> {
     /// The transformed input α̃ = s (α − α0) of Definition 2.1.
     #[inline]
     pub fn transform<S: Sample<T>>(&self, alpha: S) -> S {
-        (alpha - self.reversal_input) * self.direction.sign::<T>()
+        self.direction.apply(alpha - self.reversal_input)
     }
 
     /// The output from its transformed value: β = β0 + s β̃ (Definition 2.1 solved for β).
     #[inline]
     pub fn untransform<S: Sample<T>>(&self, beta_tilde: S) -> S {
-        beta_tilde * self.direction.sign::<T>() + self.reversal_output
+        self.direction.apply(beta_tilde) + self.reversal_output
     }
 
     /// M(α, β) = s (β0 − α0) of Definition 2.1: the signed distance of the reversal point from
@@ -200,7 +231,8 @@ impl<T: Real> Memory<T> {
     #[must_use]
     #[inline]
     pub fn m(&self) -> T {
-        (self.reversal_output - self.reversal_input) * self.direction.sign::<T>()
+        self.direction
+            .apply(self.reversal_output - self.reversal_input)
     }
 
     /// The same memory seen from the other side of the operator pair (input and output swapped):

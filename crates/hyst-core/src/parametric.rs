@@ -158,7 +158,8 @@ fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
     let a = k2 * m_star;
     let b = k2 * (S::constant(m_star) - v_tilde);
     let x = a * b.exp();
-    let u_tilde = if x.value().is_finite() {
+    // x = a e^b is ≥ 0 or NaN (a = k2 M* ≥ 0 finite), so `x < ∞` is `is_finite`, in one compare.
+    let u_tilde = if x.value() < T::infinity() {
         let w = x.w0();
         // A dual's gradient of x = a e^b overflows before x does (e^b times k2's gradient);
         // for W > 1 it comes from w + ln w = ln a + b instead (identity on plain floats).
@@ -172,15 +173,25 @@ fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
         };
         v_tilde - m_star + w / k2
     } else {
-        let ln_a = k2.ln() + m_star.ln();
-        let w = (ln_a + b).omega();
-        (ln_a - w.ln()) / k2
+        direct_transition_log(v_tilde, m_star, k2)
     };
     if v_tilde.value() == T::zero() {
         u_tilde.with_value(T::zero())
     } else {
         u_tilde
     }
+}
+
+/// The log-domain branch of [`direct_transition`], for a e^b beyond the float range:
+/// ũ = (ln a − ln w) / k2 with w = ω(ln a + b). Out of line (it is rare), so the common path
+/// keeps fewer values alive across its calls; b is formed again exactly as there.
+#[cold]
+#[inline(never)]
+fn direct_transition_log<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
+    let b = k2 * (S::constant(m_star) - v_tilde);
+    let ln_a = k2.ln() + m_star.ln();
+    let w = (ln_a + b).omega();
+    (ln_a - w.ln()) / k2
 }
 
 impl Formula for Inverse {
@@ -197,10 +208,10 @@ impl Formula for Inverse {
     /// its absolute error, ≤ 2 k1 ε, is below the rounding of v itself, and `exp` is faster.
     #[inline]
     fn output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
-        let s = memory.direction.sign::<T>();
+        let s = memory.direction;
         let ud_tilde = memory.transform(x);
-        let along_input = ud_tilde * s + memory.reversal_output;
-        along_input + (S::constant(T::one()) - (-(k2 * ud_tilde)).exp()) * (m_star * s)
+        let along_input = s.apply(ud_tilde) + memory.reversal_output;
+        along_input + (S::constant(T::one()) - (-(k2 * ud_tilde)).exp()) * s.apply(m_star)
     }
     /// v = u_d + s (M + M* (1 − e^(−k2 ũ_d))): eq. (4) with β0 − α0 = s M folded in, so an
     /// overflowing ũ_d only makes the exponential 0.
@@ -399,10 +410,8 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         let mut memory = self
             .memory
             .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
-        match Self::advance(&mut memory, self.k1, x, k2) {
-            Ok(y) => Ok((y, memory)),
-            Err(output) => Err(overflow(x.value(), output)),
-        }
+        let y = Self::advance(&mut memory, self.k1, x, k2)?;
+        Ok((y, memory))
     }
 
     /// Everything that can refuse a sample, checked before the memory is touched: a non-finite
@@ -425,9 +434,11 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         }
     }
 
-    /// Definition 2.1's memory update followed by the formula, in place. `Err` with the
-    /// non-finite output (NaN when only a jet's derivative overflowed) when this finite input
-    /// has no finite output; the memory is then as it was (what `observe` changed is undone).
+    /// Definition 2.1's memory update followed by the formula, in place. On a refusal the
+    /// memory is as it was (what `observe` changed is undone): [`Error::NonFiniteOutput`] when
+    /// this finite input has no finite output (NaN stands for a jet's overflowing derivative),
+    /// [`Error::NonFiniteInput`] for a non-finite plain input (which the caller need not test
+    /// first: see [`Operator::try_step`]).
     ///
     /// The output is kept in the band [x − k1, x + k1] as computed in floating point (eqs. 2
     /// and 4 stay inside it in exact arithmetic; rounding can step out by an ulp, and by more
@@ -441,38 +452,21 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
     // `!(a <= b)` on purpose: NaN must take the slow path.
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     #[inline(always)]
-    fn advance<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Result<S, T> {
+    fn advance<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Result<S, Error> {
         let v = x.value();
-        // What `observe` may change, to undo it when the output is beyond the float range.
-        let before = (
-            memory.reversal_input,
-            memory.reversal_output,
-            memory.direction,
-        );
-        memory.observe(v, x.trend());
+        // Nothing is saved to undo `observe` on a refusal: on a reversal it keeps the previous
+        // reversal point in the last-sample slots, which this sample then overwrites.
+        let reversed = memory.observe(v, x.trend());
         let m_star = F::m_star(memory, k1);
         let mut y = F::output(memory, x, m_star, k2);
-        // One test on the hot path, also false for NaN and ±∞.
+        // The one test on the common path. It fails for NaN and ±∞ outputs, and for every
+        // non-finite input: |y − x| ≤ k1 (k1 finite) is false for any y when x is NaN or ±∞.
         if !((y.value() - v).abs() <= k1) || (S::ORDER > 0 && !y.all_finite()) {
-            // A jet whose derivatives overflow has no overflow-free form: NaN stands for them.
-            let repaired = if S::ORDER > 0 && !y.all_finite() {
-                Err(if y.value().is_finite() {
-                    T::nan()
-                } else {
-                    y.value()
-                })
-            } else {
-                Self::repair(memory, k1, v, y.value(), m_star, k2.value())
-            };
-            match repaired {
+            match Self::rare(memory, k1, x, y, m_star, k2.value()) {
                 Ok(value) => y = y.with_value(value),
-                Err(output) => {
-                    (
-                        memory.reversal_input,
-                        memory.reversal_output,
-                        memory.direction,
-                    ) = before;
-                    return Err(output);
+                Err(e) => {
+                    memory.unobserve(reversed);
+                    return Err(e);
                 }
             }
         }
@@ -481,18 +475,37 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         Ok(y)
     }
 
-    /// The slow path of [`ParametricHysteresis::advance`], out of line, on the output's value:
-    /// a value that is not finite is computed again by [`Formula::output_wide`] (`Err` with it
-    /// when that is not finite either); then it is clamped into [v − k1, v + k1].
+    /// The rare path of [`ParametricHysteresis::advance`], out of line: a non-finite input is
+    /// refused; a jet whose derivatives overflow too (it has no overflow-free form); an output
+    /// value that is not finite is computed again by [`Formula::output_wide`] (refused when
+    /// that is not finite either); then the value is clamped into [x − k1, x + k1].
     #[cold]
     #[inline(never)]
-    fn repair(memory: &Memory<T>, k1: T, v: T, y: T, m_star: T, k2: T) -> Result<T, T> {
-        let y = if y.is_finite() {
-            y
+    fn rare<S: Sample<T>>(
+        memory: &Memory<T>,
+        k1: T,
+        x: S,
+        y: S,
+        m_star: T,
+        k2: T,
+    ) -> Result<T, Error> {
+        let (v, y) = (x.value(), y);
+        if !v.is_finite() {
+            return Err(Error::NonFiniteInput { value: v.as_f64() });
+        }
+        if S::ORDER > 0 && !y.all_finite() {
+            let output = y.value();
+            return Err(overflow(
+                v,
+                if output.is_finite() { T::nan() } else { output },
+            ));
+        }
+        let y = if y.value().is_finite() {
+            y.value()
         } else {
             let wide = F::output_wide(memory, v, m_star, k2);
             if !wide.is_finite() {
-                return Err(wide);
+                return Err(overflow(v, wide));
             }
             wide
         };
@@ -546,8 +559,17 @@ impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K
     /// output of a finite input is beyond the float range; the memory is then unchanged.
     #[inline(always)]
     fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
+        if S::ORDER == 0 && K::ALWAYS_VALID && K::ANY_INPUT {
+            if let Some(memory) = self.memory.as_mut() {
+                // The common case tests nothing before the formula: `advance`'s band test
+                // fails for every non-finite input, and its rare path refuses it with the
+                // memory as it was.
+                let k2 = self.law.k2(x);
+                return Self::advance(memory, self.k1, x, k2);
+            }
+        }
         let k2 = self.checked_k2(x)?;
-        let result = if S::ORDER == 0 {
+        if S::ORDER == 0 {
             // The first plain sample (a reversal point on the line output = input) always
             // succeeds, so the memory can be created in place.
             let memory = self
@@ -566,8 +588,7 @@ impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K
                 self.memory = None;
             }
             y
-        };
-        result.map_err(|output| overflow(x.value(), output))
+        }
     }
 
     #[inline(always)]
