@@ -9,6 +9,7 @@ use anyhow::{bail, Result};
 use hyst_io::number::shortest;
 use serde_json::json;
 
+use crate::bench_fit::{self, FitFigures, FIT_OVER_RUN_GOAL};
 use crate::workloads::{Inputs, NAMES};
 use hyst_core::bank::{force_isa, isa, Isa};
 
@@ -21,8 +22,10 @@ pub struct Args {
     /// the goal ratios and goals_met, the banks' ratios to the scalar operators and to each
     /// other, bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static,
     /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, c_peer_ns (a plain-C
-    /// inverse with no checks on the same signal), inverse_over_c_peer and c_peer_goal_met, and
-    /// kernel, the bank's instruction set) instead of a table.
+    /// inverse with no checks on the same signal), inverse_over_c_peer and c_peer_goal_met,
+    /// kernel, the bank's instruction set, and the long-record fit's fit_rows, fit_seconds,
+    /// run_seconds, fit_over_run, fit_goal_met, fit_peak_bytes, fit_peak_bytes_per_row and
+    /// fit_memory_goal_met, null without --fit-rows) instead of a table.
     #[arg(long)]
     pub json: bool,
     /// Run the banks on this kernel instead of the best this processor has (to see how a
@@ -34,6 +37,13 @@ pub struct Args {
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
+    /// Also fit a random walk of this many rows (a reversal every three samples or so) with
+    /// `hyst fit` and run the fitted model on it with `hyst run`, this executable as child
+    /// processes: the fit's time over the run's (goal ≤ 6) and its peak memory (goal ≤ 256 MB
+    /// at 10,000,000 rows). 0 (the default) leaves it out; it takes a few seconds a million
+    /// rows, besides --seconds.
+    #[arg(long, value_name = "ROWS", default_value_t = 0)]
+    pub fit_rows: usize,
 }
 
 /// Target duration of one batch, in seconds.
@@ -80,10 +90,18 @@ pub fn main(args: Args) -> Result<()> {
     let calls = calibrate(&inputs);
     let best = measure(&inputs, &calls, Duration::from_secs_f64(args.seconds));
     let ratios = Ratios::of(&best);
+    let fit = if args.fit_rows > 0 {
+        Some(bench_fit::measure(args.fit_rows)?)
+    } else {
+        None
+    };
     if args.json {
-        print_json(&best, &ratios)
+        print_json(&best, &ratios, fit.as_ref())
     } else {
         print_table(&best, &ratios);
+        if let Some(fit) = &fit {
+            print_fit(fit);
+        }
         Ok(())
     }
 }
@@ -212,7 +230,7 @@ impl Ratios {
 }
 
 /// Prints the ns per sample `best` and the `ratios` as JSON.
-fn print_json(best: &[f64], ratios: &Ratios) -> Result<()> {
+fn print_json(best: &[f64], ratios: &Ratios, fit: Option<&FitFigures>) -> Result<()> {
     let mut map = serde_json::Map::new();
     for ((_, key), ns) in NAMES.iter().zip(best) {
         map.insert((*key).to_string(), json!(ns));
@@ -238,6 +256,28 @@ fn print_json(best: &[f64], ratios: &Ratios) -> Result<()> {
     map.insert("inverse_over_c_peer".into(), json!(ratios.c_peer));
     map.insert("c_peer_goal_met".into(), json!(ratios.c_peer <= 1.0));
     map.insert("kernel".into(), json!(isa().name()));
+    let peak = fit.and_then(|f| f.peak_bytes);
+    for (key, value) in [
+        ("fit_rows", json!(fit.map_or(0, |f| f.rows))),
+        ("fit_seconds", json!(fit.map(|f| f.fit_s))),
+        ("run_seconds", json!(fit.map(|f| f.run_s))),
+        ("fit_over_run", json!(fit.map(FitFigures::ratio))),
+        (
+            "fit_goal_met",
+            json!(fit.map(|f| f.ratio() <= FIT_OVER_RUN_GOAL)),
+        ),
+        ("fit_peak_bytes", json!(peak)),
+        (
+            "fit_peak_bytes_per_row",
+            json!(fit.and_then(|f| Some(f.peak_bytes? / f.rows as f64))),
+        ),
+        (
+            "fit_memory_goal_met",
+            json!(fit.and_then(FitFigures::memory_goal_met)),
+        ),
+    ] {
+        map.insert(key.into(), value);
+    }
     outln!("{}", serde_json::to_string_pretty(&map)?);
     Ok(())
 }
@@ -289,4 +329,33 @@ fn print_table(best: &[f64], ratios: &Ratios) {
         ratios.adaptive,
         verdict(ratios.adaptive <= 10.0)
     );
+}
+
+/// Prints the long-record fit's figures under the table, with its goals met or not.
+fn print_fit(fit: &FitFigures) {
+    let verdict = |met: bool| if met { "met" } else { "NOT met" };
+    outln!();
+    outln!(
+        "random walk of {} rows: hyst fit {:.2} s, hyst run {:.2} s",
+        fit.rows,
+        fit.fit_s,
+        fit.run_s
+    );
+    outln!(
+        "goal fit <= {FIT_OVER_RUN_GOAL} x run:                    {:.2} ({})",
+        fit.ratio(),
+        verdict(fit.ratio() <= FIT_OVER_RUN_GOAL)
+    );
+    match fit.peak_bytes {
+        Some(peak) => outln!(
+            "fit peak memory: {:.0} MB, {:.0} bytes a row{}",
+            peak / 1e6,
+            peak / fit.rows as f64,
+            match fit.memory_goal_met() {
+                Some(met) => format!(" (goal <= 256 MB at 10 M rows: {})", verdict(met)),
+                None => " (the goal, <= 256 MB, is at 10 M rows)".into(),
+            }
+        ),
+        None => outln!("fit peak memory: not known here (read from /proc on Linux)"),
+    }
 }

@@ -39,6 +39,7 @@ fn stdout_failed(e: &std::io::Error) -> ! {
 
 mod adapt;
 mod bench;
+mod bench_fit;
 mod bound;
 mod export;
 mod fit;

@@ -549,6 +549,46 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
 }
 
 #[test]
+fn bench_fits_a_random_walk_when_asked() {
+    let o = hyst()
+        .args(["bench", "--seconds", "0.05", "--json"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    // Left out by default, its keys there all the same.
+    assert_eq!(json["fit_rows"], 0);
+    assert!(json["fit_over_run"].is_null() && json["fit_peak_bytes"].is_null());
+    let o = hyst()
+        .args([
+            "bench",
+            "--seconds",
+            "0.05",
+            "--json",
+            "--fit-rows",
+            "20000",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["fit_rows"], 20000);
+    let (fit, run) = (
+        json["fit_seconds"].as_f64().unwrap(),
+        json["run_seconds"].as_f64().unwrap(),
+    );
+    let ratio = json["fit_over_run"].as_f64().unwrap();
+    assert!(fit > 0.0 && run > 0.0 && (ratio - fit / run).abs() <= 1e-12 * ratio);
+    assert!(json["fit_goal_met"].is_boolean());
+    // The memory goal is stated at 10 M rows: no verdict below.
+    assert!(json["fit_memory_goal_met"].is_null());
+    if cfg!(target_os = "linux") {
+        let peak = json["fit_peak_bytes"].as_f64().unwrap();
+        assert!(peak > 1e5 && peak < 1e10, "{peak}");
+    }
+}
+
+#[test]
 fn an_os_error_is_printed_once() {
     let dir = tempfile::tempdir().unwrap();
     let o = run(
