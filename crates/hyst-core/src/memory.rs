@@ -181,8 +181,7 @@ impl<T: Real> Memory<T> {
         };
         match direction {
             Some(d) if d != self.direction => {
-                core::mem::swap(&mut self.reversal_input, &mut self.last_input);
-                core::mem::swap(&mut self.reversal_output, &mut self.last_output);
+                self.swap_reversal_and_last();
                 self.direction = d;
                 true
             }
@@ -195,10 +194,17 @@ impl<T: Real> Memory<T> {
     #[inline]
     pub(crate) fn unobserve(&mut self, reversed: bool) {
         if reversed {
-            core::mem::swap(&mut self.reversal_input, &mut self.last_input);
-            core::mem::swap(&mut self.reversal_output, &mut self.last_output);
+            self.swap_reversal_and_last();
             self.direction = self.direction.reversed();
         }
+    }
+
+    /// Exchanges the reversal point and the last sample (plain moves: `core::mem::swap` of
+    /// two fields became a byte-swapping loop in a firmware build for size).
+    #[inline(always)]
+    fn swap_reversal_and_last(&mut self) {
+        (self.reversal_input, self.last_input) = (self.last_input, self.reversal_input);
+        (self.reversal_output, self.last_output) = (self.last_output, self.reversal_output);
     }
 
     /// The first sample of an operator with no history: a reversal point on the line

@@ -145,6 +145,36 @@ fn bracketed_gap<T: Real>(v_half: T, m_star: T, k2: T) -> T {
     e
 }
 
+/// The rare path of [`ParametricHysteresis::advance`], out of line, on plain values (one copy
+/// per number type and formula, whatever the sample type or k2 law: a firmware build holds
+/// few): a non-finite input `v` is refused; an output value `y` that is not finite is computed
+/// again by [`Formula::output_wide`] (refused when that is not finite either); then the value
+/// is clamped into [v − k1, v + k1].
+#[cold]
+#[inline(never)]
+fn rare<T: Real, F: Formula>(
+    memory: &Memory<T>,
+    k1: T,
+    v: T,
+    y: T,
+    m_star: T,
+    k2: T,
+) -> Result<T, Error> {
+    if !v.is_finite() {
+        return Err(Error::NonFiniteInput { value: v.as_f64() });
+    }
+    let y = if y.is_finite() {
+        y
+    } else {
+        let wide = F::output_wide(memory, v, m_star, k2);
+        if !wide.is_finite() {
+            return Err(overflow(v, wide));
+        }
+        wide
+    };
+    Ok(y.max(v - k1).min(v + k1))
+}
+
 /// Eq. (2): ũ = ṽ − M* + W(k2 M* e^(k2 (M* − ṽ))) / k2.
 ///
 /// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b): while a e^b is finite, eq. (2) as
@@ -173,25 +203,15 @@ fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
         };
         v_tilde - m_star + w / k2
     } else {
-        direct_transition_log(v_tilde, m_star, k2)
+        let ln_a = k2.ln() + m_star.ln();
+        let w = (ln_a + b).omega();
+        (ln_a - w.ln()) / k2
     };
     if v_tilde.value() == T::zero() {
         u_tilde.with_value(T::zero())
     } else {
         u_tilde
     }
-}
-
-/// The log-domain branch of [`direct_transition`], for a e^b beyond the float range:
-/// ũ = (ln a − ln w) / k2 with w = ω(ln a + b). Out of line (it is rare), so the common path
-/// keeps fewer values alive across its calls; b is formed again exactly as there.
-#[cold]
-#[inline(never)]
-fn direct_transition_log<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
-    let b = k2 * (S::constant(m_star) - v_tilde);
-    let ln_a = k2.ln() + m_star.ln();
-    let w = (ln_a + b).omega();
-    (ln_a - w.ln()) / k2
 }
 
 impl Formula for Inverse {
@@ -406,7 +426,7 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
     /// The output for `x` and the memory after it, without committing the memory.
     #[inline]
     pub(crate) fn compute<S: Sample<T>>(&self, x: S) -> Result<(S, Memory<T>), Error> {
-        let k2 = self.checked_k2(x)?;
+        let k2 = self.checked_k2(x, true)?;
         let mut memory = self
             .memory
             .unwrap_or_else(|| Memory::first_sample(x.value(), x.trend()));
@@ -414,17 +434,19 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         Ok((y, memory))
     }
 
-    /// Everything that can refuse a sample, checked before the memory is touched: a non-finite
-    /// input, and a k2 from the law that is not finite and > 0.
+    /// k2 for the sample `x`, with everything that can refuse it checked before the memory is
+    /// touched when `check` is true: a non-finite input (tested before the law sees it), and a
+    /// k2 from the law that is not finite and > 0. Unchecked, the law's k2 as it comes (for a
+    /// law that takes any input: `advance`'s band test refuses what the checks would).
     #[inline(always)]
-    fn checked_k2<S: Sample<T>>(&self, x: S) -> Result<S, Error> {
-        if !x.all_finite() {
+    fn checked_k2<S: Sample<T>>(&self, x: S, check: bool) -> Result<S, Error> {
+        if check && !x.all_finite() {
             return Err(Error::NonFiniteInput {
                 value: x.value().as_f64(),
             });
         }
         let k2 = self.law.k2(x);
-        if K::ALWAYS_VALID || (k2.value() > T::zero() && k2.all_finite()) {
+        if !check || K::ALWAYS_VALID || (k2.value() > T::zero() && k2.all_finite()) {
             Ok(k2)
         } else {
             Err(Error::InvalidK2 {
@@ -449,9 +471,12 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
     /// When eq. (2) or (4) as written is not finite for a finite input (an intermediate value
     /// overflows), [`Formula::output_wide`] computes the value again in a form that overflows
     /// only with the result (which lies within 3 k1 of x, k1 ≤ `T::MAX` / 4).
-    // `!(a <= b)` on purpose: NaN must take the slow path.
+    // `!(a <= b)` on purpose: NaN must take the slow path. Inlined into every caller on a
+    // host; on bare metal (firmware, built for size) left to the compiler, so `try_step` and
+    // `peek` may share one copy of the formulas.
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    #[inline(always)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
+    #[cfg_attr(target_os = "none", inline)]
     fn advance<S: Sample<T>>(memory: &mut Memory<T>, k1: T, x: S, k2: S) -> Result<S, Error> {
         let v = x.value();
         // Nothing is saved to undo `observe` on a refusal: on a reversal it keeps the previous
@@ -461,8 +486,20 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         let mut y = F::output(memory, x, m_star, k2);
         // The one test on the common path. It fails for NaN and ±∞ outputs, and for every
         // non-finite input: |y − x| ≤ k1 (k1 finite) is false for any y when x is NaN or ±∞.
-        if !((y.value() - v).abs() <= k1) || (S::ORDER > 0 && !y.all_finite()) {
-            match Self::rare(memory, k1, x, y, m_star, k2.value()) {
+        let jet_overflow = S::ORDER > 0 && !y.all_finite();
+        if !((y.value() - v).abs() <= k1) || jet_overflow {
+            // A jet whose derivatives overflow has no overflow-free form: refused (after a
+            // non-finite input, which `rare` names).
+            let repaired = if jet_overflow && v.is_finite() {
+                let output = y.value();
+                Err(overflow(
+                    v,
+                    if output.is_finite() { T::nan() } else { output },
+                ))
+            } else {
+                rare::<T, F>(memory, k1, v, y.value(), m_star, k2.value())
+            };
+            match repaired {
                 Ok(value) => y = y.with_value(value),
                 Err(e) => {
                     memory.unobserve(reversed);
@@ -473,43 +510,6 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         memory.last_input = v;
         memory.last_output = y.value();
         Ok(y)
-    }
-
-    /// The rare path of [`ParametricHysteresis::advance`], out of line: a non-finite input is
-    /// refused; a jet whose derivatives overflow too (it has no overflow-free form); an output
-    /// value that is not finite is computed again by [`Formula::output_wide`] (refused when
-    /// that is not finite either); then the value is clamped into [x − k1, x + k1].
-    #[cold]
-    #[inline(never)]
-    fn rare<S: Sample<T>>(
-        memory: &Memory<T>,
-        k1: T,
-        x: S,
-        y: S,
-        m_star: T,
-        k2: T,
-    ) -> Result<T, Error> {
-        let (v, y) = (x.value(), y);
-        if !v.is_finite() {
-            return Err(Error::NonFiniteInput { value: v.as_f64() });
-        }
-        if S::ORDER > 0 && !y.all_finite() {
-            let output = y.value();
-            return Err(overflow(
-                v,
-                if output.is_finite() { T::nan() } else { output },
-            ));
-        }
-        let y = if y.value().is_finite() {
-            y.value()
-        } else {
-            let wide = F::output_wide(memory, v, m_star, k2);
-            if !wide.is_finite() {
-                return Err(overflow(v, wide));
-            }
-            wide
-        };
-        Ok(y.max(v - k1).min(v + k1))
     }
 
     /// One step of a model built around this operator (the shaped [`crate::ShapedModel`], the
@@ -559,36 +559,25 @@ impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K
     /// output of a finite input is beyond the float range; the memory is then unchanged.
     #[inline(always)]
     fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
-        if S::ORDER == 0 && K::ALWAYS_VALID && K::ANY_INPUT {
-            if let Some(memory) = self.memory.as_mut() {
-                // The common case tests nothing before the formula: `advance`'s band test
-                // fails for every non-finite input, and its rare path refuses it with the
-                // memory as it was.
-                let k2 = self.law.k2(x);
-                return Self::advance(memory, self.k1, x, k2);
-            }
+        // The common case tests nothing before the formula: `advance`'s band test fails for
+        // every non-finite input, and its rare path refuses it with the memory as it was. The
+        // first sample, a jet, or a law that must not see a non-finite input are tested first.
+        // One call of `advance` for both (a firmware build holds one copy of the formulas).
+        let unchecked = S::ORDER == 0 && K::ALWAYS_VALID && K::ANY_INPUT && self.memory.is_some();
+        let k2 = self.checked_k2(x, !unchecked)?;
+        // The first plain sample (a reversal point on the line output = input) always
+        // succeeds, so the memory can be created in place. A jet's derivatives can overflow
+        // even on the first sample: `advance` then undoes what it changed, and a memory created
+        // for this sample goes again.
+        let fresh = self.memory.is_none();
+        let memory = self
+            .memory
+            .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
+        let y = Self::advance(memory, self.k1, x, k2);
+        if S::ORDER > 0 && fresh && y.is_err() {
+            self.memory = None;
         }
-        let k2 = self.checked_k2(x)?;
-        if S::ORDER == 0 {
-            // The first plain sample (a reversal point on the line output = input) always
-            // succeeds, so the memory can be created in place.
-            let memory = self
-                .memory
-                .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
-            Self::advance(memory, self.k1, x, k2)
-        } else {
-            // A jet's derivatives can overflow even on the first sample: `advance` then undoes
-            // what it changed, and a memory created for this sample goes again.
-            let fresh = self.memory.is_none();
-            let memory = self
-                .memory
-                .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
-            let y = Self::advance(memory, self.k1, x, k2);
-            if y.is_err() && fresh {
-                self.memory = None;
-            }
-            y
-        }
+        y
     }
 
     #[inline(always)]
