@@ -51,11 +51,16 @@ fn turning(x: &[f64], i: usize) -> bool {
 /// period is a multiple of the stride is still sampled at every phase (a fixed stride would see
 /// the same few phases in every period and bias the cost).
 fn picked(i: usize, stride: usize) -> bool {
-    let mut z = (i as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
+    splitmix64(i as u64).is_multiple_of(stride as u64)
+}
+
+/// SplitMix64's output for the state `z`: a hash whose every output bit depends on every input
+/// bit.
+fn splitmix64(z: u64) -> u64 {
+    let mut z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^= z >> 31;
-    z.is_multiple_of(stride as u64)
+    z ^ (z >> 31)
 }
 
 /// Samples in a window of the [`draw`].
@@ -217,12 +222,10 @@ fn window(r: &Record, rows: core::ops::Range<usize>, span: f64, block: usize) ->
     }
 }
 
-/// A hash of (record, block start) (SplitMix64 of their mix): where the draw's window lies.
+/// A hash of (record, block start) ([`splitmix64`] of their mix): where the draw's window
+/// lies.
 fn hash(record: u64, start: u64) -> usize {
-    let mut z = (start ^ record.rotate_left(32)).wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    (z ^ (z >> 31)) as usize
+    splitmix64(start ^ record.rotate_left(32)) as usize
 }
 
 #[cfg(test)]
