@@ -63,6 +63,17 @@ fn splitmix64(z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// All samples of `data`, every record's.
+fn samples(data: &Dataset) -> usize {
+    data.records.iter().map(Record::len).sum()
+}
+
+/// The k of the reduction's 1 in k, which also sets the [`draw`]'s block length: about
+/// [`TARGET`] samples are kept.
+fn stride(data: &Dataset) -> usize {
+    (samples(data) / TARGET).max(1)
+}
+
 /// Samples in a window of the [`draw`].
 pub const WINDOW: usize = 2_000;
 
@@ -78,22 +89,21 @@ const EXTREME_WINDOW: usize = 16;
 /// [`REDUCE_ABOVE`] training samples).
 #[must_use]
 pub fn reduce(data: &Dataset) -> Option<Dataset> {
-    let total: usize = data.records.iter().map(Record::len).sum();
     if data.training_samples() < REDUCE_ABOVE {
         return None;
     }
-    let stride = (total / TARGET).max(1);
+    let total = samples(data);
+    let stride = stride(data);
     let mut kept_total = 0usize;
     let mut records = Vec::with_capacity(data.records.len());
     for r in &data.records {
         let n = r.len();
         // Kept whatever the draw: turning points and (below) the output's extremes.
         let mut forced: Vec<bool> = (0..n).map(|i| turning(&r.input, i)).collect();
-        // The output's extremes, so that the reduced data has the same output range.
-        for pick in [f64::total_cmp, |a: &f64, b: &f64| b.total_cmp(a)] {
-            if let Some((i, _)) = r.output.iter().enumerate().max_by(|a, b| pick(a.1, b.1)) {
-                forced[i] = true;
-            }
+        // The extremes, so that the reduced data has the same output range (the input's are
+        // turning points already).
+        for i in extremes(r) {
+            forced[i] = true;
         }
         let mut reduced = Record {
             id: r.id,
@@ -119,7 +129,7 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
         records.push(reduced);
     }
     if 2 * kept_total > total {
-        return Some(draw(data, stride));
+        return Some(draw(data));
     }
     Some(Dataset::from_records(
         &data.source,
@@ -128,8 +138,8 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
     ))
 }
 
-/// The search's data for records that do not reduce: in each block of `stride` · [`WINDOW`]
-/// samples of a record, one window of [`WINDOW`] contiguous samples at a place drawn by a hash
+/// The search's data for records that do not reduce: in each block of k · [`WINDOW`] samples
+/// of a record (k the reduction's 1 in k, at least 2), one window of [`WINDOW`] contiguous samples at a place drawn by a hash
 /// of the block (each its own record, simulated from the start rule), and a few samples around
 /// each extreme of the record's input and output at weight 0 (the ranges stay the full
 /// data's). In a window, the samples before the input has travelled over the record's input
@@ -138,7 +148,8 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
 /// counted), so the cost estimates the full cost. A record of at most two windows is kept
 /// whole.
 #[must_use]
-pub fn draw(data: &Dataset, stride: usize) -> Dataset {
+pub fn draw(data: &Dataset) -> Dataset {
+    let stride = stride(data);
     let mut records = Vec::new();
     for (index, r) in data.records.iter().enumerate() {
         let n = r.len();

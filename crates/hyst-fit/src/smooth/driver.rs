@@ -395,7 +395,7 @@ fn widths(
 /// search's 50 or so coverages runs up to eight members of the family over it. `None` when
 /// the reduction is short enough.
 fn drawn_for_widths(data: &Dataset, small: &Dataset) -> Option<Dataset> {
-    (small.training_samples() > 2 * TARGET).then(|| draw(data, data.training_samples() / TARGET))
+    (small.training_samples() > 2 * TARGET).then(|| draw(data))
 }
 
 /// The family widths searched on a `draw`, at a coverage above `target` by three binomial

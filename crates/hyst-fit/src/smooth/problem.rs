@@ -213,10 +213,7 @@ impl Problem for SmoothProblem<'_> {
     fn jacobian(&self, theta: &[f64], _r: &[f64], jac: &mut [f64]) -> Result<(), Infeasible> {
         let n = self.n;
         match theta.len() {
-            0..=4 => self.dual_rows::<4>(theta, 0, columns(jac, n, 0)),
-            5..=6 => self.dual_rows::<6>(theta, 0, columns(jac, n, 0)),
-            7..=8 => self.dual_rows::<8>(theta, 0, columns(jac, n, 0)),
-            9..=12 => self.dual_rows::<12>(theta, 0, columns(jac, n, 0)),
+            0..=12 => self.one_dual_run(theta, columns(jac, n, 0)),
             p => (0..p).step_by(16).try_for_each(|offset| {
                 self.dual_rows::<16>(theta, offset, columns(&mut *jac, n, offset))
             }),
@@ -254,12 +251,7 @@ impl Problem for SmoothProblem<'_> {
                 }
             }
         };
-        match p {
-            0..=4 => self.dual_rows::<4>(theta, 0, accumulate),
-            5..=6 => self.dual_rows::<6>(theta, 0, accumulate),
-            7..=8 => self.dual_rows::<8>(theta, 0, accumulate),
-            _ => self.dual_rows::<12>(theta, 0, accumulate),
-        }?;
+        self.one_dual_run(theta, accumulate)?;
         for a in 0..p {
             for b in 0..a {
                 jtj[a * p + b] = jtj[b * p + a];
@@ -270,6 +262,22 @@ impl Problem for SmoothProblem<'_> {
 }
 
 impl SmoothProblem<'_> {
+    /// Every column of the Jacobian of up to 12 parameters from one dual run
+    /// ([`SmoothProblem::dual_rows`]), the dual's width the next of 4, 6, 8, 12 (unused lanes
+    /// cost time).
+    fn one_dual_run(
+        &self,
+        theta: &[f64],
+        row: impl FnMut(usize, &[f64]),
+    ) -> Result<(), Infeasible> {
+        match theta.len() {
+            0..=4 => self.dual_rows::<4>(theta, 0, row),
+            5..=6 => self.dual_rows::<6>(theta, 0, row),
+            7..=8 => self.dual_rows::<8>(theta, 0, row),
+            _ => self.dual_rows::<12>(theta, 0, row),
+        }
+    }
+
     /// Columns `offset..offset + N` of the Jacobian (those that exist) from one dual run over
     /// each history (as [`SmoothProblem::simulate`] runs them): θ_j seeded as the dual variable
     /// j − offset, the others constant. `row(k, d)` receives the derivatives `d` of residual
