@@ -61,12 +61,15 @@ pub fn measure(rows: usize) -> Result<FitFigures> {
     let model = dir.path().join("model.toml");
     let data_arg = data.to_string_lossy().into_owned();
     let model_arg = model.to_string_lossy().into_owned();
-    let (fit_s, peak_bytes) = timed(&[
-        "fit", &data_arg, "--input", "u_V", "--output", "y_um", "-o", &model_arg,
-    ])?;
+    let (fit_s, peak_bytes) = timed(
+        dir.path(),
+        &[
+            "fit", &data_arg, "--input", "u_V", "--output", "y_um", "-o", &model_arg,
+        ],
+    )?;
     let out = dir.path().join("out.csv").to_string_lossy().into_owned();
     let run = ["run", "--model", &model_arg, &data_arg, "-o", &out];
-    let run_s = timed(&run)?.0.min(timed(&run)?.0);
+    let run_s = timed(dir.path(), &run)?.0.min(timed(dir.path(), &run)?.0);
     Ok(FitFigures {
         rows,
         fit_s,
@@ -75,16 +78,20 @@ pub fn measure(rows: usize) -> Result<FitFigures> {
     })
 }
 
-/// Runs this executable with `args` (stdout discarded): its wall time, s, and its peak
+/// Runs this executable with `args` (stdout discarded, stderr into a file of `dir`: a pipe
+/// nobody reads while the child runs could fill and stop it): its wall time, s, and its peak
 /// resident memory, bytes, where `/proc` tells it.
-fn timed(args: &[&str]) -> Result<(f64, Option<f64>)> {
+fn timed(dir: &Path, args: &[&str]) -> Result<(f64, Option<f64>)> {
     let exe = std::env::current_exe().context("bench: cannot find the hyst executable")?;
+    let stderr_path = dir.join("stderr.txt");
+    let stderr_file = std::fs::File::create(&stderr_path)
+        .with_context(|| format!("bench: cannot write {}", stderr_path.display()))?;
     let started = Instant::now();
     let mut child = Command::new(&exe)
         .args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
-        .stderr(Stdio::piped())
+        .stderr(stderr_file)
         .spawn()
         .with_context(|| format!("bench: cannot start {}", exe.display()))?;
     let status_file = format!("/proc/{}/status", child.id());
@@ -105,10 +112,7 @@ fn timed(args: &[&str]) -> Result<(f64, Option<f64>)> {
     };
     let seconds = started.elapsed().as_secs_f64();
     if !status.success() {
-        let mut stderr = String::new();
-        if let Some(mut e) = child.stderr.take() {
-            std::io::Read::read_to_string(&mut e, &mut stderr).ok();
-        }
+        let stderr = std::fs::read_to_string(&stderr_path).unwrap_or_default();
         bail!(
             "bench: hyst {} failed ({status}): {}",
             args.join(" "),
