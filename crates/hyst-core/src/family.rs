@@ -529,22 +529,50 @@ impl<T: Real, K: K2Law<T> + Clone> Family<T, K> {
         upper.iter_mut().for_each(|x| *x = T::neg_infinity());
         for (a, b) in members {
             let mut member = build(self.member(a, b)?)?;
-            for ((x, lo), hi) in input.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
-                match member.try_step(*x) {
-                    Ok(y) => {
-                        *lo = lo.min(y);
-                        *hi = hi.max(y);
-                    }
-                    Err(Error::NonFiniteInput { .. }) => {
-                        *lo = T::nan();
-                        *hi = T::nan();
-                    }
-                    Err(e) => return Err(e),
-                }
-            }
+            fold_envelope(core::slice::from_mut(&mut member), input, lower, upper)?;
         }
         Ok(())
     }
+}
+
+/// Steps each of the `members` (built and started, in any state) over `input` in turn and
+/// folds its outputs into the envelope: `lower` and `upper` take the smaller and larger of
+/// their value and the member's output at each sample (start them at +∞ and −∞). The step of
+/// [`Family::envelope_of`]; the members keep their memory, so a long input can be folded in
+/// consecutive pieces, with the same result as in one.
+///
+/// # Errors
+/// [`Error::LengthMismatch`] for slices of different lengths; the first error of a member
+/// other than [`Error::NonFiniteInput`] (a non-finite input sample makes the envelope NaN
+/// there).
+pub fn fold_envelope<T: Real, O: Operator<T>>(
+    members: &mut [O],
+    input: &[T],
+    lower: &mut [T],
+    upper: &mut [T],
+) -> Result<(), Error> {
+    if input.len() != lower.len() || input.len() != upper.len() {
+        return Err(Error::LengthMismatch {
+            input: input.len(),
+            output: lower.len().min(upper.len()),
+        });
+    }
+    for member in members {
+        for ((x, lo), hi) in input.iter().zip(lower.iter_mut()).zip(upper.iter_mut()) {
+            match member.try_step(*x) {
+                Ok(y) => {
+                    *lo = lo.min(y);
+                    *hi = hi.max(y);
+                }
+                Err(Error::NonFiniteInput { .. }) => {
+                    *lo = T::nan();
+                    *hi = T::nan();
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+    Ok(())
 }
 
 /// How well measured data is reproduced by a family (Definition 2.8: at each sample some member

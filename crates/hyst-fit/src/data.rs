@@ -1,6 +1,7 @@
 //! Measured data: one or more independent records of (input, output) samples with optional
 //! weights, read from a CSV table, and the split into training and validation records.
 
+use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 
 use hyst_io::Table;
@@ -52,14 +53,16 @@ pub struct Record {
 
 /// Consecutive records that form one uninterrupted history (one measurement cut into
 /// segments, or a single record): their samples in order, and where each record lies in them.
+/// A history of one record borrows its samples (a long record is not copied); one of several
+/// holds them joined.
 #[derive(Clone, Debug, PartialEq, Default)]
-pub struct History {
+pub struct History<'a> {
     /// Input samples of all the records, in order.
-    pub input: Vec<f64>,
+    pub input: Cow<'a, [f64]>,
     /// Output samples.
-    pub output: Vec<f64>,
+    pub output: Cow<'a, [f64]>,
     /// Weights.
-    pub weight: Vec<f64>,
+    pub weight: Cow<'a, [f64]>,
     /// (index of the record in [`Dataset::records`], first sample in this history, length).
     pub parts: Vec<(usize, usize, usize)>,
     /// The sample period of its first record ([`Record::period`]).
@@ -242,20 +245,23 @@ impl Dataset {
     /// over each history from its start rule, so that a segment starts where the one before
     /// it ended.
     #[must_use]
-    pub fn histories(&self) -> Vec<History> {
-        let mut out: Vec<History> = Vec::new();
+    pub fn histories(&self) -> Vec<History<'_>> {
+        let mut out: Vec<History<'_>> = Vec::new();
         for (i, r) in self.records.iter().enumerate() {
-            if !r.continues || out.is_empty() {
-                out.push(History {
+            match out.last_mut() {
+                Some(h) if r.continues => {
+                    h.parts.push((i, h.input.len(), r.len()));
+                    h.input.to_mut().extend_from_slice(&r.input);
+                    h.output.to_mut().extend_from_slice(&r.output);
+                    h.weight.to_mut().extend_from_slice(&r.weight);
+                }
+                _ => out.push(History {
+                    input: Cow::Borrowed(&r.input),
+                    output: Cow::Borrowed(&r.output),
+                    weight: Cow::Borrowed(&r.weight),
+                    parts: vec![(i, 0, r.len())],
                     period: r.period,
-                    ..History::default()
-                });
-            }
-            if let Some(h) = out.last_mut() {
-                h.parts.push((i, h.input.len(), r.len()));
-                h.input.extend_from_slice(&r.input);
-                h.output.extend_from_slice(&r.output);
-                h.weight.extend_from_slice(&r.weight);
+                }),
             }
         }
         out
@@ -583,6 +589,14 @@ fn group_rows(
         r.output.push(output[row]);
         r.weight.push(w);
         r.rows.push(row);
+    }
+    // A long record's vectors hold up to twice their samples after growing: the slack goes back
+    // (a large block shrinks in place).
+    for r in &mut records {
+        r.input.shrink_to_fit();
+        r.output.shrink_to_fit();
+        r.weight.shrink_to_fit();
+        r.rows.shrink_to_fit();
     }
     Ok((records, labels))
 }

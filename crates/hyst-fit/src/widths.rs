@@ -12,7 +12,7 @@
 
 use std::ops::ControlFlow;
 
-use hyst_core::family::{delta_a_over_k2_range, shaped_bound};
+use hyst_core::family::{delta_a_over_k2_range, fold_envelope, shaped_bound};
 use hyst_core::{AnyK2Law, Family, K2Law, Reproducibility, Shaping};
 
 use hyst_model::{FamilyWidths, SmoothModel};
@@ -25,15 +25,33 @@ use crate::lm::{Observer, Progress};
 /// the threads would cost more than they save).
 const PARALLEL_FROM: usize = 4_000;
 
+/// Samples of a history whose envelope is taken at a time: the members carry their memory from
+/// one piece to the next ([`fold_envelope`]), so the scratch is a few pieces, whatever
+/// the history's length (the envelopes of a 10 M-sample history held whole took 48 bytes a
+/// sample with two threads, and 16 more per thread beyond).
+const PIECE: usize = 1 << 16;
+
+/// At most this many samples, over all histories, keep ψ_in(in) and the centre member's
+/// envelope across [`coverage`]'s calls (24 bytes a sample: 48 MB); longer data recomputes them
+/// in each call, piece by piece.
+const CACHED_SAMPLES: usize = 1 << 21;
+
+/// A member of the family, started for its history.
+type Member = hyst_core::Hysteresis<f64, hyst_core::family::ShiftedK2<AnyK2Law<f64>, f64>>;
+
 /// What [`coverage`] keeps across its calls for one model on one dataset (with the same
-/// starts): scratch envelopes, one (lower, upper) pair per worker thread, and per history the
-/// operator input ψ_in(in) and the operator output of the family's centre member (the model
-/// itself, whatever the widths).
+/// starts): scratch envelopes of one piece, one (lower, upper) pair per worker thread, and per
+/// history (up to [`CACHED_SAMPLES`] in all) the operator input ψ_in(in) and the operator output
+/// of the family's centre member (the model itself, whatever the widths).
 struct Scratch {
     envelopes: Vec<(Vec<f64>, Vec<f64>)>,
     /// Per history: ψ_in(in) and the centre member's envelope, lower and upper (its operator
-    /// output H[ψ_in(in)]; empty until computed).
+    /// output H[ψ_in(in)]; empty until computed, and for a history left out of the cache).
     histories: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)>,
+    /// Samples cached in `histories` so far.
+    cached: usize,
+    /// A piece of ψ_in(in) and of the centre's envelope, for a history not cached.
+    piece: (Vec<f64>, Vec<f64>, Vec<f64>),
 }
 
 impl Scratch {
@@ -43,6 +61,8 @@ impl Scratch {
         Self {
             envelopes: vec![(Vec::new(), Vec::new()); workers],
             histories: Vec::new(),
+            cached: 0,
+            piece: (Vec::new(), Vec::new(), Vec::new()),
         }
     }
 }
@@ -76,14 +96,15 @@ fn distinct_members(
 /// the [`Family::lattice`] of 3 × 3 members, each run over each whole history (a record, or a
 /// record cut into segments) inside the fitted shaping, from the history's estimated start
 /// `starts` or the start rule (as [`SmoothModel::shaped_from`] starts them). On a long history
-/// the members are shared among the threads of `scratch` ([`Family::envelope_of`]); the result
-/// does not depend on how many there are.
+/// the members are shared among the threads of `scratch`; the result does not depend on how
+/// many there are, nor on the pieces ([`PIECE`]) the history is folded in.
 ///
 /// Each distinct member runs once (see [`distinct_members`]), and the centre member (the model)
-/// once for all calls with the same `scratch`. ψ_in(in) is computed once per history, and the
-/// members run as bare operators on it: the envelope is taken over the operator outputs H[v]
-/// and mapped to the output once per sample ([`SmoothModel::output_envelope`]; ψ_out is
-/// strictly increasing), instead of every member's output going through ψ_out.
+/// once for all calls with the same `scratch` (on up to [`CACHED_SAMPLES`]). ψ_in(in) is
+/// computed once per history (or piece), and the members run as bare operators on it: the
+/// envelope is taken over the operator outputs H[v] and mapped to the output once per sample
+/// ([`SmoothModel::output_envelope`]; ψ_out is strictly increasing), instead of every member's
+/// output going through ψ_out.
 ///
 /// # Errors
 /// The core's error when the family is invalid (`d1` ≥ k1, a negative or non-finite width), a
@@ -107,9 +128,9 @@ fn coverage(
             continue;
         }
         let band = starts.and_then(|s| s.get(index).copied());
-        let r = history_coverage(&family, &members, model, &h, (index, band), scratch)?;
-        inside += r.inside;
-        samples += r.samples;
+        let (i, n) = history_coverage(&family, &members, model, &h, (index, band), scratch)?;
+        inside += i;
+        samples += n;
     }
     Ok(if samples == 0 {
         0.0
@@ -118,89 +139,121 @@ fn coverage(
     })
 }
 
-/// The samples of the history `h` inside the envelope of `family` around `model` (as
-/// [`coverage`] counts them): `at` is the history's index (its place in `scratch`) and its
-/// estimated start (`None`: the start rule), `members` the distinct members besides the centre.
+/// The samples of the history `h` inside the envelope of `family` around `model`, and the
+/// samples compared (as [`coverage`] counts them): `at` is the history's index (its place in
+/// `scratch`) and its estimated start (`None`: the start rule), `members` the distinct members
+/// besides the centre. The history is folded piece by piece ([`PIECE`]).
 fn history_coverage(
     family: &Family<f64, AnyK2Law<f64>>,
     members: &[(f64, f64)],
     model: &SmoothModel,
-    h: &History,
+    h: &History<'_>,
     (index, band): (usize, Option<f64>),
     scratch: &mut Scratch,
-) -> Result<Reproducibility<f64>, hyst_core::Error> {
+) -> Result<(usize, usize), hyst_core::Error> {
     let n = h.input.len();
+    // Each member started as the model starts a history (its start looks at the record's own
+    // input), then stepped on ψ_in(in).
+    let start = |(a, b): (f64, f64)| model.start_in(family.member(a, b)?, &h.input, band);
+    let workers = if n >= PARALLEL_FROM {
+        scratch.envelopes.len().min(members.len()).max(1)
+    } else {
+        1
+    };
+    let mut shares = (0..workers)
+        .map(|w| {
+            members
+                .iter()
+                .skip(w)
+                .step_by(workers)
+                .map(|m| start(*m))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     if scratch.histories.len() <= index {
         scratch
             .histories
             .resize(index + 1, (Vec::new(), Vec::new(), Vec::new()));
     }
-    let (operator_input, centre_lower, centre_upper) =
-        scratch
-            .histories
-            .get_mut(index)
-            .ok_or(hyst_core::Error::LengthMismatch {
-                input: n,
-                output: 0,
-            })?;
-    // ψ_in(in), once.
-    if operator_input.len() != n {
-        operator_input.clear();
-        operator_input.extend(h.input.iter().map(|x| model.input_shaping.apply(*x)));
+    let Scratch {
+        envelopes,
+        histories,
+        cached,
+        piece,
+    } = scratch;
+    let cache = histories
+        .get_mut(index)
+        .ok_or(hyst_core::Error::LengthMismatch {
+            input: n,
+            output: 0,
+        })?;
+    // ψ_in(in) and the centre's envelope, once for the whole history while the cache has room.
+    if cache.0.len() != n && *cached + n <= CACHED_SAMPLES {
+        let (v, lower, upper) = cache;
+        v.clear();
+        v.extend(h.input.iter().map(|x| model.input_shaping.apply(*x)));
+        lower.clear();
+        lower.resize(n, f64::INFINITY);
+        upper.clear();
+        upper.resize(n, f64::NEG_INFINITY);
+        fold_envelope(&mut [start((0.0, 0.0))?], v, lower, upper)?;
+        *cached += n;
     }
-    let input: &[f64] = operator_input;
-    // Each member started as the model starts a history (its start looks at the record's
-    // own input), then stepped on ψ_in(in).
-    let envelope = |mine: Vec<(f64, f64)>, lower: &mut [f64], upper: &mut [f64]| {
-        family.envelope_of(mine, input, lower, upper, |member| {
-            model.start_in(member, &h.input, band)
-        })
+    let mut centre = if cache.0.len() == n {
+        None
+    } else {
+        Some(start((0.0, 0.0))?)
     };
-    // The centre member's envelope (its operator output), once.
-    if centre_lower.len() != n {
-        centre_lower.resize(n, 0.0);
-        centre_upper.resize(n, 0.0);
-        envelope(std::vec![(0.0, 0.0)], centre_lower, centre_upper)?;
+    let (mut inside, mut samples) = (0, 0);
+    for from in (0..n).step_by(PIECE) {
+        let to = n.min(from + PIECE);
+        let (input, centre_lower, centre_upper): (&[f64], &[f64], &[f64]) = match &mut centre {
+            None => (&cache.0[from..to], &cache.1[from..to], &cache.2[from..to]),
+            Some(member) => {
+                let (v, lower, upper) = &mut *piece;
+                v.clear();
+                v.extend(
+                    h.input[from..to]
+                        .iter()
+                        .map(|x| model.input_shaping.apply(*x)),
+                );
+                lower.clear();
+                lower.resize(to - from, f64::INFINITY);
+                upper.clear();
+                upper.resize(to - from, f64::NEG_INFINITY);
+                fold_envelope(std::slice::from_mut(member), v, lower, upper)?;
+                (v, lower, upper)
+            }
+        };
+        let (lower, upper) =
+            members_envelope(envelopes, &mut shares, input, (centre_lower, centre_upper))?;
+        model.output_envelope(input, lower, upper)?;
+        let r = Reproducibility::compare(
+            &h.output[from..to],
+            Some(&h.weight[from..to]),
+            lower,
+            upper,
+            0.0,
+        );
+        inside += r.inside;
+        samples += r.samples;
     }
-    let (lower, upper) = members_envelope(
-        &mut scratch.envelopes,
-        members,
-        (centre_lower, centre_upper),
-        &envelope,
-    )?;
-    model.output_envelope(input, lower, upper)?;
-    Ok(Reproducibility::compare(
-        &h.output,
-        Some(&h.weight),
-        lower,
-        upper,
-        0.0,
-    ))
+    Ok((inside, samples))
 }
 
-/// The envelope (lower, upper) of the operator outputs of the `members` and the centre
-/// member (its envelope `centre`, computed before) over a history of the centre's length:
-/// `envelope` runs a share of the members into a pair of `envelopes`, one share per worker
-/// thread on a long history ([`PARALLEL_FROM`]), and the shares are merged into the first
-/// pair, which is returned.
-fn members_envelope<'e, F>(
+/// The envelope (lower, upper) over a piece `input` of the operator outputs of the members in
+/// `shares` (started, in the state the previous piece left) and of the centre member (its
+/// envelope `centre` on the piece, computed before): each share is folded into a pair of
+/// `envelopes`, one share per worker thread when there are several, and the shares are merged
+/// into the first pair, which is returned.
+fn members_envelope<'e>(
     envelopes: &'e mut [(Vec<f64>, Vec<f64>)],
-    members: &[(f64, f64)],
+    shares: &mut [Vec<Member>],
+    input: &[f64],
     centre: (&[f64], &[f64]),
-    envelope: &F,
-) -> Result<(&'e mut [f64], &'e mut [f64]), hyst_core::Error>
-where
-    F: Fn(Vec<(f64, f64)>, &mut [f64], &mut [f64]) -> Result<(), hyst_core::Error> + Sync,
-{
-    let n = centre.0.len();
-    let workers = if n >= PARALLEL_FROM {
-        envelopes.len().min(members.len()).max(1)
-    } else {
-        1
-    };
-    let share = |w: usize| -> Vec<(f64, f64)> {
-        members.iter().copied().skip(w).step_by(workers).collect()
-    };
+) -> Result<(&'e mut [f64], &'e mut [f64]), hyst_core::Error> {
+    let n = input.len();
+    let workers = shares.len();
     let (first, others) = envelopes
         .split_first_mut()
         .ok_or(hyst_core::Error::LengthMismatch {
@@ -211,20 +264,27 @@ where
         .chain(others.iter_mut())
         .take(workers)
     {
-        lower.resize(n, 0.0);
-        upper.resize(n, 0.0);
+        lower.clear();
+        lower.resize(n, f64::INFINITY);
+        upper.clear();
+        upper.resize(n, f64::NEG_INFINITY);
     }
+    let (own_share, other_shares) =
+        shares
+            .split_first_mut()
+            .ok_or(hyst_core::Error::LengthMismatch {
+                input: n,
+                output: 0,
+            })?;
     std::thread::scope(|scope| -> Result<(), hyst_core::Error> {
         let running: Vec<_> = others
             .iter_mut()
-            .take(workers - 1)
-            .enumerate()
-            .map(|(w, (lower, upper))| {
-                let mine = share(w + 1);
-                scope.spawn(move || envelope(mine, &mut lower[..n], &mut upper[..n]))
+            .zip(other_shares.iter_mut())
+            .map(|((lower, upper), share)| {
+                scope.spawn(move || fold_envelope(share, input, &mut lower[..n], &mut upper[..n]))
             })
             .collect();
-        let own = envelope(share(0), &mut first.0[..n], &mut first.1[..n]);
+        let own = fold_envelope(own_share, input, &mut first.0[..n], &mut first.1[..n]);
         for handle in running {
             // A worker's panic is resumed here, as it would have unwound without threads.
             handle
@@ -594,6 +654,58 @@ mod tests {
         assert!(half > nominal && half < 0.9, "{half}");
         // An invalid family is an error, not a coverage.
         assert!(coverage(&data, &m, None, m.k1, 0.0, &mut scratch).is_err());
+    }
+
+    /// A history of several pieces: the coverage is the one of the envelope taken over the
+    /// whole history at once, with the centre cached or folded piece by piece, on one thread or
+    /// several.
+    #[test]
+    fn pieces_and_threads_give_the_envelope_of_the_whole_history() {
+        let m = model();
+        let n = 3 * PIECE + 123;
+        let x: Vec<f64> = (0..n)
+            .map(|k| {
+                let t = k as f64 * 0.003;
+                (0.4 + 0.1 * (0.01 * t).sin()) * (1.3 * t).sin() + 0.2 * (3.1 * t).cos()
+            })
+            .collect();
+        let truth = SmoothModel {
+            k1: m.k1 + 0.01,
+            k2: AnyK2Law::Constant { value: 4.5 },
+            ..m
+        };
+        let mut y = truth.run(&x).unwrap();
+        // Noise, so that some samples fall outside any family of these widths.
+        for (k, v) in y.iter_mut().enumerate() {
+            *v += 0.02 * ((k as f64 * 0.7).sin() * (k as f64 * 1.9).cos());
+        }
+        let data = Dataset::single(&x, &y);
+        let (d1, d2) = (0.006, 0.4);
+        // The whole history at once, as the core's family runs it.
+        let family = Family::with_k2_law(m.k1, d1, m.k2, d2).unwrap();
+        let v: Vec<f64> = x.iter().map(|u| m.input_shaping.apply(*u)).collect();
+        let (mut lower, mut upper) = (vec![0.0; n], vec![0.0; n]);
+        family
+            .envelope_with(&v, &mut lower, &mut upper, 3, |member| {
+                m.start_in(member, &x, None)
+            })
+            .unwrap();
+        m.output_envelope(&v, &mut lower, &mut upper).unwrap();
+        let whole = Reproducibility::compare(&y, None, &lower, &upper, 0.0);
+        let expected = whole.inside as f64 / whole.samples as f64;
+        assert!(expected > 0.2 && expected < 0.99, "{expected}");
+        for (workers, cache) in [(1, true), (1, false), (3, true), (3, false)] {
+            let mut scratch = Scratch::new();
+            scratch.envelopes = vec![(Vec::new(), Vec::new()); workers];
+            if !cache {
+                scratch.cached = CACHED_SAMPLES;
+            }
+            for _ in 0..2 {
+                let got = coverage(&data, &m, None, d1, d2, &mut scratch).unwrap();
+                assert_eq!(got, expected, "{workers} workers, cache {cache}");
+            }
+            assert_eq!(scratch.histories[0].0.len(), if cache { n } else { 0 });
+        }
     }
 
     #[test]

@@ -170,6 +170,9 @@ pub fn main(args: Args) -> Result<()> {
     };
     let request = request(&args);
     let provenance = provenance(&args, &table);
+    // The fit needs the dataset only: the table's columns and line numbers (32 bytes a row for
+    // three columns) are freed before it.
+    drop(table);
     let mut observer = ProgressObserver::new(args.json);
     let identified = identify(&data, &request, &mut observer, &|| false, provenance);
     let identified = identified.map_err(|e| match e {
@@ -197,7 +200,7 @@ pub fn main(args: Args) -> Result<()> {
             dir,
             &data,
             &axes,
-            time,
+            time.as_ref().map(|(name, t)| (name.as_str(), t.as_slice())),
             identified.smooth.as_ref(),
             identified.pi.as_ref(),
         )?;

@@ -33,18 +33,16 @@ fn thin(points: Vec<(f64, f64)>, max: usize) -> Vec<(f64, f64)> {
 /// Points of a plot series.
 type Points = Vec<(f64, f64)>;
 
-/// The time axis of the residual plot: `--time COL`, else a column with a conventional time name.
-pub(super) fn time_column<'t>(
-    table: &'t Table,
-    name: Option<&'t str>,
-) -> Result<Option<(&'t str, &'t [f64])>> {
+/// The time axis of the residual plot: `--time COL`, else a column with a conventional time name
+/// (a copy: the table is dropped before the fit).
+pub(super) fn time_column(table: &Table, name: Option<&str>) -> Result<Option<(String, Vec<f64>)>> {
     if let Some(name) = name {
         let column = table.column(name).context("--time")?;
-        return Ok(Some((name, column)));
+        return Ok(Some((name.to_string(), column.to_vec())));
     }
     for candidate in hyst_fit::data::TIME_COLUMNS {
         if let Ok(column) = table.column(candidate) {
-            return Ok(Some((candidate, column)));
+            return Ok(Some((candidate.to_string(), column.to_vec())));
         }
     }
     Ok(None)

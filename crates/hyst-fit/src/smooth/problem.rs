@@ -26,7 +26,7 @@ pub(super) struct SmoothProblem<'a> {
     pub(super) data: &'a Dataset,
     /// The records as uninterrupted histories (segments of one measurement run on from each
     /// other), each with the offset of its training samples in residual order.
-    histories: Vec<(History, Vec<Option<usize>>)>,
+    histories: Vec<(History<'a>, Vec<Option<usize>>)>,
     /// Estimate each history's start
     /// ([`FitOptions::estimate_starts`](crate::smooth::FitOptions::estimate_starts)).
     estimate: bool,
@@ -98,8 +98,8 @@ impl<'a> SmoothProblem<'a> {
                         return f64::INFINITY;
                     }
                     y.iter()
-                        .zip(&h.output)
-                        .zip(&h.weight)
+                        .zip(h.output.iter())
+                        .zip(h.weight.iter())
                         .map(|((p, o), w)| w * (p - o) * (p - o))
                         .sum()
                 };
