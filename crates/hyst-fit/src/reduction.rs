@@ -25,7 +25,7 @@
 //! window have weight 0. The draw is an estimate, not exact where kept: the polish on the full
 //! data corrects it.
 
-use crate::data::{Dataset, Record};
+use crate::data::{Dataset, Record, Rows};
 
 /// Records with fewer training samples than this are fitted whole.
 pub const REDUCE_ABOVE: usize = 100_000;
@@ -110,7 +110,7 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
             input: Vec::new(),
             output: Vec::new(),
             weight: Vec::new(),
-            rows: Vec::new(),
+            rows: Rows::default(),
             validation: r.validation,
             continues: r.continues,
             period: r.period,
@@ -123,7 +123,7 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
             reduced.output.push(r.output[i]);
             let w = if must { 1.0 } else { stride as f64 };
             reduced.weight.push(w * r.weight[i]);
-            reduced.rows.push(r.rows[i]);
+            reduced.rows.push(r.rows.get(i).unwrap_or(0));
         }
         kept_total += reduced.len();
         records.push(reduced);
@@ -226,7 +226,7 @@ fn window(r: &Record, rows: core::ops::Range<usize>, span: f64, block: usize) ->
         input,
         output: r.output[rows.clone()].to_vec(),
         weight,
-        rows: r.rows[rows].to_vec(),
+        rows: r.rows.slice(rows),
         validation: r.validation,
         continues: false,
         period: r.period,
@@ -289,7 +289,7 @@ mod tests {
         // Simulated on the kept samples alone, the model gives the full run's outputs there.
         let again = model.run(&r.input).unwrap();
         for (k, row) in r.rows.iter().enumerate() {
-            assert_eq!(again[k].to_bits(), y[*row].to_bits(), "row {row}");
+            assert_eq!(again[k].to_bits(), y[row].to_bits(), "row {row}");
         }
     }
 
@@ -316,9 +316,9 @@ mod tests {
         for r in &drawn.records {
             assert!(r.len() <= WINDOW && !r.continues);
             for (k, row) in r.rows.iter().enumerate() {
-                assert_eq!(r.rows[0] + k, *row);
-                assert_eq!(r.input[k].to_bits(), noisy[*row].to_bits());
-                assert_eq!(r.output[k].to_bits(), y[*row].to_bits());
+                assert_eq!(r.rows.get(0).map(|first| first + k), Some(row));
+                assert_eq!(r.input[k].to_bits(), noisy[row].to_bits());
+                assert_eq!(r.output[k].to_bits(), y[row].to_bits());
             }
         }
         // Same ranges (so the same normalisation); the weights estimate the sample count.

@@ -97,11 +97,11 @@ pub(super) fn draw(
         let mut res = Vec::new();
         let outputs = outputs.context("the fitted model cannot run the data")?;
         for (r, y) in data.records.iter().zip(&outputs) {
-            for (((x, m), o), row) in r.input.iter().zip(y).zip(&r.output).zip(&r.rows) {
+            for (((x, m), o), row) in r.input.iter().zip(y).zip(&r.output).zip(r.rows.iter()) {
                 io.push((*x, *m));
                 let at = match time {
-                    Some((_, t)) => t.get(*row).copied().unwrap_or(f64::NAN),
-                    None => (*row + 1) as f64,
+                    Some((_, t)) => t.get(row).copied().unwrap_or(f64::NAN),
+                    None => (row + 1) as f64,
                 };
                 res.push((at, m - o));
             }

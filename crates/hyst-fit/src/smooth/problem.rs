@@ -32,19 +32,16 @@ pub(super) struct SmoothProblem<'a> {
     estimate: bool,
     /// The input range of all the records ([`Dataset::input_range`]), for the shaping domains.
     pub(super) input_range: (f64, f64),
-    /// √w / output half-span per training sample, in residual order.
-    scale: Vec<f64>,
+    /// 1 / output half-span: a residual is (model − measured) · √w / output half-span, its
+    /// scale computed from the sample's weight where it is used (a vector of scales took 8
+    /// bytes a sample).
+    inv_span: f64,
     /// Number of residuals: the training samples.
     pub(super) n: usize,
 }
 
 impl<'a> SmoothProblem<'a> {
     pub(super) fn new(layout: &'a Layout, data: &'a Dataset, estimate: bool) -> Self {
-        let inv = 1.0 / layout.norm.output_half_span;
-        let scale: Vec<f64> = data
-            .training()
-            .flat_map(|r| r.weight.iter().map(move |w| w.sqrt() * inv))
-            .collect();
         // Residual offsets: training records in order.
         let mut offsets = vec![None; data.records.len()];
         let mut at = 0;
@@ -68,8 +65,8 @@ impl<'a> SmoothProblem<'a> {
             histories,
             estimate,
             input_range: data.input_range(),
-            n: scale.len(),
-            scale,
+            n: at,
+            inv_span: 1.0 / layout.norm.output_half_span,
         }
     }
 
@@ -158,8 +155,8 @@ impl<'a> SmoothProblem<'a> {
     fn to_residuals(&self, y: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
         let mut i = 0;
         for rec in self.data.training() {
-            for obs in &rec.output {
-                let v = (y[i] - obs) * self.scale[i];
+            for (obs, w) in rec.output.iter().zip(&rec.weight) {
+                let v = (y[i] - obs) * (w.sqrt() * self.inv_span);
                 if !v.is_finite() {
                     return Err(Infeasible);
                 }
@@ -319,7 +316,7 @@ impl SmoothProblem<'_> {
                 let Some(k) = i.checked_sub(*start).map(|d| at + d) else {
                     return;
                 };
-                let scale = self.scale.get(k).copied().unwrap_or(0.0);
+                let scale = h.weight.get(i).map_or(0.0, |w| w.sqrt() * self.inv_span);
                 for (slot, g) in d.iter_mut().zip(y.gradient().iter().take(columns)) {
                     *slot = g * scale;
                     finite &= slot.is_finite();
