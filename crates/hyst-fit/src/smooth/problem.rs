@@ -130,24 +130,21 @@ impl<'a> SmoothProblem<'a> {
         y: &mut [f64],
         mut z: Option<&mut [f64]>,
     ) -> Result<(), Infeasible> {
-        let (mut hy, mut hz) = (Vec::new(), Vec::new());
         for (index, (h, offsets)) in self.histories.iter().enumerate() {
-            hy.resize(h.input.len(), 0.0);
-            hz.resize(h.input.len(), 0.0);
             let band = bands.and_then(|b| b.get(index).copied());
+            // Each sample of a training part straight into its residual's row (no copy of the
+            // history's outputs: 16 bytes a sample of a long record).
+            let mut rows = ResidualRows::new(&h.parts, offsets);
             m.run_timed(&h.input, h.period, band, |i, s| {
-                if let (Some(y), Some(z)) = (hy.get_mut(i), hz.get_mut(i)) {
-                    (*y, *z) = (s.y, s.z);
+                let Some(k) = rows.row(i) else { return };
+                if let Some(slot) = y.get_mut(k) {
+                    *slot = s.y;
+                }
+                if let Some(slot) = z.as_deref_mut().and_then(|z| z.get_mut(k)) {
+                    *slot = s.z;
                 }
             })
             .map_err(|_| Infeasible)?;
-            for ((_, start, len), at) in h.parts.iter().zip(offsets) {
-                let Some(at) = *at else { continue };
-                y[at..at + len].copy_from_slice(&hy[*start..start + len]);
-                if let Some(z) = z.as_deref_mut() {
-                    z[at..at + len].copy_from_slice(&hz[*start..start + len]);
-                }
-            }
         }
         Ok(())
     }
@@ -300,22 +297,11 @@ impl SmoothProblem<'_> {
         // Each history whole, as `simulate` runs it; a sample of a training part lands at its
         // residual's row (parts are in sample order, so one cursor walks them).
         for (index, (h, offsets)) in self.histories.iter().enumerate() {
-            let mut parts = h.parts.iter().zip(offsets).peekable();
+            let mut rows = ResidualRows::new(&h.parts, offsets);
             let band = bands.as_ref().and_then(|b| b.get(index).copied());
             m.run_timed(&h.input, h.period, band, |i, s| {
                 let y = s.y;
-                while parts
-                    .peek()
-                    .is_some_and(|((_, start, len), _)| i >= start + len)
-                {
-                    parts.next();
-                }
-                let Some(&((_, start, _), Some(at))) = parts.peek() else {
-                    return;
-                };
-                let Some(k) = i.checked_sub(*start).map(|d| at + d) else {
-                    return;
-                };
+                let Some(k) = rows.row(i) else { return };
                 let scale = h.weight.get(i).map_or(0.0, |w| w.sqrt() * self.inv_span);
                 for (slot, g) in d.iter_mut().zip(y.gradient().iter().take(columns)) {
                     *slot = g * scale;
@@ -330,6 +316,40 @@ impl SmoothProblem<'_> {
         } else {
             Err(Infeasible)
         }
+    }
+}
+
+/// Where the samples of a history land among the residuals: its parts (record, first sample,
+/// length) in sample order, with each part's first residual row (`None`: held out), walked by
+/// one cursor as the history runs.
+struct ResidualRows<'p> {
+    parts: &'p [(usize, usize, usize)],
+    offsets: &'p [Option<usize>],
+    /// The part the last sample was in.
+    at: usize,
+}
+
+impl<'p> ResidualRows<'p> {
+    fn new(parts: &'p [(usize, usize, usize)], offsets: &'p [Option<usize>]) -> Self {
+        Self {
+            parts,
+            offsets,
+            at: 0,
+        }
+    }
+
+    /// The residual row of sample `i` of the history (`None`: a sample of a held-out part);
+    /// `i` never decreases from one call to the next.
+    fn row(&mut self, i: usize) -> Option<usize> {
+        while self
+            .parts
+            .get(self.at)
+            .is_some_and(|(_, start, len)| i >= start + len)
+        {
+            self.at += 1;
+        }
+        let (_, start, _) = self.parts.get(self.at)?;
+        Some((*self.offsets.get(self.at)?)? + i.checked_sub(*start)?)
     }
 }
 
