@@ -189,14 +189,7 @@ fn history_coverage(
         })?;
     // ψ_in(in) and the centre's envelope, once for the whole history while the cache has room.
     if cache.0.len() != n && *cached + n <= CACHED_SAMPLES {
-        let (v, lower, upper) = cache;
-        v.clear();
-        v.extend(h.input.iter().map(|x| model.input_shaping.apply(*x)));
-        lower.clear();
-        lower.resize(n, f64::INFINITY);
-        upper.clear();
-        upper.resize(n, f64::NEG_INFINITY);
-        fold_envelope(&mut [start((0.0, 0.0))?], v, lower, upper)?;
+        centre_envelope(model, &mut start((0.0, 0.0))?, &h.input, cache)?;
         *cached += n;
     }
     let mut centre = if cache.0.len() == n {
@@ -210,19 +203,8 @@ fn history_coverage(
         let (input, centre_lower, centre_upper): (&[f64], &[f64], &[f64]) = match &mut centre {
             None => (&cache.0[from..to], &cache.1[from..to], &cache.2[from..to]),
             Some(member) => {
-                let (v, lower, upper) = &mut *piece;
-                v.clear();
-                v.extend(
-                    h.input[from..to]
-                        .iter()
-                        .map(|x| model.input_shaping.apply(*x)),
-                );
-                lower.clear();
-                lower.resize(to - from, f64::INFINITY);
-                upper.clear();
-                upper.resize(to - from, f64::NEG_INFINITY);
-                fold_envelope(std::slice::from_mut(member), v, lower, upper)?;
-                (v, lower, upper)
+                centre_envelope(model, member, &h.input[from..to], piece)?;
+                (&piece.0, &piece.1, &piece.2)
             }
         };
         let (lower, upper) =
@@ -239,6 +221,24 @@ fn history_coverage(
         samples += r.samples;
     }
     Ok((inside, samples))
+}
+
+/// ψ_in of the model inputs `input` and the envelope of the centre member `member` over them
+/// (its operator output, from the state it is in), into `out` (resized to `input`).
+fn centre_envelope(
+    model: &SmoothModel,
+    member: &mut Member,
+    input: &[f64],
+    out: &mut (Vec<f64>, Vec<f64>, Vec<f64>),
+) -> Result<(), hyst_core::Error> {
+    let (v, lower, upper) = out;
+    v.clear();
+    v.extend(input.iter().map(|x| model.input_shaping.apply(*x)));
+    lower.clear();
+    lower.resize(input.len(), f64::INFINITY);
+    upper.clear();
+    upper.resize(input.len(), f64::NEG_INFINITY);
+    fold_envelope(std::slice::from_mut(member), v, lower, upper)
 }
 
 /// The envelope (lower, upper) over a piece `input` of the operator outputs of the members in
