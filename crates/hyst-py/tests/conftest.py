@@ -72,15 +72,36 @@ def computed(path, k=1):
 
 
 def interrupted(call):
-    """Runs `call()` with a SIGINT 50 ms in (a run long enough to be interrupted) and checks
-    that it raises KeyboardInterrupt."""
+    """Runs `call()` (a run of a second or less that checks for signals between chunks) while
+    SIGINT arrives, and checks that it raises KeyboardInterrupt.
+
+    The signal is sent from 20 ms in and again every 20 ms until the call returns, so that a
+    loaded machine that wakes the sending thread late, or a fast one that runs ahead, still
+    interrupts the run; Python's handler raises KeyboardInterrupt for the first signal only (as
+    Ctrl-C's does), and the ones sent after it are ignored until the usual handler is back."""
     import signal
     import threading
 
-    timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
-    timer.start()
+    raised = threading.Event()
+
+    def once(signum, frame):
+        if not raised.is_set():
+            raised.set()
+            raise KeyboardInterrupt
+
+    done = threading.Event()
+
+    def send():
+        while not done.wait(0.02):
+            os.kill(os.getpid(), signal.SIGINT)
+
+    usual = signal.signal(signal.SIGINT, once)
+    sender = threading.Thread(target=send, daemon=True)
+    sender.start()
     try:
         with pytest.raises(KeyboardInterrupt):
             call()
     finally:
-        timer.cancel()
+        done.set()
+        sender.join()
+        signal.signal(signal.SIGINT, usual)
