@@ -23,9 +23,20 @@ pub struct Args {
     /// other, bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static,
     /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, c_peer_ns (a plain-C
     /// inverse with no checks on the same signal), inverse_over_c_peer and c_peer_goal_met,
-    /// kernel, the bank's instruction set, and the long-record fit's fit_rows, fit_seconds,
-    /// run_seconds, fit_over_run, fit_goal_met, fit_peak_bytes, fit_peak_bytes_per_row and
-    /// fit_memory_goal_met, null without --fit-rows) instead of a table.
+    /// kernel, the bank's instruction set; the same banks tick by tick (one `step` per tick of
+    /// the 64, ns per channel-sample): bank_tick_inverse_ns, bank_tick_direct_ns,
+    /// bank_tick_inverse_f32_ns, next to 1,024 scalar operators stepped once a tick each,
+    /// scalar_tick_inverse_ns and scalar_tick_direct_ns, with bank_tick_inverse_over_scalar,
+    /// bank_tick_direct_over_scalar, bank_tick_inverse_f32_over_bank_tick_inverse and
+    /// bank_tick_goals_met (inverse <= 0.25, direct <= 0.33, f32 / f64 <= 0.5), and with the AVX2
+    /// kernel forced in the same run (a processor without AVX-512; null where there is no AVX2 +
+    /// FMA): bank_avx2_tick_inverse_ns, bank_avx2_tick_direct_ns,
+    /// bank_avx2_tick_inverse_f32_ns, bank_avx2_tick_inverse_over_scalar,
+    /// bank_avx2_tick_direct_over_scalar, bank_avx2_tick_inverse_f32_over_bank_avx2_tick_inverse
+    /// and bank_avx2_tick_goals_met (inverse <= 0.30, direct <= 0.40); and the long-record fit's
+    /// fit_rows, fit_seconds, run_seconds, fit_over_run, fit_goal_met, fit_peak_bytes,
+    /// fit_peak_bytes_per_row and fit_memory_goal_met, null without --fit-rows) instead of a
+    /// table.
     #[arg(long)]
     pub json: bool,
     /// Run the banks on this kernel instead of the best this processor has (to see how a
@@ -33,7 +44,7 @@ pub struct Args {
     #[arg(long, value_name = "ISA", value_parser = ["avx512", "avx2", "sse2", "portable"])]
     pub kernel: Option<String>,
     /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
-    /// takes this plus about 0.1 s of calibration). The time is shared by the thirteen workloads,
+    /// takes this plus about 0.2 s of calibration). The time is shared by the 21 workloads,
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
@@ -45,6 +56,11 @@ pub struct Args {
     #[arg(long, value_name = "ROWS", default_value_t = 0)]
     pub fit_rows: usize,
 }
+
+/// The prefix of the JSON keys of the banks tick by tick with the AVX2 kernel forced, and the
+/// key of their goals' verdict.
+const AVX2_TICK: &str = "bank_avx2_tick";
+const AVX2_TICK_MET: &str = "bank_avx2_tick_goals_met";
 
 /// Target duration of one batch, in seconds.
 const BATCH_SECONDS: f64 = 0.005;
@@ -83,7 +99,7 @@ pub fn main(args: Args) -> Result<()> {
     }
     let inputs = Inputs::new();
     for (index, (name, _)) in NAMES.iter().enumerate() {
-        if !inputs.run(index).is_finite() {
+        if inputs.available(index) && !inputs.run(index).is_finite() {
             bail!("benchmark workload {name:?} gave a non-finite checksum");
         }
     }
@@ -108,10 +124,13 @@ pub fn main(args: Args) -> Result<()> {
 
 /// Calls per batch of each workload, calibrated to about [`BATCH_SECONDS`]: double the calls
 /// until a batch takes ≥ 1 ms, then scale (a single cold call is no guide: it can be much
-/// slower or, rounded, faster).
+/// slower or, rounded, faster). 0 for a workload this processor does not run.
 fn calibrate(inputs: &Inputs) -> Vec<usize> {
     (0..NAMES.len())
         .map(|i| {
+            if !inputs.available(i) {
+                return 0;
+            }
             let mut calls = 1usize;
             loop {
                 let t = Instant::now();
@@ -131,20 +150,23 @@ fn calibrate(inputs: &Inputs) -> Vec<usize> {
 
 /// ns per sample of each workload: batches of `calls` calls in interleaved rounds (at least 5,
 /// for at least `budget`), the fastest batch of each kept, the one least disturbed by other
-/// processes (on a shared machine, slower batches measure the neighbours, not the code).
+/// processes (on a shared machine, slower batches measure the neighbours, not the code). NaN
+/// for a workload of no calls (one this processor does not run).
 fn measure(inputs: &Inputs, calls: &[usize], budget: Duration) -> Vec<f64> {
     let started = Instant::now();
     let mut samples = vec![Vec::new(); NAMES.len()];
     let mut rounds = 0usize;
     while rounds < 5 || started.elapsed() < budget {
         for (i, s) in samples.iter_mut().enumerate() {
-            s.push(batch_ns(inputs, i, calls[i]));
+            if calls[i] > 0 {
+                s.push(batch_ns(inputs, i, calls[i]));
+            }
         }
         rounds += 1;
     }
     samples
         .iter()
-        .map(|s| s.iter().copied().fold(f64::INFINITY, f64::min))
+        .map(|s| s.iter().copied().reduce(f64::min).unwrap_or(f64::NAN))
         .collect()
 }
 
@@ -169,6 +191,85 @@ struct Ratios {
     adaptive: f64,
     /// Scalar H⁻¹ over the plain-C peer on the same signal (issue 29's goal: at most 1).
     c_peer: f64,
+    /// The banks tick by tick on the kernel of the run (issue 13's bank goals).
+    tick: TickRatios,
+    /// The banks tick by tick with the AVX2 kernel forced (issue 29's goals; `None` where the
+    /// processor has no AVX2 + FMA).
+    avx2_tick: Option<TickRatios>,
+}
+
+/// The banks stepped tick by tick against 1,024 scalar operators stepped the same way, and the
+/// f32 bank against the f64 one, with their goals.
+struct TickRatios {
+    /// (JSON key, name, ratio): inverse, direct, f32 / f64.
+    ratios: [(String, String, f64); 3],
+    /// (goal, met), each a ratio of this run.
+    goals: Vec<(String, bool)>,
+    /// The JSON key of the verdict over `goals`.
+    met_key: &'static str,
+}
+
+impl TickRatios {
+    /// The ratios of the ns per channel-sample `inverse`, `direct`, `inverse32` (banks) and
+    /// `scalar_inverse`, `scalar_direct`; `prefix` "bank_tick" or "bank_avx2_tick", `what` the
+    /// way they ran (in the goals' names), and the goals' bounds on the three ratios (none
+    /// where `None`).
+    fn of(
+        prefix: &str,
+        what: &str,
+        [inverse, direct, inverse32]: [f64; 3],
+        [scalar_inverse, scalar_direct]: [f64; 2],
+        bounds: [Option<f64>; 3],
+        met_key: &'static str,
+    ) -> Self {
+        let ratios = [
+            inverse / scalar_inverse,
+            direct / scalar_direct,
+            inverse32 / inverse,
+        ];
+        let names = [
+            ("bank H^-1 f64", "scalar H^-1"),
+            ("bank H f64", "scalar H"),
+            ("bank H^-1 f32", "bank H^-1 f64"),
+        ];
+        let goals = names
+            .iter()
+            .zip(bounds)
+            .zip(ratios)
+            .filter_map(|((&(bank, under), bound), ratio)| {
+                let bound = bound?;
+                Some((
+                    format!("{bank} {what} <= {bound} x {under}"),
+                    ratio <= bound,
+                ))
+            })
+            .collect();
+        let [i, d, f] = ratios;
+        let [ki, kd, kf] = Self::keys(prefix);
+        Self {
+            ratios: [
+                (ki, format!("bank H^-1 f64 / scalar H^-1, {what}"), i),
+                (kd, format!("bank H f64 / scalar H, {what}"), d),
+                (kf, format!("bank H^-1 f32 / f64, {what}"), f),
+            ],
+            goals,
+            met_key,
+        }
+    }
+
+    /// The JSON keys of the three ratios for `prefix`.
+    fn keys(prefix: &str) -> [String; 3] {
+        [
+            format!("{prefix}_inverse_over_scalar"),
+            format!("{prefix}_direct_over_scalar"),
+            format!("{prefix}_inverse_f32_over_{prefix}_inverse"),
+        ]
+    }
+
+    /// Whether every goal is met.
+    fn met(&self) -> bool {
+        self.goals.iter().all(|(_, met)| *met)
+    }
 }
 
 impl Ratios {
@@ -211,6 +312,26 @@ impl Ratios {
             ("bank H^-1 f32 <= 0.5 x bank H^-1 f64", f32_over_f64 <= 0.5),
             ("bank H^-1 f32 >= 500 M channel-samples/s", f32_rate >= 5e8),
         ];
+        let scalar_ticks = [at(16), at(17)];
+        let tick = TickRatios::of(
+            "bank_tick",
+            "tick",
+            [at(13), at(14), at(15)],
+            scalar_ticks,
+            [Some(0.25), Some(0.33), Some(0.5)],
+            "bank_tick_goals_met",
+        );
+        let avx2 = [at(18), at(19), at(20)];
+        let avx2_tick = avx2.iter().all(|ns| ns.is_finite()).then(|| {
+            TickRatios::of(
+                AVX2_TICK,
+                "tick (AVX2)",
+                avx2,
+                scalar_ticks,
+                [Some(0.30), Some(0.40), None],
+                AVX2_TICK_MET,
+            )
+        });
         Self {
             inverse: inverse_ratio,
             direct: direct_ratio,
@@ -220,6 +341,8 @@ impl Ratios {
             dynamics: at(10) / at(9),
             adaptive: at(11) / direct,
             c_peer: inverse / at(12),
+            tick,
+            avx2_tick,
         }
     }
 
@@ -233,7 +356,8 @@ impl Ratios {
 fn print_json(best: &[f64], ratios: &Ratios, fit: Option<&FitFigures>) -> Result<()> {
     let mut map = serde_json::Map::new();
     for ((_, key), ns) in NAMES.iter().zip(best) {
-        map.insert((*key).to_string(), json!(ns));
+        // Null for a workload this processor does not run.
+        map.insert((*key).to_string(), json!(ns.is_finite().then_some(*ns)));
     }
     map.insert("inverse_over_exp".into(), json!(ratios.inverse));
     map.insert("direct_over_w0_plus_exp".into(), json!(ratios.direct));
@@ -256,6 +380,17 @@ fn print_json(best: &[f64], ratios: &Ratios, fit: Option<&FitFigures>) -> Result
     map.insert("inverse_over_c_peer".into(), json!(ratios.c_peer));
     map.insert("c_peer_goal_met".into(), json!(ratios.c_peer <= 1.0));
     map.insert("kernel".into(), json!(isa().name()));
+    map.insert(ratios.tick.met_key.into(), json!(ratios.tick.met()));
+    for (key, _, ratio) in &ratios.tick.ratios {
+        map.insert(key.clone(), json!(ratio));
+    }
+    // The AVX2 keys are there without AVX2 too, null.
+    let avx2 = ratios.avx2_tick.as_ref();
+    for (i, key) in TickRatios::keys(AVX2_TICK).into_iter().enumerate() {
+        let ratio = avx2.and_then(|t| t.ratios.get(i)).map(|r| r.2);
+        map.insert(key, json!(ratio));
+    }
+    map.insert(AVX2_TICK_MET.into(), json!(avx2.map(TickRatios::met)));
     let peak = fit.and_then(|f| f.peak_bytes);
     for (key, value) in [
         ("fit_rows", json!(fit.map_or(0, |f| f.rows))),
@@ -285,9 +420,13 @@ fn print_json(best: &[f64], ratios: &Ratios, fit: Option<&FitFigures>) -> Result
 /// Prints the ns per sample `best` and the `ratios` as a table, with the goals met or not.
 fn print_table(best: &[f64], ratios: &Ratios) {
     let (inverse_ratio, direct_ratio) = (ratios.inverse, ratios.direct);
-    outln!("{:<36} {:>10}", "workload", "ns/sample");
+    outln!("{:<40} {:>10}", "workload", "ns/sample");
     for ((name, _), ns) in NAMES.iter().zip(best) {
-        outln!("{name:<36} {ns:>10.2}");
+        if ns.is_finite() {
+            outln!("{name:<40} {ns:>10.2}");
+        } else {
+            outln!("{name:<40} {:>10}", "no AVX2");
+        }
     }
     let verdict = |met: bool| if met { "met" } else { "NOT met" };
     outln!();
@@ -319,6 +458,15 @@ fn print_table(best: &[f64], ratios: &Ratios) {
         outln!("goal {goal:<42} {}", verdict(met));
     }
     outln!();
+    for tick in std::iter::once(&ratios.tick).chain(&ratios.avx2_tick) {
+        for (_, name, ratio) in &tick.ratios {
+            outln!("{:<45} {ratio:.2}", format!("{name}:"));
+        }
+        for (goal, met) in &tick.goals {
+            outln!("goal {goal:<50} {}", verdict(*met));
+        }
+        outln!();
+    }
     outln!(
         "goal fitted model with dynamics <= 2 x static: {:.2} ({})",
         ratios.dynamics,

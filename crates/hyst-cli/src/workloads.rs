@@ -5,13 +5,16 @@
 //! with a slowly growing amplitude) and returns a checksum so the work cannot be optimised away.
 //! The bank workloads run [`BANK_CHANNELS`] channels (each its own stretch of that signal) for
 //! [`BANK_TICKS`] ticks from no history ([`Inputs::samples`] channel-samples per call), reported
-//! per channel-sample. The C peer (`c_peer_ns`) is a plain-C inverse of eq. (4) with no checks
+//! per channel-sample: in one block (`process`, time-major), and tick by tick (`step` with one
+//! sample per channel, a controller's loop) next to 1,024 scalar operators stepped the same way
+//! (each once per tick), on the best kernel and with the AVX2 kernel forced (a processor without
+//! AVX-512; not run where the processor has no AVX2 + FMA, see [`Inputs::available`]). The C peer (`c_peer_ns`) is a plain-C inverse of eq. (4) with no checks
 //! (src/peer/peer.c, compiled by build.rs), on the inverse workload's signal.
 
 use std::cell::RefCell;
 use std::hint::black_box;
 
-use hyst_core::bank::{BankFormula, Lane};
+use hyst_core::bank::{force_isa, isa, BankFormula, Isa, Lane};
 use hyst_core::{
     Affine, BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Polynomial,
     Real as _, ShapedModel,
@@ -28,7 +31,7 @@ pub const BANK_CHANNELS: usize = 1024;
 pub const BANK_TICKS: usize = 64;
 
 /// The names of the workloads, in report order, with their JSON keys.
-pub const NAMES: [(&str, &str); 13] = [
+pub const NAMES: [(&str, &str); 21] = [
     ("direct operator H (eq. 2)", "direct_ns"),
     ("inverse operator H^-1 (eq. 4)", "inverse_ns"),
     ("inverse with 2 derivatives (jet)", "inverse_d2_ns"),
@@ -45,7 +48,40 @@ pub const NAMES: [(&str, &str); 13] = [
     ("fitted model, dynamics of order 2", "fitted_dynamics_ns"),
     ("adaptive estimator, 4 parameters", "adaptive_ns"),
     ("plain-C inverse (peer, no checks)", "c_peer_ns"),
+    (
+        "bank of 1024 H^-1, f64, tick by tick",
+        "bank_tick_inverse_ns",
+    ),
+    ("bank of 1024 H, f64, tick by tick", "bank_tick_direct_ns"),
+    (
+        "bank of 1024 H^-1, f32, tick by tick",
+        "bank_tick_inverse_f32_ns",
+    ),
+    (
+        "1024 scalar H^-1, f64, tick by tick",
+        "scalar_tick_inverse_ns",
+    ),
+    ("1024 scalar H, f64, tick by tick", "scalar_tick_direct_ns"),
+    (
+        "bank H^-1 f64 tick, AVX2 kernel forced",
+        "bank_avx2_tick_inverse_ns",
+    ),
+    (
+        "bank H f64 tick, AVX2 kernel forced",
+        "bank_avx2_tick_direct_ns",
+    ),
+    (
+        "bank H^-1 f32 tick, AVX2 kernel forced",
+        "bank_avx2_tick_inverse_f32_ns",
+    ),
 ];
+
+/// The workloads run on 1,024 channels (reported per channel-sample): the banks in blocks, then
+/// tick by tick, the scalar operators tick by tick, and the banks with the AVX2 kernel forced.
+const BANK_WORKLOADS: [core::ops::RangeInclusive<usize>; 2] = [6..=8, 13..=20];
+
+/// The workloads that force the AVX2 kernel (the tick-by-tick ones of `13..=15`, 5 places on).
+const AVX2_WORKLOADS: core::ops::RangeInclusive<usize> = 18..=20;
 
 /// The inverse workload's k1 and k2, shared by the C peer.
 const K1: f64 = 0.14;
@@ -69,11 +105,14 @@ pub struct Inputs {
 }
 
 /// The banks of the bank workloads, kept between calls (building one computes ln k2 for each
-/// channel and allocates its state: not what a control loop does per tick).
+/// channel and allocates its state: not what a control loop does per tick), and the scalar
+/// operators of the tick-by-tick workloads, one per channel.
 struct Banks {
     inverse: BankVec<f64, Inverse>,
     direct: BankVec<f64, Direct>,
     inverse32: BankVec<f32, Inverse>,
+    inverses: Vec<InverseHysteresis<f64>>,
+    directs: Vec<Hysteresis<f64>>,
     y: Vec<f64>,
     y32: Vec<f32>,
 }
@@ -86,6 +125,12 @@ impl Banks {
             inverse: BankVec::from_vecs(k(0.14), k(8.0)).ok()?,
             direct: BankVec::from_vecs(k(0.14), k(8.0)).ok()?,
             inverse32: BankVec::from_vecs(k32(0.14), k32(8.0)).ok()?,
+            inverses: (0..BANK_CHANNELS)
+                .map(|_| InverseHysteresis::new(0.14, 8.0).ok())
+                .collect::<Option<_>>()?,
+            directs: (0..BANK_CHANNELS)
+                .map(|_| Hysteresis::new(0.14, 8.0).ok())
+                .collect::<Option<_>>()?,
             y: vec![0.0; BANK_CHANNELS * BANK_TICKS],
             y32: vec![0.0; BANK_CHANNELS * BANK_TICKS],
         })
@@ -141,11 +186,18 @@ impl Inputs {
     /// The (channel-)samples of one call of workload `index`.
     #[must_use]
     pub fn samples(&self, index: usize) -> usize {
-        if (6..=8).contains(&index) {
+        if BANK_WORKLOADS.iter().any(|r| r.contains(&index)) {
             BANK_CHANNELS * BANK_TICKS
         } else {
             SAMPLES
         }
+    }
+
+    /// Whether workload `index` runs on this processor: all but those that force the AVX2
+    /// kernel where the processor has no AVX2 + FMA (their figures are then null).
+    #[must_use]
+    pub fn available(&self, index: usize) -> bool {
+        !AVX2_WORKLOADS.contains(&index) || Isa::Avx2.available()
     }
 
     /// Runs workload `index` (of [`NAMES`]) once over all samples; returns a checksum (NaN if
@@ -214,8 +266,36 @@ impl Inputs {
                     .sum()
             }
             12 => peer::inverse_sum(K1, K2, black_box(&self.x)),
+            13..=17 => self.tick(index)?,
+            18..=20 => {
+                // The AVX2 kernel for this call only, then the kernel that ran before (the
+                // best, or the one --kernel forced).
+                if !Isa::Avx2.available() {
+                    return None;
+                }
+                let kernel = isa();
+                force_isa(Some(Isa::Avx2)).ok()?;
+                let sum = self.tick(index - 5);
+                force_isa(Some(kernel)).ok()?;
+                sum?
+            }
             _ => return None,
         })
+    }
+
+    /// The tick-by-tick workloads `13..=17`: a bank's `step`, or each of 1,024 scalar operators'
+    /// `step`, once a tick, over the [`BANK_TICKS`] rows of the bank workloads from no history.
+    fn tick(&self, index: usize) -> Option<f64> {
+        let mut banks = self.banks.try_borrow_mut().ok()?;
+        let b = banks.as_mut()?;
+        match index {
+            13 => bank_ticks(&mut b.inverse, &self.bank_x, &mut b.y),
+            14 => bank_ticks(&mut b.direct, &self.bank_x, &mut b.y),
+            15 => bank_ticks(&mut b.inverse32, &self.bank_x32, &mut b.y32),
+            16 => scalar_ticks(&mut b.inverses, &self.bank_x, &mut b.y),
+            17 => scalar_ticks(&mut b.directs, &self.bank_x, &mut b.y),
+            _ => None,
+        }
     }
 }
 
@@ -291,6 +371,42 @@ fn bank<T: Lane, F: BankFormula>(bank: &mut BankVec<T, F>, x: &[T], y: &mut [T])
     bank.process(black_box(x), y).ok()?;
     let y = black_box(&*y);
     Some(y.first()?.as_f64() + y.last()?.as_f64())
+}
+
+/// `bank` from no history, one `step` per tick (row) of the time-major `x`, into `y`; the
+/// checksum of [`bank`].
+fn bank_ticks<T: Lane, F: BankFormula>(
+    bank: &mut BankVec<T, F>,
+    x: &[T],
+    y: &mut [T],
+) -> Option<f64> {
+    bank.reset();
+    for (row, out) in x
+        .chunks_exact(BANK_CHANNELS)
+        .zip(y.chunks_exact_mut(BANK_CHANNELS))
+    {
+        bank.step(black_box(row), out).ok()?;
+    }
+    let y = black_box(&*y);
+    Some(y.first()?.as_f64() + y.last()?.as_f64())
+}
+
+/// The scalar operators `ops` (one a channel) from no history, each stepped once per tick (row)
+/// of the time-major `x`, into `y`; the checksum of [`bank`].
+fn scalar_ticks<O: Operator<f64>>(ops: &mut [O], x: &[f64], y: &mut [f64]) -> Option<f64> {
+    for op in ops.iter_mut() {
+        op.reset();
+    }
+    for (row, out) in x
+        .chunks_exact(BANK_CHANNELS)
+        .zip(y.chunks_exact_mut(BANK_CHANNELS))
+    {
+        for ((op, v), u) in ops.iter_mut().zip(out.iter_mut()).zip(black_box(row)) {
+            *v = op.step(*u);
+        }
+    }
+    let y = black_box(&*y);
+    Some(y.first()? + y.last()?)
 }
 
 impl Default for Inputs {

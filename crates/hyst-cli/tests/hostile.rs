@@ -512,6 +512,66 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         .unwrap();
     assert!((rate * f32_ns - 1e9).abs() <= 1e-3, "{rate} x {f32_ns}");
     assert!(json["bank_goals_met"].is_boolean());
+    // The banks tick by tick, next to 1,024 scalar operators stepped the same way, on the
+    // kernel of the run and with the AVX2 kernel forced (null where the processor has none).
+    let ns = |key: &str| json[key].as_f64().unwrap_or(f64::NAN);
+    for key in [
+        "bank_tick_inverse_ns",
+        "bank_tick_direct_ns",
+        "bank_tick_inverse_f32_ns",
+        "scalar_tick_inverse_ns",
+        "scalar_tick_direct_ns",
+    ] {
+        assert!(ns(key) > 0.0 && ns(key).is_finite(), "{key}: {}", json[key]);
+    }
+    for (ratio, over, under) in [
+        (
+            "bank_tick_inverse_over_scalar",
+            "bank_tick_inverse_ns",
+            "scalar_tick_inverse_ns",
+        ),
+        (
+            "bank_tick_direct_over_scalar",
+            "bank_tick_direct_ns",
+            "scalar_tick_direct_ns",
+        ),
+        (
+            "bank_tick_inverse_f32_over_bank_tick_inverse",
+            "bank_tick_inverse_f32_ns",
+            "bank_tick_inverse_ns",
+        ),
+        (
+            "bank_avx2_tick_inverse_over_scalar",
+            "bank_avx2_tick_inverse_ns",
+            "scalar_tick_inverse_ns",
+        ),
+        (
+            "bank_avx2_tick_direct_over_scalar",
+            "bank_avx2_tick_direct_ns",
+            "scalar_tick_direct_ns",
+        ),
+        (
+            "bank_avx2_tick_inverse_f32_over_bank_avx2_tick_inverse",
+            "bank_avx2_tick_inverse_f32_ns",
+            "bank_avx2_tick_inverse_ns",
+        ),
+    ] {
+        let expected = ns(over) / ns(under);
+        if json[over].is_null() {
+            assert!(json[ratio].is_null(), "{ratio}: {}", json[ratio]);
+        } else {
+            let got = ns(ratio);
+            assert!((got - expected).abs() <= 1e-12 * expected, "{ratio}: {got}");
+        }
+    }
+    assert!(json["bank_tick_goals_met"].is_boolean());
+    #[cfg(target_arch = "x86_64")]
+    let avx2 =
+        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
+    #[cfg(not(target_arch = "x86_64"))]
+    let avx2 = false;
+    assert_eq!(json["bank_avx2_tick_goals_met"].is_boolean(), avx2);
+    assert_eq!(json["bank_avx2_tick_inverse_ns"].is_f64(), avx2);
     let text = hyst()
         .args(["bench", "--seconds", "0.05"])
         .output()
@@ -524,6 +584,9 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         "bank H^-1 f32 / bank H^-1 f64:",
         "goal bank H^-1 f32 >= 500 M channel-samples/s",
         "bank kernel:",
+        "1024 scalar H^-1, f64, tick by tick",
+        "bank H^-1 f64 / scalar H^-1, tick:",
+        "goal bank H^-1 f32 tick <= 0.5 x bank H^-1 f64",
     ] {
         assert!(text.contains(row), "{text}");
     }
@@ -543,7 +606,9 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         .unwrap();
     assert!(forced.status.success(), "{}", stderr(&forced));
     let forced: serde_json::Value = serde_json::from_slice(&forced.stdout).unwrap();
+    // The kernel of the run, also after the workloads that forced AVX2 for their calls.
     assert_eq!(forced["kernel"], "portable");
+    assert_eq!(forced["bank_avx2_tick_direct_ns"].is_f64(), avx2);
     let unknown = hyst().args(["bench", "--kernel", "neon"]).output().unwrap();
     assert!(!unknown.status.success() && stderr(&unknown).contains("neon"));
 }

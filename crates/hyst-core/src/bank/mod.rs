@@ -6,8 +6,9 @@
 //! [`Storage`]). In blocks the channels run in chunks of four vector registers (AVX-512:
 //! 32 × f64, 64 × f32) whose state stays in registers while the ticks go by (four independent
 //! dependency chains per tick, which the processor overlaps); one tick ([`ParametricBank::step`])
-//! runs chunks of one or two vectors (four with SSE2 and the portable code), the next chunk's
-//! state loaded before this one's is stored. The code is branch-free over lanes, written once
+//! of the inverse runs chunks of one or two vectors (four with SSE2 and the portable code), the
+//! next chunk's state loaded before this one's is stored, and of the direct operator, whose
+//! tick is a longer chain, chunks of four vectors as blocks do. The code is branch-free over lanes, written once
 //! against a small vector trait ([`lanes`] has the elementary functions). With `std` on x86-64 the
 //! instruction set is chosen at run time: AVX-512, else AVX2 + FMA, else SSE2 (x86-64's
 //! baseline); other targets and `no_std` builds run the portable code (plain floats, four

@@ -206,6 +206,10 @@ impl<V: Simd> Simd for Pair<V> {
         Pair(self.0.magnitude(), self.1.magnitude())
     }
     #[inline(always)]
+    fn negate_where(self, m: Self::M) -> Self {
+        Pair(self.0.negate_where(m.0), self.1.negate_where(m.1))
+    }
+    #[inline(always)]
     fn pow2_shifted(t: Self) -> Self {
         Pair(V::pow2_shifted(t.0), V::pow2_shifted(t.1))
     }

@@ -25,11 +25,12 @@ pub trait Simd:
     type T: Lane;
     /// A lane mask (the result of a comparison).
     type M: Copy;
-    /// The chunk a one-tick `step` runs on: one vector for AVX-512 f64, two for AVX-512 f32 and
-    /// AVX2, four for SSE2 and the portable kernel (as blocks do). Fewer than a block's four,
-    /// because `step` holds the state of two chunks in registers at once (it loads the next
-    /// chunk before storing this one; measured: docs/performance.md, "Where a tick of `step`
-    /// goes").
+    /// The chunk a one-tick `step` of the inverse operator runs on: one vector for AVX-512 f64,
+    /// two for AVX-512 f32 and AVX2, four for SSE2 and the portable kernel (as blocks do).
+    /// Fewer than a block's four, because the inverse's `step` holds the state of two chunks in
+    /// registers at once (it loads the next chunk before storing this one); the direct
+    /// operator's `step` runs a block's chunk of four vectors, one chunk at a time (measured:
+    /// docs/performance.md, "Where a tick of `step` goes").
     type Tick: Simd<T = Self::T>;
     /// Lanes per vector.
     const LANES: usize;
@@ -61,6 +62,14 @@ pub trait Simd:
     fn all(m: Self::M) -> bool;
     /// |self|.
     fn magnitude(self) -> Self;
+    /// `-self` in the lanes of `m`, `self` elsewhere (a sign flip, exact). This default
+    /// selects; the SSE2 and AVX2 vectors, whose mask lanes are all ones, flip the sign bit by
+    /// the mask (an `and` and a `xor`: a variable blend is two or three micro-operations on
+    /// Intel processors, and SSE2 has none).
+    #[inline(always)]
+    fn negate_where(self, m: Self::M) -> Self {
+        Self::select(m, -self, self)
+    }
     /// 2ⁿ for `t` = n + 1.5 · 2^p (p = 52 for f64, 23 for f32: the rounding trick of `exp`
     /// leaves the integer n in the low bits of t), n in [−1022, 1023] (f64) or [−126, 127] (f32).
     fn pow2_shifted(t: Self) -> Self;

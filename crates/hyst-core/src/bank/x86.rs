@@ -286,7 +286,8 @@ macro_rules! bits {
 /// [`Simd`] for an AVX2 or SSE2 vector (vector masks).
 macro_rules! avx2_simd {
     ($name:ident, $tick:ty, $t:ty, $raw:ty, $lanes:expr, $full:expr, $cmp:ident, $blend:ident, $and:ident,
-     $or:ident, $andnot:ident, $movemask:ident, $set1:ident, $max:ident, [$($bits:tt)*]) => {
+     $or:ident, $andnot:ident, $xor:ident, $movemask:ident, $set1:ident, $max:ident,
+     [$($bits:tt)*]) => {
         impl Simd for $name {
             type M = $raw;
             common!($t, $lanes, $tick);
@@ -331,6 +332,10 @@ macro_rules! avx2_simd {
                 Self(arch!($andnot($set1(-0.0), self.0)))
             }
             #[inline(always)]
+            fn negate_where(self, m: $raw) -> Self {
+                Self(arch!($xor(self.0, $and(m, $set1(-0.0)))))
+            }
+            #[inline(always)]
             fn max_or(self, b: Self) -> Self {
                 Self(arch!($max(self.0, b.0)))
             }
@@ -351,6 +356,7 @@ avx2_simd!(
     _mm256_and_pd,
     _mm256_or_pd,
     _mm256_andnot_pd,
+    _mm256_xor_pd,
     _mm256_movemask_pd,
     _mm256_set1_pd,
     _mm256_max_pd,
@@ -383,6 +389,7 @@ avx2_simd!(
     _mm256_and_ps,
     _mm256_or_ps,
     _mm256_andnot_ps,
+    _mm256_xor_ps,
     _mm256_movemask_ps,
     _mm256_set1_ps,
     _mm256_max_ps,
@@ -677,6 +684,7 @@ avx2_simd!(
     _mm_and_pd,
     _mm_or_pd,
     _mm_andnot_pd,
+    _mm_xor_pd,
     _mm_movemask_pd,
     _mm_set1_pd,
     _mm_max_pd,
@@ -709,6 +717,7 @@ avx2_simd!(
     _mm_and_ps,
     _mm_or_ps,
     _mm_andnot_ps,
+    _mm_xor_ps,
     _mm_movemask_ps,
     _mm_set1_ps,
     _mm_max_ps,
@@ -902,6 +911,60 @@ mod tests {
             // AVX-512's decay is its table exp, held to that function's 2 ulp (relative).
             let bound = if what.starts_with("avx512") { 2.0 } else { 1.0 };
             assert!(ulp <= bound, "{what}: decay {ulp} ulp of 1");
+        }
+    }
+
+    /// `negate_where` on vector `V` against the select it replaces, bit for bit: values of both
+    /// signs, zeros, ±∞ and NaN, each lane negated or not by a comparison's mask.
+    fn negate_where_is_the_select<V: Simd>(to: impl Fn(f64) -> V::T, bits: impl Fn(V::T) -> u64) {
+        let values = [
+            1.5,
+            -2.25,
+            0.0,
+            -0.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            -f64::NAN,
+            1e-310,
+            -7.0,
+        ];
+        let n = V::LANES;
+        for shift in 0..values.len() {
+            let a: std::vec::Vec<V::T> = (0..n)
+                .map(|i| to(values[(i + shift) % values.len()]))
+                .collect();
+            // A mask from a comparison: lanes i with i * 3 + shift odd, more or less at random.
+            let m: std::vec::Vec<V::T> = (0..n)
+                .map(|i| to(if (i * 3 + shift) % 2 == 1 { 1.0 } else { -1.0 }))
+                .collect();
+            let (a, m) = (V::load(&a), V::c(0.0).less(V::load(&m)));
+            let (mut got, mut want) = (std::vec![to(0.0); n], std::vec![to(0.0); n]);
+            a.negate_where(m).store(&mut got);
+            V::select(m, -a, a).store(&mut want);
+            for i in 0..n {
+                assert_eq!(bits(got[i]), bits(want[i]), "lane {i} of {shift}");
+            }
+        }
+    }
+
+    #[test]
+    fn every_vector_negates_where_its_mask_says() {
+        let (f64s, f32s) = (|v: f64| v, |v: f64| v as f32);
+        let (b64, b32) = (f64::to_bits, |v: f32| u64::from(v.to_bits()));
+        negate_where_is_the_select::<f64>(f64s, b64);
+        negate_where_is_the_select::<f32>(f32s, b32);
+        negate_where_is_the_select::<F64x2>(f64s, b64);
+        negate_where_is_the_select::<F32x4>(f32s, b32);
+        negate_where_is_the_select::<Pair<F64x2>>(f64s, b64);
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            negate_where_is_the_select::<F64x4>(f64s, b64);
+            negate_where_is_the_select::<F32x8>(f32s, b32);
+        }
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            negate_where_is_the_select::<F64x8>(f64s, b64);
+            negate_where_is_the_select::<F32x16>(f32s, b32);
         }
     }
 
