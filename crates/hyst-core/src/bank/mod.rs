@@ -8,11 +8,11 @@
 //! dependency chains per tick, which the processor overlaps); one tick ([`ParametricBank::step`])
 //! of the inverse runs chunks of one or two vectors (four with SSE2 and the portable code), the
 //! next chunk's state loaded before this one's is stored, and of the direct operator, whose
-//! tick is a longer chain, chunks of four vectors as blocks do. The code is branch-free over lanes, written once
-//! against a small vector trait ([`lanes`] has the elementary functions). With `std` on x86-64 the
-//! instruction set is chosen at run time: AVX-512, else AVX2 + FMA, else SSE2 (x86-64's
-//! baseline); other targets and `no_std` builds run the portable code (plain floats, four
-//! channels at a time). [`isa`] tells which runs, [`force_isa`] chooses one. docs/performance.md
+//! tick is a longer chain, chunks of four vectors as blocks do. The code is branch-free over
+//! lanes, written once against a small vector trait ([`lanes`] has the elementary functions).
+//! With `std` on x86-64 the instruction set is chosen at run time: AVX-512, else AVX2 + FMA,
+//! else SSE2 (x86-64's baseline); other targets and `no_std` builds run the portable code
+//! (plain floats, four channels at a time). [`isa`] tells which runs, [`force_isa`] chooses one. docs/performance.md
 //! has the measurements behind these choices.
 //!
 //! The results agree with the scalar operator ([`crate::Hysteresis`],
