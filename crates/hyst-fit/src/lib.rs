@@ -34,6 +34,7 @@ pub mod data;
 pub mod degeneracy;
 pub mod error;
 pub mod file;
+mod gauss_newton;
 pub mod identify;
 pub mod layout;
 mod linalg;

@@ -10,7 +10,9 @@
 use std::ops::ControlFlow;
 
 use crate::error::FitError;
-use crate::linalg::cholesky_solve;
+use crate::gauss_newton::{
+    damped_step, fading, negligible_gain, predicted_decrease, relative_offset,
+};
 
 /// A point the problem cannot evaluate (parameters outside their bounds).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,6 +50,36 @@ pub trait Problem {
         g: &mut [f64],
     ) -> Result<(), Infeasible> {
         jacobian_normal_equations(self, theta, r, jtj, g)
+    }
+
+    /// Whether the method keeps the residual vectors (the point's and a trial's, n numbers
+    /// each) or asks for their sums only ([`Problem::cost`], [`Problem::sums_at`]): a problem
+    /// with many residuals may say no (8 bytes a residual less, twice); its
+    /// [`Solution::residuals`] are then empty.
+    fn keeps_residuals(&self) -> bool {
+        true
+    }
+
+    /// Σ r² at θ, as the sum of [`Problem::residuals`] in order. The provided method stores
+    /// them; a problem that keeps no residuals sums them as it computes them.
+    ///
+    /// # Errors
+    /// [`Infeasible`] as [`Problem::residuals`].
+    fn cost(&self, theta: &[f64]) -> Result<f64, Infeasible> {
+        let mut r = vec![0.0; self.residual_count()];
+        self.residuals(theta, &mut r)?;
+        Ok(sum_sq(&r))
+    }
+
+    /// JᵀJ and g = Jᵀr at θ ([`Problem::normal_equations`]) with the residuals computed on
+    /// the way, for a problem that keeps none. The provided method stores them.
+    ///
+    /// # Errors
+    /// [`Infeasible`] as [`Problem::normal_equations`].
+    fn sums_at(&self, theta: &[f64], jtj: &mut [f64], g: &mut [f64]) -> Result<(), Infeasible> {
+        let mut r = vec![0.0; self.residual_count()];
+        self.residuals(theta, &mut r)?;
+        self.normal_equations(theta, &r, jtj, g)
     }
 }
 
@@ -396,8 +428,14 @@ impl LevenbergMarquardt {
             });
         }
         let theta = theta0.to_vec();
-        let mut r = vec![0.0; n];
-        if problem.residuals(&theta, &mut r).is_err() || !sum_sq(&r).is_finite() {
+        let keeps = problem.keeps_residuals();
+        let mut r = vec![0.0; if keeps { n } else { 0 }];
+        let cost = if keeps {
+            problem.residuals(&theta, &mut r).map(|()| sum_sq(&r))
+        } else {
+            problem.cost(&theta)
+        };
+        let Some(cost) = cost.ok().filter(|c| c.is_finite()) else {
             return Ok(Solution {
                 theta,
                 cost: f64::INFINITY,
@@ -406,8 +444,8 @@ impl LevenbergMarquardt {
                 iterations: 0,
                 termination: Termination::Stalled,
             });
-        }
-        let mut state = Iterate::new(theta, r, p);
+        };
+        let mut state = Iterate::new(theta, r, cost, (n, p));
         observe(observer, 0, self.max_iterations, state.cost, state.lambda)?;
         let mut termination = Termination::MaxIterations;
         let mut iterations = 0;
@@ -442,7 +480,7 @@ impl LevenbergMarquardt {
         it: usize,
         observer: &mut dyn Observer,
     ) -> Result<Option<Termination>, FitError> {
-        let (n, p) = (s.r.len(), s.theta.len());
+        let (n, p) = (s.n, s.theta.len());
         if s.need_jacobian {
             if !s.normal_equations(problem) {
                 return Ok(Some(Termination::Stalled));
@@ -469,11 +507,12 @@ impl LevenbergMarquardt {
             }
             let step = norm(&delta);
             let size = norm(&s.theta);
-            let feasible = problem.residuals(&s.trial, &mut s.r_trial).is_ok();
-            let new_cost = if feasible {
-                sum_sq(&s.r_trial)
+            let new_cost = if s.r_trial.len() == n {
+                problem
+                    .residuals(&s.trial, &mut s.r_trial)
+                    .map_or(f64::INFINITY, |()| sum_sq(&s.r_trial))
             } else {
-                f64::INFINITY
+                problem.cost(&s.trial).unwrap_or(f64::INFINITY)
             };
             if new_cost.is_finite() && new_cost < s.cost {
                 return self.accept(s, &delta, new_cost, (step, size), it, observer);
@@ -500,7 +539,7 @@ impl LevenbergMarquardt {
         it: usize,
         observer: &mut dyn Observer,
     ) -> Result<Option<Termination>, FitError> {
-        let (n, p) = (s.r.len(), s.theta.len());
+        let (n, p) = (s.n, s.theta.len());
         let rho =
             (s.cost - new_cost) / predicted_decrease(delta, &s.jtj, &s.g, s.lambda).max(1e-300);
         let decrease = (s.cost - new_cost) / s.cost.max(1e-300);
@@ -535,8 +574,10 @@ impl LevenbergMarquardt {
 struct Iterate {
     /// The current point.
     theta: Vec<f64>,
-    /// The residuals there.
+    /// The residuals there (empty when the problem keeps none: [`Problem::keeps_residuals`]).
     r: Vec<f64>,
+    /// Number of residuals.
+    n: usize,
     /// Σ r² there.
     cost: f64,
     /// JᵀJ (row-major) and g = Jᵀr from it.
@@ -557,19 +598,21 @@ struct Iterate {
 }
 
 impl Iterate {
-    /// The state at the feasible start `theta` with its residuals `r` (p parameters).
-    fn new(theta: Vec<f64>, r: Vec<f64>, p: usize) -> Self {
-        let n = r.len();
+    /// The state at the feasible start `theta` of cost `cost` with its residuals `r` (empty
+    /// when the problem keeps none), for `n` residuals and `p` parameters.
+    fn new(theta: Vec<f64>, r: Vec<f64>, cost: f64, (n, p): (usize, usize)) -> Self {
+        let kept = r.len();
         Self {
-            cost: sum_sq(&r),
+            cost,
             theta,
             r,
+            n,
             jtj: vec![0.0; p * p],
             g: vec![0.0; p],
             lambda: 1e-3,
             nu: 2.0,
             trial: vec![0.0; p],
-            r_trial: vec![0.0; n],
+            r_trial: vec![0.0; kept],
             small_decreases: 0,
             need_jacobian: true,
             decreases: [0.0; 3],
@@ -582,9 +625,12 @@ impl Iterate {
         let p = self.theta.len();
         let mut jtj = vec![0.0; p * p];
         let mut g = vec![0.0; p];
-        let ok = problem
-            .normal_equations(&self.theta, &self.r, &mut jtj, &mut g)
-            .is_ok();
+        let ok = if self.r.len() == self.n {
+            problem.normal_equations(&self.theta, &self.r, &mut jtj, &mut g)
+        } else {
+            problem.sums_at(&self.theta, &mut jtj, &mut g)
+        }
+        .is_ok();
         if ok {
             (self.jtj, self.g) = (jtj, g);
         }
@@ -624,89 +670,6 @@ fn observe(
         return Err(FitError::Interrupted);
     }
     Ok(())
-}
-
-/// The damped Gauss–Newton step δ: (JᵀJ + λ D) δ = −g, D the diagonal of JᵀJ (Marquardt's
-/// scaling, each entry at least 1e-30); `None` when the matrix is not positive definite.
-fn damped_step(jtj: &[f64], g: &[f64], lambda: f64, p: usize) -> Option<Vec<f64>> {
-    let mut a = jtj.to_vec();
-    for j in 0..p {
-        let d = jtj[j * p + j].max(1e-30);
-        a[j * p + j] = jtj[j * p + j] + lambda * d;
-    }
-    let rhs: Vec<f64> = g.iter().map(|v| -v).collect();
-    cholesky_solve(&a, &rhs, p)
-}
-
-/// The decrease of the cost the damped Gauss–Newton model predicts for the step δ:
-/// Σ δ_j (λ D_j δ_j − g_j).
-fn predicted_decrease(delta: &[f64], jtj: &[f64], g: &[f64], lambda: f64) -> f64 {
-    let p = delta.len();
-    let mut predicted = 0.0;
-    for j in 0..p {
-        predicted += delta[j] * (lambda * jtj[j * p + j].max(1e-30) * delta[j] - g[j]);
-    }
-    predicted
-}
-
-/// Bates and Watts' relative offset √(gᵀ(JᵀJ)⁻¹g / p) / √(cost / (n − p)), g = Jᵀr; infinite
-/// when it cannot be evaluated (n ≤ p, a singular JᵀJ), so the test never stops the method then.
-fn relative_offset(jtj: &[f64], g: &[f64], cost: f64, n: usize, p: usize) -> f64 {
-    if n <= p || cost <= 0.0 {
-        return f64::INFINITY;
-    }
-    // (JᵀJ)⁻¹ in Marquardt's scaling (unit diagonal), for its conditioning; a column of zeros
-    // (a parameter the residuals ignore) keeps a unit diagonal and contributes nothing.
-    let d: Vec<f64> = (0..p)
-        .map(|j| {
-            let v = jtj[j * p + j];
-            if v > 0.0 {
-                v.sqrt()
-            } else {
-                1.0
-            }
-        })
-        .collect();
-    let mut a = vec![0.0; p * p];
-    for i in 0..p {
-        for j in 0..p {
-            a[i * p + j] = jtj[i * p + j] / (d[i] * d[j]);
-        }
-        a[i * p + i] = a[i * p + i].max(1.0);
-    }
-    let b: Vec<f64> = g.iter().zip(&d).map(|(v, s)| v / s).collect();
-    let Some(x) = cholesky_solve(&a, &b, p) else {
-        return f64::INFINITY;
-    };
-    let projected: f64 = x.iter().zip(&b).map(|(u, v)| u * v).sum();
-    let value = (projected.max(0.0) / p as f64).sqrt() / (cost / (n - p) as f64).sqrt();
-    if value.is_finite() {
-        value
-    } else {
-        f64::INFINITY
-    }
-}
-
-/// The cost decrease the relative-offset test counts as negligible: ‖r‖² p/(n − p) · `offset`²
-/// (a relative offset of `offset`); 0 when the test is off (`offset` = 0) or cannot be
-/// evaluated (n ≤ p).
-fn negligible_gain(cost: f64, n: usize, p: usize, offset: f64) -> f64 {
-    if n <= p {
-        return 0.0;
-    }
-    cost * p as f64 / (n - p) as f64 * offset * offset
-}
-
-/// Whether the decreases `d` = [d₁, d₂, d₃] of the last three accepted steps (oldest first)
-/// fade so fast that the steps to come gain at most `negligible` in all: each dᵢ > 0, the
-/// slower ratio q = max(d₂/d₁, d₃/d₂) < 1, and d₃ q / (1 − q) ≤ `negligible` (the sum of the
-/// geometric series d₃ q + d₃ q² + …). See [`Termination::FadingDecrease`].
-fn fading(d: [f64; 3], negligible: f64) -> bool {
-    if !(negligible > 0.0 && d.iter().all(|x| *x > 0.0)) {
-        return false;
-    }
-    let q = (d[1] / d[0]).max(d[2] / d[1]);
-    q < 1.0 && d[2] * q / (1.0 - q) <= negligible
 }
 
 fn sum_sq(r: &[f64]) -> f64 {

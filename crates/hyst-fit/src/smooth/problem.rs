@@ -225,15 +225,87 @@ impl Problem for SmoothProblem<'_> {
         jtj: &mut [f64],
         g: &mut [f64],
     ) -> Result<(), Infeasible> {
-        let p = theta.len();
-        if p > 12 {
+        if theta.len() > 12 {
             return crate::lm::jacobian_normal_equations(self, theta, r, jtj, g);
         }
+        self.dual_sums(theta, jtj, g, |k, _| r.get(k).copied().unwrap_or(0.0))
+    }
+
+    /// A long record's problem keeps no residual vectors (8 bytes a sample each, two of them
+    /// alive in a polish): from [`KEEP_RESIDUALS_BELOW`] residuals on.
+    fn keeps_residuals(&self) -> bool {
+        self.n < KEEP_RESIDUALS_BELOW
+    }
+
+    /// Σ r² of [`Problem::residuals`], summed in their order as they are computed (the same
+    /// number, bit for bit).
+    fn cost(&self, theta: &[f64]) -> Result<f64, Infeasible> {
+        let m = self.model(theta)?;
+        let bands = self.bands(&m);
+        // −0 is the neutral element of a float sum (as `Sum` starts).
+        let mut sum = -0.0;
+        let mut finite = true;
+        for (index, (h, offsets)) in self.histories.iter().enumerate() {
+            let band = bands.as_deref().and_then(|b| b.get(index).copied());
+            let mut rows = ResidualRows::new(&h.parts, offsets);
+            m.run_timed(&h.input, h.period, band, |i, s| {
+                if rows.row(i).is_none() {
+                    return;
+                }
+                let (Some(obs), Some(w)) = (h.output.get(i), h.weight.get(i)) else {
+                    return;
+                };
+                let v = (s.y - obs) * (w.sqrt() * self.inv_span);
+                finite &= v.is_finite();
+                sum += v * v;
+            })
+            .map_err(|_| Infeasible)?;
+        }
+        if finite {
+            Ok(sum)
+        } else {
+            Err(Infeasible)
+        }
+    }
+
+    /// JᵀJ and Jᵀr in one dual run, each residual the value part of the run's output.
+    fn sums_at(&self, theta: &[f64], jtj: &mut [f64], g: &mut [f64]) -> Result<(), Infeasible> {
+        if theta.len() > 12 {
+            let mut r = vec![0.0; self.n];
+            self.residuals(theta, &mut r)?;
+            return crate::lm::jacobian_normal_equations(self, theta, &r, jtj, g);
+        }
+        self.dual_sums(theta, jtj, g, |_, rk| rk)?;
+        if g.iter().all(|v| v.is_finite()) {
+            Ok(())
+        } else {
+            Err(Infeasible)
+        }
+    }
+}
+
+/// From this many residuals on, [`SmoothProblem`] keeps no residual vectors
+/// ([`Problem::keeps_residuals`]): 8 MB each, where a vector costs more than the sums computed
+/// again.
+const KEEP_RESIDUALS_BELOW: usize = 1 << 20;
+
+impl SmoothProblem<'_> {
+    /// JᵀJ and g = Jᵀr (up to 12 parameters) from one dual run, each entry summed over the rows
+    /// in order; `residual(k, value)` gives r_k from the row and the residual of the run's
+    /// value part.
+    fn dual_sums(
+        &self,
+        theta: &[f64],
+        jtj: &mut [f64],
+        g: &mut [f64],
+        residual: impl Fn(usize, f64) -> f64,
+    ) -> Result<(), Infeasible> {
+        let p = theta.len();
         // −0 is the neutral element of a float sum (as `Sum` starts).
         jtj.fill(-0.0);
         g.fill(-0.0);
-        let accumulate = |k: usize, row: &[f64]| {
-            let rk = r.get(k).copied().unwrap_or(0.0);
+        let accumulate = |k: usize, value: f64, row: &[f64]| {
+            let rk = residual(k, value);
             for (a, ja) in row.iter().enumerate() {
                 if let Some(ga) = g.get_mut(a) {
                     *ga += ja * rk;
@@ -253,16 +325,14 @@ impl Problem for SmoothProblem<'_> {
         }
         Ok(())
     }
-}
 
-impl SmoothProblem<'_> {
     /// Every column of the Jacobian of up to 12 parameters from one dual run
     /// ([`SmoothProblem::dual_rows`]), the dual's width the next of 4, 6, 8, 12 (unused lanes
     /// cost time).
     fn one_dual_run(
         &self,
         theta: &[f64],
-        row: impl FnMut(usize, &[f64]),
+        row: impl FnMut(usize, f64, &[f64]),
     ) -> Result<(), Infeasible> {
         match theta.len() {
             0..=4 => self.dual_rows::<4>(theta, 0, row),
@@ -274,13 +344,14 @@ impl SmoothProblem<'_> {
 
     /// Columns `offset..offset + N` of the Jacobian (those that exist) from one dual run over
     /// each history (as [`SmoothProblem::simulate`] runs them): θ_j seeded as the dual variable
-    /// j − offset, the others constant. `row(k, d)` receives the derivatives `d` of residual
-    /// `k`, rows in order; `Err` when one is not finite.
+    /// j − offset, the others constant. `row(k, r, d)` receives residual `k` as the run's value
+    /// part gives it and its derivatives `d`, rows in order; `Err` when a derivative is not
+    /// finite.
     fn dual_rows<const N: usize>(
         &self,
         theta: &[f64],
         offset: usize,
-        mut row: impl FnMut(usize, &[f64]),
+        mut row: impl FnMut(usize, f64, &[f64]),
     ) -> Result<(), Infeasible> {
         let seeded: Vec<Dual<f64, N>> = theta
             .iter()
@@ -307,7 +378,8 @@ impl SmoothProblem<'_> {
                     *slot = g * scale;
                     finite &= slot.is_finite();
                 }
-                row(k, &d[..columns]);
+                let obs = h.output.get(i).copied().unwrap_or(f64::NAN);
+                row(k, (y.value() - obs) * scale, &d[..columns]);
             })
             .map_err(|_| Infeasible)?;
         }
@@ -355,8 +427,8 @@ impl<'p> ResidualRows<'p> {
 
 /// Writes a row of derivatives (columns `offset..`) into the column-major Jacobian `jac` of
 /// `n` rows.
-fn columns(jac: &mut [f64], n: usize, offset: usize) -> impl FnMut(usize, &[f64]) + '_ {
-    move |k, row| {
+fn columns(jac: &mut [f64], n: usize, offset: usize) -> impl FnMut(usize, f64, &[f64]) + '_ {
+    move |k, _, row| {
         for (c, d) in row.iter().enumerate() {
             if let Some(slot) = jac.get_mut((offset + c) * n + k) {
                 *slot = *d;
@@ -548,6 +620,107 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The sums a long record's polish asks for (no residual vectors) are those of the stored
+    /// residuals, bit for bit: Σ r², JᵀJ and Jᵀr.
+    #[test]
+    fn sums_without_residual_vectors_are_the_stored_ones() {
+        let data = data();
+        for estimate in [false, true] {
+            let structure = Structure {
+                output_shaping: ShapingKind::Tanh,
+                ..Structure::default()
+            };
+            let layout = Layout::new(structure, normalisation(&data));
+            let problem = SmoothProblem::new(&layout, &data, estimate);
+            let p = layout.len();
+            let mut theta = layout.start();
+            theta[0] = 0.3_f64.ln();
+            theta[1] = 4.0_f64.ln();
+            let mut r = vec![0.0; problem.n];
+            problem.residuals(&theta, &mut r).unwrap();
+            let cost: f64 = r.iter().map(|v| v * v).sum();
+            assert_eq!(problem.cost(&theta).unwrap().to_bits(), cost.to_bits());
+            let (mut jtj, mut g) = (vec![0.0; p * p], vec![0.0; p]);
+            problem
+                .normal_equations(&theta, &r, &mut jtj, &mut g)
+                .unwrap();
+            let (mut jtj2, mut g2) = (vec![0.0; p * p], vec![0.0; p]);
+            problem.sums_at(&theta, &mut jtj2, &mut g2).unwrap();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(
+                (bits(&jtj), bits(&g)),
+                (bits(&jtj2), bits(&g2)),
+                "{estimate}"
+            );
+            // Infeasible stays infeasible.
+            let mut bad = theta.clone();
+            bad[0] = f64::NAN;
+            assert!(
+                problem.cost(&bad).is_err() && problem.sums_at(&bad, &mut jtj2, &mut g2).is_err()
+            );
+        }
+    }
+
+    /// A problem that keeps no residual vectors: the same problem otherwise.
+    struct Sums<'a>(&'a SmoothProblem<'a>);
+
+    impl Problem for Sums<'_> {
+        fn parameters(&self) -> usize {
+            self.0.parameters()
+        }
+        fn residual_count(&self) -> usize {
+            self.0.residual_count()
+        }
+        fn residuals(&self, theta: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
+            self.0.residuals(theta, r)
+        }
+        fn jacobian(&self, theta: &[f64], r: &[f64], jac: &mut [f64]) -> Result<(), Infeasible> {
+            self.0.jacobian(theta, r, jac)
+        }
+        fn keeps_residuals(&self) -> bool {
+            false
+        }
+        fn cost(&self, theta: &[f64]) -> Result<f64, Infeasible> {
+            self.0.cost(theta)
+        }
+        fn sums_at(&self, theta: &[f64], jtj: &mut [f64], g: &mut [f64]) -> Result<(), Infeasible> {
+            self.0.sums_at(theta, jtj, g)
+        }
+    }
+
+    /// Levenberg–Marquardt without residual vectors takes the same steps to the same optimum.
+    #[test]
+    fn the_method_without_residual_vectors_takes_the_same_steps() {
+        let data = data();
+        let layout = Layout::new(Structure::default(), normalisation(&data));
+        let problem = SmoothProblem::new(&layout, &data, false);
+        let method = crate::lm::LevenbergMarquardt::default();
+        let start = layout.start();
+        let kept = method
+            .minimize(&problem, &start, &mut crate::lm::Silent)
+            .unwrap();
+        let summed = method
+            .minimize(&Sums(&problem), &start, &mut crate::lm::Silent)
+            .unwrap();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert!(kept.iterations > 3 && kept.residuals.len() == problem.n);
+        assert!(summed.residuals.is_empty());
+        assert_eq!(
+            (
+                bits(&kept.theta),
+                kept.cost.to_bits(),
+                bits(&kept.jtj),
+                kept.iterations
+            ),
+            (
+                bits(&summed.theta),
+                summed.cost.to_bits(),
+                bits(&summed.jtj),
+                summed.iterations
+            )
+        );
     }
 
     #[test]
