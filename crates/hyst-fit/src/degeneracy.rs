@@ -10,9 +10,9 @@ use serde::{Deserialize, Serialize};
 use hyst_io::number::sig;
 use hyst_model::Estimate;
 
-use crate::data::{Dataset, Record};
+use crate::data::{range, Dataset, Record};
 use crate::layout::{IN_ARG_AT_CENTRE, IN_SCALE, OUT_ARG_AT_CENTRE, OUT_SCALE};
-use crate::orientation::{loops, one_way, Orientation, MIN_GAP};
+use crate::orientation::{loops, loops_of, one_way, Orientation, MIN_GAP};
 
 /// A model whose RMS error is above this fraction of the straight line's does no better than
 /// a line.
@@ -333,19 +333,15 @@ pub fn diagnose(
 /// `outputs` in place of the measured ones), as a fraction of the data's output span, not the
 /// model's (positive for clockwise).
 fn model_gap(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
-    let records: Vec<Record> = training(data, outputs)
-        .map(|(r, y)| Record {
-            output: y.clone(),
-            ..r.clone()
-        })
-        .collect();
-    let modelled = Dataset::from_records(&data.source, data.columns.clone(), records);
+    // The training records with the model's outputs, read in place (a copy of the records
+    // took 24 bytes a sample).
+    let input_range = range(training(data, outputs).flat_map(|(r, _)| r.input.iter()));
+    let model_range = range(training(data, outputs).flat_map(|(_, y)| y.iter()));
+    let modelled = training(data, outputs).map(|(r, y)| (&r.input[..], &y[..], &r.weight[..]));
     let (ylo, yhi) = data.output_range();
-    let model_span = {
-        let (lo, hi) = modelled.output_range();
-        hi - lo
-    };
-    loops(&modelled).gap * model_span / (yhi - ylo).max(f64::MIN_POSITIVE)
+    let model_span = model_range.1 - model_range.0;
+    loops_of(modelled, input_range, model_range).gap * model_span
+        / (yhi - ylo).max(f64::MIN_POSITIVE)
 }
 
 /// The reason a model with the branch gaps `gap` (on the training inputs) and `swept` (on a

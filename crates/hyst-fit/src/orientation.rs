@@ -70,29 +70,45 @@ struct Directed {
     weight: f64,
 }
 
+/// A record's samples as [`directed`] reads them: input, output and weight.
+pub(crate) type Samples<'a> = (&'a [f64], &'a [f64], &'a [f64]);
+
 /// The training samples of `data` of positive weight whose input moves (the direction by the
 /// central difference, one-sided at the ends), each in its bin of [`BINS`] over the input
 /// range: what [`loops`] and [`against_trend`] sum.
 fn directed(data: &Dataset) -> impl Iterator<Item = Directed> + '_ {
-    let (xlo, xhi) = data.input_range();
-    let (ylo, yhi) = data.output_range();
+    directed_in(
+        data.training()
+            .map(|r| (&r.input[..], &r.output[..], &r.weight[..])),
+        data.input_range(),
+        data.output_range(),
+    )
+}
+
+/// [`directed`] over the samples of `records`, normalised over `input_range` and
+/// `output_range`.
+fn directed_in<'a>(
+    records: impl Iterator<Item = Samples<'a>> + 'a,
+    (xlo, xhi): (f64, f64),
+    (ylo, yhi): (f64, f64),
+) -> impl Iterator<Item = Directed> + 'a {
     let xs = (xhi - xlo).max(f64::MIN_POSITIVE);
     let ys = (yhi - ylo).max(f64::MIN_POSITIVE);
-    data.training().flat_map(move |r| {
-        let n = r.input.len();
+    records.flat_map(move |(input, output, weights)| {
+        let n = input.len();
         (0..n).filter_map(move |i| {
             let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-            let dx = r.input[b] - r.input[a];
-            let weight = r.weight[i];
+            let dx = input[b] - input[a];
+            let weight = weights[i];
             if dx == 0.0 || weight <= 0.0 {
                 return None;
             }
-            let x = (r.input[i] - xlo) / xs;
+            let x = (input[i] - xlo) / xs;
             Some(Directed {
                 falling: dx < 0.0,
                 bin: ((x * BINS as f64).floor().max(0.0) as usize).min(BINS - 1),
                 x,
-                y: (r.output[i] - ylo) / ys,
+                y: (output[i] - ylo) / ys,
                 weight,
             })
         })
@@ -102,9 +118,25 @@ fn directed(data: &Dataset) -> impl Iterator<Item = Directed> + '_ {
 /// The orientation of the loops in the training records of `data`.
 #[must_use]
 pub fn loops(data: &Dataset) -> Loops {
+    loops_in(directed(data))
+}
+
+/// The orientation of the loops in `records`, normalised over `input_range` and
+/// `output_range`: [`loops`] of records that need not be a dataset's (a model's outputs in
+/// place of the measured ones, without a copy of the records).
+pub(crate) fn loops_of<'a>(
+    records: impl Iterator<Item = Samples<'a>> + 'a,
+    input_range: (f64, f64),
+    output_range: (f64, f64),
+) -> Loops {
+    loops_in(directed_in(records, input_range, output_range))
+}
+
+/// [`loops`] of the samples `directed`.
+fn loops_in(directed: impl Iterator<Item = Directed>) -> Loops {
     // Per bin and direction (0 rising, 1 falling): n, Σx, Σy, Σx², Σxy, in normalised units.
     let mut sums = [[[0.0_f64; 5]; 2]; BINS];
-    for d in directed(data) {
+    for d in directed {
         let s = &mut sums[d.bin][usize::from(d.falling)];
         for (acc, v) in s.iter_mut().zip([1.0, d.x, d.y, d.x * d.x, d.x * d.y]) {
             *acc += v;
