@@ -77,10 +77,24 @@ pub trait Problem {
     /// # Errors
     /// [`Infeasible`] as [`Problem::normal_equations`].
     fn sums_at(&self, theta: &[f64], jtj: &mut [f64], g: &mut [f64]) -> Result<(), Infeasible> {
-        let mut r = vec![0.0; self.residual_count()];
-        self.residuals(theta, &mut r)?;
-        self.normal_equations(theta, &r, jtj, g)
+        stored_sums(self, theta, jtj, g)
     }
+}
+
+/// [`Problem::sums_at`] from stored residuals: [`Problem::residuals`] into a vector, then
+/// [`Problem::normal_equations`].
+///
+/// # Errors
+/// [`Infeasible`] as those.
+pub fn stored_sums<P: Problem + ?Sized>(
+    problem: &P,
+    theta: &[f64],
+    jtj: &mut [f64],
+    g: &mut [f64],
+) -> Result<(), Infeasible> {
+    let mut r = vec![0.0; problem.residual_count()];
+    problem.residuals(theta, &mut r)?;
+    problem.normal_equations(theta, &r, jtj, g)
 }
 
 /// The stage of a fit a [`Progress`] belongs to (what `hyst fit` shows on a terminal).

@@ -12,6 +12,7 @@
 
 use hyst_core::{Dual, Shaping};
 use hyst_model::smooth::FitReal;
+use hyst_model::timed::TimedSample;
 use hyst_model::SmoothModel;
 
 use crate::data::{Dataset, History};
@@ -130,18 +131,35 @@ impl<'a> SmoothProblem<'a> {
         y: &mut [f64],
         mut z: Option<&mut [f64]>,
     ) -> Result<(), Infeasible> {
+        // Each sample of a training part straight into its residual's row (no copy of the
+        // history's outputs: 16 bytes a sample of a long record).
+        self.run_rows(m, bands, |k, _, _, s| {
+            if let Some(slot) = y.get_mut(k) {
+                *slot = s.y;
+            }
+            if let Some(slot) = z.as_deref_mut().and_then(|z| z.get_mut(k)) {
+                *slot = s.z;
+            }
+        })
+    }
+
+    /// Runs `m` over each history whole (a segment starts where the one before it ended), from
+    /// the starts `bands` (`None`: the start rule), and hands every sample of a training part
+    /// to `each(k, h, i, s)`: its residual row `k`, its history `h`, its index `i` there and
+    /// the model's sample `s`, rows in order (parts are in sample order, so one cursor walks
+    /// them). The one loop behind the residuals, their sum and the dual run.
+    fn run_rows<T: FitReal>(
+        &self,
+        m: &SmoothModel<T>,
+        bands: Option<&[f64]>,
+        mut each: impl FnMut(usize, &History<'_>, usize, TimedSample<T>),
+    ) -> Result<(), Infeasible> {
         for (index, (h, offsets)) in self.histories.iter().enumerate() {
             let band = bands.and_then(|b| b.get(index).copied());
-            // Each sample of a training part straight into its residual's row (no copy of the
-            // history's outputs: 16 bytes a sample of a long record).
             let mut rows = ResidualRows::new(&h.parts, offsets);
             m.run_timed(&h.input, h.period, band, |i, s| {
-                let Some(k) = rows.row(i) else { return };
-                if let Some(slot) = y.get_mut(k) {
-                    *slot = s.y;
-                }
-                if let Some(slot) = z.as_deref_mut().and_then(|z| z.get_mut(k)) {
-                    *slot = s.z;
+                if let Some(k) = rows.row(i) {
+                    each(k, h, i, s);
                 }
             })
             .map_err(|_| Infeasible)?;
@@ -149,11 +167,16 @@ impl<'a> SmoothProblem<'a> {
         Ok(())
     }
 
+    /// A residual's scale √w / output half-span, for a sample of weight `w`.
+    fn scale(&self, w: f64) -> f64 {
+        w.sqrt() * self.inv_span
+    }
+
     fn to_residuals(&self, y: &[f64], r: &mut [f64]) -> Result<(), Infeasible> {
         let mut i = 0;
         for rec in self.data.training() {
             for (obs, w) in rec.output.iter().zip(&rec.weight) {
-                let v = (y[i] - obs) * (w.sqrt() * self.inv_span);
+                let v = (y[i] - obs) * self.scale(*w);
                 if !v.is_finite() {
                     return Err(Infeasible);
                 }
@@ -241,26 +264,17 @@ impl Problem for SmoothProblem<'_> {
     /// number, bit for bit).
     fn cost(&self, theta: &[f64]) -> Result<f64, Infeasible> {
         let m = self.model(theta)?;
-        let bands = self.bands(&m);
         // −0 is the neutral element of a float sum (as `Sum` starts).
         let mut sum = -0.0;
         let mut finite = true;
-        for (index, (h, offsets)) in self.histories.iter().enumerate() {
-            let band = bands.as_deref().and_then(|b| b.get(index).copied());
-            let mut rows = ResidualRows::new(&h.parts, offsets);
-            m.run_timed(&h.input, h.period, band, |i, s| {
-                if rows.row(i).is_none() {
-                    return;
-                }
-                let (Some(obs), Some(w)) = (h.output.get(i), h.weight.get(i)) else {
-                    return;
-                };
-                let v = (s.y - obs) * (w.sqrt() * self.inv_span);
-                finite &= v.is_finite();
-                sum += v * v;
-            })
-            .map_err(|_| Infeasible)?;
-        }
+        self.run_rows(&m, self.bands(&m).as_deref(), |_, h, i, s| {
+            let (Some(obs), Some(w)) = (h.output.get(i), h.weight.get(i)) else {
+                return;
+            };
+            let v = (s.y - obs) * self.scale(*w);
+            finite &= v.is_finite();
+            sum += v * v;
+        })?;
         if finite {
             Ok(sum)
         } else {
@@ -271,9 +285,7 @@ impl Problem for SmoothProblem<'_> {
     /// JᵀJ and Jᵀr in one dual run, each residual the value part of the run's output.
     fn sums_at(&self, theta: &[f64], jtj: &mut [f64], g: &mut [f64]) -> Result<(), Infeasible> {
         if theta.len() > 12 {
-            let mut r = vec![0.0; self.n];
-            self.residuals(theta, &mut r)?;
-            return crate::lm::jacobian_normal_equations(self, theta, &r, jtj, g);
+            return crate::lm::stored_sums(self, theta, jtj, g);
         }
         self.dual_sums(theta, jtj, g, |_, rk| rk)?;
         if g.iter().all(|v| v.is_finite()) {
@@ -365,24 +377,16 @@ impl SmoothProblem<'_> {
         let columns = N.min(theta.len().saturating_sub(offset));
         let mut finite = true;
         let mut d = [0.0; N];
-        // Each history whole, as `simulate` runs it; a sample of a training part lands at its
-        // residual's row (parts are in sample order, so one cursor walks them).
-        for (index, (h, offsets)) in self.histories.iter().enumerate() {
-            let mut rows = ResidualRows::new(&h.parts, offsets);
-            let band = bands.as_ref().and_then(|b| b.get(index).copied());
-            m.run_timed(&h.input, h.period, band, |i, s| {
-                let y = s.y;
-                let Some(k) = rows.row(i) else { return };
-                let scale = h.weight.get(i).map_or(0.0, |w| w.sqrt() * self.inv_span);
-                for (slot, g) in d.iter_mut().zip(y.gradient().iter().take(columns)) {
-                    *slot = g * scale;
-                    finite &= slot.is_finite();
-                }
-                let obs = h.output.get(i).copied().unwrap_or(f64::NAN);
-                row(k, (y.value() - obs) * scale, &d[..columns]);
-            })
-            .map_err(|_| Infeasible)?;
-        }
+        self.run_rows(&m, bands.as_deref(), |k, h, i, s| {
+            let y = s.y;
+            let scale = h.weight.get(i).map_or(0.0, |w| self.scale(*w));
+            for (slot, g) in d.iter_mut().zip(y.gradient().iter().take(columns)) {
+                *slot = g * scale;
+                finite &= slot.is_finite();
+            }
+            let obs = h.output.get(i).copied().unwrap_or(f64::NAN);
+            row(k, (y.value() - obs) * scale, &d[..columns]);
+        })?;
         if finite {
             Ok(())
         } else {
