@@ -428,7 +428,6 @@ fn print_table(best: &[f64], ratios: &Ratios) {
             outln!("{name:<40} {:>10}", "no AVX2");
         }
     }
-    let verdict = |met: bool| if met { "met" } else { "NOT met" };
     outln!();
     outln!(
         "goal inverse <= 1.5 x exp:            {inverse_ratio:.2} ({})",
@@ -479,9 +478,17 @@ fn print_table(best: &[f64], ratios: &Ratios) {
     );
 }
 
+/// How a goal's line ends: "met" or "NOT met".
+fn verdict(met: bool) -> &'static str {
+    if met {
+        "met"
+    } else {
+        "NOT met"
+    }
+}
+
 /// Prints the long-record fit's figures under the table, with its goals met or not.
 fn print_fit(fit: &FitFigures) {
-    let verdict = |met: bool| if met { "met" } else { "NOT met" };
     outln!();
     outln!(
         "random walk of {} rows: hyst fit {:.2} s, hyst run {:.2} s",

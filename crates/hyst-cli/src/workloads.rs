@@ -8,8 +8,9 @@
 //! per channel-sample: in one block (`process`, time-major), and tick by tick (`step` with one
 //! sample per channel, a controller's loop) next to 1,024 scalar operators stepped the same way
 //! (each once per tick), on the best kernel and with the AVX2 kernel forced (a processor without
-//! AVX-512; not run where the processor has no AVX2 + FMA, see [`Inputs::available`]). The C peer (`c_peer_ns`) is a plain-C inverse of eq. (4) with no checks
-//! (src/peer/peer.c, compiled by build.rs), on the inverse workload's signal.
+//! AVX-512; not run where the processor has no AVX2 + FMA, see [`Inputs::available`]). The C
+//! peer (`c_peer_ns`) is a plain-C inverse of eq. (4) with no checks (src/peer/peer.c, compiled
+//! by build.rs), on the inverse workload's signal.
 
 use std::cell::RefCell;
 use std::hint::black_box;
