@@ -9,6 +9,7 @@ use hyst_io::Table;
 use hyst_model::Columns;
 
 use crate::error::FitError;
+use crate::rows::Rows;
 
 /// The largest magnitude of a record id: beyond, a float no longer holds every integer
 /// (2⁵³ ≈ 9.007e15), so neighbouring ids would merge.
@@ -49,87 +50,6 @@ pub struct Record {
     /// ([`DataOptions::timed`]): the record's mean time step, every step within
     /// [`TIME_TOLERANCE`](hyst_model::dynamics::TIME_TOLERANCE) of it.
     pub period: Option<f64>,
-}
-
-/// The table rows of a record's samples, in sample order, held as runs of consecutive rows: a
-/// record read in one piece is one run (16 bytes, where a row index per sample took 8 bytes a
-/// sample). Build it by [`Rows::push`] or by collecting row indices.
-#[derive(Clone, Debug, PartialEq, Eq, Default)]
-pub struct Rows {
-    /// (first row, index of its sample) of each run, in sample order; maximal runs, so equal
-    /// sequences have equal runs.
-    runs: Vec<(usize, usize)>,
-    /// Number of samples.
-    len: usize,
-}
-
-impl Rows {
-    /// Number of samples.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    /// Whether there are no samples.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
-    /// Appends the row of the next sample.
-    pub fn push(&mut self, row: usize) {
-        let extends = self
-            .runs
-            .last()
-            .is_some_and(|&(first, at)| first.checked_add(self.len - at) == Some(row));
-        if !extends {
-            self.runs.push((row, self.len));
-        }
-        self.len += 1;
-    }
-
-    /// The row of sample `i` (`None` past the end).
-    #[must_use]
-    pub fn get(&self, i: usize) -> Option<usize> {
-        if i >= self.len {
-            return None;
-        }
-        let k = self
-            .runs
-            .partition_point(|&(_, at)| at <= i)
-            .checked_sub(1)?;
-        self.runs.get(k).map(|&(first, at)| first + (i - at))
-    }
-
-    /// The rows of the samples, in order.
-    pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
-        self.runs
-            .iter()
-            .enumerate()
-            .flat_map(move |(k, &(first, at))| {
-                let end = self.runs.get(k + 1).map_or(self.len, |&(_, next)| next);
-                first..first + (end - at)
-            })
-    }
-
-    /// The rows of the samples `range` (clipped to the samples there are).
-    #[must_use]
-    pub fn slice(&self, range: std::ops::Range<usize>) -> Rows {
-        self.iter()
-            .skip(range.start)
-            .take(range.end.saturating_sub(range.start))
-            .collect()
-    }
-}
-
-impl FromIterator<usize> for Rows {
-    fn from_iter<I: IntoIterator<Item = usize>>(rows: I) -> Self {
-        let mut out = Rows::default();
-        for row in rows {
-            out.push(row);
-        }
-        out
-    }
 }
 
 /// Consecutive records that form one uninterrupted history (one measurement cut into
@@ -791,33 +711,6 @@ fn abbreviate(items: &[String]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Rows held as runs give back every row pushed, by index, in order and in slices, and a
-    /// record read in one piece is one run.
-    #[test]
-    fn rows_are_kept_as_runs() {
-        let pushed = [5, 6, 7, 2, 3, 9, 9, 10, 0];
-        let rows: Rows = pushed.iter().copied().collect();
-        assert_eq!(rows.len(), pushed.len());
-        assert_eq!(rows.iter().collect::<Vec<_>>(), pushed);
-        for (i, row) in pushed.iter().enumerate() {
-            assert_eq!(rows.get(i), Some(*row), "sample {i}");
-        }
-        assert_eq!(rows.get(pushed.len()), None);
-        assert_eq!(rows.runs.len(), 5);
-        for (a, b) in [(0, 9), (1, 4), (2, 7), (4, 4), (8, 20)] {
-            let want: Vec<usize> = pushed.iter().copied().skip(a).take(b.max(a) - a).collect();
-            assert_eq!(
-                rows.slice(a..b).iter().collect::<Vec<_>>(),
-                want,
-                "{a}..{b}"
-            );
-            assert_eq!(rows.slice(a..b), want.into_iter().collect::<Rows>());
-        }
-        let whole: Rows = (0..1_000_000).collect();
-        assert_eq!((whole.runs.len(), whole.get(999_999)), (1, Some(999_999)));
-        assert!(Rows::default().is_empty() && Rows::default().iter().next().is_none());
-    }
 
     /// Issue 28, item 2: the weights' scale is removed (their ratios kept), unit weights stay
     /// exactly 1.

@@ -44,6 +44,7 @@ pub mod pi_fit;
 mod race;
 pub mod reduction;
 pub mod report;
+pub mod rows;
 pub mod smooth;
 pub mod timed;
 pub mod widths;

@@ -25,7 +25,8 @@
 //! window have weight 0. The draw is an estimate, not exact where kept: the polish on the full
 //! data corrects it.
 
-use crate::data::{Dataset, Record, Rows};
+use crate::data::{Dataset, Record};
+use crate::rows::Rows;
 
 /// Records with fewer training samples than this are fitted whole.
 pub const REDUCE_ABOVE: usize = 100_000;
@@ -115,7 +116,7 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
             continues: r.continues,
             period: r.period,
         };
-        for (i, &must) in forced.iter().enumerate() {
+        for ((i, &must), row) in forced.iter().enumerate().zip(r.rows.iter()) {
             if !must && !picked(i, stride) {
                 continue;
             }
@@ -123,7 +124,7 @@ pub fn reduce(data: &Dataset) -> Option<Dataset> {
             reduced.output.push(r.output[i]);
             let w = if must { 1.0 } else { stride as f64 };
             reduced.weight.push(w * r.weight[i]);
-            reduced.rows.push(r.rows.get(i).unwrap_or(0));
+            reduced.rows.push(row);
         }
         kept_total += reduced.len();
         records.push(reduced);
