@@ -53,7 +53,7 @@ fn data() -> Dataset {
         .collect();
     let record = Record {
         id: 0,
-        weight: vec![1.0; SAMPLES],
+        weight: hyst_fit::Weights::Unit(SAMPLES),
         rows: (0..SAMPLES).collect(),
         input: u,
         output: y,

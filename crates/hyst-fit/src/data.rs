@@ -9,7 +9,9 @@ use hyst_io::Table;
 use hyst_model::Columns;
 
 use crate::error::FitError;
+pub use crate::record::{DataOptions, History, Record};
 use crate::rows::Rows;
+use crate::weights::Weights;
 
 /// The largest magnitude of a record id: beyond, a float no longer holds every integer
 /// (2⁵³ ≈ 9.007e15), so neighbouring ids would merge.
@@ -26,99 +28,18 @@ pub const MAX_MAGNITUDE: f64 = 1e100;
 /// offset was already unidentified).
 pub const MIN_SPAN: f64 = 1e-100;
 
-/// One independent record (a loop, a reversal curve, an experiment): the model starts afresh
-/// at its first sample.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Record {
-    /// The record id (value of the record column, or the segment number).
-    pub id: i64,
-    /// Input samples (units of the input column).
-    pub input: Vec<f64>,
-    /// Output samples (units of the output column).
-    pub output: Vec<f64>,
-    /// Sample weights (≥ 0; 1 when no weight column is given).
-    pub weight: Vec<f64>,
-    /// Row index in the table of each sample (for error messages and plots over time).
-    pub rows: Rows,
-    /// Whether the record is held out for validation.
-    pub validation: bool,
-    /// Whether this record continues the history of the record before it: a segment cut by
-    /// `--segment` from the same measurement. The model then runs on from the state the
-    /// previous segment left (see [`Dataset::histories`]) instead of starting afresh.
-    pub continues: bool,
-    /// The sample period (s) from the time column, when the fit reads one
-    /// ([`DataOptions::timed`]): the record's mean time step, every step within
-    /// [`TIME_TOLERANCE`](hyst_model::dynamics::TIME_TOLERANCE) of it.
-    pub period: Option<f64>,
-}
-
-/// Consecutive records that form one uninterrupted history (one measurement cut into
-/// segments, or a single record): their samples in order, and where each record lies in them.
-/// A history of one record borrows its samples (a long record is not copied); one of several
-/// holds them joined.
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct History<'a> {
-    /// Input samples of all the records, in order.
-    pub input: Cow<'a, [f64]>,
-    /// Output samples.
-    pub output: Cow<'a, [f64]>,
-    /// Weights.
-    pub weight: Cow<'a, [f64]>,
-    /// (index of the record in [`Dataset::records`], first sample in this history, length).
-    pub parts: Vec<(usize, usize, usize)>,
-    /// The sample period of its first record ([`Record::period`]).
-    pub period: Option<f64>,
-}
-
-impl Record {
-    /// Number of samples.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.input.len()
-    }
-    /// Whether the record has no samples.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.input.is_empty()
-    }
-}
-
-/// How to read a dataset from a table.
-#[derive(Clone, Debug, Default)]
-pub struct DataOptions {
-    /// Input column.
-    pub input: String,
-    /// Output column.
-    pub output: String,
-    /// Record column; `None` looks for a column called `loop`, `curve_index`, `record` or
-    /// `segment`.
-    pub record: Option<String>,
-    /// Use no record column even if one of the usual names exists.
-    pub no_record: bool,
-    /// Weight column.
-    pub weight: Option<String>,
-    /// Cut every record into consecutive segments of this many samples (each its own record).
-    pub segment: Option<usize>,
-    /// Record ids (after segmentation: segment numbers 0, 1, …) held out for validation.
-    pub validate: Vec<i64>,
-    /// Hold out every k-th record (the 2nd, …) for validation, if no explicit list is given.
-    pub validate_every: Option<usize>,
-    /// Time column (s); `None` looks for one of [`TIME_COLUMNS`].
-    pub time: Option<String>,
-    /// Read the time column and give every record its sample period (a model with dynamics or
-    /// a rate term): the column must exist, and its stamps must increase evenly.
-    pub timed: bool,
-}
-
 /// Column names recognised as the time column (s) when none is named.
 pub const TIME_COLUMNS: [&str; 4] = ["t", "t_s", "time", "time_s"];
 
 /// The time column of `table` when none is named: the first of [`TIME_COLUMNS`] it has.
 #[must_use]
 pub fn default_time_column(table: &Table) -> Option<&'static str> {
-    TIME_COLUMNS
-        .into_iter()
-        .find(|n| table.column_index(n).is_some())
+    default_time_in(|n| table.column_index(n).is_some())
+}
+
+/// The first of [`TIME_COLUMNS`] that `has`.
+fn default_time_in(has: impl Fn(&str) -> bool) -> Option<&'static str> {
+    TIME_COLUMNS.into_iter().find(|n| has(n))
 }
 
 /// A dataset: named columns, records, and the file it came from.
@@ -154,7 +75,59 @@ impl Dataset {
     pub fn from_table(table: &Table, options: &DataOptions) -> Result<Self, FitError> {
         let input = table.column(&options.input)?;
         let output = table.column(&options.output)?;
-        check_columns(table, options, input, output)?;
+        Self::build(table, options, Cow::Borrowed(input), Cow::Borrowed(output))
+    }
+
+    /// [`Dataset::from_table`], taking the table: the input and output columns of a file
+    /// read as one record move into it rather than being copied (a long record is held once).
+    ///
+    /// # Errors
+    /// As [`Dataset::from_table`].
+    pub fn from_table_owned(mut table: Table, options: &DataOptions) -> Result<Self, FitError> {
+        if options.input == options.output {
+            // One column cannot be taken twice; the borrowed path gives the error.
+            return Self::from_table(&table, options);
+        }
+        let input = table.take_column(&options.input)?;
+        let output = table.take_column(&options.output)?;
+        Self::build(&table, options, Cow::Owned(input), Cow::Owned(output))
+    }
+
+    /// The columns of a table that [`Dataset::from_table`] reads with `options`, given the
+    /// table's column names (a reader keeps only these: [`Table::read_digest_selected`]).
+    #[must_use]
+    pub fn wanted_columns(names: &[String], options: &DataOptions) -> Vec<bool> {
+        let has = |name: &str| names.iter().any(|n| n == name);
+        let record = record_column_in(has, options);
+        let time = options
+            .timed
+            .then(|| {
+                options
+                    .time
+                    .clone()
+                    .or_else(|| default_time_in(has).map(str::to_string))
+            })
+            .flatten();
+        names
+            .iter()
+            .map(|n| {
+                *n == options.input
+                    || *n == options.output
+                    || record.as_deref() == Some(n.as_str())
+                    || options.weight.as_deref() == Some(n.as_str())
+                    || time.as_deref() == Some(n.as_str())
+            })
+            .collect()
+    }
+
+    /// The dataset of `table` read with `options`, from its input and output columns.
+    fn build(
+        table: &Table,
+        options: &DataOptions,
+        input: Cow<'_, [f64]>,
+        output: Cow<'_, [f64]>,
+    ) -> Result<Self, FitError> {
+        check_columns(table, options, &input, &output)?;
         let record_name = record_column(table, options);
         let labels = match &record_name {
             Some(name) if table.is_text(name) => Some(table.labels(name)?),
@@ -233,7 +206,7 @@ impl Dataset {
                 id: 0,
                 input: input[..n].to_vec(),
                 output: output[..n].to_vec(),
-                weight: vec![1.0; n],
+                weight: Weights::Unit(n),
                 rows: (0..n).collect(),
                 validation: false,
                 continues: false,
@@ -254,7 +227,7 @@ impl Dataset {
                     h.parts.push((i, h.input.len(), r.len()));
                     h.input.to_mut().extend_from_slice(&r.input);
                     h.output.to_mut().extend_from_slice(&r.output);
-                    h.weight.to_mut().extend_from_slice(&r.weight);
+                    h.weight.to_mut().extend(&r.weight);
                 }
                 _ => out.push(History {
                     input: Cow::Borrowed(&r.input),
@@ -285,8 +258,14 @@ impl Dataset {
         let mut out = vec![Vec::new(); self.records.len()];
         for (index, h) in self.histories().into_iter().enumerate() {
             let y = run(index, &h.input)?;
-            for (i, start, len) in h.parts {
-                out[i] = y.get(start..start + len)?.to_vec();
+            match h.parts[..] {
+                // A history of one record: its output as it is (a long record's is not copied).
+                [(i, 0, len)] if y.len() == len => out[i] = y,
+                _ => {
+                    for (i, start, len) in h.parts {
+                        out[i] = y.get(start..start + len)?.to_vec();
+                    }
+                }
             }
         }
         Some(out)
@@ -306,7 +285,7 @@ impl Dataset {
     #[must_use]
     pub fn training_samples(&self) -> usize {
         self.training()
-            .map(|r| r.weight.iter().filter(|w| **w > 0.0).count())
+            .map(|r| r.weight.iter().filter(|w| *w > 0.0).count())
             .sum()
     }
 
@@ -426,6 +405,11 @@ fn check_columns(
 /// The record column: the one named, else the first of [`RECORD_COLUMNS`] in the table; none
 /// with `no_record`.
 fn record_column(table: &Table, options: &DataOptions) -> Option<String> {
+    record_column_in(|n| table.column_index(n).is_some(), options)
+}
+
+/// [`record_column`] of a table whose column names are those `has`.
+fn record_column_in(has: impl Fn(&str) -> bool, options: &DataOptions) -> Option<String> {
     if options.no_record {
         None
     } else {
@@ -433,7 +417,7 @@ fn record_column(table: &Table, options: &DataOptions) -> Option<String> {
             Some(name) => Some(name.clone()),
             None => RECORD_COLUMNS
                 .iter()
-                .find(|n| table.column_index(n).is_some())
+                .find(|n| has(n))
                 .map(|n| (*n).to_string()),
         }
     }
@@ -489,7 +473,7 @@ fn set_periods(
 fn normalise_weights(records: &mut [Record]) {
     let training = || records.iter().filter(|r| !r.validation);
     let largest = training()
-        .flat_map(|r| r.weight.iter().copied())
+        .flat_map(|r| r.weight.iter())
         .fold(0.0_f64, f64::max);
     if !(largest > 0.0 && largest.is_finite()) {
         return;
@@ -497,11 +481,11 @@ fn normalise_weights(records: &mut [Record]) {
     // Scaled by the largest first, so that the sum cannot overflow.
     let (sum, count) = training()
         .flat_map(|r| r.weight.iter())
-        .filter(|w| **w > 0.0)
+        .filter(|w| *w > 0.0)
         .fold((0.0, 0_usize), |(s, n), w| (s + w / largest, n + 1));
     let mean = sum / count as f64;
-    for w in records.iter_mut().flat_map(|r| r.weight.iter_mut()) {
-        *w = *w / largest / mean;
+    for r in records.iter_mut() {
+        r.weight.map(|w| w / largest / mean);
     }
 }
 
@@ -517,17 +501,21 @@ enum RecordColumn<'a> {
 /// without it), each sample with its weight from the `weight` column (1 without it). A record
 /// is a run of equal ids (or labels); an id that comes back later continues its record.
 /// Labels are numbered 0, 1, … in order of first appearance; the labels are returned in that
-/// order (none for numeric ids).
+/// order (none for numeric ids). Without a record column, the input and output columns
+/// become the one record's (moved when owned).
 ///
 /// # Errors
 /// A record id that is not an integer of at most [`MAX_RECORD_ID`], a negative weight.
 fn group_rows(
     table: &Table,
-    input: &[f64],
-    output: &[f64],
+    input: Cow<'_, [f64]>,
+    output: Cow<'_, [f64]>,
     record: Option<RecordColumn<'_>>,
     weight: Option<(&str, &[f64])>,
 ) -> Result<(Vec<Record>, Vec<String>), FitError> {
+    if record.is_none() {
+        return one_record(table, input, output, weight).map(|r| (r, Vec::new()));
+    }
     let mut records: Vec<Record> = Vec::new();
     let mut index_of: BTreeMap<i64, usize> = BTreeMap::new();
     let mut label_ids: HashMap<&str, i64> = HashMap::new();
@@ -577,7 +565,7 @@ fn group_rows(
                 id,
                 input: Vec::new(),
                 output: Vec::new(),
-                weight: Vec::new(),
+                weight: Weights::default(),
                 rows: Rows::default(),
                 validation: false,
                 continues: false,
@@ -601,6 +589,47 @@ fn group_rows(
     Ok((records, labels))
 }
 
+/// The rows of `table` as one record (none when it has no rows), its weights from the `weight`
+/// column (1 without it).
+///
+/// # Errors
+/// A negative weight (the first).
+fn one_record(
+    table: &Table,
+    input: Cow<'_, [f64]>,
+    output: Cow<'_, [f64]>,
+    weight: Option<(&str, &[f64])>,
+) -> Result<Vec<Record>, FitError> {
+    let n = table.len();
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let weight = match weight {
+        Some((name, col)) => {
+            if let Some(row) = col.iter().position(|w| *w < 0.0) {
+                return Err(FitError::NegativeWeight {
+                    file: table.source().to_string(),
+                    line: table.line_of_row(row),
+                    column: name.to_string(),
+                    value: col[row],
+                });
+            }
+            Weights::Each(col.to_vec())
+        }
+        None => Weights::Unit(n),
+    };
+    Ok(vec![Record {
+        id: 0,
+        input: input.into_owned(),
+        output: output.into_owned(),
+        weight,
+        rows: (0..n).collect(),
+        validation: false,
+        continues: false,
+        period: None,
+    }])
+}
+
 /// Every record cut into consecutive segments of `len` samples (`--segment`), each its own
 /// record numbered from 0, continuing the one before it when cut from the same record.
 ///
@@ -621,7 +650,7 @@ fn segment(records: Vec<Record>, len: usize) -> Result<Vec<Record>, FitError> {
                 id: next,
                 input: r.input[start..end].to_vec(),
                 output: r.output[start..end].to_vec(),
-                weight: r.weight[start..end].to_vec(),
+                weight: r.weight.slice(start..end),
                 rows: r.rows.slice(start..end),
                 validation: false,
                 continues: start > 0,
@@ -688,7 +717,6 @@ fn hold_out(
     }
     Ok(())
 }
-
 /// (min, max) of finite values; (+∞, −∞) when there are none.
 pub(crate) fn range<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
     values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
@@ -725,7 +753,11 @@ mod tests {
         let weights = |text: &[u8]| -> Result<Vec<f64>, FitError> {
             let table = Table::parse(text, "w.csv")?;
             let data = Dataset::from_table(&table, &options)?;
-            Ok(data.records.iter().flat_map(|r| r.weight.clone()).collect())
+            Ok(data
+                .records
+                .iter()
+                .flat_map(|r| r.weight.to_vec())
+                .collect())
         };
         assert_eq!(weights(b"u,y,w\n0,0,1\n1,1,1\n2,1,1\n")?, [1.0, 1.0, 1.0]);
         assert_eq!(
@@ -761,6 +793,49 @@ mod tests {
             },
         )?;
         assert_eq!(one.records.len(), 1);
+        Ok(())
+    }
+
+    /// The dataset built from a taken table is the one built from a borrowed table, and the
+    /// reader's selection keeps every column the dataset asks for.
+    #[test]
+    fn a_taken_table_and_a_selection_give_the_same_dataset() -> Result<(), FitError> {
+        let files: [&[u8]; 5] = [
+            b"t,u,y,note\n0,0,0,a\n1,1,1,b\n2,2,1.5,c\n",
+            b"t,u,y,w\n0,0,0,1\n# gap\n1,1,1,2\n2,2,1.5,0\n",
+            b"u,loop,y\n0,1,0\n1,1,1\n2,2,1.5\n3,2,1\n0,1,0.5\n",
+            b"u,y,record,t\n0,0,a,0\n1,1,a,1\n2,1.5,b,2\n3,2,b,3\n",
+            b"u,y,w\n0,0,1\n1,1,-1\n",
+        ];
+        for (k, text) in files.iter().enumerate() {
+            let options = DataOptions {
+                input: "u".into(),
+                output: "y".into(),
+                weight: (k == 1 || k == 4).then(|| "w".into()),
+                timed: k == 3,
+                ..DataOptions::default()
+            };
+            let dir = tempfile::tempdir().map_err(|e| FitError::Invalid(e.to_string()))?;
+            let path = dir.path().join("d.csv");
+            std::fs::write(&path, text).map_err(|e| FitError::Invalid(e.to_string()))?;
+            let whole = Table::read(&path)?;
+            let select = |names: &[String]| Dataset::wanted_columns(names, &options);
+            let (part, _) = Table::read_digest_selected(&path, Box::new(|_| {}), &select)?;
+            let borrowed = Dataset::from_table(&whole, &options);
+            let taken = Dataset::from_table_owned(part, &options);
+            match (borrowed, taken) {
+                (Ok(a), Ok(b)) => {
+                    assert_eq!(a.records, b.records, "file {k}");
+                    assert_eq!((a.labels, a.columns), (b.labels, b.columns), "file {k}");
+                }
+                (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "file {k}"),
+                (a, b) => assert_eq!(
+                    a.err().map(|e| e.to_string()),
+                    b.err().map(|e| e.to_string()),
+                    "file {k}"
+                ),
+            }
+        }
         Ok(())
     }
 }

@@ -216,7 +216,7 @@ fn line_rms(data: &Dataset) -> f64 {
     let (mut ss, mut n) = (0.0, 0usize);
     for r in data.training() {
         for ((x, y), w) in r.input.iter().zip(&r.output).zip(&r.weight) {
-            if *w > 0.0 {
+            if w > 0.0 {
                 ss += (y - a - b * x).powi(2);
                 n += 1;
             }
@@ -247,9 +247,7 @@ fn swept_gap(data: &Dataset, run: &dyn Fn(&[f64]) -> Option<Vec<f64>>) -> Option
     }
     let mut sweep = Dataset::single(&input, &output);
     if let Some(r) = sweep.records.first_mut() {
-        for w in r.weight.iter_mut().take(n) {
-            *w = 0.0;
-        }
+        r.weight.fill(0..n, 0.0);
     }
     let (ylo, yhi) = data.output_range();
     let (slo, shi) = sweep.output_range();
@@ -337,7 +335,7 @@ fn model_gap(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
     // took 24 bytes a sample).
     let input_range = range(training(data, outputs).flat_map(|(r, _)| r.input.iter()));
     let model_range = range(training(data, outputs).flat_map(|(_, y)| y.iter()));
-    let modelled = training(data, outputs).map(|(r, y)| (&r.input[..], &y[..], &r.weight[..]));
+    let modelled = training(data, outputs).map(|(r, y)| (&r.input[..], &y[..], &r.weight));
     let (ylo, yhi) = data.output_range();
     let model_span = model_range.1 - model_range.0;
     loops_of(modelled, input_range, model_range).gap * model_span
@@ -389,7 +387,7 @@ fn model_rms(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
     let (mut ss, mut n) = (0.0, 0usize);
     for (r, y) in training(data, outputs) {
         for ((o, m), w) in r.output.iter().zip(y).zip(&r.weight) {
-            if *w > 0.0 {
+            if w > 0.0 {
                 ss += (m - o).powi(2);
                 n += 1;
             }
@@ -419,7 +417,7 @@ fn constant_rms(data: &Dataset) -> f64 {
     let (mut ss, mut n) = (0.0, 0usize);
     for r in data.training() {
         for (y, w) in r.output.iter().zip(&r.weight) {
-            if *w > 0.0 {
+            if w > 0.0 {
                 ss += (y - mean).powi(2);
                 n += 1;
             }
@@ -726,7 +724,7 @@ mod tests {
                     id: id as i64,
                     input: history[p.clone()].to_vec(),
                     output: y[p.clone()].to_vec(),
-                    weight: vec![1.0; n],
+                    weight: crate::Weights::Unit(n),
                     rows: (0..n).collect(),
                     validation: false,
                     continues: false,

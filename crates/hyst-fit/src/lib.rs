@@ -42,11 +42,13 @@ pub mod lm;
 pub mod orientation;
 pub mod pi_fit;
 mod race;
+pub mod record;
 pub mod reduction;
 pub mod report;
 pub mod rows;
 pub mod smooth;
 pub mod timed;
+pub mod weights;
 pub mod widths;
 
 pub use data::{DataOptions, Dataset, Record};
@@ -54,3 +56,4 @@ pub use error::FitError;
 pub use identify::identify;
 pub use orientation::{FormChoice, Orientation, StartChoice};
 pub use smooth::{fit_smooth, FitOptions, SmoothFit};
+pub use weights::Weights;

@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 use hyst_model::{Form, InitialState};
 
 use crate::data::Dataset;
+use crate::weights::Weights;
 
 /// Below this gap between its rising and falling branches (fraction of the output span), a
 /// model has no loop: 0.1 %, about the resolution of a 10-bit sensor.
@@ -71,7 +72,7 @@ struct Directed {
 }
 
 /// A record's samples as [`directed`] reads them: input, output and weight.
-pub(crate) type Samples<'a> = (&'a [f64], &'a [f64], &'a [f64]);
+pub(crate) type Samples<'a> = (&'a [f64], &'a [f64], &'a Weights);
 
 /// The training samples of `data` of positive weight whose input moves (the direction by the
 /// central difference, one-sided at the ends), each in its bin of [`BINS`] over the input
@@ -79,7 +80,7 @@ pub(crate) type Samples<'a> = (&'a [f64], &'a [f64], &'a [f64]);
 fn directed(data: &Dataset) -> impl Iterator<Item = Directed> + '_ {
     directed_in(
         data.training()
-            .map(|r| (&r.input[..], &r.output[..], &r.weight[..])),
+            .map(|r| (&r.input[..], &r.output[..], &r.weight)),
         data.input_range(),
         data.output_range(),
     )
@@ -376,7 +377,7 @@ mod tests {
                     id: id as i64,
                     input: (*x).clone(),
                     output: (*x).clone(),
-                    weight: vec![1.0; x.len()],
+                    weight: Weights::Unit(x.len()),
                     rows: (0..x.len()).collect(),
                     validation: false,
                     continues: false,

@@ -27,6 +27,7 @@
 
 use crate::data::{Dataset, Record};
 use crate::rows::Rows;
+use crate::weights::Weights;
 
 /// Records with fewer training samples than this are fitted whole.
 pub const REDUCE_ABOVE: usize = 100_000;
@@ -34,6 +35,25 @@ pub const REDUCE_ABOVE: usize = 100_000;
 /// The smallest reduction aims at about this many samples (turning points are always kept, so
 /// it may keep more).
 pub const TARGET: usize = 50_000;
+
+/// The search's data for a long record ([`reduce`]).
+#[derive(Clone, Debug)]
+pub enum Reduction {
+    /// Turning points, output extremes and 1 in k other samples: exact where kept.
+    Turning(Dataset),
+    /// A [`draw`] of windows: an estimate.
+    Draw(Dataset),
+}
+
+impl Reduction {
+    /// The reduced data.
+    #[must_use]
+    pub fn data(&self) -> &Dataset {
+        match self {
+            Reduction::Turning(d) | Reduction::Draw(d) => d,
+        }
+    }
+}
 
 /// Whether sample `i` of `x` must be kept: the ends, and every turning point of the input (a
 /// local extremum, or the ends of a plateau), where the operator's memory may change.
@@ -75,6 +95,11 @@ fn stride(data: &Dataset) -> usize {
     (samples(data) / TARGET).max(1)
 }
 
+/// The most samples a reduction keeps: beyond, the search runs on the [`draw`] (bounded in
+/// size whatever the record's length). A random walk keeps 4 in 10 of its samples as turning
+/// points: 4.2 M samples, 100 MB, of a 10 M-row record.
+pub const MAX_KEPT: usize = 1 << 20;
+
 /// Samples in a window of the [`draw`].
 pub const WINDOW: usize = 2_000;
 
@@ -86,57 +111,86 @@ const EXTREME_WINDOW: usize = 16;
 /// record's output is extreme (so the normalisation is unchanged), and one in k other samples;
 /// a sample that must be kept has its own weight, one of the 1 in k has k times its own. When
 /// that would keep more than half of the samples (an input that turns at almost every
-/// sample), the [`draw`] of windows instead. `None` when `data` is small (below
-/// [`REDUCE_ABOVE`] training samples).
+/// sample), or more than [`MAX_KEPT`] samples, the [`draw`] of windows instead. `None` when
+/// `data` is small (below [`REDUCE_ABOVE`] training samples).
 #[must_use]
-pub fn reduce(data: &Dataset) -> Option<Dataset> {
+pub fn reduce(data: &Dataset) -> Option<Reduction> {
+    reduce_keeping(data, MAX_KEPT)
+}
+
+/// [`reduce`], drawing when the reduction would keep more than `max_kept` samples.
+fn reduce_keeping(data: &Dataset, max_kept: usize) -> Option<Reduction> {
     if data.training_samples() < REDUCE_ABOVE {
         return None;
     }
     let total = samples(data);
     let stride = stride(data);
+    // Which samples each record keeps, counted before anything is copied: a record whose
+    // input turns at almost every sample would otherwise build a reduction of more than half
+    // the data only to drop it for the draw.
+    let mut forced: Vec<Vec<bool>> = Vec::with_capacity(data.records.len());
     let mut kept_total = 0usize;
-    let mut records = Vec::with_capacity(data.records.len());
     for r in &data.records {
-        let n = r.len();
-        // Kept whatever the draw: turning points and (below) the output's extremes.
-        let mut forced: Vec<bool> = (0..n).map(|i| turning(&r.input, i)).collect();
-        // The extremes, so that the reduced data has the same output range (the input's are
-        // turning points already).
-        for i in extremes(r) {
-            forced[i] = true;
+        let must = forced_samples(r);
+        kept_total += must
+            .iter()
+            .enumerate()
+            .filter(|(i, m)| **m || picked(*i, stride))
+            .count();
+        // A drawn record keeps nothing of this: give the flags back at once.
+        if 2 * kept_total > total || kept_total > max_kept {
+            return Some(Reduction::Draw(draw(data)));
         }
-        let mut reduced = Record {
-            id: r.id,
-            input: Vec::new(),
-            output: Vec::new(),
-            weight: Vec::new(),
-            rows: Rows::default(),
-            validation: r.validation,
-            continues: r.continues,
-            period: r.period,
-        };
-        for ((i, &must), row) in forced.iter().enumerate().zip(r.rows.iter()) {
-            if !must && !picked(i, stride) {
-                continue;
-            }
-            reduced.input.push(r.input[i]);
-            reduced.output.push(r.output[i]);
-            let w = if must { 1.0 } else { stride as f64 };
-            reduced.weight.push(w * r.weight[i]);
-            reduced.rows.push(row);
-        }
-        kept_total += reduced.len();
-        records.push(reduced);
+        forced.push(must);
     }
-    if 2 * kept_total > total {
-        return Some(draw(data));
-    }
-    Some(Dataset::from_records(
+    let records = data
+        .records
+        .iter()
+        .zip(forced)
+        .map(|(r, must)| kept(r, &must, stride))
+        .collect();
+    Some(Reduction::Turning(Dataset::from_records(
         &data.source,
         data.columns.clone(),
         records,
-    ))
+    )))
+}
+
+/// The samples of `r` that must be kept whatever the draw: its turning points, and the
+/// extremes of its output (so that the reduced data has the same output range; the input's
+/// are turning points already).
+fn forced_samples(r: &Record) -> Vec<bool> {
+    let mut forced: Vec<bool> = (0..r.len()).map(|i| turning(&r.input, i)).collect();
+    for i in extremes(r) {
+        forced[i] = true;
+    }
+    forced
+}
+
+/// The samples of `r` kept by the reduction: those `forced` at their own weight, the 1 in
+/// `stride` others at `stride` times theirs.
+fn kept(r: &Record, forced: &[bool], stride: usize) -> Record {
+    let mut reduced = Record {
+        id: r.id,
+        input: Vec::new(),
+        output: Vec::new(),
+        weight: Weights::default(),
+        rows: Rows::default(),
+        validation: r.validation,
+        continues: r.continues,
+        period: r.period,
+    };
+    for ((i, &must), row) in forced.iter().enumerate().zip(r.rows.iter()) {
+        if !must && !picked(i, stride) {
+            continue;
+        }
+        reduced.input.push(r.input[i]);
+        reduced.output.push(r.output[i]);
+        let w = if must { 1.0 } else { stride as f64 };
+        reduced.weight.push(w * r.weight[i]);
+        reduced.rows.push(row);
+    }
+    reduced
 }
 
 /// The search's data for records that do not reduce: in each block of k · [`WINDOW`] samples
@@ -179,7 +233,7 @@ pub fn draw(data: &Dataset) -> Dataset {
                 let at = i.saturating_sub(EXTREME_WINDOW / 2);
                 let end = (at + EXTREME_WINDOW).min(n);
                 let mut kept = window(r, at..end, span, 0);
-                kept.weight.fill(0.0);
+                kept.weight.fill(0..kept.len(), 0.0);
                 records.push(kept);
                 covered[at..end].fill(true);
             }
@@ -217,11 +271,14 @@ fn window(r: &Record, rows: core::ops::Range<usize>, span: f64, block: usize) ->
         .min(input.len() / 2);
     let counted = (input.len() - warm).max(1);
     let scale = block as f64 / counted as f64;
-    let weight = r.weight[rows.clone()]
-        .iter()
-        .enumerate()
-        .map(|(k, w)| if k < warm { 0.0 } else { w * scale })
-        .collect();
+    let weight = Weights::Each(
+        r.weight
+            .slice(rows.clone())
+            .iter()
+            .enumerate()
+            .map(|(k, w)| if k < warm { 0.0 } else { w * scale })
+            .collect(),
+    );
     Record {
         id: r.id,
         input,
@@ -272,7 +329,11 @@ mod tests {
         };
         let y = model.run(&x).unwrap();
         let data = Dataset::single(&x, &y);
-        let reduced = reduce(&data).unwrap();
+        let reduced = match reduce(&data) {
+            Some(Reduction::Turning(d)) => Some(d),
+            _ => None,
+        }
+        .unwrap();
         let r = &reduced.records[0];
         assert!(r.len() < 60_000 && r.len() > 10_000, "{}", r.len());
         // The weights estimate the number of samples (and any sum over them) without bias: a
@@ -294,6 +355,24 @@ mod tests {
         }
     }
 
+    /// A reduction that would keep more than its cap is a draw: the search's data stays
+    /// bounded whatever the record's length.
+    #[test]
+    fn a_reduction_beyond_its_cap_is_a_draw() {
+        let x = sweep(300_000);
+        let data = Dataset::single(&x, &x);
+        let kept = reduce_keeping(&data, usize::MAX).map(|r| r.data().records[0].len());
+        assert!(matches!(
+            reduce_keeping(&data, usize::MAX),
+            Some(Reduction::Turning(_))
+        ));
+        let cap = kept.unwrap() - 1;
+        assert!(matches!(
+            reduce_keeping(&data, cap),
+            Some(Reduction::Draw(_))
+        ));
+    }
+
     #[test]
     fn small_records_are_not_reduced_and_noisy_ones_are_drawn() {
         let x = sweep(50_000);
@@ -310,7 +389,11 @@ mod tests {
             .collect();
         let y: Vec<f64> = noisy.iter().map(|v| 2.0 * v + 0.1 * v * v).collect();
         let data = Dataset::single(&noisy, &y);
-        let drawn = reduce(&data).unwrap();
+        let drawn = match reduce(&data) {
+            Some(Reduction::Draw(d)) => Some(d),
+            _ => None,
+        }
+        .unwrap();
         let kept: usize = drawn.records.iter().map(Record::len).sum();
         assert!(kept <= TARGET + 2 * WINDOW, "{kept}");
         // Each window is a contiguous stretch of the record, as it was.
@@ -344,12 +427,12 @@ mod tests {
             .collect();
         let data = Dataset::single(&x, &x);
         let w = window(&data.records[0], 0..1000, 99.0, 4000);
-        assert!(w.weight[..99].iter().all(|v| *v == 0.0));
-        assert!(w.weight[99..].iter().all(|v| *v > 0.0));
+        assert!(w.weight.slice(0..99).iter().all(|v| v == 0.0));
+        assert!(w.weight.slice(99..1000).iter().all(|v| v > 0.0));
         let total: f64 = w.weight.iter().sum();
         assert!((total - 4000.0).abs() < 1e-9, "{total}");
         // A window that never travels that far counts its second half.
         let w = window(&data.records[0], 0..50, 99.0, 100);
-        assert_eq!(w.weight.iter().filter(|v| **v > 0.0).count(), 25);
+        assert_eq!(w.weight.iter().filter(|v| *v > 0.0).count(), 25);
     }
 }

@@ -212,7 +212,7 @@ fn history_coverage(
         model.output_envelope(input, lower, upper)?;
         let r = Reproducibility::compare(
             &h.output[from..to],
-            Some(&h.weight[from..to]),
+            h.weight.as_slice().map(|w| &w[from..to]),
             lower,
             upper,
             0.0,
@@ -716,13 +716,13 @@ mod tests {
         // Spoil the second half, then give it weight 0: the nominal covers everything counted.
         y[1000..].iter_mut().for_each(|v| *v += 1.0);
         let mut data = Dataset::single(&x, &y);
-        data.records[0].weight[1000..].fill(0.0);
+        data.records[0].weight.fill(1000..usize::MAX, 0.0);
         let mut scratch = Scratch::new();
         assert_eq!(
             coverage(&data, &m, None, 0.0, 0.0, &mut scratch).unwrap(),
             1.0
         );
-        data.records[0].weight[1000..].fill(1.0);
+        data.records[0].weight.fill(1000..usize::MAX, 1.0);
         assert_eq!(
             coverage(&data, &m, None, 0.0, 0.0, &mut scratch).unwrap(),
             0.5

@@ -29,7 +29,7 @@ fn forc() -> Result<Dataset, FitError> {
             id: i64::from(c),
             input,
             output,
-            weight: vec![1.0; n],
+            weight: hyst_fit::Weights::Unit(n),
             rows: (0..n).collect(),
             validation: false,
             continues: false,

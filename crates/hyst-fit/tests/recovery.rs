@@ -423,7 +423,7 @@ fn records_that_start_mid_history_are_recovered_with_estimated_starts() -> Resul
             id: id as i64,
             input: x[w[0]..w[1]].to_vec(),
             output: y[w[0]..w[1]].to_vec(),
-            weight: vec![1.0; w[1] - w[0]],
+            weight: hyst_fit::Weights::Unit(w[1] - w[0]),
             rows: (w[0]..w[1]).collect(),
             validation: false,
             continues: false,

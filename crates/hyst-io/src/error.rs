@@ -215,6 +215,21 @@ pub enum IoError {
         available: Vec<String>,
     },
 
+    /// A column the reader was told to leave out (a selection) was asked for: a mistake of the
+    /// program, not of the file.
+    #[error(
+        "{file}: column {column} ({name:?}) was not read: the reader was told to keep only the \
+         columns it needed"
+    )]
+    NotRead {
+        /// The file (path or source name).
+        file: String,
+        /// 1-based column index.
+        column: usize,
+        /// The column's name.
+        name: String,
+    },
+
     /// No input column was named, and none can be chosen automatically.
     #[error(
         "{file}: cannot tell which column is the input: there is no column named \"x\" \

@@ -33,8 +33,11 @@ pub struct Table {
     columns: Vec<Vec<f64>>,
     /// The cells of the columns kept as text; `None` for a column of numbers.
     text: Vec<Option<TextColumn>>,
-    /// 1-based source line of each row.
-    lines: Vec<usize>,
+    /// Whether each column was read (all are, except those a reader given a selection left
+    /// out: [`Table::read_digest_selected`]).
+    read: Vec<bool>,
+    /// The 1-based source line of each row.
+    lines: Lines,
     /// File path or other name of the source, used in error messages.
     source: String,
 }
@@ -63,7 +66,7 @@ impl Table {
     /// - [`IoError::Csv`] if the CSV parser itself fails;
     /// - [`IoError::NoData`] if there is a header but no data rows.
     pub fn read(path: &Path) -> Result<Table, IoError> {
-        collect(CsvReader::open(path)?)
+        collect(CsvReader::open(path)?, Vec::new())
     }
 
     /// [`Table::read`], and the size and hash of the bytes read, taken in the same single pass
@@ -84,9 +87,27 @@ impl Table {
         path: &Path,
         on_read: Box<dyn FnMut(u64)>,
     ) -> Result<(Table, Digest), IoError> {
+        Self::read_digest_selected(path, on_read, &|_| Vec::new())
+    }
+
+    /// [`Table::read_digest_with`], keeping only the columns `select` picks from the header's
+    /// names: the others are checked for their number of cells only, and hold nothing (a
+    /// long file's unused columns cost no memory). Asked for, such a column gives
+    /// [`IoError::NotRead`]; [`Table::names`] still lists every column, so that an unknown
+    /// name's error lists them all.
+    ///
+    /// # Errors
+    /// As [`Table::read`].
+    pub fn read_digest_selected(
+        path: &Path,
+        on_read: Box<dyn FnMut(u64)>,
+        select: &dyn Fn(&[String]) -> Vec<bool>,
+    ) -> Result<(Table, Digest), IoError> {
         let (file, name) = crate::reader::open_file(path)?;
         let (hashing, digest) = Hashing::new(CountingReader::new(file, on_read));
-        let table = collect(CsvReader::new(hashing, &name)?)?;
+        let rows = CsvReader::new(hashing, &name)?;
+        let read = select(rows.names());
+        let table = collect(rows, read)?;
         Ok((table, digest.get()))
     }
 
@@ -157,9 +178,10 @@ impl Table {
         }
         Ok(Table {
             text: vec![None; names.len()],
+            read: vec![true; names.len()],
             names,
             columns,
-            lines: (2..len + 2).collect(),
+            lines: Lines::from(2, len),
             source: file,
         })
     }
@@ -171,12 +193,12 @@ impl Table {
 
     /// The number of rows (not counting the header).
     pub fn len(&self) -> usize {
-        self.lines.len()
+        self.lines.rows
     }
 
     /// Whether the table has no rows (only possible for tables from [`Table::new`]).
     pub fn is_empty(&self) -> bool {
-        self.lines.is_empty()
+        self.lines.rows == 0
     }
 
     /// The values of the column called `name`.
@@ -194,6 +216,20 @@ impl Table {
         }
     }
 
+    /// Moves the values of the column called `name` out of the table (no copy of a long
+    /// column); the column then counts as not read ([`IoError::NotRead`]).
+    ///
+    /// # Errors
+    /// As [`Table::column`].
+    pub fn take_column(&mut self, name: &str) -> Result<Vec<f64>, IoError> {
+        let i = self
+            .column_index(name)
+            .ok_or_else(|| unknown_column(&self.source, &self.names, name))?;
+        self.numbers(i)?;
+        self.read[i] = false;
+        Ok(std::mem::take(&mut self.columns[i]))
+    }
+
     /// The cells of the column called `name` as text: the cells as written
     /// (trimmed) in a column kept as text, except that the numbers before its
     /// first other cell are given in their shortest form (`1.50` as `1.5`), as
@@ -207,6 +243,7 @@ impl Table {
         let i = self
             .column_index(name)
             .ok_or_else(|| unknown_column(&self.source, &self.names, name))?;
+        self.check_read(i)?;
         Ok(match &self.text[i] {
             Some(text) => Cow::Borrowed(&text.cells),
             None => Cow::Owned(self.columns[i].iter().map(|&v| shortest(v)).collect()),
@@ -225,6 +262,7 @@ impl Table {
     /// The values of column `i`, or the error of its first cell that is not a
     /// finite number.
     fn numbers(&self, i: usize) -> Result<&[f64], IoError> {
+        self.check_read(i)?;
         let Some(text) = &self.text[i] else {
             return Ok(&self.columns[i]);
         };
@@ -243,6 +281,18 @@ impl Table {
         Err(error)
     }
 
+    /// [`IoError::NotRead`] if column `i` was left out by the reader's selection.
+    fn check_read(&self, i: usize) -> Result<(), IoError> {
+        if self.read[i] {
+            return Ok(());
+        }
+        Err(IoError::NotRead {
+            file: self.source.clone(),
+            column: i + 1,
+            name: self.names[i].clone(),
+        })
+    }
+
     /// The 0-based index of the column called `name` (exact, case-sensitive match).
     pub fn column_index(&self, name: &str) -> Option<usize> {
         self.names.iter().position(|n| n == name)
@@ -255,7 +305,7 @@ impl Table {
     ///
     /// If `row >= self.len()`.
     pub fn line_of_row(&self, row: usize) -> usize {
-        self.lines[row]
+        self.lines.line_of_row(row)
     }
 
     /// The file path or other source name used in error messages.
@@ -297,21 +347,26 @@ impl Table {
     }
 
     /// Writes the table as CSV (the format of [`Table::write_atomic`]) to `w`.
+    /// A table read with a selection writes the columns it read.
     fn write_csv(&self, w: &mut dyn Write) -> io::Result<()> {
-        write_header(w, &self.names)?;
+        let read = |i: &usize| self.read[*i];
+        let kept: Vec<usize> = (0..self.names.len()).filter(read).collect();
+        let names: Vec<String> = kept.iter().map(|&i| self.names[i].clone()).collect();
+        write_header(w, &names)?;
         let mut line = String::new();
-        let all_numbers = self.text.iter().all(Option::is_none);
+        let all_numbers = kept.iter().all(|&i| self.text[i].is_none());
         for row in 0..self.len() {
             line.clear();
             if all_numbers {
-                push_row(&mut line, self.columns.iter().map(|column| column[row]));
+                push_row(&mut line, kept.iter().map(|&i| self.columns[i][row]));
             } else {
-                for (i, (column, text)) in self.columns.iter().zip(&self.text).enumerate() {
-                    if i > 0 {
+                for (k, &i) in kept.iter().enumerate() {
+                    let (column, text) = (&self.columns[i], &self.text[i]);
+                    if k > 0 {
                         line.push(',');
                     }
                     match text {
-                        Some(text) => push_cell(&mut line, &text.cells[row], i == 0),
+                        Some(text) => push_cell(&mut line, &text.cells[row], k == 0),
                         None => push_f64(&mut line, column[row]),
                     }
                 }
@@ -371,13 +426,21 @@ fn shortest(v: f64) -> String {
 /// A column stays a column of numbers while its cells are finite numbers; at its first other
 /// cell it becomes a [`TextColumn`] (its numbers so far in shortest form), so that only the
 /// columns that need it hold text.
-fn collect<R: std::io::Read>(mut rows: CsvReader<R>) -> Result<Table, IoError> {
+/// Only the columns `read` marks are kept (`read` shorter than the header reads the rest).
+fn collect<R: std::io::Read>(
+    mut rows: CsvReader<R>,
+    mut read: Vec<bool>,
+) -> Result<Table, IoError> {
     let n = rows.names().len();
+    read.resize(n, true);
     let mut columns: Vec<Vec<f64>> = vec![Vec::new(); n];
     let mut text: Vec<Option<TextColumn>> = vec![None; n];
-    let mut lines = Vec::new();
+    let mut lines = Lines::default();
     while let Some(line) = rows.next_cells()? {
         for (i, (column, text)) in columns.iter_mut().zip(&mut text).enumerate() {
+            if !read[i] {
+                continue;
+            }
             let cell = rows.cell_text(i, line)?;
             match text {
                 Some(text) => text.push(cell),
@@ -392,10 +455,16 @@ fn collect<R: std::io::Read>(mut rows: CsvReader<R>) -> Result<Table, IoError> {
         }
         lines.push(line);
     }
+    // A long column's vector holds up to twice its values after growing: the slack goes back
+    // (a large block shrinks in place).
+    for column in &mut columns {
+        column.shrink_to_fit();
+    }
     Ok(Table {
         names: rows.names().to_vec(),
         columns,
         text,
+        read,
         lines,
         source: rows.source().to_string(),
     })
@@ -403,7 +472,56 @@ fn collect<R: std::io::Read>(mut rows: CsvReader<R>) -> Result<Table, IoError> {
 
 /// Parses a whole CSV input held in memory.
 fn parse(bytes: &[u8], file: &str) -> Result<Table, IoError> {
-    collect(CsvReader::new(bytes, file)?)
+    collect(CsvReader::new(bytes, file)?, Vec::new())
+}
+
+/// The source line of every row, held as runs of rows on consecutive lines: one run for a file
+/// without comments, blank lines or cells across lines, whatever its length.
+#[derive(Debug, Clone, PartialEq, Default)]
+struct Lines {
+    /// (first row, its line) of each run, in order.
+    runs: Vec<(usize, usize)>,
+    /// The number of rows.
+    rows: usize,
+}
+
+impl Lines {
+    /// `rows` rows on consecutive lines from `first`.
+    fn from(first: usize, rows: usize) -> Lines {
+        let runs = if rows > 0 {
+            vec![(0, first)]
+        } else {
+            Vec::new()
+        };
+        Lines { runs, rows }
+    }
+
+    /// Adds the next row, read from `line`.
+    fn push(&mut self, line: usize) {
+        let follows = self
+            .runs
+            .last()
+            .is_some_and(|&(row, start)| start + (self.rows - row) == line);
+        if !follows {
+            self.runs.push((self.rows, line));
+        }
+        self.rows += 1;
+    }
+
+    /// The line of row `row`.
+    ///
+    /// # Panics
+    /// If `row` is not below the number of rows.
+    fn line_of_row(&self, row: usize) -> usize {
+        assert!(
+            row < self.rows,
+            "row {row} of a table of {} rows",
+            self.rows
+        );
+        let run = self.runs.partition_point(|&(first, _)| first <= row) - 1;
+        let (first, line) = self.runs[run];
+        line + (row - first)
+    }
 }
 
 #[cfg(test)]
@@ -1160,5 +1278,59 @@ mod tests {
         t.write_atomic(&path).unwrap();
         assert_eq!(fs::read_to_string(&path).unwrap(), "x\n1\n2\n");
         assert_eq!(files_in(dir.path()), ["out.csv", "real.csv"]);
+    }
+
+    /// A reader given a selection keeps only those columns: the others cost nothing, are
+    /// refused by name, and still appear in the names (and in an unknown name's error); rows
+    /// and lines are those of the whole file.
+    #[test]
+    fn a_selection_reads_only_its_columns() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("d.csv");
+        fs::write(&path, "t,u,note,y\n0,1,a,2\n# gap\n\n1,3,b,4\n2,5,c,6\n").unwrap();
+        let select = |names: &[String]| names.iter().map(|n| n == "u" || n == "y").collect();
+        let (t, digest) = Table::read_digest_selected(&path, Box::new(|_| {}), &select).unwrap();
+        assert_eq!(digest, Table::read_digest(&path).unwrap().1);
+        assert_eq!(t.names(), ["t", "u", "note", "y"]);
+        assert_eq!(t.column("u").unwrap(), [1.0, 3.0, 5.0]);
+        assert_eq!(t.column("y").unwrap(), [2.0, 4.0, 6.0]);
+        assert_eq!(t.len(), 3);
+        assert_eq!(
+            (t.line_of_row(0), t.line_of_row(1), t.line_of_row(2)),
+            (2, 5, 6)
+        );
+        assert_eq!(t.columns[0].capacity(), 0);
+        let err = t.column("t").unwrap_err();
+        assert!(matches!(err, IoError::NotRead { column: 1, .. }), "{err:?}");
+        assert!(t.labels("note").is_err() && !t.is_text("note"));
+        let err = t.column("v").unwrap_err().to_string();
+        assert!(err.contains("\"note\""), "{err}");
+        assert_eq!(t.to_csv(), b"u,y\n1,2\n3,4\n5,6\n");
+        let mut t = t;
+        assert_eq!(t.take_column("u").unwrap(), [1.0, 3.0, 5.0]);
+        assert!(matches!(
+            t.column("u"),
+            Err(IoError::NotRead { column: 2, .. })
+        ));
+        assert!(matches!(t.take_column("t"), Err(IoError::NotRead { .. })));
+        assert!(matches!(
+            t.take_column("v"),
+            Err(IoError::UnknownColumn { .. })
+        ));
+        assert_eq!(t.column("y").unwrap(), [2.0, 4.0, 6.0]);
+    }
+
+    /// Line numbers are runs: a row after a gap starts a new one, and every row maps back.
+    #[test]
+    fn lines_are_kept_as_runs() {
+        let mut lines = Lines::default();
+        let read = [2, 3, 4, 7, 8, 10, 11, 12, 13];
+        for line in read {
+            lines.push(line);
+        }
+        assert_eq!(lines.runs, [(0, 2), (3, 7), (5, 10)]);
+        let back: Vec<usize> = (0..read.len()).map(|r| lines.line_of_row(r)).collect();
+        assert_eq!(back, read);
+        assert_eq!(Lines::from(2, 3).line_of_row(2), 4);
     }
 }

@@ -104,12 +104,23 @@ impl ErrorStats {
     /// Statistics of `errors` against an output span.
     #[must_use]
     pub fn new(errors: &[f64], span: f64) -> Self {
-        if errors.is_empty() {
+        Self::of(errors.iter().copied(), span)
+    }
+
+    /// Statistics of the `errors` an iterator gives, in one pass and constant memory (the
+    /// same numbers, bit for bit, as [`ErrorStats::new`] of them collected).
+    #[must_use]
+    pub fn of(errors: impl IntoIterator<Item = f64>, span: f64) -> Self {
+        let (mut n, mut squares, mut max_abs) = (0_usize, 0.0_f64, 0.0_f64);
+        for e in errors {
+            n += 1;
+            squares += e * e;
+            max_abs = max_abs.max(e.abs());
+        }
+        if n == 0 {
             return Self::default();
         }
-        let n = errors.len();
-        let rms = (errors.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt();
-        let max_abs = errors.iter().fold(0.0_f64, |m, e| m.max(e.abs()));
+        let rms = (squares / n as f64).sqrt();
         Self {
             samples: n,
             rms,
@@ -117,5 +128,32 @@ impl ErrorStats {
             rms_pct_span: 100.0 * rms / span,
             max_pct_span: 100.0 * max_abs / span,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ErrorStats;
+
+    /// The one-pass statistics are those of the errors collected, bit for bit (the fit's
+    /// report must not move when it stops holding them), and none for no errors.
+    #[test]
+    fn statistics_in_one_pass_are_those_of_a_slice() {
+        let errors: Vec<f64> = (0..1000)
+            .map(|k| (f64::from(k) * 0.37).sin() * 1e-3 + 1e-7 * f64::from(k))
+            .collect();
+        let a = ErrorStats::of(errors.iter().copied(), 2.5);
+        let folded = errors.iter().map(|e| e * e).sum::<f64>();
+        assert_eq!(a.rms.to_bits(), (folded / 1000.0).sqrt().to_bits());
+        assert_eq!(
+            a.max_abs,
+            errors.iter().fold(0.0_f64, |m, e| m.max(e.abs()))
+        );
+        assert_eq!(a, ErrorStats::new(&errors, 2.5));
+        assert_eq!(a.samples, 1000);
+        assert_eq!(
+            ErrorStats::of(std::iter::empty(), 1.0),
+            ErrorStats::default()
+        );
     }
 }

@@ -23,7 +23,7 @@ use hyst_io::Table;
 use hyst_model::{InitialState, K2Kind, ShapingKind, Structure};
 use hyst_model::{ModelKind, Provenance, Units};
 
-use plots::{draw, time_column, Axes};
+use plots::{draw, is_time_column, time_column, Axes};
 use progress::ProgressObserver;
 
 /// Arguments of `hyst fit`.
@@ -161,18 +161,28 @@ fn record_id(s: &str) -> Result<i64, String> {
 pub fn main(args: Args) -> Result<()> {
     // Read once, hashed on the way: a pipe or a FIFO cannot be read a second time.
     let reading = crate::progress::reading(&args.data, 0, args.json);
-    let (table, digest) = Table::read_digest_with(&args.data, reading)?;
-    let data = Dataset::from_table(&table, &data_options(&args))?;
-    // Checked before the fit, so a bad --time costs nothing and writes nothing.
-    let time = match &args.plot {
-        Some(_) => time_column(&table, args.time.as_deref())?,
-        None => None,
+    // Only the columns the fit uses are kept (a long file's others would cost 8 bytes a row
+    // each), and the dataset takes the input and output columns over without copying them.
+    let options = data_options(&args);
+    let plot = args.plot.is_some();
+    let select = |names: &[String]| {
+        let mut keep = Dataset::wanted_columns(names, &options);
+        for (k, name) in keep.iter_mut().zip(names) {
+            *k |= plot && is_time_column(name, args.time.as_deref());
+        }
+        keep
     };
+    let (table, digest) = Table::read_digest_selected(&args.data, reading, &select)?;
+    // Checked before the fit, so a bad --time costs nothing and writes nothing (a bad dataset
+    // is reported first).
+    let time = match &args.plot {
+        Some(_) => time_column(&table, args.time.as_deref()),
+        None => Ok(None),
+    };
+    let provenance = provenance(&args, table.len());
+    let data = Dataset::from_table_owned(table, &options)?;
+    let time = time?;
     let request = request(&args);
-    let provenance = provenance(&args, &table);
-    // The fit needs the dataset only: the table's columns and line numbers (32 bytes a row for
-    // three columns) are freed before it.
-    drop(table);
     let mut observer = ProgressObserver::new(args.json);
     let identified = identify(&data, &request, &mut observer, &|| false, provenance);
     let identified = identified.map_err(|e| match e {
@@ -271,10 +281,10 @@ fn request(args: &Args) -> Request {
 
 /// The model file's provenance: the data file and its rows, the command, the version and the
 /// time (the file's size and hash are added after the fit).
-fn provenance(args: &Args, table: &Table) -> Provenance {
+fn provenance(args: &Args, rows: usize) -> Provenance {
     Provenance {
         file: args.data.display().to_string(),
-        rows: table.len(),
+        rows,
         command: std::env::args().collect::<Vec<_>>().join(" "),
         hyst_version: env!("CARGO_PKG_VERSION").to_string(),
         created_unix: std::time::SystemTime::now()

@@ -48,6 +48,15 @@ pub(super) fn time_column(table: &Table, name: Option<&str>) -> Result<Option<(S
     Ok(None)
 }
 
+/// Whether `name` may be the time axis [`time_column`] looks for: `--time`'s column, else one
+/// of the conventional time names.
+pub(super) fn is_time_column(name: &str, named: Option<&str>) -> bool {
+    match named {
+        Some(named) => name == named,
+        None => hyst_fit::data::TIME_COLUMNS.contains(&name),
+    }
+}
+
 /// The names and units of the input and output columns, for the axes.
 pub(super) struct Axes<'a> {
     /// The input column.

@@ -12,7 +12,7 @@ use crate::error::FitError;
 use crate::layout::{Layout, Normalisation};
 use crate::lm::{LevenbergMarquardt, Observer, Solution, Stage, Staged};
 use crate::race::{best_of, threads};
-use crate::reduction::{draw, reduce, TARGET};
+use crate::reduction::{draw, reduce, Reduction, TARGET};
 use crate::smooth::fit::{FitOptions, SmoothFit};
 use crate::smooth::limits::LIMIT_SCALE;
 use crate::smooth::nesting::{contained, embed, NESTED_SCALE};
@@ -98,7 +98,7 @@ fn fit_smooth_with(
         &problem,
         structure,
         options,
-        reduced.as_ref(),
+        reduced.as_ref().map(Reduction::data),
         &mut Staged {
             inner: &mut *observer,
             stage: Stage::Search,
@@ -351,7 +351,7 @@ fn widths(
     model: &SmoothModel,
     starts: Option<&[f64]>,
     options: &FitOptions,
-    reduced: Option<&Dataset>,
+    reduced: Option<&Reduction>,
     observer: &mut dyn Observer,
 ) -> Result<Option<FamilyWidths>, FitError> {
     if options.widths && model.is_timed() {
@@ -381,9 +381,14 @@ fn widths(
         )?),
         // Searched on the reduction, then checked (and widened if need be) on the full data.
         (true, Some(small)) => {
-            let found = match drawn_for_widths(data, small) {
-                Some(draw) => widths_on_draw(&draw, model, options.coverage, observer)?,
-                None => family_widths(small, model, None, options.coverage, observer)?,
+            let found = match (small, drawn_for_widths(data, small)) {
+                (Reduction::Draw(draw), _) => {
+                    widths_on_draw(draw, model, options.coverage, observer)?
+                }
+                (_, Some(draw)) => widths_on_draw(&draw, model, options.coverage, observer)?,
+                (Reduction::Turning(small), None) => {
+                    family_widths(small, model, None, options.coverage, observer)?
+                }
             };
             Some(confirm(data, model, found, observer)?)
         }
@@ -391,11 +396,15 @@ fn widths(
 }
 
 /// The draw of windows ([`draw`]) of the full data on which to search the family widths, when
-/// the reduction `small` is itself long (a random walk's turning points): each of the
-/// search's 50 or so coverages runs up to eight members of the family over it. `None` when
-/// the reduction is short enough.
-fn drawn_for_widths(data: &Dataset, small: &Dataset) -> Option<Dataset> {
-    (small.training_samples() > 2 * TARGET).then(|| draw(data))
+/// the reduction `small` is turning points and itself long (up to
+/// [`MAX_KEPT`](crate::reduction::MAX_KEPT)): each of the search's 50 or so coverages runs up
+/// to eight members of the family over it. `None` when the reduction is short enough, or a draw
+/// already.
+fn drawn_for_widths(data: &Dataset, small: &Reduction) -> Option<Dataset> {
+    match small {
+        Reduction::Turning(small) => (small.training_samples() > 2 * TARGET).then(|| draw(data)),
+        Reduction::Draw(_) => None,
+    }
 }
 
 /// The family widths searched on a `draw`, at a coverage above `target` by three binomial

@@ -176,7 +176,7 @@ impl<'a> SmoothProblem<'a> {
         let mut i = 0;
         for rec in self.data.training() {
             for (obs, w) in rec.output.iter().zip(&rec.weight) {
-                let v = (y[i] - obs) * self.scale(*w);
+                let v = (y[i] - obs) * self.scale(w);
                 if !v.is_finite() {
                     return Err(Infeasible);
                 }
@@ -271,7 +271,7 @@ impl Problem for SmoothProblem<'_> {
             let (Some(obs), Some(w)) = (h.output.get(i), h.weight.get(i)) else {
                 return;
             };
-            let v = (s.y - obs) * self.scale(*w);
+            let v = (s.y - obs) * self.scale(w);
             finite &= v.is_finite();
             sum += v * v;
         })?;
@@ -379,7 +379,7 @@ impl SmoothProblem<'_> {
         let mut d = [0.0; N];
         self.run_rows(&m, bands.as_deref(), |k, h, i, s| {
             let y = s.y;
-            let scale = h.weight.get(i).map_or(0.0, |w| self.scale(*w));
+            let scale = h.weight.get(i).map_or(0.0, |w| self.scale(w));
             for (slot, g) in d.iter_mut().zip(y.gradient().iter().take(columns)) {
                 *slot = g * scale;
                 finite &= slot.is_finite();
@@ -532,7 +532,7 @@ mod tests {
                 .collect();
             Record {
                 id,
-                weight: vec![1.0; input.len()],
+                weight: crate::Weights::Unit(input.len()),
                 rows: (0..input.len()).collect(),
                 output,
                 input,

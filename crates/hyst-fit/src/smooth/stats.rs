@@ -52,22 +52,24 @@ pub fn error_stats(
 pub fn error_stats_of(data: &Dataset, outputs: &[Vec<f64>]) -> (ErrorStats, Option<ErrorStats>) {
     let (lo, hi) = data.output_range();
     let span = (hi - lo).max(f64::MIN_POSITIVE);
-    let mut train = Vec::new();
-    let mut val = Vec::new();
-    for (r, y) in data.records.iter().zip(outputs) {
-        let errs = if r.validation { &mut val } else { &mut train };
-        for ((m, o), w) in y.iter().zip(&r.output).zip(&r.weight) {
-            if *w > 0.0 {
-                errs.push(m - o);
-            }
-        }
-    }
-    let v = if val.is_empty() {
-        None
-    } else {
-        Some(ErrorStats::new(&val, span))
+    // One pass per set, in record order, holding no error (a long record's would take 8 bytes
+    // a sample).
+    let errors = |validation: bool| {
+        data.records
+            .iter()
+            .zip(outputs)
+            .filter(move |(r, _)| r.validation == validation)
+            .flat_map(|(r, y)| {
+                y.iter()
+                    .zip(&r.output)
+                    .zip(&r.weight)
+                    .filter(|(_, w)| *w > 0.0)
+                    .map(|((m, o), _)| m - o)
+            })
     };
-    (ErrorStats::new(&train, span), v)
+    let validation = ErrorStats::of(errors(true), span);
+    let validation = (validation.samples > 0).then_some(validation);
+    (ErrorStats::of(errors(false), span), validation)
 }
 
 /// Refuses a fit whose error statistics or parameter values are not finite
