@@ -10,9 +10,11 @@ use serde::{Deserialize, Serialize};
 use hyst_io::number::sig;
 use hyst_model::Estimate;
 
-use crate::data::{range, Dataset, Record};
+use crate::data::Dataset;
 use crate::layout::{IN_ARG_AT_CENTRE, IN_SCALE, OUT_ARG_AT_CENTRE, OUT_SCALE};
-use crate::orientation::{loops, loops_of, one_way, Orientation, MIN_GAP};
+use crate::model_reading::ModelReading;
+use crate::orientation::{loops, one_way, Orientation, MIN_GAP};
+use crate::outputs::Outputs;
 
 /// A model whose RMS error is above this fraction of the straight line's does no better than
 /// a line.
@@ -84,79 +86,8 @@ pub struct Diagnosis {
 /// Above this [`Diagnosis::drift_share`], the report notes drift.
 pub const DRIFT_NOTE: f64 = 0.1;
 
-/// The share of the residual variance that a least-squares line in the sample index explains
-/// within each training record beyond what a line in the input explains (each record's own
-/// means removed, so an offset per record is not counted; weighted). Beyond the input: a
-/// record whose input moves one way in time (a first-order reversal curve) has residuals that
-/// follow its input, which is misfit, not drift.
-fn drift_share(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
-    let (mut explained, mut total) = (0.0, 0.0);
-    for (r, y) in training(data, outputs) {
-        let n = r.input.len().min(y.len()).min(r.weight.len());
-        let (mut sw, mut st, mut sx, mut se) = (0.0, 0.0, 0.0, 0.0);
-        for i in 0..n {
-            let w = r.weight[i];
-            sw += w;
-            st += w * i as f64;
-            sx += w * r.input[i];
-            se += w * (r.output[i] - y[i]);
-        }
-        if sw <= 0.0 {
-            continue;
-        }
-        let (tm, xm, em) = (st / sw, sx / sw, se / sw);
-        let [mut stt, mut stx, mut sxx, mut ste, mut sxe, mut see] = [0.0; 6];
-        for i in 0..n {
-            let w = r.weight[i];
-            let (t, x, e) = (i as f64 - tm, r.input[i] - xm, r.output[i] - y[i] - em);
-            stt += w * t * t;
-            stx += w * t * x;
-            sxx += w * x * x;
-            ste += w * t * e;
-            sxe += w * x * e;
-            see += w * e * e;
-        }
-        total += see;
-        // Explained by [t, x] together, less what x alone explains.
-        let det = stt * sxx - stx * stx;
-        if sxx > 0.0 && det > 1e-9 * stt * sxx {
-            let a = (sxx * ste - stx * sxe) / det;
-            let b = (stt * sxe - stx * ste) / det;
-            explained += (a * ste + b * sxe - sxe * sxe / sxx).max(0.0);
-        }
-    }
-    if total > 0.0 {
-        (explained / total).clamp(0.0, 1.0)
-    } else {
-        0.0
-    }
-}
-
 /// Above this [`Diagnosis::rate_share`], the report notes rate dependence.
 pub const RATE_NOTE: f64 = 0.1;
-
-/// The share of the residual variance explained by a least-squares term c · ẋ (ẋ the central
-/// difference of the input, per sample; weighted, over the training records).
-fn rate_share(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
-    let (mut srr, mut srd, mut sdd) = (0.0, 0.0, 0.0);
-    for (r, y) in training(data, outputs) {
-        let n = r.input.len().min(y.len());
-        for i in 0..n {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-            let d = r.input[b] - r.input[a];
-            let e = r.output[i] - y[i];
-            let w = r.weight[i];
-            srr += w * e * e;
-            srd += w * e * d;
-            sdd += w * d * d;
-        }
-    }
-    if srr > 0.0 && sdd > 0.0 {
-        (srd * srd / (sdd * srr)).clamp(0.0, 1.0)
-    } else {
-        0.0
-    }
-}
 
 impl Diagnosis {
     /// The one-line message: "no hysteresis found in FILE: …; a straight line fits with RMS …".
@@ -179,18 +110,6 @@ impl Diagnosis {
             sig(100.0 * self.line_rms / span, 3),
         )
     }
-}
-
-/// The training records of `data`, each with the model's output for it (`outputs`: one per
-/// record of `data`).
-fn training<'a>(
-    data: &'a Dataset,
-    outputs: &'a [Vec<f64>],
-) -> impl Iterator<Item = (&'a Record, &'a Vec<f64>)> {
-    data.records
-        .iter()
-        .zip(outputs)
-        .filter(|(r, _)| !r.validation)
 }
 
 /// The least-squares line a + b x over the weighted training samples, and its RMS over the
@@ -254,8 +173,8 @@ fn swept_gap(data: &Dataset, run: &dyn Fn(&[f64]) -> Option<Vec<f64>>) -> Option
     Some(loops(&sweep).gap * (shi - slo) / (yhi - ylo).max(f64::MIN_POSITIVE))
 }
 
-/// Diagnoses a fitted model from its output on the training records (`outputs`, one vector
-/// per record of `data`, in order, as [`Dataset::run_histories`] gives them) and its estimates
+/// Diagnoses a fitted model from its output on the training records (`outputs`, replayed twice:
+/// held, or the model run again) and its estimates
 /// (`None` for models whose standard errors may be NaN by design, such as the
 /// Prandtl–Ishlinskii weights at their bound 0). `run` runs the model on any input history (its
 /// own loop is measured on a full sweep of the input range). `unidentified_ok` names parameters
@@ -265,27 +184,25 @@ fn swept_gap(data: &Dataset, run: &dyn Fn(&[f64]) -> Option<Vec<f64>>) -> Option
 #[must_use]
 pub fn diagnose(
     data: &Dataset,
-    outputs: &[Vec<f64>],
+    outputs: &dyn Outputs,
     run: &dyn Fn(&[f64]) -> Option<Vec<f64>>,
     estimates: Option<&[Estimate]>,
     unidentified_ok: &[&str],
     data_orientation: Orientation,
     used: Orientation,
 ) -> Diagnosis {
-    let gap = model_gap(data, outputs);
+    let model = ModelReading::of(data, outputs);
+    let gap = model.gap;
     let data_gap = loops(data).gap;
     let swept = swept_gap(data, run).unwrap_or(f64::NAN);
     let mut reasons = Vec::new();
     reasons.extend(loop_reason(gap, data_gap, swept));
     let line = line_rms(data);
     if reasons.is_empty() {
-        reasons.extend(line_reason(model_rms(data, outputs), line, gap, data_gap));
+        reasons.extend(line_reason(model.rms, line, gap, data_gap));
     }
     if reasons.is_empty() {
-        reasons.extend(dependence_reason(
-            model_rms(data, outputs),
-            constant_rms(data),
-        ));
+        reasons.extend(dependence_reason(model.rms, constant_rms(data)));
     }
     let mut notes = Vec::new();
     let mut found_loop = false;
@@ -322,24 +239,9 @@ pub fn diagnose(
         model_gap: gap,
         swept_gap: swept,
         line_rms: line,
-        rate_share: rate_share(data, outputs),
-        drift_share: drift_share(data, outputs),
+        rate_share: model.rate_share,
+        drift_share: model.drift_share,
     }
-}
-
-/// The gap between the model's own rising and falling branches on the training inputs (its
-/// `outputs` in place of the measured ones), as a fraction of the data's output span, not the
-/// model's (positive for clockwise).
-fn model_gap(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
-    // The training records with the model's outputs, read in place (a copy of the records
-    // took 24 bytes a sample).
-    let input_range = range(training(data, outputs).flat_map(|(r, _)| r.input.iter()));
-    let model_range = range(training(data, outputs).flat_map(|(_, y)| y.iter()));
-    let modelled = training(data, outputs).map(|(r, y)| (&r.input[..], &y[..], &r.weight));
-    let (ylo, yhi) = data.output_range();
-    let model_span = model_range.1 - model_range.0;
-    loops_of(modelled, input_range, model_range).gap * model_span
-        / (yhi - ylo).max(f64::MIN_POSITIVE)
 }
 
 /// The reason a model with the branch gaps `gap` (on the training inputs) and `swept` (on a
@@ -380,20 +282,6 @@ fn loop_reason(gap: f64, data_gap: f64, swept: f64) -> Option<String> {
     } else {
         None
     }
-}
-
-/// The RMS of the model's `outputs` against the training data (samples of positive weight).
-fn model_rms(data: &Dataset, outputs: &[Vec<f64>]) -> f64 {
-    let (mut ss, mut n) = (0.0, 0usize);
-    for (r, y) in training(data, outputs) {
-        for ((o, m), w) in r.output.iter().zip(y).zip(&r.weight) {
-            if w > 0.0 {
-                ss += (m - o).powi(2);
-                n += 1;
-            }
-        }
-    }
-    (ss / n.max(1) as f64).sqrt()
 }
 
 /// The model's RMS at or above this fraction of the RMS of the output about its mean (the
@@ -551,6 +439,7 @@ fn advice(
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+    use crate::data::Record;
     use hyst_core::{AnyK2Law, ScaledShaping};
     use hyst_model::{InitialState, SmoothModel};
 
@@ -591,7 +480,7 @@ mod tests {
         let line = |x: &[f64]| Some(x.iter().map(|v| 2.0 * v + 1.0).collect());
         let d = diagnose(
             &data,
-            std::slice::from_ref(&y),
+            &vec![y.clone()],
             &line,
             None,
             &[],
@@ -607,7 +496,7 @@ mod tests {
         let data = Dataset::single(&x, &looped);
         let d = diagnose(
             &data,
-            &[looped],
+            &vec![looped],
             &|x| model.run(x).ok(),
             Some(&[estimate("k1", 0.1)]),
             &[],
@@ -631,7 +520,7 @@ mod tests {
         let run = |x: &[f64]| model.run(x).ok();
         let d = diagnose(
             &data,
-            std::slice::from_ref(&y),
+            &vec![y.clone()],
             &run,
             None,
             &[],
@@ -642,7 +531,7 @@ mod tests {
         let data = Dataset::single(&x, &y);
         let d = diagnose(
             &data,
-            &[y],
+            &vec![y],
             &run,
             None,
             &[],
@@ -663,7 +552,7 @@ mod tests {
         let run = |x: &[f64]| model.run(x).ok();
         let d = diagnose(
             &data,
-            std::slice::from_ref(&y),
+            &vec![y.clone()],
             &run,
             Some(&nan),
             &[],
@@ -676,7 +565,7 @@ mod tests {
         );
         let d = diagnose(
             &data,
-            &[y],
+            &vec![y],
             &run,
             Some(&nan),
             &["k1"],
@@ -799,7 +688,7 @@ mod tests {
             let model = |v: &[f64]| Some(with_loop(v, -share * w));
             diagnose(
                 &data,
-                &[with_loop(&x, -share * w)],
+                &vec![with_loop(&x, -share * w)],
                 &model,
                 None,
                 &[],
@@ -834,7 +723,7 @@ mod tests {
         let data = Dataset::single(&x, &measured);
         let d = diagnose(
             &data,
-            std::slice::from_ref(&y),
+            &vec![y.clone()],
             &|v| model.run(v).ok(),
             None,
             &[],
@@ -850,7 +739,7 @@ mod tests {
         let data = Dataset::single(&x, &measured);
         let d = diagnose(
             &data,
-            &[fitted],
+            &vec![fitted],
             &|v| Some(v.iter().map(|v| 2.0 * v).collect()),
             None,
             &[],
@@ -877,7 +766,7 @@ mod tests {
             ];
             diagnose(
                 &data,
-                std::slice::from_ref(&y),
+                &vec![y.clone()],
                 &|v| model.run(v).ok(),
                 Some(&estimates),
                 &[],

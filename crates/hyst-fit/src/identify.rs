@@ -16,12 +16,12 @@ use crate::degeneracy::{diagnose, Diagnosis, DRIFT_NOTE, RATE_NOTE};
 use crate::error::FitError;
 use crate::lm::Observer;
 use crate::orientation::{against_trend, loops, FormChoice, Orientation, StartChoice};
+use crate::outputs::ModelOutputs;
 use crate::pi_fit::{fit_pi_with, PiFit, PiOutputKind};
 use crate::report::{Findings, Report, Summary};
 use crate::smooth::driver::fit_smooth;
 use crate::smooth::fit::{FitOptions, SmoothFit};
 use crate::smooth::limits::ParameterLimit;
-use crate::smooth::stats::run_records;
 use crate::timed::static_view;
 
 /// The branch gap (fraction of the output span) above which the data's loops are clockwise
@@ -393,18 +393,22 @@ fn diagnose_requested(
                 let (view, model) = static_view(data, &f.model).ok_or_else(|| {
                     FitError::NoConvergence("the fitted model cannot run the records".into())
                 })?;
-                let outputs = run_records(&view, &model, None).unwrap_or_default();
-                Some((view, model, outputs))
+                Some((view, model))
             } else {
                 None
             };
-            let (data, model, outputs) = match &view {
-                Some((v, m, o)) => (v, m, o),
-                None => (data, &f.model, &f.outputs),
+            // The outputs as the fit ran them (from its estimated starts), replayed.
+            let (data, model, starts) = match &view {
+                Some((v, m)) => (v, m, None),
+                None => (data, &f.model, f.starts.as_deref()),
             };
             diagnose(
                 data,
-                outputs,
+                &ModelOutputs {
+                    data,
+                    model,
+                    starts,
+                },
                 &|x| model.run(x).ok(),
                 Some(&f.estimates),
                 limit.map_or(&[][..], ParameterLimit::unidentified),

@@ -72,7 +72,90 @@ struct Directed {
 }
 
 /// A record's samples as [`directed`] reads them: input, output and weight.
-pub(crate) type Samples<'a> = (&'a [f64], &'a [f64], &'a Weights);
+type Samples<'a> = (&'a [f64], &'a [f64], &'a Weights);
+
+/// The input and output ranges samples are normalised over.
+#[derive(Clone, Copy, Debug)]
+struct Normalisation {
+    /// Lowest input and the input span.
+    xlo: f64,
+    xs: f64,
+    /// Lowest output and the output span.
+    ylo: f64,
+    ys: f64,
+}
+
+impl Normalisation {
+    /// Over `(xlo, xhi)` and `(ylo, yhi)` (a span below the smallest positive float counts as
+    /// that).
+    fn new((xlo, xhi): (f64, f64), (ylo, yhi): (f64, f64)) -> Self {
+        Normalisation {
+            xlo,
+            xs: (xhi - xlo).max(f64::MIN_POSITIVE),
+            ylo,
+            ys: (yhi - ylo).max(f64::MIN_POSITIVE),
+        }
+    }
+
+    /// Sample `i` of a record of inputs `input`, of output `y` and weight `weight`, if its
+    /// weight is positive and its input moves there (the direction by the central difference,
+    /// one-sided at the ends).
+    fn directed(&self, input: &[f64], i: usize, y: f64, weight: f64) -> Option<Directed> {
+        let n = input.len();
+        let (a, b) = (i.saturating_sub(1), (i + 1).min(n.checked_sub(1)?));
+        let dx = input.get(b)? - input.get(a)?;
+        if dx == 0.0 || weight <= 0.0 {
+            return None;
+        }
+        let x = (input.get(i)? - self.xlo) / self.xs;
+        Some(Directed {
+            falling: dx < 0.0,
+            bin: ((x * BINS as f64).floor().max(0.0) as usize).min(BINS - 1),
+            x,
+            y: (y - self.ylo) / self.ys,
+            weight,
+        })
+    }
+}
+
+/// [`loops`] gathered sample by sample ([`LoopSums::add`]), normalised over given ranges: the
+/// loops of a model's outputs replayed in place of the measured ones, none of them held.
+pub(crate) struct LoopSums {
+    /// The ranges.
+    normalisation: Normalisation,
+    /// Per bin and direction (0 rising, 1 falling): n, Σx, Σy, Σx², Σxy, in normalised units.
+    sums: [[[f64; 5]; 2]; BINS],
+}
+
+impl LoopSums {
+    /// No samples yet, normalised over `input_range` and `output_range`.
+    pub(crate) fn new(input_range: (f64, f64), output_range: (f64, f64)) -> Self {
+        LoopSums {
+            normalisation: Normalisation::new(input_range, output_range),
+            sums: [[[0.0; 5]; 2]; BINS],
+        }
+    }
+
+    /// Adds sample `i` of a record of inputs `input`, with output `y` and weight `weight`.
+    pub(crate) fn add(&mut self, input: &[f64], i: usize, y: f64, weight: f64) {
+        if let Some(d) = self.normalisation.directed(input, i, y, weight) {
+            self.push(&d);
+        }
+    }
+
+    /// Adds a directed sample.
+    fn push(&mut self, d: &Directed) {
+        let s = &mut self.sums[d.bin][usize::from(d.falling)];
+        for (acc, v) in s.iter_mut().zip([1.0, d.x, d.y, d.x * d.x, d.x * d.y]) {
+            *acc += v;
+        }
+    }
+
+    /// The loops of the samples added.
+    pub(crate) fn loops(&self) -> Loops {
+        loops_of_sums(&self.sums)
+    }
+}
 
 /// The training samples of `data` of positive weight whose input moves (the direction by the
 /// central difference, one-sided at the ends), each in its bin of [`BINS`] over the input
@@ -90,29 +173,13 @@ fn directed(data: &Dataset) -> impl Iterator<Item = Directed> + '_ {
 /// `output_range`.
 fn directed_in<'a>(
     records: impl Iterator<Item = Samples<'a>> + 'a,
-    (xlo, xhi): (f64, f64),
-    (ylo, yhi): (f64, f64),
+    input_range: (f64, f64),
+    output_range: (f64, f64),
 ) -> impl Iterator<Item = Directed> + 'a {
-    let xs = (xhi - xlo).max(f64::MIN_POSITIVE);
-    let ys = (yhi - ylo).max(f64::MIN_POSITIVE);
+    let normalisation = Normalisation::new(input_range, output_range);
     records.flat_map(move |(input, output, weights)| {
-        let n = input.len();
-        (0..n).filter_map(move |i| {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-            let dx = input[b] - input[a];
-            let weight = weights[i];
-            if dx == 0.0 || weight <= 0.0 {
-                return None;
-            }
-            let x = (input[i] - xlo) / xs;
-            Some(Directed {
-                falling: dx < 0.0,
-                bin: ((x * BINS as f64).floor().max(0.0) as usize).min(BINS - 1),
-                x,
-                y: (output[i] - ylo) / ys,
-                weight,
-            })
-        })
+        (0..input.len())
+            .filter_map(move |i| normalisation.directed(input, i, *output.get(i)?, weights.get(i)?))
     })
 }
 
@@ -122,32 +189,22 @@ pub fn loops(data: &Dataset) -> Loops {
     loops_in(directed(data))
 }
 
-/// The orientation of the loops in `records`, normalised over `input_range` and
-/// `output_range`: [`loops`] of records that need not be a dataset's (a model's outputs in
-/// place of the measured ones, without a copy of the records).
-pub(crate) fn loops_of<'a>(
-    records: impl Iterator<Item = Samples<'a>> + 'a,
-    input_range: (f64, f64),
-    output_range: (f64, f64),
-) -> Loops {
-    loops_in(directed_in(records, input_range, output_range))
-}
-
 /// [`loops`] of the samples `directed`.
 fn loops_in(directed: impl Iterator<Item = Directed>) -> Loops {
-    // Per bin and direction (0 rising, 1 falling): n, Σx, Σy, Σx², Σxy, in normalised units.
-    let mut sums = [[[0.0_f64; 5]; 2]; BINS];
+    let mut sums = LoopSums::new((0.0, 1.0), (0.0, 1.0));
     for d in directed {
-        let s = &mut sums[d.bin][usize::from(d.falling)];
-        for (acc, v) in s.iter_mut().zip([1.0, d.x, d.y, d.x * d.x, d.x * d.y]) {
-            *acc += v;
-        }
+        sums.push(&d);
     }
+    sums.loops()
+}
+
+/// The loops of the sums of [`LoopSums`].
+fn loops_of_sums(sums: &[[[f64; 5]; 2]; BINS]) -> Loops {
     // In each bin, both branches as lines of one common slope: the gap is the difference of
     // their intercepts at the same input (a steep curve sampled at different inputs on the way
     // up and down has no gap).
     let (mut gap, mut weight) = (0.0, 0.0);
-    for [[nr, xr, yr, xxr, xyr], [nf, xf, yf, xxf, xyf]] in sums {
+    for &[[nr, xr, yr, xxr, xyr], [nf, xf, yf, xxf, xyf]] in sums {
         if nr < 2.0 || nf < 2.0 {
             continue;
         }

@@ -48,7 +48,7 @@ pub use evaluator::{Evaluator, EvaluatorMemory};
 pub use family::FamilyWidths;
 pub use file::{ModelFile, ModelKind};
 pub use pi::{PiModel, PiOperator, PiOutput};
-pub use provenance::{Columns, ErrorStats, Estimate, Metrics, Provenance, Units};
+pub use provenance::{Columns, ErrorStats, ErrorSums, Estimate, Metrics, Provenance, Units};
 pub use saturation::{Saturated, Saturation};
 pub use smooth::{Form, InitialState, SmoothModel};
 pub use structure::{K2Kind, RateTerm, ShapingKind, Structure};

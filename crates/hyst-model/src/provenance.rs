@@ -111,22 +111,51 @@ impl ErrorStats {
     /// same numbers, bit for bit, as [`ErrorStats::new`] of them collected).
     #[must_use]
     pub fn of(errors: impl IntoIterator<Item = f64>, span: f64) -> Self {
-        let (mut n, mut squares, mut max_abs) = (0_usize, 0.0_f64, 0.0_f64);
-        for e in errors {
-            n += 1;
-            squares += e * e;
-            max_abs = max_abs.max(e.abs());
+        let mut sums = ErrorSums::default();
+        errors.into_iter().for_each(|e| sums.add(e));
+        sums.stats(span)
+    }
+}
+
+/// [`ErrorStats`] gathered one error at a time, in constant memory: [`ErrorSums::add`] each
+/// error, then [`ErrorSums::stats`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ErrorSums {
+    /// Errors added.
+    samples: usize,
+    /// Their sum of squares, in the order added (output units²).
+    squares: f64,
+    /// The largest magnitude (output units).
+    max_abs: f64,
+}
+
+impl ErrorSums {
+    /// Adds one error (output units).
+    pub fn add(&mut self, error: f64) {
+        self.samples += 1;
+        self.squares += error * error;
+        self.max_abs = self.max_abs.max(error.abs());
+    }
+
+    /// The errors added so far.
+    #[must_use]
+    pub fn samples(&self) -> usize {
+        self.samples
+    }
+
+    /// The statistics of the errors added, against an output span (none added: the default).
+    #[must_use]
+    pub fn stats(&self, span: f64) -> ErrorStats {
+        if self.samples == 0 {
+            return ErrorStats::default();
         }
-        if n == 0 {
-            return Self::default();
-        }
-        let rms = (squares / n as f64).sqrt();
-        Self {
-            samples: n,
+        let rms = (self.squares / self.samples as f64).sqrt();
+        ErrorStats {
+            samples: self.samples,
             rms,
-            max_abs,
+            max_abs: self.max_abs,
             rms_pct_span: 100.0 * rms / span,
-            max_pct_span: 100.0 * max_abs / span,
+            max_pct_span: 100.0 * self.max_abs / span,
         }
     }
 }

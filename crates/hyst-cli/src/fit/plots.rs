@@ -16,6 +16,7 @@ pub fn plot_files(dir: &Path) -> Vec<PathBuf> {
 
 use anyhow::{Context, Result};
 use hyst_fit::pi_fit::PiFit;
+use hyst_fit::smooth::run_records;
 use hyst_fit::{Dataset, SmoothFit};
 use hyst_io::Table;
 
@@ -90,7 +91,10 @@ pub(super) fn draw(
     // As the fit ran them: segments of one measurement run on from each other, from the
     // estimated starts when the fit estimated them.
     let runs: Vec<(&str, Option<Vec<Vec<f64>>>)> = [
-        smooth.map(|f| ("smooth model", Some(f.outputs.clone()))),
+        smooth.map(|f| {
+            let starts = f.starts.as_deref();
+            ("smooth model", run_records(data, &f.model, starts))
+        }),
         pi.map(|f| {
             (
                 "Prandtl–Ishlinskii",

@@ -11,6 +11,7 @@ use crate::data::Dataset;
 use crate::error::FitError;
 use crate::layout::{Layout, Normalisation};
 use crate::lm::{LevenbergMarquardt, Observer, Solution, Stage, Staged};
+use crate::outputs::ModelOutputs;
 use crate::race::{best_of, threads};
 use crate::reduction::{draw, reduce, Reduction, TARGET};
 use crate::smooth::fit::{FitOptions, SmoothFit};
@@ -18,7 +19,7 @@ use crate::smooth::limits::LIMIT_SCALE;
 use crate::smooth::nesting::{contained, embed, NESTED_SCALE};
 use crate::smooth::problem::SmoothProblem;
 use crate::smooth::starts::{grid_starts, Starts};
-use crate::smooth::stats::{check_finite, error_stats_of, run_records};
+use crate::smooth::stats::{check_finite, error_stats_of};
 use crate::smooth::std_errors::estimates;
 use crate::timed::{is_timed, simpler_timed, static_view, TimedFindings};
 use crate::widths::{confirm, family_widths};
@@ -120,9 +121,13 @@ fn fit_smooth_with(
     let estimates = estimates(&layout, &model, &best, problem.n);
 
     let starts = problem.bands(&model);
-    let outputs = run_records(data, &model, starts.as_deref())
-        .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
-    let (training, validation) = error_stats_of(data, &outputs);
+    // The model's outputs are replayed, not held: 8 bytes a sample beside the data.
+    let outputs = ModelOutputs {
+        data,
+        model: &model,
+        starts: starts.as_deref(),
+    };
+    let (training, validation) = error_stats_of(data, &outputs)?;
     let widths = widths(
         data,
         &model,
@@ -150,7 +155,6 @@ fn fit_smooth_with(
         termination: best.termination,
         starts,
         seconds: started.elapsed().as_secs_f64(),
-        outputs,
         timed: None,
     };
     if timed {

@@ -66,10 +66,6 @@ pub struct SmoothFit {
     pub starts: Option<Vec<f64>>,
     /// Wall time of the fit (s).
     pub seconds: f64,
-    /// The fitted model's output on every record of the data it was fitted to (one vector per
-    /// record, in output units), as the fit ran it (segments running on, estimated starts):
-    /// the run the error statistics came from, kept for the degeneracy check and the plots.
-    pub outputs: Vec<Vec<f64>>,
     /// What the fit found of its plant and rate term (a structure with dynamics or a rate
     /// term; [`crate::timed`]).
     pub timed: Option<TimedFindings>,

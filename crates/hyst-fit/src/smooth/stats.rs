@@ -1,10 +1,11 @@
 //! Error statistics of a fitted model on the training and validation records, and the check
 //! that a fit's numbers are finite.
 
-use hyst_model::{ErrorStats, SmoothModel};
+use hyst_model::{ErrorStats, ErrorSums, SmoothModel};
 
 use crate::data::Dataset;
 use crate::error::FitError;
+use crate::outputs::Outputs;
 
 /// The output of `model` on every record of `data` (record order), each history run from its
 /// estimated start `starts` (per history,
@@ -44,32 +45,43 @@ pub fn error_stats(
     let outputs = data
         .run_histories(run)
         .ok_or_else(|| FitError::NoConvergence("the fitted model cannot run the records".into()))?;
-    Ok(error_stats_of(data, &outputs))
+    error_stats_of(data, &outputs)
 }
 
-/// Training and validation error statistics of the model `outputs` (one per record).
-#[must_use]
-pub fn error_stats_of(data: &Dataset, outputs: &[Vec<f64>]) -> (ErrorStats, Option<ErrorStats>) {
+/// Training and validation error statistics of the model `outputs`, in one replay (no error is
+/// held).
+///
+/// # Errors
+/// [`FitError::NoConvergence`] when the model cannot run a record.
+pub fn error_stats_of(
+    data: &Dataset,
+    outputs: &dyn Outputs,
+) -> Result<(ErrorStats, Option<ErrorStats>), FitError> {
     let (lo, hi) = data.output_range();
     let span = (hi - lo).max(f64::MIN_POSITIVE);
-    // One pass per set, in record order, holding no error (a long record's would take 8 bytes
-    // a sample).
-    let errors = |validation: bool| {
-        data.records
-            .iter()
-            .zip(outputs)
-            .filter(move |(r, _)| r.validation == validation)
-            .flat_map(|(r, y)| {
-                y.iter()
-                    .zip(&r.output)
-                    .zip(&r.weight)
-                    .filter(|(_, w)| *w > 0.0)
-                    .map(|((m, o), _)| m - o)
-            })
-    };
-    let validation = ErrorStats::of(errors(true), span);
-    let validation = (validation.samples > 0).then_some(validation);
-    (ErrorStats::of(errors(false), span), validation)
+    let (mut training, mut validation) = (ErrorSums::default(), ErrorSums::default());
+    let ran = outputs.replay(&mut |i, j, m| {
+        let Some(r) = data.records.get(i) else {
+            return;
+        };
+        if let (Some(o), Some(w)) = (r.output.get(j), r.weight.get(j)) {
+            if w > 0.0 {
+                let sums = if r.validation {
+                    &mut validation
+                } else {
+                    &mut training
+                };
+                sums.add(m - o);
+            }
+        }
+    });
+    if !ran {
+        return Err(FitError::NoConvergence(
+            "the fitted model cannot run the records".into(),
+        ));
+    }
+    let validation = (validation.samples() > 0).then(|| validation.stats(span));
+    Ok((training.stats(span), validation))
 }
 
 /// Refuses a fit whose error statistics or parameter values are not finite
