@@ -574,19 +574,46 @@ fn group_rows(
             records.len() - 1
         });
         let r = &mut records[at];
-        r.input.push(input[row]);
-        r.output.push(output[row]);
         r.weight.push(w);
         r.rows.push(row);
     }
-    // A long record's vectors hold up to twice their samples after growing: the slack goes back
-    // (a large block shrinks in place).
+    fill_samples(&mut records, input, output);
     for r in &mut records {
-        r.input.shrink_to_fit();
-        r.output.shrink_to_fit();
         r.weight.shrink_to_fit();
     }
     Ok((records, labels))
+}
+
+/// Gives each record the input and output of its rows. Records that follow one another in the
+/// file, each one run of rows, take their samples off the end of owned columns (each column
+/// given back as it shrinks: a long file is held about once, not twice); others copy them.
+fn fill_samples(records: &mut [Record], input: Cow<'_, [f64]>, output: Cow<'_, [f64]>) {
+    let mut next = 0;
+    // (The records' samples are not filled yet: their lengths are their rows'.)
+    let in_turn = records.iter().all(|r| {
+        let n = r.rows.len();
+        let follows =
+            n > 0 && r.rows.get(0) == Some(next) && r.rows.get(n - 1) == Some(next + n - 1);
+        next += n;
+        follows
+    });
+    match (input, output) {
+        (Cow::Owned(mut input), Cow::Owned(mut output)) if in_turn && next == input.len() => {
+            for r in records.iter_mut().rev() {
+                let start = input.len() - r.rows.len();
+                r.input = input.split_off(start);
+                r.output = output.split_off(start);
+                input.shrink_to_fit();
+                output.shrink_to_fit();
+            }
+        }
+        (input, output) => {
+            for r in records.iter_mut() {
+                r.input = r.rows.iter().map(|row| input[row]).collect();
+                r.output = r.rows.iter().map(|row| output[row]).collect();
+            }
+        }
+    }
 }
 
 /// The rows of `table` as one record (none when it has no rows), its weights from the `weight`
@@ -800,8 +827,9 @@ mod tests {
     /// reader's selection keeps every column the dataset asks for.
     #[test]
     fn a_taken_table_and_a_selection_give_the_same_dataset() -> Result<(), FitError> {
-        let files: [&[u8]; 5] = [
+        let files: [&[u8]; 6] = [
             b"t,u,y,note\n0,0,0,a\n1,1,1,b\n2,2,1.5,c\n",
+            b"u,loop,y\n0,3,0\n1,3,1\n2,5,1.5\n# gap\n3,5,1\n4,7,2\n",
             b"t,u,y,w\n0,0,0,1\n# gap\n1,1,1,2\n2,2,1.5,0\n",
             b"u,loop,y\n0,1,0\n1,1,1\n2,2,1.5\n3,2,1\n0,1,0.5\n",
             b"u,y,record,t\n0,0,a,0\n1,1,a,1\n2,1.5,b,2\n3,2,b,3\n",
@@ -811,8 +839,8 @@ mod tests {
             let options = DataOptions {
                 input: "u".into(),
                 output: "y".into(),
-                weight: (k == 1 || k == 4).then(|| "w".into()),
-                timed: k == 3,
+                weight: (k == 2 || k == 5).then(|| "w".into()),
+                timed: k == 4,
                 ..DataOptions::default()
             };
             let dir = tempfile::tempdir().map_err(|e| FitError::Invalid(e.to_string()))?;
