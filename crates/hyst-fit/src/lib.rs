@@ -35,6 +35,7 @@ pub mod degeneracy;
 pub mod error;
 pub mod file;
 mod gauss_newton;
+mod grouping;
 pub mod identify;
 pub mod layout;
 mod linalg;

@@ -1,0 +1,187 @@
+//! The rows of a table grouped into records ([`group_rows`]): each record's samples, weights
+//! and rows, taken off the columns without a copy where the records follow one another.
+
+use std::borrow::Cow;
+use std::collections::{BTreeMap, HashMap};
+
+use hyst_io::Table;
+
+use crate::error::FitError;
+use crate::record::Record;
+use crate::rows::Rows;
+use crate::weights::Weights;
+
+/// The largest magnitude of a record id: beyond, a float no longer holds every integer
+/// (2⁵³ ≈ 9.007e15), so neighbouring ids would merge.
+pub const MAX_RECORD_ID: f64 = 9.0e15;
+
+/// The record column of a table.
+pub(crate) enum RecordColumn<'a> {
+    /// Numeric record ids: the column's name and values.
+    Ids(&'a str, Cow<'a, [f64]>),
+    /// Text labels, one per row.
+    Labels(&'a [String]),
+}
+
+/// The rows of `table` grouped into records by the value of the `record` column (one record
+/// without it), each sample with its weight from the `weight` column (1 without it). A record
+/// is a run of equal ids (or labels); an id that comes back later continues its record.
+/// Labels are numbered 0, 1, … in order of first appearance; the labels are returned in that
+/// order (none for numeric ids). Without a record column, the input and output columns
+/// become the one record's (moved when owned).
+///
+/// # Errors
+/// A record id that is not an integer of at most [`MAX_RECORD_ID`], a negative weight.
+pub(crate) fn group_rows(
+    table: &Table,
+    input: Cow<'_, [f64]>,
+    output: Cow<'_, [f64]>,
+    record: Option<RecordColumn<'_>>,
+    weight: Option<(&str, &[f64])>,
+) -> Result<(Vec<Record>, Vec<String>), FitError> {
+    if record.is_none() {
+        return one_record(table, input, output, weight).map(|r| (r, Vec::new()));
+    }
+    let mut records: Vec<Record> = Vec::new();
+    let mut index_of: BTreeMap<i64, usize> = BTreeMap::new();
+    let mut label_ids: HashMap<&str, i64> = HashMap::new();
+    let mut labels: Vec<String> = Vec::new();
+    for row in 0..table.len() {
+        let id = match &record {
+            Some(RecordColumn::Labels(cells)) => {
+                let label = cells[row].as_str();
+                let next = label_ids.len() as i64;
+                *label_ids.entry(label).or_insert_with(|| {
+                    labels.push(label.to_string());
+                    next
+                })
+            }
+            Some(RecordColumn::Ids(name, col)) => {
+                let v = col[row];
+                if v.fract() != 0.0 || v.abs() > MAX_RECORD_ID {
+                    return Err(FitError::BadRecordId {
+                        file: table.source().to_string(),
+                        line: table.line_of_row(row),
+                        column: name.to_string(),
+                        value: v,
+                        limit: MAX_RECORD_ID,
+                    });
+                }
+                v as i64
+            }
+            None => 0,
+        };
+        let w = match weight {
+            Some((name, col)) => {
+                let w = col[row];
+                if w < 0.0 {
+                    return Err(FitError::NegativeWeight {
+                        file: table.source().to_string(),
+                        line: table.line_of_row(row),
+                        column: name.to_string(),
+                        value: w,
+                    });
+                }
+                w
+            }
+            None => 1.0,
+        };
+        let at = *index_of.entry(id).or_insert_with(|| {
+            records.push(Record {
+                id,
+                input: Vec::new(),
+                output: Vec::new(),
+                weight: Weights::default(),
+                rows: Rows::default(),
+                validation: false,
+                continues: false,
+                period: None,
+            });
+            records.len() - 1
+        });
+        let r = &mut records[at];
+        r.weight.push(w);
+        r.rows.push(row);
+    }
+    // The record ids are done with: given back before the samples are moved.
+    drop(label_ids);
+    drop(record);
+    fill_samples(&mut records, input, output);
+    for r in &mut records {
+        r.weight.shrink_to_fit();
+    }
+    Ok((records, labels))
+}
+
+/// Gives each record the input and output of its rows. Records that follow one another in the
+/// file, each one run of rows, take their samples off the end of owned columns (each column
+/// given back as it shrinks: a long file is held about once, not twice); others copy them.
+fn fill_samples(records: &mut [Record], input: Cow<'_, [f64]>, output: Cow<'_, [f64]>) {
+    let mut next = 0;
+    // (The records' samples are not filled yet: their lengths are their rows'.)
+    let in_turn = records.iter().all(|r| {
+        let n = r.rows.len();
+        let follows =
+            n > 0 && r.rows.get(0) == Some(next) && r.rows.get(n - 1) == Some(next + n - 1);
+        next += n;
+        follows
+    });
+    match (input, output) {
+        (Cow::Owned(mut input), Cow::Owned(mut output)) if in_turn && next == input.len() => {
+            for r in records.iter_mut().rev() {
+                let start = input.len() - r.rows.len();
+                r.input = input.split_off(start);
+                r.output = output.split_off(start);
+                input.shrink_to_fit();
+                output.shrink_to_fit();
+            }
+        }
+        (input, output) => {
+            for r in records.iter_mut() {
+                r.input = r.rows.iter().map(|row| input[row]).collect();
+                r.output = r.rows.iter().map(|row| output[row]).collect();
+            }
+        }
+    }
+}
+
+/// The rows of `table` as one record (none when it has no rows), its weights from the `weight`
+/// column (1 without it).
+///
+/// # Errors
+/// A negative weight (the first).
+fn one_record(
+    table: &Table,
+    input: Cow<'_, [f64]>,
+    output: Cow<'_, [f64]>,
+    weight: Option<(&str, &[f64])>,
+) -> Result<Vec<Record>, FitError> {
+    let n = table.len();
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let weight = match weight {
+        Some((name, col)) => {
+            if let Some(row) = col.iter().position(|w| *w < 0.0) {
+                return Err(FitError::NegativeWeight {
+                    file: table.source().to_string(),
+                    line: table.line_of_row(row),
+                    column: name.to_string(),
+                    value: col[row],
+                });
+            }
+            Weights::Each(col.to_vec())
+        }
+        None => Weights::Unit(n),
+    };
+    Ok(vec![Record {
+        id: 0,
+        input: input.into_owned(),
+        output: output.into_owned(),
+        weight,
+        rows: (0..n).collect(),
+        validation: false,
+        continues: false,
+        period: None,
+    }])
+}
