@@ -145,14 +145,14 @@ fn bracketed_gap<T: Real>(v_half: T, m_star: T, k2: T) -> T {
     e
 }
 
-/// The rare path of [`ParametricHysteresis::advance`], out of line, on plain values (one copy
-/// per number type and formula, whatever the sample type or k2 law: a firmware build holds
-/// few): a non-finite input `v` is refused; an output value `y` that is not finite is computed
-/// again by [`Formula::output_wide`] (refused when that is not finite either); then the value
-/// is clamped into [v − k1, v + k1].
+/// The repair of a sample whose output value `y` for the input value `v` failed the band test,
+/// on plain values (one copy per number type and formula, whatever the sample type or k2 law: a
+/// firmware build holds few): a non-finite input is refused; an output value that is not finite
+/// is computed again by [`Formula::output_wide`] (refused when that is not finite either); then
+/// the value is clamped into [v − k1, v + k1].
 #[cold]
 #[inline(never)]
-fn rare<T: Real, F: Formula>(
+fn repair<T: Real, F: Formula>(
     memory: &Memory<T>,
     k1: T,
     v: T,
@@ -175,6 +175,37 @@ fn rare<T: Real, F: Formula>(
     Ok(y.max(v - k1).min(v + k1))
 }
 
+/// The rare path of [`ParametricHysteresis::advance`]: [`repair`], and on a refusal the undoing
+/// of what [`Memory::observe`] changed (it returned `reversed`), so the memory is as it was.
+///
+/// On a host out of line and by `&mut`: the caller then reads the memory again after the call,
+/// and keeps no copy of it in registers across the formula's `exp` for a refusal. On bare metal
+/// (built for size) inlined: one swap in the caller takes fewer bytes than one in each copy.
+#[cfg_attr(not(target_os = "none"), cold, inline(never))]
+#[cfg_attr(target_os = "none", inline(always))]
+fn rare<T: Real, F: Formula>(
+    memory: &mut Memory<T>,
+    reversed: bool,
+    k1: T,
+    v: T,
+    y: T,
+    m_star: T,
+    k2: T,
+) -> Result<T, Error> {
+    // On a host M* is derived again from the memory (the same value), so the caller keeps
+    // nothing for this path across the formula's `exp`; on bare metal the caller's.
+    let m_star = if cfg!(target_os = "none") {
+        m_star
+    } else {
+        F::m_star(memory, k1)
+    };
+    let repaired = repair::<T, F>(memory, k1, v, y, m_star, k2);
+    if repaired.is_err() {
+        memory.unobserve(reversed);
+    }
+    repaired
+}
+
 /// Eq. (2): ũ = ṽ − M* + W(k2 M* e^(k2 (M* − ṽ))) / k2.
 ///
 /// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b): while a e^b is finite, eq. (2) as
@@ -185,6 +216,11 @@ fn rare<T: Real, F: Formula>(
 /// (ṽ = 0) the value is exactly 0.
 #[inline]
 fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
+    // On a host, a plain sample at the reversal point returns at once (a jet needs its
+    // derivatives): then ṽ is not kept across the calls below for the test at the end.
+    if S::ORDER == 0 && cfg!(not(target_os = "none")) && v_tilde.value() == T::zero() {
+        return S::constant(T::zero());
+    }
     let a = k2 * m_star;
     let b = k2 * (S::constant(m_star) - v_tilde);
     let x = a * b.exp();
@@ -202,16 +238,30 @@ fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
             w
         };
         v_tilde - m_star + w / k2
-    } else {
+    } else if cfg!(target_os = "none") {
         let ln_a = k2.ln() + m_star.ln();
         let w = (ln_a + b).omega();
         (ln_a - w.ln()) / k2
+    } else {
+        // On a host out of line, so that b is not kept across the calls of the common path.
+        direct_transition_log(v_tilde, m_star, k2)
     };
     if v_tilde.value() == T::zero() {
         u_tilde.with_value(T::zero())
     } else {
         u_tilde
     }
+}
+
+/// The log-domain branch of [`direct_transition`] on a host (a e^b beyond the float range),
+/// out of line: b is formed again here (the same value).
+#[cold]
+#[inline(never)]
+fn direct_transition_log<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
+    let b = k2 * (S::constant(m_star) - v_tilde);
+    let ln_a = k2.ln() + m_star.ln();
+    let w = (ln_a + b).omega();
+    (ln_a - w.ln()) / k2
 }
 
 impl Formula for Inverse {
@@ -490,22 +540,16 @@ impl<T: Real, K: K2Law<T>, F: Formula> ParametricHysteresis<T, K, F> {
         if !((y.value() - v).abs() <= k1) || jet_overflow {
             // A jet whose derivatives overflow has no overflow-free form: refused (after a
             // non-finite input, which `rare` names).
-            let repaired = if jet_overflow && v.is_finite() {
+            if jet_overflow && v.is_finite() {
+                memory.unobserve(reversed);
                 let output = y.value();
-                Err(overflow(
+                return Err(overflow(
                     v,
                     if output.is_finite() { T::nan() } else { output },
-                ))
-            } else {
-                rare::<T, F>(memory, k1, v, y.value(), m_star, k2.value())
-            };
-            match repaired {
-                Ok(value) => y = y.with_value(value),
-                Err(e) => {
-                    memory.unobserve(reversed);
-                    return Err(e);
-                }
+                ));
             }
+            let value = rare::<T, F>(memory, reversed, k1, v, y.value(), m_star, k2.value())?;
+            y = y.with_value(value);
         }
         memory.last_input = v;
         memory.last_output = y.value();
@@ -559,22 +603,21 @@ impl<T: Real, K: K2Law<T>, F: Formula> Operator<T> for ParametricHysteresis<T, K
     /// output of a finite input is beyond the float range; the memory is then unchanged.
     #[inline(always)]
     fn try_step<S: Sample<T>>(&mut self, x: S) -> Result<S, Error> {
-        // The common case tests nothing before the formula: `advance`'s band test fails for
-        // every non-finite input, and its rare path refuses it with the memory as it was. The
-        // first sample, a jet, or a law that must not see a non-finite input are tested first.
-        // One call of `advance` for both (a firmware build holds one copy of the formulas).
-        let unchecked = S::ORDER == 0 && K::ALWAYS_VALID && K::ANY_INPUT && self.memory.is_some();
+        // A plain sample tests nothing before the formula, the first one included: `advance`'s
+        // band test fails for every non-finite input, and its rare path refuses it with the
+        // memory as it was. A jet, or a law that must not see a non-finite input, is tested
+        // first. One call of `advance` (a firmware build holds one copy of the formulas).
+        let unchecked = S::ORDER == 0 && K::ALWAYS_VALID && K::ANY_INPUT;
         let k2 = self.checked_k2(x, !unchecked)?;
-        // The first plain sample (a reversal point on the line output = input) always
-        // succeeds, so the memory can be created in place. A jet's derivatives can overflow
-        // even on the first sample: `advance` then undoes what it changed, and a memory created
-        // for this sample goes again.
+        // The memory of a first sample is created in place; when `advance` refuses the sample
+        // (a non-finite input, a jet whose derivatives overflow) it undoes what it changed, and
+        // the memory created for this sample goes again.
         let fresh = self.memory.is_none();
         let memory = self
             .memory
             .get_or_insert_with(|| Memory::first_sample(x.value(), x.trend()));
         let y = Self::advance(memory, self.k1, x, k2);
-        if S::ORDER > 0 && fresh && y.is_err() {
+        if fresh && y.is_err() {
             self.memory = None;
         }
         y
