@@ -27,8 +27,8 @@ pub(crate) enum RecordColumn<'a> {
 /// without it), each sample with its weight from the `weight` column (1 without it). A record
 /// is a run of equal ids (or labels); an id that comes back later continues its record.
 /// Labels are numbered 0, 1, … in order of first appearance; the labels are returned in that
-/// order (none for numeric ids). Without a record column, the input and output columns
-/// become the one record's (moved when owned).
+/// order (none for numeric ids). Without a record column every row is record 0's, and owned
+/// input and output columns become its samples without a copy ([`fill_samples`]).
 ///
 /// # Errors
 /// A record id that is not an integer of at most [`MAX_RECORD_ID`], a negative weight.
@@ -39,9 +39,6 @@ pub(crate) fn group_rows(
     record: Option<RecordColumn<'_>>,
     weight: Option<(&str, &[f64])>,
 ) -> Result<(Vec<Record>, Vec<String>), FitError> {
-    if record.is_none() {
-        return one_record(table, input, output, weight).map(|r| (r, Vec::new()));
-    }
     let mut records: Vec<Record> = Vec::new();
     let mut index_of: BTreeMap<i64, usize> = BTreeMap::new();
     let mut label_ids: HashMap<&str, i64> = HashMap::new();
@@ -128,12 +125,21 @@ fn fill_samples(records: &mut [Record], input: Cow<'_, [f64]>, output: Cow<'_, [
     });
     match (input, output) {
         (Cow::Owned(mut input), Cow::Owned(mut output)) if in_turn && next == input.len() => {
+            // The tail of a column as a vector of its own: the whole column itself for the
+            // first record (`split_off(0)` would copy it).
+            let tail = |column: &mut Vec<f64>, start: usize| {
+                let tail = if start == 0 {
+                    std::mem::take(column)
+                } else {
+                    column.split_off(start)
+                };
+                column.shrink_to_fit();
+                tail
+            };
             for r in records.iter_mut().rev() {
                 let start = input.len() - r.rows.len();
-                r.input = input.split_off(start);
-                r.output = output.split_off(start);
-                input.shrink_to_fit();
-                output.shrink_to_fit();
+                r.input = tail(&mut input, start);
+                r.output = tail(&mut output, start);
             }
         }
         (input, output) => {
@@ -143,45 +149,4 @@ fn fill_samples(records: &mut [Record], input: Cow<'_, [f64]>, output: Cow<'_, [
             }
         }
     }
-}
-
-/// The rows of `table` as one record (none when it has no rows), its weights from the `weight`
-/// column (1 without it).
-///
-/// # Errors
-/// A negative weight (the first).
-fn one_record(
-    table: &Table,
-    input: Cow<'_, [f64]>,
-    output: Cow<'_, [f64]>,
-    weight: Option<(&str, &[f64])>,
-) -> Result<Vec<Record>, FitError> {
-    let n = table.len();
-    if n == 0 {
-        return Ok(Vec::new());
-    }
-    let weight = match weight {
-        Some((name, col)) => {
-            if let Some(row) = col.iter().position(|w| *w < 0.0) {
-                return Err(FitError::NegativeWeight {
-                    file: table.source().to_string(),
-                    line: table.line_of_row(row),
-                    column: name.to_string(),
-                    value: col[row],
-                });
-            }
-            Weights::Each(col.to_vec())
-        }
-        None => Weights::Unit(n),
-    };
-    Ok(vec![Record {
-        id: 0,
-        input: input.into_owned(),
-        output: output.into_owned(),
-        weight,
-        rows: (0..n).collect(),
-        validation: false,
-        continues: false,
-        period: None,
-    }])
 }
