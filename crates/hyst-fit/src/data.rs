@@ -83,21 +83,9 @@ impl Dataset {
     pub fn from_table_owned(mut table: Table, options: &DataOptions) -> Result<Self, FitError> {
         // The columns the dataset reads, each once: a column read for two purposes (the same
         // input and output, a record column that is also the input) is not taken.
-        let record = record_column(&table, options);
-        let time = options
-            .timed
-            .then(|| {
-                (options.time.clone()).or_else(|| default_time_column(&table).map(str::to_string))
-            })
-            .flatten();
-        let used = [
-            Some(options.input.clone()),
-            Some(options.output.clone()),
-            options.weight.clone(),
-            time,
-            record.clone(),
-        ];
+        let used = read_columns(|n| table.column_index(n).is_some(), options);
         let uses = |name: &str| used.iter().filter(|n| n.as_deref() == Some(name)).count();
+        let [.., record] = &used;
         if uses(&options.input) > 1 || uses(&options.output) > 1 {
             return Self::from_table(&table, options);
         }
@@ -105,7 +93,7 @@ impl Dataset {
         let output = table.take_column(&options.output)?;
         // Numeric record ids are read once, into the records' grouping: taken, they are given
         // back before the samples are (8 bytes a row less at the peak).
-        let ids = match &record {
+        let ids = match record {
             Some(name) if uses(name) == 1 && !table.is_text(name) => table.take_column(name).ok(),
             _ => None,
         };
@@ -121,26 +109,10 @@ impl Dataset {
     /// table's column names (a reader keeps only these: [`Table::read_digest_selected`]).
     #[must_use]
     pub fn wanted_columns(names: &[String], options: &DataOptions) -> Vec<bool> {
-        let has = |name: &str| names.iter().any(|n| n == name);
-        let record = record_column_in(has, options);
-        let time = options
-            .timed
-            .then(|| {
-                options
-                    .time
-                    .clone()
-                    .or_else(|| default_time_in(has).map(str::to_string))
-            })
-            .flatten();
+        let used = read_columns(|name| names.iter().any(|n| n == name), options);
         names
             .iter()
-            .map(|n| {
-                *n == options.input
-                    || *n == options.output
-                    || record.as_deref() == Some(n.as_str())
-                    || options.weight.as_deref() == Some(n.as_str())
-                    || time.as_deref() == Some(n.as_str())
-            })
+            .map(|n| used.iter().any(|u| u.as_deref() == Some(n.as_str())))
             .collect()
     }
 
@@ -431,6 +403,22 @@ fn check_columns(
         }
     }
     Ok(())
+}
+
+/// The columns a dataset reads with `options` from a table whose column names are those `has`:
+/// input, output, weight, time (read only for a timed fit) and record column, in that order.
+fn read_columns(has: impl Fn(&str) -> bool, options: &DataOptions) -> [Option<String>; 5] {
+    let time = options
+        .timed
+        .then(|| (options.time.clone()).or_else(|| default_time_in(&has).map(str::to_string)))
+        .flatten();
+    [
+        Some(options.input.clone()),
+        Some(options.output.clone()),
+        options.weight.clone(),
+        time,
+        record_column_in(has, options),
+    ]
 }
 
 /// The record column: the one named, else the first of [`RECORD_COLUMNS`] in the table; none
