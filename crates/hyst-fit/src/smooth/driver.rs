@@ -385,30 +385,21 @@ fn widths(
         )?),
         // Searched on the reduction, then checked (and widened if need be) on the full data.
         (true, Some(small)) => {
-            let found = match (small, drawn_for_widths(data, small)) {
-                (Reduction::Draw(draw), _) => {
-                    widths_on_draw(draw, model, options.coverage, observer)?
+            let found = match small {
+                Reduction::Draw(drawn) => widths_on_draw(drawn, model, options.coverage, observer)?,
+                // Turning points that are themselves many (up to `MAX_KEPT`): each of the
+                // search's 50 or so coverages would run up to eight members of the family over
+                // them, so the search runs on a draw of the full data instead.
+                Reduction::Turning(small) if small.training_samples() > 2 * TARGET => {
+                    widths_on_draw(&draw(data), model, options.coverage, observer)?
                 }
-                (_, Some(draw)) => widths_on_draw(&draw, model, options.coverage, observer)?,
-                (Reduction::Turning(small), None) => {
+                Reduction::Turning(small) => {
                     family_widths(small, model, None, options.coverage, observer)?
                 }
             };
             Some(confirm(data, model, found, observer)?)
         }
     })
-}
-
-/// The draw of windows ([`draw`]) of the full data on which to search the family widths, when
-/// the reduction `small` is turning points and itself long (up to
-/// [`MAX_KEPT`](crate::reduction::MAX_KEPT)): each of the search's 50 or so coverages runs up
-/// to eight members of the family over it. `None` when the reduction is short enough, or a draw
-/// already.
-fn drawn_for_widths(data: &Dataset, small: &Reduction) -> Option<Dataset> {
-    match small {
-        Reduction::Turning(small) => (small.training_samples() > 2 * TARGET).then(|| draw(data)),
-        Reduction::Draw(_) => None,
-    }
 }
 
 /// The family widths searched on a `draw`, at a coverage above `target` by three binomial
