@@ -29,10 +29,10 @@ impl Outputs for Vec<Vec<f64>> {
 }
 
 /// The output of a smooth model on a dataset's records, run again for each replay: each
-/// history from its estimated start (per history,
+/// history ([`Dataset::histories`](crate::data::Dataset::histories): segments run on from one
+/// another) from its estimated start (per history,
 /// [`SmoothFit::starts`](crate::smooth::SmoothFit::starts)) or the start rule, a model with
-/// dynamics or a rate term at each history's sample period (as
-/// [`run_records`](crate::smooth::run_records) runs it).
+/// dynamics or a rate term at each history's sample period.
 pub struct ModelOutputs<'a> {
     /// The records.
     pub data: &'a Dataset,
@@ -76,14 +76,15 @@ mod tests {
     use hyst_io::Table;
     use hyst_model::{InitialState, SmoothModel};
 
-    /// A replay gives what `run_records` holds, sample for sample, also for segments that
-    /// continue one another and from estimated starts.
+    /// A replay gives each record the samples of its history's run that are its own, also for
+    /// segments that run on from one another and from estimated starts; `run_records` holds
+    /// the same.
     #[test]
-    fn a_replay_is_the_outputs_held() {
-        let mut text = String::from("u,y\n");
+    fn a_replay_gives_each_record_its_part_of_the_history() {
+        let mut text = String::from("loop,u,y\n");
         for k in 0..500 {
             let u = (f64::from(k) * 0.05).sin() * (1.0 + f64::from(k) / 500.0);
-            text.push_str(&format!("{u},{}\n", 2.0 * u));
+            text.push_str(&format!("{},{u},{}\n", k / 250, 2.0 * u));
         }
         let table = Table::parse(text.as_bytes(), "d.csv").unwrap();
         let options = DataOptions {
@@ -104,10 +105,22 @@ mod tests {
             dynamics: None,
             rate: None,
         };
-        let histories = data.histories().len();
-        let bands: Vec<f64> = (0..histories).map(|i| 0.3 - 0.1 * i as f64).collect();
+        let histories = data.histories();
+        assert_eq!((histories.len(), data.records.len()), (2, 8));
+        let bands = [0.3, -0.2];
         for starts in [None, Some(&bands[..])] {
-            let held = run_records(&data, &model, starts).unwrap();
+            // Each history run whole, then cut into its records.
+            let mut expected = vec![Vec::new(); data.records.len()];
+            for (index, h) in histories.iter().enumerate() {
+                let band = starts.map(|s| s[index]);
+                let mut y = Vec::new();
+                model
+                    .run_timed(&h.input, None, band, |_, s| y.push(s.y))
+                    .unwrap();
+                for &(i, start, len) in &h.parts {
+                    expected[i] = y[start..start + len].to_vec();
+                }
+            }
             let mut replayed: Vec<Vec<f64>> = vec![Vec::new(); data.records.len()];
             let ran = ModelOutputs {
                 data: &data,
@@ -119,9 +132,10 @@ mod tests {
                 replayed[i].push(y);
             });
             assert!(ran);
-            assert_eq!(replayed, held);
+            assert_eq!(replayed, expected);
+            assert_eq!(run_records(&data, &model, starts).unwrap(), expected);
             let mut again = Vec::new();
-            assert!(held.replay(&mut |i, j, y| again.push((i, j, y))));
+            assert!(expected.replay(&mut |i, j, y| again.push((i, j, y))));
             assert_eq!(again.len(), 500);
         }
     }

@@ -5,32 +5,33 @@ use hyst_model::{ErrorStats, ErrorSums, SmoothModel};
 
 use crate::data::Dataset;
 use crate::error::FitError;
-use crate::outputs::Outputs;
+use crate::outputs::{ModelOutputs, Outputs};
 
-/// The output of `model` on every record of `data` (record order), each history run from its
-/// estimated start `starts` (per history,
-/// [`SmoothFit::starts`](crate::smooth::SmoothFit::starts)) or the start rule; a model with
-/// dynamics or a rate term at each history's sample period.
+/// The output of `model` on every record of `data` (record order), held: the replay of
+/// [`ModelOutputs`] collected (each history from its estimated start `starts` or the start rule,
+/// at its sample period). `None` when the model cannot run a record.
 #[must_use]
 pub fn run_records(
     data: &Dataset,
     model: &SmoothModel,
     starts: Option<&[f64]>,
 ) -> Option<Vec<Vec<f64>>> {
-    let periods: Vec<Option<f64>> = if model.is_timed() {
-        data.histories().iter().map(|h| h.period).collect()
-    } else {
-        Vec::new()
+    let mut out: Vec<Vec<f64>> = data
+        .records
+        .iter()
+        .map(|r| Vec::with_capacity(r.len()))
+        .collect();
+    let outputs = ModelOutputs {
+        data,
+        model,
+        starts,
     };
-    data.run_histories_with(|index, input| {
-        let mut y = Vec::with_capacity(input.len());
-        let band = starts.and_then(|s| s.get(index).copied());
-        let period = periods.get(index).copied().flatten();
-        model
-            .run_timed(input, period, band, |_, s| y.push(s.y))
-            .ok()?;
-        Some(y)
-    })
+    let ran = outputs.replay(&mut |i, _, y| {
+        if let Some(record) = out.get_mut(i) {
+            record.push(y);
+        }
+    });
+    ran.then_some(out)
 }
 
 /// Training and validation error statistics of any model (`run` maps a record's input to its
