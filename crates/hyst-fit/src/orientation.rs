@@ -15,7 +15,6 @@ use serde::{Deserialize, Serialize};
 use hyst_model::{Form, InitialState};
 
 use crate::data::Dataset;
-use crate::weights::Weights;
 
 /// Below this gap between its rising and falling branches (fraction of the output span), a
 /// model has no loop: 0.1 %, about the resolution of a 10-bit sensor.
@@ -71,9 +70,6 @@ struct Directed {
     weight: f64,
 }
 
-/// A record's samples as [`directed`] reads them: input, output and weight.
-type Samples<'a> = (&'a [f64], &'a [f64], &'a Weights);
-
 /// The input and output ranges samples are normalised over.
 #[derive(Clone, Copy, Debug)]
 struct Normalisation {
@@ -119,7 +115,7 @@ impl Normalisation {
 }
 
 /// [`loops`] gathered sample by sample ([`LoopSums::add`]), normalised over given ranges: the
-/// loops of a model's outputs replayed in place of the measured ones, none of them held.
+/// data's, or a model's outputs replayed in place of the measured ones (none of them held).
 pub(crate) struct LoopSums {
     /// The ranges.
     normalisation: Normalisation,
@@ -153,79 +149,57 @@ impl LoopSums {
 
     /// The loops of the samples added.
     pub(crate) fn loops(&self) -> Loops {
-        loops_of_sums(&self.sums)
+        // In each bin, both branches as lines of one common slope: the gap is the difference
+        // of their intercepts at the same input (a steep curve sampled at different inputs on
+        // the way up and down has no gap).
+        let (mut gap, mut weight) = (0.0, 0.0);
+        for &[[nr, xr, yr, xxr, xyr], [nf, xf, yf, xxf, xyf]] in &self.sums {
+            if nr < 2.0 || nf < 2.0 {
+                continue;
+            }
+            let sxx = (xxr - xr * xr / nr) + (xxf - xf * xf / nf);
+            let sxy = (xyr - xr * yr / nr) + (xyf - xf * yf / nf);
+            let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+            let w = nr.min(nf);
+            gap += w * ((yr / nr - yf / nf) - slope * (xr / nr - xf / nf));
+            weight += w;
+        }
+        let gap = if weight > 0.0 { gap / weight } else { 0.0 };
+        Loops {
+            orientation: if gap.abs() < MIN_GAP {
+                Orientation::None
+            } else if gap > 0.0 {
+                Orientation::Clockwise
+            } else {
+                Orientation::Counterclockwise
+            },
+            gap,
+        }
     }
 }
 
 /// The training samples of `data` of positive weight whose input moves (the direction by the
 /// central difference, one-sided at the ends), each in its bin of [`BINS`] over the input
-/// range: what [`loops`] and [`against_trend`] sum.
+/// range: what [`against_trend`] sums ([`loops`] sums the same ones, by [`LoopSums::add`]).
 fn directed(data: &Dataset) -> impl Iterator<Item = Directed> + '_ {
-    directed_in(
-        data.training()
-            .map(|r| (&r.input[..], &r.output[..], &r.weight)),
-        data.input_range(),
-        data.output_range(),
-    )
-}
-
-/// [`directed`] over the samples of `records`, normalised over `input_range` and
-/// `output_range`.
-fn directed_in<'a>(
-    records: impl Iterator<Item = Samples<'a>> + 'a,
-    input_range: (f64, f64),
-    output_range: (f64, f64),
-) -> impl Iterator<Item = Directed> + 'a {
-    let normalisation = Normalisation::new(input_range, output_range);
-    records.flat_map(move |(input, output, weights)| {
-        (0..input.len())
-            .filter_map(move |i| normalisation.directed(input, i, *output.get(i)?, weights.get(i)?))
+    let normalisation = Normalisation::new(data.input_range(), data.output_range());
+    data.training().flat_map(move |r| {
+        (0..r.len()).filter_map(move |i| {
+            normalisation.directed(&r.input, i, *r.output.get(i)?, r.weight.get(i)?)
+        })
     })
 }
 
 /// The orientation of the loops in the training records of `data`.
 #[must_use]
 pub fn loops(data: &Dataset) -> Loops {
-    loops_in(directed(data))
-}
-
-/// [`loops`] of the samples `directed`.
-fn loops_in(directed: impl Iterator<Item = Directed>) -> Loops {
-    let mut sums = LoopSums::new((0.0, 1.0), (0.0, 1.0));
-    for d in directed {
-        sums.push(&d);
+    let mut sums = LoopSums::new(data.input_range(), data.output_range());
+    for r in data.training() {
+        for (i, (y, w)) in r.output.iter().zip(&r.weight).enumerate() {
+            sums.add(&r.input, i, *y, w);
+        }
     }
     sums.loops()
-}
-
-/// The loops of the sums of [`LoopSums`].
-fn loops_of_sums(sums: &[[[f64; 5]; 2]; BINS]) -> Loops {
-    // In each bin, both branches as lines of one common slope: the gap is the difference of
-    // their intercepts at the same input (a steep curve sampled at different inputs on the way
-    // up and down has no gap).
-    let (mut gap, mut weight) = (0.0, 0.0);
-    for &[[nr, xr, yr, xxr, xyr], [nf, xf, yf, xxf, xyf]] in sums {
-        if nr < 2.0 || nf < 2.0 {
-            continue;
-        }
-        let sxx = (xxr - xr * xr / nr) + (xxf - xf * xf / nf);
-        let sxy = (xyr - xr * yr / nr) + (xyf - xf * yf / nf);
-        let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
-        let w = nr.min(nf);
-        gap += w * ((yr / nr - yf / nf) - slope * (xr / nr - xf / nf));
-        weight += w;
-    }
-    let gap = if weight > 0.0 { gap / weight } else { 0.0 };
-    Loops {
-        orientation: if gap.abs() < MIN_GAP {
-            Orientation::None
-        } else if gap > 0.0 {
-            Orientation::Clockwise
-        } else {
-            Orientation::Counterclockwise
-        },
-        gap,
-    }
 }
 
 /// The form the user asks for: chosen from the data, or given.
@@ -434,7 +408,7 @@ mod tests {
                     id: id as i64,
                     input: (*x).clone(),
                     output: (*x).clone(),
-                    weight: Weights::Unit(x.len()),
+                    weight: crate::Weights::Unit(x.len()),
                     rows: (0..x.len()).collect(),
                     validation: false,
                     continues: false,
