@@ -88,22 +88,48 @@ enum Command {
     Adapt(adapt::Args),
 }
 
+/// The environment variable that sets how many values a column read from a file holds in
+/// memory before it goes to a temporary file ([`hyst_io::set_spill_after`]).
+const SPILL_VARIABLE: &str = "HYST_SPILL_AFTER";
+
+/// Applies [`SPILL_VARIABLE`] when it is set.
+///
+/// # Errors
+/// A value that is not a whole number of values.
+fn spill_setting() -> anyhow::Result<()> {
+    let Some(value) = std::env::var_os(SPILL_VARIABLE) else {
+        return Ok(());
+    };
+    let text = value.to_string_lossy();
+    let values = text.trim().parse::<usize>().map_err(|_| {
+        anyhow::anyhow!(
+            "{SPILL_VARIABLE}={text:?}: expected the number of values a column holds in memory \
+             before it goes to a temporary file (a whole number ≥ 0; default {})",
+            hyst_io::SPILL_AFTER
+        )
+    })?;
+    hyst_io::set_spill_after(values);
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Err(e) = signals::install() {
         eprintln!("error: {}", message(&e));
         return ExitCode::FAILURE;
     }
-    let result = distinct_files(&cli.command).and_then(|()| match cli.command {
-        Command::Run(args) => run::main(args),
-        Command::Bound(args) => bound::main(args),
-        Command::Paper(args) => paper::main(args),
-        Command::Fit(args) => fit::main(args),
-        Command::Fmu(args) => fmu::main(args),
-        Command::Bench(args) => bench::main(args),
-        Command::Export(args) => export::main(args),
-        Command::Adapt(args) => adapt::main(args),
-    });
+    let result = spill_setting()
+        .and_then(|()| distinct_files(&cli.command))
+        .and_then(|()| match cli.command {
+            Command::Run(args) => run::main(args),
+            Command::Bound(args) => bound::main(args),
+            Command::Paper(args) => paper::main(args),
+            Command::Fit(args) => fit::main(args),
+            Command::Fmu(args) => fmu::main(args),
+            Command::Bench(args) => bench::main(args),
+            Command::Export(args) => export::main(args),
+            Command::Adapt(args) => adapt::main(args),
+        });
     match result {
         Ok(()) => ExitCode::SUCCESS,
         // `-o -` into a pipe whose reader went away (`hyst run ... -o - | head`): it has what it

@@ -3,13 +3,13 @@
 
 use std::borrow::Cow;
 
-use hyst_io::Table;
+use hyst_io::{Samples, Table};
 
 use hyst_model::Columns;
 
 use crate::error::FitError;
 pub use crate::grouping::MAX_RECORD_ID;
-use crate::grouping::{group_rows, RecordColumn};
+use crate::grouping::{group_rows, Column, RecordColumn};
 pub use crate::record::{DataOptions, History, Record};
 use crate::weights::Weights;
 
@@ -71,7 +71,7 @@ impl Dataset {
     pub fn from_table(table: &Table, options: &DataOptions) -> Result<Self, FitError> {
         let input = table.column(&options.input)?;
         let output = table.column(&options.output)?;
-        let columns = (Cow::Borrowed(input), Cow::Borrowed(output));
+        let columns = (Column::Borrowed(input), Column::Borrowed(output));
         Self::build(table, options, columns, None)
     }
 
@@ -100,7 +100,7 @@ impl Dataset {
         Self::build(
             &table,
             options,
-            (Cow::Owned(input), Cow::Owned(output)),
+            (Column::Taken(input), Column::Taken(output)),
             ids,
         )
     }
@@ -121,8 +121,8 @@ impl Dataset {
     fn build(
         table: &Table,
         options: &DataOptions,
-        (input, output): (Cow<'_, [f64]>, Cow<'_, [f64]>),
-        ids: Option<Vec<f64>>,
+        (input, output): (Column<'_>, Column<'_>),
+        ids: Option<Samples>,
     ) -> Result<Self, FitError> {
         check_columns(table, options, &input, &output)?;
         let record_name = record_column(table, options);
@@ -135,8 +135,8 @@ impl Dataset {
             (Some(name), None) => Some(RecordColumn::Ids(
                 name,
                 match ids {
-                    Some(ids) => Cow::Owned(ids),
-                    None => Cow::Borrowed(table.column(name)?),
+                    Some(ids) => Column::Taken(ids),
+                    None => Column::Borrowed(table.column(name)?),
                 },
             )),
             (None, _) => None,
@@ -207,8 +207,8 @@ impl Dataset {
             },
             vec![Record {
                 id: 0,
-                input: input[..n].to_vec(),
-                output: output[..n].to_vec(),
+                input: input[..n].into(),
+                output: output[..n].into(),
                 weight: Weights::Unit(n),
                 rows: (0..n).collect(),
                 validation: false,
@@ -526,8 +526,8 @@ fn segment(records: Vec<Record>, len: usize) -> Result<Vec<Record>, FitError> {
             let end = (start + len).min(r.len());
             cut.push(Record {
                 id: next,
-                input: r.input[start..end].to_vec(),
-                output: r.output[start..end].to_vec(),
+                input: r.input.slice(start..end),
+                output: r.output.slice(start..end),
                 weight: r.weight.slice(start..end),
                 rows: r.rows.slice(start..end),
                 validation: false,

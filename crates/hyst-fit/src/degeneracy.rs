@@ -611,8 +611,8 @@ mod tests {
                 let n = p.len();
                 Record {
                     id: id as i64,
-                    input: history[p.clone()].to_vec(),
-                    output: y[p.clone()].to_vec(),
+                    input: history[p.clone()].into(),
+                    output: y[p.clone()].into(),
                     weight: crate::Weights::Unit(n),
                     rows: (0..n).collect(),
                     validation: false,
@@ -621,7 +621,7 @@ mod tests {
                 }
             })
             .collect();
-        let outputs: Vec<Vec<f64>> = records.iter().map(|r| r.output.clone()).collect();
+        let outputs: Vec<Vec<f64>> = records.iter().map(|r| r.output.to_vec()).collect();
         let data = Dataset::single(&[0.0], &[0.0]);
         let data = Dataset::from_records("forc.csv", data.columns, records);
         assert_eq!(loops(&data).orientation, Orientation::None);

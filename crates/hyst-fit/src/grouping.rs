@@ -1,10 +1,10 @@
 //! The rows of a table grouped into records ([`group_rows`]): each record's samples, weights
 //! and rows, taken off the columns without a copy where the records follow one another.
 
-use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
+use std::ops::Deref;
 
-use hyst_io::Table;
+use hyst_io::{Samples, Table};
 
 use crate::error::FitError;
 use crate::record::Record;
@@ -15,10 +15,28 @@ use crate::weights::Weights;
 /// (2⁵³ ≈ 9.007e15), so neighbouring ids would merge.
 pub const MAX_RECORD_ID: f64 = 9.0e15;
 
+/// A column a dataset reads: borrowed from its table, or taken out of it (no copy).
+pub(crate) enum Column<'a> {
+    /// Borrowed from the table.
+    Borrowed(&'a [f64]),
+    /// Taken out of the table ([`Table::take_column`]).
+    Taken(Samples),
+}
+
+impl Deref for Column<'_> {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        match self {
+            Column::Borrowed(values) => values,
+            Column::Taken(values) => values,
+        }
+    }
+}
+
 /// The record column of a table.
 pub(crate) enum RecordColumn<'a> {
     /// Numeric record ids: the column's name and values.
-    Ids(&'a str, Cow<'a, [f64]>),
+    Ids(&'a str, Column<'a>),
     /// Text labels, one per row.
     Labels(&'a [String]),
 }
@@ -31,11 +49,12 @@ pub(crate) enum RecordColumn<'a> {
 /// input and output columns become its samples without a copy ([`fill_samples`]).
 ///
 /// # Errors
-/// A record id that is not an integer of at most [`MAX_RECORD_ID`], a negative weight.
+/// A record id that is not an integer of at most [`MAX_RECORD_ID`], a negative weight, a
+/// temporary file that cannot be written ([`FitError::Io`]).
 pub(crate) fn group_rows(
     table: &Table,
-    input: Cow<'_, [f64]>,
-    output: Cow<'_, [f64]>,
+    input: Column<'_>,
+    output: Column<'_>,
     record: Option<RecordColumn<'_>>,
     weight: Option<(&str, &[f64])>,
 ) -> Result<(Vec<Record>, Vec<String>), FitError> {
@@ -86,8 +105,8 @@ pub(crate) fn group_rows(
         let at = *index_of.entry(id).or_insert_with(|| {
             records.push(Record {
                 id,
-                input: Vec::new(),
-                output: Vec::new(),
+                input: Samples::default(),
+                output: Samples::default(),
                 weight: Weights::default(),
                 rows: Rows::default(),
                 validation: false,
@@ -103,7 +122,7 @@ pub(crate) fn group_rows(
     // The record ids are done with: given back before the samples are moved.
     drop(label_ids);
     drop(record);
-    fill_samples(&mut records, input, output);
+    fill_samples(&mut records, input, output)?;
     for r in &mut records {
         r.weight.shrink_to_fit();
     }
@@ -111,9 +130,17 @@ pub(crate) fn group_rows(
 }
 
 /// Gives each record the input and output of its rows. Records that follow one another in the
-/// file, each one run of rows, take their samples off the end of owned columns (each column
-/// given back as it shrinks: a long file is held about once, not twice); others copy them.
-fn fill_samples(records: &mut [Record], input: Cow<'_, [f64]>, output: Cow<'_, [f64]>) {
+/// file, each one run of rows, take their samples off the end of taken columns (each column
+/// given back as it shrinks: a long file is held about once, not twice; a spilled one stays in
+/// its file); others copy them (a long record to a temporary file).
+///
+/// # Errors
+/// A temporary file that cannot be written.
+fn fill_samples(
+    records: &mut [Record],
+    input: Column<'_>,
+    output: Column<'_>,
+) -> Result<(), FitError> {
     let mut next = 0;
     // (The records' samples are not filled yet: their lengths are their rows'.)
     let in_turn = records.iter().all(|r| {
@@ -124,29 +151,19 @@ fn fill_samples(records: &mut [Record], input: Cow<'_, [f64]>, output: Cow<'_, [
         follows
     });
     match (input, output) {
-        (Cow::Owned(mut input), Cow::Owned(mut output)) if in_turn && next == input.len() => {
-            // The tail of a column as a vector of its own: the whole column itself for the
-            // first record (`split_off(0)` would copy it).
-            let tail = |column: &mut Vec<f64>, start: usize| {
-                let tail = if start == 0 {
-                    std::mem::take(column)
-                } else {
-                    column.split_off(start)
-                };
-                column.shrink_to_fit();
-                tail
-            };
+        (Column::Taken(mut input), Column::Taken(mut output)) if in_turn && next == input.len() => {
             for r in records.iter_mut().rev() {
                 let start = input.len() - r.rows.len();
-                r.input = tail(&mut input, start);
-                r.output = tail(&mut output, start);
+                r.input = input.split_off(start);
+                r.output = output.split_off(start);
             }
         }
         (input, output) => {
             for r in records.iter_mut() {
-                r.input = r.rows.iter().map(|row| input[row]).collect();
-                r.output = r.rows.iter().map(|row| output[row]).collect();
+                r.input = Samples::collect_spilling(r.rows.iter().map(|row| input[row]))?;
+                r.output = Samples::collect_spilling(r.rows.iter().map(|row| output[row]))?;
             }
         }
     }
+    Ok(())
 }

@@ -406,8 +406,8 @@ mod tests {
                 .enumerate()
                 .map(|(id, x)| Record {
                     id: id as i64,
-                    input: (*x).clone(),
-                    output: (*x).clone(),
+                    input: (*x).clone().into(),
+                    output: (*x).clone().into(),
                     weight: crate::Weights::Unit(x.len()),
                     rows: (0..x.len()).collect(),
                     validation: false,

@@ -171,7 +171,7 @@ impl<'a> Centred<'a> {
         let mut ymean = 0.0;
         let mut columns: Vec<(Vec<Vec<f64>>, &Record)> = Vec::new();
         for rec in data.training() {
-            let mut cols = vec![rec.input.clone()];
+            let mut cols = vec![rec.input.to_vec()];
             cols.extend(play_outputs(&rec.input, r));
             for (i, w) in rec.weight.iter().enumerate() {
                 sw += w;

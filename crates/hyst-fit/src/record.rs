@@ -4,6 +4,8 @@
 
 use std::borrow::Cow;
 
+use hyst_io::Samples;
+
 use crate::rows::Rows;
 use crate::weights::Weights;
 
@@ -13,10 +15,11 @@ use crate::weights::Weights;
 pub struct Record {
     /// The record id (value of the record column, or the segment number).
     pub id: i64,
-    /// Input samples (units of the input column).
-    pub input: Vec<f64>,
+    /// Input samples (units of the input column); a long record's are in a temporary file
+    /// ([`Samples`]).
+    pub input: Samples,
     /// Output samples (units of the output column).
-    pub output: Vec<f64>,
+    pub output: Samples,
     /// Sample weights (≥ 0; [`Weights::Unit`] when no weight column is given).
     pub weight: Weights,
     /// Row index in the table of each sample (for error messages and plots over time).

@@ -25,6 +25,8 @@
 //! window have weight 0. The draw is an estimate, not exact where kept: the polish on the full
 //! data corrects it.
 
+use hyst_io::Samples;
+
 use crate::data::{Dataset, Record};
 use crate::rows::Rows;
 use crate::weights::Weights;
@@ -172,20 +174,21 @@ fn forced_samples(r: &Record) -> Vec<bool> {
 fn kept(r: &Record, forced: &[bool], stride: usize) -> Record {
     let mut reduced = Record {
         id: r.id,
-        input: Vec::new(),
-        output: Vec::new(),
+        input: Samples::default(),
+        output: Samples::default(),
         weight: Weights::default(),
         rows: Rows::default(),
         validation: r.validation,
         continues: r.continues,
         period: r.period,
     };
+    let (input, output) = (reduced.input.to_mut(), reduced.output.to_mut());
     for ((i, &must), row) in forced.iter().enumerate().zip(r.rows.iter()) {
         if !must && !picked(i, stride) {
             continue;
         }
-        reduced.input.push(r.input[i]);
-        reduced.output.push(r.output[i]);
+        input.push(r.input[i]);
+        output.push(r.output[i]);
         let w = if must { 1.0 } else { stride as f64 };
         reduced.weight.push(w * r.weight[i]);
         reduced.rows.push(row);
@@ -281,8 +284,8 @@ fn window(r: &Record, rows: core::ops::Range<usize>, span: f64, block: usize) ->
     );
     Record {
         id: r.id,
-        input,
-        output: r.output[rows.clone()].to_vec(),
+        input: input.into(),
+        output: r.output[rows.clone()].into(),
         weight,
         rows: r.rows.slice(rows),
         validation: r.validation,

@@ -77,8 +77,13 @@ pub fn static_view(data: &Dataset, model: &SmoothModel) -> Option<(Dataset, Smoo
             .ok()?;
         for (i, start, len) in h.parts {
             let r = view.records.get_mut(i)?;
-            r.input = v.get(start..start + len)?.to_vec();
-            for (o, c) in r.output.iter_mut().zip(rate.get(start..start + len)?) {
+            r.input = v.get(start..start + len)?.into();
+            for (o, c) in r
+                .output
+                .to_mut()
+                .iter_mut()
+                .zip(rate.get(start..start + len)?)
+            {
                 *o -= c;
             }
         }

@@ -27,8 +27,8 @@ fn forc() -> Result<Dataset, FitError> {
         let n = input.len();
         records.push(Record {
             id: i64::from(c),
-            input,
-            output,
+            input: input.into(),
+            output: output.into(),
             weight: hyst_fit::Weights::Unit(n),
             rows: (0..n).collect(),
             validation: false,

@@ -421,8 +421,8 @@ fn records_that_start_mid_history_are_recovered_with_estimated_starts() -> Resul
         .enumerate()
         .map(|(id, w)| hyst_fit::Record {
             id: id as i64,
-            input: x[w[0]..w[1]].to_vec(),
-            output: y[w[0]..w[1]].to_vec(),
+            input: x[w[0]..w[1]].into(),
+            output: y[w[0]..w[1]].into(),
             weight: hyst_fit::Weights::Unit(w[1] - w[0]),
             rows: (w[0]..w[1]).collect(),
             validation: false,

@@ -215,6 +215,20 @@ pub enum IoError {
         available: Vec<String>,
     },
 
+    /// A long column could not be kept in its temporary file ([`Samples`](crate::Samples)):
+    /// the directory is full or cannot be written.
+    #[error(
+        "cannot keep a long column in a temporary file in {dir}: {source} (set TMPDIR to a \
+         directory on a disk with free space)"
+    )]
+    Spill {
+        /// The temporary directory ([`std::env::temp_dir`]).
+        dir: String,
+        /// The underlying OS error.
+        #[source]
+        source: std::io::Error,
+    },
+
     /// A column the reader was told to leave out (a selection) was asked for: a mistake of the
     /// program, not of the file.
     #[error(

@@ -13,6 +13,9 @@
 //!   half-written or temporary file behind.
 //! - [`number`]: numbers as every report and message prints them ([`number::sig`],
 //!   [`number::shortest`], percentages).
+//! - [`Samples`]: a column read from a file that is longer than [`SPILL_AFTER`] values is
+//!   held in an unnamed temporary file mapped into memory, and its pages leave resident
+//!   memory once read: a long file is read in bounded memory.
 //! - [`IoError`] messages name the file, line, column (index and name) and the
 //!   offending value, e.g.
 //!   `data.csv:17: column 2 ("y"): cannot parse "1.2.3" as a number`.
@@ -42,7 +45,7 @@
 //! # }
 //! ```
 
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 
 mod atomic;
 mod cell;
@@ -50,6 +53,7 @@ mod digest;
 mod error;
 pub mod number;
 mod reader;
+mod samples;
 mod table;
 mod writer;
 
@@ -60,5 +64,6 @@ pub use atomic::{
 pub use digest::{CountingReader, Digest};
 pub use error::IoError;
 pub use reader::{open_file, CsvReader};
+pub use samples::{set_spill_after, Samples, SamplesWriter, SPILL_AFTER};
 pub use table::Table;
 pub use writer::CsvWriter;

@@ -10,6 +10,7 @@ use crate::digest::{CountingReader, Digest, Hashing};
 use crate::error::IoError;
 use crate::reader::CsvReader;
 use crate::reader::{number, pick_column, unknown_column};
+use crate::samples::{Samples, SamplesWriter};
 use crate::writer::{check_names, push_f64, push_row, write_header};
 
 /// Source name of tables built with [`Table::new`].
@@ -29,8 +30,9 @@ const MEMORY_SOURCE: &str = "<memory>";
 pub struct Table {
     /// Column names, in file order.
     names: Vec<String>,
-    /// Column values; `columns[i]` belongs to `names[i]` (empty for a text column).
-    columns: Vec<Vec<f64>>,
+    /// Column values; `columns[i]` belongs to `names[i]` (empty for a text column). A long
+    /// column read from a file is spilled to a temporary file ([`Samples`]).
+    columns: Vec<Samples>,
     /// The cells of the columns kept as text; `None` for a column of numbers.
     text: Vec<Option<TextColumn>>,
     /// Whether each column was read (all are, except those a reader given a selection left
@@ -180,7 +182,7 @@ impl Table {
             text: vec![None; names.len()],
             read: vec![true; names.len()],
             names,
-            columns,
+            columns: columns.into_iter().map(Samples::from).collect(),
             lines: Lines::from(2, len),
             source: file,
         })
@@ -217,11 +219,11 @@ impl Table {
     }
 
     /// Moves the values of the column called `name` out of the table (no copy of a long
-    /// column); the column then counts as not read ([`IoError::NotRead`]).
+    /// column, held or spilled); the column then counts as not read ([`IoError::NotRead`]).
     ///
     /// # Errors
     /// As [`Table::column`].
-    pub fn take_column(&mut self, name: &str) -> Result<Vec<f64>, IoError> {
+    pub fn take_column(&mut self, name: &str) -> Result<Samples, IoError> {
         let i = self
             .column_index(name)
             .ok_or_else(|| unknown_column(&self.source, &self.names, name))?;
@@ -433,7 +435,7 @@ fn collect<R: std::io::Read>(
 ) -> Result<Table, IoError> {
     let n = rows.names().len();
     read.resize(n, true);
-    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); n];
+    let mut columns: Vec<SamplesWriter> = (0..n).map(|_| SamplesWriter::default()).collect();
     let mut text: Vec<Option<TextColumn>> = vec![None; n];
     let mut lines = Lines::default();
     while let Some(line) = rows.next_cells()? {
@@ -445,21 +447,21 @@ fn collect<R: std::io::Read>(
             match text {
                 Some(text) => text.push(cell),
                 None => match number(cell, "", line, i, "") {
-                    Ok(value) => column.push(value),
+                    Ok(value) => column.push(value)?,
                     Err(_) => {
-                        *text = Some(TextColumn::after(column, line, cell));
-                        *column = Vec::new();
+                        let numbers = std::mem::take(column).finish()?;
+                        *text = Some(TextColumn::after(&numbers, line, cell));
                     }
                 },
             }
         }
         lines.push(line);
     }
-    // A long column's vector holds up to twice its values after growing: the slack goes back
-    // (a large block shrinks in place).
-    for column in &mut columns {
-        column.shrink_to_fit();
-    }
+    // A held column's slack goes back (a large block shrinks in place); a long one is mapped.
+    let columns = columns
+        .into_iter()
+        .map(SamplesWriter::finish)
+        .collect::<Result<_, _>>()?;
     Ok(Table {
         names: rows.names().to_vec(),
         columns,
@@ -1280,6 +1282,28 @@ mod tests {
         assert_eq!(files_in(dir.path()), ["out.csv", "real.csv"]);
     }
 
+    /// A column longer than `SPILL_AFTER` values is read into a temporary file, and reads
+    /// back every value; a shorter one is held.
+    #[test]
+    fn a_long_column_is_spilled_and_a_short_one_held() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("long.csv");
+        let n = crate::SPILL_AFTER + 3;
+        let mut text = String::from("x,y\n");
+        for i in 0..n {
+            text += &format!("{i},{}\n", i % 7);
+        }
+        fs::write(&path, text).unwrap();
+        let mut t = Table::read(&path).unwrap();
+        assert!(t.columns.iter().all(Samples::is_spilled));
+        let y = t.take_column("y").unwrap();
+        assert_eq!(y.len(), n);
+        assert!(y.iter().enumerate().all(|(i, &v)| v == (i % 7) as f64));
+        assert_eq!(t.column("x").unwrap()[n - 1], (n - 1) as f64);
+        let short = Table::parse(b"x\n1\n", "s").unwrap();
+        assert!(!short.columns[0].is_spilled());
+    }
+
     /// A reader given a selection keeps only those columns: the others cost nothing, are
     /// refused by name, and still appear in the names (and in an unknown name's error); rows
     /// and lines are those of the whole file.
@@ -1299,7 +1323,7 @@ mod tests {
             (t.line_of_row(0), t.line_of_row(1), t.line_of_row(2)),
             (2, 5, 6)
         );
-        assert_eq!(t.columns[0].capacity(), 0);
+        assert!(t.columns[0].is_empty());
         let err = t.column("t").unwrap_err();
         assert!(matches!(err, IoError::NotRead { column: 1, .. }), "{err:?}");
         assert!(t.labels("note").is_err() && !t.is_text("note"));

@@ -526,7 +526,7 @@ mod tests {
                     2.0 + 1.5 * t.sin() * (1.0 + 0.3 * (0.31 * t).cos())
                 })
                 .collect();
-            let output = input
+            let output: Vec<f64> = input
                 .iter()
                 .map(|x| 3.0 * x + 0.4 * (x * 1.7).sin())
                 .collect();
@@ -534,8 +534,8 @@ mod tests {
                 id,
                 weight: crate::Weights::Unit(input.len()),
                 rows: (0..input.len()).collect(),
-                output,
-                input,
+                output: output.into(),
+                input: input.into(),
                 validation,
                 continues,
                 period: None,
