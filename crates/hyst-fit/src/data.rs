@@ -228,13 +228,13 @@ impl Dataset {
             match out.last_mut() {
                 Some(h) if r.continues => {
                     h.parts.push((i, h.input.len(), r.len()));
-                    h.input.to_mut().extend_from_slice(&r.input);
-                    h.output.to_mut().extend_from_slice(&r.output);
+                    h.input = h.input.join(&r.input);
+                    h.output = h.output.join(&r.output);
                     h.weight.to_mut().extend(&r.weight);
                 }
                 _ => out.push(History {
-                    input: Cow::Borrowed(&r.input),
-                    output: Cow::Borrowed(&r.output),
+                    input: r.input.clone(),
+                    output: r.output.clone(),
                     weight: Cow::Borrowed(&r.weight),
                     parts: vec![(i, 0, r.len())],
                     period: r.period,

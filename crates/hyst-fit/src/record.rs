@@ -39,14 +39,14 @@ pub struct Record {
 
 /// Consecutive records that form one uninterrupted history (one measurement cut into
 /// segments, or a single record): their samples in order, and where each record lies in them.
-/// A history of one record borrows its samples (a long record is not copied); one of several
-/// holds them joined.
+/// Its samples share the records' ([`Samples::join`]: segments cut from one record are one
+/// part of its column again, without a copy).
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct History<'a> {
     /// Input samples of all the records, in order.
-    pub input: Cow<'a, [f64]>,
+    pub input: Samples,
     /// Output samples.
-    pub output: Cow<'a, [f64]>,
+    pub output: Samples,
     /// Weights.
     pub weight: Cow<'a, Weights>,
     /// (index of the record in [`Dataset::records`](crate::data::Dataset::records), first

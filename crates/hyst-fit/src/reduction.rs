@@ -127,19 +127,17 @@ fn reduce_keeping(data: &Dataset, max_kept: usize) -> Option<Reduction> {
     }
     let total = samples(data);
     let stride = stride(data);
-    // Which samples each record keeps, counted before anything is copied: a record whose
-    // input turns at almost every sample would otherwise build a reduction of more than half
-    // the data only to drop it for the draw.
-    let mut forced: Vec<Vec<bool>> = Vec::with_capacity(data.records.len());
+    // The samples each record keeps, counted before anything is copied: a record whose input
+    // turns at almost every sample would otherwise build a reduction of more than half the
+    // data only to drop it for the draw. (No flag per sample is held: they are worked out
+    // again as the reduction is copied.)
+    let mut forced: Vec<Forced> = Vec::with_capacity(data.records.len());
     let mut kept_total = 0usize;
     for r in &data.records {
-        let must = forced_samples(r);
-        kept_total += must
-            .iter()
-            .enumerate()
-            .filter(|(i, m)| **m || picked(*i, stride))
+        let must = Forced::of(r);
+        kept_total += (0..r.len())
+            .filter(|&i| must.at(r, i) || picked(i, stride))
             .count();
-        // A drawn record keeps nothing of this: give the flags back at once.
         if 2 * kept_total > total || kept_total > max_kept {
             return Some(Reduction::Draw(draw(data)));
         }
@@ -158,20 +156,31 @@ fn reduce_keeping(data: &Dataset, max_kept: usize) -> Option<Reduction> {
     )))
 }
 
-/// The samples of `r` that must be kept whatever the draw: its turning points, and the
+/// The samples of a record that must be kept whatever the draw: its turning points, and the
 /// extremes of its output (so that the reduced data has the same output range; the input's
 /// are turning points already).
-fn forced_samples(r: &Record) -> Vec<bool> {
-    let mut forced: Vec<bool> = (0..r.len()).map(|i| turning(&r.input, i)).collect();
-    for i in extremes(r) {
-        forced[i] = true;
+struct Forced {
+    /// The extremes of the record ([`extremes`]).
+    extremes: Vec<usize>,
+}
+
+impl Forced {
+    /// The samples `r` must keep.
+    fn of(r: &Record) -> Forced {
+        Forced {
+            extremes: extremes(r),
+        }
     }
-    forced
+
+    /// Whether sample `i` of `r` must be kept.
+    fn at(&self, r: &Record, i: usize) -> bool {
+        turning(&r.input, i) || self.extremes.contains(&i)
+    }
 }
 
 /// The samples of `r` kept by the reduction: those `forced` at their own weight, the 1 in
 /// `stride` others at `stride` times theirs.
-fn kept(r: &Record, forced: &[bool], stride: usize) -> Record {
+fn kept(r: &Record, forced: &Forced, stride: usize) -> Record {
     let mut reduced = Record {
         id: r.id,
         input: Samples::default(),
@@ -182,8 +191,9 @@ fn kept(r: &Record, forced: &[bool], stride: usize) -> Record {
         continues: r.continues,
         period: r.period,
     };
-    let (input, output) = (reduced.input.to_mut(), reduced.output.to_mut());
-    for ((i, &must), row) in forced.iter().enumerate().zip(r.rows.iter()) {
+    let (mut input, mut output) = (Vec::new(), Vec::new());
+    for (i, row) in r.rows.iter().enumerate().take(r.len()) {
+        let must = forced.at(r, i);
         if !must && !picked(i, stride) {
             continue;
         }
@@ -193,6 +203,8 @@ fn kept(r: &Record, forced: &[bool], stride: usize) -> Record {
         reduced.weight.push(w * r.weight[i]);
         reduced.rows.push(row);
     }
+    reduced.input = input.into();
+    reduced.output = output.into();
     reduced
 }
 
@@ -220,7 +232,8 @@ pub fn draw(data: &Dataset) -> Dataset {
             hi - lo
         };
         let block = WINDOW * stride.max(2);
-        let mut covered = vec![false; n];
+        // The windows taken so far (one per block, and a few around the extremes).
+        let mut covered: Vec<core::ops::Range<usize>> = Vec::new();
         let mut start = 0;
         while start < n {
             let len = block.min(n - start);
@@ -228,17 +241,17 @@ pub fn draw(data: &Dataset) -> Dataset {
             let at = start + hash(index as u64, start as u64) % room;
             let end = (at + WINDOW).min(n);
             records.push(window(r, at..end, span, len));
-            covered[at..end].fill(true);
+            covered.push(at..end);
             start += len;
         }
         for i in extremes(r) {
-            if !covered[i] {
+            if !covered.iter().any(|w| w.contains(&i)) {
                 let at = i.saturating_sub(EXTREME_WINDOW / 2);
                 let end = (at + EXTREME_WINDOW).min(n);
                 let mut kept = window(r, at..end, span, 0);
                 kept.weight.fill(0..kept.len(), 0.0);
                 records.push(kept);
-                covered[at..end].fill(true);
+                covered.push(at..end);
             }
         }
     }

@@ -78,14 +78,11 @@ pub fn static_view(data: &Dataset, model: &SmoothModel) -> Option<(Dataset, Smoo
         for (i, start, len) in h.parts {
             let r = view.records.get_mut(i)?;
             r.input = v.get(start..start + len)?.into();
-            for (o, c) in r
-                .output
-                .to_mut()
-                .iter_mut()
-                .zip(rate.get(start..start + len)?)
-            {
+            let mut output = std::mem::take(&mut r.output).into_vec();
+            for (o, c) in output.iter_mut().zip(rate.get(start..start + len)?) {
                 *o -= c;
             }
+            r.output = output.into();
         }
     }
     let hysteresis = SmoothModel {

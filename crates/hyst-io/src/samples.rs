@@ -52,17 +52,23 @@ pub fn set_spill_after(values: usize) {
 const SPILL_BUFFER: usize = 1 << 16;
 
 /// A column of `f64` samples, as a slice (`Deref<Target = [f64]>`): held in memory, or in a
-/// temporary file mapped into memory ([`SamplesWriter`] decides). A spilled column and its
-/// parts ([`Samples::slice`], [`Samples::split_off`]) share the one file without a copy.
+/// temporary file mapped into memory ([`SamplesWriter`] decides). Its parts
+/// ([`Samples::slice`], [`Samples::split_off`]), its clones and the join of neighbouring parts
+/// ([`Samples::join`]) share the one column without a copy.
 #[derive(Clone, Default)]
-pub struct Samples(Store);
+pub struct Samples {
+    /// The whole column.
+    store: Arc<Store>,
+    /// The samples of it this one is.
+    range: Range<usize>,
+}
 
-#[derive(Clone)]
+/// Where a column's samples are.
 enum Store {
     /// In memory.
     Held(Vec<f64>),
-    /// Values `range` of a spill file.
-    Spilled(Arc<map::Spill>, Range<usize>),
+    /// In a spill file (shared with the thread that trims its pages).
+    Spilled(Arc<map::Spill>),
 }
 
 impl Default for Store {
@@ -71,69 +77,73 @@ impl Default for Store {
     }
 }
 
+impl Store {
+    fn values(&self) -> &[f64] {
+        match self {
+            Store::Held(v) => v,
+            Store::Spilled(spill) => spill.values(),
+        }
+    }
+}
+
 impl Samples {
+    /// The samples of a whole store.
+    fn whole(store: Store) -> Samples {
+        let len = store.values().len();
+        Samples {
+            store: Arc::new(store),
+            range: 0..len,
+        }
+    }
+
     /// Whether the samples are in a temporary file (not held in memory).
     #[must_use]
     pub fn is_spilled(&self) -> bool {
-        matches!(self.0, Store::Spilled(..))
+        matches!(*self.store, Store::Spilled(..))
     }
 
-    /// Samples `range` (panics past the end, as slicing does): a spilled column's part shares
-    /// its file; a held column's is copied.
+    /// Samples `range` (panics past the end, as slicing does), sharing the column.
     #[must_use]
     pub fn slice(&self, range: Range<usize>) -> Samples {
-        match &self.0 {
-            Store::Held(v) => Samples(Store::Held(v[range].to_vec())),
-            Store::Spilled(spill, all) => {
-                let _ = &self[range.clone()]; // The bounds check of a slice.
-                let at = all.start + range.start..all.start + range.end;
-                Samples(Store::Spilled(Arc::clone(spill), at))
-            }
+        let _ = &self[range.clone()]; // The bounds check of a slice.
+        Samples {
+            store: Arc::clone(&self.store),
+            range: self.range.start + range.start..self.range.start + range.end,
         }
     }
 
     /// Splits the samples at `at` (panics past the end): `self` keeps `[0, at)`, the samples
-    /// from `at` on are returned. A held column's tail is moved out and its memory given back;
-    /// a spilled column's parts share its file.
+    /// from `at` on are returned, both sharing the column.
     #[must_use]
     pub fn split_off(&mut self, at: usize) -> Samples {
-        match &mut self.0 {
-            Store::Held(v) if at == 0 => Samples(Store::Held(std::mem::take(v))),
-            Store::Held(v) => {
-                let tail = v.split_off(at);
-                v.shrink_to_fit();
-                Samples(Store::Held(tail))
-            }
-            Store::Spilled(spill, all) => {
-                assert!(
-                    at <= all.len(),
-                    "split index {at} past {} samples",
-                    all.len()
-                );
-                let tail = Samples(Store::Spilled(Arc::clone(spill), all.start + at..all.end));
-                all.end = all.start + at;
-                tail
-            }
-        }
+        let tail = self.slice(at..self.len());
+        self.range.end = self.range.start + at;
+        tail
     }
 
-    /// The samples as a vector in memory, to change them (a spilled column is copied in).
-    pub fn to_mut(&mut self) -> &mut Vec<f64> {
-        if let Store::Spilled(..) = self.0 {
-            self.0 = Store::Held(self.to_vec());
+    /// `self` followed by `next`: the same column without a copy when `next` starts where
+    /// `self` ends in it (neighbouring parts, such as segments cut from one record), else a
+    /// new column held in memory.
+    #[must_use]
+    pub fn join(&self, next: &Samples) -> Samples {
+        if Arc::ptr_eq(&self.store, &next.store) && self.range.end == next.range.start {
+            return Samples {
+                store: Arc::clone(&self.store),
+                range: self.range.start..next.range.end,
+            };
         }
-        match &mut self.0 {
-            Store::Held(v) => v,
-            Store::Spilled(..) => unreachable!("a spilled column was just copied in"),
-        }
+        self.iter().chain(next.iter()).copied().collect()
     }
 
-    /// The samples as a vector (a held column without a copy).
+    /// The samples as a vector (without a copy when they are a whole held column no other
+    /// `Samples` shares).
     #[must_use]
     pub fn into_vec(self) -> Vec<f64> {
-        match self.0 {
-            Store::Held(v) => v,
-            Store::Spilled(..) => self.to_vec(),
+        let whole = self.range.start == 0 && self.range.end == self.store.values().len();
+        match Arc::try_unwrap(self.store) {
+            Ok(Store::Held(v)) if whole => v,
+            Ok(store) => store.values()[self.range].to_vec(),
+            Err(store) => store.values()[self.range].to_vec(),
         }
     }
 
@@ -154,10 +164,7 @@ impl Samples {
 impl Deref for Samples {
     type Target = [f64];
     fn deref(&self) -> &[f64] {
-        match &self.0 {
-            Store::Held(v) => v,
-            Store::Spilled(spill, range) => &spill.values()[range.clone()],
-        }
+        &self.store.values()[self.range.clone()]
     }
 }
 
@@ -169,20 +176,20 @@ impl AsRef<[f64]> for Samples {
 
 impl From<Vec<f64>> for Samples {
     fn from(values: Vec<f64>) -> Self {
-        Samples(Store::Held(values))
+        Samples::whole(Store::Held(values))
     }
 }
 
 impl From<&[f64]> for Samples {
     fn from(values: &[f64]) -> Self {
-        Samples(Store::Held(values.to_vec()))
+        Samples::whole(Store::Held(values.to_vec()))
     }
 }
 
 impl FromIterator<f64> for Samples {
     /// Held in memory (see [`Samples::collect_spilling`] for a long column).
     fn from_iter<I: IntoIterator<Item = f64>>(values: I) -> Self {
-        Samples(Store::Held(values.into_iter().collect()))
+        Samples::whole(Store::Held(values.into_iter().collect()))
     }
 }
 
@@ -274,14 +281,16 @@ impl SamplesWriter {
     /// # Errors
     /// [`IoError::Spill`] if the temporary file cannot be created or written.
     pub fn push(&mut self, value: f64) -> Result<(), IoError> {
+        // A full column spills before it takes the value: its vector never grows past the
+        // threshold (nor doubles its capacity beyond it).
+        if self.file.is_none() && self.held.len() >= self.spill_after {
+            self.spill()?;
+        }
         self.len += 1;
         match &mut self.file {
             Some(file) => file.write_all(&value.to_ne_bytes()).map_err(spill_error),
             None => {
                 self.held.push(value);
-                if self.held.len() > self.spill_after {
-                    self.spill()?;
-                }
                 Ok(())
             }
         }
@@ -308,12 +317,12 @@ impl SamplesWriter {
         match self.file.take() {
             None => {
                 self.held.shrink_to_fit();
-                Ok(Samples(Store::Held(self.held)))
+                Ok(Samples::whole(Store::Held(self.held)))
             }
             Some(file) => {
                 let file = file.into_inner().map_err(|e| spill_error(e.into_error()))?;
                 let spill = map::Spill::new(&file, self.len).map_err(spill_error)?;
-                Ok(Samples(Store::Spilled(spill, 0..self.len)))
+                Ok(Samples::whole(Store::Spilled(spill)))
             }
         }
     }
@@ -484,11 +493,20 @@ mod tests {
             let all = s.split_off(0);
             assert!(s.is_empty());
             assert_eq!(all.len(), 7);
-            let mut copy = all.clone();
-            copy.to_mut()[0] = 9.0;
-            assert!(!copy.is_spilled());
+            let mut copy = all.clone().into_vec();
+            copy[0] = 9.0;
             assert_eq!(all[0], 0.0);
-            assert_eq!(copy.into_vec()[..2], [9.0, 0.5]);
+            assert_eq!(copy[..2], [9.0, 0.5]);
+            // Neighbouring parts join without a copy; others are copied.
+            let (mut head, whole) = (all.clone(), all.clone());
+            let rest = head.split_off(3);
+            let joined = head.join(&rest);
+            assert_eq!(joined, whole);
+            assert!(Arc::ptr_eq(&joined.store, &all.store));
+            let swapped = rest.join(&head);
+            assert_eq!(swapped, [1.5, 2.0, 2.5, 3.0, 0.0, 0.5, 1.0]);
+            assert!(!Arc::ptr_eq(&swapped.store, &all.store));
+            assert_eq!(all.slice(1..3).into_vec(), [0.5, 1.0]);
         }
     }
 
