@@ -428,9 +428,46 @@ mod map {
     #[cfg(not(unix))]
     fn trim(_: &Arc<Spill>) {}
 
+    /// Asks the scheduler for short slices for the calling thread (Linux ≥ 6.12, `EEVDF`):
+    /// a thread that wakes with a short slice has an early deadline and preempts a busy one at
+    /// once, so the trimming keeps its period while the fit's threads fill every core. Where
+    /// the kernel refuses, the thread keeps the default slice.
+    #[cfg(target_os = "linux")]
+    fn short_slices() {
+        /// `struct sched_attr` of sched_setattr(2).
+        #[repr(C)]
+        struct SchedAttr {
+            size: u32,
+            policy: u32,
+            flags: u64,
+            nice: i32,
+            priority: u32,
+            runtime: u64,
+            deadline: u64,
+            period: u64,
+        }
+        let attr = SchedAttr {
+            size: size_of::<SchedAttr>() as u32,
+            policy: 0, // SCHED_OTHER
+            flags: 0,
+            nice: 0,
+            priority: 0,
+            runtime: 100_000, // ns: the shortest slice the kernel takes
+            deadline: 0,
+            period: 0,
+        };
+        // SAFETY: sched_setattr reads `size` bytes of a valid, initialised sched_attr for the
+        // calling thread (pid 0); it changes nothing else.
+        let _ = unsafe { libc::syscall(libc::SYS_sched_setattr, 0, &raw const attr, 0) };
+    }
+
+    #[cfg(not(target_os = "linux"))]
+    fn short_slices() {}
+
     /// The trimming thread's loop.
     #[cfg(unix)]
     fn trim_forever(live: &Live) {
+        short_slices();
         loop {
             let alive: Vec<Arc<Spill>> = {
                 let Ok(mut spills) = live.spills.lock() else {
