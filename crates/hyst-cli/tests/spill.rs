@@ -153,3 +153,37 @@ fn a_bad_spill_setting_is_refused_by_name_and_writes_nothing() {
         assert!(!model.exists());
     }
 }
+
+#[test]
+fn a_temporary_directory_that_cannot_hold_the_column_is_named_with_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("m.toml");
+    let missing = dir.path().join("no-such-dir");
+    let piezo = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    let out = Command::new(env!("CARGO_BIN_EXE_hyst"))
+        .args([
+            "fit",
+            piezo.to_str().unwrap(),
+            "--input",
+            "u_actuator_V",
+            "--output",
+            "y_capsensor_um",
+            "-o",
+            model.to_str().unwrap(),
+        ])
+        .env("HYST_SPILL_AFTER", "0")
+        .env("TMPDIR", &missing)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!(
+            "{}: cannot keep a long column in a temporary file in {}",
+            piezo.display(),
+            missing.display()
+        )) && err.contains("TMPDIR"),
+        "{err}"
+    );
+    assert!(!model.exists());
+}

@@ -122,7 +122,7 @@ pub(crate) fn group_rows(
     // The record ids are done with: given back before the samples are moved.
     drop(label_ids);
     drop(record);
-    fill_samples(&mut records, input, output)?;
+    fill_samples(&mut records, input, output).map_err(|e| e.reading(table.source()))?;
     for r in &mut records {
         r.weight.shrink_to_fit();
     }
@@ -140,7 +140,7 @@ fn fill_samples(
     records: &mut [Record],
     input: Column<'_>,
     output: Column<'_>,
-) -> Result<(), FitError> {
+) -> Result<(), hyst_io::IoError> {
     let mut next = 0;
     // (The records' samples are not filled yet: their lengths are their rows'.)
     let in_turn = records.iter().all(|r| {

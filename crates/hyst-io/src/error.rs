@@ -218,10 +218,13 @@ pub enum IoError {
     /// A long column could not be kept in its temporary file ([`Samples`](crate::Samples)):
     /// the directory is full or cannot be written.
     #[error(
-        "cannot keep a long column in a temporary file in {dir}: {source} (set TMPDIR to a \
-         directory on a disk with free space)"
+        "{file}: cannot keep a long column in a temporary file in {dir}: {source} (set TMPDIR \
+         to a directory on a disk with free space)"
     )]
     Spill {
+        /// The file being read ([`IoError::reading`]; `<memory>` for values not read from a
+        /// file).
+        file: String,
         /// The temporary directory ([`std::env::temp_dir`]).
         dir: String,
         /// The underlying OS error.
@@ -391,6 +394,29 @@ fn semicolon_hint(value: &str) -> &'static str {
 fn quoted_list(items: &[String]) -> QuotedList<'_> {
     QuotedList(items)
 }
+
+impl IoError {
+    /// The error, naming `file` as the one being read when it is a temporary file's
+    /// ([`IoError::Spill`]) that does not name one yet.
+    #[must_use]
+    pub fn reading(self, file: &str) -> IoError {
+        match self {
+            IoError::Spill {
+                file: name,
+                dir,
+                source,
+            } if name == MEMORY => IoError::Spill {
+                file: file.to_string(),
+                dir,
+                source,
+            },
+            other => other,
+        }
+    }
+}
+
+/// The file name of a [`IoError::Spill`] of values not read from a file.
+pub(crate) const MEMORY: &str = "<memory>";
 
 /// Display helper for [`quoted_list`]: at most [`LIST_ITEMS`] items, each [`cut`].
 struct QuotedList<'a>(&'a [String]);

@@ -429,7 +429,13 @@ fn shortest(v: f64) -> String {
 /// cell it becomes a [`TextColumn`] (its numbers so far in shortest form), so that only the
 /// columns that need it hold text.
 /// Only the columns `read` marks are kept (`read` shorter than the header reads the rest).
-fn collect<R: std::io::Read>(
+fn collect<R: std::io::Read>(rows: CsvReader<R>, read: Vec<bool>) -> Result<Table, IoError> {
+    let source = rows.source().to_string();
+    collect_columns(rows, read).map_err(|e| e.reading(&source))
+}
+
+/// [`collect`], its temporary files' errors not yet naming the file read.
+fn collect_columns<R: std::io::Read>(
     mut rows: CsvReader<R>,
     mut read: Vec<bool>,
 ) -> Result<Table, IoError> {
