@@ -142,7 +142,7 @@ impl Dataset {
             (None, _) => None,
         };
         let weight = match &options.weight {
-            Some(name) => Some((name.as_str(), table.column(name)?)),
+            Some(name) => Some((name.as_str(), table.samples(name)?)),
             None => None,
         };
         let file = table.source().to_string();
@@ -157,7 +157,7 @@ impl Dataset {
             labels.clear();
         }
         hold_out(&mut records, &labels, options, &file)?;
-        normalise_weights(&mut records);
+        normalise_weights(&mut records).map_err(|e| e.reading(&file))?;
         Ok(Self {
             source: file,
             columns: Columns {
@@ -489,13 +489,16 @@ fn set_periods(
 /// fit depends on their ratios only, never on their scale (weights of 1e-100 on every row
 /// fitted nothing, the tolerances of the least squares being absolute). Unit weights stay
 /// exactly 1. No positive training weight: nothing to scale.
-fn normalise_weights(records: &mut [Record]) {
+///
+/// # Errors
+/// A temporary file for a long record's weights that cannot be written.
+fn normalise_weights(records: &mut [Record]) -> Result<(), hyst_io::IoError> {
     let training = || records.iter().filter(|r| !r.validation);
     let largest = training()
         .flat_map(|r| r.weight.iter())
         .fold(0.0_f64, f64::max);
     if !(largest > 0.0 && largest.is_finite()) {
-        return;
+        return Ok(());
     }
     // Scaled by the largest first, so that the sum cannot overflow.
     let (sum, count) = training()
@@ -504,8 +507,9 @@ fn normalise_weights(records: &mut [Record]) {
         .fold((0.0, 0_usize), |(s, n), w| (s + w / largest, n + 1));
     let mean = sum / count as f64;
     for r in records.iter_mut() {
-        r.weight.map(|w| w / largest / mean);
+        r.weight.map(|w| w / largest / mean)?;
     }
+    Ok(())
 }
 
 /// Every record cut into consecutive segments of `len` samples (`--segment`), each its own

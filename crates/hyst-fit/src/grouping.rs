@@ -56,8 +56,10 @@ pub(crate) fn group_rows(
     input: Column<'_>,
     output: Column<'_>,
     record: Option<RecordColumn<'_>>,
-    weight: Option<(&str, &[f64])>,
+    weight: Option<(&str, Samples)>,
 ) -> Result<(Vec<Record>, Vec<String>), FitError> {
+    // Whether each record's weights are all 1 (kept as a count).
+    let mut unit: Vec<bool> = Vec::new();
     let mut records: Vec<Record> = Vec::new();
     let mut index_of: BTreeMap<i64, usize> = BTreeMap::new();
     let mut label_ids: HashMap<&str, i64> = HashMap::new();
@@ -87,7 +89,7 @@ pub(crate) fn group_rows(
             }
             None => 0,
         };
-        let w = match weight {
+        let w = match &weight {
             Some((name, col)) => {
                 let w = col[row];
                 if w < 0.0 {
@@ -113,20 +115,48 @@ pub(crate) fn group_rows(
                 continues: false,
                 period: None,
             });
+            unit.push(true);
             records.len() - 1
         });
-        let r = &mut records[at];
-        r.weight.push(w);
-        r.rows.push(row);
+        unit[at] &= w == 1.0;
+        records[at].rows.push(row);
     }
     // The record ids are done with: given back before the samples are moved.
     drop(label_ids);
     drop(record);
     fill_samples(&mut records, input, output).map_err(|e| e.reading(table.source()))?;
-    for r in &mut records {
-        r.weight.shrink_to_fit();
-    }
+    fill_weights(&mut records, weight.map(|(_, col)| col), &unit)
+        .map_err(|e| e.reading(table.source()))?;
     Ok((records, labels))
+}
+
+/// Gives each record the weights of its rows from the weight column `weight`: a count where
+/// they are all 1 (`unit`, or without a column), the record's part of the column where its
+/// rows are one run (no copy), else its rows' weights gathered (a long record's to a
+/// temporary file).
+///
+/// # Errors
+/// A temporary file that cannot be written.
+fn fill_weights(
+    records: &mut [Record],
+    weight: Option<Samples>,
+    unit: &[bool],
+) -> Result<(), hyst_io::IoError> {
+    for (r, &unit) in records.iter_mut().zip(unit) {
+        let n = r.rows.len();
+        r.weight = match &weight {
+            Some(col) if !unit => match (r.rows.get(0), r.rows.get(n.wrapping_sub(1))) {
+                (Some(first), Some(last)) if last + 1 - first == n => {
+                    Weights::Each(col.slice(first..last + 1))
+                }
+                _ => Weights::Each(Samples::collect_spilling(
+                    r.rows.iter().map(|row| col[row]),
+                )?),
+            },
+            _ => Weights::Unit(n),
+        };
+    }
+    Ok(())
 }
 
 /// Gives each record the input and output of its rows. Records that follow one another in the

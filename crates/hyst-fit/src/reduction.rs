@@ -191,7 +191,7 @@ fn kept(r: &Record, forced: &Forced, stride: usize) -> Record {
         continues: r.continues,
         period: r.period,
     };
-    let (mut input, mut output) = (Vec::new(), Vec::new());
+    let (mut input, mut output, mut weight) = (Vec::new(), Vec::new(), Vec::new());
     for (i, row) in r.rows.iter().enumerate().take(r.len()) {
         let must = forced.at(r, i);
         if !must && !picked(i, stride) {
@@ -200,11 +200,12 @@ fn kept(r: &Record, forced: &Forced, stride: usize) -> Record {
         input.push(r.input[i]);
         output.push(r.output[i]);
         let w = if must { 1.0 } else { stride as f64 };
-        reduced.weight.push(w * r.weight[i]);
+        weight.push(w * r.weight[i]);
         reduced.rows.push(row);
     }
     reduced.input = input.into();
     reduced.output = output.into();
+    reduced.weight = Weights::from_values(weight);
     reduced
 }
 

@@ -3,14 +3,17 @@
 
 use std::ops::Range;
 
+use hyst_io::{IoError, Samples};
+
 /// The weights of a record's samples (each ≥ 0): all 1 without a weight column, held as a
-/// count (a 10 M-sample record's vector of ones took 80 MB), else one per sample.
+/// count (a 10 M-sample record's vector of ones took 80 MB), else one per sample (a part of
+/// the weight column, in a temporary file when it is long: [`Samples`]).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Weights {
     /// This many samples, each of weight 1.
     Unit(usize),
     /// One weight per sample.
-    Each(Vec<f64>),
+    Each(Samples),
 }
 
 impl Default for Weights {
@@ -21,11 +24,21 @@ impl Default for Weights {
 
 impl From<Vec<f64>> for Weights {
     fn from(weights: Vec<f64>) -> Self {
-        Weights::Each(weights)
+        Weights::Each(weights.into())
     }
 }
 
 impl Weights {
+    /// The weights `values`: a count when every one is 1.
+    #[must_use]
+    pub fn from_values(values: Vec<f64>) -> Weights {
+        if values.iter().all(|&w| w == 1.0) {
+            Weights::Unit(values.len())
+        } else {
+            values.into()
+        }
+    }
+
     /// Number of samples.
     #[must_use]
     pub fn len(&self) -> usize {
@@ -67,40 +80,25 @@ impl Weights {
         }
     }
 
-    /// The weights of samples `range` (clipped to the samples there are).
+    /// The weights of samples `range` (clipped to the samples there are), sharing the column.
     #[must_use]
     pub fn slice(&self, range: Range<usize>) -> Weights {
         let end = range.end.min(self.len());
         let start = range.start.min(end);
         match self {
             Weights::Unit(_) => Weights::Unit(end - start),
-            Weights::Each(w) => Weights::Each(w[start..end].to_vec()),
+            Weights::Each(w) => Weights::Each(w.slice(start..end)),
         }
     }
 
-    /// Appends the weight of the next sample (unit weights stay a count while it is 1).
-    pub fn push(&mut self, weight: f64) {
-        match self {
-            Weights::Unit(n) if weight == 1.0 => *n += 1,
-            Weights::Unit(n) => {
-                let mut each = vec![1.0; *n];
-                each.push(weight);
-                *self = Weights::Each(each);
-            }
-            Weights::Each(w) => w.push(weight),
-        }
-    }
-
-    /// Appends the weights of `other`.
+    /// Appends the weights of `other` (the next part of the same column without a copy:
+    /// [`Samples::join`]).
     pub fn extend(&mut self, other: &Weights) {
-        match (&mut *self, other) {
-            (Weights::Unit(n), Weights::Unit(m)) => *n += m,
-            _ => {
-                let mut each = self.to_vec();
-                each.extend(other.iter());
-                *self = Weights::Each(each);
-            }
-        }
+        *self = match (&*self, other) {
+            (Weights::Unit(n), Weights::Unit(m)) => Weights::Unit(n + m),
+            (Weights::Each(a), Weights::Each(b)) => Weights::Each(a.join(b)),
+            _ => self.iter().chain(other.iter()).collect::<Vec<f64>>().into(),
+        };
     }
 
     /// The weights as a vector, one per sample.
@@ -109,39 +107,36 @@ impl Weights {
         self.iter().collect()
     }
 
-    /// Every weight mapped by `f` (unit weights stay a count where `f(1) == 1`).
-    pub fn map(&mut self, f: impl Fn(f64) -> f64) {
+    /// Every weight mapped by `f` (unit weights stay a count where `f(1) == 1`; a long column
+    /// goes to a temporary file).
+    ///
+    /// # Errors
+    /// [`IoError::Spill`] if that file cannot be written.
+    pub fn map(&mut self, f: impl Fn(f64) -> f64) -> Result<(), IoError> {
         match self {
             Weights::Unit(n) => {
                 let one = f(1.0);
                 if one != 1.0 {
-                    *self = Weights::Each(vec![one; *n]);
+                    *self = Samples::collect_spilling(std::iter::repeat_n(one, *n))
+                        .map(Weights::Each)?;
                 }
             }
-            Weights::Each(w) => w.iter_mut().for_each(|v| *v = f(*v)),
+            Weights::Each(w) => *w = Samples::collect_spilling(w.iter().map(|&v| f(v)))?,
         }
+        Ok(())
     }
 
-    /// Sets the weights of samples `range` (clipped) to `value`.
+    /// Sets the weights of samples `range` (clipped) to `value` (the weights are copied into
+    /// memory).
     pub fn fill(&mut self, range: Range<usize>, value: f64) {
         let end = range.end.min(self.len());
         let start = range.start.min(end);
         if start == end || matches!(self, Weights::Unit(_)) && value == 1.0 {
             return;
         }
-        if let Weights::Unit(n) = self {
-            *self = Weights::Each(vec![1.0; *n]);
-        }
-        if let Weights::Each(w) = self {
-            w[start..end].fill(value);
-        }
-    }
-
-    /// Gives back the spare capacity of a vector of weights.
-    pub fn shrink_to_fit(&mut self) {
-        if let Weights::Each(w) = self {
-            w.shrink_to_fit();
-        }
+        let mut each = self.to_vec();
+        each[start..end].fill(value);
+        *self = each.into();
     }
 }
 
@@ -206,6 +201,7 @@ impl<'a> IntoIterator for &'a Weights {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
     use super::Weights;
 
     /// Unit weights behave as a vector of ones, and become one when a weight is not 1.
@@ -214,13 +210,13 @@ mod tests {
         let mut w = Weights::Unit(3);
         assert_eq!(w.to_vec(), [1.0; 3]);
         assert_eq!((w.get(2), w.get(3), w.as_slice()), (Some(1.0), None, None));
-        w.push(1.0);
+        w.extend(&Weights::from_values(vec![1.0]));
         assert_eq!(w, Weights::Unit(4));
         assert_eq!(w.slice(1..9), Weights::Unit(3));
-        w.map(|v| v / 1.0);
+        w.map(|v| v / 1.0).unwrap();
         assert_eq!(w, Weights::Unit(4));
-        w.push(0.5);
-        assert_eq!(w, Weights::Each(vec![1.0, 1.0, 1.0, 1.0, 0.5]));
+        w.extend(&Weights::from_values(vec![0.5]));
+        assert_eq!(w, Weights::from(vec![1.0, 1.0, 1.0, 1.0, 0.5]));
         let mut u = Weights::Unit(2);
         u.extend(&Weights::Unit(1));
         assert_eq!(u, Weights::Unit(3));
@@ -229,8 +225,13 @@ mod tests {
         u.fill(0..2, 0.0);
         assert_eq!(u.to_vec(), [0.0, 0.0, 1.0, 1.0, 0.5]);
         let mut v = Weights::Unit(2);
-        v.map(|x| 2.0 * x);
-        assert_eq!(v, Weights::Each(vec![2.0, 2.0]));
+        v.map(|x| 2.0 * x).unwrap();
+        assert_eq!(v, Weights::from(vec![2.0, 2.0]));
+        // Neighbouring parts of one column join back into it.
+        let column = Weights::from(vec![0.5, 2.0, 3.0, 4.0]);
+        let mut head = column.slice(0..1);
+        head.extend(&column.slice(1..4));
+        assert_eq!(head, column);
         let mut z = Weights::Unit(3);
         z.fill(1..2, 0.0);
         assert_eq!(z.to_vec(), [1.0, 0.0, 1.0]);

@@ -218,6 +218,19 @@ impl Table {
         }
     }
 
+    /// The values of the column called `name` as [`Samples`] that share the table's (no copy
+    /// of a long column, held or spilled).
+    ///
+    /// # Errors
+    /// As [`Table::column`].
+    pub fn samples(&self, name: &str) -> Result<Samples, IoError> {
+        let i = self
+            .column_index(name)
+            .ok_or_else(|| unknown_column(&self.source, &self.names, name))?;
+        self.numbers(i)?;
+        Ok(self.columns[i].clone())
+    }
+
     /// Moves the values of the column called `name` out of the table (no copy of a long
     /// column, held or spilled); the column then counts as not read ([`IoError::NotRead`]).
     ///
