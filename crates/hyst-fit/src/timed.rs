@@ -20,6 +20,7 @@
 
 use hyst_core::Shaping;
 use hyst_io::number::sig;
+use hyst_io::{IoError, SamplesWriter};
 use hyst_model::dynamics::{DynamicsSection, RateSection};
 use hyst_model::{ErrorStats, Estimate, SmoothModel, Structure};
 use serde::{Deserialize, Serialize};
@@ -61,28 +62,41 @@ pub fn simpler_timed(structure: Structure) -> Option<Structure> {
 }
 
 /// The static view of a timed `model` on `data` (see the module docs), with the model's
-/// hysteresis part (the model without plant and rate term). `None` when the model cannot run
-/// a record.
-#[must_use]
-pub fn static_view(data: &Dataset, model: &SmoothModel) -> Option<(Dataset, SmoothModel)> {
+/// hysteresis part (the model without plant and rate term). `Ok(None)` when the model cannot
+/// run a record. A long history's view goes to temporary files ([`hyst_io::Samples`]), its
+/// records parts of them.
+///
+/// # Errors
+/// A temporary file that cannot be written.
+pub fn static_view(
+    data: &Dataset,
+    model: &SmoothModel,
+) -> Result<Option<(Dataset, SmoothModel)>, IoError> {
     let mut view = data.clone();
     for h in data.histories() {
-        let mut v = Vec::with_capacity(h.input.len());
-        let mut rate = Vec::with_capacity(h.input.len());
-        model
-            .run_timed(&h.input, h.period, None, |_, s| {
-                v.push(s.v);
-                rate.push(s.y - model.output(model.input_shaping.apply(s.v), s.z));
-            })
-            .ok()?;
-        for (i, start, len) in h.parts {
-            let r = view.records.get_mut(i)?;
-            r.input = v.get(start..start + len)?.into();
-            let mut output = std::mem::take(&mut r.output).into_vec();
-            for (o, c) in output.iter_mut().zip(rate.get(start..start + len)?) {
-                *o -= c;
+        let (mut v, mut output) = (SamplesWriter::default(), SamplesWriter::default());
+        let mut failed = None;
+        let ran = model.run_timed(&h.input, h.period, None, |i, s| {
+            // The observed output less the plant's and the rate term's share.
+            let rate = s.y - model.output(model.input_shaping.apply(s.v), s.z);
+            let observed = h.output.get(i).copied().unwrap_or(f64::NAN);
+            if failed.is_none() {
+                failed = v.push(s.v).and(output.push(observed - rate)).err();
             }
-            r.output = output.into();
+        });
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        if ran.is_err() || v.len() != h.input.len() {
+            return Ok(None);
+        }
+        let (v, output) = (v.finish()?, output.finish()?);
+        for (i, start, len) in h.parts {
+            let Some(r) = view.records.get_mut(i) else {
+                return Ok(None);
+            };
+            r.input = v.slice(start..start + len);
+            r.output = output.slice(start..start + len);
         }
     }
     let hysteresis = SmoothModel {
@@ -90,7 +104,7 @@ pub fn static_view(data: &Dataset, model: &SmoothModel) -> Option<(Dataset, Smoo
         rate: None,
         ..*model
     };
-    Some((view, hysteresis))
+    Ok(Some((view, hysteresis)))
 }
 
 /// One coefficient a_i of the fitted plant, as the report states it.
