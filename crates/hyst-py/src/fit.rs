@@ -170,8 +170,11 @@ pub fn fit(
     let provenance = provenance(&columns.values);
     let has_record = columns.record;
     let table = Table::new(columns.names, columns.values).map_err(|e| errors::fit(e.into()))?;
+    // The time stamps, shared (not copied) for an error's message: the table moves into the
+    // dataset.
+    let time = table.samples(TIME).unwrap_or_default();
     let report =
-        identify_without_gil(py, &table, &data, &request, provenance).map_err(|e| match e {
+        identify_without_gil(py, table, &data, &request, provenance).map_err(|e| match e {
             // A time stamp is named as the sample of `t`, not as the line of the in-memory table.
             Failed::Fit(FitError::BadTime {
                 line,
@@ -179,7 +182,7 @@ pub fn fit(
                 message,
                 ..
             }) => bad_time(
-                table.column(TIME).unwrap_or(&[]),
+                &time,
                 line,
                 has_record.then_some(record),
                 &message,
@@ -469,16 +472,17 @@ impl Failed {
 }
 
 /// Reads the dataset from `table` and identifies the model without the GIL, as `hyst fit`
-/// does; the report. A signal (Ctrl-C) during the fit stops it and raises its exception.
+/// does; the report. A signal (Ctrl-C) during the fit stops it and raises its exception. The
+/// table's columns move into the dataset (one copy of the data, not two).
 fn identify_without_gil(
     py: Python<'_>,
-    table: &Table,
+    table: Table,
     options: &DataOptions,
     request: &Request,
     provenance: Provenance,
 ) -> Result<Report, Failed> {
     let (result, raised) = py.detach(|| {
-        let data = match Dataset::from_table(table, options) {
+        let data = match Dataset::from_table_owned(table, options) {
             Ok(d) => d,
             Err(e) => return (Err(e), None),
         };
