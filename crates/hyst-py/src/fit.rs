@@ -181,12 +181,7 @@ pub fn fit(
                 record,
                 message,
                 ..
-            }) => bad_time(
-                &time,
-                line,
-                has_record.then_some(record),
-                &message,
-            ),
+            }) => bad_time(&time, line, has_record.then_some(record), &message),
             e => e.into_err(),
         })?;
     FitResult::new(py, report)
