@@ -1,8 +1,8 @@
 //! Long columns of samples in bounded memory ([`Samples`], written by [`SamplesWriter`]): a
 //! column longer than [`SPILL_AFTER`] values goes to an unnamed temporary file, mapped back
-//! into memory as one slice. The pages of that mapping leave the process's resident memory a few
-//! milliseconds after they are read ([`trim`]), so a fit of a long record holds what its passes
-//! are reading, not the record: the operating system's page cache keeps the file while memory is
+//! into memory as one slice. A thread drops the pages of every such mapping from the process's
+//! resident memory every millisecond, so a fit of a long record holds what its passes are
+//! reading, not the record: the operating system's page cache keeps the file while memory is
 //! free and reads it back from disk when it is not.
 //!
 //! ```
