@@ -497,13 +497,12 @@ fn timed_candidates(
     if layout.structure.dynamics == simple.dynamics {
         return Ok((vec![(f64::NAN, point(0.0))], limit));
     }
-    let mut r = vec![0.0; problem.n];
+    // Each start's Σ r² summed as the run goes (`Problem::cost`): no vector of every residual.
     let mut candidates: Starts = TIME_CONSTANTS
         .iter()
         .filter_map(|k| {
             let theta = point(k * period);
-            crate::lm::Problem::residuals(problem, &theta, &mut r).ok()?;
-            let c: f64 = r.iter().map(|x| x * x).sum();
+            let c = crate::lm::Problem::cost(problem, &theta).ok()?;
             c.is_finite().then_some((c, theta))
         })
         .collect();
