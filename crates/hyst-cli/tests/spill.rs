@@ -3,6 +3,7 @@
 //! writes, and a bad setting is refused by name.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -10,14 +11,34 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// `hyst ARGS` with `HYST_SPILL_AFTER` set to `spill` (unset: `None`).
-fn hyst(args: &[&str], spill: Option<&str>) -> Output {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_hyst"));
-    command.args(args).env_remove("HYST_SPILL_AFTER");
-    if let Some(value) = spill {
-        command.env("HYST_SPILL_AFTER", value);
-    }
-    command.output().unwrap()
+/// `hyst ARGS` with the environment variables `env` set (`HYST_SPILL_AFTER` unset unless
+/// `env` sets it).
+fn hyst(args: &[&str], env: &[(&str, &OsStr)]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hyst"))
+        .args(args)
+        .env_remove("HYST_SPILL_AFTER")
+        .envs(env.iter().copied())
+        .output()
+        .unwrap()
+}
+
+/// The bundled piezo record.
+fn piezo() -> PathBuf {
+    repo().join("data/piezo-sine/piezo_sine_1hz.csv")
+}
+
+/// `hyst fit` of the file `piezo` (its input and output columns) into `model`.
+fn piezo_fit<'a>(piezo: &'a Path, model: &'a Path) -> [&'a str; 8] {
+    [
+        "fit",
+        piezo.to_str().unwrap(),
+        "--input",
+        "u_actuator_V",
+        "--output",
+        "y_capsensor_um",
+        "-o",
+        model.to_str().unwrap(),
+    ]
 }
 
 /// A model file without the lines that differ from run to run (timings, the command, the
@@ -40,7 +61,7 @@ fn a_fit_from_spilled_columns_writes_the_model_a_fit_from_held_ones_writes() {
     let dir = tempfile::tempdir().unwrap();
     let data = repo().join("data");
     let steel = data.join("bh-loops/m130_27s_steel_loops.csv");
-    let piezo = data.join("piezo-sine/piezo_sine_1hz.csv");
+    let piezo = piezo();
     // The steel loops with their rows dealt round-robin: each record gathered from every
     // other row, not taken as one run.
     let dealt = dir.path().join("dealt.csv");
@@ -87,7 +108,8 @@ fn a_fit_from_spilled_columns_writes_the_model_a_fit_from_held_ones_writes() {
             let mut args = vec!["fit", file.to_str().unwrap()];
             args.extend_from_slice(options);
             args.extend_from_slice(&["-o", model.to_str().unwrap()]);
-            let out = hyst(&args, spill);
+            let env = spill.map(|v| ("HYST_SPILL_AFTER", OsStr::new(v)));
+            let out = hyst(&args, env.as_slice());
             assert!(
                 out.status.success(),
                 "{name} {spill:?}: {}",
@@ -131,19 +153,10 @@ fn dealt_rows(text: &str) -> String {
 fn a_bad_spill_setting_is_refused_by_name_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("m.toml");
-    let piezo = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
-    let args = [
-        "fit",
-        piezo.to_str().unwrap(),
-        "--input",
-        "u_actuator_V",
-        "--output",
-        "y_capsensor_um",
-        "-o",
-        model.to_str().unwrap(),
-    ];
+    let piezo = piezo();
+    let args = piezo_fit(&piezo, &model);
     for bad in ["lots", "-1", "1.5"] {
-        let out = hyst(&args, Some(bad));
+        let out = hyst(&args, &[("HYST_SPILL_AFTER", OsStr::new(bad))]);
         assert!(!out.status.success());
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(
@@ -159,22 +172,14 @@ fn a_temporary_directory_that_cannot_hold_the_column_is_named_with_the_file() {
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("m.toml");
     let missing = dir.path().join("no-such-dir");
-    let piezo = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
-    let out = Command::new(env!("CARGO_BIN_EXE_hyst"))
-        .args([
-            "fit",
-            piezo.to_str().unwrap(),
-            "--input",
-            "u_actuator_V",
-            "--output",
-            "y_capsensor_um",
-            "-o",
-            model.to_str().unwrap(),
-        ])
-        .env("HYST_SPILL_AFTER", "0")
-        .env("TMPDIR", &missing)
-        .output()
-        .unwrap();
+    let piezo = piezo();
+    let out = hyst(
+        &piezo_fit(&piezo, &model),
+        &[
+            ("HYST_SPILL_AFTER", OsStr::new("0")),
+            ("TMPDIR", missing.as_os_str()),
+        ],
+    );
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
