@@ -405,7 +405,7 @@ impl IoError {
                 file: name,
                 dir,
                 source,
-            } if name == MEMORY => IoError::Spill {
+            } if name == MEMORY_SOURCE => IoError::Spill {
                 file: file.to_string(),
                 dir,
                 source,
@@ -415,8 +415,9 @@ impl IoError {
     }
 }
 
-/// The file name of a [`IoError::Spill`] of values not read from a file.
-pub(crate) const MEMORY: &str = "<memory>";
+/// Source name of tables built with [`Table::new`](crate::Table::new), and the file of an
+/// [`IoError::Spill`] of values not read from a file.
+pub(crate) const MEMORY_SOURCE: &str = "<memory>";
 
 /// Display helper for [`quoted_list`]: at most [`LIST_ITEMS`] items, each [`cut`].
 struct QuotedList<'a>(&'a [String]);

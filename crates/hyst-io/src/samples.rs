@@ -331,7 +331,7 @@ impl SamplesWriter {
 /// The error of a spill file.
 fn spill_error(source: std::io::Error) -> IoError {
     IoError::Spill {
-        file: crate::error::MEMORY.to_string(),
+        file: crate::error::MEMORY_SOURCE.to_string(),
         dir: std::env::temp_dir().display().to_string(),
         source,
     }

@@ -13,8 +13,7 @@ use crate::reader::{number, pick_column, unknown_column};
 use crate::samples::{Samples, SamplesWriter};
 use crate::writer::{check_names, push_f64, push_row, write_header};
 
-/// Source name of tables built with [`Table::new`].
-const MEMORY_SOURCE: &str = "<memory>";
+use crate::error::MEMORY_SOURCE;
 
 /// A table of named `f64` columns, all of the same length, as read from or
 /// written to a CSV file with a header row.
@@ -212,10 +211,7 @@ impl Table {
     /// [`IoError::NonFinite`] error of its first cell that is not a finite
     /// number (file, line, column and cell), as reading the file once gave.
     pub fn column(&self, name: &str) -> Result<&[f64], IoError> {
-        match self.column_index(name) {
-            Some(i) => self.numbers(i),
-            None => Err(unknown_column(&self.source, &self.names, name)),
-        }
+        self.numbers(self.index_of(name)?)
     }
 
     /// The values of the column called `name` as [`Samples`] that share the table's (no copy
@@ -224,9 +220,7 @@ impl Table {
     /// # Errors
     /// As [`Table::column`].
     pub fn samples(&self, name: &str) -> Result<Samples, IoError> {
-        let i = self
-            .column_index(name)
-            .ok_or_else(|| unknown_column(&self.source, &self.names, name))?;
+        let i = self.index_of(name)?;
         self.numbers(i)?;
         Ok(self.columns[i].clone())
     }
@@ -237,9 +231,7 @@ impl Table {
     /// # Errors
     /// As [`Table::column`].
     pub fn take_column(&mut self, name: &str) -> Result<Samples, IoError> {
-        let i = self
-            .column_index(name)
-            .ok_or_else(|| unknown_column(&self.source, &self.names, name))?;
+        let i = self.index_of(name)?;
         self.numbers(i)?;
         self.read[i] = false;
         Ok(std::mem::take(&mut self.columns[i]))
@@ -255,9 +247,7 @@ impl Table {
     /// [`IoError::UnknownColumn`], listing the available columns, if there is no
     /// such column.
     pub fn labels(&self, name: &str) -> Result<Cow<'_, [String]>, IoError> {
-        let i = self
-            .column_index(name)
-            .ok_or_else(|| unknown_column(&self.source, &self.names, name))?;
+        let i = self.index_of(name)?;
         self.check_read(i)?;
         Ok(match &self.text[i] {
             Some(text) => Cow::Borrowed(&text.cells),
@@ -306,6 +296,12 @@ impl Table {
             column: i + 1,
             name: self.names[i].clone(),
         })
+    }
+
+    /// [`Table::column_index`], or [`IoError::UnknownColumn`] listing the available columns.
+    fn index_of(&self, name: &str) -> Result<usize, IoError> {
+        self.column_index(name)
+            .ok_or_else(|| unknown_column(&self.source, &self.names, name))
     }
 
     /// The 0-based index of the column called `name` (exact, case-sensitive match).
