@@ -142,27 +142,19 @@ fn fill_weights(
     weight: Option<Samples>,
     unit: &[bool],
 ) -> Result<(), hyst_io::IoError> {
+    let weight = weight.map(Column::Taken);
     for (r, &unit) in records.iter_mut().zip(unit) {
-        let n = r.rows.len();
         r.weight = match &weight {
-            Some(col) if !unit => match (r.rows.get(0), r.rows.get(n.wrapping_sub(1))) {
-                (Some(first), Some(last)) if last + 1 - first == n => {
-                    Weights::Each(col.slice(first..last + 1))
-                }
-                _ => Weights::Each(Samples::collect_spilling(
-                    r.rows.iter().map(|row| col[row]),
-                )?),
-            },
-            _ => Weights::Unit(n),
+            Some(col) if !unit => Weights::Each(rows_of(col, &r.rows)?),
+            _ => Weights::Unit(r.rows.len()),
         };
     }
     Ok(())
 }
 
-/// Gives each record the input and output of its rows. Records that follow one another in the
-/// file, each one run of rows, take their samples off the end of taken columns (each column
-/// given back as it shrinks: a long file is held about once, not twice; a spilled one stays in
-/// its file); others copy them (a long record to a temporary file).
+/// Gives each record the input and output of its rows ([`rows_of`]): a record whose rows are
+/// one run shares a taken column (a long file is held once, a spilled one stays in its file);
+/// others copy their rows' samples (a long record's to a temporary file).
 ///
 /// # Errors
 /// A temporary file that cannot be written.
@@ -171,29 +163,21 @@ fn fill_samples(
     input: Column<'_>,
     output: Column<'_>,
 ) -> Result<(), hyst_io::IoError> {
-    let mut next = 0;
-    // (The records' samples are not filled yet: their lengths are their rows'.)
-    let in_turn = records.iter().all(|r| {
-        let n = r.rows.len();
-        let follows =
-            n > 0 && r.rows.get(0) == Some(next) && r.rows.get(n - 1) == Some(next + n - 1);
-        next += n;
-        follows
-    });
-    match (input, output) {
-        (Column::Taken(mut input), Column::Taken(mut output)) if in_turn && next == input.len() => {
-            for r in records.iter_mut().rev() {
-                let start = input.len() - r.rows.len();
-                r.input = input.split_off(start);
-                r.output = output.split_off(start);
-            }
-        }
-        (input, output) => {
-            for r in records.iter_mut() {
-                r.input = Samples::collect_spilling(r.rows.iter().map(|row| input[row]))?;
-                r.output = Samples::collect_spilling(r.rows.iter().map(|row| output[row]))?;
-            }
-        }
+    for r in records.iter_mut() {
+        r.input = rows_of(&input, &r.rows)?;
+        r.output = rows_of(&output, &r.rows)?;
     }
     Ok(())
+}
+
+/// The values of `column` at `rows`: a part of a taken column when the rows are one run (no
+/// copy), else the values gathered.
+///
+/// # Errors
+/// A temporary file for a long gathered record that cannot be written.
+fn rows_of(column: &Column<'_>, rows: &Rows) -> Result<Samples, hyst_io::IoError> {
+    match (column, rows.as_run()) {
+        (Column::Taken(values), Some(run)) => Ok(values.slice(run)),
+        _ => Samples::collect_spilling(rows.iter().map(|row| column[row])),
+    }
 }

@@ -37,6 +37,16 @@ impl Rows {
         self.len += 1;
     }
 
+    /// The rows as one range when they are one run of consecutive rows (`None` for no rows or
+    /// several runs).
+    #[must_use]
+    pub fn as_run(&self) -> Option<std::ops::Range<usize>> {
+        match self.runs[..] {
+            [(first, _)] => Some(first..first + self.len),
+            _ => None,
+        }
+    }
+
     /// The row of sample `i` (`None` past the end).
     #[must_use]
     pub fn get(&self, i: usize) -> Option<usize> {
@@ -105,6 +115,17 @@ mod tests {
 
     /// Rows held as runs give back every row pushed, by index, in order and in slices, and a
     /// record read in one piece is one run.
+    /// Rows that are one run of consecutive rows give their range; others none.
+    #[test]
+    fn one_run_is_a_range() {
+        let run: Rows = (4..9).collect();
+        assert_eq!(run.as_run(), Some(4..9));
+        let two: Rows = [4, 5, 7].into_iter().collect();
+        assert_eq!(two.as_run(), None);
+        assert_eq!(Rows::default().as_run(), None);
+        assert_eq!(run.slice(1..3).as_run(), Some(5..7));
+    }
+
     #[test]
     fn rows_are_kept_as_runs() {
         let pushed = [5, 6, 7, 2, 3, 9, 9, 10, 0];

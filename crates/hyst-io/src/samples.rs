@@ -53,7 +53,7 @@ const SPILL_BUFFER: usize = 1 << 16;
 
 /// A column of `f64` samples, as a slice (`Deref<Target = [f64]>`): held in memory, or in a
 /// temporary file mapped into memory ([`SamplesWriter`] decides). Its parts
-/// ([`Samples::slice`], [`Samples::split_off`]), its clones and the join of neighbouring parts
+/// ([`Samples::slice`]), its clones and the join of neighbouring parts
 /// ([`Samples::join`]) share the one column without a copy.
 #[derive(Clone, Default)]
 pub struct Samples {
@@ -110,15 +110,6 @@ impl Samples {
             store: Arc::clone(&self.store),
             range: self.range.start + range.start..self.range.start + range.end,
         }
-    }
-
-    /// Splits the samples at `at` (panics past the end): `self` keeps `[0, at)`, the samples
-    /// from `at` on are returned, both sharing the column.
-    #[must_use]
-    pub fn split_off(&mut self, at: usize) -> Samples {
-        let tail = self.slice(at..self.len());
-        self.range.end = self.range.start + at;
-        tail
     }
 
     /// `self` followed by `next`: the same column without a copy when `next` starts where
@@ -523,21 +514,20 @@ mod tests {
     #[test]
     fn parts_of_a_spilled_column_share_it_and_match_a_held_one() {
         for spill_after in [usize::MAX, 2] {
-            let mut s = written(spill_after, 10);
+            let s = written(spill_after, 10);
             assert_eq!(s.slice(3..6), [1.5, 2.0, 2.5]);
-            let tail = s.split_off(7);
-            assert_eq!(tail, [3.5, 4.0, 4.5]);
-            assert_eq!(s.len(), 7);
-            let all = s.split_off(0);
-            assert!(s.is_empty());
+            assert_eq!(s.slice(7..10), [3.5, 4.0, 4.5]);
+            assert!(s.slice(4..4).is_empty());
+            let all = s.slice(0..7);
             assert_eq!(all.len(), 7);
+            // A part of a part is the column's part.
+            assert_eq!(all.slice(2..4), [1.0, 1.5]);
             let mut copy = all.clone().into_vec();
             copy[0] = 9.0;
             assert_eq!(all[0], 0.0);
             assert_eq!(copy[..2], [9.0, 0.5]);
             // Neighbouring parts join without a copy; others are copied.
-            let (mut head, whole) = (all.clone(), all.clone());
-            let rest = head.split_off(3);
+            let (head, rest, whole) = (all.slice(0..3), all.slice(3..7), all.clone());
             let joined = head.join(&rest);
             assert_eq!(joined, whole);
             assert!(Arc::ptr_eq(&joined.store, &all.store));

@@ -7,13 +7,11 @@ use std::path::Path;
 use crate::atomic::write_atomic_with;
 use crate::cell::push_cell;
 use crate::digest::{CountingReader, Digest, Hashing};
-use crate::error::IoError;
+use crate::error::{IoError, MEMORY_SOURCE};
 use crate::reader::CsvReader;
 use crate::reader::{number, pick_column, unknown_column};
 use crate::samples::{Samples, SamplesWriter};
 use crate::writer::{check_names, push_f64, push_row, write_header};
-
-use crate::error::MEMORY_SOURCE;
 
 /// A table of named `f64` columns, all of the same length, as read from or
 /// written to a CSV file with a header row.
