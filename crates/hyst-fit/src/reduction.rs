@@ -25,8 +25,6 @@
 //! window have weight 0. The draw is an estimate, not exact where kept: the polish on the full
 //! data corrects it.
 
-use hyst_io::Samples;
-
 use crate::data::{Dataset, Record};
 use crate::rows::Rows;
 use crate::weights::Weights;
@@ -181,17 +179,8 @@ impl Forced {
 /// The samples of `r` kept by the reduction: those `forced` at their own weight, the 1 in
 /// `stride` others at `stride` times theirs.
 fn kept(r: &Record, forced: &Forced, stride: usize) -> Record {
-    let mut reduced = Record {
-        id: r.id,
-        input: Samples::default(),
-        output: Samples::default(),
-        weight: Weights::default(),
-        rows: Rows::default(),
-        validation: r.validation,
-        continues: r.continues,
-        period: r.period,
-    };
     let (mut input, mut output, mut weight) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows = Rows::default();
     for (i, row) in r.rows.iter().enumerate().take(r.len()) {
         let must = forced.at(r, i);
         if !must && !picked(i, stride) {
@@ -201,12 +190,18 @@ fn kept(r: &Record, forced: &Forced, stride: usize) -> Record {
         output.push(r.output[i]);
         let w = if must { 1.0 } else { stride as f64 };
         weight.push(w * r.weight[i]);
-        reduced.rows.push(row);
+        rows.push(row);
     }
-    reduced.input = input.into();
-    reduced.output = output.into();
-    reduced.weight = Weights::from_values(weight);
-    reduced
+    Record {
+        id: r.id,
+        input: input.into(),
+        output: output.into(),
+        weight: Weights::from_values(weight),
+        rows,
+        validation: r.validation,
+        continues: r.continues,
+        period: r.period,
+    }
 }
 
 /// The search's data for records that do not reduce: in each block of k · [`WINDOW`] samples
