@@ -390,12 +390,7 @@ fn diagnose_requested(
             smooth_notes(f, limit, notes);
             // A model with dynamics or a rate term: its hysteresis part on the static view.
             let view = if f.model.is_timed() {
-                let (view, model) = static_view(data, &f.model)
-                    .map_err(|e| e.reading(&data.source))?
-                    .ok_or_else(|| {
-                        FitError::NoConvergence("the fitted model cannot run the records".into())
-                    })?;
-                Some((view, model))
+                Some(static_view(data, &f.model)?)
             } else {
                 None
             };

@@ -26,6 +26,7 @@ use hyst_model::{ErrorStats, Estimate, SmoothModel, Structure};
 use serde::{Deserialize, Serialize};
 
 use crate::data::Dataset;
+use crate::error::FitError;
 use crate::layout::{dynamics_name, RATE_C};
 
 /// Order i of the plant counts as identified when its fit's training RMS error is at least this
@@ -62,13 +63,25 @@ pub fn simpler_timed(structure: Structure) -> Option<Structure> {
 }
 
 /// The static view of a timed `model` on `data` (see the module docs), with the model's
-/// hysteresis part (the model without plant and rate term). `Ok(None)` when the model cannot
-/// run a record. A long history's view goes to temporary files ([`hyst_io::Samples`]), its
-/// records parts of them.
+/// hysteresis part (the model without plant and rate term). A long history's view goes to
+/// temporary files ([`hyst_io::Samples`]), its records parts of them.
 ///
 /// # Errors
-/// A temporary file that cannot be written.
+/// [`FitError::NoConvergence`] when the model cannot run a record; a temporary file that
+/// cannot be written ([`FitError::Io`], naming the data file).
 pub fn static_view(
+    data: &Dataset,
+    model: &SmoothModel,
+) -> Result<(Dataset, SmoothModel), FitError> {
+    let cannot_run = || FitError::NoConvergence("the fitted model cannot run the records".into());
+    let view = static_view_of(data, model)
+        .map_err(|e| e.reading(&data.source))?
+        .ok_or_else(cannot_run)?;
+    Ok(view)
+}
+
+/// [`static_view`]: `Ok(None)` when the model cannot run a record.
+fn static_view_of(
     data: &Dataset,
     model: &SmoothModel,
 ) -> Result<Option<(Dataset, SmoothModel)>, IoError> {
@@ -81,7 +94,10 @@ pub fn static_view(
             let rate = s.y - model.output(model.input_shaping.apply(s.v), s.z);
             let observed = h.output.get(i).copied().unwrap_or(f64::NAN);
             if failed.is_none() {
-                failed = v.push(s.v).and(output.push(observed - rate)).err();
+                failed = v
+                    .push(s.v)
+                    .and_then(|()| output.push(observed - rate))
+                    .err();
             }
         });
         if let Some(e) = failed {

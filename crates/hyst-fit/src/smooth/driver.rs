@@ -361,11 +361,7 @@ fn widths(
     if options.widths && model.is_timed() {
         // On the static view: the hysteresis part for the fitted plant and rate term, a static
         // dataset (searched on its reduction when it is long, as a static fit's).
-        let (view, hysteresis) = static_view(data, model)
-            .map_err(|e| e.reading(&data.source))?
-            .ok_or_else(|| {
-                FitError::NoConvergence("the fitted model cannot run the records".into())
-            })?;
+        let (view, hysteresis) = static_view(data, model)?;
         let reduced = reduce(&view);
         return widths(
             &view,
