@@ -1,5 +1,5 @@
 //! The rows of a table grouped into records ([`group_rows`]): each record's samples, weights
-//! and rows, taken off the columns without a copy where the records follow one another.
+//! and rows, a part of the columns without a copy where a record's rows are one run.
 
 use std::collections::{BTreeMap, HashMap};
 use std::ops::Deref;
