@@ -14,16 +14,26 @@
 //! OUTPUT holds every column of INPUT first, as `hyst run` does for a static model
 //! ([`crate::naming`]).
 //!
-//! The file is read whole (a record's period comes from all its stamps), checked, then run; the
-//! output is written atomically.
+//! A record's period comes from all its stamps, so INPUT is read twice, streamed each time, in
+//! memory that does not grow with the file: a first pass checks every cell the run reads and
+//! each record's time stamps ([`Stamps`]), the second runs the records and writes their rows.
+//! A regular file is read again (as many bytes as the first pass read: rows appended meanwhile
+//! are left out); anything else (a pipe) is copied into an unnamed temporary file in `TMPDIR`
+//! during the first pass. Every error of the first pass comes before any row is run, and the
+//! output is written atomically, so a failed run leaves none.
 
-use std::io::Read as _;
+use std::cell::Cell;
+use std::fs::File;
+use std::io::{Read, Seek as _, SeekFrom, Write as _};
 use std::path::Path;
+use std::rc::Rc;
 
-use anyhow::{bail, Context, Result};
-use hyst_io::{CsvWriter, Table};
-use hyst_model::dynamics::sample_period;
+use anyhow::{anyhow, bail, Context, Result};
+use hyst_io::{CsvReader, CsvWriter};
+use hyst_model::dynamics::{uneven_step, Stamps};
 use hyst_model::{ModelFile, Prefilter, SmoothModel, TimedCompensator, TimedRun};
+
+use crate::run::rows::Records;
 
 /// What `hyst run` asks of a timed model (its arguments, as `crate::run` parsed them).
 pub struct Options<'a> {
@@ -51,86 +61,420 @@ pub struct Options<'a> {
 pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
     let smooth = check(args, model, path)?;
     hyst_io::check_all_distinct(&[args.input, path], &[args.output])?;
-    let (table, passed) = read(args.input, args.output)?;
-    let inverse = args.inverse;
-    let name = args.columns.first().map_or_else(
-        || {
-            if inverse {
-                model.columns.output.clone()
-            } else {
-                model.columns.input.clone()
-            }
-        },
-        Clone::clone,
-    );
-    let values = table.column(&name)?;
-    let time_name = match args.time {
-        Some(t) => t.to_string(),
-        None => hyst_fit::data::default_time_column(&table)
-            .map(str::to_string)
-            .with_context(|| {
-                format!(
-                    "{}: the model {} has {}: it needs the records' time stamps, and the file has \
-                     no column named {} (name it with --time COLUMN)",
-                    table.source(),
-                    path.display(),
-                    what(smooth),
-                    hyst_fit::data::TIME_COLUMNS.join(", ")
-                )
-            })?,
+    let mut input = Input::open(args.input, args.output)?;
+    let (plan, mut records) = {
+        let mut rows = input.first_pass()?;
+        let plan = Plan::new(&rows, args, model, smooth, path)?;
+        let records = plan.scan(&mut rows)?;
+        (plan, records)
     };
-    let time = table.column(&time_name)?;
-    let labels = match args.record {
-        Some(r) => Some(table.labels(r)?),
-        None => None,
-    };
-    let order = smooth.dynamics.map_or(0, |d| d.order());
-    let derivatives: Option<Vec<&[f64]>> = (1..=order)
-        .map(|k| table.column(&format!("{name}_d{k}")).ok())
-        .collect();
-    if inverse && derivatives.is_none() && args.prefilter_hz.is_none() {
-        bail!(
-            "{}: the compensator of a plant of order {order} needs the desired output's first \
-             {order} time derivatives: give the columns {} or a reference prefilter \
-             (--prefilter-hz F, the bandwidth in Hz the command then tracks)",
-            table.source(),
-            (1..=order)
-                .map(|k| format!("{name}_d{k}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+    let fault = plan.first_fault(&input, &mut records)?;
+    let mut rows = input.second_pass()?;
+    let mut out = CsvWriter::create(args.output, plan.output_names.clone())?;
+    let mut cells = String::new();
+    for (k, record) in records.iter().enumerate() {
+        if let Some((line, message)) = fault.as_ref().filter(|f| f.0 == k).map(|f| &f.1) {
+            bail!(
+                "{}:{line}: column {:?}: {message}",
+                plan.source,
+                plan.time_name
+            );
+        }
+        plan.run_record(smooth, args, record, &mut rows, &mut cells, &mut out)?;
     }
-    let filtered = inverse && derivatives.is_none();
-    let base = if inverse {
-        &model.columns.input
-    } else {
-        &model.columns.output
-    };
-    let names = crate::naming::output_names(
-        table.names(),
-        &crate::naming::Computed {
-            base,
-            columns: &[name.as_str()],
-            derivatives: 0,
-            extra: filtered.then_some("filtered"),
-        },
-    )?;
-    let mut out = CsvWriter::create(args.output, names)?;
-    let columns = Columns {
-        table: &table,
-        passed: &passed,
-        values,
-        time,
-        time_name: &time_name,
-        derivatives: derivatives.as_deref(),
-        order,
-        filtered,
-    };
-    for rows in records(table.len(), labels.as_deref()) {
-        columns.run_record(smooth, args, rows, &mut out)?;
+    if rows.next_cells()?.is_some() {
+        bail!("{}: {CHANGED}", plan.source);
     }
     out.finish()?;
     Ok(())
+}
+
+/// What a second pass that does not find the rows of the first says.
+const CHANGED: &str = "the file changed while it was read (its rows differ between the two \
+                       passes a model with dynamics takes: the first finds each record's sample \
+                       period); run it again on a file that is not being written";
+
+/// INPUT, read twice.
+struct Input<'a> {
+    /// As given.
+    path: &'a Path,
+    /// Its name in messages.
+    source: String,
+    /// The open file.
+    file: File,
+    /// Whether it is a regular file (read again), or a copy of it is kept in `copy`.
+    regular: bool,
+    /// The copy of a pipe, written by the first pass.
+    copy: Option<File>,
+    /// The bytes the first pass read.
+    read: Rc<Cell<u64>>,
+    /// No progress display (OUTPUT is the terminal).
+    quiet: bool,
+}
+
+impl<'a> Input<'a> {
+    /// Opens INPUT (`output` decides whether progress is shown).
+    fn open(path: &'a Path, output: &Path) -> Result<Self> {
+        let (file, source) = hyst_io::open_file(path)?;
+        let regular = file.metadata().is_ok_and(|m| m.is_file());
+        Ok(Self {
+            path,
+            source,
+            file,
+            regular,
+            copy: None,
+            read: Rc::default(),
+            quiet: crate::progress::writes_to_terminal(output),
+        })
+    }
+
+    /// The first pass: the rows as read, counted (and copied, for a pipe).
+    fn first_pass(&mut self) -> Result<CsvReader<Box<dyn Read + '_>>> {
+        if !self.regular {
+            let copy = tempfile::tempfile().map_err(|e| self.no_copy(&e))?;
+            self.copy = Some(copy);
+        }
+        let counted = Counted {
+            inner: &self.file,
+            read: Rc::clone(&self.read),
+            copy: self.copy.as_ref(),
+            source: &self.source,
+        };
+        self.csv(Box::new(counted))
+    }
+
+    /// A second pass over the bytes the first read (from the start of the file, or of the
+    /// copy of a pipe).
+    fn second_pass(&self) -> Result<CsvReader<Box<dyn Read + '_>>> {
+        let mut file: &File = self.copy.as_ref().unwrap_or(&self.file);
+        file.seek(SeekFrom::Start(0))
+            .with_context(|| format!("{}: cannot read it again", self.source))?;
+        self.csv(Box::new(file.take(self.read.get())))
+    }
+
+    /// A CSV reader of `bytes`, with the progress display of a long file.
+    fn csv<'r>(&self, bytes: Box<dyn Read + 'r>) -> Result<CsvReader<Box<dyn Read + 'r>>> {
+        let on_read = crate::progress::reading(self.path, crate::progress::LARGE_FILE, self.quiet);
+        let counting: Box<dyn Read + 'r> = Box::new(hyst_io::CountingReader::new(bytes, on_read));
+        Ok(CsvReader::new(counting, &self.source)?)
+    }
+
+    /// The error of a copy of a pipe that cannot be made.
+    fn no_copy(&self, e: &std::io::Error) -> anyhow::Error {
+        anyhow!(
+            "{}: cannot copy it into a temporary file in {} (a model with dynamics reads its \
+             input twice, and a pipe can be read once): {e} (set TMPDIR to a directory on a \
+             disk with free space, or give a regular file)",
+            self.source,
+            std::env::temp_dir().display()
+        )
+    }
+}
+
+/// The first pass's reader: counts the bytes, and copies them (a pipe).
+struct Counted<'a> {
+    inner: &'a File,
+    read: Rc<Cell<u64>>,
+    copy: Option<&'a File>,
+    source: &'a str,
+}
+
+impl Read for Counted<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        let bytes = buf.get(..n).unwrap_or_default();
+        if let Some(mut copy) = self.copy {
+            copy.write_all(bytes).map_err(|e| {
+                std::io::Error::new(
+                    e.kind(),
+                    format!(
+                        "cannot copy {} into a temporary file in {} (set TMPDIR to a directory \
+                         on a disk with free space): {e}",
+                        self.source,
+                        std::env::temp_dir().display()
+                    ),
+                )
+            })?;
+        }
+        self.read.set(self.read.get() + n as u64);
+        Ok(n)
+    }
+}
+
+/// One record as the first pass found it.
+struct Record {
+    /// Its rows.
+    rows: usize,
+    /// Its first value of the column run.
+    first: f64,
+    /// Its time stamps, by line.
+    stamps: Stamps<usize>,
+    /// Its sample period (s), once checked.
+    period: f64,
+}
+
+/// The columns of a timed run and what they are for.
+struct Plan {
+    /// INPUT's name in messages.
+    source: String,
+    /// The index of the column run.
+    value: usize,
+    /// The time column's name and index.
+    time_name: String,
+    time: usize,
+    /// The desired output's derivative columns `<name>_d1 …`, when the file has them all.
+    derivatives: Option<Vec<usize>>,
+    /// The record column.
+    record: Option<usize>,
+    /// The plant order.
+    order: usize,
+    /// Whether the prefiltered reference is written (`<name>_filtered`).
+    filtered: bool,
+    /// INPUT's columns.
+    width: usize,
+    /// OUTPUT's columns.
+    output_names: Vec<String>,
+}
+
+impl Plan {
+    /// The columns of INPUT (`rows`, its header read) that the run takes.
+    fn new<R: Read>(
+        rows: &CsvReader<R>,
+        args: &Options<'_>,
+        model: &ModelFile,
+        smooth: &SmoothModel,
+        path: &Path,
+    ) -> Result<Self> {
+        let inverse = args.inverse;
+        let name = args.columns.first().map_or_else(
+            || {
+                if inverse {
+                    model.columns.output.clone()
+                } else {
+                    model.columns.input.clone()
+                }
+            },
+            Clone::clone,
+        );
+        let value = rows.column(&name)?;
+        let time_name = match args.time {
+            Some(t) => t.to_string(),
+            None => hyst_fit::data::TIME_COLUMNS
+                .into_iter()
+                .find(|n| rows.column_index(n).is_some())
+                .map(str::to_string)
+                .with_context(|| {
+                    format!(
+                        "{}: the model {} has {}: it needs the records' time stamps, and the \
+                         file has no column named {} (name it with --time COLUMN)",
+                        rows.source(),
+                        path.display(),
+                        what(smooth),
+                        hyst_fit::data::TIME_COLUMNS.join(", ")
+                    )
+                })?,
+        };
+        let time = rows.column(&time_name)?;
+        let record = args.record.map(|r| rows.column(r)).transpose()?;
+        let order = smooth.dynamics.map_or(0, |d| d.order());
+        let derivatives: Option<Vec<usize>> = (1..=order)
+            .map(|k| rows.column_index(&format!("{name}_d{k}")))
+            .collect();
+        if inverse && derivatives.is_none() && args.prefilter_hz.is_none() {
+            bail!(
+                "{}: the compensator of a plant of order {order} needs the desired output's \
+                 first {order} time derivatives: give the columns {} or a reference prefilter \
+                 (--prefilter-hz F, the bandwidth in Hz the command then tracks)",
+                rows.source(),
+                (1..=order)
+                    .map(|k| format!("{name}_d{k}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+        let filtered = inverse && derivatives.is_none();
+        let base = if inverse {
+            &model.columns.input
+        } else {
+            &model.columns.output
+        };
+        let output_names = crate::naming::output_names(
+            rows.names(),
+            &crate::naming::Computed {
+                base,
+                columns: &[name.as_str()],
+                derivatives: 0,
+                extra: filtered.then_some("filtered"),
+            },
+        )?;
+        Ok(Self {
+            source: rows.source().to_string(),
+            value,
+            time_name,
+            time,
+            derivatives: if inverse { derivatives } else { None },
+            record,
+            order,
+            filtered,
+            width: rows.names().len(),
+            output_names,
+        })
+    }
+
+    /// The first pass: every cell the run reads, checked (a number where one is run), and each
+    /// record's rows, first value and time stamps.
+    fn scan<R: Read>(&self, rows: &mut CsvReader<R>) -> Result<Vec<Record>> {
+        let mut records: Vec<Record> = Vec::new();
+        let mut labels = Records::default();
+        while let Some(line) = rows.next_cells()? {
+            let x = rows.value(self.value, line)?;
+            let t = rows.value(self.time, line)?;
+            for &d in self.derivatives.iter().flatten() {
+                rows.value(d, line)?;
+            }
+            let starts = match self.record {
+                Some(r) => labels.starts(rows.cell_text(r, line)?),
+                None => records.is_empty(),
+            };
+            if starts {
+                records.push(Record {
+                    rows: 0,
+                    first: x,
+                    stamps: Stamps::default(),
+                    period: f64::NAN,
+                });
+            }
+            if let Some(record) = records.last_mut() {
+                record.rows += 1;
+                record.stamps.push(t, line);
+            }
+        }
+        Ok(records)
+    }
+
+    /// Each record's sample period, up to the first record whose stamps are refused: that
+    /// record's index, the line and what is wrong (the line of an uneven step is found in
+    /// one more pass over the records before it and that record).
+    fn first_fault(
+        &self,
+        input: &Input<'_>,
+        records: &mut [Record],
+    ) -> Result<Option<(usize, (usize, String))>> {
+        for (k, record) in records.iter_mut().enumerate() {
+            let h = match record.stamps.mean() {
+                Ok(h) => h,
+                Err(fault) => return Ok(Some((k, fault))),
+            };
+            record.period = h;
+            if !record.stamps.even(h) {
+                let mut rows = input.second_pass()?;
+                let skip: usize = records.iter().take(k).map(|r| r.rows).sum();
+                let mut before: Option<f64> = None;
+                let mut row = 0;
+                while let Some(line) = rows.next_cells()? {
+                    row += 1;
+                    if row <= skip {
+                        continue;
+                    }
+                    let t = rows.value(self.time, line)?;
+                    if let Some(message) = before.and_then(|b| uneven_step(t - b, h)) {
+                        return Ok(Some((k, (line, message))));
+                    }
+                    before = Some(t);
+                }
+                bail!("{}: {CHANGED}", self.source);
+            }
+        }
+        Ok(None)
+    }
+
+    /// The next row of the second pass: its line and the value run; its cells (as read, for
+    /// OUTPUT) into `cells`.
+    fn next_row<R: Read>(
+        &self,
+        rows: &mut CsvReader<R>,
+        cells: &mut String,
+    ) -> Result<(usize, f64)> {
+        let line = rows
+            .next_cells()?
+            .with_context(|| format!("{}: {CHANGED}", self.source))?;
+        cells.clear();
+        rows.push_cells(line, cells)?;
+        Ok((line, rows.value(self.value, line)?))
+    }
+
+    /// Runs one record, reading its rows from `rows`, and writes them.
+    fn run_record<R: Read>(
+        &self,
+        smooth: &SmoothModel,
+        args: &Options<'_>,
+        record: &Record,
+        rows: &mut CsvReader<R>,
+        cells: &mut String,
+        out: &mut CsvWriter,
+    ) -> Result<()> {
+        let source = &self.source;
+        let (first, period, order) = (record.first, record.period, self.order);
+        if args.inverse {
+            let mut c = None;
+            let mut prefilter = match (self.filtered, args.prefilter_hz) {
+                (true, Some(hz)) => Some(Prefilter::new(order, hz, period, first)?),
+                _ => None,
+            };
+            let mut desired = Vec::with_capacity(order + 1);
+            for _ in 0..record.rows {
+                let (line, x) = self.next_row(rows, cells)?;
+                let at = || format!("{source}:{line}");
+                let c = match &mut c {
+                    Some(c) => c,
+                    None => {
+                        c.insert(TimedCompensator::new(smooth, first).with_context(|| {
+                            format!("{}: the compensator cannot start here", at())
+                        })?)
+                    }
+                };
+                desired.clear();
+                match (&mut prefilter, &self.derivatives) {
+                    (Some(p), _) => desired.extend_from_slice(&p.step(x)[..=order]),
+                    (None, Some(d)) => {
+                        desired.push(x);
+                        for &i in d {
+                            desired.push(rows.value(i, line)?);
+                        }
+                    }
+                    (None, None) => desired.push(x),
+                }
+                let (u, _) = c.step(&desired).with_context(|| {
+                    format!(
+                        "{}: desired output {}",
+                        at(),
+                        hyst_io::number::sig(desired[0], 6)
+                    )
+                })?;
+                let computed = [u, desired[0]];
+                let n = if self.filtered { 2 } else { 1 };
+                out.write_row_after(cells, self.width, computed.get(..n).unwrap_or_default())?;
+            }
+        } else {
+            let mut run = None;
+            for _ in 0..record.rows {
+                let (line, x) = self.next_row(rows, cells)?;
+                let at = || format!("{source}:{line}");
+                let run = match &mut run {
+                    Some(r) => r,
+                    None => run.insert(
+                        TimedRun::new(smooth, period, first)
+                            .with_context(|| format!("{}: the model cannot start here", at()))?,
+                    ),
+                };
+                let s = run
+                    .step(x)
+                    .with_context(|| format!("{}: input {x}", at()))?;
+                out.write_row_after(cells, self.width, &[s.y])?;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Refuses, before the data is read, what a timed model cannot do as `args` ask; returns its
@@ -158,143 +502,6 @@ fn check<'m>(args: &Options<'_>, model: &'m ModelFile, path: &Path) -> Result<&'
     Ok(smooth)
 }
 
-/// Reads INPUT once (a pipe cannot be read twice) and parses it twice: as numbers, and as the
-/// cells OUTPUT passes through as they were written.
-fn read(input: &Path, output: &Path) -> Result<(Table, Passed)> {
-    let quiet = crate::progress::writes_to_terminal(output);
-    let reading = crate::progress::reading(input, crate::progress::LARGE_FILE, quiet);
-    let (file, source) = hyst_io::open_file(input)?;
-    let mut bytes = Vec::new();
-    hyst_io::CountingReader::new(file, reading)
-        .read_to_end(&mut bytes)
-        .map_err(|e| hyst_io::IoError::Read {
-            file: source.clone(),
-            source: e,
-        })?;
-    let table = Table::parse(&bytes, &source)?;
-    let passed = Passed::read(&bytes, &source)?;
-    Ok((table, passed))
-}
-
-/// Every row's cells as read, formatted for OUTPUT, each followed by `,`.
-struct Passed {
-    /// The cells of all rows.
-    text: String,
-    /// Where each row's cells end in `text`.
-    ends: Vec<usize>,
-    /// Cells per row.
-    width: usize,
-}
-
-impl Passed {
-    /// The cells of every row of the CSV `bytes` (`source` names it in errors).
-    fn read(bytes: &[u8], source: &str) -> Result<Passed> {
-        let mut rows = hyst_io::CsvReader::new(bytes, source)?;
-        let width = rows.names().len();
-        let mut text = String::new();
-        let mut ends = Vec::new();
-        while let Some(line) = rows.next_cells()? {
-            rows.push_cells(line, &mut text)?;
-            ends.push(text.len());
-        }
-        Ok(Passed { text, ends, width })
-    }
-
-    /// Row `i`'s cells.
-    fn row(&self, i: usize) -> &str {
-        let from = i
-            .checked_sub(1)
-            .and_then(|j| self.ends.get(j))
-            .copied()
-            .unwrap_or(0);
-        let to = self.ends.get(i).copied().unwrap_or(from);
-        self.text.get(from..to).unwrap_or_default()
-    }
-}
-
-/// The columns of a timed run, read and checked.
-struct Columns<'a> {
-    table: &'a Table,
-    passed: &'a Passed,
-    values: &'a [f64],
-    time: &'a [f64],
-    time_name: &'a str,
-    derivatives: Option<&'a [&'a [f64]]>,
-    order: usize,
-    filtered: bool,
-}
-
-impl Columns<'_> {
-    /// Runs one record (`rows`) and writes its rows.
-    fn run_record(
-        &self,
-        smooth: &SmoothModel,
-        args: &Options<'_>,
-        rows: std::ops::Range<usize>,
-        out: &mut CsvWriter,
-    ) -> Result<()> {
-        let Columns {
-            table,
-            passed,
-            values,
-            time,
-            time_name,
-            derivatives,
-            order,
-            filtered,
-        } = *self;
-        let inverse = args.inverse;
-        let t: Vec<f64> = rows.clone().map(|i| time[i]).collect();
-        let period = sample_period(&t).map_err(|(i, message)| {
-            anyhow::anyhow!(
-                "{}:{}: column {time_name:?}: {message}",
-                table.source(),
-                table.line_of_row(rows.start + i)
-            )
-        })?;
-        let at = |i: usize| format!("{}:{}", table.source(), table.line_of_row(i));
-        let first = values[rows.start];
-        if inverse {
-            let mut c = TimedCompensator::new(smooth, first).with_context(|| {
-                format!("{}: the compensator cannot start here", at(rows.start))
-            })?;
-            let mut prefilter = match (filtered, args.prefilter_hz) {
-                (true, Some(hz)) => Some(Prefilter::new(order, hz, period, first)?),
-                _ => None,
-            };
-            for i in rows.clone() {
-                let desired: Vec<f64> = match (&mut prefilter, &derivatives) {
-                    (Some(p), _) => p.step(values[i])[..=order].to_vec(),
-                    (None, Some(d)) => std::iter::once(values[i])
-                        .chain(d.iter().map(|col| col[i]))
-                        .collect(),
-                    (None, None) => vec![values[i]],
-                };
-                let (u, _) = c.step(&desired).with_context(|| {
-                    format!(
-                        "{}: desired output {}",
-                        at(i),
-                        hyst_io::number::sig(desired[0], 6)
-                    )
-                })?;
-                let computed = [u, desired[0]];
-                let n = if filtered { 2 } else { 1 };
-                write_row(passed, i, computed.get(..n).unwrap_or_default(), out)?;
-            }
-        } else {
-            let mut run = TimedRun::new(smooth, period, first)
-                .with_context(|| format!("{}: the model cannot start here", at(rows.start)))?;
-            for i in rows.clone() {
-                let s = run
-                    .step(values[i])
-                    .with_context(|| format!("{}: input {}", at(i), values[i]))?;
-                write_row(passed, i, &[s.y], out)?;
-            }
-        }
-        Ok(())
-    }
-}
-
 /// What makes a model timed, in words.
 fn what(m: &SmoothModel) -> String {
     match (m.dynamics, m.rate) {
@@ -302,29 +509,4 @@ fn what(m: &SmoothModel) -> String {
         (Some(d), None) => format!("dynamics of order {}", d.order()),
         _ => "a rate term".into(),
     }
-}
-
-/// Writes row `i` of INPUT (every cell, as read) followed by the `computed` values.
-fn write_row(passed: &Passed, i: usize, computed: &[f64], out: &mut CsvWriter) -> Result<()> {
-    out.write_row_after(passed.row(i), passed.width, computed)?;
-    Ok(())
-}
-
-/// The rows of each record: runs of equal labels of the record column (the whole file
-/// without one).
-fn records(len: usize, record: Option<&[String]>) -> Vec<std::ops::Range<usize>> {
-    let mut out = Vec::new();
-    let Some(r) = record else {
-        out.push(0..len);
-        return out;
-    };
-    let mut start = 0;
-    for i in 1..=len {
-        if i == len || r.get(i) != r.get(start) {
-            out.push(start..i);
-            start = i;
-        }
-    }
-    out.retain(|r| !r.is_empty());
-    out
 }

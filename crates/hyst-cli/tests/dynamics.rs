@@ -118,6 +118,29 @@ fn hyst(args: &[&str]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
+/// A static fit of `y` against `x` (columns u, y) written to `model`, given the plant
+/// `[dynamics] a = A` (b = 1) by hand (format version 4).
+fn fit_with_plant(dir: &Path, x: &[f64], y: &[f64], a: &str, model: &Path) {
+    let rows: Vec<Vec<f64>> = x.iter().zip(y).map(|(&x, &y)| vec![x, y]).collect();
+    let data = dir.join("s.csv");
+    write_csv(&data, "u,y", &rows);
+    hyst(&[
+        "fit",
+        data.to_str().unwrap(),
+        "--input",
+        "u",
+        "--output",
+        "y",
+        "-o",
+        model.to_str().unwrap(),
+    ]);
+    let text = std::fs::read_to_string(model)
+        .unwrap()
+        .replace("version = 1", "version = 4")
+        + &format!("\n[dynamics]\nb = 1.0\na = {a}\n");
+    std::fs::write(model, text).unwrap();
+}
+
 fn read_column(path: &Path, name: &str) -> Vec<f64> {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
@@ -448,24 +471,8 @@ fn prefilter_gives_a_command_that_tracks_the_filtered_reference() {
         .start(Hysteresis::new(0.1, 5.0).unwrap(), x[0])
         .unwrap();
     let y = hysteresis(&mut truth, &x);
-    let rows: Vec<Vec<f64>> = (0..x.len()).map(|k| vec![x[k], 2.0 * y[k]]).collect();
-    let data = dir.path().join("s.csv");
-    write_csv(&data, "u,y", &rows);
-    hyst(&[
-        "fit",
-        data.to_str().unwrap(),
-        "--input",
-        "u",
-        "--output",
-        "y",
-        "-o",
-        model.to_str().unwrap(),
-    ]);
-    let text = std::fs::read_to_string(&model)
-        .unwrap()
-        .replace("version = 1", "version = 4")
-        + "\n[dynamics]\nb = 1.0\na = [0.05, 0.001]\n";
-    std::fs::write(&model, text).unwrap();
+    let y: Vec<f64> = y.iter().map(|v| 2.0 * v).collect();
+    fit_with_plant(dir.path(), &x, &y, "[0.05, 0.001]", &model);
     let h = 1e-3;
     let rows: Vec<Vec<f64>> = (0..3000)
         .map(|k| {
@@ -740,4 +747,74 @@ fn a_viscous_force_on_an_operator_is_found_whatever_the_loops_look_like() {
         json["model"]["smooth"]["form"].is_null(),
         "the operator form"
     );
+}
+
+/// `hyst run` of a model with dynamics streams INPUT twice (each record's sample period comes
+/// from all its stamps): a pipe (standard input, copied to a temporary file) gives the rows a
+/// file gives, record by record; a record whose stamps are refused is named by its line, even
+/// after records that ran, and nothing is written.
+#[test]
+fn a_timed_run_streams_its_input_from_a_file_or_a_pipe() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("m.toml");
+    let x: Vec<f64> = (0..400).map(|k| (k as f64 * 0.05).sin()).collect();
+    let y = hysteresis(&mut Hysteresis::new(0.1, 5.0).unwrap(), &x);
+    fit_with_plant(dir.path(), &x, &y, "[0.02]", &model);
+    // Two records (the second restarts its time), 2 ms and 1 ms steps; `late` moves row 250.
+    let table = |late: f64| {
+        let mut csv = String::from("t,u,rec\n");
+        for k in 0..300 {
+            let (t, rec) = if k < 120 {
+                (k as f64 * 2e-3, "a")
+            } else {
+                (
+                    (k - 120) as f64 * 1e-3 + if k == 250 { late } else { 0.0 },
+                    "b",
+                )
+            };
+            csv.push_str(&format!("{t:e},{},{rec}\n", (k as f64 * 0.03).sin()));
+        }
+        csv
+    };
+    let csv = table(0.0);
+    let input = dir.path().join("in.csv");
+    std::fs::write(&input, &csv).unwrap();
+    let run = |stdin: Option<&str>, path: &str, out: &Path| {
+        let mut cmd = Command::new(HYST);
+        cmd.args(["run", "--model", model.to_str().unwrap(), "--record", "rec"])
+            .args([path, "-o", out.to_str().unwrap()])
+            .stdin(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped());
+        let mut child = cmd.spawn().unwrap();
+        let mut pipe = child.stdin.take().unwrap();
+        std::io::Write::write_all(&mut pipe, stdin.unwrap_or("").as_bytes()).unwrap();
+        drop(pipe);
+        child.wait_with_output().unwrap()
+    };
+    let (from_file, from_pipe) = (dir.path().join("f.csv"), dir.path().join("p.csv"));
+    assert!(run(None, input.to_str().unwrap(), &from_file)
+        .status
+        .success());
+    assert!(run(Some(&csv), "/dev/stdin", &from_pipe).status.success());
+    let written = std::fs::read_to_string(&from_file).unwrap();
+    assert_eq!(written.lines().count(), 301);
+    assert_eq!(written, std::fs::read_to_string(&from_pipe).unwrap());
+    // Row 250 (line 252) of the second record is 0.6 ms late: its step is 60 % off the
+    // record's mean. Refused by line, from a file and from a pipe; nothing written.
+    let uneven = table(0.6e-3);
+    std::fs::write(&input, &uneven).unwrap();
+    for (stdin, path) in [
+        (None, input.to_str().unwrap()),
+        (Some(&uneven), "/dev/stdin"),
+    ] {
+        let out_path = dir.path().join("bad.csv");
+        let out = run(stdin.map(String::as_str), path, &out_path);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(
+            err.contains(":252: column \"t\": time step") && err.contains("mean step"),
+            "{err}"
+        );
+        assert!(!out_path.exists());
+    }
 }

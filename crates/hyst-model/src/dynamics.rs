@@ -351,54 +351,123 @@ pub struct Rate<T = f64> {
 /// The sample period of a record from its time stamps `t` (s): the mean step
 /// (t_last − t_first) / (len − 1), after checking that the stamps increase and that every step
 /// is within [`TIME_TOLERANCE`] of it. `Err((index, message))` names the offending sample (its
-/// index in `t`) and says what is wrong with it.
+/// index in `t`) and says what is wrong with it. [`Stamps`] makes the same checks on stamps
+/// that come one at a time.
 ///
 /// # Errors
 /// Fewer than 2 stamps, a non-finite stamp, a repeated or decreasing one, or a step off the mean
 /// by more than [`TIME_TOLERANCE`].
 pub fn sample_period(t: &[f64]) -> Result<f64, (usize, String)> {
-    let (Some(first), Some(last)) = (t.first(), t.last()) else {
-        return Err((0, "a record needs at least 2 time stamps".into()));
-    };
-    if t.len() < 2 {
-        return Err((0, "a record needs at least 2 time stamps".into()));
+    let mut stamps = Stamps::default();
+    for (i, &x) in t.iter().enumerate() {
+        stamps.push(x, i);
     }
-    if let Some(i) = t.iter().position(|x| !x.is_finite()) {
-        return Err((i, format!("time stamp {} is not finite", t[i])));
+    let h = stamps.mean()?;
+    if !stamps.even(h) {
+        for (i, w) in t.windows(2).enumerate() {
+            if let Some(message) = uneven_step(w[1] - w[0], h) {
+                return Err((i + 1, message));
+            }
+        }
     }
-    for (i, w) in t.windows(2).enumerate() {
-        if w[1] <= w[0] {
-            let what = if w[1] == w[0] {
+    Ok(h)
+}
+
+/// The time stamps of a record seen one at a time (a file streamed), for the checks of
+/// [`sample_period`] in its order of precedence, in constant memory: the first non-finite stamp,
+/// else the first that does not increase, else the mean step, and whether every step is within
+/// [`TIME_TOLERANCE`] of it ([`Stamps::even`]; where one is not, [`uneven_step`] on each step
+/// in a second pass finds it). `P` is where a stamp is (an index, a line), for the messages.
+#[derive(Clone, Debug, Default)]
+pub struct Stamps<P> {
+    /// Stamps seen.
+    count: usize,
+    /// The first stamp and where it is.
+    first: Option<(f64, P)>,
+    /// The last stamp.
+    last: f64,
+    /// The smallest and the largest step (s), while every stamp is finite.
+    min_step: f64,
+    max_step: f64,
+    /// The first stamp that is not finite, and where.
+    non_finite: Option<(f64, P)>,
+    /// The first stamp not above the one before (that one, this one), and where.
+    backward: Option<(f64, f64, P)>,
+}
+
+impl<P: Copy + Default> Stamps<P> {
+    /// Takes the next stamp `t` (s), found `at`.
+    pub fn push(&mut self, t: f64, at: P) {
+        if self.non_finite.is_none() && !t.is_finite() {
+            self.non_finite = Some((t, at));
+        }
+        if self.first.is_none() {
+            self.first = Some((t, at));
+            self.min_step = f64::INFINITY;
+            self.max_step = f64::NEG_INFINITY;
+        } else {
+            let before = self.last;
+            if self.backward.is_none() && t <= before {
+                self.backward = Some((before, t, at));
+            }
+            let step = t - before;
+            self.min_step = self.min_step.min(step);
+            self.max_step = self.max_step.max(step);
+        }
+        self.last = t;
+        self.count += 1;
+    }
+
+    /// The mean step (t_last − t_first) / (count − 1), in s.
+    ///
+    /// # Errors
+    /// As [`sample_period`]'s, except the uneven step: `(where, message)`.
+    pub fn mean(&self) -> Result<f64, (P, String)> {
+        let first = match self.first {
+            Some((t, _)) if self.count >= 2 => t,
+            _ => {
+                let at = self.first.map_or_else(P::default, |(_, at)| at);
+                return Err((at, "a record needs at least 2 time stamps".into()));
+            }
+        };
+        if let Some((t, at)) = self.non_finite {
+            return Err((at, format!("time stamp {t} is not finite")));
+        }
+        if let Some((before, t, at)) = self.backward {
+            let what = if t == before {
                 "repeats"
             } else {
                 "goes back from"
             };
             return Err((
-                i + 1,
-                format!(
-                    "time stamp {} {what} the one before ({}): time must increase",
-                    w[1], w[0]
-                ),
+                at,
+                format!("time stamp {t} {what} the one before ({before}): time must increase"),
             ));
         }
+        Ok((self.last - first) / (self.count - 1) as f64)
     }
-    let h = (last - first) / (t.len() - 1) as f64;
-    for (i, w) in t.windows(2).enumerate() {
-        let step = w[1] - w[0];
-        if (step - h).abs() > TIME_TOLERANCE * h {
-            return Err((
-                i + 1,
-                format!(
-                    "time step {step:e} s differs from the record's mean step {h:e} s by {:.0} % \
-                     (at most {:.0} %): a model with dynamics or a rate term needs evenly sampled \
-                     records (resample the record, or write the time column with more digits)",
-                    100.0 * (step - h).abs() / h,
-                    100.0 * TIME_TOLERANCE
-                ),
-            ));
-        }
+
+    /// Whether every step is within [`TIME_TOLERANCE`] of the mean step `h` (from
+    /// [`Stamps::mean`]): the steps furthest from it are the smallest and the largest.
+    #[must_use]
+    pub fn even(&self, h: f64) -> bool {
+        uneven_step(self.min_step, h).is_none() && uneven_step(self.max_step, h).is_none()
     }
-    Ok(h)
+}
+
+/// What is wrong with a time step `step` (s) more than [`TIME_TOLERANCE`] off the record's mean
+/// step `h` (s); `None` for a step close enough.
+#[must_use]
+pub fn uneven_step(step: f64, h: f64) -> Option<String> {
+    ((step - h).abs() > TIME_TOLERANCE * h).then(|| {
+        format!(
+            "time step {step:e} s differs from the record's mean step {h:e} s by {:.0} % (at \
+             most {:.0} %): a model with dynamics or a rate term needs evenly sampled records \
+             (resample the record, or write the time column with more digits)",
+            100.0 * (step - h).abs() / h,
+            100.0 * TIME_TOLERANCE
+        )
+    })
 }
 
 #[cfg(test)]
@@ -541,6 +610,66 @@ mod tests {
         assert_eq!(i, 3);
         assert!(m.contains("mean step"), "{m}");
         assert!(sample_period(&[1.0]).is_err());
+    }
+
+    /// [`sample_period`] (through [`Stamps`]) against the checks written out over the whole
+    /// slice: the same period or the same error at the same index, on sequences with
+    /// non-finite, repeated, decreasing and uneven stamps in every order.
+    #[test]
+    fn streamed_stamps_agree_with_the_checks_over_the_whole_record() {
+        fn reference(t: &[f64]) -> Result<f64, (usize, String)> {
+            if t.len() < 2 {
+                return Err((0, "few".into()));
+            }
+            if let Some(i) = t.iter().position(|x| !x.is_finite()) {
+                return Err((i, "not finite".into()));
+            }
+            if let Some(i) = t.windows(2).position(|w| w[1] <= w[0]) {
+                return Err((i + 1, "time must increase".into()));
+            }
+            let h = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+            if let Some(i) = t
+                .windows(2)
+                .position(|w| (w[1] - w[0] - h).abs() > TIME_TOLERANCE * h)
+            {
+                return Err((i + 1, "mean step".into()));
+            }
+            Ok(h)
+        }
+        let mut seed = 7_u64;
+        let mut next = move || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            (seed >> 33) as f64 / (1_u64 << 31) as f64
+        };
+        for case in 0..4000 {
+            let n = 1 + case % 9;
+            let mut t = Vec::with_capacity(n);
+            let mut now = next() * 10.0 - 5.0;
+            for _ in 0..n {
+                let r = next();
+                now += match (r * 40.0) as u32 {
+                    0 => 0.0,
+                    1 => -0.05,
+                    2 => 0.2,
+                    3..=5 => 0.1 * (0.85 + 0.3 * next()),
+                    _ => 0.1,
+                };
+                t.push(match (next() * 60.0) as u32 {
+                    0 => f64::NAN,
+                    1 => f64::INFINITY,
+                    _ => now,
+                });
+            }
+            let (got, want) = (sample_period(&t), reference(&t));
+            match (&got, &want) {
+                (Ok(a), Ok(b)) => assert_eq!(a.to_bits(), b.to_bits(), "{t:?}"),
+                (Err((i, m)), Err((j, w))) => {
+                    assert_eq!(i, j, "{t:?}: {m}");
+                    assert!(w == "few" || m.contains(w.as_str()), "{t:?}: {m} / {w}");
+                }
+                _ => assert_eq!(got.is_ok(), want.is_ok(), "{t:?}: {got:?} against {want:?}"),
+            }
+        }
     }
 
     #[test]

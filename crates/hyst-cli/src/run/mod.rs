@@ -41,7 +41,7 @@ use hyst_io::{CsvReader, CsvWriter};
 use hyst_model::saturation::Saturation;
 
 mod columns;
-mod rows;
+pub(crate) mod rows;
 use columns::{Columns, Input, Num};
 use rows::{label_of, read_row, Block, Records, BLOCK};
 

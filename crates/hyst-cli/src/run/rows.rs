@@ -71,11 +71,24 @@ impl RecordKey {
 
 /// The record running while a file is read: its key and number.
 #[derive(Default)]
-pub(super) struct Records {
+pub(crate) struct Records {
     /// The key of the current record (`None` before the first row).
     key: Option<RecordKey>,
     /// Its number, from 1.
     number: f64,
+}
+
+impl Records {
+    /// Whether the record column's `cell` of the next row starts a record (a new value, or a
+    /// value that comes back after another); the record is then counted.
+    pub(crate) fn starts(&mut self, cell: &str) -> bool {
+        if self.key.as_ref().is_some_and(|key| key.is(cell)) {
+            return false;
+        }
+        self.key = Some(RecordKey::of(cell));
+        self.number += 1.0;
+        true
+    }
 }
 
 /// Reads the next row of INPUT into `block`: its cells for OUTPUT, the operators' inputs and
@@ -112,9 +125,7 @@ pub(super) fn read_row<R: Read, const N: usize>(
         }
     };
     if let Some(cell) = cell {
-        if !record.key.as_ref().is_some_and(|key| key.is(cell)) {
-            record.key = Some(RecordKey::of(cell));
-            record.number += 1.0;
+        if record.starts(cell) {
             block.labels.push((record.number, cell.to_string()));
         }
         block.id.push(record.number);
