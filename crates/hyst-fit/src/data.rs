@@ -5,6 +5,7 @@ use std::borrow::Cow;
 
 use hyst_io::{Samples, Table};
 
+use hyst_model::dynamics::{uneven_step, Stamps};
 use hyst_model::Columns;
 
 use crate::error::FitError;
@@ -468,13 +469,30 @@ fn set_periods(
     };
     let column = table.column(&name)?;
     for r in records.iter_mut() {
-        let t: Vec<f64> = r.rows.iter().map(|row| column[row]).collect();
-        match hyst_model::dynamics::sample_period(&t) {
+        // The stamps as they come (no copy of a long record's), then, only where a step is
+        // off the mean, once more to find the first.
+        let mut stamps = Stamps::default();
+        for row in r.rows.iter() {
+            stamps.push(column[row], row);
+        }
+        let period = stamps.mean().and_then(|h| {
+            if stamps.even(h) {
+                return Ok(h);
+            }
+            let steps = r.rows.iter().zip(r.rows.iter().skip(1));
+            for (before, row) in steps {
+                if let Some(message) = uneven_step(column[row] - column[before], h) {
+                    return Err((row, message));
+                }
+            }
+            Ok(h)
+        });
+        match period {
             Ok(h) => r.period = Some(h),
-            Err((i, message)) => {
+            Err((row, message)) => {
                 return Err(FitError::BadTime {
                     file: table.source().to_string(),
-                    line: table.line_of_row(r.rows.get(i).unwrap_or(0)),
+                    line: table.line_of_row(row),
                     column: name,
                     record: r.id,
                     message,
