@@ -524,8 +524,26 @@ fn normalise_weights(records: &mut [Record]) -> Result<(), hyst_io::IoError> {
         .filter(|w| *w > 0.0)
         .fold((0.0, 0_usize), |(s, n), w| (s + w / largest, n + 1));
     let mean = sum / count as f64;
-    for r in records.iter_mut() {
-        r.weight.map(|w| w / largest / mean)?;
+    // Records whose weights are neighbouring parts of one column (the segments of a record)
+    // are scaled as one column and cut again, so that they stay parts of one column (their
+    // histories then join them without a copy).
+    let mut rest = records;
+    while let Some(first) = rest.first() {
+        let mut joined = first.weight.clone();
+        let mut n = 1;
+        while let Some(next) = rest.get(n).filter(|r| joined.adjoins(&r.weight)) {
+            joined.extend(&next.weight);
+            n += 1;
+        }
+        joined.map(|w| w / largest / mean)?;
+        let (run, after) = rest.split_at_mut(n);
+        let mut at = 0;
+        for r in run {
+            let len = r.weight.len();
+            r.weight = joined.slice(at..at + len);
+            at += len;
+        }
+        rest = after;
     }
     Ok(())
 }
@@ -669,6 +687,63 @@ mod tests {
             (w[0] - 0.5).abs() < 1e-15 && (w[1] - 1.5).abs() < 1e-15 && w[2] == 0.0,
             "{w:?}"
         );
+        Ok(())
+    }
+
+    /// Weighted records cut by `--segment`: their scaled weights are still neighbouring parts
+    /// of one column (each history joins its segments without a copy), with the values each
+    /// segment scaled on its own would have.
+    #[test]
+    fn the_segments_of_a_weighted_record_stay_parts_of_one_column() -> Result<(), FitError> {
+        let mut text = String::from("u,y,w,r\n");
+        for i in 0..40 {
+            let w = 0.5 + f64::from(i % 7) * 0.25;
+            text.push_str(&format!("{i},{},{w},{}\n", i % 3, i / 30));
+        }
+        let table = Table::parse(text.as_bytes(), "w.csv")?;
+        let options = DataOptions {
+            input: "u".into(),
+            output: "y".into(),
+            weight: Some("w".into()),
+            record: Some("r".into()),
+            segment: Some(8),
+            ..DataOptions::default()
+        };
+        let data = Dataset::from_table(&table, &options)?;
+        let lens: Vec<usize> = data.records.iter().map(Record::len).collect();
+        assert_eq!(lens, [8, 8, 8, 6, 8, 2]);
+        let raw: Vec<f64> = table.column("w")?.to_vec();
+        let positive: Vec<f64> = raw.iter().copied().filter(|w| *w > 0.0).collect();
+        let largest = positive.iter().copied().fold(0.0, f64::max);
+        let mean = positive.iter().map(|w| w / largest).sum::<f64>() / positive.len() as f64;
+        let scaled: Vec<f64> = data
+            .records
+            .iter()
+            .flat_map(|r| r.weight.to_vec())
+            .collect();
+        let want: Vec<f64> = raw.iter().map(|w| w / largest / mean).collect();
+        assert_eq!(scaled, want);
+        for pair in data.records.windows(2) {
+            let joins = pair[0].weight.adjoins(&pair[1].weight);
+            assert!(
+                joins || !pair[1].continues,
+                "{:?}",
+                (pair[0].id, pair[1].id)
+            );
+        }
+        let histories = data.histories();
+        assert_eq!(histories.len(), 2);
+        for h in &histories {
+            let w = h.weight.as_slice().map(<[f64]>::as_ptr);
+            let first = data.records[h.parts[0].0]
+                .weight
+                .as_slice()
+                .map(<[f64]>::as_ptr);
+            assert_eq!(
+                w, first,
+                "the history's weights are its first segment's column"
+            );
+        }
         Ok(())
     }
 

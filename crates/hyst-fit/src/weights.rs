@@ -91,6 +91,17 @@ impl Weights {
         }
     }
 
+    /// Whether `next` continues these weights without a copy when appended ([`Weights::extend`]):
+    /// both unit, or neighbouring parts of one column ([`Samples::adjoins`]).
+    #[must_use]
+    pub fn adjoins(&self, next: &Weights) -> bool {
+        match (self, next) {
+            (Weights::Unit(_), Weights::Unit(_)) => true,
+            (Weights::Each(a), Weights::Each(b)) => a.adjoins(b),
+            _ => false,
+        }
+    }
+
     /// Appends the weights of `other` (the next part of the same column without a copy:
     /// [`Samples::join`]).
     pub fn extend(&mut self, other: &Weights) {

@@ -112,12 +112,18 @@ impl Samples {
         }
     }
 
+    /// Whether `next` starts where `self` ends in the same column (neighbouring parts, such
+    /// as segments cut from one record): [`Samples::join`] then makes no copy.
+    #[must_use]
+    pub fn adjoins(&self, next: &Samples) -> bool {
+        Arc::ptr_eq(&self.store, &next.store) && self.range.end == next.range.start
+    }
+
     /// `self` followed by `next`: the same column without a copy when `next` starts where
-    /// `self` ends in it (neighbouring parts, such as segments cut from one record), else a
-    /// new column held in memory.
+    /// `self` ends in it ([`Samples::adjoins`]), else a new column held in memory.
     #[must_use]
     pub fn join(&self, next: &Samples) -> Samples {
-        if Arc::ptr_eq(&self.store, &next.store) && self.range.end == next.range.start {
+        if self.adjoins(next) {
             return Samples {
                 store: Arc::clone(&self.store),
                 range: self.range.start..next.range.end,
