@@ -35,8 +35,8 @@ pub struct Args {
     /// bank_avx2_tick_direct_over_scalar, bank_avx2_tick_inverse_f32_over_bank_avx2_tick_inverse
     /// and bank_avx2_tick_goals_met (inverse <= 0.30, direct <= 0.40); and the long-record fit's
     /// fit_rows, fit_seconds, run_seconds, fit_over_run, fit_goal_met, fit_peak_bytes,
-    /// fit_peak_bytes_per_row and fit_memory_goal_met, null without --fit-rows) instead of a
-    /// table.
+    /// fit_peak_bytes_per_row, fit_memory_goal_met and run_peak_bytes, null without
+    /// --fit-rows) instead of a table.
     #[arg(long)]
     pub json: bool,
     /// Run the banks on this kernel instead of the best this processor has (to see how a
@@ -410,6 +410,7 @@ fn print_json(best: &[f64], ratios: &Ratios, fit: Option<&FitFigures>) -> Result
             "fit_memory_goal_met",
             json!(fit.and_then(FitFigures::memory_goal_met)),
         ),
+        ("run_peak_bytes", json!(fit.and_then(|f| f.run_peak_bytes))),
     ] {
         map.insert(key.into(), value);
     }
@@ -512,5 +513,8 @@ fn print_fit(fit: &FitFigures) {
             }
         ),
         None => outln!("fit peak memory: not known here (read from /proc on Linux)"),
+    }
+    if let Some(peak) = fit.run_peak_bytes {
+        outln!("run peak memory: {:.1} MB", peak / 1e6);
     }
 }

@@ -624,6 +624,7 @@ fn bench_fits_a_random_walk_when_asked() {
     // Left out by default, its keys there all the same.
     assert_eq!(json["fit_rows"], 0);
     assert!(json["fit_over_run"].is_null() && json["fit_peak_bytes"].is_null());
+    assert!(json["run_peak_bytes"].is_null());
     let o = hyst()
         .args([
             "bench",
@@ -650,6 +651,8 @@ fn bench_fits_a_random_walk_when_asked() {
     if cfg!(target_os = "linux") {
         let peak = json["fit_peak_bytes"].as_f64().unwrap();
         assert!(peak > 1e5 && peak < 1e10, "{peak}");
+        let run_peak = json["run_peak_bytes"].as_f64().unwrap();
+        assert!(run_peak > 1e5 && run_peak < 1e10, "{run_peak}");
     }
 }
 
