@@ -12,16 +12,12 @@
 mod common;
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use common::{hyst, s};
+use common::{hyst, repo, s};
 use hyst_core::{AnyK2Law, Hysteresis, Operator, ScaledShaping, ShapedModel};
 
 type Model = ShapedModel<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()

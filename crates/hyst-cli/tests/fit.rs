@@ -1,8 +1,11 @@
 //! `hyst fit` end to end: the bundled piezo data, the model file read back by `hyst run --model`,
 //! and every bad-data error (each names what is wrong, and no model file is left behind).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
+
+mod common;
+use common::repo;
 
 fn hyst(args: &[&str]) -> Output {
     match Command::new(env!("CARGO_BIN_EXE_hyst")).args(args).output() {
@@ -13,10 +16,6 @@ fn hyst(args: &[&str]) -> Output {
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
-}
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
 type R = Result<(), Box<dyn std::error::Error>>;

@@ -11,9 +11,8 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+mod common;
+use common::{piezo, piezo_fit};
 
 /// A stand-in for libhyst_fmu.so: a 64-bit x86-64 ELF shared-object header followed by the
 /// names of the FMI functions `hyst fmu` looks for.
@@ -321,18 +320,9 @@ fn operator_fmu_has_the_layout_and_model_description_of_the_spec() {
 /// Fits the bundled piezo data into `dir/piezo.toml` (the debug build takes about a second).
 fn fit_piezo(dir: &Path) -> PathBuf {
     let model = dir.join("piezo.toml");
-    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    let data = piezo();
     let out = Command::new(env!("CARGO_BIN_EXE_hyst"))
-        .args([
-            "fit",
-            data.to_str().unwrap(),
-            "--input",
-            "u_actuator_V",
-            "--output",
-            "y_capsensor_um",
-            "-o",
-            model.to_str().unwrap(),
-        ])
+        .args(piezo_fit(&data, &model))
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", text(&out.stderr));
@@ -610,7 +600,7 @@ fn saturate_is_written_for_the_inverse_of_a_saturating_model_only() {
     let lib = fake_library(d);
     let affine = fit_piezo(d);
     let tanh = d.join("tanh.toml");
-    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    let data = piezo();
     let out = Command::new(env!("CARGO_BIN_EXE_hyst"))
         .args(["fit", data.to_str().unwrap(), "--input", "u_actuator_V"])
         .args([

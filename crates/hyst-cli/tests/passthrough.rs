@@ -9,11 +9,7 @@ use std::path::{Path, PathBuf};
 use hyst_core::Operator;
 
 mod common;
-use common::{hyst, numbers, read_cells, s};
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::{hyst, numbers, read_cells, repo, s};
 
 /// A model of the firmware examples: `piezo` (fitted on data/piezo-sine: input
 /// `u_actuator_V`, output `y_capsensor_um`), `piezo_dyn` (the same with a plant of order 2),

@@ -9,11 +9,7 @@ use std::process::Output;
 use hyst_core::Operator;
 
 mod common;
-use common::{hyst, s};
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::{hyst, repo, s};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

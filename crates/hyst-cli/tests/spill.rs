@@ -4,12 +4,11 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use std::ffi::OsStr;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+mod common;
+use common::{piezo, piezo_fit, repo};
 
 /// `hyst ARGS` with the environment variables `env` set (`HYST_SPILL_AFTER` unset unless
 /// `env` sets it).
@@ -20,25 +19,6 @@ fn hyst(args: &[&str], env: &[(&str, &OsStr)]) -> Output {
         .envs(env.iter().copied())
         .output()
         .unwrap()
-}
-
-/// The bundled piezo record.
-fn piezo() -> PathBuf {
-    repo().join("data/piezo-sine/piezo_sine_1hz.csv")
-}
-
-/// `hyst fit` of the file `piezo` (its input and output columns) into `model`.
-fn piezo_fit<'a>(piezo: &'a Path, model: &'a Path) -> [&'a str; 8] {
-    [
-        "fit",
-        piezo.to_str().unwrap(),
-        "--input",
-        "u_actuator_V",
-        "--output",
-        "y_capsensor_um",
-        "-o",
-        model.to_str().unwrap(),
-    ]
 }
 
 /// A model file without the lines that differ from run to run (timings, the command, the

@@ -1,8 +1,33 @@
 //! What several integration test files of `hyst` share.
 #![allow(clippy::unwrap_used, clippy::panic, dead_code)]
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+/// The repository's root (the bundled data is under `data/`).
+pub fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The bundled piezo record.
+pub fn piezo() -> PathBuf {
+    repo().join("data/piezo-sine/piezo_sine_1hz.csv")
+}
+
+/// The arguments of `hyst fit` of the piezo record `data` (its input and output columns) into
+/// `model`.
+pub fn piezo_fit<'a>(data: &'a Path, model: &'a Path) -> [&'a str; 8] {
+    [
+        "fit",
+        data.to_str().unwrap(),
+        "--input",
+        "u_actuator_V",
+        "--output",
+        "y_capsensor_um",
+        "-o",
+        model.to_str().unwrap(),
+    ]
+}
 
 /// `hyst ARGS` (the binary of this build), run to its end.
 pub fn hyst(args: &[&str]) -> Output {
