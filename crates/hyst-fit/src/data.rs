@@ -5,7 +5,7 @@ use std::borrow::Cow;
 
 use hyst_io::{Samples, Table};
 
-use hyst_model::dynamics::{uneven_step, Stamps};
+use hyst_model::dynamics::period_of;
 use hyst_model::Columns;
 
 use crate::error::FitError;
@@ -469,24 +469,8 @@ fn set_periods(
     };
     let column = table.column(&name)?;
     for r in records.iter_mut() {
-        // The stamps as they come (no copy of a long record's), then, only where a step is
-        // off the mean, once more to find the first.
-        let mut stamps = Stamps::default();
-        for row in r.rows.iter() {
-            stamps.push(column[row], row);
-        }
-        let period = stamps.mean().and_then(|h| {
-            if stamps.even(h) {
-                return Ok(h);
-            }
-            let steps = r.rows.iter().zip(r.rows.iter().skip(1));
-            for (before, row) in steps {
-                if let Some(message) = uneven_step(column[row] - column[before], h) {
-                    return Err((row, message));
-                }
-            }
-            Ok(h)
-        });
+        // The stamps from the column (no copy of a long record's).
+        let period = period_of(|| r.rows.iter().map(|row| (row, column[row])));
         match period {
             Ok(h) => r.period = Some(h),
             Err((row, message)) => {

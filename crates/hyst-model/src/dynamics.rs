@@ -351,23 +351,37 @@ pub struct Rate<T = f64> {
 /// The sample period of a record from its time stamps `t` (s): the mean step
 /// (t_last − t_first) / (len − 1), after checking that the stamps increase and that every step
 /// is within [`TIME_TOLERANCE`] of it. `Err((index, message))` names the offending sample (its
-/// index in `t`) and says what is wrong with it. [`Stamps`] makes the same checks on stamps
-/// that come one at a time.
+/// index in `t`) and says what is wrong with it. [`period_of`] makes the same checks on stamps
+/// held elsewhere, [`Stamps`] on stamps that come one at a time.
 ///
 /// # Errors
 /// Fewer than 2 stamps, a non-finite stamp, a repeated or decreasing one, or a step off the mean
 /// by more than [`TIME_TOLERANCE`].
 pub fn sample_period(t: &[f64]) -> Result<f64, (usize, String)> {
-    let mut stamps = Stamps::default();
-    for (i, &x) in t.iter().enumerate() {
-        stamps.push(x, i);
+    period_of(|| t.iter().copied().enumerate())
+}
+
+/// [`sample_period`] of the stamps `stamps()` walks, each with where it is (`P`: an index, a
+/// row), in order: once for [`Stamps`], and once more only when a step is off the mean, to
+/// name the first such stamp.
+///
+/// # Errors
+/// As [`sample_period`], naming where the offending stamp is.
+pub fn period_of<P: Copy + Default, I: Iterator<Item = (P, f64)>>(
+    stamps: impl Fn() -> I,
+) -> Result<f64, (P, String)> {
+    let mut seen = Stamps::default();
+    for (at, t) in stamps() {
+        seen.push(t, at);
     }
-    let h = stamps.mean()?;
-    if !stamps.even(h) {
-        for (i, w) in t.windows(2).enumerate() {
-            if let Some(message) = uneven_step(w[1] - w[0], h) {
-                return Err((i + 1, message));
+    let h = seen.mean()?;
+    if !seen.even(h) {
+        let mut before = None;
+        for (at, t) in stamps() {
+            if let Some(message) = before.and_then(|b| uneven_step(t - b, h)) {
+                return Err((at, message));
             }
+            before = Some(t);
         }
     }
     Ok(h)
