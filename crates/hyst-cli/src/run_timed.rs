@@ -69,7 +69,7 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
         (plan, records)
     };
     let fault = plan.first_fault(&input, &mut records)?;
-    let mut rows = input.second_pass()?;
+    let mut rows = input.read_again()?;
     let mut out = CsvWriter::create(args.output, plan.output_names.clone())?;
     let mut cells = String::new();
     for (k, record) in records.iter().enumerate() {
@@ -102,9 +102,7 @@ struct Input<'a> {
     source: String,
     /// The open file.
     file: File,
-    /// Whether it is a regular file (read again), or a copy of it is kept in `copy`.
-    regular: bool,
-    /// The copy of a pipe, written by the first pass.
+    /// The copy of anything but a regular file (a pipe), written by the first pass.
     copy: Option<File>,
     /// The bytes the first pass read.
     read: Rc<Cell<u64>>,
@@ -116,12 +114,10 @@ impl<'a> Input<'a> {
     /// Opens INPUT (`output` decides whether progress is shown).
     fn open(path: &'a Path, output: &Path) -> Result<Self> {
         let (file, source) = hyst_io::open_file(path)?;
-        let regular = file.metadata().is_ok_and(|m| m.is_file());
         Ok(Self {
             path,
             source,
             file,
-            regular,
             copy: None,
             read: Rc::default(),
             quiet: crate::progress::writes_to_terminal(output),
@@ -130,7 +126,7 @@ impl<'a> Input<'a> {
 
     /// The first pass: the rows as read, counted (and copied, for a pipe).
     fn first_pass(&mut self) -> Result<CsvReader<Box<dyn Read + '_>>> {
-        if !self.regular {
+        if !self.file.metadata().is_ok_and(|m| m.is_file()) {
             let copy = tempfile::tempfile().map_err(|e| self.no_copy(&e))?;
             self.copy = Some(copy);
         }
@@ -143,9 +139,9 @@ impl<'a> Input<'a> {
         self.csv(Box::new(counted))
     }
 
-    /// A second pass over the bytes the first read (from the start of the file, or of the
-    /// copy of a pipe).
-    fn second_pass(&self) -> Result<CsvReader<Box<dyn Read + '_>>> {
+    /// The bytes the first pass read, again (from the start of the file, or of the copy of a
+    /// pipe): the second pass, and the search for an uneven step.
+    fn read_again(&self) -> Result<CsvReader<Box<dyn Read + '_>>> {
         let mut file: &File = self.copy.as_ref().unwrap_or(&self.file);
         file.seek(SeekFrom::Start(0))
             .with_context(|| format!("{}: cannot read it again", self.source))?;
@@ -367,7 +363,7 @@ impl Plan {
             };
             record.period = h;
             if !record.stamps.even(h) {
-                let mut rows = input.second_pass()?;
+                let mut rows = input.read_again()?;
                 let skip: usize = records.iter().take(k).map(|r| r.rows).sum();
                 let mut before: Option<f64> = None;
                 let mut row = 0;
