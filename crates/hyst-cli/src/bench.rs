@@ -23,6 +23,7 @@ pub struct Args {
     /// other, bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static,
     /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, c_peer_ns (a plain-C
     /// inverse with no checks on the same signal), inverse_over_c_peer and c_peer_goal_met,
+    /// exp_inline_ns (the inline f64 `exp` the inverse evaluates) and inverse_over_exp_inline,
     /// kernel, the bank's instruction set; the same banks tick by tick (one `step` per tick of
     /// the 64, ns per channel-sample): bank_tick_inverse_ns, bank_tick_direct_ns,
     /// bank_tick_inverse_f32_ns, next to 1,024 scalar operators stepped once a tick each,
@@ -44,7 +45,7 @@ pub struct Args {
     #[arg(long, value_name = "ISA", value_parser = ["avx512", "avx2", "sse2", "portable"])]
     pub kernel: Option<String>,
     /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
-    /// takes this plus about 0.2 s of calibration). The time is shared by the 21 workloads,
+    /// takes this plus about 0.2 s of calibration). The time is shared by the 22 workloads,
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
@@ -191,6 +192,9 @@ struct Ratios {
     adaptive: f64,
     /// Scalar H⁻¹ over the plain-C peer on the same signal (issue 29's goal: at most 1).
     c_peer: f64,
+    /// Scalar H⁻¹ over the inline `exp` it evaluates (no goal: what the operator costs beyond
+    /// its exponential).
+    inverse_over_exp_inline: f64,
     /// The banks tick by tick on the kernel of the run (issue 13's bank goals).
     tick: TickRatios,
     /// The banks tick by tick with the AVX2 kernel forced (issue 29's goals; `None` where the
@@ -341,6 +345,7 @@ impl Ratios {
             dynamics: at(10) / at(9),
             adaptive: at(11) / direct,
             c_peer: inverse / at(12),
+            inverse_over_exp_inline: inverse / at(21),
             tick,
             avx2_tick,
         }
@@ -379,6 +384,10 @@ fn print_json(best: &[f64], ratios: &Ratios, fit: Option<&FitFigures>) -> Result
     map.insert("adaptive_goal_met".into(), json!(ratios.adaptive <= 10.0));
     map.insert("inverse_over_c_peer".into(), json!(ratios.c_peer));
     map.insert("c_peer_goal_met".into(), json!(ratios.c_peer <= 1.0));
+    map.insert(
+        "inverse_over_exp_inline".into(),
+        json!(ratios.inverse_over_exp_inline),
+    );
     map.insert("kernel".into(), json!(isa().name()));
     map.insert(ratios.tick.met_key.into(), json!(ratios.tick.met()));
     for (key, _, ratio) in &ratios.tick.ratios {
@@ -442,6 +451,10 @@ fn print_table(best: &[f64], ratios: &Ratios) {
         "goal inverse <= 1.0 x plain-C peer:   {:.2} ({})",
         ratios.c_peer,
         verdict(ratios.c_peer <= 1.0)
+    );
+    outln!(
+        "inverse / the inline exp it evaluates: {:.2} (no goal)",
+        ratios.inverse_over_exp_inline
     );
     outln!();
     outln!("{:<37} {}", "bank kernel:", isa().name());

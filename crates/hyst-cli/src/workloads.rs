@@ -36,7 +36,7 @@ pub const BANK_CHANNELS: usize = 1024;
 pub const BANK_TICKS: usize = 64;
 
 /// The names of the workloads, in report order, with their JSON keys.
-pub const NAMES: [(&str, &str); 21] = [
+pub const NAMES: [(&str, &str); 22] = [
     ("direct operator H (eq. 2)", "direct_ns"),
     ("inverse operator H^-1 (eq. 4)", "inverse_ns"),
     ("inverse with 2 derivatives (jet)", "inverse_d2_ns"),
@@ -79,6 +79,7 @@ pub const NAMES: [(&str, &str); 21] = [
         "bank H^-1 f32 tick, AVX2 kernel forced",
         "bank_avx2_tick_inverse_f32_ns",
     ),
+    ("f64 exp inline, the inverse's", "exp_inline_ns"),
 ];
 
 /// The workloads run on 1,024 channels (reported per channel-sample): the banks in blocks, then
@@ -283,6 +284,10 @@ impl Inputs {
                 force_isa(Some(kernel)).ok()?;
                 sum?
             }
+            21 => black_box(&self.exp_args)
+                .iter()
+                .map(|&a| a.exp_inline())
+                .sum(),
             _ => return None,
         })
     }
@@ -436,7 +441,8 @@ mod tests {
 
     /// The C peer is a real inverse: on the benchmark's signal (and a signal of k1-sized
     /// reversals) its outputs equal hyst's inverse within 4 ulp of max(|input|, k1) (the same
-    /// arithmetic; only hyst's band clamp may move an output by an ulp).
+    /// arithmetic but for the `exp`, the platform's in the peer and hyst's inline one, which
+    /// agree to an ulp; and hyst's band clamp may move an output by an ulp).
     #[test]
     fn the_c_peer_is_the_inverse_operator() {
         // Here, not at the module's top: the criterion bench includes this file and drops the

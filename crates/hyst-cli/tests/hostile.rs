@@ -488,6 +488,7 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         "inverse_d2_ns",
         "model_ns",
         "exp_ns",
+        "exp_inline_ns",
         "lambert_w0_ns",
         "bank_inverse_ns",
         "bank_direct_ns",
@@ -496,6 +497,13 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         let ns = json[key].as_f64().unwrap_or(f64::NAN);
         assert!(ns > 0.0 && ns.is_finite(), "{key}: {ns}");
     }
+    // The inverse over the inline exp it evaluates (reported next to the goal's yardstick).
+    let ratio = json["inverse_over_exp_inline"].as_f64().unwrap();
+    let expected = json["inverse_ns"].as_f64().unwrap() / json["exp_inline_ns"].as_f64().unwrap();
+    assert!(
+        (ratio - expected).abs() <= 1e-12 * expected,
+        "{ratio} vs {expected}"
+    );
     let ratio = json["bank_inverse_over_inverse"].as_f64().unwrap();
     let expected = json["bank_inverse_ns"].as_f64().unwrap() / json["inverse_ns"].as_f64().unwrap();
     assert!(

@@ -585,6 +585,14 @@ impl<T: Real, const N: usize> Real for Dual<T, N> {
         }
     }
 
+    /// e^x with the value by the value type's [`Real::exp_inline`] (so a dual's value is the
+    /// plain run's, bit for bit); gradient e^x times the argument's.
+    #[inline(always)]
+    fn exp_inline(self) -> Self {
+        let e = self.v.exp_inline();
+        self.chain(e, e)
+    }
+
     /// W0 of the value by Fukushima's method; gradient by W0'(x) = W / (x (1 + W)) (1 at x = 0).
     #[inline]
     fn lambert_w0_fukushima(self) -> Self {

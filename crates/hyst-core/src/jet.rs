@@ -156,7 +156,8 @@ impl<T: Real, const N: usize> Jet<T, N> {
         e.with_value(self.v.exp_m1())
     }
 
-    fn exp_with_value(self, e0: T) -> Self {
+    /// The Taylor coefficients of e^x around the value e0 = e^(x0) given.
+    pub(crate) fn exp_with_value(self, e0: T) -> Self {
         let mut e = Self::constant(e0);
         for k in 1..=N {
             let mut s = T::zero();

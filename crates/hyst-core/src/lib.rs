@@ -120,6 +120,7 @@ pub mod bank;
 pub mod compensator;
 pub mod dual;
 pub mod error;
+mod exp;
 pub mod family;
 pub mod jet;
 pub mod k2law;

@@ -264,6 +264,21 @@ fn direct_transition_log<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) ->
     (ln_a - w.ln()) / k2
 }
 
+/// Eq. (4) of [`Inverse::output`].
+#[inline(always)]
+fn inverse_output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
+    let s = memory.direction;
+    let ud_tilde = memory.transform(x);
+    let along_input = s.apply(ud_tilde) + memory.reversal_output;
+    along_input + (S::constant(T::one()) - (-(k2 * ud_tilde)).exp_inline()) * s.apply(m_star)
+}
+
+/// [`inverse_output`] for a jet, inlined where the compiler finds it worth it.
+#[inline]
+fn inverse_output_jet<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
+    inverse_output(memory, x, m_star, k2)
+}
+
 impl Formula for Inverse {
     const NAME: &'static str = "inverse";
     /// Not clamped: eq. (4) stays well defined for any M*, and the memory only leaves the band by
@@ -276,12 +291,17 @@ impl Formula for Inverse {
     /// v = (β0 + s ũ_d) + s M* (1 − e^(−k2 ũ_d)), so only two numbers wait for the exponential.
     /// Exactly β0 at a reversal point (ũ_d = 0). 1 − e^(−z) is computed with `exp`, not `expm1`:
     /// its absolute error, ≤ 2 k1 ε, is below the rounding of v itself, and `exp` is faster.
-    #[inline]
+    /// On a host, for plain samples always inlined (with its inline `exp`, LLVM would otherwise
+    /// make it a call, and the caller's values would wait in memory across it); for jets left
+    /// to the compiler (always inlined, the loop on jets was a third slower).
+    #[cfg_attr(not(target_os = "none"), inline(always))]
+    #[cfg_attr(target_os = "none", inline)]
     fn output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {
-        let s = memory.direction;
-        let ud_tilde = memory.transform(x);
-        let along_input = s.apply(ud_tilde) + memory.reversal_output;
-        along_input + (S::constant(T::one()) - (-(k2 * ud_tilde)).exp()) * s.apply(m_star)
+        if S::ORDER == 0 {
+            inverse_output(memory, x, m_star, k2)
+        } else {
+            inverse_output_jet(memory, x, m_star, k2)
+        }
     }
     /// v = u_d + s (M + M* (1 − e^(−k2 ũ_d))): eq. (4) with β0 − α0 = s M folded in, so an
     /// overflowing ũ_d only makes the exponential 0.

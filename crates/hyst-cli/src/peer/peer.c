@@ -6,12 +6,14 @@
  * outputs equal hyst's).
  *
  * The same arithmetic as InverseHysteresis in crates/hyst-core/src/parametric.rs, in the same
- * order (so the outputs agree bit for bit when no band clamp fires):
+ * order (so the outputs agree to an ulp of the exponential when no band clamp fires: hyst
+ * evaluates e^x with its own inline exp, crates/hyst-core/src/exp.rs, the same algorithm as
+ * glibc's):
  *   a change of direction makes the previous sample the reversal point (alpha0, beta0);
  *   s = +1 rising, -1 falling; M = s (beta0 - alpha0); M* = k1 - M;
  *   ud = s (u_d - alpha0); v = (ud s + beta0) + (1 - exp(-(k2 ud))) (M* s).
  * Built by build.rs with the `cc` crate at -O2 with -ffp-contract=off (no fused
- * multiply-adds, as Rust), calling the platform's libm `exp`.
+ * multiply-adds, as Rust), calling the platform's libm `exp`, as a plain C program does.
  */
 #include <math.h>
 #include <stddef.h>
