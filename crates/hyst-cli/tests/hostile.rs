@@ -489,6 +489,7 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         "model_ns",
         "exp_ns",
         "exp_inline_ns",
+        "lambert_w0_estrin_ns",
         "lambert_w0_ns",
         "bank_inverse_ns",
         "bank_direct_ns",
@@ -497,6 +498,13 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         let ns = json[key].as_f64().unwrap_or(f64::NAN);
         assert!(ns > 0.0 && ns.is_finite(), "{key}: {ns}");
     }
+    let ratio = json["direct_over_w0_estrin_plus_exp"].as_f64().unwrap();
+    let expected = json["direct_ns"].as_f64().unwrap()
+        / (json["lambert_w0_estrin_ns"].as_f64().unwrap() + json["exp_ns"].as_f64().unwrap());
+    assert!(
+        (ratio - expected).abs() <= 1e-12 * expected,
+        "{ratio} vs {expected}"
+    );
     // The inverse over the inline exp it evaluates (reported next to the goal's yardstick).
     let ratio = json["inverse_over_exp_inline"].as_f64().unwrap();
     let expected = json["inverse_ns"].as_f64().unwrap() / json["exp_inline_ns"].as_f64().unwrap();

@@ -122,6 +122,7 @@ pub mod dual;
 pub mod error;
 mod exp;
 pub mod family;
+mod fukushima;
 pub mod jet;
 pub mod k2law;
 pub mod lambert;
