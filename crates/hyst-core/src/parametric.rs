@@ -210,9 +210,9 @@ fn rare<T: Real, F: Formula>(
 ///
 /// With a = k2 M*, b = k2 (M* − ṽ) and w = W(a e^b): while a e^b is finite, eq. (2) as
 /// printed (its rounding error is a few ulps of max(|ṽ|, M*), below that of the output
-/// u = β0 + s ũ itself), with w / k2 formed as w · (1 / k2): the reciprocal is taken while
-/// `exp` and W run, off the chain of dependent operations that bounds the loop (a division at
-/// its end made the direct operator 3 % slower, 18.0 against 17.5 ns a sample). When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain)
+/// u = β0 + s ũ itself), with w / k2 formed as w · (1 / k2) with `std`: the reciprocal is taken
+/// while `exp` and W run, off the chain of dependent operations that bounds the loop (a division
+/// at its end made the direct operator 3 % slower, 18.0 against 17.5 ns a sample). When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain)
 /// and, using w + ln w = ln a + b, ũ = (ln a − ln w) / k2, which has no cancellation between
 /// large terms: k2 up to 1e12 (near-backlash) stays finite and accurate. At a reversal point
 /// (ṽ = 0) the value is exactly 0.
@@ -239,7 +239,14 @@ fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
         } else {
             w
         };
-        v_tilde - m_star + w * (S::constant(T::one()) / k2)
+        // With `std` w / k2 as w · (1 / k2), the reciprocal off the chain; without (a firmware
+        // build, for size: 20 bytes) the division. They differ by an ulp at most, as the
+        // two builds' maths do (`Real`).
+        if cfg!(feature = "std") {
+            v_tilde - m_star + w * (S::constant(T::one()) / k2)
+        } else {
+            v_tilde - m_star + w / k2
+        }
     } else if cfg!(target_os = "none") {
         let ln_a = k2.ln() + m_star.ln();
         let w = (ln_a + b).omega();

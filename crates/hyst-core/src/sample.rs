@@ -174,10 +174,15 @@ impl<T: Real, const N: usize> Sample<T> for Jet<T, N> {
     fn exp(self) -> Self {
         Jet::exp(self)
     }
-    /// The value by [`Real::exp_inline_short`], the plain run's [`Real::exp_inline`] bit for bit.
+    /// The value by [`Real::exp_inline_short`], the plain run's [`Real::exp_inline`] bit for bit
+    /// (without `std` that is [`Jet::exp`] itself: one copy of the code in a firmware build).
     #[inline]
     fn exp_inline(self) -> Self {
-        self.exp_with_value(self.value().exp_inline_short())
+        if cfg!(feature = "std") {
+            self.exp_with_value(self.value().exp_inline_short())
+        } else {
+            Jet::exp(self)
+        }
     }
     fn exp_m1(self) -> Self {
         Jet::exp_m1(self)
