@@ -482,6 +482,7 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
     assert!(took < 10.0, "bench took {took} s");
     let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(json["direct_ns"].as_f64().unwrap() > 0.0);
+    let ns = |key: &str| json[key].as_f64().unwrap_or(f64::NAN);
     // The banks of 1,024 channels are measured in the same run, next to the scalar keys.
     for key in [
         "inverse_ns",
@@ -495,34 +496,35 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         "bank_direct_ns",
         "bank_inverse_f32_ns",
     ] {
-        let ns = json[key].as_f64().unwrap_or(f64::NAN);
-        assert!(ns > 0.0 && ns.is_finite(), "{key}: {ns}");
+        assert!(ns(key) > 0.0 && ns(key).is_finite(), "{key}: {}", ns(key));
     }
-    let ratio = json["direct_over_w0_estrin_plus_exp"].as_f64().unwrap();
-    let expected = json["direct_ns"].as_f64().unwrap()
-        / (json["lambert_w0_estrin_ns"].as_f64().unwrap() + json["exp_ns"].as_f64().unwrap());
-    assert!(
-        (ratio - expected).abs() <= 1e-12 * expected,
-        "{ratio} vs {expected}"
+    // Each ratio is the quotient of the figures it names, measured in the same run.
+    let ratio_is = |key: &str, expected: f64| {
+        let ratio = ns(key);
+        assert!(
+            (ratio - expected).abs() <= 1e-12 * expected,
+            "{key}: {ratio} vs {expected}"
+        );
+    };
+    ratio_is(
+        "direct_over_w0_estrin_plus_exp",
+        ns("direct_ns") / (ns("lambert_w0_estrin_ns") + ns("exp_ns")),
     );
     // The inverse over the inline exp it evaluates (reported next to the goal's yardstick).
-    let ratio = json["inverse_over_exp_inline"].as_f64().unwrap();
-    let expected = json["inverse_ns"].as_f64().unwrap() / json["exp_inline_ns"].as_f64().unwrap();
-    assert!(
-        (ratio - expected).abs() <= 1e-12 * expected,
-        "{ratio} vs {expected}"
+    ratio_is(
+        "inverse_over_exp_inline",
+        ns("inverse_ns") / ns("exp_inline_ns"),
     );
-    let ratio = json["bank_inverse_over_inverse"].as_f64().unwrap();
-    let expected = json["bank_inverse_ns"].as_f64().unwrap() / json["inverse_ns"].as_f64().unwrap();
-    assert!(
-        (ratio - expected).abs() <= 1e-12 * expected,
-        "{ratio} vs {expected}"
+    ratio_is(
+        "bank_inverse_over_inverse",
+        ns("bank_inverse_ns") / ns("inverse_ns"),
     );
     // The f32 bank against the f64 bank, its rate, and one verdict over the four bank goals.
-    let f32_ns = json["bank_inverse_f32_ns"].as_f64().unwrap();
-    let f32_over_f64 = json["bank_inverse_f32_over_bank_inverse"].as_f64().unwrap();
-    let expected = f32_ns / json["bank_inverse_ns"].as_f64().unwrap();
-    assert!((f32_over_f64 - expected).abs() <= 1e-12 * expected);
+    let f32_ns = ns("bank_inverse_f32_ns");
+    ratio_is(
+        "bank_inverse_f32_over_bank_inverse",
+        f32_ns / ns("bank_inverse_ns"),
+    );
     let rate = json["bank_inverse_f32_channel_samples_per_s"]
         .as_f64()
         .unwrap();
@@ -530,7 +532,6 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
     assert!(json["bank_goals_met"].is_boolean());
     // The banks tick by tick, next to 1,024 scalar operators stepped the same way, on the
     // kernel of the run and with the AVX2 kernel forced (null where the processor has none).
-    let ns = |key: &str| json[key].as_f64().unwrap_or(f64::NAN);
     for key in [
         "bank_tick_inverse_ns",
         "bank_tick_direct_ns",
@@ -576,8 +577,7 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         if json[over].is_null() {
             assert!(json[ratio].is_null(), "{ratio}: {}", json[ratio]);
         } else {
-            let got = ns(ratio);
-            assert!((got - expected).abs() <= 1e-12 * expected, "{ratio}: {got}");
+            ratio_is(ratio, expected);
         }
     }
     assert!(json["bank_tick_goals_met"].is_boolean());
