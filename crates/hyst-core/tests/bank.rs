@@ -7,7 +7,7 @@
 
 use hyst_core::bank::lanes::{omega, Lane};
 use hyst_core::bank::{force_isa, isa, Isa};
-use hyst_core::{BankError, BankVec, Direct, DirectBank, Error, Inverse, Memory, Operator};
+use hyst_core::{BankError, BankVec, Direct, Error, Inverse, Memory, Operator};
 use std::sync::Mutex;
 
 /// Tests that force a kernel or depend on which one runs hold this (the choice is global).
@@ -346,9 +346,11 @@ fn bad_input_is_an_error_that_leaves_every_memory_as_before_the_tick() {
 #[test]
 fn the_end_of_the_float_range_is_handled_like_the_scalar_operator() {
     fn run<F: hyst_core::bank::BankFormula>() -> (usize, usize) {
+        // Four kinds of channel, nine of each: whole chunks of every kernel and a remainder.
+        const N: usize = 36;
         let (mut fine, mut refused) = (0, 0);
-        let k1 = [1e300, 0.5, 1e307, 2.0];
-        let k2 = [1e-290, 8.0, 1.0, 1e6];
+        let k1: Vec<f64> = (0..N).map(|c| [1e300, 0.5, 1e307, 2.0][c % 4]).collect();
+        let k2: Vec<f64> = (0..N).map(|c| [1e-290, 8.0, 1.0, 1e6][c % 4]).collect();
         let seq = [
             [0.0, 1.0, 0.0, 0.0],
             [1e308, -1.0, -1.7e308, 1e308],
@@ -356,8 +358,8 @@ fn the_end_of_the_float_range_is_handled_like_the_scalar_operator() {
             [-f64::MAX, -f64::MAX, 1.0, f64::MAX],
             [-f64::MAX, 0.0, 1.0, f64::MAX],
         ];
-        let mut bank = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
-        let mut ops: Vec<_> = (0..4)
+        let mut bank = BankVec::<f64, F>::from_vecs(k1.clone(), k2.clone()).unwrap();
+        let mut ops: Vec<_> = (0..N)
             .map(|c| {
                 hyst_core::ParametricHysteresis::<f64, hyst_core::ConstantK2<f64>, F>::new(
                     k1[c], k2[c],
@@ -365,14 +367,15 @@ fn the_end_of_the_float_range_is_handled_like_the_scalar_operator() {
                 .unwrap()
             })
             .collect();
-        let mut out = [0.0; 4];
-        for x in seq {
+        let mut out = [0.0; N];
+        for row in seq {
+            let x: [f64; N] = core::array::from_fn(|c| row[c % 4]);
             let before = memories(&bank);
-            let scalar: Vec<_> = (0..4).map(|c| ops[c].try_step(x[c])).collect();
+            let scalar: Vec<_> = (0..N).map(|c| ops[c].try_step(x[c])).collect();
             match bank.step(&x, &mut out) {
                 Ok(()) => {
                     fine += 1;
-                    for c in 0..4 {
+                    for c in 0..N {
                         let s = scalar[c].unwrap();
                         assert!(out[c].is_finite());
                         assert!((out[c] - x[c]).abs() <= k1[c]);
@@ -424,18 +427,38 @@ fn the_end_of_the_float_range_is_handled_like_the_scalar_operator() {
 }
 
 /// One tick at a time, a time-major block and a channel-major block give the same outputs and
-/// memories, bit for bit, with arrays or vectors as storage, for a channel count that is not a
-/// multiple of the vector width.
+/// memories, bit for bit, with arrays or vectors as storage, for both formulas and every
+/// kernel, for a channel count that is not a multiple of the vector width (whole chunks of every
+/// kernel and a remainder), on signals with reversals and, half of the channels, far from 0
+/// (rounding at the band's edge).
 #[test]
 fn layouts_and_storage_agree() {
-    const N: usize = 13;
+    let _guard = ISA_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    for kernel in Isa::ALL {
+        if force_isa(Some(kernel)).is_ok() {
+            layouts_agree::<Direct>();
+            layouts_agree::<Inverse>();
+        }
+    }
+    force_isa(None).unwrap();
+}
+
+fn layouts_agree<F: hyst_core::bank::BankFormula>() {
+    const N: usize = 45;
     const T: usize = 37;
     let k1: [f64; N] = core::array::from_fn(|c| 0.05 + 0.03 * c as f64);
     let k2: [f64; N] = core::array::from_fn(|c| 0.5 + 3.0 * c as f64);
-    let x = |c: usize, t: usize| (0.21 * t as f64 + c as f64).sin() * (1.0 + 0.1 * c as f64);
-    let mut by_tick = DirectBank::<f64, N>::new(k1, k2).unwrap();
-    let mut ticks = BankVec::<f64, Direct>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
-    let mut block = BankVec::<f64, Direct>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    let x = |c: usize, t: usize| {
+        let offset = if c.is_multiple_of(2) {
+            1e3 * k1[c]
+        } else {
+            0.0
+        };
+        offset + (0.21 * t as f64 + c as f64).sin() * (1.0 + 0.1 * c as f64)
+    };
+    let mut by_tick = hyst_core::bank::Bank::<f64, F, N>::new(k1, k2).unwrap();
+    let mut ticks = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    let mut block = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
     let mut one = vec![0.0; N * T];
     for t in 0..T {
         let row: [f64; N] = core::array::from_fn(|c| x(c, t));

@@ -19,7 +19,7 @@
 //!   polynomial in s²); error ≤ 1 ulp for normal positive x.
 //! - ω(y) = W0(eʸ), the solution of ω + ln ω = y: see [`omega`] and the direct kernel.
 //!
-//! The functions are `#[inline(always)]` only when optimising (see the kernel module: debug
+//! The functions are `#[inline(always)]` only when optimising (see the chunk module: debug
 //! builds' stack).
 //!
 //! # References

@@ -44,6 +44,7 @@
 
 mod block;
 mod checked;
+mod chunk;
 mod columns;
 mod dispatch;
 mod error;
@@ -55,6 +56,7 @@ pub mod lanes;
 mod par;
 #[doc(hidden)]
 pub mod simd;
+mod step;
 mod vector;
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 mod x86;

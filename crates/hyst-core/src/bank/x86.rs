@@ -28,9 +28,8 @@ use crate::real::Real;
 /// 2⁵².
 const TWO_52: f64 = (1_u64 << 52) as f64;
 
-/// Runs an intrinsic. SAFETY: see the module's safety argument — every use is inside a vector
-/// type of this module, which exists only on a processor with its instruction set; pointers are
-/// passed only after the slice length was checked.
+/// Runs an intrinsic. SAFETY: the module's safety argument (the vector types exist only on a
+/// processor with their instruction set; pointers are passed after the slice length is checked).
 macro_rules! arch {
     ($e:expr) => {
         // SAFETY: the module's safety argument (instruction set detected before any value of
@@ -291,6 +290,7 @@ macro_rules! avx2_simd {
         impl Simd for $name {
             type M = $raw;
             common!($t, $lanes, $tick);
+            const FEW_REGISTERS: bool = true;
             #[inline(always)]
             fn less(self, b: Self) -> $raw {
                 arch!($cmp::<_CMP_LT_OQ>(self.0, b.0))

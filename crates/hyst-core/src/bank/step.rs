@@ -1,0 +1,236 @@
+//! `step`: one tick of every channel. Each chunk's state is loaded, run one tick and stored
+//! (a visit); what a visit costs beyond the tick is what `step` costs beyond a block
+//! (docs/performance.md, "Where a tick of `step` goes").
+
+use super::block::Block;
+use super::chunk::{
+    all_within, clamp_near, column, in_band, load, mend, put, put_state, tick, State,
+};
+use super::columns::ColumnsMut;
+use super::error::BankError;
+use super::formula::BankFormula;
+use super::lanes::decay;
+use super::vector::{Lane, Simd};
+use crate::parametric::Inverse;
+use crate::real::Real;
+
+/// A block of one tick (`step`; both layouts are then `input[c]`): chunk by chunk, the state
+/// loaded, one tick, the state stored, in a loop with none of the tiles' bookkeeping (a `step`
+/// is a visit of every chunk per tick, so what a visit costs beyond the tick is what `step`
+/// costs beyond a block).
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(super) fn one_tick<V: Simd, F: BankFormula>(
+    cols: &mut ColumnsMut<'_, V::T>,
+    block: &mut Block<'_, V::T>,
+) -> Result<Option<usize>, BankError> {
+    let n = cols.k1.len();
+    let input = block.input.get(..n).unwrap_or(&[]);
+    let output = block.output.get_mut(..n).unwrap_or(&mut []);
+    if let Some(limit) = block.limit {
+        if !all_within::<V>(input, limit) {
+            return Ok(Some(0));
+        }
+    }
+    // Whole chunks through iterators of exact chunks, so that no load or store has a range
+    // check of its own (12 columns: the checks were a fifth of a visit's instructions).
+    let l = V::LANES;
+    let full = n - n % l;
+    let (input, input_rest) = input.split_at(full.min(input.len()));
+    let (output, output_rest) = output.split_at_mut(full.min(output.len()));
+    let (head, mut rest) = cols.cut(n).split_at(full);
+    let chunks = input
+        .chunks_exact(l)
+        .zip(output.chunks_exact_mut(l))
+        .zip(head.k1.chunks_exact(l).zip(head.k2.chunks_exact(l)))
+        .zip(head.inv_k2.chunks_exact(l).zip(head.ln_k2.chunks_exact(l)))
+        .zip(
+            head.reversal_input
+                .chunks_exact_mut(l)
+                .zip(head.reversal_output.chunks_exact_mut(l)),
+        )
+        .zip(
+            head.sign
+                .chunks_exact_mut(l)
+                .zip(head.last_input.chunks_exact_mut(l)),
+        )
+        .zip(
+            head.last_output
+                .chunks_exact_mut(l)
+                .zip(head.m_star.chunks_exact_mut(l)),
+        )
+        .zip(head.ln_a.chunks_exact_mut(l));
+    // The columns of each whole chunk (no vector operation in this closure: a closure is
+    // compiled without the kernel's target features).
+    let mut chunks = (0..).step_by(l).zip(chunks).map(|(start, chunk)| {
+        let ((((((io, k), c), r), sl), lm), ln_a) = chunk;
+        let (input, output) = io;
+        let one = ColumnsMut {
+            k1: k.0,
+            k2: k.1,
+            inv_k2: c.0,
+            ln_k2: c.1,
+            reversal_input: r.0,
+            reversal_output: r.1,
+            sign: sl.0,
+            last_input: sl.1,
+            last_output: lm.0,
+            m_star: lm.1,
+            ln_a,
+        };
+        (start, one, input, output)
+    });
+    // The direct operator runs chunks of four vectors, one at a time (`run`): on an Intel Xeon
+    // (AVX-512), `cargo bench -p hyst-core --bench bank`, rows cold, `step` direct f64
+    // 0.40 → 0.33 × scalar, and 0.56 → 0.43 with the AVX2 kernel forced (two vectors
+    // pipelined before). The inverse runs chunks of `Simd::Tick`.
+    if F::DIRECT {
+        for (start, mut one, input, output) in chunks {
+            visit::<V, F>(&mut one, input, output, start, l)?;
+        }
+    } else if V::FEW_REGISTERS {
+        for (start, mut one, input, output) in chunks {
+            inverse_visit::<V>(&mut one, input, output, start)?;
+        }
+    } else if let Some((mut start, mut one, input, mut output)) = chunks.next() {
+        // Software-pipelined: the next chunk's state is loaded before this chunk's is stored,
+        // so that no load waits on the store just before it to an address equal modulo 4 KiB
+        // (`step` inverse 6–12 % faster, f32 8–18 %, measured with the columns in separate
+        // allocations).
+        let zero = <V::T as Real>::ZERO;
+        let mut x = column::<V>(input, 0, l, zero);
+        let (mut st, mut changed) = load::<V, F>(&one, 0, l, x);
+        loop {
+            let y = tick::<V, F>(&mut st, x, start, l, &mut changed)?;
+            let Some((next_start, next, next_input, next_output)) = chunks.next() else {
+                store::<V, F>(&mut one, output, 0, l, &st, y, changed);
+                break;
+            };
+            let next_x = column::<V>(next_input, 0, l, zero);
+            let (next_st, next_changed) = load::<V, F>(&next, 0, l, next_x);
+            store::<V, F>(&mut one, output, 0, l, &st, y, changed);
+            (start, one, output) = (next_start, next, next_output);
+            (x, st, changed) = (next_x, next_st, next_changed);
+        }
+    }
+    if full < n {
+        visit::<V, F>(&mut rest, input_rest, output_rest, full, n - full)?;
+    }
+    Ok(None)
+}
+
+/// One tick of the chunk of `width` channels whose columns are `cols` (channel `start` first):
+/// the state loaded, the tick, the state stored.
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn visit<V: Simd, F: BankFormula>(
+    cols: &mut ColumnsMut<'_, V::T>,
+    input: &[V::T],
+    output: &mut [V::T],
+    start: usize,
+    width: usize,
+) -> Result<(), BankError> {
+    let zero = <V::T as Real>::ZERO;
+    let x = column::<V>(input, 0, width, zero);
+    let (mut st, mut changed) = load::<V, F>(cols, 0, width, x);
+    let y = tick::<V, F>(&mut st, x, start, width, &mut changed)?;
+    store::<V, F>(cols, output, 0, width, &st, y, changed);
+    Ok(())
+}
+
+/// One tick of eq. (4) on a whole chunk of channels that have all started (`step`): the memory
+/// update of [`observe`] and the output of [`inverse_output`], bit for bit those of [`tick`],
+/// arranged for a tick that is a chunk's only one (docs/performance.md, "Where a tick of
+/// `step` goes"):
+/// - the exponent −k2 ũd = (x − α0)(−k2 s) is computed for both outcomes of the memory update
+///   before it: the memory unchanged, or a reversal at the last point, where it is
+///   (x − x_last)(k2 s) = −p exactly, p the product the reversal test looks at. The test then
+///   only selects, off the chain to `decay`;
+/// - the reversal point and the sign go to their columns as soon as they are known (when a
+///   lane reversed), and the output's rare path ([`mend`]) reloads the state from the columns:
+///   little stays live across `decay` (with two chunks' whole state live, the AVX2 kernel
+///   spilled three registers for every value it loaded or stored).
+///
+/// For the vectors with [`Simd::FEW_REGISTERS`] (SSE2, AVX2). Blocks keep [`tick`]: there the
+/// state stays in registers from tick to tick, and the exponent for both outcomes measured
+/// slower (AVX-512 blocks 0.22 → 0.25 × scalar).
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn inverse_visit<V: Simd>(
+    cols: &mut ColumnsMut<'_, V::T>,
+    input: &[V::T],
+    output: &mut [V::T],
+    start: usize,
+) -> Result<(), BankError>
+where
+    V::T: Lane,
+{
+    let (l, zero) = (V::LANES, <V::T as Real>::ZERO);
+    let x = column::<V>(input, 0, l, zero);
+    let lin = column::<V>(cols.last_input, 0, l, zero);
+    if !V::all(lin.equal(lin)) {
+        // A channel's first sample: the general tick.
+        return visit::<V, Inverse>(cols, input, output, start, l);
+    }
+    let sign = column::<V>(cols.sign, 0, l, zero);
+    let neg_k2 = -(column::<V>(cols.k2, 0, l, zero) * sign);
+    let p = (x - lin) * neg_k2;
+    let rin = column::<V>(cols.reversal_input, 0, l, zero);
+    let reversed = V::c(0.0).less(p);
+    let z = V::select(reversed, -p, (x - rin) * neg_k2);
+    let k1 = column::<V>(cols.k1, 0, l, zero);
+    let lout = column::<V>(cols.last_output, 0, l, zero);
+    let ks = (k1 * sign).negate_where(reversed);
+    let sm = {
+        let rout = column::<V>(cols.reversal_output, 0, l, zero);
+        let rin = V::select(reversed, lin, rin);
+        let rout = V::select(reversed, lout, rout);
+        let sm = ks + (rin - rout);
+        if V::any(reversed) {
+            put(cols.reversal_input, 0, l, rin);
+            put(cols.reversal_output, 0, l, rout);
+            put(cols.sign, 0, l, sign.negate_where(reversed));
+        }
+        sm
+    };
+    let mut y = x + (-decay(z)).fma(sm, ks);
+    if !in_band(y, x, k1) {
+        // Usually rounding at the band's edge: β0 after the memory update is in its column.
+        let rout = column::<V>(cols.reversal_output, 0, l, zero);
+        if let Some(clamped) = clamp_near(k1, rout, x, y) {
+            finish(cols, output, x, clamped);
+            return Ok(());
+        }
+        // The rare path: the state after the memory update, from the columns (the last point
+        // not yet moved).
+        let (mut st, _) = load::<V, Inverse>(cols, 0, l, x);
+        let mut changed = false;
+        y = mend::<V, Inverse>(&mut st, x, y, start, l, &mut changed)?;
+        if changed {
+            put_state::<V, Inverse>(cols, 0, l, &st, true);
+        }
+    }
+    finish(cols, output, x, y);
+    Ok(())
+}
+
+/// A visit's output `y` to `output` and the last point (x, y) to its columns.
+#[inline(always)]
+fn finish<V: Simd>(cols: &mut ColumnsMut<'_, V::T>, output: &mut [V::T], x: V, y: V) {
+    let l = V::LANES;
+    put(output, 0, l, y);
+    put(cols.last_input, 0, l, x);
+    put(cols.last_output, 0, l, y);
+}
+
+/// A chunk's outputs `y` of one tick and its state after it into its columns.
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn store<V: Simd, F: BankFormula>(
+    cols: &mut ColumnsMut<'_, V::T>,
+    output: &mut [V::T],
+    start: usize,
+    width: usize,
+    st: &State<V>,
+    y: V,
+    changed: bool,
+) {
+    put(output, start, width, y);
+    put_state::<V, F>(cols, start, width, st, changed);
+}
