@@ -108,21 +108,25 @@ impl Real for f64 {
     const EXP_ARG_MAX: Self = 700.0;
     #[inline(always)]
     fn exp_inline(self) -> Self {
-        if cfg!(feature = "std") {
-            crate::exp::exp(self)
-        } else {
-            num_traits::Float::exp(self)
-        }
+        with_std_or_libm(self, crate::exp::exp)
     }
     #[inline(always)]
     fn exp_inline_short(self) -> Self {
-        if cfg!(feature = "std") {
-            crate::exp::exp_short(self)
-        } else {
-            num_traits::Float::exp(self)
-        }
+        with_std_or_libm(self, crate::exp::exp_short)
     }
     const ZERO: Self = 0.0;
+}
+
+/// `inline` (one of `exp.rs`'s forms of eˣ) with `std`; without it (a firmware build, where
+/// its table would cost 2 KiB) [`num_traits::Float::exp`]. A function item, not a pointer: the
+/// call is direct and inlined.
+#[inline(always)]
+fn with_std_or_libm(x: f64, inline: impl Fn(f64) -> f64) -> f64 {
+    if cfg!(feature = "std") {
+        inline(x)
+    } else {
+        num_traits::Float::exp(x)
+    }
 }
 
 impl Real for f32 {

@@ -127,14 +127,23 @@ where
     V::T: Lane,
 {
     // −k2 ũd as (x − α0) (−k2 s): the scalar operator's −(k2 ũd), bit for bit (s = ±1).
-    let e = decay((x - st.rin) * st.neg_k2);
-    x + (-e).fma(st.sm, st.ks)
+    inverse_from(x, (x - st.rin) * st.neg_k2, st.sm, st.ks)
 }
 
-/// s M* = s k1 − (β0 − α0) of eq. (4), from the memory.
+/// Eq. (4)'s output v = x + s k1 − e^z s M* from the exponent z = −k2 ũd, s M* and s k1: the
+/// one evaluation of it, for the block's tick and `step`'s visit alike (bit for bit the same).
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(super) fn inverse_from<V: Simd>(x: V, z: V, sm: V, ks: V) -> V
+where
+    V::T: Lane,
+{
+    x + (-decay(z)).fma(sm, ks)
+}
+
+/// s M* = s k1 − (β0 − α0) of eq. (4), from s k1 and the reversal point.
 #[inline(always)]
-fn inverse_cache<V: Simd>(st: &State<V>) -> V {
-    st.ks + (st.rin - st.rout)
+pub(super) fn inverse_cache<V: Simd>(ks: V, rin: V, rout: V) -> V {
+    ks + (rin - rout)
 }
 
 /// Eq. (2): ũ = ṽ − M* + ω(y) / k2 with y = ln(k2 M*) + k2 (M* − ṽ) (W0(k2 M* e^(k2 (M* − ṽ)))
@@ -343,7 +352,7 @@ pub(super) fn tick<V: Simd, F: BankFormula>(
         // Every tick, not only when a lane reversed: two operations a vector, against a branch
         // that a bank's reversals make hard to predict (taken on 45 % of the visits of the
         // benchmark's signal); the value is the same when nothing reversed.
-        st.sm = inverse_cache(st);
+        st.sm = inverse_cache(st.ks, st.rin, st.rout);
     }
     let mut y = if F::DIRECT {
         direct_output(st, x)
@@ -388,7 +397,7 @@ pub(super) fn mend<V: Simd, F: BankFormula>(
     } else {
         st.neg_k2 = -(st.k2 * st.sign);
         st.ks = st.k1 * st.sign;
-        st.sm = inverse_cache(st);
+        st.sm = inverse_cache(st.ks, st.rin, st.rout);
     }
     Ok(out)
 }
@@ -490,7 +499,7 @@ pub(super) fn load<V: Simd, F: BankFormula>(
     } else {
         st.neg_k2 = -(st.k2 * st.sign);
         st.ks = st.k1 * st.sign;
-        st.sm = inverse_cache(&st);
+        st.sm = inverse_cache(st.ks, st.rin, st.rout);
     }
     (st, fresh)
 }

@@ -4,12 +4,12 @@
 
 use super::block::Block;
 use super::chunk::{
-    all_within, clamp_near, column, in_band, load, mend, put, put_state, tick, State,
+    all_within, clamp_near, column, in_band, inverse_cache, inverse_from, load, mend, put,
+    put_state, tick, State,
 };
 use super::columns::ColumnsMut;
 use super::error::BankError;
 use super::formula::BankFormula;
-use super::lanes::decay;
 use super::vector::{Lane, Simd};
 use crate::parametric::Inverse;
 use crate::real::Real;
@@ -137,7 +137,7 @@ fn visit<V: Simd, F: BankFormula>(
 }
 
 /// One tick of eq. (4) on a whole chunk of channels that have all started (`step`): the memory
-/// update of [`observe`] and the output of [`inverse_output`], bit for bit those of [`tick`],
+/// update of the chunk module's `observe` and eq. (4) by [`inverse_from`], bit for bit [`tick`],
 /// arranged for a tick that is a chunk's only one (docs/performance.md, "Where a tick of
 /// `step` goes"):
 /// - the exponent −k2 ũd = (x − α0)(−k2 s) is computed for both outcomes of the memory update
@@ -182,7 +182,7 @@ where
         let rout = column::<V>(cols.reversal_output, 0, l, zero);
         let rin = V::select(reversed, lin, rin);
         let rout = V::select(reversed, lout, rout);
-        let sm = ks + (rin - rout);
+        let sm = inverse_cache(ks, rin, rout);
         if V::any(reversed) {
             put(cols.reversal_input, 0, l, rin);
             put(cols.reversal_output, 0, l, rout);
@@ -190,7 +190,7 @@ where
         }
         sm
     };
-    let mut y = x + (-decay(z)).fma(sm, ks);
+    let mut y = inverse_from(x, z, sm, ks);
     if !in_band(y, x, k1) {
         // Usually rounding at the band's edge: β0 after the memory update is in its column.
         let rout = column::<V>(cols.reversal_output, 0, l, zero);
