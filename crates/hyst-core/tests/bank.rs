@@ -494,6 +494,24 @@ fn layouts_agree<F: hyst_core::bank::BankFormula>() {
     ticks.step(&row, &mut a).unwrap();
     block.step(&row, &mut b).unwrap();
     assert_eq!(a, b);
+    // set_memory over a channel that has run elsewhere: nothing of its former state (the
+    // direct formula's M* and ln(k2 M*) kept in columns) may survive.
+    let mut other = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    for t in 0..T {
+        let row: Vec<f64> = (0..N).map(|c| 0.1 - 0.6 * x(c, t + 11)).collect();
+        other.step(&row, &mut b).unwrap();
+    }
+    for (c, m) in memories(&ticks).iter().enumerate() {
+        other.set_memory(c, *m).unwrap();
+    }
+    for t in T + 1..T + 6 {
+        let row: Vec<f64> = (0..N).map(|c| x(c, t) + 0.4 * (t as f64).cos()).collect();
+        ticks.step(&row, &mut a).unwrap();
+        other.step(&row, &mut b).unwrap();
+        let bits = |v: &[f64]| v.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a), bits(&b), "tick {t}");
+    }
+    assert_eq!(memories(&ticks), memories(&other));
 }
 
 /// Threads: `step_par` and `process_block_par` give the sequential outputs and memories bit for
