@@ -512,6 +512,45 @@ fn layouts_agree<F: hyst_core::bank::BankFormula>() {
         assert_eq!(bits(&a), bits(&b), "tick {t}");
     }
     assert_eq!(memories(&ticks), memories(&other));
+    // Channels at their first sample in the chunks of channels that run on, and reverse, at
+    // that tick (`step`'s visit makes the reversal, then hands the chunk to the general tick):
+    // as a block of three ticks gives them.
+    let mut stepped = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    let mut blocked = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    let start = memories(&ticks);
+    for (c, m) in start.iter().enumerate() {
+        let m = if c % 3 == 1 { None } else { *m };
+        stepped.set_memory(c, m).unwrap();
+        blocked.set_memory(c, m).unwrap();
+    }
+    let turn = |c: usize, t: usize| match start[c] {
+        // Against the direction of travel: a reversal at the first tick.
+        Some(m) => m.last_input - m.direction.sign::<f64>() * (0.3 + 0.1 * t as f64),
+        None => x(c, t),
+    };
+    let mut by_step = vec![0.0; N * 3];
+    for t in 0..3 {
+        let row: Vec<f64> = (0..N).map(|c| turn(c, t)).collect();
+        stepped.step(&row, &mut a).unwrap();
+        by_step[t * N..(t + 1) * N].copy_from_slice(&a);
+    }
+    let channel_major: Vec<f64> = (0..N)
+        .flat_map(|c| (0..3).map(move |t| turn(c, t)))
+        .collect();
+    let mut by_block = vec![0.0; N * 3];
+    blocked
+        .process_block(&channel_major, &mut by_block, 3)
+        .unwrap();
+    for c in 0..N {
+        for t in 0..3 {
+            assert_eq!(
+                by_step[t * N + c].to_bits(),
+                by_block[c * 3 + t].to_bits(),
+                "channel {c}, tick {t}"
+            );
+        }
+    }
+    assert_eq!(memories(&stepped), memories(&blocked));
 }
 
 /// Threads: `step_par` and `process_block_par` give the sequential outputs and memories bit for

@@ -127,17 +127,15 @@ where
     V::T: Lane,
 {
     // −k2 ũd as (x − α0) (−k2 s): the scalar operator's −(k2 ũd), bit for bit (s = ±1).
-    inverse_from(x, (x - st.rin) * st.neg_k2, st.sm, st.ks)
+    inverse_from(x, decay((x - st.rin) * st.neg_k2), st.sm, st.ks)
 }
 
-/// Eq. (4)'s output v = x + s k1 − e^z s M* from the exponent z = −k2 ũd, s M* and s k1: the
-/// one evaluation of it, for the block's tick and `step`'s visit alike (bit for bit the same).
-#[cfg_attr(not(debug_assertions), inline(always))]
-pub(super) fn inverse_from<V: Simd>(x: V, z: V, sm: V, ks: V) -> V
-where
-    V::T: Lane,
-{
-    x + (-decay(z)).fma(sm, ks)
+/// Eq. (4)'s output v = x + s k1 − e^z s M* from the decay e^z = e^(−k2 ũd) ([`decay`]), s M*
+/// and s k1: the one evaluation of it, for the block's tick and `step`'s alike (bit for bit the
+/// same).
+#[inline(always)]
+pub(super) fn inverse_from<V: Simd>(x: V, e: V, sm: V, ks: V) -> V {
+    x + (-e).fma(sm, ks)
 }
 
 /// s M* = s k1 − (β0 − α0) of eq. (4), from s k1 and the reversal point.

@@ -146,7 +146,6 @@ impl<V: Simd> Simd for Pair<V> {
     type Tick = V::Tick;
     const LANES: usize = 2 * V::LANES;
     const EXP_TABLE: bool = V::EXP_TABLE;
-    const FEW_REGISTERS: bool = V::FEW_REGISTERS;
     #[inline(always)]
     fn splat(v: V::T) -> Self {
         Pair(V::splat(v), V::splat(v))

@@ -10,6 +10,7 @@ use super::chunk::{
 use super::columns::ColumnsMut;
 use super::error::BankError;
 use super::formula::BankFormula;
+use super::lanes::decay;
 use super::vector::{Lane, Simd};
 use crate::parametric::Inverse;
 use crate::real::Real;
@@ -61,7 +62,7 @@ pub(super) fn one_tick<V: Simd, F: BankFormula>(
         .zip(head.ln_a.chunks_exact_mut(l));
     // The columns of each whole chunk (no vector operation in this closure: a closure is
     // compiled without the kernel's target features).
-    let mut chunks = (0..).step_by(l).zip(chunks).map(|(start, chunk)| {
+    let chunks = (0..).step_by(l).zip(chunks).map(|(start, chunk)| {
         let ((((((io, k), c), r), sl), lm), ln_a) = chunk;
         let (input, output) = io;
         let one = ColumnsMut {
@@ -82,34 +83,12 @@ pub(super) fn one_tick<V: Simd, F: BankFormula>(
     // The direct operator runs chunks of four vectors, one at a time (`run`): on an Intel Xeon
     // (AVX-512), `cargo bench -p hyst-core --bench bank`, rows cold, `step` direct f64
     // 0.40 → 0.33 × scalar, and 0.56 → 0.43 with the AVX2 kernel forced (two vectors
-    // pipelined before). The inverse runs chunks of `Simd::Tick`.
-    if F::DIRECT {
-        for (start, mut one, input, output) in chunks {
+    // pipelined before). The inverse runs chunks of `Simd::Tick`, each by `inverse_visit`.
+    for (start, mut one, input, output) in chunks {
+        if F::DIRECT {
             visit::<V, F>(&mut one, input, output, start, l)?;
-        }
-    } else if V::FEW_REGISTERS {
-        for (start, mut one, input, output) in chunks {
+        } else {
             inverse_visit::<V>(&mut one, input, output, start)?;
-        }
-    } else if let Some((mut start, mut one, input, mut output)) = chunks.next() {
-        // Software-pipelined: the next chunk's state is loaded before this chunk's is stored,
-        // so that no load waits on the store just before it to an address equal modulo 4 KiB
-        // (`step` inverse 6–12 % faster, f32 8–18 %, measured with the columns in separate
-        // allocations).
-        let zero = <V::T as Real>::ZERO;
-        let mut x = column::<V>(input, 0, l, zero);
-        let (mut st, mut changed) = load::<V, F>(&one, 0, l, x);
-        loop {
-            let y = tick::<V, F>(&mut st, x, start, l, &mut changed)?;
-            let Some((next_start, next, next_input, next_output)) = chunks.next() else {
-                store::<V, F>(&mut one, output, 0, l, &st, y, changed);
-                break;
-            };
-            let next_x = column::<V>(next_input, 0, l, zero);
-            let (next_st, next_changed) = load::<V, F>(&next, 0, l, next_x);
-            store::<V, F>(&mut one, output, 0, l, &st, y, changed);
-            (start, one, output) = (next_start, next, next_output);
-            (x, st, changed) = (next_x, next_st, next_changed);
         }
     }
     if full < n {
@@ -138,20 +117,24 @@ fn visit<V: Simd, F: BankFormula>(
 
 /// One tick of eq. (4) on a whole chunk of channels that have all started (`step`): the memory
 /// update of the chunk module's `observe` and eq. (4) by [`inverse_from`], bit for bit [`tick`],
-/// arranged for a tick that is a chunk's only one (docs/performance.md, "Where a tick of
-/// `step` goes"):
+/// arranged for a tick that is a chunk's only one, so that only the exponent stays live across
+/// `decay` (docs/performance.md, "Where a tick of `step` goes"):
 /// - the exponent −k2 ũd = (x − α0)(−k2 s) is computed for both outcomes of the memory update
 ///   before it: the memory unchanged, or a reversal at the last point, where it is
 ///   (x − x_last)(k2 s) = −p exactly, p the product the reversal test looks at. The test then
 ///   only selects, off the chain to `decay`;
-/// - the reversal point and the sign go to their columns as soon as they are known (when a
-///   lane reversed), and the output's rare path ([`mend`]) reloads the state from the columns:
-///   little stays live across `decay` (with two chunks' whole state live, the AVX2 kernel
-///   spilled three registers for every value it loaded or stored).
+/// - the reversal point and the sign go to their columns when a lane reversed; after a
+///   compiler barrier, eq. (4) loads x, k1 and the memory after the update from the input and
+///   the columns again (s k1 and s M* formed anew, bit for bit what the update gives);
+/// - the output goes to `output` before the band test, and the test's rare path ([`edge`],
+///   behind a call of a `#[cold]` function) reads everything from memory: nothing is kept in
+///   registers or on the stack for it.
 ///
-/// For the vectors with [`Simd::FEW_REGISTERS`] (SSE2, AVX2). Blocks keep [`tick`]: there the
-/// state stays in registers from tick to tick, and the exponent for both outcomes measured
-/// slower (AVX-512 blocks 0.22 → 0.25 × scalar).
+/// With AVX2, a visit of two vectors spilled nothing and one of four (faster: more to overlap)
+/// a few values of `decay`; the block's tick, software-pipelined, had spilled three registers
+/// for every value it loaded or stored. Blocks keep [`tick`]: there the state
+/// stays in registers from tick to tick, and the exponent for both outcomes measured slower
+/// (AVX-512 blocks 0.22 → 0.25 × scalar).
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn inverse_visit<V: Simd>(
     cols: &mut ColumnsMut<'_, V::T>,
@@ -175,37 +158,65 @@ where
     let rin = column::<V>(cols.reversal_input, 0, l, zero);
     let reversed = V::c(0.0).less(p);
     let z = V::select(reversed, -p, (x - rin) * neg_k2);
+    if V::any(reversed) {
+        let lout = column::<V>(cols.last_output, 0, l, zero);
+        let rout = column::<V>(cols.reversal_output, 0, l, zero);
+        put(cols.reversal_input, 0, l, V::select(reversed, lin, rin));
+        put(cols.reversal_output, 0, l, V::select(reversed, lout, rout));
+        put(cols.sign, 0, l, sign.negate_where(reversed));
+    }
+    // A compiler barrier (`black_box` is an empty `asm!` that may read and write any memory):
+    // the loads below are made again after it, not kept in registers across `decay`.
+    core::hint::black_box(());
+    let e = decay(z);
+    let x = column::<V>(input, 0, l, zero);
     let k1 = column::<V>(cols.k1, 0, l, zero);
-    let lout = column::<V>(cols.last_output, 0, l, zero);
-    let ks = (k1 * sign).negate_where(reversed);
-    let sm = {
-        let rout = column::<V>(cols.reversal_output, 0, l, zero);
-        let rin = V::select(reversed, lin, rin);
-        let rout = V::select(reversed, lout, rout);
-        let sm = inverse_cache(ks, rin, rout);
-        if V::any(reversed) {
-            put(cols.reversal_input, 0, l, rin);
-            put(cols.reversal_output, 0, l, rout);
-            put(cols.sign, 0, l, sign.negate_where(reversed));
-        }
-        sm
-    };
-    let mut y = inverse_from(x, z, sm, ks);
+    let ks = k1 * column::<V>(cols.sign, 0, l, zero);
+    let sm = inverse_cache(
+        ks,
+        column::<V>(cols.reversal_input, 0, l, zero),
+        column::<V>(cols.reversal_output, 0, l, zero),
+    );
+    let y = inverse_from(x, e, sm, ks);
+    put(output, 0, l, y);
+    // The rare path reads x, y, k1 and the state from memory: nothing is kept for it.
+    core::hint::black_box(());
     if !in_band(y, x, k1) {
-        // Usually rounding at the band's edge: β0 after the memory update is in its column.
-        let rout = column::<V>(cols.reversal_output, 0, l, zero);
-        if let Some(clamped) = clamp_near(k1, rout, x, y) {
-            finish(cols, output, x, clamped);
-            return Ok(());
-        }
-        // The rare path: the state after the memory update, from the columns (the last point
-        // not yet moved).
-        let (mut st, _) = load::<V, Inverse>(cols, 0, l, x);
-        let mut changed = false;
-        y = mend::<V, Inverse>(&mut st, x, y, start, l, &mut changed)?;
-        if changed {
-            put_state::<V, Inverse>(cols, 0, l, &st, true);
-        }
+        cold();
+        return edge::<V>(cols, input, output, start);
+    }
+    put(cols.last_input, 0, l, x);
+    put(cols.last_output, 0, l, y);
+    Ok(())
+}
+
+/// The rare path of a visit whose output (in `output`) is outside the band: usually rounding at
+/// the band's edge ([`clamp_near`], β0 after the memory update in its column), else [`mend`] on
+/// the state after the memory update, from the columns (the last point not yet moved).
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn edge<V: Simd>(
+    cols: &mut ColumnsMut<'_, V::T>,
+    input: &[V::T],
+    output: &mut [V::T],
+    start: usize,
+) -> Result<(), BankError>
+where
+    V::T: Lane,
+{
+    let (l, zero) = (V::LANES, <V::T as Real>::ZERO);
+    let x = column::<V>(input, 0, l, zero);
+    let y = column::<V>(output, 0, l, zero);
+    let k1 = column::<V>(cols.k1, 0, l, zero);
+    let rout = column::<V>(cols.reversal_output, 0, l, zero);
+    if let Some(clamped) = clamp_near(k1, rout, x, y) {
+        finish(cols, output, x, clamped);
+        return Ok(());
+    }
+    let (mut st, _) = load::<V, Inverse>(cols, 0, l, x);
+    let mut changed = false;
+    let y = mend::<V, Inverse>(&mut st, x, y, start, l, &mut changed)?;
+    if changed {
+        put_state::<V, Inverse>(cols, 0, l, &st, true);
     }
     finish(cols, output, x, y);
     Ok(())
@@ -234,3 +245,9 @@ fn store<V: Simd, F: BankFormula>(
     put(output, start, width, y);
     put_state::<V, F>(cols, start, width, st, changed);
 }
+
+/// Marks the path that calls it as rarely taken (a call of a `#[cold]` function: the compiler
+/// then keeps the common path's values in registers and spills only on the rare one).
+#[cold]
+#[inline(never)]
+fn cold() {}

@@ -25,10 +25,10 @@ pub trait Simd:
     type T: Lane;
     /// A lane mask (the result of a comparison).
     type M: Copy;
-    /// The chunk a one-tick `step` of the inverse operator runs on: one vector for AVX-512 f64,
-    /// two for AVX-512 f32 and AVX2, four for SSE2 and the portable kernel (as blocks do);
-    /// the direct operator's `step` runs a block's chunk of four vectors (measured:
-    /// docs/performance.md, "Where a tick of `step` goes").
+    /// The chunk a one-tick `step` of the inverse operator visits: two vectors with AVX-512,
+    /// four with AVX2, SSE2 and the portable kernel (as blocks do); the direct operator's `step`
+    /// runs a block's chunk of four vectors (measured: docs/performance.md, "Where a tick of
+    /// `step` goes").
     type Tick: Simd<T = Self::T>;
     /// Lanes per vector.
     const LANES: usize;
@@ -80,13 +80,6 @@ pub trait Simd:
     /// 2^(j/16) ([`Simd::exp2_frac`], [`Simd::scale`]) and a shorter polynomial, instead of by
     /// ln 2 with the long one (AVX-512, whose permutes make the table one instruction).
     const EXP_TABLE: bool = false;
-
-    /// Whether a one-tick `step` of the inverse operator runs its own visit of a chunk
-    /// (`inverse_visit` in the `step` module: little live across `decay`) instead of the block's
-    /// tick, software-pipelined: the x86 vectors with 16 registers (SSE2, AVX2), where the
-    /// block's tick spilled. AVX-512 (32 registers) and the portable kernel keep the block's
-    /// tick (measured: docs/performance.md, "Where a tick of `step` goes").
-    const FEW_REGISTERS: bool = false;
 
     /// 2^(j / 2^b) for j the low b bits of `t`'s bits, b = [`Lane::EXP_TABLE_BITS`] (the table
     /// reduction of `exp`). This default goes lane by lane through memory; AVX-512 permutes.

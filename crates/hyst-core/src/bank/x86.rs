@@ -290,7 +290,6 @@ macro_rules! avx2_simd {
         impl Simd for $name {
             type M = $raw;
             common!($t, $lanes, $tick);
-            const FEW_REGISTERS: bool = true;
             #[inline(always)]
             fn less(self, b: Self) -> $raw {
                 arch!($cmp::<_CMP_LT_OQ>(self.0, b.0))
@@ -346,7 +345,7 @@ macro_rules! avx2_simd {
 
 avx2_simd!(
     F64x4,
-    Pair<F64x4>,
+    Pair<Pair<F64x4>>,
     f64,
     __m256d,
     4,
@@ -379,7 +378,7 @@ avx2_simd!(
 );
 avx2_simd!(
     F32x8,
-    Pair<F32x8>,
+    Pair<Pair<F32x8>>,
     f32,
     __m256,
     8,
@@ -492,7 +491,7 @@ macro_rules! avx512_simd {
 
 avx512_simd!(
     F64x8,
-    F64x8,
+    Pair<F64x8>,
     f64,
     __m512d,
     __mmask8,
