@@ -432,8 +432,30 @@ pub(super) fn put_state<V: Simd, F: BankFormula>(
 
 /// Whether every sample's magnitude is at most `limit` (false for NaN and ±∞ above a finite
 /// limit), a vector at a time.
+///
+/// At the float range's end as the limit (the bank's for every k1 below about 1e291 in f64,
+/// 1e30 in f32), the samples are first added up, one addition a vector in two sums: ∞ and NaN
+/// stay in a sum, so finite sums mean finite samples, within the limit. A sum that overflows
+/// from finite samples leaves the answer to the test of each sample that follows. (`step` pays
+/// for this pass before any channel's memory may change: the test of each sample took 6 % of
+/// an AVX2 `step` of the inverse.)
 #[inline(always)]
 pub(super) fn all_within<V: Simd>(input: &[V::T], limit: V::T) -> bool {
+    if limit == <V::T as num_traits::Float>::max_value() {
+        let mut pairs = input.chunks_exact(2 * V::LANES);
+        let (mut a, mut b) = (V::c(0.0), V::c(0.0));
+        for pair in &mut pairs {
+            let (low, high) = pair.split_at(V::LANES);
+            a = a + V::load(low);
+            b = b + V::load(high);
+        }
+        let sum = a + b;
+        if V::all((sum - sum).equal(V::c(0.0)))
+            && pairs.remainder().iter().all(|x| x.magnitude() <= limit)
+        {
+            return true;
+        }
+    }
     let lim = V::splat(limit);
     let mut chunks = input.chunks_exact(V::LANES);
     let mut ok = V::splat(<V::T as Real>::ZERO).equal(V::c(0.0));
