@@ -435,10 +435,10 @@ pub(super) fn put_state<V: Simd, F: BankFormula>(
 ///
 /// At the float range's end as the limit (the bank's for every k1 below about 1e291 in f64,
 /// 1e30 in f32), the samples are first added up, one addition a vector in two sums: ∞ and NaN
-/// stay in a sum, so finite sums mean finite samples, within the limit. A sum that overflows
-/// from finite samples leaves the answer to the test of each sample that follows. (`step` pays
-/// for this pass before any channel's memory may change: the test of each sample took 6 % of
-/// an AVX2 `step` of the inverse.)
+/// stay in a sum (and make its product with 0 NaN), so finite sums mean finite samples, within
+/// the limit. A sum that overflows from finite samples leaves the answer to the test of each
+/// sample that follows. (`step` pays for this pass before any channel's memory may change: the
+/// test of each sample took 6 % of an AVX2 `step` of the inverse.)
 #[inline(always)]
 pub(super) fn all_within<V: Simd>(input: &[V::T], limit: V::T) -> bool {
     if limit == <V::T as num_traits::Float>::max_value() {
@@ -450,7 +450,7 @@ pub(super) fn all_within<V: Simd>(input: &[V::T], limit: V::T) -> bool {
             b = b + V::load(high);
         }
         let sum = a + b;
-        if V::all((sum - sum).equal(V::c(0.0)))
+        if V::all((sum * V::c(0.0)).equal(V::c(0.0)))
             && pairs.remainder().iter().all(|x| x.magnitude() <= limit)
         {
             return true;
@@ -593,6 +593,53 @@ mod tests {
             for x in [x, x.next_below(), x.next_above(), -x, (-x).next_below()] {
                 check::<f64>(x, 1.0);
                 check::<f64>(x, 0.75);
+            }
+        }
+    }
+
+    /// The input check answers as the test of each sample does, its sums included: samples
+    /// that overflow a sum while finite, an ∞ of each sign (whose sum is NaN), NaN, in any
+    /// place of a row of any length, at the float range's end as the limit and below it.
+    #[test]
+    fn the_input_check_is_the_test_of_each_sample() {
+        use super::super::simd::Pair;
+        use std::{vec, vec::Vec};
+        fn each(row: &[f64], limit: f64) -> bool {
+            row.iter().all(|x| x.abs() <= limit)
+        }
+        let specials = [
+            f64::MAX,
+            -f64::MAX,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            1e300,
+        ];
+        for limit in [f64::MAX, f64::MAX - 4.0 * 1e300, 2.0] {
+            for n in [0_usize, 1, 7, 8, 9, 17, 40] {
+                let base: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+                let mut rows = vec![base.clone(), vec![f64::MAX; n]];
+                for (i, a) in specials.iter().enumerate() {
+                    for at in [0, n / 2, n.saturating_sub(1)] {
+                        let mut row = base.clone();
+                        if let Some(v) = row.get_mut(at) {
+                            *v = *a;
+                        }
+                        if let Some(v) = row.get_mut((at + 3) % n.max(1)) {
+                            *v = specials[(i + 1) % specials.len()];
+                        }
+                        rows.push(row);
+                    }
+                }
+                for row in &rows {
+                    let want = each(row, limit);
+                    assert_eq!(all_within::<f64>(row, limit), want, "{row:?} {limit}");
+                    assert_eq!(
+                        all_within::<Pair<Pair<f64>>>(row, limit),
+                        want,
+                        "{row:?} {limit}"
+                    );
+                }
             }
         }
     }

@@ -81,6 +81,13 @@ pub trait Simd:
     /// ln 2 with the long one (AVX-512, whose permutes make the table one instruction).
     const EXP_TABLE: bool = false;
 
+    /// Whether a one-tick `step` of the inverse operator runs its own visit of a chunk
+    /// (`inverse_visit` in the `step` module: only the exponent live across `decay`) rather
+    /// than the block's tick, software-pipelined: every vector but AVX-512 f32, where the
+    /// block's tick measured faster (`cargo bench -p hyst-core --bench bank` on the Zen 4, rows
+    /// cold: 925–978 against 773–797 M channel-samples/s; docs/performance.md).
+    const INVERSE_VISIT: bool = true;
+
     /// 2^(j / 2^b) for j the low b bits of `t`'s bits, b = [`Lane::EXP_TABLE_BITS`] (the table
     /// reduction of `exp`). This default goes lane by lane through memory; AVX-512 permutes.
     #[inline(always)]
