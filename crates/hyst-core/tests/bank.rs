@@ -513,8 +513,8 @@ fn layouts_agree<F: hyst_core::bank::BankFormula>() {
     }
     assert_eq!(memories(&ticks), memories(&other));
     // Channels at their first sample in the chunks of channels that run on, and reverse, at
-    // that tick (`step`'s visit makes the reversal, then hands the chunk to the general tick):
-    // as a block of three ticks gives them.
+    // that tick (`step`'s visit hands such a chunk to the general tick): as a block of three
+    // ticks gives them.
     let mut stepped = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
     let mut blocked = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
     let start = memories(&ticks);
