@@ -146,7 +146,7 @@ impl<V: Simd> Simd for Pair<V> {
     type Tick = V::Tick;
     const LANES: usize = 2 * V::LANES;
     const EXP_TABLE: bool = V::EXP_TABLE;
-    const INVERSE_VISIT: bool = V::INVERSE_VISIT;
+    const REGISTERS: u32 = V::REGISTERS;
     #[inline(always)]
     fn splat(v: V::T) -> Self {
         Pair(V::splat(v), V::splat(v))

@@ -62,7 +62,7 @@ pub(super) fn one_tick<V: Simd, F: BankFormula>(
         .zip(head.ln_a.chunks_exact_mut(l));
     // The columns of each whole chunk (no vector operation in this closure: a closure is
     // compiled without the kernel's target features).
-    let mut chunks = (0..).step_by(l).zip(chunks).map(|(start, chunk)| {
+    let chunks = (0..).step_by(l).zip(chunks).map(|(start, chunk)| {
         let ((((((io, k), c), r), sl), lm), ln_a) = chunk;
         let (input, output) = io;
         let one = ColumnsMut {
@@ -83,34 +83,16 @@ pub(super) fn one_tick<V: Simd, F: BankFormula>(
     // The direct operator runs chunks of four vectors, one at a time (`run`): on an Intel Xeon
     // (AVX-512), `cargo bench -p hyst-core --bench bank`, rows cold, `step` direct f64
     // 0.40 → 0.33 × scalar, and 0.56 → 0.43 with the AVX2 kernel forced (two vectors
-    // pipelined before). The inverse runs chunks of `Simd::Tick`, by `inverse_visit` where
-    // `Simd::INVERSE_VISIT`, else by the block's tick, software-pipelined.
+    // pipelined before). The inverse runs chunks of `Simd::Tick` by `inverse_visit`, which
+    // measured faster than the block's tick, software-pipelined, on every kernel
+    // (docs/performance.md, "Where a tick of `step` goes").
     if F::DIRECT {
         for (start, mut one, input, output) in chunks {
             visit::<V, F>(&mut one, input, output, start, l)?;
         }
-    } else if V::INVERSE_VISIT {
+    } else {
         for (start, mut one, input, output) in chunks {
             inverse_visit::<V>(&mut one, input, output, start)?;
-        }
-    } else if let Some((mut start, mut one, input, mut output)) = chunks.next() {
-        // The next chunk's state is loaded before this chunk's is stored, so that no load
-        // waits on the store just before it to an address equal modulo 4 KiB (`step` inverse
-        // 6–12 % faster, f32 8–18 %, measured with the columns in separate allocations).
-        let zero = <V::T as Real>::ZERO;
-        let mut x = column::<V>(input, 0, l, zero);
-        let (mut st, mut changed) = load::<V, F>(&one, 0, l, x);
-        loop {
-            let y = tick::<V, F>(&mut st, x, start, l, &mut changed)?;
-            let Some((next_start, next, next_input, next_output)) = chunks.next() else {
-                store::<V, F>(&mut one, output, 0, l, &st, y, changed);
-                break;
-            };
-            let next_x = column::<V>(next_input, 0, l, zero);
-            let (next_st, next_changed) = load::<V, F>(&next, 0, l, next_x);
-            store::<V, F>(&mut one, output, 0, l, &st, y, changed);
-            (start, one, output) = (next_start, next, next_output);
-            (x, st, changed) = (next_x, next_st, next_changed);
         }
     }
     if full < n {
@@ -139,15 +121,20 @@ fn visit<V: Simd, F: BankFormula>(
 
 /// One tick of eq. (4) on a whole chunk of channels that have all started (`step`): the memory
 /// update of the chunk module's `observe` and eq. (4) by [`inverse_from`], bit for bit [`tick`],
-/// arranged for a tick that is a chunk's only one, so that only the exponent stays live across
-/// `decay` (docs/performance.md, "Where a tick of `step` goes"):
+/// arranged for a tick that is a chunk's only one (docs/performance.md, "Where a tick of `step`
+/// goes"):
 /// - the exponent −k2 ũd = (x − α0)(−k2 s) is computed for both outcomes of the memory update
 ///   before it: the memory unchanged, or a reversal at the last point, where it is
 ///   (x − x_last)(k2 s) = −p exactly, p the product the reversal test looks at. The test then
 ///   only selects, off the chain to `decay`;
-/// - the reversal point and the sign go to their columns when a lane reversed; after a
-///   compiler barrier, eq. (4) loads x, k1 and the memory after the update from the input and
-///   the columns again (s k1 and s M* formed anew, bit for bit what the update gives);
+/// - the reversal point and the sign go to their columns when a lane reversed. With 32
+///   registers ([`Simd::REGISTERS`], AVX-512) the memory after the update stays in registers
+///   across `decay`. With 16, LLVM spilled it; so eq. (4) loads x, k1 and the memory after the
+///   update again after a compiler barrier ([`reloaded`]: s k1 and s M* formed anew, bit for
+///   bit what the update gives). AVX-512 with the barrier too: f32 `step` with reversals in
+///   every chunk together (`cargo bench -p hyst-core --bench bank`, rows in cache) ran
+///   1,211–1,246 M channel-samples/s, slower than the block's tick, software-pipelined
+///   (1,285–1,386); without it 1,547–1,575;
 /// - the output goes to `output` before the band test, and the test's rare path ([`edge`],
 ///   behind a call of a `#[cold]` function) reads everything from memory: nothing is kept in
 ///   registers or on the stack for it.
@@ -180,25 +167,34 @@ where
     let rin = column::<V>(cols.reversal_input, 0, l, zero);
     let reversed = V::c(0.0).less(p);
     let z = V::select(reversed, -p, (x - rin) * neg_k2);
-    if V::any(reversed) {
-        let lout = column::<V>(cols.last_output, 0, l, zero);
-        let rout = column::<V>(cols.reversal_output, 0, l, zero);
-        put(cols.reversal_input, 0, l, V::select(reversed, lin, rin));
-        put(cols.reversal_output, 0, l, V::select(reversed, lout, rout));
-        put(cols.sign, 0, l, sign.negate_where(reversed));
-    }
-    // A compiler barrier (`black_box` is an empty `asm!` that may read and write any memory):
-    // the loads below are made again after it, not kept in registers across `decay`.
-    core::hint::black_box(());
-    let e = decay(z);
-    let x = column::<V>(input, 0, l, zero);
-    let k1 = column::<V>(cols.k1, 0, l, zero);
-    let ks = k1 * column::<V>(cols.sign, 0, l, zero);
-    let sm = inverse_cache(
-        ks,
-        column::<V>(cols.reversal_input, 0, l, zero),
-        column::<V>(cols.reversal_output, 0, l, zero),
-    );
+    let (e, x, k1, ks, sm) = if V::REGISTERS >= 32 {
+        // The memory after the update stays in registers across `decay`.
+        let (mut rin, mut sign) = (rin, sign);
+        let mut rout = column::<V>(cols.reversal_output, 0, l, zero);
+        if V::any(reversed) {
+            let lout = column::<V>(cols.last_output, 0, l, zero);
+            rin = V::select(reversed, lin, rin);
+            rout = V::select(reversed, lout, rout);
+            sign = sign.negate_where(reversed);
+            put(cols.reversal_input, 0, l, rin);
+            put(cols.reversal_output, 0, l, rout);
+            put(cols.sign, 0, l, sign);
+        }
+        let e = decay(z);
+        let k1 = column::<V>(cols.k1, 0, l, zero);
+        let ks = k1 * sign;
+        (e, x, k1, ks, inverse_cache(ks, rin, rout))
+    } else {
+        // Only the exponent stays in registers across `decay`.
+        if V::any(reversed) {
+            let lout = column::<V>(cols.last_output, 0, l, zero);
+            let rout = column::<V>(cols.reversal_output, 0, l, zero);
+            put(cols.reversal_input, 0, l, V::select(reversed, lin, rin));
+            put(cols.reversal_output, 0, l, V::select(reversed, lout, rout));
+            put(cols.sign, 0, l, sign.negate_where(reversed));
+        }
+        reloaded::<V>(cols, input, z)
+    };
     let y = inverse_from(x, e, sm, ks);
     put(output, 0, l, y);
     // The rare path reads x, y, k1 and the state from memory: nothing is kept for it.
@@ -210,6 +206,28 @@ where
     put(cols.last_input, 0, l, x);
     put(cols.last_output, 0, l, y);
     Ok(())
+}
+
+/// e^z by `decay`, then x, k1, s k1 and s M* loaded again from the input and the columns after
+/// a compiler barrier (`black_box` is an empty `asm!` that may read and write any memory), so
+/// that none of them is kept in a register across `decay`.
+#[inline(always)]
+fn reloaded<V: Simd>(cols: &ColumnsMut<'_, V::T>, input: &[V::T], z: V) -> (V, V, V, V, V)
+where
+    V::T: Lane,
+{
+    let (l, zero) = (V::LANES, <V::T as Real>::ZERO);
+    core::hint::black_box(());
+    let e = decay(z);
+    let x = column::<V>(input, 0, l, zero);
+    let k1 = column::<V>(cols.k1, 0, l, zero);
+    let ks = k1 * column::<V>(cols.sign, 0, l, zero);
+    let sm = inverse_cache(
+        ks,
+        column::<V>(cols.reversal_input, 0, l, zero),
+        column::<V>(cols.reversal_output, 0, l, zero),
+    );
+    (e, x, k1, ks, sm)
 }
 
 /// The rare path of a visit whose output (in `output`) is outside the band: usually rounding at

@@ -81,12 +81,11 @@ pub trait Simd:
     /// ln 2 with the long one (AVX-512, whose permutes make the table one instruction).
     const EXP_TABLE: bool = false;
 
-    /// Whether a one-tick `step` of the inverse operator runs its own visit of a chunk
-    /// (`inverse_visit` in the `step` module: only the exponent live across `decay`) rather
-    /// than the block's tick, software-pipelined: every vector but AVX-512 f32, where the
-    /// block's tick measured faster (`cargo bench -p hyst-core --bench bank` on the Zen 4, rows
-    /// cold: 925–978 against 773–797 M channel-samples/s; docs/performance.md).
-    const INVERSE_VISIT: bool = true;
+    /// The vector registers the kernel's code may use: 16 (SSE2, AVX2, the portable kernel) or
+    /// 32 (AVX-512). With 32, `step`'s visit of the inverse keeps the memory after its update in
+    /// registers across `decay`; with 16 it loads it again from the columns after `decay`
+    /// (`inverse_visit` in the `step` module).
+    const REGISTERS: u32 = 16;
 
     /// 2^(j / 2^b) for j the low b bits of `t`'s bits, b = [`Lane::EXP_TABLE_BITS`] (the table
     /// reduction of `exp`). This default goes lane by lane through memory; AVX-512 permutes.

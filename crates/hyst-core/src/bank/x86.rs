@@ -420,7 +420,7 @@ macro_rules! avx512_simd {
             type M = $mask;
             common!($t, $lanes, $tick);
             const EXP_TABLE: bool = true;
-            const INVERSE_VISIT: bool = core::mem::size_of::<$t>() == 8;
+            const REGISTERS: u32 = 32;
             #[inline(always)]
             fn exp_arg(x: Self) -> Self {
                 // max/min return their second operand when either is NaN: NaN stays NaN.
