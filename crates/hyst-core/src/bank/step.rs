@@ -129,9 +129,12 @@ fn visit<V: Simd, F: BankFormula>(
 ///   only selects, off the chain to `decay`;
 /// - the reversal point and the sign go to their columns when a lane reversed. With 32
 ///   registers ([`Simd::REGISTERS`], AVX-512) the memory after the update stays in registers
-///   across `decay`. With 16, LLVM spilled it; so eq. (4) loads x, k1 and the memory after the
-///   update again after a compiler barrier ([`reloaded`]: s k1 and s M* formed anew, bit for
-///   bit what the update gives). AVX-512 with the barrier too: f32 `step` with reversals in
+///   across `decay`. With 16, LLVM spilled it; so only the exponent and the reversal test's
+///   outcome stay in registers past the test: after a compiler barrier the reversal loads its
+///   inputs again (AVX2 `bank_count step inverse f64` 19.79 → 19.06 instructions a
+///   channel-sample, against keeping them for it), and eq. (4) loads x, k1 and the memory after
+///   the update again after `decay` ([`reloaded`]: s k1 and s M* formed anew, bit for bit what
+///   the update gives). AVX-512 with the barrier too: f32 `step` with reversals in
 ///   every chunk together (`cargo bench -p hyst-core --bench bank`, rows in cache) ran
 ///   1,211–1,246 M channel-samples/s, slower than the block's tick, software-pipelined
 ///   (1,285–1,386); without it 1,547–1,575;
@@ -185,10 +188,16 @@ where
         let ks = k1 * sign;
         (e, x, k1, ks, inverse_cache(ks, rin, rout))
     } else {
-        // Only the exponent stays in registers across `decay`.
-        if V::any(reversed) {
+        // Only the exponent stays in registers across `decay`, and only it and the reversal
+        // test's outcome across the reversal, which loads its inputs again after a barrier.
+        let any = V::any(reversed);
+        core::hint::black_box(());
+        if any {
+            let lin = column::<V>(cols.last_input, 0, l, zero);
             let lout = column::<V>(cols.last_output, 0, l, zero);
+            let rin = column::<V>(cols.reversal_input, 0, l, zero);
             let rout = column::<V>(cols.reversal_output, 0, l, zero);
+            let sign = column::<V>(cols.sign, 0, l, zero);
             put(cols.reversal_input, 0, l, V::select(reversed, lin, rin));
             put(cols.reversal_output, 0, l, V::select(reversed, lout, rout));
             put(cols.sign, 0, l, sign.negate_where(reversed));
