@@ -229,18 +229,22 @@ fn poly_pairs<V: Simd>(x: V, coefficients: &[f64]) -> V {
 /// the bits of the rounded argument. 17 vector operations (f64), no range selects. NaN gives
 /// e^DECAY_MIN; ±∞ is not an argument the bank gives it (z = −k2 ũd with finite factors).
 ///
-/// Vectors with a table [`exp`] (AVX-512: `vpermpd` table, `vscalefpd`, no range selects
-/// either) use that instead: it was measured there (docs/performance.md) and this was not,
-/// as the development machine of this function has no AVX-512.
+/// Vectors with a table [`exp`] (AVX-512: `vpermpd` table, `vscalefpd`) reduce by its table
+/// instead, with its two-part ln 2 but without its range clamp: on the Zen 4, `hyst bench` tick
+/// by tick f64 1.35–1.37 → 1.30–1.33 ns a channel-sample, f32 0.63–0.68 → 0.61–0.62, against
+/// `exp` itself. The reduction by ln 2 with the long polynomial made AVX-512 blocks slower
+/// (0.213–0.216 → 0.224–0.255 × scalar); ln 2 / 2^b in one constant was faster still (f64
+/// 1.26–1.28 ns) but raised the bank's worst f64 inverse error (`tests/bank.rs`) from 2.71 to
+/// 3.50 ulp.
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn decay<V: Simd>(z: V) -> V
 where
     V::T: Lane,
 {
-    if V::EXP_TABLE {
-        return exp(z);
-    }
     let z = z.max_or(V::splat(<V::T as Lane>::DECAY_MIN));
+    if V::EXP_TABLE {
+        return exp_by_table(z);
+    }
     let shift = V::splat(<V::T as Lane>::SHIFT);
     let t = z.fma(V::c(core::f64::consts::LOG2_E), shift);
     let n = t - shift;
@@ -257,16 +261,7 @@ where
     let shift = V::splat(<V::T as Lane>::SHIFT);
     let (ln2_hi, ln2_lo) = <V::T as Lane>::EXP_LN2;
     if V::EXP_TABLE {
-        // x = (8 n + j) ln 2 / 8 + r (f64; 16 for f32), eˣ = 2ⁿ 2^(j/8) eʳ.
-        let k = f64::from(1_u32 << <V::T as Lane>::EXP_TABLE_BITS);
-        let xr = V::exp_arg(x);
-        let t = xr.fma(V::c(k * core::f64::consts::LOG2_E), shift);
-        let m = t - shift;
-        let r = m.fma(V::c(-ln2_hi / k), xr);
-        let r = m.fma(V::c(-ln2_lo / k), r);
-        let p = poly_pairs(r, inv_factorials(<V::T as Lane>::EXP_TABLE_TERMS));
-        let e = (r * r).fma(p, r) + V::c(1.0);
-        return V::scale(e * V::exp2_frac(t), m * V::c(1.0 / k));
+        return exp_by_table(V::exp_arg(x));
     }
     let xr = V::exp_arg(x);
     let t = xr.fma(V::c(core::f64::consts::LOG2_E), shift);
@@ -276,6 +271,26 @@ where
     let p = poly_pairs(r, inv_factorials(<V::T as Lane>::EXP_TERMS));
     let e = (r * r).fma(p, r) + V::c(1.0);
     V::exp_tail(e, t, n, x)
+}
+
+/// eˣ by the table of [`Simd::EXP_TABLE`], for x within the range [`Simd::scale`] takes
+/// (`exp` clamps it first, `decay` raises it to [`Lane::DECAY_MIN`]):
+/// x = (8 n + j) ln 2 / 8 + r (f64; 16 for f32), eˣ = 2ⁿ 2^(j/8) eʳ.
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn exp_by_table<V: Simd>(x: V) -> V
+where
+    V::T: Lane,
+{
+    let shift = V::splat(<V::T as Lane>::SHIFT);
+    let (ln2_hi, ln2_lo) = <V::T as Lane>::EXP_LN2;
+    let k = f64::from(1_u32 << <V::T as Lane>::EXP_TABLE_BITS);
+    let t = x.fma(V::c(k * core::f64::consts::LOG2_E), shift);
+    let m = t - shift;
+    let r = m.fma(V::c(-ln2_hi / k), x);
+    let r = m.fma(V::c(-ln2_lo / k), r);
+    let p = poly_pairs(r, inv_factorials(<V::T as Lane>::EXP_TABLE_TERMS));
+    let e = (r * r).fma(p, r) + V::c(1.0);
+    V::scale(e * V::exp2_frac(t), m * V::c(1.0 / k))
 }
 
 /// ln x for positive normal x (no special cases: 0, subnormals, ∞ and NaN give wrong finite
