@@ -172,17 +172,13 @@ where
     let z = V::select(reversed, -p, (x - rin) * neg_k2);
     let (e, x, k1, ks, sm) = if V::REGISTERS >= 32 {
         // The memory after the update stays in registers across `decay`.
-        let (mut rin, mut sign) = (rin, sign);
-        let mut rout = column::<V>(cols.reversal_output, 0, l, zero);
-        if V::any(reversed) {
+        let rout = column::<V>(cols.reversal_output, 0, l, zero);
+        let (rin, rout, sign) = if V::any(reversed) {
             let lout = column::<V>(cols.last_output, 0, l, zero);
-            rin = V::select(reversed, lin, rin);
-            rout = V::select(reversed, lout, rout);
-            sign = sign.negate_where(reversed);
-            put(cols.reversal_input, 0, l, rin);
-            put(cols.reversal_output, 0, l, rout);
-            put(cols.sign, 0, l, sign);
-        }
+            reverse::<V>(cols, reversed, (lin, lout), (rin, rout), sign)
+        } else {
+            (rin, rout, sign)
+        };
         let e = decay(z);
         let k1 = column::<V>(cols.k1, 0, l, zero);
         let ks = k1 * sign;
@@ -193,14 +189,16 @@ where
         let any = V::any(reversed);
         core::hint::black_box(());
         if any {
-            let lin = column::<V>(cols.last_input, 0, l, zero);
-            let lout = column::<V>(cols.last_output, 0, l, zero);
-            let rin = column::<V>(cols.reversal_input, 0, l, zero);
-            let rout = column::<V>(cols.reversal_output, 0, l, zero);
+            let last = (
+                column::<V>(cols.last_input, 0, l, zero),
+                column::<V>(cols.last_output, 0, l, zero),
+            );
+            let reversal = (
+                column::<V>(cols.reversal_input, 0, l, zero),
+                column::<V>(cols.reversal_output, 0, l, zero),
+            );
             let sign = column::<V>(cols.sign, 0, l, zero);
-            put(cols.reversal_input, 0, l, V::select(reversed, lin, rin));
-            put(cols.reversal_output, 0, l, V::select(reversed, lout, rout));
-            put(cols.sign, 0, l, sign.negate_where(reversed));
+            reverse::<V>(cols, reversed, last, reversal, sign);
         }
         reloaded::<V>(cols, input, z)
     };
@@ -215,6 +213,27 @@ where
     put(cols.last_input, 0, l, x);
     put(cols.last_output, 0, l, y);
     Ok(())
+}
+
+/// The memory update of a visit in which some lane reversed (the chunk module's `observe`, bit
+/// for bit): where `reversed`, the last point (x, y) becomes the reversal point (α0, β0) and the
+/// sign s flips. The memory after it goes to its columns and is returned as (α0, β0, s).
+#[inline(always)]
+fn reverse<V: Simd>(
+    cols: &mut ColumnsMut<'_, V::T>,
+    reversed: V::M,
+    (lin, lout): (V, V),
+    (rin, rout): (V, V),
+    sign: V,
+) -> (V, V, V) {
+    let l = V::LANES;
+    let rin = V::select(reversed, lin, rin);
+    let rout = V::select(reversed, lout, rout);
+    let sign = sign.negate_where(reversed);
+    put(cols.reversal_input, 0, l, rin);
+    put(cols.reversal_output, 0, l, rout);
+    put(cols.sign, 0, l, sign);
+    (rin, rout, sign)
 }
 
 /// e^z by `decay`, then x, k1, s k1 and s M* loaded again from the input and the columns after
