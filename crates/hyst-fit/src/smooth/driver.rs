@@ -18,10 +18,10 @@ use crate::smooth::fit::{FitOptions, SmoothFit};
 use crate::smooth::limits::LIMIT_SCALE;
 use crate::smooth::nesting::{contained, embed, NESTED_SCALE};
 use crate::smooth::problem::SmoothProblem;
-use crate::smooth::starts::{grid_starts, Starts};
+use crate::smooth::starts::{grid_starts, ranked_starts, Starts};
 use crate::smooth::stats::{check_finite, error_stats_of};
 use crate::smooth::std_errors::estimates;
-use crate::timed::{is_timed, simpler_timed, static_view, TimedFindings};
+use crate::timed::{is_timed, static_view, TimedFindings};
 use crate::widths::{confirm, family_widths};
 
 /// The time constants τ (in sample periods) tried when a fit adds one order of dynamics: the
@@ -425,41 +425,141 @@ fn widths_on_draw(
     })
 }
 
-/// The starts of a timed structure's fit from the fit of the structure `simple` one step down
-/// its nesting ([`simpler_timed`]): its optimum with the new parameter added. A rate term
-/// starts at c = 0 (the simpler fit itself); a new order of dynamics at P(s)(τs + 1) for the
-/// τ of [`TIME_CONSTANTS`] (in sample periods) that cost least (`options.starts` of them, at
-/// most 2). The
-/// limit (the fallback of [`descend`]) is the simpler fit at a τ of [`LIMIT_TIME_CONSTANT`].
+/// The starts of a timed structure's fit, and the contained fits at their limits (the fallback
+/// of [`descend`]).
+///
+/// Two kinds, so that the fit finds the in-class optimum whatever the simpler fits did:
+/// - **fresh starts** ([`fresh_points`]): the static fit's shapings with a grid over (k1, k2)
+///   and over the plant's time constant τ (n equal poles, (τs + 1)ⁿ), c = 0, each with the
+///   least-squares output gain and offset; the best `options.starts` (at least 3) by their cost.
+///   They do not inherit the static optimum's k1 and k2, which a plant's lag can push to a
+///   degenerate limit (a wide backlash, k2 → ∞) that the richer structure would never leave.
+/// - **nested starts** from the optimum of each structure this one contains one step down
+///   ([`contained_timed`], fitted first): a rate term added at c = 0; an order of dynamics added
+///   as P(s)(τs + 1) for the τ of [`TIME_CONSTANTS`] (in sample periods) that cost least (at
+///   most 2).
+///
+/// The fresh starts come first: the race (`crate::race`) then measures the nested ones against
+/// the best fresh optimum, not the other way round. The limits: each contained fit at a τ of
+/// [`LIMIT_TIME_CONSTANT`] and c = 0, where this structure reproduces it to rounding.
 fn timed_candidates(
     problem: &SmoothProblem<'_>,
-    simple: Structure,
+    structure: Structure,
     options: &FitOptions,
     observer: &mut dyn Observer,
     contained_fits: &mut Contained,
 ) -> Result<(Starts, Starts), FitError> {
-    let known = contained_fits.iter().position(|(s, _, _)| *s == simple);
-    let at = if let Some(at) = known {
-        at
-    } else {
-        let inner = FitOptions {
-            widths: false,
-            ..*options
-        };
-        let (f, cost) = fit_smooth_with(problem.data, simple, &inner, observer, contained_fits)?;
-        contained_fits.push((simple, f, cost));
-        contained_fits.len() - 1
+    let inner = FitOptions {
+        widths: false,
+        ..*options
     };
-    let Some((_, f, cost)) = contained_fits.get(at) else {
-        return Ok((Vec::new(), Vec::new()));
-    };
-    let layout = problem.layout;
     let period = problem
         .data
         .records
         .iter()
         .filter_map(|r| r.period)
         .fold(f64::INFINITY, f64::min);
+    let mut nested: Starts = Vec::new();
+    let mut limits: Starts = Vec::new();
+    for simple in contained_timed(structure) {
+        let at = fitted(problem.data, simple, &inner, observer, contained_fits)?;
+        let Some((_, f, cost)) = contained_fits.get(at) else {
+            continue;
+        };
+        limits.push((*cost, embed_timed(problem.layout, f, LIMIT_TIME_CONSTANT * period)));
+        if simple.dynamics == structure.dynamics {
+            nested.push((f64::NAN, embed_timed(problem.layout, f, 0.0)));
+            continue;
+        }
+        // Each start's Σ r² summed as the run goes (`Problem::cost`): no vector of every
+        // residual.
+        let mut ranked: Starts = TIME_CONSTANTS
+            .iter()
+            .filter_map(|k| {
+                let theta = embed_timed(problem.layout, f, k * period);
+                let c = crate::lm::Problem::cost(problem, &theta).ok()?;
+                c.is_finite().then_some((c, theta))
+            })
+            .collect();
+        ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // At most 2: each descent is a pass of dual runs over every sample (no reduction with
+        // a plant).
+        ranked.truncate(options.starts.clamp(1, 2));
+        nested.extend(ranked);
+    }
+    let static_structure = Structure {
+        dynamics: 0,
+        rate: None,
+        ..structure
+    };
+    let at = fitted(
+        problem.data,
+        static_structure,
+        &inner,
+        observer,
+        contained_fits,
+    )?;
+    let mut candidates = match contained_fits.get(at) {
+        Some((_, f, _)) => ranked_starts(problem, fresh_points(problem.layout, f, period)),
+        None => Vec::new(),
+    };
+    candidates.truncate(options.starts.max(MIN_FRESH_STARTS));
+    candidates.extend(nested);
+    Ok((candidates, limits))
+}
+
+/// The fresh starts a timed fit descends from at least (see [`timed_candidates`]).
+const MIN_FRESH_STARTS: usize = 3;
+
+/// The (k1, k2) of the fresh starts of a timed fit (normalised units): k1 from a narrow loop to
+/// half the input range, k2 from a round loop to a near backlash.
+const FRESH_K1: [f64; 5] = [0.02, 0.05, 0.1, 0.2, 0.4];
+/// See [`FRESH_K1`].
+const FRESH_K2: [f64; 5] = [1.0, 3.0, 10.0, 30.0, 100.0];
+
+/// The index in `contained_fits` of the fit of `structure` on `data`, fitted now if it is not
+/// there yet.
+fn fitted(
+    data: &Dataset,
+    structure: Structure,
+    options: &FitOptions,
+    observer: &mut dyn Observer,
+    contained_fits: &mut Contained,
+) -> Result<usize, FitError> {
+    if let Some(at) = contained_fits.iter().position(|(s, _, _)| *s == structure) {
+        return Ok(at);
+    }
+    let (f, cost) = fit_smooth_with(data, structure, options, observer, contained_fits)?;
+    contained_fits.push((structure, f, cost));
+    Ok(contained_fits.len() - 1)
+}
+
+/// The timed structures `structure` contains one step down: without the rate term, and with
+/// one order of dynamics less (keeping the rate term); each is a point of `structure` (c = 0,
+/// or a time constant τ → 0).
+#[must_use]
+fn contained_timed(structure: Structure) -> Vec<Structure> {
+    let mut out = Vec::new();
+    if structure.rate.is_some() {
+        out.push(Structure {
+            rate: None,
+            ..structure
+        });
+    }
+    if structure.dynamics > 0 {
+        out.push(Structure {
+            dynamics: structure.dynamics - 1,
+            ..structure
+        });
+    }
+    out
+}
+
+/// The fit `f` of a structure contained in `layout`'s as a point θ of it: its parameters by
+/// name; the rate term's c = 0 when `f` has none; its plant P(s) times (τs + 1) when it has
+/// one order less (a'_i = a_i + τ a_{i−1}, a_0 = 1; P(s) itself for τ = 0).
+fn embed_timed(layout: &Layout, f: &SmoothFit, tau: f64) -> Vec<f64> {
+    let simple = f.layout.structure;
     // The simpler plant's a_0 = 1, a_1, …, a_{n−1}.
     let old: Vec<f64> = std::iter::once(1.0)
         .chain(
@@ -467,46 +567,63 @@ fn timed_candidates(
                 .map(|i| layout_value(f, &crate::layout::dynamics_name(usize::from(i)))),
         )
         .collect();
-    let point = |tau: f64| -> Vec<f64> {
-        layout
-            .params
-            .iter()
-            .map(|spec| {
-                let value = match spec.name.strip_prefix("dynamics.a") {
-                    Some(i) if layout.structure.dynamics > simple.dynamics => {
-                        // (τs + 1) P(s): a'_i = a_i + τ a_{i−1}.
-                        let i: usize = i.parse().unwrap_or(1);
-                        old.get(i).copied().unwrap_or(0.0)
-                            + tau * old.get(i - 1).copied().unwrap_or(0.0)
-                    }
-                    _ => f
-                        .estimates
-                        .iter()
-                        .find(|e| e.name == spec.name)
-                        .map_or(0.0, |e| e.value),
-                };
-                spec.transform.theta(value)
-            })
-            .collect()
-    };
-    let limit = vec![(*cost, point(LIMIT_TIME_CONSTANT * period))];
-    if layout.structure.dynamics == simple.dynamics {
-        return Ok((vec![(f64::NAN, point(0.0))], limit));
-    }
-    // Each start's Σ r² summed as the run goes (`Problem::cost`): no vector of every residual.
-    let mut candidates: Starts = TIME_CONSTANTS
+    layout
+        .params
         .iter()
-        .filter_map(|k| {
-            let theta = point(k * period);
-            let c = crate::lm::Problem::cost(problem, &theta).ok()?;
-            c.is_finite().then_some((c, theta))
+        .map(|spec| {
+            let value = match spec.name.strip_prefix("dynamics.a") {
+                Some(i) if layout.structure.dynamics > simple.dynamics => {
+                    let i: usize = i.parse().unwrap_or(1);
+                    old.get(i).copied().unwrap_or(0.0)
+                        + tau * old.get(i - 1).copied().unwrap_or(0.0)
+                }
+                _ => layout_value(f, &spec.name),
+            };
+            spec.transform.theta(value)
         })
-        .collect();
-    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // At most 2: the grid has ranked them on the full data already, and each descent is a
-    // pass of dual runs over every sample (no reduction with a plant).
-    candidates.truncate(options.starts.clamp(1, 2));
-    Ok((candidates, limit))
+        .collect()
+}
+
+/// The fresh points of a timed fit (see [`timed_candidates`]): the static fit `f`'s parameters
+/// (its shapings) with (k1, k2) over [`FRESH_K1`] × [`FRESH_K2`], the plant (τs + 1)ⁿ for the τ
+/// of [`TIME_CONSTANTS`] (in sample periods `period`), and c = 0.
+fn fresh_points(layout: &Layout, f: &SmoothFit, period: f64) -> Vec<Vec<f64>> {
+    let n = usize::from(layout.structure.dynamics);
+    let taus: Vec<f64> = if n == 0 {
+        vec![0.0]
+    } else {
+        TIME_CONSTANTS.iter().map(|k| k * period).collect()
+    };
+    let mut points = Vec::new();
+    for &tau in &taus {
+        for k1 in FRESH_K1 {
+            for k2 in FRESH_K2 {
+                let theta = layout
+                    .params
+                    .iter()
+                    .map(|spec| {
+                        let value = match spec.name.as_str() {
+                            "k1" => k1,
+                            "k2" => k2,
+                            name => match name.strip_prefix("dynamics.a") {
+                                Some(i) => {
+                                    // (τs + 1)ⁿ: a_i = C(n, i) τ^i.
+                                    let i: usize = i.parse().unwrap_or(1);
+                                    let binomial = (0..i)
+                                        .fold(1.0, |acc, k| acc * (n - k) as f64 / (k + 1) as f64);
+                                    binomial * tau.powi(i as i32)
+                                }
+                                None => layout_value(f, name),
+                            },
+                        };
+                        spec.transform.theta(value)
+                    })
+                    .collect();
+                points.push(theta);
+            }
+        }
+    }
+    points
 }
 
 /// The value of the parameter `name` in the fit `f` (0 when it has none).
@@ -530,8 +647,8 @@ fn start_candidates(
     observer: &mut dyn Observer,
     contained_fits: &mut Contained,
 ) -> Result<(Starts, Starts), FitError> {
-    if let Some(simple) = simpler_timed(structure) {
-        return timed_candidates(problem, simple, options, observer, contained_fits);
+    if is_timed(structure) {
+        return timed_candidates(problem, structure, options, observer, contained_fits);
     }
     let mut candidates = grid_starts(problem);
     // The optima of the simpler structures this one contains: the first (along the chain of

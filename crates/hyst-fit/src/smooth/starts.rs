@@ -16,13 +16,10 @@ pub(super) type Starts = Vec<(f64, Vec<f64>)>;
 /// one after the other).
 pub(super) fn grid_starts(problem: &SmoothProblem<'_>) -> Starts {
     let layout = problem.layout;
-    let grid: Vec<(f64, f64)> = [0.02_f64, 0.05, 0.1, 0.2, 0.4]
+    let points = [0.02_f64, 0.05, 0.1, 0.2, 0.4]
         .into_iter()
         .flat_map(|k1| [1.0_f64, 3.0, 10.0, 30.0].map(|k2| (k1, k2)))
-        .collect();
-    let mut candidates: Starts = grid
-        .par_iter()
-        .filter_map(|&(k1, k2)| {
+        .map(|(k1, k2)| {
             let mut theta = layout.start();
             if let Some(i) = layout.index("k1") {
                 theta[i] = k1.ln();
@@ -30,8 +27,29 @@ pub(super) fn grid_starts(problem: &SmoothProblem<'_>) -> Starts {
             if let Some(i) = layout.index("k2") {
                 theta[i] = k2.ln();
             }
+            theta
+        })
+        .collect();
+    ranked_starts(problem, points)
+}
+
+/// The points θ, each with the least-squares output gain and offset
+/// ([`linear_output_start`]) and its cost, lowest cost first; points that are infeasible or
+/// cost a non-finite amount are left out. Evaluated on the machine's threads (the result that
+/// of evaluating them in order: the sort is stable).
+pub(super) fn ranked_starts(problem: &SmoothProblem<'_>, points: Vec<Vec<f64>>) -> Starts {
+    let timed = crate::timed::is_timed(problem.layout.structure);
+    let mut candidates: Starts = points
+        .into_par_iter()
+        .filter_map(|theta| {
             let (theta, z) = linear_output_start(problem, theta)?;
-            let cost = problem.cost_from_operator(&theta, &z)?;
+            // A plant or a rate term changes what the output sees beyond the operator output:
+            // the full run.
+            let cost = if timed {
+                crate::lm::Problem::cost(problem, &theta).ok()?
+            } else {
+                problem.cost_from_operator(&theta, &z)?
+            };
             cost.is_finite().then_some((cost, theta))
         })
         .collect();
