@@ -151,21 +151,85 @@ pub fn identify(
         ));
     }
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
-    let found = loops(data);
+    let timed = crate::timed::is_timed(request.structure);
     let mut notes = Vec::new();
-    let not_monotone = check_monotone(data, request, found.orientation, &mut notes)?;
+    // A timed record's start (the memory, the plant's state) is not known: discounted until
+    // the input has swept its range, unless estimated or trusted; then, once a first fit gives
+    // the plant and the operator, until they have forgotten it (or estimated where they never
+    // do: `crate::settling`).
+    let settle = timed && !request.options.estimate_starts && !request.options.fit_from_start;
+    let mut settled = None;
+    let mut settling_note = None;
+    if settle {
+        let (d, note) = crate::settling::settle(data);
+        settling_note = note;
+        settled = Some(d);
+    }
+    let found = loops(settled.as_ref().unwrap_or(data));
+    // A timed fit's pre-check looks at what the hysteresis sees, the plant's output v, once
+    // the plant is fitted (below): a slow plant's lag folds the command's loops.
+    let not_monotone = if timed {
+        false
+    } else {
+        check_monotone(data, request, found.orientation, &mut notes)?
+    };
     let want_pi = pi_wanted(data, request, found.gap, &mut notes)?;
     let structure = structure(data, request, found.orientation, &mut notes);
-    let smooth = if want_smooth {
+    // The smooth fit's own notes (its form), replaced when the fit is made again.
+    let mut form_notes = Vec::new();
+    let mut smooth = if want_smooth {
         Some(fit_smooth_form(
-            data, request, structure, observer, &mut notes,
+            settled.as_ref().unwrap_or(data),
+            request,
+            structure,
+            observer,
+            &mut form_notes,
         )?)
     } else {
         None
     };
+    if let (true, Some(first)) = (settle, &smooth) {
+        let (again, estimate, note) = crate::settling::resettle(data, &first.model);
+        let changed = settled.as_ref().is_none_or(|s| {
+            s.records
+                .iter()
+                .zip(&again.records)
+                .any(|(a, b)| a.weight != b.weight)
+        });
+        if changed || estimate {
+            let request = Request {
+                options: FitOptions {
+                    estimate_starts: estimate,
+                    ..request.options
+                },
+                ..request.clone()
+            };
+            form_notes.clear();
+            smooth = Some(fit_smooth_form(
+                &again,
+                &request,
+                structure,
+                observer,
+                &mut form_notes,
+            )?);
+        }
+        settling_note = note;
+        settled = Some(again);
+    }
+    notes.extend(form_notes);
+    notes.splice(0..0, settling_note);
+    let data = settled.as_ref().unwrap_or(data);
     if interrupted() {
         return Err(FitError::Interrupted);
     }
+    let not_monotone = match (&smooth, timed) {
+        (Some(f), true) => {
+            let (view, _) = static_view(data, &f.model)?;
+            let orientation = loops(&view).orientation;
+            check_monotone(&view, request, orientation, &mut notes)?
+        }
+        _ => not_monotone,
+    };
     let pi = if want_pi {
         Some(fit_pi_with(data, request.plays, request.pi_output)?)
     } else {

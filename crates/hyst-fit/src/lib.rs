@@ -20,6 +20,7 @@
 //! - [`degeneracy`]: whether a fit found hysteresis at all.
 //! - [`timed`]: fits with dynamics or a rate term: their nesting, the static view their
 //!   hysteresis part is checked on, what the report says of the plant and the rate term.
+//! - [`settling`]: a record's start discounted until its input has swept its range.
 //! - [`identify()`]: the whole identification as one call (the fits a [`identify::Request`]
 //!   asks for, the model file, the [`report`]), shared by `hyst fit` and the Python binding.
 //!
@@ -49,6 +50,7 @@ pub mod record;
 pub mod reduction;
 pub mod report;
 pub mod rows;
+pub mod settling;
 pub mod smooth;
 pub mod timed;
 pub mod weights;

@@ -48,6 +48,32 @@ impl<T: FitReal> TimedRun<T> {
     /// A period that is not finite and positive, parameters the core refuses, a first sample
     /// whose start is not finite.
     pub fn new(model: &SmoothModel<T>, period: f64, first: T) -> Result<Self, Error> {
+        Self::started(model, period, &[first.as_f64()], None)
+    }
+
+    /// The run of `model` over a record of sample period `period` (s) whose commands are
+    /// `input` (the first is enough for the start rule; the first move's direction is read
+    /// for an estimated start): the plant at rest at the first command, the operator started
+    /// by the model's start rule, or with `band` = Some(b), b ∈ [−1, 1], at a reversal at the
+    /// first sample with the operator output v0 + b · k1 heading the way the input first
+    /// moves ([`SmoothModel::start_in`]: the record's memory estimated by the fit).
+    ///
+    /// # Errors
+    /// As [`TimedRun::new`]; an empty `input`.
+    pub fn started(
+        model: &SmoothModel<T>,
+        period: f64,
+        input: &[f64],
+        band: Option<f64>,
+    ) -> Result<Self, Error> {
+        let Some(&first) = input.first() else {
+            return Err(Error::InvalidParameter {
+                name: "input",
+                value: f64::NAN,
+                expected: "a record of at least one sample",
+            });
+        };
+        let first = T::from_f64(first);
         if !(period.is_finite() && period > 0.0) {
             return Err(Error::InvalidParameter {
                 name: "period",
@@ -67,10 +93,20 @@ impl<T: FitReal> TimedRun<T> {
             |p| p.at_rest(first),
         );
         let v0 = model.dynamics.map_or(first, |d| d.b * first);
-        let operator = model.initial_state.start(
-            Hysteresis::with_k2_law(model.k1, model.k2)?,
-            model.input_shaping.apply(v0),
-        )?;
+        let operator = match band {
+            // At rest, v = b u0: the estimated start at v0 (a fitted plant has b = 1).
+            Some(_) => {
+                let scaled: Vec<f64> = input
+                    .iter()
+                    .map(|u| model.dynamics.map_or(*u, |d| d.b.as_f64() * u))
+                    .collect();
+                model.start_in(Hysteresis::with_k2_law(model.k1, model.k2)?, &scaled, band)?
+            }
+            None => model.initial_state.start(
+                Hysteresis::with_k2_law(model.k1, model.k2)?,
+                model.input_shaping.apply(v0),
+            )?,
+        };
         Ok(Self {
             model: *model,
             operator,
@@ -121,10 +157,11 @@ impl<T: FitReal> SmoothModel<T> {
     /// Runs the model over one record of sample period `period` (s; `None` for a record
     /// without time, which only a static model runs) and hands each sample's index and
     /// [`TimedSample`] to `each`. A static model runs exactly as [`SmoothModel::run_with`]
-    /// (the estimated start `band` applies to it only).
+    /// (an estimated start `band` starts the operator's memory, the plant at rest:
+    /// [`TimedRun::started`]).
     ///
     /// # Errors
-    /// A model with dynamics or a rate term without a period, or with a `band`; otherwise as
+    /// A model with dynamics or a rate term without a period; otherwise as
     /// [`SmoothModel::simulate`].
     pub fn run_timed(
         &self,
@@ -139,18 +176,17 @@ impl<T: FitReal> SmoothModel<T> {
                 each(i, TimedSample { v, z, y });
             });
         }
-        let Some(period) = period.filter(|_| band.is_none()) else {
+        let Some(period) = period else {
             return Err(Error::InvalidParameter {
                 name: "period",
                 value: f64::NAN,
-                expected: "a timed record without an estimated start (the model has dynamics \
-                           or a rate term)",
+                expected: "a timed record (the model has dynamics or a rate term)",
             });
         };
-        let Some(first) = input.first() else {
+        if input.is_empty() {
             return Ok(());
-        };
-        let mut run = TimedRun::new(self, period, T::from_f64(*first))?;
+        }
+        let mut run = TimedRun::started(self, period, input, band)?;
         for (i, x) in input.iter().enumerate() {
             each(i, run.step(T::from_f64(*x))?);
         }

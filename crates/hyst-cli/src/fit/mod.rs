@@ -83,6 +83,11 @@ pub struct Args {
     /// mid-history.
     #[arg(long)]
     pub estimate_initial_states: bool,
+    /// With --dynamics or --rate-term: count every sample from each record's first, trusting
+    /// --initial-state and the plant at rest there. By default each record's start is
+    /// discounted until its input has swept its range (the state it starts in is not known).
+    #[arg(long, conflicts_with = "estimate_initial_states")]
+    pub fit_from_start: bool,
     /// How each record starts (the model's rule for new data too). `auto`: `falling` when every
     /// record only rises (first-order reversal curves, each starting at a reversal after a fall
     /// from saturation), `rising` when every record only falls, `rising` otherwise.
@@ -260,6 +265,7 @@ fn request(args: &Args) -> Request {
         starts: args.starts,
         coverage: args.coverage,
         estimate_starts: args.estimate_initial_states,
+        fit_from_start: args.fit_from_start,
         ..FitOptions::default()
     };
     Request {

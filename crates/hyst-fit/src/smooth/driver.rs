@@ -82,7 +82,7 @@ fn fit_smooth_with(
     let started = Instant::now();
     check_options(options)?;
     let timed = is_timed(structure);
-    check_timed(data, structure, options)?;
+    check_timed(data, structure)?;
     let layout = Layout::new(structure, normalisation(data));
     data.check(layout.len(), structure.form == Form::Operator)?;
     let problem = SmoothProblem::new(&layout, data, options.estimate_starts);
@@ -168,18 +168,11 @@ fn fit_smooth_with(
     Ok((fit, cost))
 }
 
-/// Refuses what a fit with dynamics or a rate term cannot do: estimated starts (such a record
-/// starts at rest), records without a sample period.
-fn check_timed(data: &Dataset, structure: Structure, options: &FitOptions) -> Result<(), FitError> {
+/// Refuses what a fit with dynamics or a rate term cannot do: records without a sample
+/// period.
+fn check_timed(data: &Dataset, structure: Structure) -> Result<(), FitError> {
     if !is_timed(structure) {
         return Ok(());
-    }
-    if options.estimate_starts {
-        return Err(FitError::Invalid(
-            "--estimate-initial-states cannot be combined with --dynamics or --rate-term: a \
-             record of a model with dynamics starts at rest at its first sample"
-                .into(),
-        ));
     }
     if let Some(r) = data.records.iter().find(|r| r.period.is_none()) {
         return Err(FitError::Invalid(format!(
@@ -279,7 +272,7 @@ fn search_starts(
             estimate_starts: false,
             ..*options
         };
-        let f = fit_smooth(problem.data, structure, &rule, observer)?;
+        let (f, _) = fit_smooth_with(problem.data, structure, &rule, observer, contained)?;
         Ok((vec![(f64::NAN, f.theta)], Vec::new()))
     } else {
         start_candidates(problem, structure, options, observer, contained)
@@ -466,7 +459,10 @@ fn timed_candidates(
         let Some((_, f, cost)) = contained_fits.get(at) else {
             continue;
         };
-        limits.push((*cost, embed_timed(problem.layout, f, LIMIT_TIME_CONSTANT * period)));
+        limits.push((
+            *cost,
+            embed_timed(problem.layout, f, LIMIT_TIME_CONSTANT * period),
+        ));
         if simple.dynamics == structure.dynamics {
             nested.push((f64::NAN, embed_timed(problem.layout, f, 0.0)));
             continue;

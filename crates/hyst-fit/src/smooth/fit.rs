@@ -26,6 +26,10 @@ pub struct FitOptions {
     /// trial of the parameters (variable projection). The start rule stays the model's rule for
     /// new data.
     pub estimate_starts: bool,
+    /// Count every sample from each record's first in a fit with dynamics or a rate term,
+    /// trusting the start rule (and the plant at rest there); by default each record's start
+    /// is discounted until its input has swept its range ([`crate::settling`]).
+    pub fit_from_start: bool,
 }
 
 impl Default for FitOptions {
@@ -36,6 +40,7 @@ impl Default for FitOptions {
             coverage: 0.99,
             widths: true,
             estimate_starts: false,
+            fit_from_start: false,
         }
     }
 }

@@ -92,7 +92,13 @@ impl<'a> SmoothProblem<'a> {
             .map(|(h, _)| {
                 y.resize(h.input.len(), 0.0);
                 let mut cost = |b: f64| -> f64 {
-                    if m.simulate_from(&h.input, Some(b), None, &mut y).is_err() {
+                    // The timed run, which is the static one for a static model.
+                    let ran = m.run_timed(&h.input, h.period, Some(b), |i, s| {
+                        if let Some(slot) = y.get_mut(i) {
+                            *slot = s.y;
+                        }
+                    });
+                    if ran.is_err() {
                         return f64::INFINITY;
                     }
                     y.iter()

@@ -1,0 +1,278 @@
+//! A record's start, discounted until its input has swept its range ([`settle`]).
+//!
+//! A measured record starts wherever the actuator was: the operator's memory (Definition 2.1:
+//! the last reversal point and the direction) and the plant's state at its first sample are not
+//! known. A fit that assumes them (`--initial-state`, the plant at rest) is biased by the
+//! samples they shape: a first-order plant with τ = 0.1 s whose record starts mid-band came out
+//! 6 % long, 72 of its own standard errors away. Once the input has gone from one end of the
+//! record's range to the other, the memory of the operator is that of the sweep (whatever it
+//! was before, it is forgotten by the travel across the loop, as the branch converges to the
+//! asymptote), and a plant whose time constants are short against the sweep has forgotten its
+//! start too. The samples before that point get weight 0: they still run the model (its state
+//! carries on from them), but do not count in the fit's cost or its error statistics.
+//!
+//! A record that never sweeps its range within its first half (first-order reversal curves,
+//! a single rise) keeps every sample: it has no such point, and its start is the start rule's
+//! (or, with `--estimate-initial-states`, estimated).
+
+use hyst_core::{K2Law, Shaping};
+use hyst_io::number::sig;
+use hyst_model::SmoothModel;
+
+use crate::data::Dataset;
+
+/// How close to an end of its range the input must come to count as reaching it (fraction of
+/// the record's input span): noise and a sine sampled off its peak reach 98 %.
+pub const SWEEP_REACH: f64 = 0.02;
+
+/// The latest a sweep may end (fraction of the record's samples) for the start to be
+/// discounted: a record that needs more than half of itself to sweep its range keeps every
+/// sample (see the module docs).
+pub const MAX_SETTLING_SHARE: f64 = 0.5;
+
+/// The samples at the start of a history of inputs `input` before its input has swept its
+/// range (reached one end, then the other, within [`SWEEP_REACH`] of the span); `None` when it
+/// never does within [`MAX_SETTLING_SHARE`] of its samples.
+#[must_use]
+pub fn settling_samples(input: &[f64]) -> Option<usize> {
+    let (lo, hi) = input
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+    let reach = SWEEP_REACH * (hi - lo);
+    if !(reach > 0.0) {
+        return None;
+    }
+    let low = input.iter().position(|&x| x <= lo + reach)?;
+    let high = input.iter().position(|&x| x >= hi - reach)?;
+    // The sweep ends where the later end is first reached after the earlier one.
+    let end = low.max(high);
+    (end as f64 <= MAX_SETTLING_SHARE * input.len() as f64).then_some(end)
+}
+
+/// `data` with each history's start discounted (weight 0) until its input has swept its range
+/// ([`settling_samples`]), and the report's note on it (`None` when nothing was discounted).
+#[must_use]
+pub fn settle(data: &Dataset) -> (Dataset, Option<String>) {
+    let mut settled = data.clone();
+    let (mut discounted, mut histories, mut kept) = (0usize, 0usize, Vec::new());
+    for h in data.histories() {
+        let Some(first) = h.parts.first().map(|p| p.0) else {
+            continue;
+        };
+        let input: Vec<f64> = h.input.iter().copied().collect();
+        let Some(end) = settling_samples(&input) else {
+            if let Some(r) = data.records.get(first) {
+                kept.push(r.id);
+            }
+            continue;
+        };
+        histories += 1;
+        discounted += end;
+        // The parts (record, first sample in the history, length) the first `end` samples
+        // fall in.
+        for &(i, start, len) in &h.parts {
+            if start >= end {
+                break;
+            }
+            if let Some(r) = settled.records.get_mut(i) {
+                r.weight.fill(0..(end - start).min(len), 0.0);
+            }
+        }
+    }
+    if histories == 0 && kept.is_empty() {
+        return (settled, None);
+    }
+    let mut note = String::new();
+    if histories > 0 {
+        note.push_str(&format!(
+            "the start of each record is not known (the operator's memory, the plant's state): \
+             {discounted} samples at the starts of {histories} record(s), before each input had \
+             swept its range, set the state but do not count in the fit ({} % of the samples; \
+             --fit-from-start counts them, trusting the start rule)",
+            sig(
+                100.0 * discounted as f64 / data.training_samples().max(1) as f64,
+                2
+            )
+        ));
+    }
+    if !kept.is_empty() {
+        if !note.is_empty() {
+            note.push_str("; ");
+        }
+        let ids: Vec<String> = kept.iter().take(8).map(i64::to_string).collect();
+        note.push_str(&format!(
+            "record(s) {}{} never sweep their range in their first half: they start by the \
+             start rule (--estimate-initial-states estimates their starts instead)",
+            ids.join(", "),
+            if kept.len() > 8 { ", …" } else { "" }
+        ));
+    }
+    (settled, Some(note))
+}
+
+/// The travel past a reversal, in units of 1/k2 beyond the loop's width 2 k1, after which the
+/// operator's branch has come within e⁻⁷ ≈ 10⁻³ of its asymptote: its memory is forgotten.
+pub const FORGETTING_TRAVEL: f64 = 7.0;
+
+/// The plant's settling: from rest to within this fraction of a step's final value.
+pub const PLANT_SETTLED: f64 = 1e-3;
+
+/// How a timed fit's records start, after a first fit: `data` (its original weights) with each
+/// history's start discounted until the fitted `model`'s operator has forgotten its memory
+/// (its input ψ_in(v) swept its range, a range wider than the loop plus
+/// [`FORGETTING_TRAVEL`]/k2) and the plant has settled from rest (within [`PLANT_SETTLED`]);
+/// whether some history's memory is never forgotten (its start must be estimated); the
+/// report's note.
+#[must_use]
+pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, bool, Option<String>) {
+    let mut settled = data.clone();
+    let (mut discounted, mut estimate, mut short) = (0usize, Vec::new(), Vec::new());
+    for h in data.histories() {
+        let Some(&(first, _, _)) = h.parts.first() else {
+            continue;
+        };
+        let id = data.records.get(first).map_or(0, |r| r.id);
+        let mut w = Vec::with_capacity(h.input.len());
+        let ran = model.run_timed(&h.input, h.period, None, |_, s| {
+            w.push(model.input_shaping.apply(s.v));
+        });
+        if ran.is_err() || w.len() != h.input.len() {
+            continue;
+        }
+        let forgets = forgetting_range(model, &w);
+        let sweep = if forgets { settling_samples(&w) } else { None };
+        if sweep.is_none() {
+            estimate.push(id);
+        }
+        let plant = h
+            .period
+            .map_or(0, |period| plant_settling(model, period, w.len()));
+        let mut end = sweep.unwrap_or(0).max(plant);
+        let half = (MAX_SETTLING_SHARE * w.len() as f64) as usize;
+        if end > half {
+            short.push(id);
+            end = half;
+        }
+        discounted += end;
+        for &(i, start, len) in &h.parts {
+            if start >= end {
+                break;
+            }
+            if let Some(r) = settled.records.get_mut(i) {
+                r.weight.fill(0..(end - start).min(len), 0.0);
+            }
+        }
+    }
+    let mut note = format!(
+        "the start of each record is not known (the operator's memory, the plant's state): \
+         {discounted} samples at the records' starts, before the fitted operator had forgotten \
+         its memory and the fitted plant had settled from rest, set the state but do not count \
+         in the fit ({} % of the samples; --fit-from-start counts them, trusting the start rule)",
+        sig(
+            100.0 * discounted as f64 / data.training_samples().max(1) as f64,
+            2
+        )
+    );
+    let list = |ids: &[i64]| {
+        let shown: Vec<String> = ids.iter().take(8).map(i64::to_string).collect();
+        format!(
+            "{}{}",
+            shown.join(", "),
+            if ids.len() > 8 { ", …" } else { "" }
+        )
+    };
+    if !estimate.is_empty() {
+        note.push_str(&format!(
+            "; the operator's memory at the start of record(s) {} is never forgotten (its input \
+             stays within the loop, or never sweeps its range in the record's first half): \
+             estimated from the data (band fraction by least squares)",
+            list(&estimate)
+        ));
+    }
+    if !short.is_empty() {
+        note.push_str(&format!(
+            "; record(s) {} are short against the plant's settling or the operator's memory: \
+             only their first half is discounted, and their start still shapes the fit",
+            list(&short)
+        ));
+    }
+    (settled, !estimate.is_empty(), Some(note))
+}
+
+/// Whether the operator inputs `w` of a history span more than the loop's width 2 k1 plus
+/// [`FORGETTING_TRAVEL`]/k2 (k2 the law's smallest at the range's ends and centre), so that a
+/// sweep across them forgets the memory.
+fn forgetting_range(model: &SmoothModel, w: &[f64]) -> bool {
+    let (lo, hi) = w
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+    let k2 = [lo, 0.5 * (lo + hi), hi]
+        .into_iter()
+        .map(|x| model.k2.k2(x))
+        .fold(f64::INFINITY, f64::min);
+    let width = 2.0 * model.k1 + FORGETTING_TRAVEL / k2;
+    hi - lo > width
+}
+
+/// The samples the fitted plant of `model` takes, at sample period `period`, from rest to
+/// within [`PLANT_SETTLED`] of a unit step's final value for good (at most `limit`); 0 without
+/// a plant.
+fn plant_settling(model: &SmoothModel, period: f64, limit: usize) -> usize {
+    let Some(d) = model.dynamics else {
+        return 0;
+    };
+    let Ok(plant) = d.discretise(period) else {
+        return 0;
+    };
+    let mut state = plant.at_rest(0.0);
+    let mut last_out = 0;
+    for k in 1..=limit {
+        let v = plant.step(&mut state, d.b);
+        if (v - d.b).abs() > PLANT_SETTLED * d.b.abs() {
+            last_out = k;
+        }
+    }
+    last_out
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
+    use super::*;
+
+    #[test]
+    fn a_sweep_ends_where_the_later_end_is_first_reached() {
+        // From the middle up to the top, then down to the bottom at sample 30.
+        let x: Vec<f64> = (0..100)
+            .map(|i| (std::f64::consts::TAU * i as f64 / 40.0).sin())
+            .collect();
+        let end = settling_samples(&x).unwrap();
+        assert!((29..=31).contains(&end), "{end}");
+    }
+
+    #[test]
+    fn a_record_that_only_rises_keeps_its_start() {
+        let x: Vec<f64> = (0..100).map(f64::from).collect();
+        assert_eq!(settling_samples(&x), None);
+        assert_eq!(settling_samples(&[1.0; 10]), None);
+        assert_eq!(settling_samples(&[]), None);
+    }
+
+    #[test]
+    fn settled_data_weighs_nothing_before_the_sweep() {
+        let x: Vec<f64> = (0..100)
+            .map(|i| (std::f64::consts::TAU * i as f64 / 40.0).sin())
+            .collect();
+        let data = Dataset::single(&x, &x);
+        let (settled, note) = settle(&data);
+        let w = settled.records[0].weight.to_vec();
+        let end = settling_samples(&x).unwrap();
+        assert!(w[..end].iter().all(|&w| w == 0.0));
+        assert!(w[end..].iter().all(|&w| w == 1.0));
+        assert!(note.unwrap().contains("do not count"));
+    }
+}
