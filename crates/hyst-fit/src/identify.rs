@@ -189,25 +189,23 @@ pub fn identify(
         None
     };
     if let (true, Some(first)) = (settle, &smooth) {
-        let (again, estimate, note) = crate::settling::resettle(data, &first.model);
-        let changed = settled.as_ref().is_none_or(|s| {
-            s.records
-                .iter()
-                .zip(&again.records)
-                .any(|(a, b)| a.weight != b.weight)
-        });
-        if changed || estimate {
-            let request = Request {
-                options: FitOptions {
-                    estimate_starts: estimate,
-                    ..request.options
-                },
-                ..request.clone()
-            };
+        let (again, note) = crate::settling::resettle(data, &first.model);
+        // Made again only where the fitted model needs a longer discount than the command's
+        // sweep gave (by 2 % of a record): a slow plant, a wide loop.
+        let before = settled
+            .as_ref()
+            .map(crate::settling::discounted)
+            .unwrap_or_default();
+        let longer = crate::settling::discounted(&again)
+            .iter()
+            .zip(&again.records)
+            .zip(before.iter().chain(std::iter::repeat(&0)))
+            .any(|((now, r), was)| *now > *was + r.len() / 50);
+        if longer {
             form_notes.clear();
             smooth = Some(fit_smooth_form(
                 &again,
-                &request,
+                request,
                 structure,
                 observer,
                 &mut form_notes,
@@ -503,6 +501,23 @@ fn smooth_notes(f: &SmoothFit, limit: Option<ParameterLimit>, notes: &mut Vec<St
     }
     if let Some(t) = &f.timed {
         notes.extend(t.notes());
+    }
+    let c = f.correlation;
+    if c.time >= 2.0 || c.capped {
+        notes.push(format!(
+            "the residuals are correlated over {} samples (a model mismatch, or coloured \
+             noise): each standard error is the larger of the white-noise one and the block \
+             sandwich over {} blocks of {} samples{}",
+            sig(c.time, 3),
+            c.blocks,
+            c.block,
+            if c.capped {
+                "; the correlation outlasts a twentieth of the records, so even these are \
+                 lower bounds: record longer, or more records"
+            } else {
+                ""
+            }
+        ));
     }
     if let Some(starts) = f.starts.as_ref().filter(|s| !s.is_empty()) {
         let (lo, hi) = starts

@@ -254,7 +254,7 @@ fn parameter_table(m: &ModelFile) -> String {
         s += &format!("  … {} more in the model file\n", m.parameters.len() - 40);
     }
     if m.kind == ModelKind::Smooth {
-        s += "  (k1, k2 in normalised input units: the input range maps to [-1, 1]; standard errors\n   assume independent residuals)\n";
+        s += "  (k1, k2 in normalised input units: the input range maps to [-1, 1]; standard errors\n   allow for correlated residuals: docs/fitting.md)\n";
     }
     s
 }

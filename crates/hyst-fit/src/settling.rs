@@ -123,12 +123,12 @@ pub const PLANT_SETTLED: f64 = 1e-3;
 /// history's start discounted until the fitted `model`'s operator has forgotten its memory
 /// (its input ψ_in(v) swept its range, a range wider than the loop plus
 /// [`FORGETTING_TRAVEL`]/k2) and the plant has settled from rest (within [`PLANT_SETTLED`]);
-/// whether some history's memory is never forgotten (its start must be estimated); the
-/// report's note.
+/// the report's note (which names the records whose memory is never forgotten: their start
+/// shapes the fit unless it is estimated).
 #[must_use]
-pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, bool, Option<String>) {
+pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>) {
     let mut settled = data.clone();
-    let (mut discounted, mut estimate, mut short) = (0usize, Vec::new(), Vec::new());
+    let (mut discounted, mut remembers, mut short) = (0usize, Vec::new(), Vec::new());
     for h in data.histories() {
         let Some(&(first, _, _)) = h.parts.first() else {
             continue;
@@ -144,7 +144,7 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, bool, Option<S
         let forgets = forgetting_range(model, &w);
         let sweep = if forgets { settling_samples(&w) } else { None };
         if sweep.is_none() {
-            estimate.push(id);
+            remembers.push(id);
         }
         let plant = h
             .period
@@ -183,12 +183,12 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, bool, Option<S
             if ids.len() > 8 { ", …" } else { "" }
         )
     };
-    if !estimate.is_empty() {
+    if !remembers.is_empty() {
         note.push_str(&format!(
-            "; the operator's memory at the start of record(s) {} is never forgotten (its input \
-             stays within the loop, or never sweeps its range in the record's first half): \
-             estimated from the data (band fraction by least squares)",
-            list(&estimate)
+            "; the fitted operator never forgets its memory at the start of record(s) {} (its \
+             input stays within the loop, or does not sweep its range in the record's first \
+             half): their start shapes the fit (--estimate-initial-states estimates it)",
+            list(&remembers)
         ));
     }
     if !short.is_empty() {
@@ -198,7 +198,7 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, bool, Option<S
             list(&short)
         ));
     }
-    (settled, !estimate.is_empty(), Some(note))
+    (settled, Some(note))
 }
 
 /// Whether the operator inputs `w` of a history span more than the loop's width 2 k1 plus
@@ -275,4 +275,13 @@ mod tests {
         assert!(w[end..].iter().all(|&w| w == 1.0));
         assert!(note.unwrap().contains("do not count"));
     }
+}
+
+/// The samples of weight 0 at the start of each record of `data` (a discounted start).
+#[must_use]
+pub fn discounted(data: &Dataset) -> Vec<usize> {
+    data.records
+        .iter()
+        .map(|r| r.weight.iter().take_while(|w| *w == 0.0).count())
+        .collect()
 }

@@ -14,10 +14,10 @@ use crate::lm::{LevenbergMarquardt, Observer, Solution, Stage, Staged};
 use crate::outputs::ModelOutputs;
 use crate::race::{best_of, threads};
 use crate::reduction::{draw, reduce, Reduction, TARGET};
-use crate::smooth::fit::{FitOptions, SmoothFit};
+use crate::smooth::fit::{Correlation, FitOptions, SmoothFit, BLOCK_TIMES};
 use crate::smooth::limits::LIMIT_SCALE;
 use crate::smooth::nesting::{contained, embed, NESTED_SCALE};
-use crate::smooth::problem::SmoothProblem;
+use crate::smooth::problem::{SmoothProblem, MIN_BLOCKS};
 use crate::smooth::starts::{grid_starts, ranked_starts, Starts};
 use crate::smooth::stats::{check_finite, error_stats_of};
 use crate::smooth::std_errors::estimates;
@@ -118,7 +118,14 @@ fn fit_smooth_with(
         },
     )?;
     let model = layout.model(&best.theta, problem.input_range)?;
-    let estimates = estimates(&layout, &model, &best, problem.n);
+    let (correlation, meat) = correlation(&problem, &best)?;
+    let estimates = estimates(
+        &layout,
+        &model,
+        &best,
+        data.training_samples(),
+        meat.as_ref().map(|m| (m.as_slice(), correlation.blocks)),
+    );
 
     let starts = problem.bands(&model);
     // The model's outputs are replayed, not held: 8 bytes a sample beside the data.
@@ -156,6 +163,7 @@ fn fit_smooth_with(
         starts,
         seconds: started.elapsed().as_secs_f64(),
         timed: None,
+        correlation,
     };
     if timed {
         let (mut fit, cost) = timed_findings(data, fit, cost, contained, started);
@@ -166,6 +174,42 @@ fn fit_smooth_with(
         return Ok((fit, cost));
     }
     Ok((fit, cost))
+}
+
+/// The residuals' correlation at the optimum `best` and the middle of the block sandwich
+/// (`None` when the Jacobian cannot be evaluated there): see [`Correlation`].
+fn correlation(
+    problem: &SmoothProblem<'_>,
+    best: &Solution,
+) -> Result<(Correlation, Option<Vec<f64>>), FitError> {
+    let computed;
+    let r = if best.residuals.len() == problem.n {
+        &best.residuals
+    } else {
+        let mut r = vec![0.0; problem.n];
+        if crate::lm::Problem::residuals(problem, &best.theta, &mut r).is_err() {
+            return Ok((Correlation::default(), None));
+        }
+        computed = r;
+        &computed
+    };
+    let time = problem.correlation_time(r);
+    let samples = problem.data.training_samples().max(1);
+    let wanted = (BLOCK_TIMES * time).ceil().max(1.0) as usize;
+    let most = (samples / MIN_BLOCKS).max(1);
+    let block = wanted.min(most);
+    let Ok((meat, blocks)) = problem.scores(&best.theta, block) else {
+        return Ok((Correlation::default(), None));
+    };
+    Ok((
+        Correlation {
+            time,
+            block,
+            blocks,
+            capped: wanted > most,
+        },
+        Some(meat),
+    ))
 }
 
 /// Refuses what a fit with dynamics or a rate term cannot do: records without a sample
@@ -273,7 +317,14 @@ fn search_starts(
             ..*options
         };
         let (f, _) = fit_smooth_with(problem.data, structure, &rule, observer, contained)?;
-        Ok((vec![(f64::NAN, f.theta)], Vec::new()))
+        // A timed fit may come back without a rate term the data did not support: placed
+        // back at c = 0.
+        let theta = if f.layout.structure == structure {
+            f.theta
+        } else {
+            embed_timed(problem.layout, &f, 0.0)
+        };
+        Ok((vec![(f64::NAN, theta)], Vec::new()))
     } else {
         start_candidates(problem, structure, options, observer, contained)
     }

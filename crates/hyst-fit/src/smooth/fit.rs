@@ -74,4 +74,27 @@ pub struct SmoothFit {
     /// What the fit found of its plant and rate term (a structure with dynamics or a rate
     /// term; [`crate::timed`]).
     pub timed: Option<TimedFindings>,
+    /// How the standard errors allow for correlated residuals.
+    pub correlation: Correlation,
 }
+
+/// How a fit's standard errors allow for correlated residuals: each is the larger of the
+/// white-noise estimate s² (JᵀJ)⁻¹ and the block sandwich (JᵀJ)⁻¹ (Σ_b s_b s_bᵀ) (JᵀJ)⁻¹ with
+/// the score s_b = Σ J_kᵀ r_k over blocks of consecutive residuals of one history, long against
+/// the residuals' correlation time (batch means; with uncorrelated residuals it is White's
+/// heteroskedasticity-consistent estimate).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Correlation {
+    /// The residuals' integrated correlation time (samples, ≥ 1).
+    pub time: f64,
+    /// The block length (samples).
+    pub block: usize,
+    /// The blocks the score was summed over.
+    pub blocks: usize,
+    /// Whether the block had to be cut short of [`BLOCK_TIMES`] correlation times to keep
+    /// enough blocks: the standard errors are then lower bounds.
+    pub capped: bool,
+}
+
+/// The block length of [`Correlation`] in units of the residuals' correlation time.
+pub const BLOCK_TIMES: f64 = 5.0;

@@ -401,6 +401,145 @@ impl SmoothProblem<'_> {
     }
 }
 
+/// The residuals' correlation, for standard errors that stay valid when it is not white
+/// ([`SmoothProblem::scores`]): at most this many residuals (the first) are looked at.
+const CORRELATION_SAMPLES: usize = 1 << 20;
+
+/// The fewest blocks of [`SmoothProblem::scores`] the block length leaves (a longer correlation
+/// caps the block, and the standard errors then say so); also the largest lag looked at is
+/// the residuals' count over this.
+pub(super) const MIN_BLOCKS: usize = 20;
+
+/// The largest lag (samples) of the residuals' correlation looked at.
+const MAX_LAG: usize = 20_000;
+
+/// The residual autocorrelation below which two residuals count as uncorrelated (the end of
+/// the sum of the integrated correlation time).
+const UNCORRELATED: f64 = 0.05;
+
+impl SmoothProblem<'_> {
+    /// The first residual row of each history that has training rows, in order: where the
+    /// blocks of [`SmoothProblem::scores`] are cut, besides every `block` rows.
+    fn history_starts(&self) -> Vec<usize> {
+        self.histories
+            .iter()
+            .filter_map(|(_, offsets)| offsets.iter().flatten().next().copied())
+            .collect()
+    }
+
+    /// The integrated correlation time of the residuals `r` (in samples, at least 1):
+    /// 1 + 2 Σ ρ(l) over the lags l until ρ first falls below [`UNCORRELATED`], within each
+    /// history (a lag never reaches across two), over the first [`CORRELATION_SAMPLES`]
+    /// residuals. Residuals of weight 0 are 0 and count as such.
+    pub(super) fn correlation_time(&self, r: &[f64]) -> f64 {
+        let n = r.len().min(CORRELATION_SAMPLES);
+        let r = &r[..n];
+        let var: f64 = r.iter().map(|v| v * v).sum::<f64>() / n.max(1) as f64;
+        if !(var > 0.0) {
+            return 1.0;
+        }
+        let mut starts = self.history_starts();
+        starts.retain(|&s| s < n);
+        starts.push(n);
+        let mut tau = 1.0;
+        for lag in 1..(n / MIN_BLOCKS).min(MAX_LAG) {
+            let mut sum = 0.0;
+            let mut count = 0usize;
+            for w in starts.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                if b > a + lag {
+                    sum += r[a..b - lag]
+                        .iter()
+                        .zip(&r[a + lag..b])
+                        .map(|(x, y)| x * y)
+                        .sum::<f64>();
+                    count += b - a - lag;
+                }
+            }
+            if count == 0 {
+                break;
+            }
+            let rho = sum / count as f64 / var;
+            if rho < UNCORRELATED {
+                break;
+            }
+            tau += 2.0 * rho;
+        }
+        tau
+    }
+
+    /// The outer product of the score over blocks of `block` consecutive residual rows (cut
+    /// at every history's start as well): Σ_b s_b s_bᵀ, s_b = Σ_{k ∈ b} J_kᵀ r_k (row-major
+    /// p × p), and the number of blocks. The middle of the sandwich estimate of the
+    /// covariance (JᵀJ)⁻¹ (Σ_b s_b s_bᵀ) (JᵀJ)⁻¹, which holds for residuals correlated over
+    /// less than a block (batch means; without the correlation it is White's estimate).
+    ///
+    /// # Errors
+    /// [`Infeasible`] when the Jacobian cannot be evaluated at θ.
+    pub(super) fn scores(
+        &self,
+        theta: &[f64],
+        block: usize,
+    ) -> Result<(Vec<f64>, usize), Infeasible> {
+        let p = theta.len();
+        let block = block.max(1);
+        let starts = self.history_starts();
+        let mut meat = vec![0.0; p * p];
+        let mut s = vec![0.0; p];
+        let (mut blocks, mut in_block, mut next_start) = (0usize, 0usize, 0usize);
+        let flush = |s: &mut [f64], meat: &mut [f64], blocks: &mut usize| {
+            if s.iter().any(|v| *v != 0.0) {
+                for a in 0..p {
+                    for b in 0..p {
+                        meat[a * p + b] += s[a] * s[b];
+                    }
+                }
+                *blocks += 1;
+            }
+            s.fill(0.0);
+        };
+        let mut row = |k: usize, rk: f64, d: &[f64], offset: usize| {
+            if next_start < starts.len() && k >= starts[next_start] {
+                while next_start < starts.len() && k >= starts[next_start] {
+                    next_start += 1;
+                }
+                flush(&mut s, &mut meat, &mut blocks);
+                in_block = 0;
+            }
+            for (j, dj) in d.iter().enumerate() {
+                if let Some(slot) = s.get_mut(offset + j) {
+                    *slot += dj * rk;
+                }
+            }
+            in_block += 1;
+            if in_block == block {
+                flush(&mut s, &mut meat, &mut blocks);
+                in_block = 0;
+            }
+        };
+        if p <= 12 {
+            self.one_dual_run(theta, |k, rk, d| row(k, rk, d, 0))?;
+        } else {
+            // Up to 16 columns a run: the rows of every run are needed at once, so the
+            // Jacobian is stored.
+            let n = self.n;
+            let mut jac = vec![0.0; n * p];
+            let mut r = vec![0.0; n];
+            self.residuals(theta, &mut r)?;
+            self.jacobian(theta, &r, &mut jac)?;
+            let mut d = vec![0.0; p];
+            for k in 0..n {
+                for j in 0..p {
+                    d[j] = jac[j * n + k];
+                }
+                row(k, r[k], &d, 0);
+            }
+        }
+        flush(&mut s, &mut meat, &mut blocks);
+        Ok((meat, blocks))
+    }
+}
+
 /// Where the samples of a history land among the residuals: its parts (record, first sample,
 /// length) in sample order, with each part's first residual row (`None`: held out), walked by
 /// one cursor as the history runs.

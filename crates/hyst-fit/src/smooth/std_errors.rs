@@ -1,5 +1,9 @@
-//! The standard errors of a smooth fit's parameters, from the covariance at the optimum:
-//! cov θ = s² (JᵀJ)⁻¹, s² = Σ r² / (n − p); value = f(θ), its standard error |f′(θ)| σ_θ.
+//! The standard errors of a smooth fit's parameters, from the covariance at the optimum: the
+//! larger, parameter by parameter, of the white-noise estimate cov θ = s² (JᵀJ)⁻¹,
+//! s² = Σ r² / (n − p), and the block sandwich (JᵀJ)⁻¹ M (JᵀJ)⁻¹ · G/(G − 1) with M the
+//! score's outer product over G blocks ([`Correlation`](crate::smooth::fit::Correlation)),
+//! which stays valid when the residuals are correlated; value = f(θ), its standard error
+//! |f′(θ)| σ_θ.
 
 use hyst_model::{Estimate, SmoothModel};
 
@@ -9,7 +13,8 @@ use crate::lm::Solution;
 use crate::smooth::limits::{linear_limit_parameters, ParameterLimit};
 
 /// The parameters of `layout` with their values and standard errors at the optimum `best` of a
-/// fit to `n` residuals (`model` is the model at `best.theta`).
+/// fit to `n` residuals (`model` is the model at `best.theta`), with the block sandwich's
+/// middle `meat` (p × p) over its number of blocks when there is one.
 ///
 /// In a parameter limit (the stop form's Dahl limit, the backlash limit) the unidentified
 /// parameter carries no information (its column of J vanishes): the covariance of the others is
@@ -19,6 +24,7 @@ pub(super) fn estimates(
     model: &SmoothModel,
     best: &Solution,
     n: usize,
+    meat: Option<(&[f64], usize)>,
 ) -> Vec<Estimate> {
     let p = layout.len();
     let dof = (n - p).max(1) as f64;
@@ -26,6 +32,26 @@ pub(super) fn estimates(
     let unidentified = unidentified(layout, model, &best.theta);
     let (kept, inv) = covariance(layout, &best.jtj, &unidentified);
     let q = kept.len();
+    // The sandwich's diagonal on the kept parameters (θ units; the residuals are scaled).
+    let sandwich: Option<Vec<f64>> = match (meat, inv.as_ref()) {
+        (Some((m, blocks)), Some(inv)) if blocks > 1 => {
+            let correction = blocks as f64 / (blocks - 1) as f64;
+            Some(
+                (0..q)
+                    .map(|a| {
+                        let mut v = 0.0;
+                        for (x, &i) in kept.iter().enumerate() {
+                            for (y, &j) in kept.iter().enumerate() {
+                                v += inv[a * q + x] * m[i * p + j] * inv[y * q + a];
+                            }
+                        }
+                        correction * v
+                    })
+                    .collect(),
+            )
+        }
+        _ => None,
+    };
     let scale2 = layout.norm.output_half_span.powi(2);
     layout
         .params
@@ -35,7 +61,16 @@ pub(super) fn estimates(
             let value = spec.transform.value(best.theta[j]);
             // NaN (not identifiable) propagates: NaN.max(0.0) would hide it.
             let var = match (kept.iter().position(|&k| k == j), inv.as_ref()) {
-                (Some(a), Some(inv)) => inv[a * q + a] * s2 / scale2,
+                (Some(a), Some(inv)) => {
+                    let white = inv[a * q + a] * s2 / scale2;
+                    let robust = sandwich.as_ref().map_or(0.0, |d| d[a]);
+                    // NaN (not identifiable) stays NaN: NaN.max(x) would hide it.
+                    if white.is_nan() || robust.is_nan() {
+                        f64::NAN
+                    } else {
+                        white.max(robust)
+                    }
+                }
                 _ => f64::NAN,
             };
             let var = if var < 0.0 { 0.0 } else { var };
