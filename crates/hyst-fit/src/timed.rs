@@ -37,6 +37,11 @@ pub const MIN_IMPROVEMENT: f64 = 0.02;
 /// The largest standard error of an identified a_i or of a supported c, relative to its value.
 pub const MAX_RELATIVE_ERROR: f64 = 1.0 / 3.0;
 
+/// An a_i whose time scale a_i^(1/i) is below this fraction of the shortest sample period is at
+/// its limit a_i → 0: the plant's part of that order acts within a hundredth of a sample,
+/// and every smaller a_i gives the same model.
+pub const LIMIT_PERIODS: f64 = 0.01;
+
 /// Whether a structure has dynamics or a rate term.
 #[must_use]
 pub fn is_timed(structure: Structure) -> bool {
@@ -151,6 +156,34 @@ pub struct TimedFindings {
     pub rate: Option<RateFinding>,
     /// The sample periods of the records (s): the smallest and the largest.
     pub periods: (f64, f64),
+    /// Every timed structure the fit contains, fitted on the way, and the fit itself: each
+    /// richer structure's training error is at most that of each structure it contains.
+    #[serde(default)]
+    pub nesting: Vec<Nested>,
+}
+
+/// One structure of a timed fit's nesting ([`TimedFindings::nesting`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Nested {
+    /// "static", "rate", "dynamics 1", "dynamics 1 + rate", …
+    pub structure: String,
+    /// Its free parameters.
+    pub parameters: usize,
+    /// Its training RMS error (% of span).
+    pub rms_pct_span: f64,
+}
+
+impl Nested {
+    /// The name of a timed structure's nesting level.
+    #[must_use]
+    pub fn name(structure: Structure) -> String {
+        match (structure.dynamics, structure.rate.is_some()) {
+            (0, false) => "static".into(),
+            (0, true) => "rate".into(),
+            (n, false) => format!("dynamics {n}"),
+            (n, true) => format!("dynamics {n} + rate"),
+        }
+    }
 }
 
 /// Whether the data supports the rate term asked for.
@@ -229,6 +262,12 @@ impl TimedFindings {
         with_rate: Option<ErrorStats>,
     ) -> Self {
         let n = rms_by_order.len().saturating_sub(1);
+        let shortest = data
+            .records
+            .iter()
+            .filter_map(|r| r.period)
+            .fold(f64::INFINITY, f64::min);
+        let shortest = if shortest.is_finite() { shortest } else { 0.0 };
         let coefficients = (1..=n)
             .map(|i| {
                 let name = dynamics_name(i);
@@ -237,7 +276,17 @@ impl TimedFindings {
                 let (before, after) = (rms_by_order[i - 1], rms_by_order[i]);
                 let better = after <= (1.0 - MIN_IMPROVEMENT) * before;
                 let precise = std_error.is_finite() && std_error <= MAX_RELATIVE_ERROR * value;
-                let reason = if !better {
+                let scale = value.powf(1.0 / i as f64);
+                let at_limit = !(scale >= LIMIT_PERIODS * shortest);
+                let reason = if at_limit {
+                    format!(
+                        "a_{i} = {} is at its limit a_{i} → 0 (its time scale {} s is below {} % \
+                         of the sample period): the order adds nothing the samples can see",
+                        sig(value, 3),
+                        sig(scale, 3),
+                        sig(100.0 * LIMIT_PERIODS, 2)
+                    )
+                } else if !better {
                     format!(
                         "order {i} fits no better than order {} (training RMS {} % against {} % \
                          of span): the records do not excite the plant where a_{i} acts; record at \
@@ -281,6 +330,7 @@ impl TimedFindings {
             coefficients,
             rate,
             periods,
+            nesting: Vec::new(),
         }
     }
 
@@ -349,6 +399,25 @@ impl TimedFindings {
                  plant (and rate term): they do not cover errors in a_i or c"
                     .into(),
             );
+        }
+        if !self.nesting.is_empty() {
+            let rows: Vec<String> = self
+                .nesting
+                .iter()
+                .map(|n| {
+                    format!(
+                        "{} ({} parameters) {} %",
+                        n.structure,
+                        n.parameters,
+                        sig(n.rms_pct_span, 4)
+                    )
+                })
+                .collect();
+            notes.push(format!(
+                "nesting, training RMS error of each structure fitted (% of span; a richer \
+                 structure is started from each it contains and never ends above it): {}",
+                rows.join("; ")
+            ));
         }
         if let Some(r) = &self.rate {
             notes.push(if r.supported {

@@ -257,7 +257,47 @@ fn timed_findings(
         .map(|k| nested(k).map_or(f64::NAN, |(f, _)| f.training.rms_pct_span))
         .collect();
     let with_rate = structure.rate.map(|_| fit.training);
-    let findings = TimedFindings::new(data, rms_by_order, &fit.estimates, with_rate);
+    let mut findings = TimedFindings::new(data, rms_by_order, &fit.estimates, with_rate);
+    let mut nesting: Vec<(Structure, usize, f64)> = contained
+        .iter()
+        .filter(|(s, _, _)| {
+            s.dynamics <= structure.dynamics
+                && (structure.rate.is_some() || s.rate.is_none())
+                && Structure {
+                    dynamics: 0,
+                    rate: None,
+                    ..*s
+                } == Structure {
+                    dynamics: 0,
+                    rate: None,
+                    ..structure
+                }
+        })
+        .map(|(s, f, _)| {
+            // A rate term the data did not support came back left out: its own fit's error.
+            match (
+                &f.timed,
+                f.layout.structure.rate.is_none() && s.rate.is_some(),
+            ) {
+                (Some(t), true) => (
+                    *s,
+                    f.layout.len() + 1,
+                    t.rate.as_ref().map_or(f64::NAN, |r| r.rms_with),
+                ),
+                _ => (*s, f.layout.len(), f.training.rms_pct_span),
+            }
+        })
+        .collect();
+    nesting.push((structure, fit.layout.len(), fit.training.rms_pct_span));
+    nesting.sort_by_key(|(s, _, _)| (s.dynamics, s.rate.is_some()));
+    findings.nesting = nesting
+        .into_iter()
+        .map(|(s, parameters, rms_pct_span)| crate::timed::Nested {
+            structure: crate::timed::Nested::name(s),
+            parameters,
+            rms_pct_span,
+        })
+        .collect();
     let unsupported = findings.rate.as_ref().is_some_and(|r| !r.supported);
     if unsupported {
         if let Some((mut without, c)) = nested(structure.dynamics) {
