@@ -153,69 +153,13 @@ pub fn identify(
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
     let timed = crate::timed::is_timed(request.structure);
     let mut notes = Vec::new();
-    // A timed record's start (the memory, the plant's state) is not known: discounted until
-    // the input has swept its range, unless estimated or trusted; then, once a first fit gives
-    // the plant and the operator, until they have forgotten it (or estimated where they never
-    // do: `crate::settling`).
-    let settle = timed && !request.options.estimate_starts && !request.options.fit_from_start;
-    let mut settled = None;
-    let mut settling_note = None;
-    if settle {
-        let (d, note) = crate::settling::settle(data);
-        settling_note = note;
-        settled = Some(d);
-    }
-    let found = loops(settled.as_ref().unwrap_or(data));
-    // A timed fit's pre-check looks at what the hysteresis sees, the plant's output v, once
-    // the plant is fitted (below): a slow plant's lag folds the command's loops.
-    let not_monotone = if timed {
-        false
-    } else {
-        check_monotone(data, request, found.orientation, &mut notes)?
-    };
-    let want_pi = pi_wanted(data, request, found.gap, &mut notes)?;
-    let structure = structure(data, request, found.orientation, &mut notes);
-    // The smooth fit's own notes (its form), replaced when the fit is made again.
-    let mut form_notes = Vec::new();
-    let mut smooth = if want_smooth {
-        Some(fit_smooth_form(
-            settled.as_ref().unwrap_or(data),
-            request,
-            structure,
-            observer,
-            &mut form_notes,
-        )?)
-    } else {
-        None
-    };
-    if let (true, Some(first)) = (settle, &smooth) {
-        let (again, note) = crate::settling::resettle(data, &first.model);
-        // Made again only where the fitted model needs a longer discount than the command's
-        // sweep gave (by 2 % of a record): a slow plant, a wide loop.
-        let before = settled
-            .as_ref()
-            .map(crate::settling::discounted)
-            .unwrap_or_default();
-        let longer = crate::settling::discounted(&again)
-            .iter()
-            .zip(&again.records)
-            .zip(before.iter().chain(std::iter::repeat(&0)))
-            .any(|((now, r), was)| *now > *was + r.len() / 50);
-        if longer {
-            form_notes.clear();
-            smooth = Some(fit_smooth_form(
-                &again,
-                request,
-                structure,
-                observer,
-                &mut form_notes,
-            )?);
-        }
-        settling_note = note;
-        settled = Some(again);
-    }
-    notes.extend(form_notes);
-    notes.splice(0..0, settling_note);
+    let Settled {
+        smooth,
+        data: settled,
+        not_monotone,
+        want_pi,
+        found,
+    } = fit_smooth_settled(data, request, want_smooth, observer, &mut notes)?;
     let data = settled.as_ref().unwrap_or(data);
     if interrupted() {
         return Err(FitError::Interrupted);
@@ -327,6 +271,97 @@ fn fit_smooth_form(
         return Ok(alternative);
     }
     Ok(fit)
+}
+
+/// What [`fit_smooth_settled`] gives: the smooth fit (when wanted), the data it was fitted on
+/// when its records' starts were discounted, whether the pre-check found the output not
+/// monotone, whether to fit the Prandtl–Ishlinskii model, and the data's loops.
+struct Settled {
+    smooth: Option<SmoothFit>,
+    data: Option<Dataset>,
+    not_monotone: bool,
+    want_pi: bool,
+    found: crate::orientation::Loops,
+}
+
+/// The pre-checks and the smooth fit of [`identify`]. A timed record's start (the memory, the
+/// plant's state) is not known: it is discounted until the input has swept its range, unless
+/// estimated or trusted; then, once a first fit gives the plant and the operator, until they
+/// have forgotten it (`crate::settling`), and the fit is made again where that takes longer.
+fn fit_smooth_settled(
+    data: &Dataset,
+    request: &Request,
+    want_smooth: bool,
+    observer: &mut dyn Observer,
+    notes: &mut Vec<String>,
+) -> Result<Settled, FitError> {
+    let timed = crate::timed::is_timed(request.structure);
+    let settle = timed && !request.options.estimate_starts && !request.options.fit_from_start;
+    let mut settled = None;
+    let mut settling_note = None;
+    if settle {
+        let (d, note) = crate::settling::settle(data);
+        settling_note = note;
+        settled = Some(d);
+    }
+    let found = loops(settled.as_ref().unwrap_or(data));
+    // A timed fit's pre-check looks at what the hysteresis sees, the plant's output v, once
+    // the plant is fitted ([`identify`]): a slow plant's lag folds the command's loops.
+    let not_monotone = if timed {
+        false
+    } else {
+        check_monotone(data, request, found.orientation, notes)?
+    };
+    let want_pi = pi_wanted(data, request, found.gap, notes)?;
+    let structure = structure(data, request, found.orientation, notes);
+    // The smooth fit's own notes (its form), replaced when the fit is made again.
+    let mut form_notes = Vec::new();
+    let mut smooth = if want_smooth {
+        Some(fit_smooth_form(
+            settled.as_ref().unwrap_or(data),
+            request,
+            structure,
+            observer,
+            &mut form_notes,
+        )?)
+    } else {
+        None
+    };
+    if let (true, Some(first)) = (settle, &smooth) {
+        let (again, note) = crate::settling::resettle(data, &first.model);
+        // Made again only where the fitted model needs a longer discount than the command's
+        // sweep gave (by 2 % of a record): a slow plant, a wide loop.
+        let before = settled
+            .as_ref()
+            .map(crate::settling::discounted)
+            .unwrap_or_default();
+        let longer = crate::settling::discounted(&again)
+            .iter()
+            .zip(&again.records)
+            .zip(before.iter().chain(std::iter::repeat(&0)))
+            .any(|((now, r), was)| *now > *was + r.len() / 50);
+        if longer {
+            form_notes.clear();
+            smooth = Some(fit_smooth_form(
+                &again,
+                request,
+                structure,
+                observer,
+                &mut form_notes,
+            )?);
+        }
+        settling_note = note;
+        settled = Some(again);
+    }
+    notes.extend(form_notes);
+    notes.splice(0..0, settling_note);
+    Ok(Settled {
+        smooth,
+        data: settled,
+        not_monotone,
+        want_pi,
+        found,
+    })
 }
 
 /// The error of a requested model kind that was not fitted (which [`identify`] never lets

@@ -41,7 +41,7 @@ pub fn settling_samples(input: &[f64]) -> Option<usize> {
             (lo.min(x), hi.max(x))
         });
     let reach = SWEEP_REACH * (hi - lo);
-    if !(reach > 0.0) {
+    if reach.is_nan() || reach <= 0.0 {
         return None;
     }
     let low = input.iter().position(|&x| x <= lo + reach)?;
@@ -113,16 +113,17 @@ pub fn settle(data: &Dataset) -> (Dataset, Option<String>) {
 }
 
 /// The travel past a reversal, in units of 1/k2 beyond the loop's width 2 k1, after which the
-/// operator's branch has come within e⁻⁷ ≈ 10⁻³ of its asymptote: its memory is forgotten.
-pub const FORGETTING_TRAVEL: f64 = 7.0;
+/// operator's branch has come within e⁻¹² ≈ 6·10⁻⁶ of its asymptote: its memory is forgotten
+/// (with e⁻⁷, a rate-term truth that starts mid-history came out with k2 2.6 % off).
+pub const FORGETTING_TRAVEL: f64 = 12.0;
 
 /// The plant's settling: from rest to within this fraction of a step's final value.
 pub const PLANT_SETTLED: f64 = 1e-3;
 
 /// How a timed fit's records start, after a first fit: `data` (its original weights) with each
 /// history's start discounted until the fitted `model`'s operator has forgotten its memory
-/// (its input ψ_in(v) swept its range, a range wider than the loop plus
-/// [`FORGETTING_TRAVEL`]/k2) and the plant has settled from rest (within [`PLANT_SETTLED`]);
+/// (its input ψ_in(v) moved one way by more than the loop's width plus
+/// [`FORGETTING_TRAVEL`]/k2: [`forgotten_at`]) and the plant has settled from rest (within [`PLANT_SETTLED`]);
 /// the report's note (which names the records whose memory is never forgotten: their start
 /// shapes the fit unless it is estimated).
 #[must_use]
@@ -141,8 +142,7 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>
         if ran.is_err() || w.len() != h.input.len() {
             continue;
         }
-        let forgets = forgetting_range(model, &w);
-        let sweep = if forgets { settling_samples(&w) } else { None };
+        let sweep = forgotten_at(&w, forgetting_width(model, &w));
         if sweep.is_none() {
             remembers.push(id);
         }
@@ -186,8 +186,8 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>
     if !remembers.is_empty() {
         note.push_str(&format!(
             "; the fitted operator never forgets its memory at the start of record(s) {} (its \
-             input stays within the loop, or does not sweep its range in the record's first \
-             half): their start shapes the fit (--estimate-initial-states estimates it)",
+             input never moves one way across the loop and past its corners): their start \
+             shapes the fit (--estimate-initial-states estimates it)",
             list(&remembers)
         ));
     }
@@ -201,10 +201,9 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>
     (settled, Some(note))
 }
 
-/// Whether the operator inputs `w` of a history span more than the loop's width 2 k1 plus
-/// [`FORGETTING_TRAVEL`]/k2 (k2 the law's smallest at the range's ends and centre), so that a
-/// sweep across them forgets the memory.
-fn forgetting_range(model: &SmoothModel, w: &[f64]) -> bool {
+/// The travel after which the operator forgets its memory, whatever it was: the loop's width
+/// 2 k1 plus [`FORGETTING_TRAVEL`]/k2 (k2 the law's smallest at the inputs' ends and centre).
+fn forgetting_width(model: &SmoothModel, w: &[f64]) -> f64 {
     let (lo, hi) = w
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
@@ -214,8 +213,34 @@ fn forgetting_range(model: &SmoothModel, w: &[f64]) -> bool {
         .into_iter()
         .map(|x| model.k2.k2(x))
         .fold(f64::INFINITY, f64::min);
-    let width = 2.0 * model.k1 + FORGETTING_TRAVEL / k2;
-    hi - lo > width
+    2.0 * model.k1 + FORGETTING_TRAVEL / k2
+}
+
+/// The first sample of the operator inputs `w` by which they have moved one way, without a
+/// reversal, by more than `width` (from anywhere in the band the branch has then reached its
+/// asymptote: the memory is forgotten); `None` when they never do.
+#[must_use]
+pub fn forgotten_at(w: &[f64], width: f64) -> Option<usize> {
+    if !(width.is_finite() && width > 0.0) {
+        return None;
+    }
+    let first = *w.first()?;
+    // The run's start (the last reversal) and its direction (0 until the input moves).
+    let (mut from, mut last, mut direction) = (first, first, 0.0_f64);
+    for (i, &x) in w.iter().enumerate().skip(1) {
+        let step = x - last;
+        if step != 0.0 {
+            if direction != 0.0 && step.signum() != direction {
+                from = last;
+            }
+            direction = step.signum();
+        }
+        last = x;
+        if (x - from).abs() > width {
+            return Some(i);
+        }
+    }
+    None
 }
 
 /// The samples the fitted plant of `model` takes, at sample period `period`, from rest to
@@ -237,6 +262,15 @@ fn plant_settling(model: &SmoothModel, period: f64, limit: usize) -> usize {
         }
     }
     last_out
+}
+
+/// The samples of weight 0 at the start of each record of `data` (a discounted start).
+#[must_use]
+pub fn discounted(data: &Dataset) -> Vec<usize> {
+    data.records
+        .iter()
+        .map(|r| r.weight.iter().take_while(|w| *w == 0.0).count())
+        .collect()
 }
 
 #[cfg(test)]
@@ -263,6 +297,16 @@ mod tests {
     }
 
     #[test]
+    fn memory_is_forgotten_after_a_run_across_the_loop() {
+        // Up by 0.5, down by 1.2 (a run of 1.2 from the reversal at 0.5): past 1.05 at −0.6, sample 16.
+        let mut w: Vec<f64> = (0..=5).map(|i| 0.1 * f64::from(i)).collect();
+        w.extend((1..=12).map(|i| 0.5 - 0.1 * f64::from(i)));
+        assert_eq!(forgotten_at(&w, 1.05), Some(16));
+        assert_eq!(forgotten_at(&w, 2.0), None);
+        assert_eq!(forgotten_at(&[], 1.0), None);
+    }
+
+    #[test]
     fn settled_data_weighs_nothing_before_the_sweep() {
         let x: Vec<f64> = (0..100)
             .map(|i| (std::f64::consts::TAU * i as f64 / 40.0).sin())
@@ -275,13 +319,4 @@ mod tests {
         assert!(w[end..].iter().all(|&w| w == 1.0));
         assert!(note.unwrap().contains("do not count"));
     }
-}
-
-/// The samples of weight 0 at the start of each record of `data` (a discounted start).
-#[must_use]
-pub fn discounted(data: &Dataset) -> Vec<usize> {
-    data.records
-        .iter()
-        .map(|r| r.weight.iter().take_while(|w| *w == 0.0).count())
-        .collect()
 }

@@ -277,7 +277,7 @@ impl TimedFindings {
                 let better = after <= (1.0 - MIN_IMPROVEMENT) * before;
                 let precise = std_error.is_finite() && std_error <= MAX_RELATIVE_ERROR * value;
                 let scale = value.powf(1.0 / i as f64);
-                let at_limit = !(scale >= LIMIT_PERIODS * shortest);
+                let at_limit = scale.is_nan() || scale < LIMIT_PERIODS * shortest;
                 let reason = if at_limit {
                     format!(
                         "a_{i} = {} is at its limit a_{i} → 0 (its time scale {} s is below {} % \

@@ -86,6 +86,9 @@ impl Observer for Signals {
 /// hysteresis, a_N v⁽ᴺ⁾ + … + a_1 v̇ + v = x, jointly with the hysteresis; `rate_term`
 /// ("viscous") adds c·v̇ to the output. Both need `t`, the samples' time stamps in seconds
 /// (one per sample, increasing evenly within each record); `t` is refused without them.
+/// Each record's start is discounted until the fitted operator has forgotten its memory and
+/// the plant has settled (`fit_from_start=True` counts every sample, trusting
+/// `initial_state`; `estimate_initial_states=True` estimates each record's memory).
 ///
 /// Raises ValueError with the CLI's words for bad options or data (a bad time stamp is named
 /// as `t[i]`); Ctrl-C stops the fit with KeyboardInterrupt. The GIL is released while it runs.
@@ -98,7 +101,7 @@ impl Observer for Signals {
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
     initial_state = "auto", estimate_initial_states = false, form = "auto",
     keep_degenerate = false, input_name = "x", output_name = "y", input_unit = "",
-    output_unit = "", t = None, dynamics = None, rate_term = None
+    output_unit = "", t = None, dynamics = None, rate_term = None, fit_from_start = false
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
@@ -133,12 +136,19 @@ pub fn fit(
     t: Option<&Bound<'_, PyAny>>,
     dynamics: Option<i64>,
     rate_term: Option<&str>,
+    fit_from_start: bool,
 ) -> PyResult<FitResult> {
     if starts == 0 {
         return Err(value_error("starts = 0: expected at least 1 start"));
     }
     let t = t.filter(|t| !t.is_none());
-    let timed = timed(dynamics, rate_term, t.is_some(), estimate_initial_states)?;
+    let timed = timed(dynamics, rate_term, t.is_some())?;
+    if fit_from_start && estimate_initial_states {
+        return Err(value_error(
+            "fit_from_start=True and estimate_initial_states=True: a record's start is either \
+             trusted or estimated, give one",
+        ));
+    }
     let options = Options {
         output_shaping,
         input_shaping,
@@ -156,6 +166,7 @@ pub fn fit(
         output_offset,
         initial_state,
         estimate_initial_states,
+        fit_from_start,
         form,
         keep_degenerate,
         input_name,
@@ -189,12 +200,11 @@ pub fn fit(
 
 /// The plant order and rate term of a fit with dynamics or a rate term (`None` for a static
 /// fit), checked: an order of 1 to 4 (as `hyst fit --dynamics`), a rate term by its CLI name,
-/// `t` given exactly when one of them is, and no estimated starts beside them.
+/// and `t` given exactly when one of them is.
 fn timed(
     dynamics: Option<i64>,
     rate_term: Option<&str>,
     has_time: bool,
-    estimate_initial_states: bool,
 ) -> PyResult<Option<(u8, Option<RateTerm>)>> {
     let order = match dynamics {
         None => 0,
@@ -223,12 +233,6 @@ fn timed(
         return Err(value_error(
             "t: a fit with dynamics or rate_term needs the samples' time stamps t (s), one per \
              sample of x",
-        ));
-    }
-    if estimate_initial_states {
-        return Err(value_error(
-            "estimate_initial_states=True cannot be combined with dynamics or rate_term: a \
-             record of a model with dynamics starts at rest at its first sample",
         ));
     }
     Ok(Some((order, rate)))
@@ -272,6 +276,7 @@ struct Options<'a> {
     output_offset: bool,
     initial_state: &'a str,
     estimate_initial_states: bool,
+    fit_from_start: bool,
     form: &'a str,
     keep_degenerate: bool,
     input_name: &'a str,
@@ -308,6 +313,7 @@ impl Options<'_> {
                 starts: self.starts,
                 coverage: self.coverage,
                 estimate_starts: self.estimate_initial_states,
+                fit_from_start: self.fit_from_start,
                 ..FitOptions::default()
             },
             plays: self.plays,

@@ -179,8 +179,8 @@ def test_fit_errors_name_the_option_and_the_sample(record):
         hyst.fit(x, y, t=t, rate_term="coulomb")
     with pytest.raises(ValueError, match="t has 3999 samples but x has 4000"):
         hyst.fit(x, y, t=t[:-1], dynamics=1)
-    with pytest.raises(ValueError, match="estimate_initial_states=True cannot be combined"):
-        hyst.fit(x, y, t=t, dynamics=1, estimate_initial_states=True)
+    with pytest.raises(ValueError, match="fit_from_start=True and estimate_initial_states=True"):
+        hyst.fit(x, y, t=t, dynamics=1, estimate_initial_states=True, fit_from_start=True)
     repeated = t.copy()
     repeated[100] = repeated[99]
     with pytest.raises(ValueError, match=r"^t\[100\] = 0\.099: time stamp 0\.099 repeats the one before"):

@@ -118,14 +118,7 @@ fn fit_smooth_with(
         },
     )?;
     let model = layout.model(&best.theta, problem.input_range)?;
-    let (correlation, meat) = correlation(&problem, &best)?;
-    let estimates = estimates(
-        &layout,
-        &model,
-        &best,
-        data.training_samples(),
-        meat.as_ref().map(|m| (m.as_slice(), correlation.blocks)),
-    );
+    let (estimates, correlation) = estimates_at(&problem, &model, &best)?;
 
     let starts = problem.bands(&model);
     // The model's outputs are replayed, not held: 8 bytes a sample beside the data.
@@ -174,6 +167,24 @@ fn fit_smooth_with(
         return Ok((fit, cost));
     }
     Ok((fit, cost))
+}
+
+/// The parameters with their standard errors at the optimum `best` (`model` the model there),
+/// and how those allow for correlated residuals.
+fn estimates_at(
+    problem: &SmoothProblem<'_>,
+    model: &SmoothModel,
+    best: &Solution,
+) -> Result<(Vec<hyst_model::Estimate>, Correlation), FitError> {
+    let (correlation, meat) = correlation(problem, best)?;
+    let estimates = estimates(
+        problem.layout,
+        model,
+        best,
+        problem.data.training_samples(),
+        meat.as_ref().map(|m| (m.as_slice(), correlation.blocks)),
+    );
+    Ok((estimates, correlation))
 }
 
 /// The residuals' correlation at the optimum `best` and the middle of the block sandwich

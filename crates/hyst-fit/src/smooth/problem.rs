@@ -217,6 +217,30 @@ impl SmoothProblem<'_> {
     }
 }
 
+impl SmoothProblem<'_> {
+    /// The rate term's column v̇ = (v_k − v_{k−1}) / h per residual (0 at a history's first
+    /// sample), v the hysteresis input of `m` (the plant's output): the rate term's c is
+    /// linear in the output, so a start can take it from least squares. `None` when `m`
+    /// cannot run a record.
+    pub(super) fn rate_column(&self, m: &SmoothModel) -> Option<Vec<f64>> {
+        let mut out = vec![0.0; self.n];
+        for (h, offsets) in &self.histories {
+            let inverse = 1.0 / h.period?;
+            let mut rows = ResidualRows::new(&h.parts, offsets);
+            let mut previous: Option<f64> = None;
+            m.run_timed(&h.input, h.period, None, |i, s| {
+                let rate = previous.map_or(0.0, |p| (s.v - p) * inverse);
+                previous = Some(s.v);
+                if let Some(slot) = rows.row(i).and_then(|k| out.get_mut(k)) {
+                    *slot = rate;
+                }
+            })
+            .ok()?;
+        }
+        Some(out)
+    }
+}
+
 impl Problem for SmoothProblem<'_> {
     fn parameters(&self) -> usize {
         self.layout.len()
@@ -435,7 +459,7 @@ impl SmoothProblem<'_> {
         let n = r.len().min(CORRELATION_SAMPLES);
         let r = &r[..n];
         let var: f64 = r.iter().map(|v| v * v).sum::<f64>() / n.max(1) as f64;
-        if !(var > 0.0) {
+        if var.is_nan() || var <= 0.0 {
             return 1.0;
         }
         let mut starts = self.history_starts();

@@ -77,20 +77,26 @@ fn linear_output_start(
         .index("out.offset")
         .or_else(|| layout.index("out.level_at_centre"));
     let li = layout.index("out.linear");
+    let ci = layout.index(crate::layout::RATE_C);
     theta[gi] = 0.0; // gain 1
-    for k in [oi, li].into_iter().flatten() {
+    for k in [oi, li, ci].into_iter().flatten() {
         theta[k] = 0.0;
     }
     let m = problem.model(&theta).ok()?;
     let (mut s, mut z) = (vec![0.0; problem.n], vec![0.0; problem.n]);
     problem.simulate(&m, &mut s, Some(&mut z)).ok()?;
-    // Columns: the shaped output (gain 1), then v = ψ_in(in) for the linear term, then 1.
-    let p = 1 + usize::from(li.is_some()) + usize::from(oi.is_some());
+    let rate = match ci {
+        Some(_) => Some(problem.rate_column(&m)?),
+        None => None,
+    };
+    // Columns: the shaped output (gain 1), then v = ψ_in(in) for the linear term, then 1,
+    // then the rate term's v̇.
+    let p = 1 + usize::from(li.is_some()) + usize::from(oi.is_some()) + usize::from(ci.is_some());
     let (mut a, mut b) = (vec![0.0; p * p], vec![0.0; p]);
     let mut i = 0;
     for rec in problem.data.training() {
         for ((x, obs), w) in rec.input.iter().zip(&rec.output).zip(&rec.weight) {
-            let mut row = [s[i], 0.0, 0.0];
+            let mut row = [s[i], 0.0, 0.0, 0.0];
             let mut k = 1;
             if li.is_some() {
                 row[k] = m.input_shaping.apply(*x);
@@ -98,6 +104,10 @@ fn linear_output_start(
             }
             if oi.is_some() {
                 row[k] = 1.0;
+                k += 1;
+            }
+            if let Some(r) = &rate {
+                row[k] = r[i];
             }
             for r in 0..p {
                 b[r] += w * row[r] * obs;
@@ -116,7 +126,7 @@ fn linear_output_start(
         1e-3 * layout.norm.output_half_span
     };
     theta[gi] = gain.ln();
-    for (k, index) in (1..).zip([li, oi].into_iter().flatten()) {
+    for (k, index) in (1..).zip([li, oi, ci].into_iter().flatten()) {
         theta[index] = if coef[k].is_finite() { coef[k] } else { 0.0 };
     }
     Some((theta, z))

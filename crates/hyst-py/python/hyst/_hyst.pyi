@@ -269,10 +269,11 @@ def fit(
     t: Optional[ArrayLike] = None,
     dynamics: Optional[int] = None,
     rate_term: Optional[Literal["viscous"]] = None,
+    fit_from_start: bool = False,
 ) -> FitResult:
     """Identifies a model from its input ``x`` and the measured output ``y`` as ``hyst fit``
     does; ``dynamics`` (1 to 4) and ``rate_term`` (``hyst fit --dynamics``, ``--rate-term``)
-    need the time stamps ``t`` (s)."""
+    need the time stamps ``t`` (s); ``fit_from_start`` is ``--fit-from-start``."""
 
 class Family:
     """The family RH(k1, dk1, k2, dk2) (Definition 2.8) and its bound delta_a (Prop. 3.2)."""
