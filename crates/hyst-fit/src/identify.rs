@@ -22,7 +22,7 @@ use crate::report::{Findings, Report, Summary};
 use crate::smooth::driver::fit_smooth;
 use crate::smooth::fit::{FitOptions, SmoothFit};
 use crate::smooth::limits::ParameterLimit;
-use crate::timed::static_view;
+use crate::timed::{static_view, OrderTried, MAX_AUTO_ORDER, MIN_IMPROVEMENT};
 
 /// The branch gap (fraction of the output span) above which the data's loops are clockwise
 /// beyond doubt, and a Prandtl–Ishlinskii fit (counterclockwise only) is refused.
@@ -151,7 +151,7 @@ pub fn identify(
         ));
     }
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
-    let timed = crate::timed::is_timed(request.structure);
+    let timed = crate::timed::is_timed(request.structure) || request.options.auto_dynamics;
     let mut notes = Vec::new();
     let Settled {
         smooth,
@@ -159,13 +159,17 @@ pub fn identify(
         not_monotone,
         want_pi,
         found,
-    } = fit_smooth_settled(data, request, want_smooth, observer, &mut notes)?;
+    } = if request.options.auto_dynamics && want_smooth {
+        fit_auto_order(data, request, observer, &mut notes)?
+    } else {
+        fit_smooth_settled(data, request, want_smooth, observer, &mut notes)?
+    };
     let data = settled.as_ref().unwrap_or(data);
     if interrupted() {
         return Err(FitError::Interrupted);
     }
     let not_monotone = match (&smooth, timed) {
-        (Some(f), true) => {
+        (Some(f), true) if f.model.is_timed() => {
             let (view, _) = static_view(data, &f.model)?;
             let orientation = loops(&view).orientation;
             check_monotone(&view, request, orientation, &mut notes)?
@@ -271,6 +275,69 @@ fn fit_smooth_form(
         return Ok(alternative);
     }
     Ok(fit)
+}
+
+/// `--dynamics auto`: [`fit_smooth_settled`] for the plant orders 0, 1, … up to
+/// [`MAX_AUTO_ORDER`] (with the request's rate term), stopping once an order lowers neither
+/// the training error by [`MIN_IMPROVEMENT`] nor the validation error; the order the
+/// validation records prefer, or else the lowest information criterion
+/// ([`OrderTried::choose`]), is kept, and its notes and the table of the orders tried are the
+/// report's.
+fn fit_auto_order(
+    data: &Dataset,
+    request: &Request,
+    observer: &mut dyn Observer,
+    notes: &mut Vec<String>,
+) -> Result<Settled, FitError> {
+    let mut tried: Vec<OrderTried> = Vec::new();
+    let mut fits: Vec<(Settled, Vec<String>)> = Vec::new();
+    for order in 0..=MAX_AUTO_ORDER {
+        let request = Request {
+            structure: Structure {
+                dynamics: order,
+                ..request.structure
+            },
+            options: FitOptions {
+                auto_dynamics: false,
+                ..request.options
+            },
+            ..request.clone()
+        };
+        let mut own = Vec::new();
+        let settled = fit_smooth_settled(data, &request, true, observer, &mut own)?;
+        let Some(f) = settled.smooth.as_ref() else {
+            break;
+        };
+        let n = f.training.samples.max(1) as f64;
+        let effective = (n / f.correlation.time.max(1.0)).max(1.0);
+        let p = f.layout.len() as f64;
+        let this = OrderTried {
+            order,
+            parameters: f.layout.len(),
+            training: f.training.rms_pct_span,
+            validation: f.validation.map(|v| v.rms_pct_span),
+            criterion: effective * (f.training.rms_pct_span.powi(2)).ln() + p * effective.ln(),
+        };
+        let better = tried.last().is_none_or(|last| {
+            this.training <= (1.0 - MIN_IMPROVEMENT) * last.training
+                || matches!((this.validation, last.validation), (Some(v), Some(w)) if v < w)
+        });
+        tried.push(this);
+        fits.push((settled, own));
+        if !better {
+            break;
+        }
+    }
+    let kept = OrderTried::choose(&tried).unwrap_or(0);
+    let by_validation = tried.iter().any(|t| t.validation.is_some());
+    let at = tried.iter().position(|t| t.order == kept).unwrap_or(0);
+    let note = OrderTried::note(&tried, kept, by_validation);
+    let Some((settled, own)) = fits.into_iter().nth(at) else {
+        return Err(not_fitted());
+    };
+    notes.extend(own);
+    notes.push(note);
+    Ok(settled)
 }
 
 /// What [`fit_smooth_settled`] gives: the smooth fit (when wanted), the data it was fitted on

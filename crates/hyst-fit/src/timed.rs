@@ -37,6 +37,77 @@ pub const MIN_IMPROVEMENT: f64 = 0.02;
 /// The largest standard error of an identified a_i or of a supported c, relative to its value.
 pub const MAX_RELATIVE_ERROR: f64 = 1.0 / 3.0;
 
+/// The highest plant order `--dynamics auto` tries.
+pub const MAX_AUTO_ORDER: u8 = 4;
+
+/// One plant order tried by `--dynamics auto` ([`crate::identify`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OrderTried {
+    /// The order.
+    pub order: u8,
+    /// Free parameters.
+    pub parameters: usize,
+    /// Training RMS error (% of span).
+    pub training: f64,
+    /// Validation RMS error (% of span), with validation records.
+    pub validation: Option<f64>,
+    /// The information criterion n_e ln(RSS / n) + p ln n_e, n_e = n / (the residuals'
+    /// correlation time): Schwarz's BIC over the residuals' independent samples.
+    pub criterion: f64,
+}
+
+impl OrderTried {
+    /// The order the validation records prefer (the lowest within 1 % of the best validation
+    /// error), or else the one of the lowest criterion; `None` for no order.
+    #[must_use]
+    pub fn choose(tried: &[OrderTried]) -> Option<u8> {
+        let best_valid = tried
+            .iter()
+            .filter_map(|t| t.validation)
+            .fold(f64::INFINITY, f64::min);
+        if best_valid.is_finite() {
+            return tried
+                .iter()
+                .find(|t| t.validation.is_some_and(|v| v <= 1.01 * best_valid))
+                .map(|t| t.order);
+        }
+        tried
+            .iter()
+            .filter(|t| t.criterion.is_finite())
+            .min_by(|a, b| a.criterion.total_cmp(&b.criterion))
+            .map(|t| t.order)
+    }
+
+    /// The report's table of the orders tried and the one kept.
+    #[must_use]
+    pub fn note(tried: &[OrderTried], kept: u8, by_validation: bool) -> String {
+        let rows: Vec<String> = tried
+            .iter()
+            .map(|t| {
+                format!(
+                    "order {} ({} parameters): training {} %{}, criterion {}",
+                    t.order,
+                    t.parameters,
+                    sig(t.training, 3),
+                    t.validation
+                        .map_or(String::new(), |v| format!(", validation {} %", sig(v, 3))),
+                    sig(t.criterion, 5)
+                )
+            })
+            .collect();
+        format!(
+            "--dynamics auto kept order {kept}, {}: {}",
+            if by_validation {
+                "the validation records' lowest error (the lowest order within 1 % of it)"
+            } else {
+                "the lowest information criterion n_e ln(RSS/n) + p ln n_e over the residuals' \
+                 independent samples n_e"
+            },
+            rows.join("; ")
+        )
+    }
+}
+
 /// An a_i whose time scale a_i^(1/i) is below this fraction of the shortest sample period is at
 /// its limit a_i → 0: the plant's part of that order acts within a hundredth of a sample,
 /// and every smaller a_i gives the same model.

@@ -139,9 +139,11 @@ pub struct Args {
     pub time: Option<String>,
     /// Identify Lemma 5.1's plant of order N (1 to 4) between the input (the command) and the
     /// hysteresis: a_N v⁽ᴺ⁾ + … + a_1 v̇ + v = u, jointly with the hysteresis and shapings, from
-    /// the records' time stamps.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=4))]
-    pub dynamics: Option<u8>,
+    /// the records' time stamps. `auto` fits orders 0 to 4 in turn and keeps the one the
+    /// validation records (--validate) prefer, or else an information criterion; the report
+    /// prints the table.
+    #[arg(long, value_name = "N|auto", value_parser = dynamics_order)]
+    pub dynamics: Option<DynamicsOrder>,
     /// Add a rate term to the output: `viscous` is c·v̇, a force proportional to the rate of
     /// the hysteresis input (friction, dampers). The report says whether the data supports it.
     #[arg(long, value_enum, value_name = "TERM")]
@@ -149,6 +151,29 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+/// The plant order `--dynamics` asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DynamicsOrder {
+    /// Orders 0 to 4, the best kept.
+    Auto,
+    /// This order (1 to 4).
+    Order(u8),
+}
+
+/// `--dynamics N|auto`, with a message that says what it takes.
+fn dynamics_order(s: &str) -> Result<DynamicsOrder, String> {
+    match s.trim() {
+        "auto" => Ok(DynamicsOrder::Auto),
+        n => match n.parse::<u8>() {
+            Ok(n @ 1..=4) => Ok(DynamicsOrder::Order(n)),
+            _ => Err(format!(
+                "--dynamics takes the plant order 1 to 4, or auto (orders 0 to 4, the best \
+                 kept); got {s:?}"
+            )),
+        },
+    }
 }
 
 /// One id of `--validate`: an integer, with a message that says what the option takes (clap's
@@ -258,7 +283,10 @@ fn request(args: &Args) -> Request {
         output_offset: !args.no_output_offset,
         initial_state: InitialState::Rising,
         form: hyst_model::Form::Operator,
-        dynamics: args.dynamics.unwrap_or(0),
+        dynamics: match args.dynamics {
+            Some(DynamicsOrder::Order(n)) => n,
+            None | Some(DynamicsOrder::Auto) => 0,
+        },
         rate: args.rate_term,
     };
     let fit_options = FitOptions {
@@ -266,6 +294,7 @@ fn request(args: &Args) -> Request {
         coverage: args.coverage,
         estimate_starts: args.estimate_initial_states,
         fit_from_start: args.fit_from_start,
+        auto_dynamics: args.dynamics == Some(DynamicsOrder::Auto),
         ..FitOptions::default()
     };
     Request {

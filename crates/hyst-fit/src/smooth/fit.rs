@@ -30,6 +30,11 @@ pub struct FitOptions {
     /// trusting the start rule (and the plant at rest there); by default each record's start
     /// is discounted until its input has swept its range ([`crate::settling`]).
     pub fit_from_start: bool,
+    /// Pick the plant order (`--dynamics auto`): [`crate::identify`] fits orders 0, 1, … up to
+    /// [`crate::timed::MAX_AUTO_ORDER`] (with the structure's rate term) and keeps the one the
+    /// validation records, or else an information criterion, prefer; the structure's own
+    /// `dynamics` is then ignored.
+    pub auto_dynamics: bool,
 }
 
 impl Default for FitOptions {
@@ -41,6 +46,7 @@ impl Default for FitOptions {
             widths: true,
             estimate_starts: false,
             fit_from_start: false,
+            auto_dynamics: false,
         }
     }
 }
