@@ -152,7 +152,7 @@ pub fn identify(
     }
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
     let found = loops(data);
-    let mut notes = Vec::new();
+    let mut notes = data.notes.clone();
     let not_monotone = check_monotone(data, request, found.orientation, &mut notes)?;
     let want_pi = pi_wanted(data, request, found.gap, &mut notes)?;
     let structure = structure(data, request, found.orientation, &mut notes);
@@ -440,6 +440,13 @@ fn smooth_notes(f: &SmoothFit, limit: Option<ParameterLimit>, notes: &mut Vec<St
     if let Some(t) = &f.timed {
         notes.extend(t.notes());
     }
+    if let Some(d) = f.model.dynamics {
+        notes.push(format!(
+            "hold: {} (--hold {})",
+            d.hold().describe(),
+            d.hold().name()
+        ));
+    }
     if let Some(starts) = f.starts.as_ref().filter(|s| !s.is_empty()) {
         let (lo, hi) = starts
             .iter()
@@ -488,7 +495,7 @@ fn smooth_summary(data: &Dataset, f: &SmoothFit) -> Summary {
         validation: f.validation,
         fit_seconds: f.seconds,
         ns_per_sample: ns_per_sample(data, |x| {
-            let period = data.records.first().and_then(|r| r.period);
+            let period = data.records.first().and_then(|r| r.period.as_ref());
             let mut y = Vec::with_capacity(x.len());
             f.model
                 .run_timed(x, period, None, |_, s| y.push(s.y))

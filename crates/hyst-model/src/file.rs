@@ -201,10 +201,10 @@ impl ModelFile {
             .structure
             .is_some_and(|s| s.dynamics != 0 || s.rate.is_some());
         let hold = self.dynamics.as_ref().is_some_and(|d| d.hold.is_some())
-            || self.smooth.as_ref().is_some_and(|m| {
-                m.dynamics
-                    .is_some_and(|d| d.hold().recorded().is_some())
-            });
+            || self
+                .smooth
+                .as_ref()
+                .is_some_and(|m| m.dynamics.is_some_and(|d| d.hold().recorded().is_some()));
         match (&self.smooth, &self.prandtl_ishlinskii) {
             _ if hold => 5,
             (Some(m), _) if m.is_timed() || timed_structure => 4,

@@ -518,7 +518,11 @@ mod tests {
         // Steps of 10 to 63 ms, a mean near 15 ms.
         let mut t = vec![100.0];
         for k in 0..500 {
-            let h = if k % 7 == 3 { 0.063 } else { 0.010 + 0.001 * (k % 4) as f64 };
+            let h = if k % 7 == 3 {
+                0.063
+            } else {
+                0.010 + 0.001 * (k % 4) as f64
+            };
             t.push(t[k] + h);
         }
         let (parts, gaps) = split(&t).unwrap();
@@ -549,7 +553,11 @@ mod tests {
         assert_eq!(gaps.len(), 1);
         assert_eq!(gaps[0].at, 100);
         assert!((gaps[0].step - 4.01).abs() < 1e-12);
-        assert!(gaps[0].describe().contains("split"), "{}", gaps[0].describe());
+        assert!(
+            gaps[0].describe().contains("split"),
+            "{}",
+            gaps[0].describe()
+        );
         assert!(parts.iter().all(|(_, s)| s.is_even()));
         assert!((parts[1].1.nominal() - 0.01).abs() < 1e-12);
         // 9 × the median is not a gap.
@@ -572,7 +580,10 @@ mod tests {
         let t: Vec<f64> = (0..2000).map(|k| t0 + f64::from(k) * 1e-6).collect();
         let (at, message) = split(&t).unwrap_err();
         assert_eq!(at, 0);
-        assert!(message.contains("2.384185791015625e-7 s apart"), "{message}");
+        assert!(
+            message.contains("2.384185791015625e-7 s apart"),
+            "{message}"
+        );
         assert!(message.contains("t − t0"), "{message}");
         // Relative to the start, they do.
         let t: Vec<f64> = (0..2000).map(|k| f64::from(k) * 1e-6).collect();

@@ -223,9 +223,11 @@ impl<T: FitReal> SmoothModel<T> {
             return Ok(());
         };
         let mut run = TimedRun::new(self, steps.nominal(), T::from_f64(*first))?;
-        for ((i, x), h) in input.iter().enumerate().zip(
-            std::iter::once(steps.nominal()).chain(steps.walk()),
-        ) {
+        for ((i, x), h) in input
+            .iter()
+            .enumerate()
+            .zip(std::iter::once(steps.nominal()).chain(steps.walk()))
+        {
             each(i, run.step_after(T::from_f64(*x), h)?);
         }
         Ok(())
@@ -378,7 +380,11 @@ impl Prefilter {
     ///
     /// # Errors
     /// A step that is not finite and positive, or whose discretisation is not finite.
-    pub fn step_after(&mut self, reference: f64, h: f64) -> Result<[f64; MAX_ORDER + 1], ModelError> {
+    pub fn step_after(
+        &mut self,
+        reference: f64,
+        h: f64,
+    ) -> Result<[f64; MAX_ORDER + 1], ModelError> {
         if self.started {
             if let (Some(d), _) = self.steps.at(h)? {
                 d.step(&mut self.state, reference);
@@ -490,8 +496,10 @@ mod tests {
         m.run_with(&input, None, |_, _, y| plain.push(y)).unwrap();
         m.rate = Some(Rate { c: 2.0 });
         let mut with = Vec::new();
-        m.run_timed(&input, Some(&TimeSteps::even(0.5)), None, |_, s| with.push(s.y))
-            .unwrap();
+        m.run_timed(&input, Some(&TimeSteps::even(0.5)), None, |_, s| {
+            with.push(s.y)
+        })
+        .unwrap();
         let expected = [0.0, 0.4, 0.8, -0.4];
         for k in 0..4 {
             assert!((with[k] - plain[k] - expected[k]).abs() < 1e-15, "{k}");
@@ -558,7 +566,10 @@ mod tests {
         m.run_timed(&x, Some(steps), None, |_, s| a.push(s.y.to_bits()))
             .unwrap();
         let mut run = TimedRun::new(&m, steps.nominal(), x[0]).unwrap();
-        let b: Vec<u64> = x.iter().map(|x| run.step(*x).unwrap().y.to_bits()).collect();
+        let b: Vec<u64> = x
+            .iter()
+            .map(|x| run.step(*x).unwrap().y.to_bits())
+            .collect();
         assert_eq!(a, b);
     }
 

@@ -14,7 +14,7 @@ use hyst_fit::{identify, DataOptions, Dataset, FitError, FitOptions, FormChoice,
 use hyst_io::number::shortest;
 use hyst_io::Table;
 use hyst_model::{file::fnv1a64, ModelKind, Provenance, Units};
-use hyst_model::{InitialState, K2Kind, ModelFile, RateTerm, ShapingKind, Structure};
+use hyst_model::{Hold, InitialState, K2Kind, ModelFile, RateTerm, ShapingKind, Structure};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -85,7 +85,10 @@ impl Observer for Signals {
 /// (1 to 4) identifies Lemma 5.1's plant of order N between the input x (the command) and the
 /// hysteresis, a_N v⁽ᴺ⁾ + … + a_1 v̇ + v = x, jointly with the hysteresis; `rate_term`
 /// ("viscous") adds c·v̇ to the output. Both need `t`, the samples' time stamps in seconds
-/// (one per sample, increasing evenly within each record); `t` is refused without them.
+/// (one per sample, increasing within each record; each step is taken as measured, and a gap
+/// of more than 10 times a record's median step splits it, with a note); `t` is refused
+/// without them. `hold` ("zoh", the default, or "foh"; only with `dynamics`): the command held
+/// over each step or linear between samples (`hyst fit --hold`).
 ///
 /// Raises ValueError with the CLI's words for bad options or data (a bad time stamp is named
 /// as `t[i]`); Ctrl-C stops the fit with KeyboardInterrupt. The GIL is released while it runs.
@@ -98,7 +101,7 @@ impl Observer for Signals {
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
     initial_state = "auto", estimate_initial_states = false, form = "auto",
     keep_degenerate = false, input_name = "x", output_name = "y", input_unit = "",
-    output_unit = "", t = None, dynamics = None, rate_term = None
+    output_unit = "", t = None, dynamics = None, rate_term = None, hold = None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
@@ -133,12 +136,22 @@ pub fn fit(
     t: Option<&Bound<'_, PyAny>>,
     dynamics: Option<i64>,
     rate_term: Option<&str>,
+    hold: Option<&str>,
 ) -> PyResult<FitResult> {
     if starts == 0 {
         return Err(value_error("starts = 0: expected at least 1 start"));
     }
     let t = t.filter(|t| !t.is_none());
     let timed = timed(dynamics, rate_term, t.is_some(), estimate_initial_states)?;
+    let hold =
+        match hold {
+            None => Hold::FIT_DEFAULT,
+            Some(_) if dynamics.is_none() => return Err(value_error(
+                "hold: the hold is how the plant of a fit with dynamics sees its command; give \
+                 dynamics=N, or leave hold out",
+            )),
+            Some(name) => choice::<Hold>("hold", name)?,
+        };
     let options = Options {
         output_shaping,
         input_shaping,
@@ -163,6 +176,7 @@ pub fn fit(
         input_unit,
         output_unit,
         timed,
+        hold,
     };
     let request = options.request()?;
     let columns = Columns::read(x, y, record, weight, t, input_name, output_name)?;
@@ -280,6 +294,8 @@ struct Options<'a> {
     output_unit: &'a str,
     /// The plant order (0: none) and the rate term of a fit with either.
     timed: Option<(u8, Option<RateTerm>)>,
+    /// The plant's hold.
+    hold: Hold,
 }
 
 impl Options<'_> {
@@ -296,6 +312,7 @@ impl Options<'_> {
             form: hyst_model::Form::Operator,
             dynamics: self.timed.map_or(0, |(order, _)| order),
             rate: self.timed.and_then(|(_, rate)| rate),
+            hold: self.hold,
         };
         Ok(Request {
             kind: choice::<ModelKind>("model_kind", self.model_kind)?,

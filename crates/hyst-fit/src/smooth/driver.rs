@@ -458,7 +458,7 @@ fn timed_candidates(
         .data
         .records
         .iter()
-        .filter_map(|r| r.period)
+        .filter_map(|r| r.period.as_ref().map(hyst_model::TimeSteps::nominal))
         .fold(f64::INFINITY, f64::min);
     // The simpler plant's a_0 = 1, a_1, …, a_{n−1}.
     let old: Vec<f64> = std::iter::once(1.0)
