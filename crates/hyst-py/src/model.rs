@@ -529,7 +529,8 @@ impl Model {
 
     /// Lemma 5.1's plant before the hysteresis, b / (a_n sⁿ + … + a_1 s + 1) (eq. 18), as the
     /// model file's `[dynamics]` section: {"b": b, "a": [a_1, …, a_n], "a_std_error": […],
-    /// "identified": […]} (the last two when the fit recorded them); None for a model without
+    /// "identified": […], "hold": "zoh" or "foh"} (the standard errors and flags when the fit
+    /// recorded them; the hold always, "foh" for a file without it); None for a model without
     /// dynamics.
     #[getter]
     fn dynamics<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyAny>>> {
@@ -537,15 +538,17 @@ impl Model {
         let Some(d) = me.file.smooth.as_ref().and_then(|m| m.dynamics) else {
             return Ok(None);
         };
-        match &me.file.dynamics {
-            Some(section) => to_python(py, section).map(Some),
+        let out = match &me.file.dynamics {
+            Some(section) => to_python(py, section)?,
             None => {
                 let out = PyDict::new(py);
                 out.set_item("b", d.b)?;
                 out.set_item("a", d.a().to_vec())?;
-                Ok(Some(out.into_any()))
+                out.into_any()
             }
-        }
+        };
+        out.set_item("hold", d.hold().name())?;
+        Ok(Some(out))
     }
 
     /// The rate term c·v̇ added to the output, as the model file's `[rate]` section:
