@@ -338,19 +338,33 @@ fn uneven_steps_run_as_hyst_run_runs_the_stamps() {
         let status = unsafe { hyst_model_hold(m, &mut hold) };
         if sections.contains("[dynamics]") {
             assert_eq!(status, HYST_OK);
-            let want = if name == "zoh.toml" { HYST_HOLD_ZOH } else { HYST_HOLD_FOH };
+            let want = if name == "zoh.toml" {
+                HYST_HOLD_ZOH
+            } else {
+                HYST_HOLD_FOH
+            };
             assert_eq!(hold, want, "{name}");
-            let other = if want == HYST_HOLD_ZOH { HYST_HOLD_FOH } else { HYST_HOLD_ZOH };
+            let other = if want == HYST_HOLD_ZOH {
+                HYST_HOLD_FOH
+            } else {
+                HYST_HOLD_ZOH
+            };
             assert_eq!(unsafe { hyst_model_set_hold(m, other) }, HYST_OK);
             let mut z = vec![0.0; n];
             unsafe {
                 hyst_model_process_steps(m, x.as_ptr(), step.as_ptr(), z.as_mut_ptr(), n);
             }
             assert_ne!(z, y, "{name}: the hold matters");
-            assert_eq!(unsafe { hyst_model_set_hold(m, 7) }, HYST_ERR_INVALID_PARAMETER);
+            assert_eq!(
+                unsafe { hyst_model_set_hold(m, 7) },
+                HYST_ERR_INVALID_PARAMETER
+            );
         } else {
             assert_eq!(status, HYST_ERR_UNSUPPORTED);
-            assert_eq!(unsafe { hyst_model_set_hold(m, HYST_HOLD_ZOH) }, HYST_ERR_UNSUPPORTED);
+            assert_eq!(
+                unsafe { hyst_model_set_hold(m, HYST_HOLD_ZOH) },
+                HYST_ERR_UNSUPPORTED
+            );
         }
         // A step that is not > 0 is refused at its sample.
         let mut bad = step.clone();

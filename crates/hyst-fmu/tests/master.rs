@@ -1382,9 +1382,8 @@ fn timed_model(sections: &str) -> (String, ModelFile) {
     assert!(text.contains("\nversion = 1\n"), "{text}");
     // A hold other than the first-order one needs version 5.
     let version = if sections.contains("hold") { 5 } else { 4 };
-    let text = text.replacen("\nversion = 1\n", &format!("\nversion = {version}\n"), 1)
-        + "\n"
-        + sections;
+    let text =
+        text.replacen("\nversion = 1\n", &format!("\nversion = {version}\n"), 1) + "\n" + sections;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("timed.toml");
     std::fs::write(&path, &text).unwrap();
@@ -1504,7 +1503,11 @@ fn varying_steps_run_as_hyst_run_at_the_same_stamps() {
         let reference = timed_run_at(&file, &t, &xs);
         assert_eq!(bits(&ys), bits(&reference), "{sections}");
         // The steps matter: the record at its mean step gives other outputs.
-        assert_ne!(bits(&ys), bits(&timed_run(&file, 2.0 * H, &xs)), "{sections}");
+        assert_ne!(
+            bits(&ys),
+            bits(&timed_run(&file, 2.0 * H, &xs)),
+            "{sections}"
+        );
         assert!(fmu.errors().is_empty(), "{sections}");
     }
 }
