@@ -267,7 +267,11 @@ impl ModelFile {
             );
         };
         if let Some(d) = &self.dynamics {
-            m.dynamics = Some(d.dynamics().map_err(|e| format!("[dynamics]: {e}"))?);
+            let plant = d.dynamics().map_err(|e| format!("[dynamics]: {e}"))?;
+            m.dynamics = Some(plant);
+            if let Some(s) = self.structure.as_mut() {
+                s.hold = plant.hold();
+            }
         }
         if let Some(r) = &self.rate {
             if !r.c.is_finite() {

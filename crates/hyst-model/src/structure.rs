@@ -97,9 +97,10 @@ pub struct Structure {
     /// The rate term (`--rate-term`), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rate: Option<RateTerm>,
-    /// The hold the plant is fitted with (`--hold`; [`Hold::FIT_DEFAULT`]). The model file
-    /// holds it in `[dynamics]` (where the runtime reads it), not in `[structure]`: a
-    /// structure read from a file has [`Hold::UNRECORDED`].
+    /// The hold the plant is fitted with (`--hold`, which asks for [`Hold::FIT_DEFAULT`] unless
+    /// told otherwise; [`Hold::UNRECORDED`] by default here, as in a file without it). The
+    /// model file holds it in `[dynamics]` (where the runtime reads it), not in
+    /// `[structure]`: a structure read from a file takes it from there.
     #[serde(skip, default = "unrecorded")]
     pub hold: Hold,
 }
@@ -126,6 +127,7 @@ pub enum RateTerm {
 impl Default for Structure {
     /// k1, constant k2, affine shaping (normalised input, output gain), output offset, records
     /// starting as after a rise, no dynamics (a plant, when one is asked for, under the
+    /// first-order hold of a file without `hold`; `hyst fit` and `hyst.fit` ask for the
     /// zero-order hold).
     fn default() -> Self {
         Self {
@@ -138,7 +140,7 @@ impl Default for Structure {
             form: Form::Operator,
             dynamics: 0,
             rate: None,
-            hold: Hold::FIT_DEFAULT,
+            hold: Hold::UNRECORDED,
         }
     }
 }

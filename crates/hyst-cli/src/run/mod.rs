@@ -111,9 +111,7 @@ pub fn main(args: Args) -> Result<()> {
              shaping saturates"
         );
     }
-    if args.hold.is_some() && args.source.model.is_none() {
-        bail!("--hold applies to --model FILE, a model with dynamics (the hold is how its plant sees the command)");
-    }
+    refuse_hold(&args, None)?;
     // The data is opened only once the model is known to do what is asked.
     let open = || open_input(&args.input, &args.output);
     let mut columns: Vec<Option<&str>> = args.column.iter().map(|c| Some(c.as_str())).collect();
@@ -127,13 +125,7 @@ pub fn main(args: Args) -> Result<()> {
             if model.smooth.as_ref().is_some_and(|m| m.is_timed()) {
                 return crate::run_timed::main(&timed_options(&args), &model, path);
             }
-            if let Some(hold) = args.hold {
-                bail!(
-                    "--hold {}: {} has no dynamics (the hold is how a plant sees its command)",
-                    hold.name(),
-                    path.display()
-                );
-            }
+            refuse_hold(&args, Some(path))?;
             if args.prefilter_hz.is_some() {
                 bail!(
                     "--prefilter-hz applies to a model with dynamics: {} has none (its inverse \
@@ -224,6 +216,23 @@ fn open_input(path: &std::path::Path, output: &std::path::Path) -> Result<Stream
         hyst_io::CountingReader::new(file, on_read),
         &source,
     )?)
+}
+
+/// `--hold` where it does not apply: without `--model` (`model` = `None`), or with a model
+/// without dynamics (`model`, which the timed run does not take).
+fn refuse_hold(args: &Args, model: Option<&std::path::Path>) -> Result<()> {
+    match (args.hold, model) {
+        (Some(_), None) if args.source.model.is_none() => bail!(
+            "--hold applies to --model FILE, a model with dynamics (the hold is how its plant \
+             sees the command)"
+        ),
+        (Some(hold), Some(path)) => bail!(
+            "--hold {}: {} has no dynamics (the hold is how a plant sees its command)",
+            hold.name(),
+            path.display()
+        ),
+        _ => Ok(()),
+    }
 }
 
 /// What a run of a model with dynamics or a rate term takes of the arguments.
