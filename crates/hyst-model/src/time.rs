@@ -8,8 +8,7 @@
 //! - **Nominal step.** A record (or a part of one, below) has a nominal step: its mean step
 //!   (t_last − t_first) / (n − 1). A step within [`STEP_TOLERANCE`] (relative) of it is taken
 //!   as the nominal step: such differences are the rounding of the stamps (their decimal
-//!   digits, 64-bit floats), and an evenly sampled record then runs on one discretisation, as
-//!   it did when every record had to be evenly sampled.
+//!   digits, 64-bit floats), and an evenly sampled record runs on one discretisation.
 //! - **Gaps.** A step more than [`GAP_FACTOR`] times the record's median step (the median to
 //!   0.4 %, [`Stamps`]) splits the record there: the part after the gap starts at rest as a
 //!   record of its own, and the surface says so (a note of `hyst fit`, a line on `hyst run`'s
