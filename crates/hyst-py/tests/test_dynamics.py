@@ -147,7 +147,7 @@ def test_compensate_is_hyst_run_inverse(fitted, record, cli, tmp_path):
 
 def test_rate_term(record, cli, tmp_path):
     t, x, _, y_rate = record
-    r = hyst.fit(x, y_rate, t=t, dynamics=1, rate_term="viscous", initial_state="line")
+    r = hyst.fit(x, y_rate, t=t, dynamics=1, rate_term="viscous", initial_state="line", hold="foh")
     m = r.model
     assert abs(m.rate["c"] / C - 1) < 0.02 and m.rate["c_std_error"] > 0
     assert r.params["rate.c"] == m.rate["c"]
