@@ -115,6 +115,14 @@
 // measured output: what the direct model gives and its inverse takes.
 #define HYST_COLUMN_OUTPUT 1
 
+// `hyst_model_hold`, `hyst_model_set_hold`: the zero-order hold, the command held over each
+// step (a model file's `[dynamics] hold = "zoh"`).
+#define HYST_HOLD_ZOH 0
+
+// `hyst_model_hold`, `hyst_model_set_hold`: the first-order hold, the command linear between
+// samples (`hold = "foh"`, or no `hold`).
+#define HYST_HOLD_FOH 1
+
 // Success.
 #define HYST_OK 0
 
@@ -1706,7 +1714,8 @@ struct hyst_model *hyst_model_load(const char *path, char *error, size_t error_l
 // finite and > 0), as `hyst_model_load` does otherwise. A model with dynamics or a rate term
 // then runs as `hyst run --model` runs a timed record of that period (the period `hyst run`
 // takes from the record's time stamps: their mean step): `hyst_model_process` (direct only)
-// gives its output, `hyst_model_compensate` Lemma 5.1's command. A model without them runs
+// gives its output, `hyst_model_process_steps` its output at uneven steps (this period their
+// nominal step), `hyst_model_compensate` Lemma 5.1's command. A model without them runs
 // exactly as from `hyst_model_load` (the period is not used). Returns NULL on failure, with
 // the reason in `error` as `hyst_model_load`.
 //
@@ -1751,7 +1760,8 @@ int32_t hyst_model_column(const struct hyst_model *m,
 //
 // A model with dynamics or a rate term (loaded by `hyst_model_load_timed`) runs its direct
 // model over samples of the period given there, bit-identical to `hyst run --model FILE` on a
-// timed record of that period; its inverse is `hyst_model_compensate`, and `inverse` ≠ 0 gives
+// timed record of that period (`hyst_model_process_steps` takes each sample's step); its
+// inverse is `hyst_model_compensate`, and `inverse` ≠ 0 gives
 // `HYST_ERR_UNSUPPORTED`.
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_UNSUPPORTED`, or the status of the first
@@ -1767,6 +1777,52 @@ int32_t hyst_model_process(struct hyst_model *m,
                            const double *x,
                            double *y,
                            size_t n);
+
+// `hyst_model_process` of a model with dynamics or a rate term (loaded by
+// `hyst_model_load_timed`) over samples at uneven time steps: `step[i]` is the time (s) from
+// the sample before to sample `i` (t_i − t_{i−1}, the difference of the raw stamps; ignored
+// for the first sample of a record, which starts at rest). The plant is discretised for each
+// step's own length, and a step within 1e-9 (relative) of the period given to
+// `hyst_model_load_timed` is taken as it: with that period the record's mean step, results are
+// bit-identical to `hyst run --model FILE` on a record with those time stamps. A gap that
+// `hyst run` would split the record at is the caller's to see (`hyst_model_reset` starts the
+// next record at rest).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_UNSUPPORTED` (a model without dynamics
+// or a rate term, which takes no time: `hyst_model_process`), or the status of the first sample
+// refused (`HYST_ERR_INVALID_PARAMETER` for a step that is not finite and > 0); `y` then holds
+// the outputs before it, and the run stops there with its state unchanged by that sample.
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load_timed` not yet freed; when n > 0, `x`, `step`
+// and `y` are NULL or hold `n` values (`x` and `y` may be the same array).
+int32_t hyst_model_process_steps(struct hyst_model *m,
+                                 const double *x,
+                                 const double *step,
+                                 double *y,
+                                 size_t n);
+
+// Writes the hold of the model's plant (`HYST_HOLD_ZOH` or `HYST_HOLD_FOH`: the model file's
+// `[dynamics] hold`, or what `hyst_model_set_hold` set) into `*hold`.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_UNSUPPORTED` for a model without
+// dynamics (nothing is written).
+//
+// # Safety
+// `m` is NULL or a model not yet freed; `hold` is NULL or writable.
+int32_t hyst_model_hold(const struct hyst_model *m, int32_t *hold);
+
+// Runs the model's plant under `hold` (`HYST_HOLD_ZOH` or `HYST_HOLD_FOH`) instead of the
+// model file's, as `hyst run --hold`; the direct run starts a new record at the next
+// `hyst_model_process` (as after `hyst_model_reset`). The compensator
+// (`hyst_model_compensate`) does not depend on the hold.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_INVALID_PARAMETER` for another `hold`,
+// or `HYST_ERR_UNSUPPORTED` for a model without dynamics; nothing changes on an error.
+//
+// # Safety
+// `m` is NULL or a model not yet freed.
+int32_t hyst_model_set_hold(struct hyst_model *m, int32_t hold);
 
 // Lemma 5.1's compensator of a model with dynamics (loaded by `hyst_model_load_timed`): for
 // `n` samples of the desired output and its first `order` time derivatives, the commands that

@@ -1,9 +1,10 @@
 //! The host part: fitted model files (the CLI's TOML, docs/formats.md), run exactly as
-//! `hyst run --model` runs them. A model with dynamics or a rate term (issue 25) needs the
-//! sample period of its record: `hyst_model_load` refuses it, `hyst_model_load_timed` takes the
-//! period and runs it as `hyst run --model` runs a timed record (`hyst_model_process`, direct),
-//! with Lemma 5.1's compensator from the desired output's derivatives
-//! (`hyst_model_compensate`).
+//! `hyst run --model` runs them. A model with dynamics or a rate term needs the time steps of
+//! its record: `hyst_model_load` refuses it, `hyst_model_load_timed` takes its nominal step and
+//! runs it as `hyst run --model` runs a timed record (`hyst_model_process` at that step,
+//! `hyst_model_process_steps` with each sample's own step), under the model file's hold
+//! (`hyst_model_hold`, `hyst_model_set_hold`), with Lemma 5.1's compensator from the desired
+//! output's derivatives (`hyst_model_compensate`).
 
 use std::ffi::{c_char, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -11,7 +12,7 @@ use std::path::Path;
 use std::ptr;
 
 use ::hyst_model::{
-    Evaluator, ModelError, ModelFile, Saturated, SmoothModel, TimedCompensator, TimedRun,
+    Evaluator, Hold, ModelError, ModelFile, Saturated, SmoothModel, TimedCompensator, TimedRun,
 };
 use hyst_core::Operator;
 
@@ -88,7 +89,8 @@ pub unsafe extern "C" fn hyst_model_load(
 /// finite and > 0), as `hyst_model_load` does otherwise. A model with dynamics or a rate term
 /// then runs as `hyst run --model` runs a timed record of that period (the period `hyst run`
 /// takes from the record's time stamps: their mean step): `hyst_model_process` (direct only)
-/// gives its output, `hyst_model_compensate` Lemma 5.1's command. A model without them runs
+/// gives its output, `hyst_model_process_steps` its output at uneven steps (this period their
+/// nominal step), `hyst_model_compensate` Lemma 5.1's command. A model without them runs
 /// exactly as from `hyst_model_load` (the period is not used). Returns NULL on failure, with
 /// the reason in `error` as `hyst_model_load`.
 ///
@@ -226,7 +228,8 @@ pub unsafe extern "C" fn hyst_model_column(
 ///
 /// A model with dynamics or a rate term (loaded by `hyst_model_load_timed`) runs its direct
 /// model over samples of the period given there, bit-identical to `hyst run --model FILE` on a
-/// timed record of that period; its inverse is `hyst_model_compensate`, and `inverse` ≠ 0 gives
+/// timed record of that period (`hyst_model_process_steps` takes each sample's step); its
+/// inverse is `hyst_model_compensate`, and `inverse` ≠ 0 gives
 /// `HYST_ERR_UNSUPPORTED`.
 ///
 /// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_UNSUPPORTED`, or the status of the first
@@ -262,7 +265,7 @@ pub unsafe extern "C" fn hyst_model_process(
         }
         // SAFETY: n > 0, and `x` and `y` hold n values (caller's contract).
         return catch_unwind(AssertUnwindSafe(|| unsafe {
-            process_timed(model, x, y, n)
+            process_timed(model, x, None, y, n)
         }))
         .unwrap_or(HYST_ERR_INTERNAL);
     }
@@ -301,11 +304,17 @@ pub unsafe extern "C" fn hyst_model_process(
 }
 
 /// The direct run of a model with dynamics or a rate term: `hyst_model_process` with
-/// `inverse` = 0.
+/// `inverse` = 0 (`step` NULL: every step the nominal one), `hyst_model_process_steps`.
 ///
 /// # Safety
-/// n > 0; `x` and `y` hold `n` values.
-unsafe fn process_timed(model: &mut hyst_model, x: *const f64, y: *mut f64, n: usize) -> i32 {
+/// n > 0; `x` and `y` hold `n` values, `step` (when not `None`) too.
+unsafe fn process_timed(
+    model: &mut hyst_model,
+    x: *const f64,
+    step: Option<*const f64>,
+    y: *mut f64,
+    n: usize,
+) -> i32 {
     let (Some(smooth), Some(period)) = (model.timed_model(), model.period) else {
         return HYST_ERR_UNSUPPORTED;
     };
@@ -323,12 +332,131 @@ unsafe fn process_timed(model: &mut hyst_model, x: *const f64, y: *mut f64, n: u
     for i in 0..n {
         // SAFETY: i < n, within the caller's arrays; read before write, so x == y is fine.
         let xi = unsafe { x.add(i).read() };
-        match run.step(xi) {
+        let sample = match step {
+            // SAFETY: i < n, within the caller's array.
+            Some(step) => run.step_after(xi, unsafe { step.add(i).read() }),
+            None => run.step(xi),
+        };
+        match sample {
             // SAFETY: as above.
             Ok(s) => unsafe { y.add(i).write(s.y) },
             Err(e) => return status::of(&e),
         }
     }
+    HYST_OK
+}
+
+/// `hyst_model_process` of a model with dynamics or a rate term (loaded by
+/// `hyst_model_load_timed`) over samples at uneven time steps: `step[i]` is the time (s) from
+/// the sample before to sample `i` (t_i − t_{i−1}, the difference of the raw stamps; ignored
+/// for the first sample of a record, which starts at rest). The plant is discretised for each
+/// step's own length, and a step within 1e-9 (relative) of the period given to
+/// `hyst_model_load_timed` is taken as it: with that period the record's mean step, results are
+/// bit-identical to `hyst run --model FILE` on a record with those time stamps. A gap that
+/// `hyst run` would split the record at is the caller's to see (`hyst_model_reset` starts the
+/// next record at rest).
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_UNSUPPORTED` (a model without dynamics
+/// or a rate term, which takes no time: `hyst_model_process`), or the status of the first sample
+/// refused (`HYST_ERR_INVALID_PARAMETER` for a step that is not finite and > 0); `y` then holds
+/// the outputs before it, and the run stops there with its state unchanged by that sample.
+///
+/// # Safety
+/// `m` is NULL or a model from `hyst_model_load_timed` not yet freed; when n > 0, `x`, `step`
+/// and `y` are NULL or hold `n` values (`x` and `y` may be the same array).
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_process_steps(
+    m: *mut hyst_model,
+    x: *const f64,
+    step: *const f64,
+    y: *mut f64,
+    n: usize,
+) -> i32 {
+    if m.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: a live model (caller's contract), not aliased during the call.
+    let model = unsafe { &mut *m };
+    if model.timed_model().is_none() {
+        return HYST_ERR_UNSUPPORTED;
+    }
+    if n == 0 {
+        return HYST_OK;
+    }
+    if x.is_null() || step.is_null() || y.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: n > 0, and `x`, `step` and `y` hold n values (caller's contract).
+    catch_unwind(AssertUnwindSafe(|| unsafe {
+        process_timed(model, x, Some(step), y, n)
+    }))
+    .unwrap_or(HYST_ERR_INTERNAL)
+}
+
+/// `hyst_model_hold`, `hyst_model_set_hold`: the zero-order hold, the command held over each
+/// step (a model file's `[dynamics] hold = "zoh"`).
+pub const HYST_HOLD_ZOH: i32 = 0;
+/// `hyst_model_hold`, `hyst_model_set_hold`: the first-order hold, the command linear between
+/// samples (`hold = "foh"`, or no `hold`).
+pub const HYST_HOLD_FOH: i32 = 1;
+
+/// Writes the hold of the model's plant (`HYST_HOLD_ZOH` or `HYST_HOLD_FOH`: the model file's
+/// `[dynamics] hold`, or what `hyst_model_set_hold` set) into `*hold`.
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_UNSUPPORTED` for a model without
+/// dynamics (nothing is written).
+///
+/// # Safety
+/// `m` is NULL or a model not yet freed; `hold` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_hold(m: *const hyst_model, hold: *mut i32) -> i32 {
+    if m.is_null() || hold.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: a live model (caller's contract).
+    let model = unsafe { &*m };
+    let Some(d) = model.file.smooth.as_ref().and_then(|s| s.dynamics) else {
+        return HYST_ERR_UNSUPPORTED;
+    };
+    let value = match d.hold() {
+        Hold::Zoh => HYST_HOLD_ZOH,
+        Hold::Foh => HYST_HOLD_FOH,
+    };
+    // SAFETY: non-NULL and writable (caller's contract).
+    unsafe { hold.write(value) };
+    HYST_OK
+}
+
+/// Runs the model's plant under `hold` (`HYST_HOLD_ZOH` or `HYST_HOLD_FOH`) instead of the
+/// model file's, as `hyst run --hold`; the direct run starts a new record at the next
+/// `hyst_model_process` (as after `hyst_model_reset`). The compensator
+/// (`hyst_model_compensate`) does not depend on the hold.
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_INVALID_PARAMETER` for another `hold`,
+/// or `HYST_ERR_UNSUPPORTED` for a model without dynamics; nothing changes on an error.
+///
+/// # Safety
+/// `m` is NULL or a model not yet freed.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_set_hold(m: *mut hyst_model, hold: i32) -> i32 {
+    if m.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    let hold = match hold {
+        HYST_HOLD_ZOH => Hold::Zoh,
+        HYST_HOLD_FOH => Hold::Foh,
+        _ => return HYST_ERR_INVALID_PARAMETER,
+    };
+    // SAFETY: a live model (caller's contract), not aliased during the call.
+    let model = unsafe { &mut *m };
+    let Some(smooth) = model.file.smooth.as_mut() else {
+        return HYST_ERR_UNSUPPORTED;
+    };
+    let Some(d) = smooth.dynamics else {
+        return HYST_ERR_UNSUPPORTED;
+    };
+    smooth.dynamics = Some(d.with_hold(hold));
+    model.timed = None;
     HYST_OK
 }
 

@@ -281,3 +281,102 @@ fn the_compensator_equals_timed_compensator() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Time stamps with jittered steps around 1 ms (some 2.3 ms), from a Unix-epoch start.
+fn uneven_stamps(n: usize) -> Vec<f64> {
+    let mut t = vec![1.7e9];
+    for k in 1..n {
+        let h = [1e-3, 1.25e-3, 0.75e-3, 2.3e-3, 1e-3][k % 5];
+        t.push(t[k - 1] + h);
+    }
+    t
+}
+
+#[test]
+fn uneven_steps_run_as_hyst_run_runs_the_stamps() {
+    let dir = folder("steps");
+    let n = 1200;
+    let x: Vec<f64> = (0..n).map(input).collect();
+    let t = uneven_stamps(n);
+    let (parts, gaps) = ::hyst_model::time::split(&t).unwrap();
+    assert!(gaps.is_empty());
+    let (_, steps) = &parts[0];
+    // The steps each sample takes: the raw differences of the stamps.
+    let step: Vec<f64> = (0..n)
+        .map(|k| if k == 0 { 0.0 } else { t[k] - t[k - 1] })
+        .collect();
+    let zoh = format!("{SECOND_ORDER}hold = \"zoh\"\n");
+    for (name, sections) in [
+        ("second.toml", SECOND_ORDER.to_string()),
+        ("both.toml", format!("{SECOND_ORDER}{RATE}")),
+        ("rate.toml", RATE.to_string()),
+        ("zoh.toml", zoh),
+    ] {
+        let (path, c) = write(&dir, name, &sections);
+        let text = std::fs::read_to_string(&path).unwrap();
+        if sections.contains("hold") {
+            std::fs::write(&path, text.replace("version = 4", "version = 5")).unwrap();
+        }
+        let file = ModelFile::read(&path).unwrap();
+        let smooth = file.smooth.as_ref().unwrap();
+        let mut expected = Vec::new();
+        smooth
+            .run_timed(&x, Some(steps), None, |_, s| expected.push(s.y.to_bits()))
+            .unwrap();
+        let m = load_timed(&c, steps.nominal());
+        let mut y = vec![0.0; n];
+        unsafe {
+            assert_eq!(
+                hyst_model_process_steps(m, x.as_ptr(), step.as_ptr(), y.as_mut_ptr(), n),
+                HYST_OK
+            );
+        }
+        let got: Vec<u64> = y.iter().map(|v| v.to_bits()).collect();
+        assert_eq!(got, expected, "{name}");
+        // The hold, as the file says, and set.
+        let mut hold = -1;
+        let status = unsafe { hyst_model_hold(m, &mut hold) };
+        if sections.contains("[dynamics]") {
+            assert_eq!(status, HYST_OK);
+            let want = if name == "zoh.toml" {
+                HYST_HOLD_ZOH
+            } else {
+                HYST_HOLD_FOH
+            };
+            assert_eq!(hold, want, "{name}");
+            let other = if want == HYST_HOLD_ZOH {
+                HYST_HOLD_FOH
+            } else {
+                HYST_HOLD_ZOH
+            };
+            assert_eq!(unsafe { hyst_model_set_hold(m, other) }, HYST_OK);
+            let mut z = vec![0.0; n];
+            unsafe {
+                hyst_model_process_steps(m, x.as_ptr(), step.as_ptr(), z.as_mut_ptr(), n);
+            }
+            assert_ne!(z, y, "{name}: the hold matters");
+            assert_eq!(
+                unsafe { hyst_model_set_hold(m, 7) },
+                HYST_ERR_INVALID_PARAMETER
+            );
+        } else {
+            assert_eq!(status, HYST_ERR_UNSUPPORTED);
+            assert_eq!(
+                unsafe { hyst_model_set_hold(m, HYST_HOLD_ZOH) },
+                HYST_ERR_UNSUPPORTED
+            );
+        }
+        // A step that is not > 0 is refused at its sample.
+        let mut bad = step.clone();
+        bad[7] = 0.0;
+        unsafe {
+            hyst_model_reset(m);
+            assert_eq!(
+                hyst_model_process_steps(m, x.as_ptr(), bad.as_ptr(), y.as_mut_ptr(), n),
+                HYST_ERR_INVALID_PARAMETER
+            );
+            hyst_model_free(m);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

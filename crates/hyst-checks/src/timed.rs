@@ -49,8 +49,13 @@ pub fn check_timed(data: &[u8]) -> Result<(), String> {
         return Ok(());
     };
     let b = if mode & 0x10 == 0 { 1.0 } else { b };
+    let hold = if mode & 0x40 == 0 {
+        hyst_model::Hold::Foh
+    } else {
+        hyst_model::Hold::Zoh
+    };
     let dynamics = match Dynamics::new(b, &a) {
-        Ok(d) => Some(d),
+        Ok(d) => Some(d.with_hold(hold)),
         Err(e) => {
             one_line("Dynamics::new", &e.to_string())?;
             None
@@ -140,9 +145,12 @@ fn check_run(model: &SmoothModel, period: f64, commands: &[f64]) -> Result<(), S
     // The whole-record entry point gives the same samples.
     let mut whole = Vec::with_capacity(commands.len());
     model
-        .run_timed(commands, Some(period), None, |_, s| {
-            whole.push(s.y.to_bits())
-        })
+        .run_timed(
+            commands,
+            Some(&hyst_model::TimeSteps::even(period)),
+            None,
+            |_, s| whole.push(s.y.to_bits()),
+        )
         .map_err(|e| format!("run_timed refused what TimedRun ran: {e}"))?;
     if whole != stepped {
         return Err(format!(
@@ -189,6 +197,7 @@ fn check_file(file: &mut ModelFile, model: &SmoothModel) -> Result<(), String> {
         a: d.a().to_vec(),
         a_std_error: Vec::new(),
         identified: Vec::new(),
+        hold: d.hold().recorded(),
     });
     file.rate = model.rate.filter(|r| r.c.is_finite()).map(|r| RateSection {
         c: r.c,

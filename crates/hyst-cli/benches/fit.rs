@@ -59,7 +59,7 @@ fn data() -> Dataset {
         output: y.into(),
         validation: false,
         continues: false,
-        period: Some(h),
+        period: Some(hyst_model::TimeSteps::even(h)),
     };
     Dataset::from_records("bench", Columns::default(), vec![record])
 }

@@ -1,6 +1,6 @@
 //! `hyst run --model M` for a model with dynamics or a rate term: the records' time stamps give
-//! the sample period, and the model runs with the one discretisation of
-//! `hyst_model::dynamics`.
+//! each step, and the model runs with the one discretisation of `hyst_model::dynamics` for
+//! each step's own length (`hyst_model::time`), under the model file's hold or `--hold`.
 //!
 //! - Direct: the command column in, the model output out (named after the model's output
 //!   column).
@@ -14,9 +14,11 @@
 //! OUTPUT holds every column of INPUT first, as `hyst run` does for a static model
 //! ([`crate::naming`]).
 //!
-//! A record's period comes from all its stamps, so INPUT is read twice, streamed each time, in
-//! memory that does not grow with the file: a first pass checks every cell the run reads and
-//! each record's time stamps ([`Stamps`]), the second runs the records and writes their rows.
+//! A record's nominal step and its gaps come from all its stamps, so INPUT is read twice (three
+//! times when a record has a gap), streamed each time, in memory that does not grow with the
+//! file: a first pass checks every cell the run reads and each record's time stamps
+//! ([`Stamps`]), a pass over the records with gaps cuts them into parts ([`Parts`], each gap
+//! said on stderr), the last runs the records and writes their rows.
 //! A regular file is read again (as many bytes as the first pass read: rows appended meanwhile
 //! are left out); anything else (a pipe) is copied into an unnamed temporary file in `TMPDIR`
 //! during the first pass. Every error of the first pass comes before any row is run, and the
@@ -30,8 +32,8 @@ use std::rc::Rc;
 
 use anyhow::{anyhow, bail, Context, Result};
 use hyst_io::{CsvReader, CsvWriter};
-use hyst_model::dynamics::{uneven_step, Stamps};
-use hyst_model::{ModelFile, Prefilter, SmoothModel, TimedCompensator, TimedRun};
+use hyst_model::time::{Part, Parts, Stamps};
+use hyst_model::{Hold, ModelFile, Prefilter, SmoothModel, TimedCompensator, TimedRun};
 
 use crate::run::rows::Records;
 
@@ -47,6 +49,8 @@ pub struct Options<'a> {
     pub record: Option<&'a str>,
     /// `--prefilter-hz`.
     pub prefilter_hz: Option<f64>,
+    /// `--hold`.
+    pub hold: Option<Hold>,
     /// `--derivatives` (refused when non-zero).
     pub derivatives: u8,
     /// `--saturate` (refused).
@@ -59,7 +63,8 @@ pub struct Options<'a> {
 
 /// Runs a model with dynamics or a rate term (`model`, read from `path`) as `args` ask.
 pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
-    let smooth = check(args, model, path)?;
+    let checked = check(args, model, path)?;
+    let smooth = &checked;
     hyst_io::check_all_distinct(&[args.input, path], &[args.output])?;
     let mut input = Input::open(args.input, args.output)?;
     let (plan, mut records) = {
@@ -68,7 +73,10 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
         let records = plan.scan(&mut rows)?;
         (plan, records)
     };
-    let fault = plan.first_fault(&input, &mut records)?;
+    let fault = plan.first_fault(&mut records);
+    for note in plan.cut_at_gaps(&input, &mut records, fault.as_ref().map(|f| f.0))? {
+        eprintln!("{note}");
+    }
     let mut rows = input.read_again()?;
     let mut out = CsvWriter::create(args.output, plan.output_names.clone())?;
     let mut cells = String::new();
@@ -201,12 +209,14 @@ impl Read for Counted<'_> {
 struct Record {
     /// Its rows.
     rows: usize,
-    /// Its first value of the column run.
-    first: f64,
     /// Its time stamps, by line.
     stamps: Stamps<usize>,
-    /// Its sample period (s), once checked.
-    period: f64,
+    /// Its parts between gaps, once checked (one without a gap).
+    parts: Vec<Part>,
+    /// Whether it has a gap (its parts are found by one more pass).
+    gaps: bool,
+    /// Its median step (s), once checked.
+    median: f64,
 }
 
 /// The columns of a timed run and what they are for.
@@ -332,12 +342,14 @@ impl Plan {
                 Some(r) => labels.starts(rows.cell_text(r, line)?),
                 None => records.is_empty(),
             };
+            let _ = x;
             if starts {
                 records.push(Record {
                     rows: 0,
-                    first: x,
                     stamps: Stamps::default(),
-                    period: f64::NAN,
+                    parts: Vec::new(),
+                    gaps: false,
+                    median: f64::NAN,
                 });
             }
             if let Some(record) = records.last_mut() {
@@ -348,58 +360,91 @@ impl Plan {
         Ok(records)
     }
 
-    /// Each record's sample period, up to the first record whose stamps are refused: that
-    /// record's index, the line and what is wrong (the line of an uneven step is found in
-    /// one more pass over the records before it and that record).
-    fn first_fault(
+    /// Each record's nominal step and whether it has gaps, up to the first record whose stamps
+    /// are refused: that record's index, the line and what is wrong.
+    fn first_fault(&self, records: &mut [Record]) -> Option<(usize, (usize, String))> {
+        for (k, record) in records.iter_mut().enumerate() {
+            let check = match record.stamps.check() {
+                Ok(c) => c,
+                Err(fault) => return Some((k, fault)),
+            };
+            record.median = check.median;
+            record.gaps = check.has_gaps();
+            record.parts = vec![Part {
+                start: 0,
+                len: record.rows,
+                nominal: check.mean,
+            }];
+        }
+        None
+    }
+
+    /// Cuts the records with gaps (before the record `until`, the first refused) into parts,
+    /// in one more pass over INPUT; returns what stderr says of each gap.
+    fn cut_at_gaps(
         &self,
         input: &Input<'_>,
         records: &mut [Record],
-    ) -> Result<Option<(usize, (usize, String))>> {
-        for (k, record) in records.iter_mut().enumerate() {
-            let h = match record.stamps.mean() {
-                Ok(h) => h,
-                Err(fault) => return Ok(Some((k, fault))),
-            };
-            record.period = h;
-            if !record.stamps.even(h) {
-                let mut rows = input.read_again()?;
-                let skip: usize = records.iter().take(k).map(|r| r.rows).sum();
-                let mut before: Option<f64> = None;
-                let mut row = 0;
-                while let Some(line) = rows.next_cells()? {
-                    row += 1;
-                    if row <= skip {
-                        continue;
-                    }
-                    let t = rows.value(self.time, line)?;
-                    if let Some(message) = before.and_then(|b| uneven_step(t - b, h)) {
-                        return Ok(Some((k, (line, message))));
-                    }
-                    before = Some(t);
+        until: Option<usize>,
+    ) -> Result<Vec<String>> {
+        let end = until.unwrap_or(records.len());
+        let Some(records) = records.get_mut(..end) else {
+            return Ok(Vec::new());
+        };
+        if !records.iter().any(|r| r.gaps) {
+            return Ok(Vec::new());
+        }
+        let mut notes = Vec::new();
+        let mut rows = input.read_again()?;
+        for record in records.iter_mut() {
+            let check = record.stamps.check().ok().filter(|_| record.gaps);
+            let mut parts = check.map(Parts::new);
+            for _ in 0..record.rows {
+                let line = rows
+                    .next_cells()?
+                    .with_context(|| format!("{}: {CHANGED}", self.source))?;
+                if let Some(parts) = &mut parts {
+                    parts.push(rows.value(self.time, line)?, line);
                 }
-                bail!("{}: {CHANGED}", self.source);
+            }
+            if let Some(parts) = parts {
+                let (parts, gaps) = parts.finish();
+                for gap in gaps {
+                    notes.push(format!(
+                        "{}:{}: column {:?}: {}",
+                        self.source,
+                        gap.at,
+                        self.time_name,
+                        gap.describe()
+                    ));
+                }
+                record.parts = parts;
             }
         }
-        Ok(None)
+        Ok(notes)
     }
 
-    /// The next row of the second pass: its line and the value run; its cells (as read, for
-    /// OUTPUT) into `cells`.
+    /// The next row of the last pass: its line, the value run and its time stamp; its cells
+    /// (as read, for OUTPUT) into `cells`.
     fn next_row<R: Read>(
         &self,
         rows: &mut CsvReader<R>,
         cells: &mut String,
-    ) -> Result<(usize, f64)> {
+    ) -> Result<(usize, f64, f64)> {
         let line = rows
             .next_cells()?
             .with_context(|| format!("{}: {CHANGED}", self.source))?;
         cells.clear();
         rows.push_cells(line, cells)?;
-        Ok((line, rows.value(self.value, line)?))
+        Ok((
+            line,
+            rows.value(self.value, line)?,
+            rows.value(self.time, line)?,
+        ))
     }
 
-    /// Runs one record, reading its rows from `rows`, and writes them.
+    /// Runs one record, part by part (each starting afresh), reading its rows from `rows`, and
+    /// writes them.
     fn run_record<R: Read>(
         &self,
         smooth: &SmoothModel,
@@ -409,73 +454,117 @@ impl Plan {
         cells: &mut String,
         out: &mut CsvWriter,
     ) -> Result<()> {
+        for part in &record.parts {
+            if args.inverse {
+                self.compensate_part(smooth, args, part, rows, cells, out)?;
+            } else {
+                self.run_part(smooth, part, rows, cells, out)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The model over one part of a record.
+    fn run_part<R: Read>(
+        &self,
+        smooth: &SmoothModel,
+        part: &Part,
+        rows: &mut CsvReader<R>,
+        cells: &mut String,
+        out: &mut CsvWriter,
+    ) -> Result<()> {
         let source = &self.source;
-        let (first, period, order) = (record.first, record.period, self.order);
-        if args.inverse {
-            let mut c = None;
-            let mut prefilter = match (self.filtered, args.prefilter_hz) {
-                (true, Some(hz)) => Some(Prefilter::new(order, hz, period, first)?),
-                _ => None,
-            };
-            let mut desired = Vec::with_capacity(order + 1);
-            for _ in 0..record.rows {
-                let (line, x) = self.next_row(rows, cells)?;
-                let at = || format!("{source}:{line}");
-                let c = match &mut c {
-                    Some(c) => c,
-                    None => {
-                        c.insert(TimedCompensator::new(smooth, first).with_context(|| {
-                            format!("{}: the compensator cannot start here", at())
-                        })?)
-                    }
-                };
-                desired.clear();
-                match (&mut prefilter, &self.derivatives) {
-                    (Some(p), _) => desired.extend_from_slice(&p.step(x)[..=order]),
-                    (None, Some(d)) => {
-                        desired.push(x);
-                        for &i in d {
-                            desired.push(rows.value(i, line)?);
-                        }
-                    }
-                    (None, None) => desired.push(x),
+        let mut run: Option<(TimedRun, f64)> = None;
+        for _ in 0..part.len {
+            let (line, x, t) = self.next_row(rows, cells)?;
+            let at = || format!("{source}:{line}");
+            let s = match &mut run {
+                Some((r, before)) => {
+                    let h = t - *before;
+                    *before = t;
+                    r.step_after(x, h)
                 }
-                let (u, _) = c.step(&desired).with_context(|| {
-                    format!(
-                        "{}: desired output {}",
-                        at(),
-                        hyst_io::number::sig(desired[0], 6)
-                    )
-                })?;
-                let computed = [u, desired[0]];
-                let n = if self.filtered { 2 } else { 1 };
-                out.write_row_after(cells, self.width, computed.get(..n).unwrap_or_default())?;
-            }
-        } else {
-            let mut run = None;
-            for _ in 0..record.rows {
-                let (line, x) = self.next_row(rows, cells)?;
-                let at = || format!("{source}:{line}");
-                let run = match &mut run {
-                    Some(r) => r,
-                    None => run.insert(
-                        TimedRun::new(smooth, period, first)
+                None => {
+                    let (r, _) = run.insert((
+                        TimedRun::new(smooth, part.nominal, x)
                             .with_context(|| format!("{}: the model cannot start here", at()))?,
-                    ),
-                };
-                let s = run
-                    .step(x)
-                    .with_context(|| format!("{}: input {x}", at()))?;
-                out.write_row_after(cells, self.width, &[s.y])?;
+                        t,
+                    ));
+                    r.step(x)
+                }
             }
+            .with_context(|| format!("{}: input {x}", at()))?;
+            out.write_row_after(cells, self.width, &[s.y])?;
+        }
+        Ok(())
+    }
+
+    /// The compensator over one part of a record.
+    fn compensate_part<R: Read>(
+        &self,
+        smooth: &SmoothModel,
+        args: &Options<'_>,
+        part: &Part,
+        rows: &mut CsvReader<R>,
+        cells: &mut String,
+        out: &mut CsvWriter,
+    ) -> Result<()> {
+        let source = &self.source;
+        let order = self.order;
+        let mut started: Option<(TimedCompensator, Option<Prefilter>, f64)> = None;
+        let mut desired = Vec::with_capacity(order + 1);
+        for _ in 0..part.len {
+            let (line, x, t) = self.next_row(rows, cells)?;
+            let at = || format!("{source}:{line}");
+            let (c, prefilter, h) = match &mut started {
+                Some((c, p, before)) => {
+                    let h = t - *before;
+                    *before = t;
+                    (c, p, h)
+                }
+                None => {
+                    let c = TimedCompensator::new(smooth, x)
+                        .with_context(|| format!("{}: the compensator cannot start here", at()))?;
+                    let p = match (self.filtered, args.prefilter_hz) {
+                        (true, Some(hz)) => Some(Prefilter::new(order, hz, part.nominal, x)?),
+                        _ => None,
+                    };
+                    let (c, p, _) = started.insert((c, p, t));
+                    (c, p, part.nominal)
+                }
+            };
+            desired.clear();
+            match (prefilter, &self.derivatives) {
+                (Some(p), _) => desired.extend_from_slice(
+                    &p.step_after(x, h)
+                        .with_context(|| format!("{}: time step {h} s", at()))?[..=order],
+                ),
+                (None, Some(d)) => {
+                    desired.push(x);
+                    for &i in d {
+                        desired.push(rows.value(i, line)?);
+                    }
+                }
+                (None, None) => desired.push(x),
+            }
+            let (u, _) = c.step(&desired).with_context(|| {
+                format!(
+                    "{}: desired output {}",
+                    at(),
+                    hyst_io::number::sig(desired[0], 6)
+                )
+            })?;
+            let computed = [u, desired[0]];
+            let n = if self.filtered { 2 } else { 1 };
+            out.write_row_after(cells, self.width, computed.get(..n).unwrap_or_default())?;
         }
         Ok(())
     }
 }
 
 /// Refuses, before the data is read, what a timed model cannot do as `args` ask; returns its
-/// smooth model.
-fn check<'m>(args: &Options<'_>, model: &'m ModelFile, path: &Path) -> Result<&'m SmoothModel> {
+/// smooth model, under `--hold` when given.
+fn check(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<SmoothModel> {
     let Some(smooth) = model.smooth.as_ref() else {
         bail!("{}: the model file holds no smooth model", path.display());
     };
@@ -494,6 +583,27 @@ fn check<'m>(args: &Options<'_>, model: &'m ModelFile, path: &Path) -> Result<&'
     if inverse {
         TimedCompensator::check(smooth)
             .with_context(|| format!("{}: --inverse", path.display()))?;
+    }
+    let mut smooth = *smooth;
+    if let Some(hold) = args.hold {
+        let Some(d) = smooth.dynamics else {
+            bail!(
+                "--hold {}: {} has no dynamics (a rate term alone takes no hold)",
+                hold.name(),
+                path.display()
+            );
+        };
+        if inverse {
+            bail!(
+                "--hold {}: the compensator of {} (--inverse) computes the command from the \
+                 desired output's derivatives, whatever the hold: the hold changes how the plant \
+                 follows the command, not the command (run the model without --inverse to see \
+                 the plant's response under either hold)",
+                hold.name(),
+                path.display()
+            );
+        }
+        smooth.dynamics = Some(d.with_hold(hold));
     }
     Ok(smooth)
 }

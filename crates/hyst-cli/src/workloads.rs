@@ -255,7 +255,12 @@ impl Inputs {
                 let model = fitted_model(index == 10)?;
                 let mut sum = 0.0;
                 model
-                    .run_timed(black_box(&self.x), Some(1e-3), None, |_, s| sum += s.y)
+                    .run_timed(
+                        black_box(&self.x),
+                        Some(&hyst_model::TimeSteps::even(1e-3)),
+                        None,
+                        |_, s| sum += s.y,
+                    )
                     .ok()?;
                 sum
             }

@@ -199,6 +199,9 @@ fn example2_first_order_plant_is_identified_and_compensated() {
         "poly3",
         "--dynamics",
         "1",
+        // The truth's command is continuous (a multisine): linear between samples is its hold.
+        "--hold",
+        "foh",
         "--json",
         "-o",
         model.to_str().unwrap(),
@@ -351,6 +354,9 @@ fn second_order_plant_before_a_backlash_is_identified() {
         "y",
         "--dynamics",
         "2",
+        // The truth's command is continuous: linear between samples is its hold.
+        "--hold",
+        "foh",
         "--json",
         "-o",
         model.to_str().unwrap(),
@@ -430,9 +436,9 @@ fn bad_time_stamps_are_refused_with_their_line() {
             "goes back",
         ),
         (
-            "t,u,y\n0,0,0\n0.1,1,1\n0.2,2,3\n0.35,1,2\n0.4,0,0\n0.5,1,1\n",
-            "d.csv:5:",
-            "mean step",
+            "t,u,y\n1700000000,0,0\n1700000000.000001,1,1\n1700000000.000002,2,3\n",
+            "d.csv:2:",
+            "t − t0",
         ),
         ("u,y\n0,0\n1,1\n2,3\n1,2\n", "--time", "time column"),
     ];
@@ -799,9 +805,9 @@ fn a_timed_run_streams_its_input_from_a_file_or_a_pipe() {
     let written = std::fs::read_to_string(&from_file).unwrap();
     assert_eq!(written.lines().count(), 301);
     assert_eq!(written, std::fs::read_to_string(&from_pipe).unwrap());
-    // Row 250 (line 252) of the second record is 0.6 ms late: its step is 60 % off the
-    // record's mean. Refused by line, from a file and from a pipe; nothing written.
-    let uneven = table(0.6e-3);
+    // Row 250 (line 252) of the second record is 1.5 ms early: before the stamp above it.
+    // Refused by line, from a file and from a pipe; nothing written.
+    let uneven = table(-1.5e-3);
     std::fs::write(&input, &uneven).unwrap();
     for (stdin, path) in [
         (None, input.to_str().unwrap()),
@@ -812,7 +818,7 @@ fn a_timed_run_streams_its_input_from_a_file_or_a_pipe() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success());
         assert!(
-            err.contains(":252: column \"t\": time step") && err.contains("mean step"),
+            err.contains(":252: column \"t\": time stamp") && err.contains("goes back"),
             "{err}"
         );
         assert!(!out_path.exists());

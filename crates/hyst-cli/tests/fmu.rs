@@ -671,8 +671,8 @@ fn saturate_is_written_for_the_inverse_of_a_saturating_model_only() {
     assert!(!config.contains_key("saturate"));
 }
 
-/// Issue 25: a model with dynamics or a rate term is packed for what the FMU runs (the direct
-/// model at a constant communication step, the compensator with the derivative inputs x_d1 …),
+/// A model with dynamics or a rate term is packed for what the FMU runs (the direct model at
+/// each communication step's length, the compensator with the derivative inputs x_d1 …),
 /// and what it cannot run (the inverse of a model with a rate term, --saturate) is refused with
 /// the reason, leaving no file.
 #[test]
@@ -706,14 +706,14 @@ fn timed_models_are_packed_with_their_timing() {
         ok(&hyst_fmu(&lib, &["--model", model, "-o", fmu]));
         let entries = unzip(Path::new(fmu));
         let xml = text(entry(&entries, "modelDescription.xml"));
-        assert_eq!(capabilities(&xml), ["false", "false"], "{model}");
+        assert_eq!(capabilities(&xml), ["true", "false"], "{model}");
         let names: Vec<String> = elements(&xml, "ScalarVariable")
             .iter()
             .map(|v| attr(v, "name").to_string())
             .collect();
         assert_eq!(names, ["x", "y"]);
         let html = text(entry(&entries, "documentation/index.html"));
-        assert!(html.contains("sample period"), "{html}");
+        assert!(html.contains("time step to the next sample"), "{html}");
     }
 
     ok(&hyst_fmu(

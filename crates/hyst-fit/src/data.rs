@@ -5,7 +5,7 @@ use std::borrow::Cow;
 
 use hyst_io::{Samples, Table};
 
-use hyst_model::dynamics::period_of;
+use hyst_model::time::split_of;
 use hyst_model::Columns;
 
 use crate::error::FitError;
@@ -53,6 +53,9 @@ pub struct Dataset {
     /// appearance. Empty for numeric record ids, and after `--segment` (whose segments are
     /// numbered afresh).
     pub labels: Vec<String>,
+    /// What reading the data did that the report should say (a record split at a gap in its
+    /// time stamps).
+    pub notes: Vec<String>,
 }
 
 /// Column names recognised as record columns when none is named. `segment` is one because a
@@ -148,8 +151,11 @@ impl Dataset {
         };
         let file = table.source().to_string();
         let (mut records, mut labels) = group_rows(table, input, output, record, weight)?;
+        let mut notes = Vec::new();
         let time = if options.timed {
-            Some(set_periods(table, options, &mut records)?)
+            let (name, split) = set_periods(table, options, records, &mut notes)?;
+            records = split;
+            Some(name)
         } else {
             None
         };
@@ -170,6 +176,7 @@ impl Dataset {
             },
             records,
             labels,
+            notes,
         })
     }
 
@@ -190,6 +197,7 @@ impl Dataset {
             columns,
             records,
             labels: Vec::new(),
+            notes: Vec::new(),
         }
     }
 
@@ -238,7 +246,7 @@ impl Dataset {
                     output: r.output.clone(),
                     weight: Cow::Borrowed(&r.weight),
                     parts: vec![(i, 0, r.len())],
-                    period: r.period,
+                    period: r.period.as_ref(),
                 }),
             }
         }
@@ -443,17 +451,20 @@ fn record_column_in(has: impl Fn(&str) -> bool, options: &DataOptions) -> Option
     }
 }
 
-/// Gives every record its sample period from the time column (`--time`, else the first of
-/// [`TIME_COLUMNS`]), and returns the column's name.
+/// Gives every record its time steps from the time column (`--time`, else the first of
+/// [`TIME_COLUMNS`]), splitting a record at a gap in its stamps (a note for each in `notes`),
+/// and returns the column's name and the records.
 ///
 /// # Errors
 /// [`FitError::Invalid`] without a time column; [`FitError::BadTime`] naming the line of a
-/// stamp that is repeated, decreasing or off the record's even spacing.
+/// stamp that is not finite, repeated or decreasing, or of the first stamp of a record whose
+/// stamps cannot resolve its steps.
 fn set_periods(
     table: &Table,
     options: &DataOptions,
-    records: &mut [Record],
-) -> Result<String, FitError> {
+    records: Vec<Record>,
+    notes: &mut Vec<String>,
+) -> Result<(String, Vec<Record>), FitError> {
     let name = match &options.time {
         Some(name) => name.clone(),
         None => default_time_column(table)
@@ -468,11 +479,11 @@ fn set_periods(
             })?,
     };
     let column = table.column(&name)?;
-    for r in records.iter_mut() {
+    let mut out = Vec::with_capacity(records.len());
+    for mut r in records {
         // The stamps from the column (no copy of a long record's).
-        let period = period_of(|| r.rows.iter().map(|row| (row, column[row])));
-        match period {
-            Ok(h) => r.period = Some(h),
+        let (parts, gaps) = match split_of(|| r.rows.iter().map(|row| (row, column[row]))) {
+            Ok(split) => split,
             Err((row, message)) => {
                 return Err(FitError::BadTime {
                     file: table.source().to_string(),
@@ -482,9 +493,33 @@ fn set_periods(
                     message,
                 })
             }
+        };
+        for gap in &gaps {
+            notes.push(format!(
+                "{}:{}: record {}: {}",
+                table.source(),
+                table.line_of_row(gap.at),
+                r.id,
+                gap.describe()
+            ));
+        }
+        if let [(_, steps)] = parts.as_slice() {
+            r.period = Some(steps.clone());
+            out.push(r);
+            continue;
+        }
+        for (range, steps) in parts {
+            out.push(Record {
+                input: r.input.slice(range.clone()),
+                output: r.output.slice(range.clone()),
+                weight: r.weight.slice(range.clone()),
+                rows: r.rows.slice(range),
+                period: Some(steps),
+                ..r.clone()
+            });
         }
     }
-    Ok(name)
+    Ok((name, out))
 }
 
 /// Scales the weights so that the positive weights of the training records average 1: the
@@ -556,7 +591,7 @@ fn segment(records: Vec<Record>, len: usize) -> Result<Vec<Record>, FitError> {
                 rows: r.rows.slice(start..end),
                 validation: false,
                 continues: start > 0,
-                period: r.period,
+                period: r.period.as_ref().map(|p| p.after(start)),
             });
             next += 1;
         }

@@ -152,7 +152,7 @@ pub fn identify(
     }
     let want_smooth = request.kind == ModelKind::Smooth || request.compare;
     let timed = crate::timed::is_timed(request.structure) || request.options.auto_dynamics;
-    let mut notes = Vec::new();
+    let mut notes = data.notes.clone();
     let Settled {
         smooth,
         data: settled,
@@ -604,6 +604,13 @@ fn smooth_notes(f: &SmoothFit, limit: Option<ParameterLimit>, notes: &mut Vec<St
     if let Some(t) = &f.timed {
         notes.extend(t.notes());
     }
+    if let Some(d) = f.model.dynamics {
+        notes.push(format!(
+            "hold: {} (--hold {})",
+            d.hold().describe(),
+            d.hold().name()
+        ));
+    }
     let c = f.correlation;
     if c.time >= 2.0 || c.capped {
         notes.push(format!(
@@ -669,7 +676,7 @@ fn smooth_summary(data: &Dataset, f: &SmoothFit) -> Summary {
         validation: f.validation,
         fit_seconds: f.seconds,
         ns_per_sample: ns_per_sample(data, |x| {
-            let period = data.records.first().and_then(|r| r.period);
+            let period = data.records.first().and_then(|r| r.period.as_ref());
             let mut y = Vec::with_capacity(x.len());
             f.model
                 .run_timed(x, period, None, |_, s| y.push(s.y))

@@ -641,8 +641,8 @@ impl Layout {
 }
 
 impl Layout {
-    /// The plant for θ (b = 1: ψ_in's gain scales the hysteresis input), `None` without
-    /// dynamics.
+    /// The plant for θ (b = 1: ψ_in's gain scales the hysteresis input) under the structure's
+    /// hold, `None` without dynamics.
     ///
     /// # Errors
     /// An unstable plant ([`Dynamics::new`]).
@@ -657,7 +657,9 @@ impl Layout {
         let a: Vec<T> = (1..=n)
             .map(|i| self.get(theta, &dynamics_name(i)))
             .collect();
-        Dynamics::new(T::one(), &a).map(Some)
+        Ok(Some(
+            Dynamics::new(T::one(), &a)?.with_hold(self.structure.hold),
+        ))
     }
 }
 

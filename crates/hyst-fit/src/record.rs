@@ -5,6 +5,7 @@
 use std::borrow::Cow;
 
 use hyst_io::Samples;
+use hyst_model::TimeSteps;
 
 use crate::rows::Rows;
 use crate::weights::Weights;
@@ -31,10 +32,10 @@ pub struct Record {
     /// previous segment left (see [`Dataset::histories`](crate::data::Dataset::histories))
     /// instead of starting afresh.
     pub continues: bool,
-    /// The sample period (s) from the time column, when the fit reads one
-    /// ([`DataOptions::timed`]): the record's mean time step, every step within
-    /// [`TIME_TOLERANCE`](hyst_model::dynamics::TIME_TOLERANCE) of it.
-    pub period: Option<f64>,
+    /// The time steps (s) from the time column, when the fit reads one
+    /// ([`DataOptions::timed`]): the record's nominal step (its mean step) and each step that
+    /// differs from it, as measured ([`hyst_model::time`]).
+    pub period: Option<TimeSteps>,
 }
 
 /// Consecutive records that form one uninterrupted history (one measurement cut into
@@ -52,8 +53,8 @@ pub struct History<'a> {
     /// (index of the record in [`Dataset::records`](crate::data::Dataset::records), first
     /// sample in this history, length).
     pub parts: Vec<(usize, usize, usize)>,
-    /// The sample period of its first record ([`Record::period`]).
-    pub period: Option<f64>,
+    /// The time steps of its first record ([`Record::period`]), which its segments share.
+    pub period: Option<&'a TimeSteps>,
 }
 
 impl Record {
@@ -91,7 +92,8 @@ pub struct DataOptions {
     pub validate_every: Option<usize>,
     /// Time column (s); `None` looks for one of [`TIME_COLUMNS`](crate::data::TIME_COLUMNS).
     pub time: Option<String>,
-    /// Read the time column and give every record its sample period (a model with dynamics or
-    /// a rate term): the column must exist, and its stamps must increase evenly.
+    /// Read the time column and give every record its time steps (a model with dynamics or a
+    /// rate term): the column must exist, and its stamps must increase; a gap splits a record
+    /// ([`hyst_model::time`]).
     pub timed: bool,
 }

@@ -200,7 +200,9 @@ fn kept(r: &Record, forced: &Forced, stride: usize) -> Record {
         rows,
         validation: r.validation,
         continues: r.continues,
-        period: r.period,
+        // The kept samples are not consecutive: only a static model (which takes no time)
+        // runs on a reduction.
+        period: r.period.clone(),
     }
 }
 
@@ -296,10 +298,10 @@ fn window(r: &Record, rows: core::ops::Range<usize>, span: f64, block: usize) ->
         input: input.into(),
         output: r.output[rows.clone()].into(),
         weight,
-        rows: r.rows.slice(rows),
+        rows: r.rows.slice(rows.clone()),
         validation: r.validation,
         continues: false,
-        period: r.period,
+        period: r.period.as_ref().map(|p| p.after(rows.start)),
     }
 }
 

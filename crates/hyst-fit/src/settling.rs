@@ -148,7 +148,7 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>
         }
         let plant = h
             .period
-            .map_or(0, |period| plant_settling(model, period, w.len()));
+            .map_or(0, |steps| plant_settling(model, steps.nominal(), w.len()));
         let mut end = sweep.unwrap_or(0).max(plant);
         let half = (MAX_SETTLING_SHARE * w.len() as f64) as usize;
         if end > half {

@@ -336,7 +336,7 @@ impl TimedFindings {
         let shortest = data
             .records
             .iter()
-            .filter_map(|r| r.period)
+            .filter_map(|r| r.period.as_ref().map(hyst_model::TimeSteps::nominal))
             .fold(f64::INFINITY, f64::min);
         let shortest = if shortest.is_finite() { shortest } else { 0.0 };
         let coefficients = (1..=n)
@@ -392,7 +392,7 @@ impl TimedFindings {
         let periods = data
             .records
             .iter()
-            .filter_map(|r| r.period)
+            .filter_map(|r| r.period.as_ref().map(hyst_model::TimeSteps::nominal))
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
                 (lo.min(h), hi.max(h))
             });
@@ -415,6 +415,7 @@ impl TimedFindings {
             a: d.a().to_vec(),
             a_std_error: self.coefficients.iter().map(|c| c.std_error).collect(),
             identified: self.coefficients.iter().map(|c| c.identified).collect(),
+            hold: d.hold().recorded(),
         })
     }
 
@@ -441,8 +442,8 @@ impl TimedFindings {
                 .collect();
             notes.push(format!(
                 "plant before the hysteresis, a_n v⁽ⁿ⁾ + … + a_1 v̇ + v = u (b = 1: ψ_in's gain \
-                 holds the plant gain), exact for a command linear between samples at periods \
-                 {} to {} s; training RMS error by order ({})",
+                 holds the plant gain), exact for the command's hold over steps of nominal \
+                 length {} to {} s; training RMS error by order ({})",
                 sig(self.periods.0, 3),
                 sig(self.periods.1, 3),
                 orders.join(", ")

@@ -1,6 +1,6 @@
 //! The recovery study of timed fits: random in-class truths (plant orders 0–3, with and without
 //! the viscous rate term, records that start from the start rule or mid-history, noise 0 or
-//! 0.5 % of the span, one record or three at rates a decade apart), fitted by `identify` with
+//! 0.5 % of the span, one record or three at rates 1 : 4 : 16, either hold), fitted by `identify` with
 //! the structure of the truth and its defaults. Each case prints one row of the table in
 //! docs/fitting.md ("Recovery study"); the assertions hold the goals stated there.
 //!
@@ -18,7 +18,7 @@ use hyst_fit::layout::Layout;
 use hyst_fit::smooth::normalisation;
 use hyst_fit::{Dataset, Record, Weights};
 use hyst_model::Columns;
-use hyst_model::{RateTerm, SmoothModel, Structure};
+use hyst_model::{Hold, RateTerm, SmoothModel, Structure, TimeSteps};
 
 /// The sample period of every record (s).
 const H: f64 = 1e-3;
@@ -89,9 +89,16 @@ struct Outcome {
 }
 
 fn run(case: &Case) -> Outcome {
+    // Both holds: the zero-order hold for even seeds, the first-order hold for odd ones (the
+    // truth's and the fit's alike).
     let structure = Structure {
         dynamics: case.order,
         rate: case.rate.then_some(RateTerm::Viscous),
+        hold: if case.seed.is_multiple_of(2) {
+            Hold::Zoh
+        } else {
+            Hold::Foh
+        },
         ..Structure::default()
     };
     let values = truth_values(case);
@@ -124,7 +131,7 @@ fn run(case: &Case) -> Outcome {
     for u in &commands {
         let mut y = Vec::new();
         model
-            .run_timed(u, Some(H), None, |_, s| y.push(s.y))
+            .run_timed(u, Some(&TimeSteps::even(H)), None, |_, s| y.push(s.y))
             .expect("the truth runs");
         outputs.push(y);
     }
@@ -155,7 +162,7 @@ fn run(case: &Case) -> Outcome {
                 rows: (0..u.len()).collect(),
                 validation: false,
                 continues: false,
-                period: Some(H),
+                period: Some(TimeSteps::even(H)),
             }
         })
         .collect();

@@ -58,7 +58,7 @@ impl Engine {
     }
 
     /// The model file's evaluator for a record whose first sample is `first`; for a model with
-    /// dynamics or a rate term its [`TimedEngine`], with the sample period `period` (the first
+    /// dynamics or a rate term its [`TimedEngine`], with the nominal step `period` (the first
     /// fmi2DoStep's step; `None` before it).
     ///
     /// # Errors
@@ -102,11 +102,19 @@ impl Engine {
     /// any step ≥ 0 for the others).
     ///
     /// # Errors
-    /// A timed model's step that differs from its sample period.
+    /// A timed model's step that is not > 0.
     pub fn check_step(&self, step: f64) -> Result<(), String> {
         match self {
             Engine::Timed(t) => t.check_step(step),
             _ => Ok(()),
+        }
+    }
+
+    /// Takes the communication step of the fmi2DoStep that committed the last sample: a timed
+    /// model's step to the next sample ([`TimedEngine::set_next`]).
+    pub fn set_next(&mut self, step: f64) {
+        if let Engine::Timed(t) = self {
+            t.set_next(step);
         }
     }
 

@@ -4,8 +4,8 @@
 //! Semantics (direct feedthrough, rate independent): after fmi2SetReal(x), y is the operator
 //! applied to the committed input history followed by x, computed on a copy; fmi2DoStep
 //! commits x. The time only matters for fmi2GetRealStatus(fmi2LastSuccessfulTime), and the
-//! step size only for a model with dynamics or a rate term (`crate::timed`: the direct model's
-//! sample period is the communication step).
+//! step size only for a model with dynamics or a rate term (`crate::timed`: each communication
+//! step is the direct model's time step to the next sample).
 
 use std::fmt;
 
@@ -310,16 +310,15 @@ impl Instance {
 
     /// fmi2DoStep: commits the current x (a model's evaluator is created at the first step,
     /// started at x as `hyst run --model` starts a record). Any step size ≥ 0 is fine, but for
-    /// the direct model of a model with dynamics or a rate term: the first step's size is its
-    /// sample period, and a later step must not differ from it by more than
-    /// `hyst_model::dynamics::TIME_TOLERANCE` (`crate::timed`). With
+    /// the direct model of a model with dynamics or a rate term: each step's size is the time
+    /// step to the next sample, > 0, and the first is its nominal step (`crate::timed`). With
     /// `saturate = true` a desired output beyond the limits is clamped into them; the step
     /// then returns the warning to send when it is the first clamped step after an unclamped
     /// one (the desired output enters saturation).
     ///
     /// # Errors
-    /// A negative or non-finite step, a timed model's step that is not its sample period, or
-    /// x refused; nothing changes then.
+    /// A negative or non-finite step, a timed model's step that is not > 0, or x refused;
+    /// nothing changes then.
     pub fn do_step(&mut self, current: f64, step: f64) -> Result<Option<String>, String> {
         if !(current.is_finite() && step.is_finite() && step >= 0.0) {
             return Err(format!(
@@ -335,6 +334,7 @@ impl Instance {
             (Some(engine), _) => {
                 engine.check_step(step)?;
                 engine.step(x, d).map_err(|e| refused(&e))?;
+                engine.set_next(step);
             }
             (None, Kind::Model(file)) => {
                 let mut engine = Engine::model(file, x, self.config.inverse, Some(step))

@@ -19,8 +19,8 @@
 //!   makes fmi2GetReal(y) / fmi2DoStep return fmi2Error with a logged message, and changes
 //!   nothing;
 //! - a model with dynamics or a rate term ([`timed`]) runs as `hyst run` runs a timed record:
-//!   the direct model's sample period is the communication step (fixed by the first
-//!   fmi2DoStep), the inverse is Lemma 5.1's compensator with the inputs x_d1 … x_dn (the
+//!   each communication step is the direct model's time step to the next sample (steps may
+//!   vary), the inverse is Lemma 5.1's compensator with the inputs x_d1 … x_dn (the
 //!   desired output's derivatives); its states are kept in memory, not serialised;
 //! - FMU states copy the whole instance state; their serialised form is versioned and checked
 //!   completely when read ([`state`]);

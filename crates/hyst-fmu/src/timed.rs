@@ -3,11 +3,14 @@
 //! runs) and what it steps ([`TimedEngine`]: hyst-model's `TimedRun` or `TimedCompensator`,
 //! exactly as `hyst run --model M [--inverse]` runs a timed record; no formula is written here).
 //!
-//! - Direct: the sample period h of the discretisation (`hyst_model::dynamics`) is the
-//!   communication step size. The first fmi2DoStep fixes it; a later step that differs from it
-//!   by more than `TIME_TOLERANCE` (relative) is refused, and a step within it is taken as h,
-//!   as `hyst run` takes the record's mean step. The model description says
-//!   canHandleVariableCommunicationStepSize = false.
+//! - Direct: each communication step size is the time step h from one sample to the next, and
+//!   the plant is discretised for it (`hyst_model::time`): the sample committed by an
+//!   fmi2DoStep is one step of the previous fmi2DoStep's size after the one before. The first
+//!   fmi2DoStep's size is the nominal step (a later step within
+//!   `hyst_model::time::STEP_TOLERANCE` of it is taken as it, as `hyst run` takes a record's
+//!   mean step), so communication points at a record's time stamps give `hyst run`'s outputs.
+//!   A step must be > 0. The model description says
+//!   canHandleVariableCommunicationStepSize = true.
 //! - Inverse: Lemma 5.1's compensator of the plant, for the desired output x and its first n
 //!   time derivatives, the inputs x_d1 … x_dn (n the plant order). The step size does not
 //!   enter (the derivatives are inputs), so any steps are fine, as for a static model.
@@ -15,11 +18,10 @@
 //!   but not serialised (canSerializeFMUstate = false), since hyst-model does not expose the
 //!   state of a `TimedRun` or `TimedCompensator`.
 
-use hyst_model::dynamics::TIME_TOLERANCE;
 use hyst_model::{Dynamics, ModelFile, SmoothModel, TimedCompensator, TimedRun, MAX_DYNAMICS};
 
-/// The sample period of the engine that computes y before the first fmi2DoStep fixes the
-/// period: the first sample of a `TimedRun` does not depend on it (the plant starts at rest,
+/// The nominal step of the engine that computes y before the first fmi2DoStep gives it: the
+/// first sample of a `TimedRun` does not depend on it (the plant starts at rest,
 /// v = b·x, and the rate term is 0), so y there is the first doStep's, whatever its step.
 const PERIOD_BEFORE_THE_FIRST_STEP: f64 = 1.0;
 
@@ -29,9 +31,6 @@ pub struct Timing {
     /// The number n of x's time derivatives the FMU takes as inputs x_d1 … x_dn: the plant
     /// order for the inverse (the compensator), 0 for the direct model.
     pub derivatives: usize,
-    /// Whether the communication step must be constant (the direct model: it is the sample
-    /// period of the discretisation).
-    pub constant_step: bool,
     /// What the model has, in words ("dynamics of order 2", "a rate term", or both).
     pub what: String,
 }
@@ -73,7 +72,6 @@ impl Timing {
         }
         Ok(Some(Self {
             derivatives: if inverse { order } else { 0 },
-            constant_step: !inverse,
             what,
         }))
     }
@@ -99,13 +97,11 @@ impl Timing {
     /// What the FMU does with the time, in a sentence or two (its documentation).
     #[must_use]
     fn summary(&self) -> String {
-        let use_of_time = if self.constant_step {
-            format!(
-                "the communication step size is the sample period of its discretisation: the \
-                 first fmi2DoStep fixes it, and a later step that differs from it by more than \
-                 {:.0} % is refused (canHandleVariableCommunicationStepSize = false)",
-                100.0 * TIME_TOLERANCE
-            )
+        let use_of_time = if self.derivatives == 0 {
+            "each communication step size is the time step to the next sample, for which its \
+             plant is discretised exactly (under the model file's hold); steps may vary, and \
+             must be > 0"
+                .to_string()
         } else {
             format!(
                 "its compensator takes the desired output's first {} time derivatives as the \
@@ -138,11 +134,12 @@ pub fn summary(timing: Option<&Timing>) -> String {
 /// What an instance of a timed model steps.
 #[derive(Clone, Debug)]
 pub enum TimedEngine {
-    /// The direct model over samples of the period fixed by the first fmi2DoStep.
+    /// The direct model over samples one communication step apart.
     Run {
-        /// The sample period h (s): the first fmi2DoStep's communicationStepSize.
-        period: f64,
-        /// The run, started at the first fmi2DoStep's x.
+        /// The step (s) to the next sample: the last fmi2DoStep's communicationStepSize.
+        next: f64,
+        /// The run, started at the first fmi2DoStep's x, its nominal step the first
+        /// fmi2DoStep's.
         run: Box<TimedRun>,
     },
     /// Lemma 5.1's compensator (the inverse), started at the first fmi2DoStep's x.
@@ -151,7 +148,7 @@ pub enum TimedEngine {
 
 impl TimedEngine {
     /// The engine of `model` (its compensator with `inverse`) for a record whose first sample
-    /// is `first`, with the sample period `period` (the first fmi2DoStep's step), or `None`
+    /// is `first`, with the nominal step `period` (the first fmi2DoStep's step), or `None`
     /// before the first fmi2DoStep (for y only: see `PERIOD_BEFORE_THE_FIRST_STEP`).
     ///
     /// # Errors
@@ -169,36 +166,38 @@ impl TimedEngine {
         }
         if let Some(p) = period.filter(|p| !(p.is_finite() && *p > 0.0)) {
             return Err(format!(
-                "communicationStepSize = {p}: the first fmi2DoStep's step is the sample period \
-                 of the model's dynamics or rate term, and must be > 0"
+                "communicationStepSize = {p}: the time step to the next sample of the model's \
+                 dynamics or rate term must be > 0"
             ));
         }
         let period = period.unwrap_or(PERIOD_BEFORE_THE_FIRST_STEP);
         let run = TimedRun::new(model, period, first).map_err(|e| cannot(&e))?;
         Ok(TimedEngine::Run {
-            period,
+            next: period,
             run: Box::new(run),
         })
     }
 
-    /// Checks the communication step `step` of an fmi2DoStep after the first.
+    /// Checks the communication step `step` of an fmi2DoStep after the first: the direct
+    /// model's must be > 0 (the next sample comes that much later).
     ///
     /// # Errors
-    /// The direct model's step differs from the sample period by more than `TIME_TOLERANCE`
-    /// (the message names both).
+    /// A step of the direct model that is not finite and > 0 (the message names it).
     pub fn check_step(&self, step: f64) -> Result<(), String> {
         match self {
-            TimedEngine::Run { period, .. } if (step - period).abs() > TIME_TOLERANCE * period => {
-                Err(format!(
-                    "communicationStepSize = {step} differs from {period}, the sample period \
-                     fixed by the first fmi2DoStep, by {:.1} % (at most {:.0} %): a model with \
-                     dynamics or a rate term needs a constant communication step \
-                     (canHandleVariableCommunicationStepSize = false)",
-                    100.0 * (step - period).abs() / period,
-                    100.0 * TIME_TOLERANCE
-                ))
-            }
+            TimedEngine::Run { .. } if !(step.is_finite() && step > 0.0) => Err(format!(
+                "communicationStepSize = {step}: the time step to the next sample of a model \
+                 with dynamics or a rate term must be > 0 (time stamps that increase)"
+            )),
             _ => Ok(()),
+        }
+    }
+
+    /// Takes the communication step `step` of the fmi2DoStep that committed the last sample:
+    /// the step to the next sample (checked by [`TimedEngine::check_step`]).
+    pub fn set_next(&mut self, step: f64) {
+        if let TimedEngine::Run { next, .. } = self {
+            *next = step;
         }
     }
 
@@ -209,7 +208,10 @@ impl TimedEngine {
     /// The model's refusal of the sample (its message).
     pub fn step(&mut self, x: f64, derivatives: &[f64]) -> Result<f64, String> {
         match self {
-            TimedEngine::Run { run, .. } => run.step(x).map(|s| s.y).map_err(|e| e.to_string()),
+            TimedEngine::Run { run, next } => run
+                .step_after(x, *next)
+                .map(|s| s.y)
+                .map_err(|e| e.to_string()),
             TimedEngine::Compensator(c) => {
                 let desired: [f64; MAX_DYNAMICS + 1] = core::array::from_fn(|k| match k {
                     0 => x,

@@ -25,10 +25,11 @@ pub const FORMAT: &str = "hyst-model";
 /// The newest format version this crate reads and writes. Version 2 adds the optional
 /// `[prandtl-ishlinskii.output]` polynomial, version 3 the stop form of the smooth model
 /// (`form = "stop"` and `linear` in `[smooth]`), version 4 the optional `[dynamics]` and `[rate]`
-/// (and `dynamics`, `rate` in `[structure]`); a file is written with the lowest version that
+/// (and `dynamics`, `rate` in `[structure]`), version 5 `hold` in `[dynamics]` (the
+/// zero-order hold; a file without it has the first-order hold); a file is written with the lowest version that
 /// holds its content ([`ModelFile::required_version`]), so files without it stay readable by
 /// version-1 readers, and version-1 readers refuse the files they would misread.
-pub const VERSION: u32 = 4;
+pub const VERSION: u32 = 5;
 /// The oldest format version this crate reads.
 pub const MIN_VERSION: u32 = 1;
 
@@ -190,15 +191,22 @@ impl ModelFile {
         Ok(file)
     }
 
-    /// The lowest format version that holds this file's content: 4 for a smooth model with
-    /// dynamics or a rate term, 3 for a stop-form smooth model, 2 with a PI output polynomial,
+    /// The lowest format version that holds this file's content: 5 for a plant driven through
+    /// a zero-order hold (`hold` in `[dynamics]`), 4 for a smooth model with dynamics or a rate
+    /// term, 3 for a stop-form smooth model, 2 with a PI output polynomial,
     /// else 1. `hyst fit` writes this version.
     #[must_use]
     pub fn required_version(&self) -> u32 {
         let timed_structure = self
             .structure
             .is_some_and(|s| s.dynamics != 0 || s.rate.is_some());
+        let hold = self.dynamics.as_ref().is_some_and(|d| d.hold.is_some())
+            || self
+                .smooth
+                .as_ref()
+                .is_some_and(|m| m.dynamics.is_some_and(|d| d.hold().recorded().is_some()));
         match (&self.smooth, &self.prandtl_ishlinskii) {
+            _ if hold => 5,
             (Some(m), _) if m.is_timed() || timed_structure => 4,
             (Some(m), _) if m.form == Form::Stop => 3,
             (_, Some(p)) if p.output.is_some() => 2,
@@ -209,6 +217,7 @@ impl ModelFile {
     /// What makes [`ModelFile::required_version`] what it is, in the file's words.
     fn required_by(&self) -> &'static str {
         match self.required_version() {
+            5 => "hold in [dynamics]",
             4 => "[dynamics] or [rate]",
             3 => "form = \"stop\" in [smooth]",
             2 => "[prandtl-ishlinskii.output]",
@@ -258,7 +267,11 @@ impl ModelFile {
             );
         };
         if let Some(d) = &self.dynamics {
-            m.dynamics = Some(d.dynamics().map_err(|e| format!("[dynamics]: {e}"))?);
+            let plant = d.dynamics().map_err(|e| format!("[dynamics]: {e}"))?;
+            m.dynamics = Some(plant);
+            if let Some(s) = self.structure.as_mut() {
+                s.hold = plant.hold();
+            }
         }
         if let Some(r) = &self.rate {
             if !r.c.is_finite() {

@@ -12,7 +12,8 @@
 //!   [`hyst_core::Operator`]; [`Saturated`]: an inverse whose desired outputs are clamped into a
 //!   saturating model's limits ([`Saturation`]).
 //! - [`Dynamics`] and [`Rate`] (module [`dynamics`]): Lemma 5.1's plant before the hysteresis
-//!   and a viscous rate term, with the one discretisation every surface uses; [`TimedRun`],
+//!   and a viscous rate term, with the one discretisation every surface uses and its [`Hold`];
+//!   [`TimeSteps`] (module [`time`]): a record's time steps as measured; [`TimedRun`],
 //!   [`TimedCompensator`] and [`Prefilter`] (module [`timed`]) run such a model over a timed
 //!   record.
 //! - [`Structure`]: the structure a model was fitted with; [`FamilyWidths`]: the family that
@@ -40,9 +41,10 @@ pub mod provenance;
 pub mod saturation;
 pub mod smooth;
 pub mod structure;
+pub mod time;
 pub mod timed;
 
-pub use dynamics::{Dynamics, Rate, MAX_DYNAMICS};
+pub use dynamics::{Dynamics, Hold, Rate, MAX_DYNAMICS};
 pub use error::ModelError;
 pub use evaluator::{Evaluator, EvaluatorMemory};
 pub use family::FamilyWidths;
@@ -52,4 +54,5 @@ pub use provenance::{Columns, ErrorStats, ErrorSums, Estimate, Metrics, Provenan
 pub use saturation::{Saturated, Saturation};
 pub use smooth::{Form, InitialState, SmoothModel};
 pub use structure::{K2Kind, RateTerm, ShapingKind, Structure};
+pub use time::TimeSteps;
 pub use timed::{Prefilter, TimedCompensator, TimedRun, TimedSample};

@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::dynamics::Hold;
 use crate::smooth::{Form, InitialState};
 
 /// A shaping function family for ψ_in or ψ_out. Its kebab-case name (`affine`, `poly2`, `poly3`,
@@ -96,6 +97,16 @@ pub struct Structure {
     /// The rate term (`--rate-term`), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rate: Option<RateTerm>,
+    /// The hold the plant is fitted with (`--hold`, which asks for [`Hold::FIT_DEFAULT`] unless
+    /// told otherwise; [`Hold::UNRECORDED`] by default here, as in a file without it). The
+    /// model file holds it in `[dynamics]` (where the runtime reads it), not in
+    /// `[structure]`: a structure read from a file takes it from there.
+    #[serde(skip, default = "unrecorded")]
+    pub hold: Hold,
+}
+
+fn unrecorded() -> Hold {
+    Hold::UNRECORDED
 }
 
 // serde's `skip_serializing_if` takes a reference.
@@ -115,7 +126,9 @@ pub enum RateTerm {
 
 impl Default for Structure {
     /// k1, constant k2, affine shaping (normalised input, output gain), output offset, records
-    /// starting as after a rise.
+    /// starting as after a rise, no dynamics (a plant, when one is asked for, under the
+    /// first-order hold of a file without `hold`; `hyst fit` and `hyst.fit` ask for the
+    /// zero-order hold).
     fn default() -> Self {
         Self {
             k2: K2Kind::Constant,
@@ -127,6 +140,7 @@ impl Default for Structure {
             form: Form::Operator,
             dynamics: 0,
             rate: None,
+            hold: Hold::UNRECORDED,
         }
     }
 }

@@ -1,8 +1,8 @@
 //! A smooth model with dynamics or a rate term ([`SmoothModel::is_timed`]) run over a timed
 //! record, sample by sample: [`TimedRun`] (the model's output) and [`TimedCompensator`]
 //! (Lemma 5.1's compensator of its plant). Both use the one discretisation of
-//! [`crate::dynamics`]; a static model runs through them exactly as through
-//! [`SmoothModel::run_with`].
+//! [`crate::dynamics`], for each step's own length ([`crate::time`]); a static model runs
+//! through them exactly as through [`SmoothModel::run_with`].
 
 // Dense matrix kernels read best with explicit indices.
 #![allow(clippy::needless_range_loop)]
@@ -10,9 +10,79 @@
 use hyst_core::compensator::{Compensator, MAX_ORDER};
 use hyst_core::{AnyK2Law, Error, Hysteresis, Jet, Operator, ScaledShaping, Shaping};
 
-use crate::dynamics::{Discrete, PlantState};
+use std::collections::HashMap;
+
+use crate::dynamics::{Discrete, Dynamics, PlantState};
 use crate::error::ModelError;
 use crate::smooth::{FitReal, Form, SmoothModel};
+use crate::time::{is_nominal, TimeSteps};
+
+/// The most discretisations of steps other than the nominal one a run keeps: 4096. A record
+/// with more distinct steps computes the others again (the cache is emptied when full).
+const CACHE: usize = 4096;
+
+/// A plant's discretisation for each step a run takes ([`crate::time`]): the nominal step's,
+/// computed once, and any other step's, computed on first use and kept. With the inverse of
+/// each step, for the rate term's backward difference. Without a plant, only the inverses.
+#[derive(Clone, Debug)]
+struct Discretisations<T> {
+    dynamics: Option<Dynamics<T>>,
+    nominal: f64,
+    at_nominal: Option<Discrete<T>>,
+    inverse_nominal: T,
+    other: HashMap<u64, (Option<Discrete<T>>, T)>,
+}
+
+impl<T: FitReal> Discretisations<T> {
+    /// The discretisations of `dynamics` (if any) around the nominal step `nominal` (s).
+    fn new(dynamics: Option<Dynamics<T>>, nominal: f64) -> Result<Self, Error> {
+        if !(nominal.is_finite() && nominal > 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "period",
+                value: nominal,
+                expected: "a finite, positive sample period (s)",
+            });
+        }
+        Ok(Self {
+            at_nominal: dynamics.map(|d| d.discretise(nominal)).transpose()?,
+            dynamics,
+            nominal,
+            inverse_nominal: T::from_f64(1.0 / nominal),
+            other: HashMap::new(),
+        })
+    }
+
+    /// The plant's discretisation for a step `h` (s) and 1/h: the nominal step's for a step
+    /// taken as it ([`is_nominal`]).
+    fn at(&mut self, h: f64) -> Result<(Option<&Discrete<T>>, T), Error> {
+        if is_nominal(h, self.nominal) {
+            return Ok((self.at_nominal.as_ref(), self.inverse_nominal));
+        }
+        if !(h.is_finite() && h > 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "time step",
+                value: h,
+                expected: "a finite, positive time step (s): time stamps that increase",
+            });
+        }
+        let key = h.to_bits();
+        if !self.other.contains_key(&key) {
+            let d = self.dynamics.map(|d| d.discretise(h)).transpose()?;
+            if self.other.len() >= CACHE {
+                self.other.clear();
+            }
+            self.other.insert(key, (d, T::from_f64(1.0 / h)));
+        }
+        match self.other.get(&key) {
+            Some((d, inverse)) => Ok((d.as_ref(), *inverse)),
+            None => Err(Error::InvalidParameter {
+                name: "time step",
+                value: h,
+                expected: "a step whose discretisation is kept",
+            }),
+        }
+    }
+}
 
 /// One sample of a [`TimedRun`]: the hysteresis input v (input units, after the plant), the
 /// operator output z = H\[ψ_in(v)\] and the model output y.
@@ -26,23 +96,23 @@ pub struct TimedSample<T> {
     pub y: T,
 }
 
-/// A smooth model running over one timed record of sample period h: the plant (if any) turns
-/// each command into v, the hysteresis and shapings give the static output, and the rate term
-/// (if any) adds c·v̇ with v̇ the backward difference.
+/// A smooth model running over one timed record: the plant (if any) turns each command into v,
+/// discretised for each step's length, the hysteresis and shapings give the static output, and
+/// the rate term (if any) adds c·v̇ with v̇ the backward difference over the step.
 #[derive(Clone, Debug)]
 pub struct TimedRun<T = f64> {
     model: SmoothModel<T>,
     operator: Hysteresis<T, AnyK2Law<T>>,
-    plant: Option<Discrete<T>>,
+    steps: Discretisations<T>,
     state: PlantState<T>,
     previous: Option<T>,
-    inverse_period: T,
 }
 
 impl<T: FitReal> TimedRun<T> {
-    /// The run of `model` over a record of sample period `period` (s) whose first command is
-    /// `first`: the plant at rest there, the operator started by the model's start rule at
-    /// v = b·first.
+    /// The run of `model` over a record of nominal step `period` (s; every step for
+    /// [`TimedRun::step`], the steps within [`crate::time::STEP_TOLERANCE`] of it for
+    /// [`TimedRun::step_after`]) whose first command is `first`: the plant at rest there, the
+    /// operator started by the model's start rule at v = b·first.
     ///
     /// # Errors
     /// A period that is not finite and positive, parameters the core refuses, a first sample
@@ -51,7 +121,7 @@ impl<T: FitReal> TimedRun<T> {
         Self::started(model, period, &[first.as_f64()], None)
     }
 
-    /// The run of `model` over a record of sample period `period` (s) whose commands are
+    /// The run of `model` over a record of nominal step `period` (s) whose commands are
     /// `input` (the first is enough for the start rule; the first move's direction is read
     /// for an estimated start): the plant at rest at the first command, the operator started
     /// by the model's start rule, or with `band` = Some(b), b ∈ [−1, 1], at a reversal at the
@@ -74,18 +144,8 @@ impl<T: FitReal> TimedRun<T> {
             });
         };
         let first = T::from_f64(first);
-        if !(period.is_finite() && period > 0.0) {
-            return Err(Error::InvalidParameter {
-                name: "period",
-                value: period,
-                expected: "a finite, positive sample period (s)",
-            });
-        }
-        let plant = match model.dynamics {
-            Some(d) => Some(d.discretise(period)?),
-            None => None,
-        };
-        let state = plant.map_or(
+        let steps = Discretisations::new(model.dynamics, period)?;
+        let state = steps.at_nominal.map_or(
             PlantState {
                 x: [first; crate::dynamics::MAX_DYNAMICS],
                 u: first,
@@ -110,25 +170,37 @@ impl<T: FitReal> TimedRun<T> {
         Ok(Self {
             model: *model,
             operator,
-            plant,
+            steps,
             state,
             previous: None,
-            inverse_period: T::from_f64(1.0 / period),
         })
     }
 
-    /// The next sample, for the command `u`.
+    /// The next sample, for the command `u`, one nominal step after the last.
     ///
     /// # Errors
     /// [`Error::NonFiniteOutput`] (naming the command) when the output is not finite, or the
     /// core's error for the step; the run is then unchanged.
     pub fn step(&mut self, u: T) -> Result<TimedSample<T>, Error> {
+        self.step_after(u, self.steps.nominal)
+    }
+
+    /// The next sample, for the command `u`, a step of `h` (s) after the last (t_k − t_{k−1};
+    /// ignored at the record's first sample, where the run starts at rest).
+    ///
+    /// # Errors
+    /// As [`TimedRun::step`], and a step that is not finite and positive.
+    pub fn step_after(&mut self, u: T, h: f64) -> Result<TimedSample<T>, Error> {
         // The plant's state is committed only once the sample succeeds.
         let mut state = self.state;
-        let v = match (&self.plant, self.previous) {
+        let (plant, inverse_step) = match self.previous {
+            Some(_) => self.steps.at(h)?,
+            None => (None, T::zero()),
+        };
+        let v = match (plant, self.previous) {
             (Some(d), Some(_)) => d.step(&mut state, u),
-            (Some(_), None) => state.x[0],
-            (None, _) => u,
+            (None, _) if self.model.dynamics.is_some() => state.x[0],
+            _ => u,
         };
         let w = self.model.input_shaping.apply(v);
         let before = self.operator.memory();
@@ -137,7 +209,7 @@ impl<T: FitReal> TimedRun<T> {
         if let Some(r) = self.model.rate {
             let rate = self
                 .previous
-                .map_or_else(T::zero, |p| (v - p) * self.inverse_period);
+                .map_or_else(T::zero, |p| (v - p) * inverse_step);
             y = y + r.c * rate;
         }
         if !y.is_finite() {
@@ -154,19 +226,19 @@ impl<T: FitReal> TimedRun<T> {
 }
 
 impl<T: FitReal> SmoothModel<T> {
-    /// Runs the model over one record of sample period `period` (s; `None` for a record
-    /// without time, which only a static model runs) and hands each sample's index and
+    /// Runs the model over one record of time steps `steps` (`None` for a record without
+    /// time, which only a static model runs) and hands each sample's index and
     /// [`TimedSample`] to `each`. A static model runs exactly as [`SmoothModel::run_with`]
     /// (an estimated start `band` starts the operator's memory, the plant at rest:
     /// [`TimedRun::started`]).
     ///
     /// # Errors
-    /// A model with dynamics or a rate term without a period; otherwise as
+    /// A model with dynamics or a rate term without time steps; otherwise as
     /// [`SmoothModel::simulate`].
     pub fn run_timed(
         &self,
         input: &[f64],
-        period: Option<f64>,
+        steps: Option<&TimeSteps>,
         band: Option<f64>,
         mut each: impl FnMut(usize, TimedSample<T>),
     ) -> Result<(), Error> {
@@ -176,7 +248,7 @@ impl<T: FitReal> SmoothModel<T> {
                 each(i, TimedSample { v, z, y });
             });
         }
-        let Some(period) = period else {
+        let Some(steps) = steps else {
             return Err(Error::InvalidParameter {
                 name: "period",
                 value: f64::NAN,
@@ -186,9 +258,13 @@ impl<T: FitReal> SmoothModel<T> {
         if input.is_empty() {
             return Ok(());
         }
-        let mut run = TimedRun::started(self, period, input, band)?;
-        for (i, x) in input.iter().enumerate() {
-            each(i, run.step(T::from_f64(*x))?);
+        let mut run = TimedRun::started(self, steps.nominal(), input, band)?;
+        for ((i, x), h) in input
+            .iter()
+            .enumerate()
+            .zip(std::iter::once(steps.nominal()).chain(steps.walk()))
+        {
+            each(i, run.step_after(T::from_f64(*x), h)?);
         }
         Ok(())
     }
@@ -287,7 +363,7 @@ impl TimedCompensator {
 /// compensator of a plant of order n tracks y_r exactly.
 #[derive(Clone, Debug)]
 pub struct Prefilter {
-    discrete: Discrete<f64>,
+    steps: Discretisations<f64>,
     state: PlantState<f64>,
     started: bool,
     omega: f64,
@@ -295,8 +371,10 @@ pub struct Prefilter {
 }
 
 impl Prefilter {
-    /// The prefilter of order `order` (1…4) and bandwidth `hz`, for a record of sample period
-    /// `period` (s) starting at rest at `first`.
+    /// The prefilter of order `order` (1…4) and bandwidth `hz`, for a record of nominal step
+    /// `period` (s) starting at rest at `first`. It takes the reference linear between samples
+    /// (first-order hold), whatever the model's hold: it shapes the reference, not the
+    /// command.
     ///
     /// # Errors
     /// A bandwidth that is not finite and positive, or the discretisation's errors.
@@ -311,10 +389,13 @@ impl Prefilter {
         let a: Vec<f64> = (1..=order)
             .map(|i| binomial(order, i) / omega.powi(i as i32))
             .collect();
-        let discrete = crate::dynamics::Dynamics::new(1.0, &a)?.discretise(period)?;
-        let state = discrete.at_rest(first);
+        let steps = Discretisations::new(Some(Dynamics::new(1.0, &a)?), period)?;
+        let state = PlantState {
+            x: core::array::from_fn(|i| if i == 0 { first } else { 0.0 }),
+            u: first,
+        };
         Ok(Self {
-            discrete,
+            steps,
             state,
             started: false,
             omega,
@@ -322,10 +403,28 @@ impl Prefilter {
         })
     }
 
-    /// The prefiltered reference and its first n derivatives, for the next reference sample.
+    /// The prefiltered reference and its first n derivatives, for the next reference sample
+    /// one nominal step after the last.
     pub fn step(&mut self, reference: f64) -> [f64; MAX_ORDER + 1] {
+        let h = self.steps.nominal;
+        self.step_after(reference, h)
+            .unwrap_or([f64::NAN; MAX_ORDER + 1])
+    }
+
+    /// The prefiltered reference and its first n derivatives, for the next reference sample a
+    /// step of `h` (s) after the last (ignored at the first sample).
+    ///
+    /// # Errors
+    /// A step that is not finite and positive, or whose discretisation is not finite.
+    pub fn step_after(
+        &mut self,
+        reference: f64,
+        h: f64,
+    ) -> Result<[f64; MAX_ORDER + 1], ModelError> {
         if self.started {
-            self.discrete.step(&mut self.state, reference);
+            if let (Some(d), _) = self.steps.at(h)? {
+                d.step(&mut self.state, reference);
+            }
         }
         self.started = true;
         let n = self.order;
@@ -338,7 +437,7 @@ impl Prefilter {
             acc -= binomial(n, i) * out[i] / self.omega.powi(i as i32);
         }
         out[n] = acc * self.omega.powi(n as i32);
-        out
+        Ok(out)
     }
 }
 
@@ -351,6 +450,7 @@ mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
     use crate::dynamics::{Dynamics, Rate};
+    use crate::time::TimeSteps;
     use hyst_core::{AnyShaping, Tanh};
 
     fn model() -> SmoothModel {
@@ -406,7 +506,7 @@ mod tests {
             })
             .collect();
         let mut worst: f64 = 0.0;
-        m.run_timed(&command, Some(h), None, |i, s| {
+        m.run_timed(&command, Some(&TimeSteps::even(h)), None, |i, s| {
             worst = worst.max((s.y - r(i as f64 * h)).abs());
         })
         .unwrap();
@@ -432,13 +532,81 @@ mod tests {
         m.run_with(&input, None, |_, _, y| plain.push(y)).unwrap();
         m.rate = Some(Rate { c: 2.0 });
         let mut with = Vec::new();
-        m.run_timed(&input, Some(0.5), None, |_, s| with.push(s.y))
-            .unwrap();
+        m.run_timed(&input, Some(&TimeSteps::even(0.5)), None, |_, s| {
+            with.push(s.y)
+        })
+        .unwrap();
         let expected = [0.0, 0.4, 0.8, -0.4];
         for k in 0..4 {
             assert!((with[k] - plain[k] - expected[k]).abs() < 1e-15, "{k}");
         }
         assert!(m.run_timed(&input, None, None, |_, _| {}).is_err());
+    }
+
+    /// Uneven steps: each step discretised for its own h, against a fine integration of the
+    /// plant under either hold; an even record runs bit for bit as `TimedRun::step` at its
+    /// period, stamps rounded or not.
+    #[test]
+    fn uneven_steps_match_a_fine_integration() {
+        use crate::dynamics::Hold;
+        let tau = 0.05;
+        let mut t = vec![3.0];
+        for k in 0..400 {
+            let h = [0.010, 0.013, 0.063, 0.011, 0.0105][k % 5];
+            t.push(t[k] + h);
+        }
+        let u = |t: f64| (2.0 * t).sin() + 0.3 * (11.0 * t).cos();
+        let command: Vec<f64> = t.iter().map(|t| u(*t)).collect();
+        for hold in [Hold::Zoh, Hold::Foh] {
+            let mut m = model();
+            m.output_shaping = ScaledShaping::identity();
+            m.k1 = 1e-9;
+            m.dynamics = Some(Dynamics::new(1.0, &[tau]).unwrap().with_hold(hold));
+            let (parts, gaps) = crate::time::split(&t).unwrap();
+            assert!(gaps.is_empty());
+            let mut v = Vec::new();
+            m.run_timed(&command, Some(&parts[0].1), None, |_, s| v.push(s.v))
+                .unwrap();
+            // RK4 with 1,000 substeps a step, of the held or interpolated command.
+            let mut x = command[0];
+            for k in 1..t.len() {
+                let h = t[k] - t[k - 1];
+                let c = |s: f64| match hold {
+                    Hold::Zoh => command[k - 1],
+                    Hold::Foh => command[k - 1] + s / h * (command[k] - command[k - 1]),
+                };
+                let f = |s: f64, x: f64| (c(s) - x) / tau;
+                let n = 1000;
+                let dt = h / f64::from(n);
+                for j in 0..n {
+                    let s = f64::from(j) * dt;
+                    let k1 = f(s, x);
+                    let k2 = f(s + dt / 2.0, x + dt / 2.0 * k1);
+                    let k3 = f(s + dt / 2.0, x + dt / 2.0 * k2);
+                    let k4 = f(s + dt, x + dt * k3);
+                    x += dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+                }
+                assert!((v[k] - x).abs() < 1e-12, "{hold:?} {k}: {} vs {x}", v[k]);
+            }
+        }
+        // An even record with rounded stamps: the nominal discretisation, bit for bit.
+        let mut m = model();
+        m.dynamics = Some(Dynamics::new(1.0, &[0.02, 1e-4]).unwrap());
+        m.rate = Some(Rate { c: 0.2 });
+        let t: Vec<f64> = (0..500).map(|k| 1234.5 + f64::from(k) * 0.001).collect();
+        let x: Vec<f64> = t.iter().map(|t| (5.0 * t).sin()).collect();
+        let (parts, _) = crate::time::split(&t).unwrap();
+        let (_, steps) = &parts[0];
+        assert!(steps.is_even());
+        let mut a = Vec::new();
+        m.run_timed(&x, Some(steps), None, |_, s| a.push(s.y.to_bits()))
+            .unwrap();
+        let mut run = TimedRun::new(&m, steps.nominal(), x[0]).unwrap();
+        let b: Vec<u64> = x
+            .iter()
+            .map(|x| run.step(*x).unwrap().y.to_bits())
+            .collect();
+        assert_eq!(a, b);
     }
 
     /// The prefilter's derivatives are those of its output: integrating them gives it back.

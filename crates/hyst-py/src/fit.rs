@@ -14,7 +14,7 @@ use hyst_fit::{identify, DataOptions, Dataset, FitError, FitOptions, FormChoice,
 use hyst_io::number::shortest;
 use hyst_io::Table;
 use hyst_model::{file::fnv1a64, ModelKind, Provenance, Units};
-use hyst_model::{InitialState, K2Kind, ModelFile, RateTerm, ShapingKind, Structure};
+use hyst_model::{Hold, InitialState, K2Kind, ModelFile, RateTerm, ShapingKind, Structure};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -85,10 +85,14 @@ impl Observer for Signals {
 /// (1 to 4) identifies Lemma 5.1's plant of order N between the input x (the command) and the
 /// hysteresis, a_N v⁽ᴺ⁾ + … + a_1 v̇ + v = x, jointly with the hysteresis; `rate_term`
 /// ("viscous") adds c·v̇ to the output. Both need `t`, the samples' time stamps in seconds
-/// (one per sample, increasing evenly within each record); `t` is refused without them.
-/// Each record's start is discounted until the fitted operator has forgotten its memory and
-/// the plant has settled (`fit_from_start=True` counts every sample, trusting
-/// `initial_state`; `estimate_initial_states=True` estimates each record's memory).
+/// (one per sample, increasing within each record; each step is taken as measured, and a gap
+/// of more than 10 times a record's median step splits it, with a note); `t` is refused
+/// without them. `hold` ("zoh", the default, or "foh"; only with `dynamics`): the command held
+/// over each step or linear between samples (`hyst fit --hold`). `dynamics="auto"` fits
+/// orders 0 to 4 and keeps the best (`--dynamics auto`). Each record's start is discounted
+/// until the fitted operator has forgotten its memory and the plant has settled
+/// (`fit_from_start=True` counts every sample, trusting `initial_state`;
+/// `estimate_initial_states=True` estimates each record's memory).
 ///
 /// Raises ValueError with the CLI's words for bad options or data (a bad time stamp is named
 /// as `t[i]`); Ctrl-C stops the fit with KeyboardInterrupt. The GIL is released while it runs.
@@ -101,7 +105,8 @@ impl Observer for Signals {
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
     initial_state = "auto", estimate_initial_states = false, form = "auto",
     keep_degenerate = false, input_name = "x", output_name = "y", input_unit = "",
-    output_unit = "", t = None, dynamics = None, rate_term = None, fit_from_start = false
+    output_unit = "", t = None, dynamics = None, rate_term = None, hold = None,
+    fit_from_start = false
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
@@ -134,21 +139,32 @@ pub fn fit(
     input_unit: &str,
     output_unit: &str,
     t: Option<&Bound<'_, PyAny>>,
-    dynamics: Option<i64>,
+    dynamics: Option<&Bound<'_, PyAny>>,
     rate_term: Option<&str>,
+    hold: Option<&str>,
     fit_from_start: bool,
 ) -> PyResult<FitResult> {
     if starts == 0 {
         return Err(value_error("starts = 0: expected at least 1 start"));
     }
     let t = t.filter(|t| !t.is_none());
-    let timed = timed(dynamics, rate_term, t.is_some())?;
+    let (dynamics, auto_dynamics) = dynamics_arg(dynamics)?;
+    let timed = timed(dynamics, auto_dynamics, rate_term, t.is_some())?;
     if fit_from_start && estimate_initial_states {
         return Err(value_error(
             "fit_from_start=True and estimate_initial_states=True: a record's start is either \
              trusted or estimated, give one",
         ));
     }
+    let hold =
+        match hold {
+            None => Hold::FIT_DEFAULT,
+            Some(_) if dynamics.is_none() => return Err(value_error(
+                "hold: the hold is how the plant of a fit with dynamics sees its command; give \
+                 dynamics=N, or leave hold out",
+            )),
+            Some(name) => choice::<Hold>("hold", name)?,
+        };
     let options = Options {
         output_shaping,
         input_shaping,
@@ -174,6 +190,8 @@ pub fn fit(
         input_unit,
         output_unit,
         timed,
+        auto_dynamics,
+        hold,
     };
     let request = options.request()?;
     let columns = Columns::read(x, y, record, weight, t, input_name, output_name)?;
@@ -198,16 +216,39 @@ pub fn fit(
     FitResult::new(py, report)
 }
 
+/// `dynamics`: None, a plant order (an int), or "auto" (the order picked from 0 to 4: order
+/// 0 here, and `true`).
+fn dynamics_arg(dynamics: Option<&Bound<'_, PyAny>>) -> PyResult<(Option<i64>, bool)> {
+    let Some(d) = dynamics.filter(|d| !d.is_none()) else {
+        return Ok((None, false));
+    };
+    if let Ok(text) = d.extract::<String>() {
+        return if text == "auto" {
+            Ok((Some(0), true))
+        } else {
+            Err(value_error(format!(
+                "dynamics = {text:?}: the plant order 1 to 4, or \"auto\" (orders 0 to 4, the \
+                 best kept)"
+            )))
+        };
+    }
+    d.extract::<i64>().map(|n| (Some(n), false)).map_err(|_| {
+        value_error("dynamics: the plant order 1 to 4, or \"auto\" (orders 0 to 4, the best kept)")
+    })
+}
+
 /// The plant order and rate term of a fit with dynamics or a rate term (`None` for a static
 /// fit), checked: an order of 1 to 4 (as `hyst fit --dynamics`), a rate term by its CLI name,
 /// and `t` given exactly when one of them is.
 fn timed(
     dynamics: Option<i64>,
+    auto_dynamics: bool,
     rate_term: Option<&str>,
     has_time: bool,
 ) -> PyResult<Option<(u8, Option<RateTerm>)>> {
     let order = match dynamics {
         None => 0,
+        Some(0) if auto_dynamics => 0,
         Some(n) => match u8::try_from(n) {
             Ok(n) if (1..=4).contains(&n) => n,
             _ => {
@@ -220,7 +261,7 @@ fn timed(
     let rate = rate_term
         .map(|r| choice::<RateTerm>("rate_term", r))
         .transpose()?;
-    if order == 0 && rate.is_none() {
+    if order == 0 && rate.is_none() && !auto_dynamics {
         if has_time {
             return Err(value_error(
                 "t: time stamps apply to a fit with dynamics or rate_term; a static fit does not \
@@ -285,6 +326,10 @@ struct Options<'a> {
     output_unit: &'a str,
     /// The plant order (0: none) and the rate term of a fit with either.
     timed: Option<(u8, Option<RateTerm>)>,
+    /// `dynamics="auto"`: the plant order picked from 0 to 4.
+    auto_dynamics: bool,
+    /// The plant's hold.
+    hold: Hold,
 }
 
 impl Options<'_> {
@@ -301,6 +346,7 @@ impl Options<'_> {
             form: hyst_model::Form::Operator,
             dynamics: self.timed.map_or(0, |(order, _)| order),
             rate: self.timed.and_then(|(_, rate)| rate),
+            hold: self.hold,
         };
         Ok(Request {
             kind: choice::<ModelKind>("model_kind", self.model_kind)?,
@@ -314,6 +360,7 @@ impl Options<'_> {
                 coverage: self.coverage,
                 estimate_starts: self.estimate_initial_states,
                 fit_from_start: self.fit_from_start,
+                auto_dynamics: self.auto_dynamics,
                 ..FitOptions::default()
             },
             plays: self.plays,

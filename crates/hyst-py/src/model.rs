@@ -17,7 +17,7 @@ use crate::arrays::{
 use crate::errors::{self, borrow, borrow_mut, value_error, Shared};
 use crate::model_memory;
 use crate::timed::{
-    as_array_of, derivatives_from, desired_derivatives, period_of, run_compensator, timed_model,
+    as_array_of, derivatives_from, desired_derivatives, run_compensator, steps_of, timed_model,
     timed_parts, untimed, values_of, Given, Halt, Reference,
 };
 
@@ -350,18 +350,21 @@ impl Model {
     /// was before the call.
     ///
     /// A model with dynamics or a rate term needs the record's time stamps `t` (s, one per
-    /// sample, increasing evenly: every step within 10 % of the mean, which is the sample
-    /// period) or its sample `period` (s), and runs each call as one record that starts at
-    /// rest at its first sample, as `hyst run --model FILE` runs a timed record (bit-identical
-    /// results); it takes no `derivatives` and keeps no history between calls. A static model
-    /// refuses `t` and `period`.
-    #[pyo3(signature = (x, derivatives=None, *, t=None, period=None))]
+    /// sample, increasing; each step is taken as measured, and a gap of more than 10 times the
+    /// median step starts the rest afresh, with a `UserWarning`) or its sample `period` (s),
+    /// and runs each call as one record that starts at rest at its first sample, as
+    /// `hyst run --model FILE` runs a timed record (bit-identical results); it takes no
+    /// `derivatives` and keeps no history between calls. `hold` ("zoh" or "foh") runs a model
+    /// with dynamics under that hold instead of its file's (`hyst run --hold`). A static model
+    /// refuses `t`, `period` and `hold`.
+    #[pyo3(signature = (x, derivatives=None, *, t=None, period=None, hold=None))]
     fn process<'py>(
         slf: &Bound<'py, Self>,
         x: &Bound<'py, PyAny>,
         derivatives: Option<&Bound<'py, PyAny>>,
         t: Option<&Bound<'py, PyAny>>,
         period: Option<f64>,
+        hold: Option<&str>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let t = t.filter(|t| !t.is_none());
         let derivatives = derivatives.filter(|d| !d.is_none());
@@ -376,7 +379,14 @@ impl Model {
         if let Some((m, source)) = timed {
             // A timed run keeps no history: the model is not held while it runs, and other
             // threads may use it meanwhile.
-            return crate::timed::process(slf.py(), &m, &source, x, derivatives, t, period);
+            return crate::timed::process(slf.py(), &m, &source, x, derivatives, t, period, hold);
+        }
+        if let Some(hold) = hold {
+            return Err(value_error(format!(
+                "hold = {hold:?}: the model {} has no dynamics (the hold is how a plant sees its \
+                 command)",
+                borrow(slf)?.source
+            )));
         }
         borrow_mut(slf)?.process_static(slf.py(), x, derivatives, t, period)
     }
@@ -492,7 +502,7 @@ impl Model {
         let (desired, f32) = values_of(desired, "desired")?;
         let given = derivatives_from(derivatives, prefilter_hz, order)?;
         let what = format!("the compensator of the model {source} (dynamics of order {order})");
-        let Some(h) = period_of(t, period, desired.len(), &what)? else {
+        let Some(parts) = steps_of(py, t, period, desired.len(), &what)? else {
             return Ok(as_array_of(py, desired, f32));
         };
         let reference = match given {
@@ -501,13 +511,13 @@ impl Model {
             }
             Given::Prefilter(hz) => {
                 let first = desired.first().copied().unwrap_or(0.0);
-                Reference::Prefilter(Box::new(
-                    Prefilter::new(order, hz, h, first).map_err(errors::model)?,
-                ))
+                let nominal = parts.first().map_or(1.0, |(_, s)| s.nominal());
+                Prefilter::new(order, hz, nominal, first).map_err(errors::model)?;
+                Reference::Prefilter(hz)
             }
         };
         let commands = py
-            .detach(|| run_compensator(&smooth, &desired, reference))
+            .detach(|| run_compensator(&smooth, &desired, &reference, &parts))
             .map_err(|halt| match halt {
                 Halt::At(i, value, message) => {
                     value_error(format!("desired[{i}] = {}: {message}", shortest(value)))
@@ -519,7 +529,8 @@ impl Model {
 
     /// Lemma 5.1's plant before the hysteresis, b / (a_n sⁿ + … + a_1 s + 1) (eq. 18), as the
     /// model file's `[dynamics]` section: {"b": b, "a": [a_1, …, a_n], "a_std_error": […],
-    /// "identified": […]} (the last two when the fit recorded them); None for a model without
+    /// "identified": […], "hold": "zoh" or "foh"} (the standard errors and flags when the fit
+    /// recorded them; the hold always, "foh" for a file without it); None for a model without
     /// dynamics.
     #[getter]
     fn dynamics<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyAny>>> {
@@ -527,15 +538,17 @@ impl Model {
         let Some(d) = me.file.smooth.as_ref().and_then(|m| m.dynamics) else {
             return Ok(None);
         };
-        match &me.file.dynamics {
-            Some(section) => to_python(py, section).map(Some),
+        let out = match &me.file.dynamics {
+            Some(section) => to_python(py, section)?,
             None => {
                 let out = PyDict::new(py);
                 out.set_item("b", d.b)?;
                 out.set_item("a", d.a().to_vec())?;
-                Ok(Some(out.into_any()))
+                out.into_any()
             }
-        }
+        };
+        out.set_item("hold", d.hold().name())?;
+        Ok(Some(out))
     }
 
     /// The rate term c·v̇ added to the output, as the model file's `[rate]` section:

@@ -1,12 +1,16 @@
 //! The Python side of a model with dynamics or a rate term (`Model.process(x, t=...)`,
-//! `Model.compensate`): its sample period from the time stamps, the run and the compensator of
-//! `hyst_model::timed`, as `hyst run --model` runs a timed record (bit-identical results).
+//! `Model.compensate`): its time steps from the time stamps (a gap splits the record, with a
+//! `UserWarning`), the run and the compensator of `hyst_model::timed`, as `hyst run --model`
+//! runs a timed record (bit-identical results).
+
+use std::ffi::CString;
+use std::ops::Range;
 
 use hyst_io::number::shortest;
-use hyst_model::dynamics::sample_period;
+use hyst_model::time::split;
 use hyst_model::ModelFile;
 use hyst_model::ModelKind;
-use hyst_model::{Prefilter, SmoothModel, TimedCompensator, TimedRun};
+use hyst_model::{Hold, Prefilter, SmoothModel, TimeSteps, TimedCompensator, TimedRun};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
@@ -15,8 +19,13 @@ use crate::arrays::{
 };
 use crate::errors::{self, value_error};
 
+/// A record's parts between gaps: their samples and time steps.
+pub(crate) type Parts = Vec<(Range<usize>, TimeSteps)>;
+
 /// `Model.process` of a timed model `m` (from the file `source`): the whole of `x` as one
-/// record starting at rest, at the period of `t` or `period`.
+/// record starting at rest (each part after a gap afresh), at the steps of `t` or `period`,
+/// under `hold` (the model file's when `None`).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn process<'py>(
     py: Python<'py>,
     m: &SmoothModel,
@@ -25,6 +34,7 @@ pub(crate) fn process<'py>(
     derivatives: Option<&Bound<'py, PyAny>>,
     t: Option<&Bound<'py, PyAny>>,
     period: Option<f64>,
+    hold: Option<&str>,
 ) -> PyResult<Bound<'py, PyAny>> {
     if derivatives.is_some() {
         return Err(value_error(format!(
@@ -34,14 +44,28 @@ pub(crate) fn process<'py>(
             timed_parts(m)
         )));
     }
+    let mut m = *m;
+    if let Some(name) = hold {
+        let Some(hold) = Hold::from_name(name) else {
+            return Err(value_error(format!(
+                "hold = {name:?}: invalid value; possible values: zoh, foh"
+            )));
+        };
+        let Some(d) = m.dynamics else {
+            return Err(value_error(format!(
+                "hold = {name:?}: the model {source} has no dynamics (a rate term alone takes no \
+                 hold)"
+            )));
+        };
+        m.dynamics = Some(d.with_hold(hold));
+    }
     let (x, f32) = values_of(x, "x")?;
-    let what = format!("the model {} has {}", source, timed_parts(m));
-    let Some(h) = period_of(t, period, x.len(), &what)? else {
+    let what = format!("the model {} has {}", source, timed_parts(&m));
+    let Some(parts) = steps_of(py, t, period, x.len(), &what)? else {
         return Ok(as_array_of(py, x, f32));
     };
-    let m = *m;
     let y = py
-        .detach(|| run_timed(&m, &x, h))
+        .detach(|| run_timed(&m, &x, &parts))
         .map_err(|e| e.into_err("x"))?;
     Ok(as_array_of(py, y, f32))
 }
@@ -59,19 +83,22 @@ pub(crate) fn untimed(file: &ModelFile, what: &str) -> PyResult<()> {
     file.untimed(what).map_err(errors::model)
 }
 
-/// The sample period of a timed record of `n` samples: from its time stamps `t` (the mean
-/// step, every step within 10 % of it; a bad stamp is named as `t[i]`) or given as `period`
-/// (s). Exactly one of them. `None` for an empty record (with as many stamps, or a valid
-/// period): there is nothing to run.
-pub(crate) fn period_of(
+/// The parts and time steps of a timed record of `n` samples: from its time stamps `t` (each
+/// step as measured; a gap of more than 10 median steps splits the record, with a
+/// `UserWarning`; a bad stamp is named as `t[i]`) or every step `period` (s). Exactly one of
+/// them. `None` for an empty record (with as many stamps, or a valid period): there is nothing
+/// to run.
+pub(crate) fn steps_of(
+    py: Python<'_>,
     t: Option<&Bound<'_, PyAny>>,
     period: Option<f64>,
     n: usize,
     what: &str,
-) -> PyResult<Option<f64>> {
+) -> PyResult<Option<Parts>> {
     match (t, period) {
         (Some(_), Some(_)) => Err(value_error(
-            "t and period: give one (the time stamps, or the sample period they imply)",
+            "t and period: give one (the time stamps, or the sample period of evenly sampled \
+             ones)",
         )),
         (None, None) => Err(value_error(format!(
             "{what}: it needs the record's time stamps t (s), one per sample, or its sample \
@@ -79,7 +106,7 @@ pub(crate) fn period_of(
         ))),
         (None, Some(h)) => {
             if h.is_finite() && h > 0.0 {
-                Ok((n > 0).then_some(h))
+                Ok((n > 0).then(|| vec![(0..n, TimeSteps::even(h))]))
             } else {
                 Err(value_error(format!(
                     "period = {}: expected a finite, positive sample period (s)",
@@ -98,10 +125,17 @@ pub(crate) fn period_of(
             if n == 0 {
                 return Ok(None);
             }
-            sample_period(&t).map(Some).map_err(|(i, message)| {
+            let (parts, gaps) = split(&t).map_err(|(i, message)| {
                 let value = t.get(i).map_or_else(|| "?".into(), |v| shortest(*v));
                 value_error(format!("t[{i}] = {value}: {message}"))
-            })
+            })?;
+            for gap in gaps {
+                let text = format!("t[{}]: {}", gap.at, gap.describe());
+                let message = CString::new(text).unwrap_or_default();
+                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+                PyErr::warn(py, &category, &message, 1)?;
+            }
+            Ok(Some(parts))
         }
     }
 }
@@ -229,17 +263,17 @@ pub(crate) fn derivatives_from<'a, 'py>(
     }
 }
 
-/// Where the desired output's derivatives come from: given, or a reference prefilter.
+/// Where the desired output's derivatives come from: given, or a reference prefilter of this
+/// bandwidth (Hz), started afresh with each part of the record.
 pub(crate) enum Reference {
     Given(Vec<Vec<f64>>),
-    Prefilter(Box<Prefilter>),
+    Prefilter(f64),
 }
 
-/// Runs the model with dynamics or a rate term `m` over the commands `x` (one record of sample
-/// period `period`, started at rest at its first command): `hyst run --model M` on a timed
-/// record. Checks for Ctrl-C every [`CHUNK`] samples.
-pub(crate) fn run_timed(m: &SmoothModel, x: &[f64], period: f64) -> Result<Vec<f64>, Stop> {
-    let first = x.first().copied().unwrap_or(0.0);
+/// Runs the model with dynamics or a rate term `m` over the commands `x` (one record, each of
+/// its `parts` started at rest at its first command): `hyst run --model M` on a timed record.
+/// Checks for Ctrl-C every [`CHUNK`] samples.
+pub(crate) fn run_timed(m: &SmoothModel, x: &[f64], parts: &Parts) -> Result<Vec<f64>, Stop> {
     let refused = |index: usize, value: f64, error| {
         Stop::Refused(crate::arrays::Refused {
             index,
@@ -247,13 +281,19 @@ pub(crate) fn run_timed(m: &SmoothModel, x: &[f64], period: f64) -> Result<Vec<f
             error,
         })
     };
-    let mut run = TimedRun::new(m, period, first).map_err(|e| refused(0, first, e))?;
     let mut y = Vec::with_capacity(x.len());
-    for (i, u) in x.iter().enumerate() {
-        if i > 0 && i % CHUNK == 0 {
-            signals()?;
+    for (range, steps) in parts {
+        let start = range.start;
+        let first = x.get(start).copied().unwrap_or(0.0);
+        let mut run =
+            TimedRun::new(m, steps.nominal(), first).map_err(|e| refused(start, first, e))?;
+        let walk = std::iter::once(steps.nominal()).chain(steps.walk());
+        for ((i, u), h) in x.iter().enumerate().take(range.end).skip(start).zip(walk) {
+            if i > 0 && i % CHUNK == 0 {
+                signals()?;
+            }
+            y.push(run.step_after(*u, h).map_err(|e| refused(i, *u, e))?.y);
         }
-        y.push(run.step(*u).map_err(|e| refused(i, *u, e))?.y);
     }
     Ok(y)
 }
@@ -274,38 +314,62 @@ pub(crate) enum Halt {
     Interrupted(PyErr),
 }
 
-/// Lemma 5.1's compensator of `m` over the desired outputs `desired` (one record of sample
-/// period `period`), their derivatives from `reference`: the computation of
+/// Lemma 5.1's compensator of `m` over the desired outputs `desired` (one record, each of its
+/// `parts` started afresh), their derivatives from `reference`: the computation of
 /// `hyst run --model M --inverse` on a timed record, command by command.
 pub(crate) fn run_compensator(
     m: &SmoothModel,
     desired: &[f64],
-    mut reference: Reference,
+    reference: &Reference,
+    parts: &Parts,
 ) -> Result<Vec<f64>, Halt> {
-    let first = desired.first().copied().unwrap_or(0.0);
     let order = m.dynamics.map_or(0, |d| d.order());
-    let mut c = TimedCompensator::new(m, first).map_err(|e| {
-        Halt::At(
-            0,
-            first,
-            format!("the compensator cannot start here: {}", reason(e)),
-        )
-    })?;
     let mut out = Vec::with_capacity(desired.len());
-    for (i, value) in desired.iter().enumerate() {
-        if i > 0 && i % CHUNK == 0 {
-            if let Err(Stop::Interrupted(e)) = signals() {
-                return Err(Halt::Interrupted(e));
-            }
-        }
-        let jet: Vec<f64> = match &mut reference {
-            Reference::Prefilter(p) => p.step(*value).get(..=order).unwrap_or(&[]).to_vec(),
-            Reference::Given(d) => std::iter::once(*value)
-                .chain(d.get(i).into_iter().flatten().copied())
-                .collect(),
+    for (range, steps) in parts {
+        let start = range.start;
+        let first = desired.get(start).copied().unwrap_or(0.0);
+        let mut c = TimedCompensator::new(m, first).map_err(|e| {
+            Halt::At(
+                start,
+                first,
+                format!("the compensator cannot start here: {}", reason(e)),
+            )
+        })?;
+        let mut prefilter = match reference {
+            Reference::Prefilter(hz) => Some(
+                Prefilter::new(order, *hz, steps.nominal(), first)
+                    .map_err(|e| Halt::At(start, first, reason(e)))?,
+            ),
+            Reference::Given(_) => None,
         };
-        let (u, _) = c.step(&jet).map_err(|e| Halt::At(i, *value, reason(e)))?;
-        out.push(u);
+        let walk = std::iter::once(steps.nominal()).chain(steps.walk());
+        for ((i, value), h) in desired
+            .iter()
+            .enumerate()
+            .take(range.end)
+            .skip(start)
+            .zip(walk)
+        {
+            if i > 0 && i % CHUNK == 0 {
+                if let Err(Stop::Interrupted(e)) = signals() {
+                    return Err(Halt::Interrupted(e));
+                }
+            }
+            let jet: Vec<f64> = match (&mut prefilter, reference) {
+                (Some(p), _) => p
+                    .step_after(*value, h)
+                    .map_err(|e| Halt::At(i, *value, reason(e)))?
+                    .get(..=order)
+                    .unwrap_or(&[])
+                    .to_vec(),
+                (None, Reference::Given(d)) => std::iter::once(*value)
+                    .chain(d.get(i).into_iter().flatten().copied())
+                    .collect(),
+                (None, Reference::Prefilter(_)) => vec![*value],
+            };
+            let (u, _) = c.step(&jet).map_err(|e| Halt::At(i, *value, reason(e)))?;
+            out.push(u);
+        }
     }
     Ok(out)
 }

@@ -63,7 +63,8 @@ def record():
 @pytest.fixture(scope="module")
 def fitted(record):
     t, x, y, _ = record
-    return hyst.fit(x, y, t=t, dynamics=1, initial_state="line")
+    # The truth's command is continuous: linear between samples is its hold.
+    return hyst.fit(x, y, t=t, dynamics=1, initial_state="line", hold="foh")
 
 
 def write_csv(path, columns):
@@ -146,7 +147,7 @@ def test_compensate_is_hyst_run_inverse(fitted, record, cli, tmp_path):
 
 def test_rate_term(record, cli, tmp_path):
     t, x, _, y_rate = record
-    r = hyst.fit(x, y_rate, t=t, dynamics=1, rate_term="viscous", initial_state="line")
+    r = hyst.fit(x, y_rate, t=t, dynamics=1, rate_term="viscous", initial_state="line", hold="foh")
     m = r.model
     assert abs(m.rate["c"] / C - 1) < 0.02 and m.rate["c_std_error"] > 0
     assert r.params["rate.c"] == m.rate["c"]
@@ -185,10 +186,12 @@ def test_fit_errors_name_the_option_and_the_sample(record):
     repeated[100] = repeated[99]
     with pytest.raises(ValueError, match=r"^t\[100\] = 0\.099: time stamp 0\.099 repeats the one before"):
         hyst.fit(x, y, t=repeated, dynamics=1)
-    uneven = t.copy()
-    uneven[200:] += 0.5 * H
-    with pytest.raises(ValueError, match=r"^t\[200\] = 0\.2005: time step .* differs from the record's mean step"):
-        hyst.fit(x, y, t=uneven, dynamics=1)
+    # Unix-epoch seconds at 1 MHz: 64-bit floats cannot resolve the steps.
+    epoch = 1.7e9 + np.arange(N) * 1e-6
+    with pytest.raises(ValueError, match=r"^t\[0\] = .*: .* apart in 64-bit floats"):
+        hyst.fit(x, y, t=epoch, dynamics=1)
+    with pytest.raises(ValueError, match=r"hold: the hold is how the plant"):
+        hyst.fit(x, y, t=t, rate_term="viscous", hold="zoh")
     with pytest.raises(ValueError, match=r"^t\[300\] = NaN: the time stamp is not a finite number"):
         hyst.fit(x, y, t=np.where(np.arange(N) == 300, np.nan, t), dynamics=1)
     # With records, the record is named too.
@@ -285,3 +288,31 @@ def test_odd_arguments_raise_value_or_type_errors(fitted, record):
     assert m.process(np.empty(0), period=H).size == 0
     with pytest.raises(ValueError, match="it needs the record's time stamps t"):
         m.process(np.empty(0))
+
+
+def test_uneven_stamps_and_the_hold_are_hyst_run(fitted, record, cli, tmp_path):
+    """Uneven steps (DAQ jitter, a Unix-epoch offset) run at their own lengths, bit for bit as
+    `hyst run`, under the file's hold or `hold=` (`hyst run --hold`); a gap starts the rest
+    afresh with a UserWarning."""
+    _, x, _, _ = record
+    steps = np.where(np.arange(N) % 7 == 3, 2.3e-3, 1e-3 + 2e-4 * (np.arange(N) % 3))
+    t = 1.7e9 + np.r_[0.0, np.cumsum(steps[1:])]
+    path = tmp_path / "m.toml"
+    fitted.model.save(path)
+    data = write_csv(tmp_path / "x.csv", {"t": t, "x": x})
+    for hold in ["foh", "zoh"]:
+        out = tmp_path / f"y-{hold}.csv"
+        cli("run", "--model", path, "--hold", hold, data, "-o", out)
+        y = fitted.model.process(x, t=t, hold=hold)
+        assert np.array_equal(y, computed(out)), hold
+    assert fitted.model.dynamics["hold"] == "foh"
+    assert np.array_equal(fitted.model.process(x, t=t), fitted.model.process(x, t=t, hold="foh"))
+    assert not np.array_equal(fitted.model.process(x, t=t), fitted.model.process(x, t=t, hold="zoh"))
+    with pytest.raises(ValueError, match=r'hold = "x": invalid value'):
+        fitted.model.process(x, t=t, hold="x")
+    # A gap: the rest starts at rest, as a record of its own.
+    gap = np.arange(N) * H
+    gap[2000:] += 5.0
+    with pytest.warns(UserWarning, match=r"t\[2000\]: a gap of 5\.00"):
+        y = fitted.model.process(x, t=gap)
+    assert np.array_equal(y[2000:], fitted.model.process(x[2000:], t=gap[2000:]))

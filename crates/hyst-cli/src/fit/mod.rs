@@ -148,6 +148,11 @@ pub struct Args {
     /// the hysteresis input (friction, dampers). The report says whether the data supports it.
     #[arg(long, value_enum, value_name = "TERM")]
     pub rate_term: Option<hyst_model::RateTerm>,
+    /// The command between samples, for the plant of --dynamics: zoh, held over each step (an
+    /// actuator driven by a DAC; the default), or foh, linear between samples. The model file
+    /// records it (`[dynamics] hold`).
+    #[arg(long, value_enum, value_name = "HOLD", requires = "dynamics")]
+    pub hold: Option<hyst_model::Hold>,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -288,6 +293,7 @@ fn request(args: &Args) -> Request {
             None | Some(DynamicsOrder::Auto) => 0,
         },
         rate: args.rate_term,
+        hold: args.hold.unwrap_or(hyst_model::Hold::FIT_DEFAULT),
     };
     let fit_options = FitOptions {
         starts: args.starts,

@@ -522,7 +522,8 @@ impl Fmu {
             self.generated
         );
         let timing = self.timing();
-        let variable_step = timing.is_none_or(|t| !t.constant_step);
+        // Every model takes steps of any size: a timed one is discretised for each.
+        let variable_step = true;
         let _ = writeln!(
             x,
             "  <CoSimulation\n    modelIdentifier=\"{MODEL_IDENTIFIER}\"\n    \

@@ -80,7 +80,8 @@ pub struct Args {
     #[arg(long)]
     pub saturate: bool,
     /// The time column (s) of a model with dynamics or a rate term (default: a column named t,
-    /// t_s, time or time_s): each record's sample period comes from it.
+    /// t_s, time or time_s): each step is taken as measured, and a gap of more than 10 times
+    /// the median step starts the record afresh.
     #[arg(long, value_name = "COLUMN")]
     pub time: Option<String>,
     /// With --model --inverse for a model with dynamics of order n, when the file does not
@@ -89,6 +90,11 @@ pub struct Args {
     /// (written as the column `<column>_filtered`).
     #[arg(long, value_name = "F")]
     pub prefilter_hz: Option<f64>,
+    /// The hold of the plant of a model with dynamics, instead of the model file's
+    /// (`[dynamics] hold`): zoh, the command held over each step (an actuator driven by a DAC),
+    /// or foh, the command linear between samples.
+    #[arg(long, value_enum, value_name = "HOLD")]
+    pub hold: Option<hyst_model::Hold>,
     /// Input CSV file.
     pub input: PathBuf,
     /// Output CSV file: written atomically (temporary file, then rename); `-` is standard
@@ -105,6 +111,7 @@ pub fn main(args: Args) -> Result<()> {
              shaping saturates"
         );
     }
+    refuse_hold(&args, None)?;
     // The data is opened only once the model is known to do what is asked.
     let open = || open_input(&args.input, &args.output);
     let mut columns: Vec<Option<&str>> = args.column.iter().map(|c| Some(c.as_str())).collect();
@@ -118,6 +125,7 @@ pub fn main(args: Args) -> Result<()> {
             if model.smooth.as_ref().is_some_and(|m| m.is_timed()) {
                 return crate::run_timed::main(&timed_options(&args), &model, path);
             }
+            refuse_hold(&args, Some(path))?;
             if args.prefilter_hz.is_some() {
                 bail!(
                     "--prefilter-hz applies to a model with dynamics: {} has none (its inverse \
@@ -210,6 +218,23 @@ fn open_input(path: &std::path::Path, output: &std::path::Path) -> Result<Stream
     )?)
 }
 
+/// `--hold` where it does not apply: without `--model` (`model` = `None`), or with a model
+/// without dynamics (`model`, which the timed run does not take).
+fn refuse_hold(args: &Args, model: Option<&std::path::Path>) -> Result<()> {
+    match (args.hold, model) {
+        (Some(_), None) if args.source.model.is_none() => bail!(
+            "--hold applies to --model FILE, a model with dynamics (the hold is how its plant \
+             sees the command)"
+        ),
+        (Some(hold), Some(path)) => bail!(
+            "--hold {}: {} has no dynamics (the hold is how a plant sees its command)",
+            hold.name(),
+            path.display()
+        ),
+        _ => Ok(()),
+    }
+}
+
 /// What a run of a model with dynamics or a rate term takes of the arguments.
 fn timed_options(args: &Args) -> crate::run_timed::Options<'_> {
     crate::run_timed::Options {
@@ -218,6 +243,7 @@ fn timed_options(args: &Args) -> crate::run_timed::Options<'_> {
         time: args.time.as_deref(),
         record: args.record.as_deref(),
         prefilter_hz: args.prefilter_hz,
+        hold: args.hold,
         derivatives: args.derivatives,
         saturate: args.saturate,
         input: &args.input,

@@ -17,7 +17,7 @@ use crate::reduction::{draw, reduce, Reduction, TARGET};
 use crate::smooth::fit::{Correlation, FitOptions, SmoothFit, BLOCK_TIMES};
 use crate::smooth::limits::LIMIT_SCALE;
 use crate::smooth::nesting::{contained, embed, NESTED_SCALE};
-use crate::smooth::problem::{SmoothProblem, MIN_BLOCKS};
+use crate::smooth::problem::{SmoothProblem, CORRELATION_SAMPLES, MIN_BLOCKS};
 use crate::smooth::starts::{grid_starts, ranked_starts, Starts};
 use crate::smooth::stats::{check_finite, error_stats_of};
 use crate::smooth::std_errors::estimates;
@@ -193,18 +193,15 @@ fn correlation(
     problem: &SmoothProblem<'_>,
     best: &Solution,
 ) -> Result<(Correlation, Option<Vec<f64>>), FitError> {
-    let computed;
-    let r = if best.residuals.len() == problem.n {
-        &best.residuals
-    } else {
-        let mut r = vec![0.0; problem.n];
-        if crate::lm::Problem::residuals(problem, &best.theta, &mut r).is_err() {
-            return Ok((Correlation::default(), None));
+    let first = if best.residuals.is_empty() {
+        match problem.first_residuals(&best.theta, CORRELATION_SAMPLES) {
+            Ok(r) => r,
+            Err(_) => return Ok((Correlation::default(), None)),
         }
-        computed = r;
-        &computed
+    } else {
+        best.residuals[..best.residuals.len().min(CORRELATION_SAMPLES)].to_vec()
     };
-    let time = problem.correlation_time(r);
+    let time = SmoothProblem::correlation_time(&first);
     let samples = problem.data.training_samples().max(1);
     let wanted = (BLOCK_TIMES * time).ceil().max(1.0) as usize;
     let most = (samples / MIN_BLOCKS).max(1);
@@ -552,7 +549,7 @@ fn timed_candidates(
         .data
         .records
         .iter()
-        .filter_map(|r| r.period)
+        .filter_map(|r| r.period.as_ref().map(hyst_model::TimeSteps::nominal))
         .fold(f64::INFINITY, f64::min);
     let mut nested: Starts = Vec::new();
     let mut limits: Starts = Vec::new();

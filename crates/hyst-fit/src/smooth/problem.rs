@@ -225,11 +225,12 @@ impl SmoothProblem<'_> {
     pub(super) fn rate_column(&self, m: &SmoothModel) -> Option<Vec<f64>> {
         let mut out = vec![0.0; self.n];
         for (h, offsets) in &self.histories {
-            let inverse = 1.0 / h.period?;
+            let steps = h.period?;
             let mut rows = ResidualRows::new(&h.parts, offsets);
             let mut previous: Option<f64> = None;
             m.run_timed(&h.input, h.period, None, |i, s| {
-                let rate = previous.map_or(0.0, |p| (s.v - p) * inverse);
+                // Each step's own h (the run's v̇).
+                let rate = previous.map_or(0.0, |p| (s.v - p) / steps.step(i));
                 previous = Some(s.v);
                 if let Some(slot) = rows.row(i).and_then(|k| out.get_mut(k)) {
                     *slot = rate;
@@ -427,19 +428,12 @@ impl SmoothProblem<'_> {
 
 /// The residuals' correlation, for standard errors that stay valid when it is not white
 /// ([`SmoothProblem::scores`]): at most this many residuals (the first) are looked at.
-const CORRELATION_SAMPLES: usize = 1 << 20;
+pub(super) const CORRELATION_SAMPLES: usize = 1 << 20;
 
 /// The fewest blocks of [`SmoothProblem::scores`] the block length leaves (a longer correlation
-/// caps the block, and the standard errors then say so); also the largest lag looked at is
-/// the residuals' count over this.
+/// caps the block, and the standard errors then say so); also the fewest blocks the
+/// correlation time is measured over.
 pub(super) const MIN_BLOCKS: usize = 20;
-
-/// The largest lag (samples) of the residuals' correlation looked at.
-const MAX_LAG: usize = 20_000;
-
-/// The residual autocorrelation below which two residuals count as uncorrelated (the end of
-/// the sum of the integrated correlation time).
-const UNCORRELATED: f64 = 0.05;
 
 impl SmoothProblem<'_> {
     /// The first residual row of each history that has training rows, in order: where the
@@ -451,45 +445,51 @@ impl SmoothProblem<'_> {
             .collect()
     }
 
-    /// The integrated correlation time of the residuals `r` (in samples, at least 1):
-    /// 1 + 2 Σ ρ(l) over the lags l until ρ first falls below [`UNCORRELATED`], within each
-    /// history (a lag never reaches across two), over the first [`CORRELATION_SAMPLES`]
-    /// residuals. Residuals of weight 0 are 0 and count as such.
-    pub(super) fn correlation_time(&self, r: &[f64]) -> f64 {
+    /// The integrated correlation time of the residuals `r` (in samples, at least 1), by
+    /// blocking: for block lengths B = 1, 2, 4, … (at least [`MIN_BLOCKS`] blocks), B times the
+    /// variance of the blocks' means over the residuals' variance, which rises to the
+    /// correlation time once B outlasts the correlation; the largest. O(n log n), over the
+    /// first [`CORRELATION_SAMPLES`] residuals. Residuals of weight 0 are 0 and count as such.
+    pub(super) fn correlation_time(r: &[f64]) -> f64 {
         let n = r.len().min(CORRELATION_SAMPLES);
         let r = &r[..n];
         let var: f64 = r.iter().map(|v| v * v).sum::<f64>() / n.max(1) as f64;
         if var.is_nan() || var <= 0.0 {
             return 1.0;
         }
-        let mut starts = self.history_starts();
-        starts.retain(|&s| s < n);
-        starts.push(n);
-        let mut tau = 1.0;
-        for lag in 1..(n / MIN_BLOCKS).min(MAX_LAG) {
-            let mut sum = 0.0;
-            let mut count = 0usize;
-            for w in starts.windows(2) {
-                let (a, b) = (w[0], w[1]);
-                if b > a + lag {
-                    sum += r[a..b - lag]
-                        .iter()
-                        .zip(&r[a + lag..b])
-                        .map(|(x, y)| x * y)
-                        .sum::<f64>();
-                    count += b - a - lag;
-                }
-            }
-            if count == 0 {
-                break;
-            }
-            let rho = sum / count as f64 / var;
-            if rho < UNCORRELATED {
-                break;
-            }
-            tau += 2.0 * rho;
+        let mut sums: Vec<f64> = r.to_vec();
+        let (mut block, mut tau) = (1usize, 1.0_f64);
+        while sums.len() / 2 >= MIN_BLOCKS {
+            sums = sums.chunks_exact(2).map(|p| p[0] + p[1]).collect();
+            block *= 2;
+            // Var(block mean) · B / var = mean(S_b²) / (B var).
+            let ms = sums.iter().map(|s| s * s).sum::<f64>() / sums.len() as f64;
+            tau = tau.max(ms / (block as f64 * var));
         }
         tau
+    }
+
+    /// The first `count` residuals (at most) at θ, in order, from one run: the residuals the
+    /// correlation is measured on, without a vector of every residual of a long record.
+    ///
+    /// # Errors
+    /// [`Infeasible`] as [`Problem::residuals`].
+    pub(super) fn first_residuals(
+        &self,
+        theta: &[f64],
+        count: usize,
+    ) -> Result<Vec<f64>, Infeasible> {
+        let m = self.model(theta)?;
+        let mut out = vec![0.0; count.min(self.n)];
+        self.run_rows(&m, self.bands(&m).as_deref(), |k, h, i, s| {
+            let (Some(obs), Some(w)) = (h.output.get(i), h.weight.get(i)) else {
+                return;
+            };
+            if let Some(slot) = out.get_mut(k) {
+                *slot = (s.y - obs) * self.scale(w);
+            }
+        })?;
+        Ok(out)
     }
 
     /// The outer product of the score over blocks of `block` consecutive residual rows (cut

@@ -621,7 +621,7 @@ fn timed_model(out: &mut String, name: &str, upper: &str, p: Precision, t: &Timi
              int32_t status;\n    \
              if (s == NULL || y == NULL) {{\n        return HYST_ERR_NULL_POINTER;\n    }}\n    \
              if (s->started) {{\n        \
-                 /* x_k+1 = Phi x_k + G0 u_k + G1 (u_k+1 - u_k): the command linear between samples. */\n        \
+                 /* x_k+1 = Phi x_k + G0 u_k + G1 (u_k+1 - u_k), {hold}. */\n        \
                  const {real} du = x - s->last;\n\
          {update}    \
              }} else {{\n        \
@@ -642,6 +642,7 @@ fn timed_model(out: &mut String, name: &str, upper: &str, p: Precision, t: &Timi
              s->started = 0;\n    \
              return {name}_reset{s}(&s->model);\n\
          }}\n\n",
-        cast(real, t.b)
+        cast(real, t.b),
+        hold = plant.hold_words(),
     );
 }

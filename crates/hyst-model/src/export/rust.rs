@@ -512,12 +512,12 @@ fn timed_model(out: &mut String, name: &str, camel: &str, upper: &str, t: &Timin
         g1 = list(&plant.g1),
         b = num(t.b),
     );
-    timed_step(out, camel, n);
+    timed_step(out, camel, n, plant.hold_words());
 }
 
 /// The `impl` of `NAME_timed`'s type: `try_step` (the plant's sums in
 /// `hyst_model::dynamics::Discrete::step`'s order, then the hysteresis) and `reset`.
-fn timed_step(out: &mut String, camel: &str, n: usize) {
+fn timed_step(out: &mut String, camel: &str, n: usize, hold: &str) {
     let v = (0..n)
         .map(|j| format!("v{j}"))
         .collect::<Vec<_>>()
@@ -538,7 +538,7 @@ fn timed_step(out: &mut String, camel: &str, n: usize) {
         "\n\
          impl<T: hyst_core::Real> {camel}Timed<T> {{\n    \
              /// One sample: the output for the command `x`; x_k+1 = Phi x_k + G0 u_k +\n    \
-             /// G1 (u_k+1 - u_k), the command linear between samples.\n    \
+             /// G1 (u_k+1 - u_k), {hold}.\n    \
              ///\n    \
              /// # Errors\n    \
              /// The hysteresis's error for this sample, or a non-finite output; the model is\n    \

@@ -65,8 +65,20 @@ pub(super) struct Plant {
     pub phi: Vec<Vec<f64>>,
     /// Γ0.
     pub g0: Vec<f64>,
-    /// Γ1 (per unit step of the command over one period).
+    /// Γ1 (per unit step of the command over one period; 0 under the zero-order hold).
     pub g1: Vec<f64>,
+    /// The hold it is discretised with (the model file's).
+    pub hold: crate::Hold,
+}
+
+impl Plant {
+    /// What the update does with the command between samples, for the exported comments.
+    pub fn hold_words(&self) -> &'static str {
+        match self.hold {
+            crate::Hold::Zoh => "G1 = 0: the command held over each step (zero-order hold)",
+            crate::Hold::Foh => "the command linear between samples (first-order hold)",
+        }
+    }
 }
 
 impl Timing {
@@ -156,6 +168,7 @@ fn plant(d: &crate::Dynamics, period: f64) -> Result<Plant, ModelError> {
         phi,
         g0: g0.iter().take(n).copied().collect(),
         g1: g1.iter().take(n).copied().collect(),
+        hold: d.hold(),
     })
 }
 

@@ -115,10 +115,13 @@ class Model:
         *,
         t: Optional[ArrayLike] = None,
         period: Optional[float] = None,
+        hold: Optional[Literal["zoh", "foh"]] = None,
     ) -> FloatArray:
-        """With ``t`` (time stamps, s) or ``period`` (s): a model with dynamics or a rate
-        term over one record from rest (``hyst run --model M`` with a time column); a static
-        model refuses them."""
+        """With ``t`` (time stamps, s; each step as measured, a gap of more than 10 median
+        steps starts afresh with a UserWarning) or ``period`` (s): a model with dynamics or a
+        rate term over one record from rest (``hyst run --model M`` with a time column);
+        ``hold`` runs its plant under that hold instead of the file's (``hyst run --hold``).
+        A static model refuses them."""
     @overload
     def process(self, x: ArrayLike, derivatives: ArrayLike) -> Tuple[FloatArray, FloatArray]:
         """With ``derivatives`` of shape (n, N), N <= MAX_ORDER (1-D: the first derivative):
@@ -267,13 +270,16 @@ def fit(
     input_unit: str = "",
     output_unit: str = "",
     t: Optional[ArrayLike] = None,
-    dynamics: Optional[int] = None,
+    dynamics: Optional[Union[int, Literal["auto"]]] = None,
     rate_term: Optional[Literal["viscous"]] = None,
+    hold: Optional[Literal["zoh", "foh"]] = None,
     fit_from_start: bool = False,
 ) -> FitResult:
     """Identifies a model from its input ``x`` and the measured output ``y`` as ``hyst fit``
-    does; ``dynamics`` (1 to 4) and ``rate_term`` (``hyst fit --dynamics``, ``--rate-term``)
-    need the time stamps ``t`` (s); ``fit_from_start`` is ``--fit-from-start``."""
+    does; ``dynamics`` (1 to 4, or ``"auto"``) and ``rate_term`` (``hyst fit --dynamics``,
+    ``--rate-term``) need the time stamps ``t`` (s); ``hold`` (``--hold``, with ``dynamics``;
+    default "zoh") is how the plant sees the command between samples; ``fit_from_start`` is
+    ``--fit-from-start``."""
 
 class Family:
     """The family RH(k1, dk1, k2, dk2) (Definition 2.8) and its bound delta_a (Prop. 3.2)."""
