@@ -169,13 +169,9 @@ pub fn identify(
         return Err(FitError::Interrupted);
     }
     let not_monotone = match (&smooth, timed) {
-        (Some(f), true) if f.model.is_timed() => {
-            let (view, _) = static_view(data, &f.model)?;
-            let orientation = loops(&view).orientation;
-            check_monotone(&view, request, orientation, &mut notes)?
-        }
+        (Some(f), true) => check_view_monotone(data, request, f, &mut notes)?,
         _ => not_monotone,
-    };
+    } || not_monotone;
     let pi = if want_pi {
         Some(fit_pi_with(data, request.plays, request.pi_output)?)
     } else {
@@ -338,6 +334,22 @@ fn fit_auto_order(
     notes.extend(own);
     notes.push(note);
     Ok(settled)
+}
+
+/// The fold pre-check of a timed fit `f`, on its static view (the plant's output v against the
+/// output less the rate term): [`check_monotone`] of what the hysteresis sees.
+fn check_view_monotone(
+    data: &Dataset,
+    request: &Request,
+    f: &SmoothFit,
+    notes: &mut Vec<String>,
+) -> Result<bool, FitError> {
+    if !f.model.is_timed() {
+        return Ok(false);
+    }
+    let (view, _) = static_view(data, &f.model)?;
+    let orientation = loops(&view).orientation;
+    check_monotone(&view, request, orientation, notes)
 }
 
 /// What [`fit_smooth_settled`] gives: the smooth fit (when wanted), the data it was fitted on

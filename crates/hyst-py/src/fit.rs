@@ -150,21 +150,7 @@ pub fn fit(
     let t = t.filter(|t| !t.is_none());
     let (dynamics, auto_dynamics) = dynamics_arg(dynamics)?;
     let timed = timed(dynamics, auto_dynamics, rate_term, t.is_some())?;
-    if fit_from_start && estimate_initial_states {
-        return Err(value_error(
-            "fit_from_start=True and estimate_initial_states=True: a record's start is either \
-             trusted or estimated, give one",
-        ));
-    }
-    let hold =
-        match hold {
-            None => Hold::FIT_DEFAULT,
-            Some(_) if dynamics.is_none() => return Err(value_error(
-                "hold: the hold is how the plant of a fit with dynamics sees its command; give \
-                 dynamics=N, or leave hold out",
-            )),
-            Some(name) => choice::<Hold>("hold", name)?,
-        };
+    let hold = start_and_hold(fit_from_start, estimate_initial_states, hold, dynamics)?;
     let options = Options {
         output_shaping,
         input_shaping,
@@ -214,6 +200,30 @@ pub fn fit(
             e => e.into_err(),
         })?;
     FitResult::new(py, report)
+}
+
+/// The hold of a fit (`hold`, the fit's default when not given; only with `dynamics`), after
+/// checking that a record's start is not both trusted (`fit_from_start`) and estimated.
+fn start_and_hold(
+    fit_from_start: bool,
+    estimate_initial_states: bool,
+    hold: Option<&str>,
+    dynamics: Option<i64>,
+) -> PyResult<Hold> {
+    if fit_from_start && estimate_initial_states {
+        return Err(value_error(
+            "fit_from_start=True and estimate_initial_states=True: a record's start is either \
+             trusted or estimated, give one",
+        ));
+    }
+    match hold {
+        None => Ok(Hold::FIT_DEFAULT),
+        Some(_) if dynamics.is_none() => Err(value_error(
+            "hold: the hold is how the plant of a fit with dynamics sees its command; give \
+             dynamics=N, or leave hold out",
+        )),
+        Some(name) => choice::<Hold>("hold", name),
+    }
 }
 
 /// `dynamics`: None, a plant order (an int), or "auto" (the order picked from 0 to 4: order
