@@ -287,6 +287,8 @@ fn fit_auto_order(
 ) -> Result<Settled, FitError> {
     let mut tried: Vec<OrderTried> = Vec::new();
     let mut fits: Vec<(Settled, Vec<String>)> = Vec::new();
+    // Each order's training samples and its residuals' correlation time.
+    let mut times: Vec<(f64, f64)> = Vec::new();
     for order in 0..=MAX_AUTO_ORDER {
         let request = Request {
             structure: Structure {
@@ -304,15 +306,16 @@ fn fit_auto_order(
         let Some(f) = settled.smooth.as_ref() else {
             break;
         };
-        let n = f.training.samples.max(1) as f64;
-        let effective = (n / f.correlation.time.max(1.0)).max(1.0);
-        let p = f.layout.len() as f64;
+        times.push((
+            f.training.samples.max(1) as f64,
+            f.correlation.time.max(1.0),
+        ));
         let this = OrderTried {
             order,
             parameters: f.layout.len(),
             training: f.training.rms_pct_span,
             validation: f.validation.map(|v| v.rms_pct_span),
-            criterion: effective * (f.training.rms_pct_span.powi(2)).ln() + p * effective.ln(),
+            criterion: f64::NAN,
         };
         let better = tried.last().is_none_or(|last| {
             this.training <= (1.0 - MIN_IMPROVEMENT) * last.training
@@ -323,6 +326,17 @@ fn fit_auto_order(
         if !better {
             break;
         }
+    }
+    // One count of independent samples for every order, that of the whitest residuals (the
+    // richest fit's, as a rule): criteria over different counts do not compare.
+    let (n, time) = times
+        .iter()
+        .copied()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap_or((1.0, 1.0));
+    let effective = (n / time).max(1.0);
+    for t in &mut tried {
+        t.criterion = effective * t.training.powi(2).ln() + t.parameters as f64 * effective.ln();
     }
     let kept = OrderTried::choose(&tried).unwrap_or(0);
     let by_validation = tried.iter().any(|t| t.validation.is_some());

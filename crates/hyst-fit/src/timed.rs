@@ -51,8 +51,9 @@ pub struct OrderTried {
     pub training: f64,
     /// Validation RMS error (% of span), with validation records.
     pub validation: Option<f64>,
-    /// The information criterion n_e ln(RSS / n) + p ln n_e, n_e = n / (the residuals'
-    /// correlation time): Schwarz's BIC over the residuals' independent samples.
+    /// The information criterion n_e ln(RSS / n) + p ln n_e, n_e = n / τ with τ the
+    /// correlation time of the whitest residuals among the orders tried: Schwarz's BIC over
+    /// the residuals' independent samples.
     pub criterion: f64,
 }
 

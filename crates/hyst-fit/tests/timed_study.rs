@@ -23,7 +23,7 @@ use hyst_model::{Hold, RateTerm, SmoothModel, Structure, TimeSteps};
 /// The sample period of every record (s).
 const H: f64 = 1e-3;
 /// Samples a record holds.
-const SAMPLES: usize = 4000;
+const SAMPLES: usize = 2500;
 /// Samples of history run before a record that starts mid-history.
 const HISTORY: usize = 733;
 
