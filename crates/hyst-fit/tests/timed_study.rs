@@ -82,6 +82,8 @@ fn command(f: f64, phase: f64, n: usize) -> Vec<f64> {
 }
 
 struct Outcome {
+    /// Parameters within two standard errors of the truth, and parameters.
+    covered: (usize, usize),
     worst: (String, f64),
     rms: f64,
     noise_rms: f64,
@@ -192,12 +194,17 @@ fn run(case: &Case) -> Outcome {
     }
     let span = hi - lo;
     let mut worst = (String::new(), 0.0_f64);
+    let mut covered = (0, 0);
     for (name, v) in &values {
-        let got = fit
+        let (got, sigma) = fit
             .estimates
             .iter()
             .find(|e| e.name == *name)
-            .map_or(f64::NAN, |e| e.value);
+            .map_or((f64::NAN, f64::NAN), |e| (e.value, e.std_error));
+        covered.1 += 1;
+        if (got - v).abs() <= 2.0 * sigma {
+            covered.0 += 1;
+        }
         // Relative error; the output offset relative to the span (it may be near 0).
         let scale = if name == "out.offset" { span } else { v.abs() };
         let err = (got - v).abs() / scale;
@@ -213,6 +220,7 @@ fn run(case: &Case) -> Outcome {
         rms <= 1.2 * noise_rms
     };
     Outcome {
+        covered,
         worst,
         rms,
         noise_rms,
@@ -249,20 +257,26 @@ fn cases() -> Vec<Case> {
 
 /// Runs the cases `which` selects (or the one `STUDY_SEED` names) and prints their rows;
 /// returns (recovered, run, failures).
-fn study(which: impl Fn(&Case) -> bool) -> (usize, usize, Vec<String>) {
+fn study(which: impl Fn(&Case) -> bool) -> (usize, usize, Vec<String>, (usize, usize)) {
     let only: Option<u64> = std::env::var("STUDY_SEED")
         .ok()
         .and_then(|s| s.parse().ok());
     let mut failures = Vec::new();
     let (mut ok, mut all) = (0, 0);
+    // Parameters of the noisy cases within two standard errors of the truth.
+    let mut covered = (0, 0);
     for case in cases()
         .iter()
         .filter(|c| only.map_or(which(c), |s| c.seed == s))
     {
         let o = run(case);
         all += 1;
+        if case.noise > 0.0 {
+            covered.0 += o.covered.0;
+            covered.1 += o.covered.1;
+        }
         let row = format!(
-            "| {} | {} | {} | {} | {} % | {} | {} {:.2e} | {:.3} % | {} |",
+            "| {} | {} | {} | {} | {} % | {} | {} {:.2e} | {:.3} % | {} of {} | {} |",
             case.seed,
             case.order,
             if case.rate { "yes" } else { "no" },
@@ -276,6 +290,8 @@ fn study(which: impl Fn(&Case) -> bool) -> (usize, usize, Vec<String>) {
             o.worst.0,
             o.worst.1,
             o.rms,
+            o.covered.0,
+            o.covered.1,
             if o.recovered { "yes" } else { "NO" }
         );
         println!("{row}");
@@ -286,7 +302,7 @@ fn study(which: impl Fn(&Case) -> bool) -> (usize, usize, Vec<String>) {
         }
         let _ = o.noise_rms;
     }
-    (ok, all, failures)
+    (ok, all, failures, covered)
 }
 
 /// A static structure (no plant, no rate term) is fitted by the static machinery, which keeps
@@ -299,8 +315,21 @@ fn static_mid_history(c: &Case) -> bool {
 /// Runs the cases of plant order `order` and holds them to the goals, allowing the `known`
 /// failures docs/fitting.md reports with their seeds.
 fn check(order: u8, known: usize) {
-    let (ok, all, failures) = study(|c| c.order == order && !static_mid_history(c));
-    println!("order {order}: {ok} of {all} recovered");
+    let (ok, all, failures, covered) = study(|c| c.order == order && !static_mid_history(c));
+    println!(
+        "order {order}: {ok} of {all} recovered; with noise, {} of {} parameters within two \
+         standard errors of the truth",
+        covered.0, covered.1
+    );
+    // In class, the standard errors cover the truth: 95 % expected within 2σ; the records
+    // that start mid-history keep a bias of their start that the noise hides (docs/fitting.md:
+    // 83 % of their parameters), so at least 80 % of an order's few dozen.
+    assert!(
+        covered.0 as f64 >= 0.8 * covered.1 as f64,
+        "{} of {} within 2σ",
+        covered.0,
+        covered.1
+    );
     assert!(
         failures.len() <= known,
         "not recovered:\n{}",
