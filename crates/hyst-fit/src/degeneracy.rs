@@ -218,6 +218,16 @@ pub fn diagnose(
                 core.join(", ")
             ));
         }
+        let vague_core = vague_loop(estimates, unidentified_ok);
+        if !vague_core.is_empty() {
+            found_loop = found_loop || reasons.is_empty();
+            reasons.push(format!(
+                "the data hardly identifies {} (a standard error above the value itself): the \
+                 records are too short or too poor in reversals to place the loop; record more \
+                 loops, or longer ones",
+                vague_core.join(", ")
+            ));
+        }
         if !shaping.is_empty() {
             notes.push(format!(
                 "the data does not identify {} (standard error NaN): the structure has a \
@@ -366,6 +376,20 @@ fn lost(estimates: &[Estimate], unidentified_ok: &[&str], hysteresis: bool) -> V
         .filter(|e| e.std_error.is_nan() && !unidentified_ok.contains(&e.name.as_str()))
         .filter(|e| HYSTERESIS_PARAMETERS.contains(&e.name.as_str()) == hysteresis)
         .map(|e| format!("{} = {}", e.name, sig(e.value, 4)))
+        .collect()
+}
+
+/// The loop's own parameters k1 and k2 whose standard error exceeds their value, except those
+/// `unidentified_ok` names (a parameter limit), as "name = value ± error": the records cannot
+/// place the loop (an 8-sample record gave k1 = 2.25 ± 12.4 in normalised units, a band wider
+/// than the input range).
+fn vague_loop(estimates: &[Estimate], unidentified_ok: &[&str]) -> Vec<String> {
+    estimates
+        .iter()
+        .filter(|e| matches!(e.name.as_str(), "k1" | "k2"))
+        .filter(|e| !unidentified_ok.contains(&e.name.as_str()))
+        .filter(|e| e.std_error.is_finite() && e.std_error > e.value.abs())
+        .map(|e| format!("{} = {} ± {}", e.name, sig(e.value, 4), sig(e.std_error, 2)))
         .collect()
 }
 
