@@ -251,3 +251,44 @@ fn dynamics_auto_finds_the_order_and_prints_the_table() {
     println!("{table}");
     assert_eq!(order, 2, "{table}");
 }
+
+#[test]
+fn a_record_too_short_to_place_the_loop_is_refused_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut csv = String::from("u,y\n");
+    for i in 0..8 {
+        let u = 2.0 * (0.9 * f64::from(i)).sin();
+        csv.push_str(&format!(
+            "{u},{}\n",
+            3.0 * u + 0.1 * (2.1 * f64::from(i)).cos()
+        ));
+    }
+    let data = dir.path().join("short.csv");
+    std::fs::write(&data, csv).unwrap();
+    let model = dir.path().join("short.toml");
+    let out = Command::new(HYST)
+        .args([
+            "fit",
+            data.to_str().unwrap(),
+            "--input",
+            "u",
+            "--output",
+            "y",
+            "-o",
+        ])
+        .arg(&model)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("8 samples: {stderr}");
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("the data hardly identifies k1 = "),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("too short or too poor in reversals"),
+        "{stderr}"
+    );
+    assert!(!model.exists());
+}

@@ -222,7 +222,7 @@ pub fn diagnose(
         if !vague_core.is_empty() {
             found_loop = found_loop || reasons.is_empty();
             reasons.push(format!(
-                "the data hardly identifies {} (a standard error above the value itself): the \
+                "the data hardly identifies {} (a standard error above its value): the \
                  records are too short or too poor in reversals to place the loop; record more \
                  loops, or longer ones",
                 vague_core.join(", ")
@@ -379,14 +379,15 @@ fn lost(estimates: &[Estimate], unidentified_ok: &[&str], hysteresis: bool) -> V
         .collect()
 }
 
-/// The loop's own parameters k1 and k2 whose standard error exceeds their value, except those
-/// `unidentified_ok` names (a parameter limit), as "name = value ± error": the records cannot
+/// The loop's half-width k1 when its standard error exceeds its value (unless
+/// `unidentified_ok` names it: a parameter limit), as "k1 = value ± error": the records cannot
 /// place the loop (an 8-sample record gave k1 = 2.25 ± 12.4 in normalised units, a band wider
-/// than the input range).
+/// than the input range). Not k2: a corner whose sharpness is known only within its own value
+/// (far outliers in the records) still belongs to a loop the data shows.
 fn vague_loop(estimates: &[Estimate], unidentified_ok: &[&str]) -> Vec<String> {
     estimates
         .iter()
-        .filter(|e| matches!(e.name.as_str(), "k1" | "k2"))
+        .filter(|e| e.name == "k1")
         .filter(|e| !unidentified_ok.contains(&e.name.as_str()))
         .filter(|e| e.std_error.is_finite() && e.std_error > e.value.abs())
         .map(|e| format!("{} = {} ± {}", e.name, sig(e.value, 4), sig(e.std_error, 2)))
