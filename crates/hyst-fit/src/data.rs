@@ -661,7 +661,8 @@ pub(crate) fn range<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
     })
 }
 
-fn abbreviate(items: &[String]) -> String {
+/// `items` joined by commas, the middle of a long list left out (the first and last 6).
+pub(crate) fn abbreviate(items: &[String]) -> String {
     if items.len() <= 12 {
         items.join(", ")
     } else {

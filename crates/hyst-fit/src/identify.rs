@@ -168,10 +168,11 @@ pub fn identify(
     if interrupted() {
         return Err(FitError::Interrupted);
     }
-    let not_monotone = match (&smooth, timed) {
-        (Some(f), true) => check_view_monotone(data, request, f, &mut notes)?,
-        _ => not_monotone,
-    } || not_monotone;
+    let not_monotone = not_monotone
+        || match &smooth {
+            Some(f) if timed => check_view_monotone(data, request, f, &mut notes)?,
+            _ => false,
+        };
     let pi = if want_pi {
         Some(fit_pi_with(data, request.plays, request.pi_output)?)
     } else {

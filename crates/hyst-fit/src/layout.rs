@@ -264,6 +264,14 @@ pub fn dynamics_name(i: usize) -> String {
     format!("dynamics.a{i}")
 }
 
+/// The coefficient a_i of the plant of order `n` with n equal time constants `tau` (s):
+/// (τs + 1)ⁿ = Σ C(n, i) τ^i s^i, so a_i = C(n, i) τ^i (s^i).
+#[must_use]
+pub fn equal_poles(n: usize, i: usize, tau: f64) -> f64 {
+    let binomial = (0..i).fold(1.0, |acc, k| acc * (n - k) as f64 / (k + 1) as f64);
+    binomial * tau.powi(i as i32)
+}
+
 /// The name of the rate term's coefficient c.
 pub const RATE_C: &str = "rate.c";
 
@@ -273,7 +281,6 @@ impl Params {
     fn timed(&mut self, structure: Structure) {
         let n = usize::from(structure.dynamics);
         for i in 1..=n {
-            let binomial = (0..i).fold(1.0, |acc, k| acc * (n - k) as f64 / (k + 1) as f64);
             let unit = if i == 1 {
                 "s".to_string()
             } else {
@@ -284,7 +291,7 @@ impl Params {
                 &unit,
                 Transform::Log,
                 Group::Operator,
-                binomial * TIME_CONSTANT_START.powi(i as i32),
+                equal_poles(n, i, TIME_CONSTANT_START),
             );
         }
         if structure.rate.is_some() {

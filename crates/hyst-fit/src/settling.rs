@@ -19,7 +19,7 @@ use hyst_core::{K2Law, Shaping};
 use hyst_io::number::sig;
 use hyst_model::SmoothModel;
 
-use crate::data::Dataset;
+use crate::data::{abbreviate, range, Dataset};
 
 /// How close to an end of its range the input must come to count as reaching it (fraction of
 /// the record's input span): noise and a sine sampled off its peak reach 98 %.
@@ -35,11 +35,7 @@ pub const MAX_SETTLING_SHARE: f64 = 0.5;
 /// never does within [`MAX_SETTLING_SHARE`] of its samples.
 #[must_use]
 pub fn settling_samples(input: &[f64]) -> Option<usize> {
-    let (lo, hi) = input
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
-            (lo.min(x), hi.max(x))
-        });
+    let (lo, hi) = range(input.iter());
     let reach = SWEEP_REACH * (hi - lo);
     if reach.is_nan() || reach <= 0.0 {
         return None;
@@ -70,16 +66,7 @@ pub fn settle(data: &Dataset) -> (Dataset, Option<String>) {
         };
         histories += 1;
         discounted += end;
-        // The parts (record, first sample in the history, length) the first `end` samples
-        // fall in.
-        for &(i, start, len) in &h.parts {
-            if start >= end {
-                break;
-            }
-            if let Some(r) = settled.records.get_mut(i) {
-                r.weight.fill(0..(end - start).min(len), 0.0);
-            }
-        }
+        discount(&mut settled, &h.parts, end);
     }
     if histories == 0 && kept.is_empty() {
         return (settled, None);
@@ -101,12 +88,10 @@ pub fn settle(data: &Dataset) -> (Dataset, Option<String>) {
         if !note.is_empty() {
             note.push_str("; ");
         }
-        let ids: Vec<String> = kept.iter().take(8).map(i64::to_string).collect();
         note.push_str(&format!(
-            "record(s) {}{} never sweep their range in their first half: they start by the \
+            "record(s) {} never sweep their range in their first half: they start by the \
              start rule (--estimate-initial-states estimates their starts instead)",
-            ids.join(", "),
-            if kept.len() > 8 { ", …" } else { "" }
+            ids(&kept)
         ));
     }
     (settled, Some(note))
@@ -156,14 +141,7 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>
             end = half;
         }
         discounted += end;
-        for &(i, start, len) in &h.parts {
-            if start >= end {
-                break;
-            }
-            if let Some(r) = settled.records.get_mut(i) {
-                r.weight.fill(0..(end - start).min(len), 0.0);
-            }
-        }
+        discount(&mut settled, &h.parts, end);
     }
     let mut note = format!(
         "the start of each record is not known (the operator's memory, the plant's state): \
@@ -175,27 +153,19 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>
             2
         )
     );
-    let list = |ids: &[i64]| {
-        let shown: Vec<String> = ids.iter().take(8).map(i64::to_string).collect();
-        format!(
-            "{}{}",
-            shown.join(", "),
-            if ids.len() > 8 { ", …" } else { "" }
-        )
-    };
     if !remembers.is_empty() {
         note.push_str(&format!(
             "; the fitted operator never forgets its memory at the start of record(s) {} (its \
              input never moves one way across the loop and past its corners): their start \
              shapes the fit (--estimate-initial-states estimates it)",
-            list(&remembers)
+            ids(&remembers)
         ));
     }
     if !short.is_empty() {
         note.push_str(&format!(
             "; record(s) {} are short against the plant's settling or the operator's memory: \
              only their first half is discounted, and their start still shapes the fit",
-            list(&short)
+            ids(&short)
         ));
     }
     (settled, Some(note))
@@ -204,11 +174,7 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>
 /// The travel after which the operator forgets its memory, whatever it was: the loop's width
 /// 2 k1 plus [`FORGETTING_TRAVEL`]/k2 (k2 the law's smallest at the inputs' ends and centre).
 fn forgetting_width(model: &SmoothModel, w: &[f64]) -> f64 {
-    let (lo, hi) = w
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
-            (lo.min(x), hi.max(x))
-        });
+    let (lo, hi) = range(w.iter());
     let k2 = [lo, 0.5 * (lo + hi), hi]
         .into_iter()
         .map(|x| model.k2.k2(x))
@@ -262,6 +228,24 @@ fn plant_settling(model: &SmoothModel, period: f64, limit: usize) -> usize {
         }
     }
     last_out
+}
+
+/// Weight 0 for the first `end` samples of a history of `settled` whose `parts` (record, first
+/// sample in the history, length) are given.
+fn discount(settled: &mut Dataset, parts: &[(usize, usize, usize)], end: usize) {
+    for &(i, start, len) in parts {
+        if start >= end {
+            break;
+        }
+        if let Some(r) = settled.records.get_mut(i) {
+            r.weight.fill(0..(end - start).min(len), 0.0);
+        }
+    }
+}
+
+/// Record ids as the report lists them.
+fn ids(ids: &[i64]) -> String {
+    abbreviate(&ids.iter().map(i64::to_string).collect::<Vec<_>>())
 }
 
 /// The samples of weight 0 at the start of each record of `data` (a discounted start).

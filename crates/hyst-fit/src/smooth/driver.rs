@@ -702,11 +702,7 @@ fn fresh_points(layout: &Layout, f: &SmoothFit, period: f64) -> Vec<Vec<f64>> {
                             "k2" => k2,
                             name => match name.strip_prefix("dynamics.a") {
                                 Some(i) => {
-                                    // (τs + 1)ⁿ: a_i = C(n, i) τ^i.
-                                    let i: usize = i.parse().unwrap_or(1);
-                                    let binomial = (0..i)
-                                        .fold(1.0, |acc, k| acc * (n - k) as f64 / (k + 1) as f64);
-                                    binomial * tau.powi(i as i32)
+                                    crate::layout::equal_poles(n, i.parse().unwrap_or(1), tau)
                                 }
                                 None => layout_value(f, name),
                             },
