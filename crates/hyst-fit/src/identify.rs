@@ -421,31 +421,42 @@ fn fit_smooth_settled(
     } else {
         None
     };
-    if let (true, Some(first)) = (settle, &smooth) {
-        let (again, note) = crate::settling::resettle(data, &first.model);
-        // Made again only where the fitted model needs a longer discount than the command's
-        // sweep gave (by 2 % of a record): a slow plant, a wide loop.
-        let before = settled
-            .as_ref()
-            .map(crate::settling::discounted)
-            .unwrap_or_default();
-        let longer = crate::settling::discounted(&again)
-            .iter()
-            .zip(&again.records)
-            .zip(before.iter().chain(std::iter::repeat(&0)))
-            .any(|((now, r), was)| *now > *was + r.len() / 50);
-        if longer {
+    if settle {
+        // The discount the fitted model needs, and the fit made again where it is longer than
+        // the discount the fit was made on (by 2 % of a record): a slow plant, a wide loop, a
+        // record the first fit left out. A fit still biased by its start forgets too early, so
+        // the discount only grows, and a few rounds reach the one the fitted model agrees with.
+        let mut floor: Vec<usize> = Vec::new();
+        for round in 0..SETTLING_ROUNDS {
+            let Some(fitted) = &smooth else {
+                break;
+            };
+            let (again, note) = crate::settling::resettle(data, &fitted.model, &floor);
+            let before = settled
+                .as_ref()
+                .map(crate::settling::discounted)
+                .unwrap_or_default();
+            let longer = round == 0 && stage_one_left_out(settled.as_ref())
+                || crate::settling::discounted(&again)
+                    .iter()
+                    .zip(&again.records)
+                    .zip(before.iter().chain(std::iter::repeat(&0)))
+                    .any(|((now, r), was)| *now > *was + r.len() / 50);
+            floor = crate::settling::discounted_histories(&again);
+            settling_note = note;
+            settled = Some(again);
+            if !longer {
+                break;
+            }
             form_notes.clear();
             smooth = Some(fit_smooth_form(
-                &again,
+                settled.as_ref().unwrap_or(data),
                 request,
                 structure,
                 observer,
                 &mut form_notes,
             )?);
         }
-        settling_note = note;
-        settled = Some(again);
     }
     notes.extend(form_notes);
     notes.splice(0..0, settling_note);
@@ -455,6 +466,21 @@ fn fit_smooth_settled(
         not_monotone,
         want_pi,
         found,
+    })
+}
+
+/// The most fits a timed fit makes again on a longer discount of its records' starts
+/// ([`crate::settling::resettle`]).
+const SETTLING_ROUNDS: usize = 3;
+
+/// Whether the first stage's discount left a record out whole (it never swept its range):
+/// the fit is then made again with the record's discount from the fitted model.
+fn stage_one_left_out(settled: Option<&Dataset>) -> bool {
+    settled.is_some_and(|d| {
+        crate::settling::discounted(d)
+            .iter()
+            .zip(&d.records)
+            .any(|(n, r)| *n == r.len() && !r.is_empty())
     })
 }
 

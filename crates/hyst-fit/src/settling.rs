@@ -12,8 +12,10 @@
 //! carries on from them), but do not count in the fit's cost or its error statistics.
 //!
 //! A record that never sweeps its range within its first half (first-order reversal curves,
-//! a single rise) keeps every sample: it has no such point, and its start is the start rule's
-//! (or, with `--estimate-initial-states`, estimated).
+//! a single rise, a slow record among fast ones) has no such point. When other records do, the
+//! first fit leaves it out, and the fitted operator's forgetting ([`resettle`]) sets its
+//! discount; when none does, every record keeps every sample, and its start is the start
+//! rule's (or, with `--estimate-initial-states`, estimated).
 
 use hyst_core::{K2Law, Shaping};
 use hyst_io::number::sig;
@@ -22,8 +24,9 @@ use hyst_model::SmoothModel;
 use crate::data::{abbreviate, range, Dataset};
 
 /// How close to an end of its range the input must come to count as reaching it (fraction of
-/// the record's input span): noise and a sine sampled off its peak reach 98 %.
-pub const SWEEP_REACH: f64 = 0.02;
+/// the record's input span): a command of several tones reaches its extremes only late, and
+/// the fitted model's forgetting ([`resettle`]) sets the discount after the first fit anyway.
+pub const SWEEP_REACH: f64 = 0.1;
 
 /// The latest a sweep may end (fraction of the record's samples) for the start to be
 /// discounted: a record that needs more than half of itself to sweep its range keeps every
@@ -49,33 +52,48 @@ pub fn settling_samples(input: &[f64]) -> Option<usize> {
 
 /// `data` with each history's start discounted (weight 0) until its input has swept its range
 /// ([`settling_samples`]), and the report's note on it (`None` when nothing was discounted).
+/// A history that never sweeps its range is left out whole when another one does (the first
+/// fit then comes from the records whose start is known to be forgotten).
 #[must_use]
 pub fn settle(data: &Dataset) -> (Dataset, Option<String>) {
     let mut settled = data.clone();
-    let (mut discounted, mut histories, mut kept) = (0usize, 0usize, Vec::new());
-    for h in data.histories() {
+    let histories = data.histories();
+    let ends: Vec<Option<usize>> = histories
+        .iter()
+        .map(|h| settling_samples(&h.input.iter().copied().collect::<Vec<f64>>()))
+        .collect();
+    let any = ends.iter().any(Option::is_some);
+    let (mut discounted, mut swept, mut kept) = (0usize, 0usize, Vec::new());
+    for (h, end) in histories.iter().zip(&ends) {
         let Some(first) = h.parts.first().map(|p| p.0) else {
             continue;
         };
-        let input: Vec<f64> = h.input.iter().copied().collect();
-        let Some(end) = settling_samples(&input) else {
-            if let Some(r) = data.records.get(first) {
-                kept.push(r.id);
+        let end = match end {
+            Some(end) => {
+                swept += 1;
+                *end
             }
-            continue;
+            None => {
+                if let Some(r) = data.records.get(first) {
+                    kept.push(r.id);
+                }
+                if !any {
+                    continue;
+                }
+                h.input.len()
+            }
         };
-        histories += 1;
         discounted += end;
         discount(&mut settled, &h.parts, end);
     }
-    if histories == 0 && kept.is_empty() {
+    if swept == 0 && kept.is_empty() {
         return (settled, None);
     }
     let mut note = String::new();
-    if histories > 0 {
+    if swept > 0 {
         note.push_str(&format!(
             "the start of each record is not known (the operator's memory, the plant's state): \
-             {discounted} samples at the starts of {histories} record(s), before each input had \
+             {discounted} samples at the starts of {swept} record(s), before each input had \
              swept its range, set the state but do not count in the fit ({} % of the samples; \
              --fit-from-start counts them, trusting the start rule)",
             sig(
@@ -89,9 +107,14 @@ pub fn settle(data: &Dataset) -> (Dataset, Option<String>) {
             note.push_str("; ");
         }
         note.push_str(&format!(
-            "record(s) {} never sweep their range in their first half: they start by the \
-             start rule (--estimate-initial-states estimates their starts instead)",
-            ids(&kept)
+            "record(s) {} never sweep their range in their first half: {}",
+            ids(&kept),
+            if any {
+                "the first fit leaves them out"
+            } else {
+                "they start by the start rule (--estimate-initial-states estimates their starts \
+                 instead)"
+            }
         ));
     }
     (settled, Some(note))
@@ -111,11 +134,15 @@ pub const PLANT_SETTLED: f64 = 1e-3;
 /// [`FORGETTING_TRAVEL`]/k2: [`forgotten_at`]) and the plant has settled from rest (within [`PLANT_SETTLED`]);
 /// the report's note (which names the records whose memory is never forgotten: their start
 /// shapes the fit unless it is estimated).
+///
+/// No history's discount is shorter than its entry of `floor` (one per history of
+/// [`Dataset::histories`], in order; missing entries are 0): a fit made again on a longer
+/// discount never shortens it.
 #[must_use]
-pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>) {
+pub fn resettle(data: &Dataset, model: &SmoothModel, floor: &[usize]) -> (Dataset, Option<String>) {
     let mut settled = data.clone();
     let (mut discounted, mut remembers, mut short) = (0usize, Vec::new(), Vec::new());
-    for h in data.histories() {
+    for (index, h) in data.histories().into_iter().enumerate() {
         let Some(&(first, _, _)) = h.parts.first() else {
             continue;
         };
@@ -134,7 +161,10 @@ pub fn resettle(data: &Dataset, model: &SmoothModel) -> (Dataset, Option<String>
         let plant = h
             .period
             .map_or(0, |steps| plant_settling(model, steps.nominal(), w.len()));
-        let mut end = sweep.unwrap_or(0).max(plant);
+        let mut end = sweep
+            .unwrap_or(0)
+            .max(plant)
+            .max(floor.get(index).copied().unwrap_or(0));
         let half = (MAX_SETTLING_SHARE * w.len() as f64) as usize;
         if end > half {
             short.push(id);
@@ -257,6 +287,16 @@ pub fn discounted(data: &Dataset) -> Vec<usize> {
         .collect()
 }
 
+/// The samples of weight 0 at the start of each history of `data` ([`Dataset::histories`], in
+/// order): the `floor` of [`resettle`].
+#[must_use]
+pub fn discounted_histories(data: &Dataset) -> Vec<usize> {
+    data.histories()
+        .iter()
+        .map(|h| h.weight.iter().take_while(|w| *w == 0.0).count())
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
@@ -264,12 +304,13 @@ mod tests {
 
     #[test]
     fn a_sweep_ends_where_the_later_end_is_first_reached() {
-        // From the middle up to the top, then down to the bottom at sample 30.
+        // From the middle up to the top, then down to within SWEEP_REACH of the bottom, where
+        // sin = −0.8: sample 40 (π + asin 0.8) / 2π = 25.9.
         let x: Vec<f64> = (0..100)
             .map(|i| (std::f64::consts::TAU * i as f64 / 40.0).sin())
             .collect();
         let end = settling_samples(&x).unwrap();
-        assert!((29..=31).contains(&end), "{end}");
+        assert_eq!(end, 26);
     }
 
     #[test]
@@ -288,6 +329,67 @@ mod tests {
         assert_eq!(forgotten_at(&w, 1.05), Some(16));
         assert_eq!(forgotten_at(&w, 2.0), None);
         assert_eq!(forgotten_at(&[], 1.0), None);
+    }
+
+    fn record(id: i64, x: &[f64]) -> crate::Record {
+        crate::Record {
+            id,
+            input: x.to_vec().into(),
+            output: x.to_vec().into(),
+            weight: crate::Weights::Unit(x.len()),
+            rows: (0..x.len()).collect(),
+            validation: false,
+            continues: false,
+            period: None,
+        }
+    }
+
+    #[test]
+    fn a_record_that_never_sweeps_is_left_out_of_the_first_fit_when_another_sweeps() {
+        let sweeps: Vec<f64> = (0..100)
+            .map(|i| (std::f64::consts::TAU * i as f64 / 40.0).sin())
+            .collect();
+        let rises: Vec<f64> = (0..100).map(f64::from).collect();
+        let data = Dataset::from_records(
+            "<test>",
+            hyst_model::Columns::default(),
+            vec![record(1, &sweeps), record(2, &rises)],
+        );
+        let (settled, note) = settle(&data);
+        assert_eq!(discounted(&settled), vec![26, 100]);
+        assert!(note.unwrap().contains("record(s) 2 never sweep their range in their first half: the first fit leaves them out"));
+        // Alone, it keeps its samples and the start rule.
+        let alone = Dataset::from_records(
+            "<test>",
+            hyst_model::Columns::default(),
+            vec![record(2, &rises)],
+        );
+        let (settled, note) = settle(&alone);
+        assert_eq!(discounted(&settled), vec![0]);
+        assert!(note.unwrap().contains("they start by the start rule"));
+    }
+
+    #[test]
+    fn a_floor_keeps_a_discount_from_shortening() {
+        let x: Vec<f64> = (0..200)
+            .map(|i| (std::f64::consts::TAU * i as f64 / 40.0).sin())
+            .collect();
+        let data = Dataset::single(&x, &x);
+        let model = SmoothModel {
+            k1: 0.1,
+            k2: hyst_core::AnyK2Law::Constant { value: 20.0 },
+            input_shaping: hyst_core::ScaledShaping::identity(),
+            output_shaping: hyst_core::ScaledShaping::identity(),
+            initial_state: hyst_model::InitialState::Rising,
+            form: hyst_model::Form::Operator,
+            linear: 0.0,
+            dynamics: None,
+            rate: None,
+        };
+        let (free, _) = resettle(&data, &model, &[]);
+        let (floored, _) = resettle(&data, &model, &[90]);
+        assert!(discounted(&free)[0] < 90, "{:?}", discounted(&free));
+        assert_eq!(discounted(&floored), vec![90]);
     }
 
     #[test]

@@ -11,21 +11,12 @@
 #![allow(clippy::expect_used)]
 
 mod common;
-use common::{identify, normals};
+mod study;
+use common::identify;
+use study::{commands, compare, dataset, outputs, range, truth_model, truth_values, HISTORY};
 
 use hyst_fit::identify::Request;
-use hyst_fit::layout::Layout;
-use hyst_fit::smooth::normalisation;
-use hyst_fit::{Dataset, Record, Weights};
-use hyst_model::Columns;
-use hyst_model::{Hold, RateTerm, SmoothModel, Structure, TimeSteps};
-
-/// The sample period of every record (s).
-const H: f64 = 1e-3;
-/// Samples a record holds.
-const SAMPLES: usize = 2500;
-/// Samples of history run before a record that starts mid-history.
-const HISTORY: usize = 733;
+use hyst_model::{Hold, RateTerm, Structure};
 
 /// One case of the study.
 #[derive(Clone, Copy, Debug)]
@@ -38,55 +29,11 @@ struct Case {
     multi_rate: bool,
 }
 
-/// The truth's parameters by name, from the case's seed.
-fn truth_values(case: &Case) -> Vec<(String, f64)> {
-    let r = normals(16, case.seed);
-    let u = |i: usize| 0.5 * (1.0 + (r[i] / 2.0).tanh()); // in (0, 1)
-    let mut v = vec![
-        ("k1".to_string(), 0.1 + 0.2 * u(0)),
-        ("k2".to_string(), 8.0 + 30.0 * u(1)),
-        ("out.gain".to_string(), 1.0 + 4.0 * u(2)),
-        ("out.offset".to_string(), -1.0 + 2.0 * u(3)),
-    ];
-    // The plant: poles of time constants 2 to 40 samples.
-    let mut a = vec![1.0];
-    for j in 0..usize::from(case.order) {
-        let tau = H * (2.0 + 38.0 * u(4 + j));
-        let mut next = vec![0.0; a.len() + 1];
-        for (i, c) in a.iter().enumerate() {
-            next[i] += c;
-            next[i + 1] += tau * c;
-        }
-        a = next;
-    }
-    for (i, c) in a.iter().enumerate().skip(1) {
-        v.push((format!("dynamics.a{i}"), *c));
-    }
-    if case.rate {
-        // A viscous force of 5 to 20 % of the output's reach at the records' slowest rate.
-        v.push(("rate.c".to_string(), 0.05 + 0.15 * u(8)));
-    }
-    v
-}
-
-/// The record's command: a sine with an overtone, centred in [0, 4], at `f` Hz, phase from
-/// the seed, over `n` samples.
-fn command(f: f64, phase: f64, n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|k| {
-            let t = k as f64 * H;
-            let w = std::f64::consts::TAU * f * t + phase;
-            2.0 + 1.6 * w.sin() + 0.4 * (2.7 * w).sin()
-        })
-        .collect()
-}
-
 struct Outcome {
     /// Parameters within two standard errors of the truth, and parameters.
     covered: (usize, usize),
     worst: (String, f64),
     rms: f64,
-    noise_rms: f64,
     recovered: bool,
 }
 
@@ -103,82 +50,14 @@ fn run(case: &Case) -> Outcome {
         },
         ..Structure::default()
     };
-    let values = truth_values(case);
-    // The slowest rate excites the plant: a tenth of its slowest pole's corner.
-    let base = 0.4;
-    let rates: Vec<f64> = if case.multi_rate {
-        vec![base, 4.0 * base, 16.0 * base]
-    } else {
-        vec![2.0 * base]
-    };
-    let r = normals(8, case.seed ^ 0x5eed);
+    let values = truth_values(case.seed, case.order, case.rate);
     let before = if case.mid_history { HISTORY } else { 0 };
-    let commands: Vec<Vec<f64>> = rates
-        .iter()
-        .enumerate()
-        .map(|(i, f)| command(*f, 3.0 * r[i], before + SAMPLES))
-        .collect();
-    let all: Vec<f64> = commands.iter().flatten().copied().collect();
-    let probe = Dataset::single(&all, &vec![0.0; all.len()]);
-    let layout = Layout::new(structure, normalisation(&probe));
-    let mut theta = layout.start();
-    for (name, v) in &values {
-        let i = layout.index(name).expect("a parameter of the layout");
-        theta[i] = layout.params[i].transform.theta(*v);
-    }
-    let model: SmoothModel = layout
-        .model(&theta, probe.input_range())
-        .expect("a valid truth");
-    let mut outputs = Vec::new();
-    for u in &commands {
-        let mut y = Vec::new();
-        model
-            .run_timed(u, Some(&TimeSteps::even(H)), None, |_, s| y.push(s.y))
-            .expect("the truth runs");
-        outputs.push(y);
-    }
-    let (lo, hi) = outputs
-        .iter()
-        .flatten()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-            (a.min(*y), b.max(*y))
-        });
-    let sigma = case.noise * (hi - lo);
-    let records: Vec<Record> = commands
-        .iter()
-        .zip(&outputs)
-        .enumerate()
-        .map(|(i, (u, y))| {
-            let e = normals(y.len(), case.seed.wrapping_mul(31) + i as u64);
-            let u = &u[before..];
-            let y: Vec<f64> = y[before..]
-                .iter()
-                .zip(&e[before..])
-                .map(|(y, e)| y + sigma * e)
-                .collect();
-            Record {
-                id: i as i64,
-                input: u.to_vec().into(),
-                output: y.into(),
-                weight: Weights::Unit(u.len()),
-                rows: (0..u.len()).collect(),
-                validation: false,
-                continues: false,
-                period: Some(TimeSteps::even(H)),
-            }
-        })
-        .collect();
-    let data = Dataset::from_records(
-        "<study>",
-        Columns {
-            input: "u".into(),
-            output: "y".into(),
-            record: Some("record".into()),
-            weight: None,
-            time: Some("t".into()),
-        },
-        records,
-    );
+    let commands = commands(case.seed, case.multi_rate, before);
+    let model = truth_model(structure, &values, &commands);
+    let outputs = outputs(&model, &commands);
+    let (lo, hi) = range(&outputs);
+    let span = hi - lo;
+    let data = dataset(&commands, &outputs, before, case.noise * span, case.seed);
     let request = Request {
         structure,
         keep_degenerate: true,
@@ -192,38 +71,17 @@ fn run(case: &Case) -> Outcome {
     if std::env::var("STUDY_SEED").is_ok() {
         println!("truth {values:?}\nfit {:?}", fit.estimates);
     }
-    let span = hi - lo;
-    let mut worst = (String::new(), 0.0_f64);
-    let mut covered = (0, 0);
-    for (name, v) in &values {
-        let (got, sigma) = fit
-            .estimates
-            .iter()
-            .find(|e| e.name == *name)
-            .map_or((f64::NAN, f64::NAN), |e| (e.value, e.std_error));
-        covered.1 += 1;
-        if (got - v).abs() <= 2.0 * sigma {
-            covered.0 += 1;
-        }
-        // Relative error; the output offset relative to the span (it may be near 0).
-        let scale = if name == "out.offset" { span } else { v.abs() };
-        let err = (got - v).abs() / scale;
-        if err.is_nan() || err > worst.1 {
-            worst = (name.clone(), err);
-        }
-    }
-    let noise_rms = 100.0 * case.noise;
+    let c = compare(&values, &fit.estimates, span);
     let rms = 100.0 * fit.training.rms / span;
     let recovered = if case.noise == 0.0 {
-        worst.1 <= 0.02
+        c.worst.1 <= 0.02
     } else {
-        rms <= 1.2 * noise_rms
+        rms <= 1.2 * 100.0 * case.noise
     };
     Outcome {
-        covered,
-        worst,
+        covered: c.covered,
+        worst: c.worst,
         rms,
-        noise_rms,
         recovered,
     }
 }
@@ -300,7 +158,6 @@ fn study(which: impl Fn(&Case) -> bool) -> (usize, usize, Vec<String>, (usize, u
         } else {
             failures.push(row);
         }
-        let _ = o.noise_rms;
     }
     (ok, all, failures, covered)
 }

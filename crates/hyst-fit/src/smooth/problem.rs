@@ -492,6 +492,36 @@ impl SmoothProblem<'_> {
         Ok(out)
     }
 
+    /// Hands every residual row to `row(k, r_k, J_k)` in order: its residual and its row of
+    /// the Jacobian at θ (one dual run up to 12 parameters; above, the Jacobian is stored,
+    /// since its runs of up to 16 columns each need every row at once).
+    ///
+    /// # Errors
+    /// [`Infeasible`] when the Jacobian cannot be evaluated at θ.
+    pub(super) fn jacobian_rows(
+        &self,
+        theta: &[f64],
+        mut row: impl FnMut(usize, f64, &[f64]),
+    ) -> Result<(), Infeasible> {
+        let p = theta.len();
+        if p <= 12 {
+            return self.one_dual_run(theta, row);
+        }
+        let n = self.n;
+        let mut jac = vec![0.0; n * p];
+        let mut r = vec![0.0; n];
+        self.residuals(theta, &mut r)?;
+        self.jacobian(theta, &r, &mut jac)?;
+        let mut d = vec![0.0; p];
+        for k in 0..n {
+            for j in 0..p {
+                d[j] = jac[j * n + k];
+            }
+            row(k, r[k], &d);
+        }
+        Ok(())
+    }
+
     /// The outer product of the score over blocks of `block` consecutive residual rows (cut
     /// at every history's start as well): Σ_b s_b s_bᵀ, s_b = Σ_{k ∈ b} J_kᵀ r_k (row-major
     /// p × p), and the number of blocks. The middle of the sandwich estimate of the
@@ -522,7 +552,7 @@ impl SmoothProblem<'_> {
             }
             s.fill(0.0);
         };
-        let mut row = |k: usize, rk: f64, d: &[f64], offset: usize| {
+        let mut row = |k: usize, rk: f64, d: &[f64]| {
             if next_start < starts.len() && k >= starts[next_start] {
                 while next_start < starts.len() && k >= starts[next_start] {
                     next_start += 1;
@@ -531,7 +561,7 @@ impl SmoothProblem<'_> {
                 in_block = 0;
             }
             for (j, dj) in d.iter().enumerate() {
-                if let Some(slot) = s.get_mut(offset + j) {
+                if let Some(slot) = s.get_mut(j) {
                     *slot += dj * rk;
                 }
             }
@@ -541,24 +571,7 @@ impl SmoothProblem<'_> {
                 in_block = 0;
             }
         };
-        if p <= 12 {
-            self.one_dual_run(theta, |k, rk, d| row(k, rk, d, 0))?;
-        } else {
-            // Up to 16 columns a run: the rows of every run are needed at once, so the
-            // Jacobian is stored.
-            let n = self.n;
-            let mut jac = vec![0.0; n * p];
-            let mut r = vec![0.0; n];
-            self.residuals(theta, &mut r)?;
-            self.jacobian(theta, &r, &mut jac)?;
-            let mut d = vec![0.0; p];
-            for k in 0..n {
-                for j in 0..p {
-                    d[j] = jac[j * n + k];
-                }
-                row(k, r[k], &d, 0);
-            }
-        }
+        self.jacobian_rows(theta, &mut row)?;
         flush(&mut s, &mut meat, &mut blocks);
         Ok((meat, blocks))
     }
