@@ -292,3 +292,43 @@ fn a_record_too_short_to_place_the_loop_is_refused_with_the_reason() {
     );
     assert!(!model.exists());
 }
+
+#[test]
+fn a_hold_not_stated_is_in_the_standard_errors() {
+    // A zero-order-hold truth, τ = 0.02 s: the first-order hold fits the records as well with
+    // a₁ about half a sample longer, so only --hold tells the two apart.
+    let dir = tempfile::tempdir().unwrap();
+    records(
+        dir.path(),
+        &truth(0.2, 15.0, &[0.02]),
+        &[2.0, 10.0, 40.0],
+        4.0,
+        0,
+        0.002,
+    );
+    let zoh = fit(dir.path(), &["--dynamics", "1", "--hold", "zoh"]);
+    let foh = fit(dir.path(), &["--dynamics", "1", "--hold", "foh"]);
+    let free = fit(dir.path(), &["--dynamics", "1"]);
+    let (a_zoh, s_zoh) = parameter(&zoh, "dynamics.a1");
+    let (a_foh, s_foh) = parameter(&foh, "dynamics.a1");
+    let (a, s) = parameter(&free, "dynamics.a1");
+    println!(
+        "τ = 0.02 s under the zero-order hold: --hold zoh {a_zoh:.6} ± {s_zoh:.1e} s, --hold \
+         foh {a_foh:.6} ± {s_foh:.1e} s, no --hold {a:.6} ± {s:.1e} s"
+    );
+    // Told the wrong hold, the fit is certain of the wrong a₁; told none, it allows for either.
+    assert!((a_foh - 0.02).abs() > 2.0 * s_foh, "{a_foh} ± {s_foh}");
+    assert!((a_zoh - 0.02).abs() < 2.0 * s_zoh, "{a_zoh} ± {s_zoh}");
+    assert!(
+        s >= 0.8 * (a_foh - a_zoh).abs(),
+        "{s} against {}",
+        a_foh - a_zoh
+    );
+    let notes = free["notes"].to_string();
+    assert!(
+        notes.contains("the hold, which the records cannot tell (--hold states it)")
+            && notes.contains("dynamics.a1 by"),
+        "{notes}"
+    );
+    assert!(!zoh["notes"].to_string().contains("the hold, which"));
+}

@@ -421,42 +421,11 @@ fn fit_smooth_settled(
     } else {
         None
     };
-    if settle {
-        // The discount the fitted model needs, and the fit made again where it is longer than
-        // the discount the fit was made on (by 2 % of a record): a slow plant, a wide loop, a
-        // record the first fit left out. A fit still biased by its start forgets too early, so
-        // the discount only grows, and a few rounds reach the one the fitted model agrees with.
-        let mut floor: Vec<usize> = Vec::new();
-        for round in 0..SETTLING_ROUNDS {
-            let Some(fitted) = &smooth else {
-                break;
-            };
-            let (again, note) = crate::settling::resettle(data, &fitted.model, &floor);
-            let before = settled
-                .as_ref()
-                .map(crate::settling::discounted)
-                .unwrap_or_default();
-            let longer = round == 0 && stage_one_left_out(settled.as_ref())
-                || crate::settling::discounted(&again)
-                    .iter()
-                    .zip(&again.records)
-                    .zip(before.iter().chain(std::iter::repeat(&0)))
-                    .any(|((now, r), was)| *now > *was + r.len() / 50);
-            floor = crate::settling::discounted_histories(&again);
-            settling_note = note;
-            settled = Some(again);
-            if !longer {
-                break;
-            }
+    if let (Some(fitted), Some(d)) = (smooth.as_mut(), settled.as_mut()) {
+        settling_note = crate::settling::settle_fit(data, d, fitted, |d| {
             form_notes.clear();
-            smooth = Some(fit_smooth_form(
-                settled.as_ref().unwrap_or(data),
-                request,
-                structure,
-                observer,
-                &mut form_notes,
-            )?);
-        }
+            fit_smooth_form(d, request, structure, observer, &mut form_notes)
+        })?;
     }
     notes.extend(form_notes);
     notes.splice(0..0, settling_note);
@@ -466,21 +435,6 @@ fn fit_smooth_settled(
         not_monotone,
         want_pi,
         found,
-    })
-}
-
-/// The most fits a timed fit makes again on a longer discount of its records' starts
-/// ([`crate::settling::resettle`]).
-const SETTLING_ROUNDS: usize = 3;
-
-/// Whether the first stage's discount left a record out whole (it never swept its range):
-/// the fit is then made again with the record's discount from the fitted model.
-fn stage_one_left_out(settled: Option<&Dataset>) -> bool {
-    settled.is_some_and(|d| {
-        crate::settling::discounted(d)
-            .iter()
-            .zip(&d.records)
-            .any(|(n, r)| *n == r.len() && !r.is_empty())
     })
 }
 
@@ -624,7 +578,7 @@ fn diagnose_requested(
                     starts,
                 },
                 &|x| model.run(x).ok(),
-                Some(&f.estimates),
+                Some(&f.statistical),
                 limit.map_or(&[][..], ParameterLimit::unidentified),
                 orientation,
                 match f.model.form {
@@ -681,6 +635,7 @@ fn smooth_notes(f: &SmoothFit, limit: Option<ParameterLimit>, notes: &mut Vec<St
             }
         ));
     }
+    notes.extend(f.allowance.as_ref().and_then(|a| a.note(&f.estimates)));
     if let Some(starts) = f.starts.as_ref().filter(|s| !s.is_empty()) {
         let (lo, hi) = starts
             .iter()

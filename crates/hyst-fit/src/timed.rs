@@ -304,9 +304,8 @@ impl RateFinding {
             )
         } else {
             format!(
-                "c = {} ± {} lowers the training RMS error from {} % to {} % of span",
+                "c = {} lowers the training RMS error from {} % to {} % of span",
                 sig(c, 3),
-                sig(std_error, 2),
                 sig(without, 3),
                 sig(with.rms_pct_span, 3)
             )
@@ -323,6 +322,27 @@ impl RateFinding {
 }
 
 impl TimedFindings {
+    /// The standard errors the findings report, from `estimates` (the fit's full ones), in
+    /// place of those the decisions looked at.
+    pub fn report_errors(&mut self, estimates: &[Estimate]) {
+        let error = |name: &str| {
+            estimates
+                .iter()
+                .find(|e| e.name == name)
+                .map(|e| e.std_error)
+        };
+        for c in &mut self.coefficients {
+            if let Some(s) = error(&c.name) {
+                c.std_error = s;
+            }
+        }
+        if let Some(r) = self.rate.as_mut() {
+            if let Some(s) = error(RATE_C) {
+                r.std_error = s;
+            }
+        }
+    }
+
     /// The findings of a timed fit: `rms_by_order` its nested fits' training errors (order 0
     /// … n, without the rate term), `estimates` the full fit's parameters, `with_rate` its
     /// training error with the rate term (when one was asked for).

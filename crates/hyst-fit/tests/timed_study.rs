@@ -13,9 +13,12 @@
 mod common;
 mod study;
 use common::identify;
-use study::{commands, compare, dataset, outputs, range, truth_model, truth_values, HISTORY};
+use study::{
+    assert_covered, commands, compare, dataset, outputs, range, truth_model, truth_values, HISTORY,
+};
 
 use hyst_fit::identify::Request;
+use hyst_fit::smooth::FitOptions;
 use hyst_model::{Hold, RateTerm, Structure};
 
 /// One case of the study.
@@ -58,9 +61,15 @@ fn run(case: &Case) -> Outcome {
     let (lo, hi) = range(&outputs);
     let span = hi - lo;
     let data = dataset(&commands, &outputs, before, case.noise * span, case.seed);
+    // The fit is told the hold, as a user who knows how the actuator is driven: its standard
+    // errors make no allowance for the other one (mismatch_study.rs measures that).
     let request = Request {
         structure,
         keep_degenerate: true,
+        options: FitOptions {
+            hold_stated: true,
+            ..FitOptions::default()
+        },
         ..Request::default()
     };
     let identified = identify(&data, &request).expect("the fit runs");
@@ -169,26 +178,19 @@ fn static_mid_history(c: &Case) -> bool {
     c.order == 0 && !c.rate && c.mid_history
 }
 
-/// Runs the cases of plant order `order` and holds them to the goals, allowing the `known`
-/// failures docs/fitting.md reports with their seeds.
-fn check(order: u8, known: usize) {
+/// Runs the cases of plant order `order` and holds them to the goals.
+fn check(order: u8) {
     let (ok, all, failures, covered) = study(|c| c.order == order && !static_mid_history(c));
     println!(
         "order {order}: {ok} of {all} recovered; with noise, {} of {} parameters within two \
          standard errors of the truth",
         covered.0, covered.1
     );
-    // In class, the standard errors cover the truth: 95 % expected within 2σ; the records
-    // that start mid-history keep a bias of their start that the noise hides (docs/fitting.md:
-    // 83 % of their parameters), so at least 80 % of an order's few dozen.
+    // In class, the standard errors cover the truth: 95 % expected within 2σ (with the
+    // allowance for creep, more), so at least 90 % of an order's few dozen.
+    assert_covered(covered, 0.9);
     assert!(
-        covered.0 as f64 >= 0.8 * covered.1 as f64,
-        "{} of {} within 2σ",
-        covered.0,
-        covered.1
-    );
-    assert!(
-        failures.len() <= known,
+        failures.is_empty(),
         "not recovered:\n{}",
         failures.join("\n")
     );
@@ -196,21 +198,20 @@ fn check(order: u8, known: usize) {
 
 #[test]
 fn static_and_rate_truths_are_recovered() {
-    // Seed 14 (rate term only, mid-history, three records): k2 6.0 % off at RMS 0.078 %.
-    check(0, 1);
+    check(0);
 }
 
 #[test]
 fn first_order_truths_are_recovered() {
-    check(1, 0);
+    check(1);
 }
 
 #[test]
 fn second_order_truths_are_recovered() {
-    check(2, 0);
+    check(2);
 }
 
 #[test]
 fn third_order_truths_are_recovered() {
-    check(3, 0);
+    check(3);
 }

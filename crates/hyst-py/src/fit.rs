@@ -150,6 +150,7 @@ pub fn fit(
     let t = t.filter(|t| !t.is_none());
     let (dynamics, auto_dynamics) = dynamics_arg(dynamics)?;
     let timed = timed(dynamics, auto_dynamics, rate_term, t.is_some())?;
+    let hold_stated = hold.is_some();
     let hold = start_and_hold(fit_from_start, estimate_initial_states, hold, dynamics)?;
     let options = Options {
         output_shaping,
@@ -178,6 +179,7 @@ pub fn fit(
         timed,
         auto_dynamics,
         hold,
+        hold_stated,
     };
     let request = options.request()?;
     let columns = Columns::read(x, y, record, weight, t, input_name, output_name)?;
@@ -340,6 +342,8 @@ struct Options<'a> {
     auto_dynamics: bool,
     /// The plant's hold.
     hold: Hold,
+    /// Whether `hold` was given (the standard errors then make no allowance for the other).
+    hold_stated: bool,
 }
 
 impl Options<'_> {
@@ -371,6 +375,7 @@ impl Options<'_> {
                 estimate_starts: self.estimate_initial_states,
                 fit_from_start: self.fit_from_start,
                 auto_dynamics: self.auto_dynamics,
+                hold_stated: self.hold_stated,
                 ..FitOptions::default()
             },
             plays: self.plays,

@@ -150,7 +150,8 @@ pub struct Args {
     pub rate_term: Option<hyst_model::RateTerm>,
     /// The command between samples, for the plant of --dynamics: zoh, held over each step (an
     /// actuator driven by a DAC; the default), or foh, linear between samples. The model file
-    /// records it (`[dynamics] hold`).
+    /// records it (`[dynamics] hold`). Given, the standard errors make no allowance for the
+    /// other hold, which the records cannot tell apart.
     #[arg(long, value_enum, value_name = "HOLD", requires = "dynamics")]
     pub hold: Option<hyst_model::Hold>,
     /// Print the report as JSON.
@@ -301,6 +302,7 @@ fn request(args: &Args) -> Request {
         estimate_starts: args.estimate_initial_states,
         fit_from_start: args.fit_from_start,
         auto_dynamics: args.dynamics == Some(DynamicsOrder::Auto),
+        hold_stated: args.hold.is_some(),
         ..FitOptions::default()
     };
     Request {

@@ -14,13 +14,13 @@ use crate::lm::{LevenbergMarquardt, Observer, Solution, Stage, Staged};
 use crate::outputs::ModelOutputs;
 use crate::race::{best_of, threads};
 use crate::reduction::{draw, reduce, Reduction, TARGET};
-use crate::smooth::fit::{Correlation, FitOptions, SmoothFit, BLOCK_TIMES};
+use crate::smooth::fit::{FitOptions, SmoothFit};
 use crate::smooth::limits::LIMIT_SCALE;
 use crate::smooth::nesting::{contained, embed, NESTED_SCALE};
-use crate::smooth::problem::{SmoothProblem, CORRELATION_SAMPLES, MIN_BLOCKS};
+use crate::smooth::problem::SmoothProblem;
 use crate::smooth::starts::{grid_starts, ranked_starts, Starts};
 use crate::smooth::stats::{check_finite, error_stats_of};
-use crate::smooth::std_errors::estimates;
+use crate::smooth::std_errors::estimates_at;
 use crate::timed::{is_timed, static_view, TimedFindings};
 use crate::widths::{confirm, family_widths};
 
@@ -118,7 +118,8 @@ fn fit_smooth_with(
         },
     )?;
     let model = layout.model(&best.theta, problem.input_range)?;
-    let (estimates, correlation) = estimates_at(&problem, &model, &best)?;
+    let (estimates, statistical, correlation, allowance) =
+        estimates_at(&problem, &model, &best, options)?;
 
     let starts = problem.bands(&model);
     // The model's outputs are replayed, not held: 8 bytes a sample beside the data.
@@ -148,6 +149,7 @@ fn fit_smooth_with(
         layout,
         theta: best.theta.clone(),
         estimates,
+        statistical,
         training,
         validation,
         widths,
@@ -157,6 +159,7 @@ fn fit_smooth_with(
         seconds: started.elapsed().as_secs_f64(),
         timed: None,
         correlation,
+        allowance,
     };
     if timed {
         let (mut fit, cost) = timed_findings(data, fit, cost, contained, started);
@@ -167,57 +170,6 @@ fn fit_smooth_with(
         return Ok((fit, cost));
     }
     Ok((fit, cost))
-}
-
-/// The parameters with their standard errors at the optimum `best` (`model` the model there),
-/// and how those allow for correlated residuals.
-fn estimates_at(
-    problem: &SmoothProblem<'_>,
-    model: &SmoothModel,
-    best: &Solution,
-) -> Result<(Vec<hyst_model::Estimate>, Correlation), FitError> {
-    let (correlation, meat) = correlation(problem, best)?;
-    let estimates = estimates(
-        problem.layout,
-        model,
-        best,
-        problem.data.training_samples(),
-        meat.as_ref().map(|m| (m.as_slice(), correlation.blocks)),
-    );
-    Ok((estimates, correlation))
-}
-
-/// The residuals' correlation at the optimum `best` and the middle of the block sandwich
-/// (`None` when the Jacobian cannot be evaluated there): see [`Correlation`].
-fn correlation(
-    problem: &SmoothProblem<'_>,
-    best: &Solution,
-) -> Result<(Correlation, Option<Vec<f64>>), FitError> {
-    let first = if best.residuals.is_empty() {
-        match problem.first_residuals(&best.theta, CORRELATION_SAMPLES) {
-            Ok(r) => r,
-            Err(_) => return Ok((Correlation::default(), None)),
-        }
-    } else {
-        best.residuals[..best.residuals.len().min(CORRELATION_SAMPLES)].to_vec()
-    };
-    let time = SmoothProblem::correlation_time(&first);
-    let samples = problem.data.training_samples().max(1);
-    let wanted = (BLOCK_TIMES * time).ceil().max(1.0) as usize;
-    let most = (samples / MIN_BLOCKS).max(1);
-    let block = wanted.min(most);
-    let Ok((meat, blocks)) = problem.scores(&best.theta, block) else {
-        return Ok((Correlation::default(), None));
-    };
-    Ok((
-        Correlation {
-            time,
-            block,
-            blocks,
-            capped: wanted > most,
-        },
-        Some(meat),
-    ))
 }
 
 /// Refuses what a fit with dynamics or a rate term cannot do: records without a sample
@@ -265,7 +217,10 @@ fn timed_findings(
         .map(|k| nested(k).map_or(f64::NAN, |(f, _)| f.training.rms_pct_span))
         .collect();
     let with_rate = structure.rate.map(|_| fit.training);
-    let mut findings = TimedFindings::new(data, rms_by_order, &fit.estimates, with_rate);
+    // Support and identification are decided on the noise's standard errors; the report
+    // gives the full ones.
+    let mut findings = TimedFindings::new(data, rms_by_order, &fit.statistical, with_rate);
+    findings.report_errors(&fit.estimates);
     let mut nesting: Vec<(Structure, usize, f64)> = contained
         .iter()
         .filter(|(s, _, _)| {

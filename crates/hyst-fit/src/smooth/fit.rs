@@ -1,6 +1,7 @@
 //! What a smooth fit takes and gives: its options ([`FitOptions`]) and its result
 //! ([`SmoothFit`]).
 
+use crate::smooth::allowance::Allowance;
 use hyst_model::{ErrorStats, Estimate, FamilyWidths, SmoothModel};
 
 use crate::layout::Layout;
@@ -35,6 +36,9 @@ pub struct FitOptions {
     /// validation records, or else an information criterion, prefer; the structure's own
     /// `dynamics` is then ignored.
     pub auto_dynamics: bool,
+    /// Whether the caller stated the plant's hold (`--hold`): a timed fit's standard errors
+    /// then make no allowance for the other hold ([`crate::smooth::allowance`]).
+    pub hold_stated: bool,
 }
 
 impl Default for FitOptions {
@@ -47,6 +51,7 @@ impl Default for FitOptions {
             estimate_starts: false,
             fit_from_start: false,
             auto_dynamics: false,
+            hold_stated: false,
         }
     }
 }
@@ -60,8 +65,12 @@ pub struct SmoothFit {
     pub layout: Layout,
     /// θ at the optimum.
     pub theta: Vec<f64>,
-    /// Parameters with standard errors.
+    /// Parameters with standard errors (the noise's and the [`allowance`](Self::allowance)).
     pub estimates: Vec<Estimate>,
+    /// The same with the noise's standard errors alone (white noise or the block sandwich):
+    /// what the fit's decisions on support, identification and degeneracy look at, since the
+    /// allowance widens what the records cannot pin down, not whether a part is there.
+    pub statistical: Vec<Estimate>,
     /// Errors on the training records.
     pub training: ErrorStats,
     /// Errors on the validation records (`None` without validation records).
@@ -82,6 +91,8 @@ pub struct SmoothFit {
     pub timed: Option<TimedFindings>,
     /// How the standard errors allow for correlated residuals.
     pub correlation: Correlation,
+    /// What a timed fit's standard errors allow for beyond the noise (`None`: a static fit).
+    pub allowance: Option<Allowance>,
 }
 
 /// How a fit's standard errors allow for correlated residuals: each is the larger of the

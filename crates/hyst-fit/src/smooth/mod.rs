@@ -8,11 +8,14 @@
 //!   optima start its fit;
 //! - `driver`: the multi-start driver ([`fit_smooth`]) and the data's [`normalisation`];
 //! - `std_errors`: the parameters' standard errors from the covariance;
+//! - `allowance`: what a timed fit's standard errors allow for beyond the noise (the hold when
+//!   not stated, creep: [`Allowance`]);
 //! - `limits`: the parameter limits where a parameter is no longer identified
 //!   ([`ParameterLimit`]);
 //! - `stats`: error statistics ([`error_stats`], [`error_stats_of`]), a model's run over the
 //!   records ([`run_records`]) and the check that a fit's numbers are finite ([`check_finite`]).
 
+pub(crate) mod allowance;
 pub(crate) mod driver;
 pub(crate) mod fit;
 pub(crate) mod limits;
@@ -22,6 +25,7 @@ mod starts;
 pub(crate) mod stats;
 mod std_errors;
 
+pub use allowance::{Allowance, Creep};
 pub use driver::{fit_smooth, normalisation};
 pub use fit::{FitOptions, SmoothFit};
 pub use limits::{ParameterLimit, BACKLASH_LIMIT, DAHL_LIMIT};

@@ -13,7 +13,7 @@
 use hyst_core::{Dual, Shaping};
 use hyst_model::smooth::FitReal;
 use hyst_model::timed::TimedSample;
-use hyst_model::SmoothModel;
+use hyst_model::{Hold, SmoothModel};
 
 use crate::data::{Dataset, History};
 use crate::layout::Layout;
@@ -522,6 +522,94 @@ impl SmoothProblem<'_> {
         Ok(())
     }
 
+    /// The columns of what the model leaves out ([`crate::smooth::allowance`]) at θ, each in
+    /// residual units and residual order, with their products: JᵀD (p × m, row-major), DᵀD
+    /// (m × m) and Dᵀr. `other_hold`: the change of the model's output (the others held) when
+    /// its plant runs with that hold instead; `creep`: for each time constant (s), a slow lag
+    /// of the command, w′ = (u − w)/τ from w = u at each history's start, exact for a held
+    /// command.
+    ///
+    /// # Errors
+    /// [`Infeasible`] when the model, its other hold, or its Jacobian cannot run at θ.
+    pub(super) fn left_out(
+        &self,
+        theta: &[f64],
+        other_hold: Option<Hold>,
+        creep: &[f64],
+    ) -> Result<LeftOut, Infeasible> {
+        let n = self.n;
+        let m = self.model(theta)?;
+        let bands = self.bands(&m);
+        let mut r = vec![0.0; n];
+        self.run_rows(&m, bands.as_deref(), |k, h, i, s| {
+            if let (Some(obs), Some(w), Some(slot)) =
+                (h.output.get(i), h.weight.get(i), r.get_mut(k))
+            {
+                *slot = (s.y - obs) * self.scale(w);
+            }
+        })?;
+        let mut columns: Vec<Vec<f64>> = Vec::new();
+        if let (Some(hold), Some(d)) = (other_hold, m.dynamics) {
+            let mut other = m;
+            other.dynamics = Some(d.with_hold(hold));
+            let mut c = vec![0.0; n];
+            self.run_rows(&other, bands.as_deref(), |k, h, i, s| {
+                if let (Some(obs), Some(w), Some(slot), Some(rk)) =
+                    (h.output.get(i), h.weight.get(i), c.get_mut(k), r.get(k))
+                {
+                    *slot = (s.y - obs) * self.scale(w) - rk;
+                }
+            })?;
+            columns.push(c);
+        }
+        for &tau in creep {
+            let mut c = vec![0.0; n];
+            for (h, offsets) in &self.histories {
+                let mut rows = ResidualRows::new(&h.parts, offsets);
+                let mut w = h.input.first().copied().unwrap_or(0.0);
+                let (mut step, mut a) = (f64::NAN, 0.0);
+                let mut before = w;
+                for (i, &u) in h.input.iter().enumerate() {
+                    if i > 0 {
+                        let dt = h.period.map_or(1.0, |p| p.step(i));
+                        if dt != step {
+                            step = dt;
+                            a = (-dt / tau).exp();
+                        }
+                        w = a * w + (1.0 - a) * before;
+                    }
+                    before = u;
+                    if let (Some(k), Some(weight)) = (rows.row(i), h.weight.get(i)) {
+                        if let Some(slot) = c.get_mut(k) {
+                            *slot = w * self.scale(weight);
+                        }
+                    }
+                }
+            }
+            columns.push(c);
+        }
+        let (p, q) = (theta.len(), columns.len());
+        let mut jtd = vec![0.0; p * q];
+        self.jacobian_rows(theta, |k, _, d| {
+            for (j, dj) in d.iter().enumerate() {
+                for (c, col) in columns.iter().enumerate() {
+                    if let (Some(slot), Some(v)) = (jtd.get_mut(j * q + c), col.get(k)) {
+                        *slot += dj * v;
+                    }
+                }
+            }
+        })?;
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let mut dtd = vec![0.0; q * q];
+        for (a, ca) in columns.iter().enumerate() {
+            for (b, cb) in columns.iter().enumerate() {
+                dtd[a * q + b] = dot(ca, cb);
+            }
+        }
+        let dtr = columns.iter().map(|c| dot(c, &r)).collect();
+        Ok(LeftOut { jtd, dtd, dtr })
+    }
+
     /// The outer product of the score over blocks of `block` consecutive residual rows (cut
     /// at every history's start as well): Σ_b s_b s_bᵀ, s_b = Σ_{k ∈ b} J_kᵀ r_k (row-major
     /// p × p), and the number of blocks. The middle of the sandwich estimate of the
@@ -575,6 +663,14 @@ impl SmoothProblem<'_> {
         flush(&mut s, &mut meat, &mut blocks);
         Ok((meat, blocks))
     }
+}
+
+/// The products of [`SmoothProblem::left_out`]'s columns D with the Jacobian J and the
+/// residuals r (all in residual units): JᵀD (p × m, row-major), DᵀD (m × m), Dᵀr (m).
+pub(super) struct LeftOut {
+    pub(super) jtd: Vec<f64>,
+    pub(super) dtd: Vec<f64>,
+    pub(super) dtr: Vec<f64>,
 }
 
 /// Where the samples of a history land among the residuals: its parts (record, first sample,

@@ -7,10 +7,126 @@
 
 use hyst_model::{Estimate, SmoothModel};
 
+use crate::data::Dataset;
+use crate::error::FitError;
 use crate::layout::Layout;
 use crate::linalg::spd_inverse;
 use crate::lm::Solution;
+use crate::smooth::allowance::{self, Added};
+use crate::smooth::allowance::{Allowance, Creep, CREEP_TIME_CONSTANTS, MAX_ROWS};
+use crate::smooth::fit::{Correlation, FitOptions, BLOCK_TIMES};
 use crate::smooth::limits::{linear_limit_parameters, ParameterLimit};
+use crate::smooth::problem::{LeftOut, SmoothProblem, CORRELATION_SAMPLES, MIN_BLOCKS};
+use hyst_model::Hold;
+
+/// The parameters with their standard errors at the optimum `best` (`model` the model there),
+/// the same with the noise's standard errors alone (what the fit's decisions look at), how
+/// those allow for correlated residuals, and, for a timed fit, what else they allow for
+/// ([`allowance`](crate::smooth::allowance)).
+pub(super) fn estimates_at(
+    problem: &SmoothProblem<'_>,
+    model: &SmoothModel,
+    best: &Solution,
+    options: &FitOptions,
+) -> Result<EstimatesAt, FitError> {
+    let (correlation, meat) = correlation(problem, best)?;
+    let timed = model.is_timed();
+    let other_hold = match model.dynamics.map(|d| d.hold()) {
+        Some(Hold::Zoh) if !options.hold_stated => Some(Hold::Foh),
+        Some(Hold::Foh) if !options.hold_stated => Some(Hold::Zoh),
+        _ => None,
+    };
+    let creep: Vec<f64> = longest_duration(problem.data).map_or(Vec::new(), |t| {
+        CREEP_TIME_CONSTANTS.iter().map(|f| f * t).collect()
+    });
+    let skipped = timed && problem.n > MAX_ROWS;
+    let left = if timed && !skipped {
+        problem.left_out(&best.theta, other_hold, &creep).ok()
+    } else {
+        None
+    };
+    let (estimates, statistical, added) = estimates(
+        problem.layout,
+        model,
+        best,
+        problem.data.training_samples(),
+        meat.as_ref().map(|m| (m.as_slice(), correlation.blocks)),
+        left.as_ref().map(|l| (l, other_hold.is_some())),
+    );
+    let allowance = timed.then(|| {
+        let mut a = Allowance {
+            skipped,
+            ..Allowance::default()
+        };
+        if let Some(d) = added {
+            a.hold = other_hold.zip(d.hold).map(|(h, shifts)| {
+                let names = problem.layout.params.iter().map(|p| p.name.clone());
+                (h, names.zip(shifts).collect())
+            });
+            a.creep = creep
+                .iter()
+                .zip(d.creep)
+                .map(|(&time_constant, (coefficient, std_error))| Creep {
+                    time_constant,
+                    coefficient,
+                    std_error,
+                })
+                .collect();
+        }
+        a
+    });
+    Ok((estimates, statistical, correlation, allowance))
+}
+
+/// What [`estimates_at`] gives: the parameters with their standard errors, the same with
+/// the noise's alone, the correlation, and the allowance.
+type EstimatesAt = (
+    Vec<hyst_model::Estimate>,
+    Vec<hyst_model::Estimate>,
+    Correlation,
+    Option<Allowance>,
+);
+
+/// The duration (s) of the longest history of `data` with a sample period.
+fn longest_duration(data: &Dataset) -> Option<f64> {
+    data.histories()
+        .iter()
+        .filter_map(|h| h.period.map(|p| p.nominal() * h.input.len() as f64))
+        .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |m| m.max(t))))
+}
+
+/// The residuals' correlation at the optimum `best` and the middle of the block sandwich
+/// (`None` when the Jacobian cannot be evaluated there): see [`Correlation`].
+fn correlation(
+    problem: &SmoothProblem<'_>,
+    best: &Solution,
+) -> Result<(Correlation, Option<Vec<f64>>), FitError> {
+    let first = if best.residuals.is_empty() {
+        match problem.first_residuals(&best.theta, CORRELATION_SAMPLES) {
+            Ok(r) => r,
+            Err(_) => return Ok((Correlation::default(), None)),
+        }
+    } else {
+        best.residuals[..best.residuals.len().min(CORRELATION_SAMPLES)].to_vec()
+    };
+    let time = SmoothProblem::correlation_time(&first);
+    let samples = problem.data.training_samples().max(1);
+    let wanted = (BLOCK_TIMES * time).ceil().max(1.0) as usize;
+    let most = (samples / MIN_BLOCKS).max(1);
+    let block = wanted.min(most);
+    let Ok((meat, blocks)) = problem.scores(&best.theta, block) else {
+        return Ok((Correlation::default(), None));
+    };
+    Ok((
+        Correlation {
+            time,
+            block,
+            blocks,
+            capped: wanted > most,
+        },
+        Some(meat),
+    ))
+}
 
 /// The parameters of `layout` with their values and standard errors at the optimum `best` of a
 /// fit to `n` residuals (`model` is the model at `best.theta`), with the block sandwich's
@@ -19,21 +135,108 @@ use crate::smooth::limits::{linear_limit_parameters, ParameterLimit};
 /// In a parameter limit (the stop form's Dahl limit, the backlash limit) the unidentified
 /// parameter carries no information (its column of J vanishes): the covariance of the others is
 /// taken without it, and its standard error is NaN.
-pub(super) fn estimates(
+fn estimates(
     layout: &Layout,
     model: &SmoothModel,
     best: &Solution,
     n: usize,
     meat: Option<(&[f64], usize)>,
-) -> Vec<Estimate> {
+    left: Option<(&LeftOut, bool)>,
+) -> (Vec<Estimate>, Vec<Estimate>, Option<Added>) {
     let p = layout.len();
     let dof = (n - p).max(1) as f64;
     let s2 = best.cost / dof * layout.norm.output_half_span.powi(2);
     let unidentified = unidentified(layout, model, &best.theta);
     let (kept, inv) = covariance(layout, &best.jtj, &unidentified);
     let q = kept.len();
-    // The sandwich's diagonal on the kept parameters (θ units; the residuals are scaled).
-    let sandwich: Option<Vec<f64>> = match (meat, inv.as_ref()) {
+    let sandwich = sandwich_diagonal(meat, inv.as_deref(), &kept, p);
+    let scale2 = layout.norm.output_half_span.powi(2);
+    // Each kept parameter's white-noise variance and the sandwich's (θ units).
+    let white: Vec<f64> = (0..q)
+        .map(|a| {
+            inv.as_ref()
+                .map_or(f64::NAN, |inv| inv[a * q + a] * s2 / scale2)
+        })
+        .collect();
+    let robust: Vec<f64> = (0..q)
+        .map(|a| sandwich.as_ref().map_or(0.0, |d| d[a]))
+        .collect();
+    let added = match (left, inv.as_ref()) {
+        (Some((left, hold)), Some(inv)) => {
+            let ratio: Vec<f64> = white
+                .iter()
+                .zip(&robust)
+                .map(|(w, r)| if *w > 0.0 { r / w } else { 1.0 })
+                .collect();
+            Some(allowance::added(
+                left,
+                hold,
+                &kept,
+                inv,
+                s2 / scale2,
+                &ratio,
+            ))
+        }
+        _ => None,
+    };
+    // Each parameter with the standard error of the noise alone, and with the allowance.
+    let with = |allow: bool| -> Vec<Estimate> {
+        layout
+            .params
+            .iter()
+            .enumerate()
+            .map(|(j, spec)| {
+                let value = spec.transform.value(best.theta[j]);
+                let var = match kept.iter().position(|&k| k == j) {
+                    Some(a) => {
+                        let extra = match (&added, allow) {
+                            (Some(d), true) => d.variance[a],
+                            _ => 0.0,
+                        };
+                        // NaN (not identifiable) stays NaN: NaN.max(x) would hide it.
+                        if white[a].is_nan() || robust[a].is_nan() {
+                            f64::NAN
+                        } else {
+                            white[a].max(robust[a]) + extra
+                        }
+                    }
+                    None => f64::NAN,
+                };
+                let var = if var < 0.0 { 0.0 } else { var };
+                Estimate {
+                    name: spec.name.clone(),
+                    value,
+                    std_error: spec.transform.derivative(best.theta[j]).abs() * var.sqrt(),
+                    unit: spec.unit.clone(),
+                }
+            })
+            .collect()
+    };
+    let (estimates, statistical) = (with(true), with(false));
+    // The hold's shifts in the parameters' own units.
+    let added = added.map(|mut d| {
+        if let Some(shift) = d.hold.as_mut() {
+            for (a, s) in shift.iter_mut().enumerate() {
+                let j = kept[a];
+                *s *= spec_derivative(layout, best, j);
+            }
+        }
+        d
+    });
+    (estimates, statistical, added)
+}
+
+/// The block sandwich's diagonal on the kept parameters `kept` (θ units; the residuals are
+/// scaled) from its middle `meat` (p × p) over its number of blocks and `inv`, the inverse of
+/// JᵀJ on them; `None` without a middle or with one block.
+fn sandwich_diagonal(
+    meat: Option<(&[f64], usize)>,
+    inv: Option<&[f64]>,
+    kept: &[usize],
+    p: usize,
+) -> Option<Vec<f64>> {
+    let q = kept.len();
+    match (meat, inv) {
         (Some((m, blocks)), Some(inv)) if blocks > 1 => {
             let correction = blocks as f64 / (blocks - 1) as f64;
             Some(
@@ -51,37 +254,12 @@ pub(super) fn estimates(
             )
         }
         _ => None,
-    };
-    let scale2 = layout.norm.output_half_span.powi(2);
-    layout
-        .params
-        .iter()
-        .enumerate()
-        .map(|(j, spec)| {
-            let value = spec.transform.value(best.theta[j]);
-            // NaN (not identifiable) propagates: NaN.max(0.0) would hide it.
-            let var = match (kept.iter().position(|&k| k == j), inv.as_ref()) {
-                (Some(a), Some(inv)) => {
-                    let white = inv[a * q + a] * s2 / scale2;
-                    let robust = sandwich.as_ref().map_or(0.0, |d| d[a]);
-                    // NaN (not identifiable) stays NaN: NaN.max(x) would hide it.
-                    if white.is_nan() || robust.is_nan() {
-                        f64::NAN
-                    } else {
-                        white.max(robust)
-                    }
-                }
-                _ => f64::NAN,
-            };
-            let var = if var < 0.0 { 0.0 } else { var };
-            Estimate {
-                name: spec.name.clone(),
-                value,
-                std_error: spec.transform.derivative(best.theta[j]).abs() * var.sqrt(),
-                unit: spec.unit.clone(),
-            }
-        })
-        .collect()
+    }
+}
+
+/// d value / d θ of parameter `j` at the optimum `best`.
+fn spec_derivative(layout: &Layout, best: &Solution, j: usize) -> f64 {
+    layout.params[j].transform.derivative(best.theta[j])
 }
 
 /// The parameters the data cannot identify at θ (`model` is the model there): those a parameter

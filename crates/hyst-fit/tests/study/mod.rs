@@ -204,3 +204,14 @@ pub fn compare(values: &[(String, f64)], estimates: &[Estimate], span: f64) -> C
     }
     out
 }
+
+/// Asserts that at least `share` of the parameters lie within two standard errors of the
+/// truth (`covered`: those within, all).
+pub fn assert_covered(covered: (usize, usize), share: f64) {
+    assert!(
+        covered.0 as f64 >= share * covered.1 as f64,
+        "{} of {} parameters within two standard errors",
+        covered.0,
+        covered.1
+    );
+}

@@ -278,7 +278,8 @@ def fit(
     """Identifies a model from its input ``x`` and the measured output ``y`` as ``hyst fit``
     does; ``dynamics`` (1 to 4, or ``"auto"``) and ``rate_term`` (``hyst fit --dynamics``,
     ``--rate-term``) need the time stamps ``t`` (s); ``hold`` (``--hold``, with ``dynamics``;
-    default "zoh") is how the plant sees the command between samples; ``fit_from_start`` is
+    default "zoh") is how the plant sees the command between samples (given, the standard
+    errors make no allowance for the other hold); ``fit_from_start`` is
     ``--fit-from-start``."""
 
 class Family:
