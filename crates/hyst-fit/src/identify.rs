@@ -421,11 +421,28 @@ fn fit_smooth_settled(
     } else {
         None
     };
+    // A static fit keeps the start rule unless the records' starts fit worse than the rest:
+    // then it is settled as a timed one.
+    let mut mismatch = None;
+    if let (false, Some(fitted)) = (timed, &smooth) {
+        let rule = !request.options.estimate_starts
+            && !request.options.fit_from_start
+            && request.start == StartChoice::Auto;
+        mismatch = rule
+            .then(|| crate::settling::start_mismatch(data, &fitted.model))
+            .flatten();
+        if mismatch.is_some() {
+            settled = Some(data.clone());
+        }
+    }
     if let (Some(fitted), Some(d)) = (smooth.as_mut(), settled.as_mut()) {
         settling_note = crate::settling::settle_fit(data, d, fitted, |d| {
             form_notes.clear();
             fit_smooth_form(d, request, structure, observer, &mut form_notes)
         })?;
+    }
+    if let (Some(words), Some(note)) = (mismatch, settling_note.as_mut()) {
+        note.insert_str(0, &words);
     }
     notes.extend(form_notes);
     notes.splice(0..0, settling_note);

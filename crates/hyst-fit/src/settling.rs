@@ -16,6 +16,9 @@
 //! first fit leaves it out, and the fitted operator's forgetting ([`resettle`]) sets its
 //! discount; when none does, every record keeps every sample, and its start is the start
 //! rule's (or, with `--estimate-initial-states`, estimated).
+//!
+//! A static fit trusts the start rule unless its records' starts fit worse than the rest
+//! ([`start_mismatch`]); then it is settled the same way ([`settle_fit`]).
 
 use hyst_core::{K2Law, Shaping};
 use hyst_io::number::sig;
@@ -165,6 +168,43 @@ pub fn settle_fit<E>(
         *fit = refit(settled)?;
     }
     Ok(note)
+}
+
+/// How much worse (RMS) the records' starts must fit than the rest for a static fit to
+/// discount them: a start the start rule does not describe.
+pub const START_MISMATCH: f64 = 2.0;
+
+/// A static fit's check of the start rule: the records' starts, until the fitted `model`
+/// forgets them ([`resettle`]), against the rest. When the starts' RMS error is above
+/// [`START_MISMATCH`] times the rest's (the records do not start as the rule says), the
+/// report's words on it, to go before [`settle_fit`]'s note; `None` otherwise.
+#[must_use]
+pub fn start_mismatch(data: &Dataset, model: &SmoothModel) -> Option<String> {
+    let (again, _) = resettle(data, model, &[]);
+    let ends = discounted(&again);
+    let outputs = data.run_histories(|x| model.run(x).ok())?;
+    let (mut start, mut rest) = ((0.0, 0.0), (0.0, 0.0));
+    for ((r, y), end) in data.records.iter().zip(&outputs).zip(&ends) {
+        if r.validation {
+            continue;
+        }
+        for (i, ((obs, w), y)) in r.output.iter().zip(&r.weight).zip(y).enumerate() {
+            let e = w * (y - obs).powi(2);
+            let sum = if i < *end { &mut start } else { &mut rest };
+            sum.0 += e;
+            sum.1 += w;
+        }
+    }
+    let rms = |(e, w): (f64, f64)| (e / w).sqrt();
+    let (a, b) = (rms(start), rms(rest));
+    (start.1 > 0.0 && rest.1 > 0.0 && a > START_MISMATCH * b).then(|| {
+        format!(
+            "the records' starts fit worse than the rest (RMS {} against {}): they do not start \
+             by the start rule, so ",
+            sig(a, 3),
+            sig(b, 3)
+        )
+    })
 }
 
 /// The travel past a reversal, in units of 1/k2 beyond the loop's width 2 k1, after which the
@@ -377,6 +417,21 @@ mod tests {
         assert_eq!(forgotten_at(&[], 1.0), None);
     }
 
+    /// The static operator model H(k1, k2) without shaping.
+    fn operator(k1: f64, k2: f64) -> SmoothModel {
+        SmoothModel {
+            k1,
+            k2: hyst_core::AnyK2Law::Constant { value: k2 },
+            input_shaping: hyst_core::ScaledShaping::identity(),
+            output_shaping: hyst_core::ScaledShaping::identity(),
+            initial_state: hyst_model::InitialState::Rising,
+            form: hyst_model::Form::Operator,
+            linear: 0.0,
+            dynamics: None,
+            rate: None,
+        }
+    }
+
     fn record(id: i64, x: &[f64]) -> crate::Record {
         crate::Record {
             id,
@@ -424,21 +479,33 @@ mod tests {
             .map(|i| (std::f64::consts::TAU * i as f64 / 40.0).sin())
             .collect();
         let data = Dataset::single(&x, &x);
-        let model = SmoothModel {
-            k1: 0.1,
-            k2: hyst_core::AnyK2Law::Constant { value: 20.0 },
-            input_shaping: hyst_core::ScaledShaping::identity(),
-            output_shaping: hyst_core::ScaledShaping::identity(),
-            initial_state: hyst_model::InitialState::Rising,
-            form: hyst_model::Form::Operator,
-            linear: 0.0,
-            dynamics: None,
-            rate: None,
-        };
+        let model = operator(0.1, 20.0);
         let (free, _) = resettle(&data, &model, &[]);
         let (floored, _) = resettle(&data, &model, &[90]);
         assert!(discounted(&free)[0] < 90, "{:?}", discounted(&free));
         assert_eq!(discounted(&floored), vec![90]);
+    }
+
+    #[test]
+    fn a_start_the_rule_does_not_describe_is_found() {
+        let model = operator(0.3, 10.0);
+        let x: Vec<f64> = (0..400)
+            .map(|i| 1.5 * (std::f64::consts::TAU * f64::from(i) / 100.0).sin())
+            .collect();
+        // By the rule: the model's own output.
+        let y = model.run(&x).unwrap();
+        assert_eq!(start_mismatch(&Dataset::single(&x, &y), &model), None);
+        // After unrecorded motion: the record starts at sample 60 of a longer run.
+        let (x, y) = (&x[60..], &y[60..]);
+        let noise: Vec<f64> = (0..y.len())
+            .map(|i| 1e-3 * (f64::from(i as u32) * 1.7).sin())
+            .collect();
+        let y: Vec<f64> = y.iter().zip(&noise).map(|(a, b)| a + b).collect();
+        let note = start_mismatch(&Dataset::single(x, &y), &model).unwrap();
+        assert!(
+            note.contains("they do not start by the start rule"),
+            "{note}"
+        );
     }
 
     #[test]

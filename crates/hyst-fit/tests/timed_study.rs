@@ -171,16 +171,9 @@ fn study(which: impl Fn(&Case) -> bool) -> (usize, usize, Vec<String>, (usize, u
     (ok, all, failures, covered)
 }
 
-/// A static structure (no plant, no rate term) is fitted by the static machinery, which keeps
-/// the start rule: a record of it that starts mid-history is the one case the study does not
-/// hold to its goal (docs/fitting.md: `--estimate-initial-states` estimates such starts).
-fn static_mid_history(c: &Case) -> bool {
-    c.order == 0 && !c.rate && c.mid_history
-}
-
 /// Runs the cases of plant order `order` and holds them to the goals.
 fn check(order: u8) {
-    let (ok, all, failures, covered) = study(|c| c.order == order && !static_mid_history(c));
+    let (ok, all, failures, covered) = study(|c| c.order == order);
     println!(
         "order {order}: {ok} of {all} recovered; with noise, {} of {} parameters within two \
          standard errors of the truth",
