@@ -134,6 +134,7 @@ fn check_export(file: &ModelFile) -> Result<(), String> {
                 {
                     return Err(format!("export {language} wrote the literal {bad}"));
                 }
+                comments_hold(language, &text)?;
             }
             Err(e) if language == "c" && file.kind == hyst_model::ModelKind::PrandtlIshlinskii => {
                 one_line("export c", &e.to_string())?;
@@ -149,6 +150,35 @@ fn check_export(file: &ModelFile) -> Result<(), String> {
                 one_line(&format!("export {language}"), &e.to_string())?;
             }
             Err(e) => return Err(format!("export {language} refused an accepted model: {e}")),
+        }
+    }
+    Ok(())
+}
+
+/// The user text of a model file (column names, units) stays inside the comments of an
+/// exported file: no character but the generator's line feeds breaks a line or is a control
+/// character, and in C every comment ends, with no `/*` inside one (GCC's -Wcomment).
+///
+/// # Errors
+/// A description of the broken invariant.
+fn comments_hold(language: &str, text: &str) -> Result<(), String> {
+    if let Some(c) = text
+        .chars()
+        .find(|c| *c != '\n' && (c.is_control() || matches!(c, '\u{2028}' | '\u{2029}')))
+    {
+        return Err(format!("export {language} wrote the character {c:?}"));
+    }
+    if language == "c" {
+        let mut rest = text;
+        while let Some(start) = rest.find("/*") {
+            let inside = rest.get(start + 2..).unwrap_or_default();
+            let Some(end) = inside.find("*/") else {
+                return Err("export c wrote a comment that never ends".into());
+            };
+            if inside.get(..end).is_some_and(|c| c.contains("/*")) {
+                return Err("export c wrote /* inside a comment".into());
+            }
+            rest = inside.get(end + 2..).unwrap_or_default();
         }
     }
     Ok(())

@@ -77,6 +77,7 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
     for note in plan.cut_at_gaps(&input, &mut records, fault.as_ref().map(|f| f.0))? {
         eprintln!("{note}");
     }
+    plan.check_bandwidth(args, &records, fault.as_ref().map(|f| f.0))?;
     let mut rows = input.read_again()?;
     let mut out = CsvWriter::create(args.output, plan.output_names.clone())?;
     let mut cells = String::new();
@@ -422,6 +423,34 @@ impl Plan {
             }
         }
         Ok(notes)
+    }
+
+    /// `--prefilter-hz F` against the sample period of every part of the records (before the
+    /// record `until`, the first refused), before any row is run: whenever it is given, also
+    /// when the derivative columns make it unused.
+    fn check_bandwidth(
+        &self,
+        args: &Options<'_>,
+        records: &[Record],
+        until: Option<usize>,
+    ) -> Result<()> {
+        let Some(hz) = args.prefilter_hz else {
+            return Ok(());
+        };
+        let parts = records
+            .iter()
+            .take(until.unwrap_or(records.len()))
+            .flat_map(|r| &r.parts);
+        for part in parts {
+            Prefilter::check_bandwidth(hz, Some(part.nominal)).map_err(|e| {
+                anyhow!(
+                    "{}: --prefilter-hz {}: {e}",
+                    self.source,
+                    hyst_io::number::shortest(hz)
+                )
+            })?;
+        }
+        Ok(())
     }
 
     /// The next row of the last pass: its line, the value run and its time stamp; its cells

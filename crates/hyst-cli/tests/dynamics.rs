@@ -548,6 +548,148 @@ fn prefilter_gives_a_command_that_tracks_the_filtered_reference() {
     assert!(worst < 5e-3, "{worst}");
 }
 
+/// `hyst ARGS`, expected to fail: its stderr; OUTPUT (`-o` of ARGS, the last argument) is not
+/// written.
+fn refused(args: &[&str]) -> String {
+    let out = Command::new(HYST).args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "hyst {args:?} succeeded");
+    assert!(!Path::new(args.last().unwrap()).exists(), "{args:?}");
+    err
+}
+
+/// `--prefilter-hz F` is checked whenever it is given: a finite, positive frequency (with the
+/// derivative columns in the file, which the compensator then takes instead, and with --k1/--k2,
+/// which refuse it), at most 1/20 of the Nyquist frequency of the record's sample period (25 Hz
+/// at 1 kHz). At that bound the plant of order 2 driven by the commands follows the prefiltered
+/// reference of a step within 0.5 % of its span; above it the commands grow without bound
+/// (5e11 Hz at 1 kHz would give commands of 4e10 for outputs of 20).
+#[test]
+fn prefilter_bandwidth_is_checked_whenever_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/firmware/models/piezo_dyn.toml")
+        .to_str()
+        .unwrap()
+        .to_string();
+    let h = 1e-3;
+    let desired = |t: f64| {
+        if t < 0.5 {
+            -110.0
+        } else {
+            -100.0 + 10.0 * (3.0 * t).sin()
+        }
+    };
+    let rows: Vec<Vec<f64>> = (0..3000)
+        .map(|k| vec![k as f64 * h, desired(k as f64 * h)])
+        .collect();
+    let plain = dir.path().join("d.csv");
+    write_csv(&plain, "t,y_capsensor_um", &rows);
+    let with_derivatives = dir.path().join("dd.csv");
+    let rows_d: Vec<Vec<f64>> = rows.iter().map(|r| vec![r[0], r[1], 0.0, 0.0]).collect();
+    write_csv(
+        &with_derivatives,
+        "t,y_capsensor_um,y_capsensor_um_d1,y_capsensor_um_d2",
+        &rows_d,
+    );
+    let (plain, with_derivatives) = (plain.to_str().unwrap(), with_derivatives.to_str().unwrap());
+    let command = dir.path().join("c.csv");
+    let command = command.to_str().unwrap();
+    // Just below the bound: the model driven by the commands follows the filtered reference.
+    hyst(&[
+        "run",
+        "--model",
+        &model,
+        "--inverse",
+        "--prefilter-hz",
+        "24.9",
+        plain,
+        "-o",
+        command,
+    ]);
+    let u = read_column(Path::new(command), "u_actuator_V");
+    let filtered = read_column(Path::new(command), "y_capsensor_um_filtered");
+    let forward: Vec<Vec<f64>> = u
+        .iter()
+        .enumerate()
+        .map(|(k, u)| vec![k as f64 * h, *u])
+        .collect();
+    let commands = dir.path().join("u.csv");
+    write_csv(&commands, "t,u_actuator_V", &forward);
+    let back = dir.path().join("y.csv");
+    hyst(&[
+        "run",
+        "--model",
+        &model,
+        commands.to_str().unwrap(),
+        "-o",
+        back.to_str().unwrap(),
+    ]);
+    let y = read_column(&back, "y_capsensor_um");
+    let span = filtered.iter().copied().fold(f64::MIN, f64::max)
+        - filtered.iter().copied().fold(f64::MAX, f64::min);
+    let worst = y
+        .iter()
+        .zip(&filtered)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "prefilter 24.9 Hz at 1 kHz: the model driven by the commands follows the filtered \
+         reference within {:.3} % of its span",
+        100.0 * worst / span
+    );
+    assert!(worst < 5e-3 * span, "{worst} of {span}");
+    std::fs::remove_file(command).unwrap();
+    // Above it: refused, with the bound and the reason, with or without derivative columns.
+    for (hz, data) in [("26", plain), ("1e12", plain), ("1e12", with_derivatives)] {
+        let err = refused(&[
+            "run",
+            "--model",
+            &model,
+            "--inverse",
+            "--prefilter-hz",
+            hz,
+            data,
+            "-o",
+            command,
+        ]);
+        assert!(
+            err.contains(&format!("--prefilter-hz {hz}: above 25 Hz")) && err.contains("Nyquist"),
+            "{err}"
+        );
+    }
+    // A value that is no bandwidth: refused wherever it is given, naming the flag and the value.
+    for bad in ["nan", "-1", "0", "inf"] {
+        for args in [
+            &["--model", &model, "--inverse", with_derivatives][..],
+            &["--k1", "0.2", "--k2", "8", plain][..],
+        ] {
+            let mut all = vec!["run", "--prefilter-hz", bad];
+            all.extend(args);
+            all.extend(["-o", command]);
+            let err = refused(&all);
+            assert!(
+                err.contains("--prefilter-hz") && err.contains(bad) && err.contains("positive"),
+                "{bad}: {err}"
+            );
+        }
+    }
+    // A bandwidth for an operator that has no plant: refused.
+    let err = refused(&[
+        "run",
+        "--k1",
+        "0.2",
+        "--k2",
+        "8",
+        "--prefilter-hz",
+        "5",
+        plain,
+        "-o",
+        command,
+    ]);
+    assert!(err.contains("--prefilter-hz applies to"), "{err}");
+}
+
 /// The measured friction damper (data/friction-damper): fitted on the 0.25 Hz and 1 Hz
 /// records, it predicts the 0.5 Hz and 2 Hz ones; `--rate-term viscous` finds no support for a
 /// viscous term there (the damper's force barely follows velocity) and leaves it out. Beside it,

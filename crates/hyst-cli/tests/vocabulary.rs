@@ -7,7 +7,9 @@
 //! - no name of the "Old names" table is exposed by the CLI's help, the Python stubs, the C
 //!   header or the Rust sources any more;
 //! - the documentation of the inverses (H⁻¹, the shaped model's inverse, `--inverse`) does not
-//!   call them a compensator: that word is Lemma 5.1's alone.
+//!   call them a compensator: that word is Lemma 5.1's alone;
+//! - every `cargo install` of this project that README.md and docs/ show is `--locked`: it
+//!   builds with the dependency versions of Cargo.lock, those the tests ran with.
 // A test reports a broken surface by panicking with what it found.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -327,4 +329,36 @@ fn an_inverse_is_never_called_a_compensator() {
         said.push("hyst run --help, --inverse".into());
     }
     assert!(said.is_empty(), "an inverse called a compensator: {said:?}");
+}
+
+/// `cargo install --path crates/…` (this project) in README.md and docs/ always with `--locked`:
+/// without it cargo resolves the dependencies afresh and may build versions no test ran with.
+#[test]
+fn every_cargo_install_of_this_project_is_locked() {
+    let mut pages = vec!["README.md".to_string()];
+    for entry in std::fs::read_dir(root().join("docs")).unwrap() {
+        let name = entry.unwrap().file_name().into_string().unwrap();
+        if name.ends_with(".md") {
+            pages.push(format!("docs/{name}"));
+        }
+    }
+    let mut shown = 0;
+    for page in pages {
+        let text = read(&page);
+        for (i, line) in text.lines().enumerate() {
+            let Some(at) = line.find("cargo install") else {
+                continue;
+            };
+            let command = line[at..].split('`').next().unwrap_or_default();
+            if command.contains("--path") {
+                shown += 1;
+                assert!(
+                    command.contains("--locked"),
+                    "{page}:{}: `{command}` without --locked",
+                    i + 1
+                );
+            }
+        }
+    }
+    assert!(shown > 0, "no page shows how to install hyst");
 }

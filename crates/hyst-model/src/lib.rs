@@ -55,4 +55,4 @@ pub use saturation::{Saturated, Saturation};
 pub use smooth::{Form, InitialState, SmoothModel};
 pub use structure::{K2Kind, RateTerm, ShapingKind, Structure};
 pub use time::TimeSteps;
-pub use timed::{Prefilter, TimedCompensator, TimedRun, TimedSample};
+pub use timed::{Prefilter, TimedCompensator, TimedRun, TimedSample, PREFILTER_NYQUIST_FRACTION};

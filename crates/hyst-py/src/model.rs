@@ -17,8 +17,8 @@ use crate::arrays::{
 use crate::errors::{self, borrow, borrow_mut, value_error, Shared};
 use crate::model_memory;
 use crate::timed::{
-    as_array_of, derivatives_from, desired_derivatives, run_compensator, steps_of, timed_model,
-    timed_parts, untimed, values_of, Given, Halt, Reference,
+    as_array_of, bandwidth, derivatives_from, desired_derivatives, run_compensator, steps_of,
+    timed_model, timed_parts, untimed, values_of, Given, Halt, Reference,
 };
 
 /// A value as a Python object through JSON (dicts, lists, floats, strings; NaN becomes None).
@@ -466,6 +466,8 @@ impl Model {
     /// shape (len(desired), n) (1-D for n = 1; `hyst run`'s columns `y_d1 … y_dn`), or come
     /// from the reference prefilter 1/(s/ω + 1)ⁿ, ω = 2π·`prefilter_hz` (`--prefilter-hz`):
     /// the commands then make the plant track the prefiltered reference. Give one of them.
+    /// `prefilter_hz` is a finite, positive frequency of at most 1/20 of the Nyquist frequency
+    /// of the record's sample period (25 Hz at 1 kHz): ValueError otherwise, saying the bound.
     ///
     /// Raises ValueError for a model without dynamics (its compensator is the exact inverse,
     /// `inverse()`), with a rate term or of the stop form, and at the first desired output the
@@ -510,6 +512,10 @@ impl Model {
                 Reference::Given(desired_derivatives(d, desired.len(), order)?)
             }
             Given::Prefilter(hz) => {
+                // Every part's sample period carries the bandwidth, or nothing runs.
+                for (_, steps) in &parts {
+                    bandwidth(hz, Some(steps.nominal()))?;
+                }
                 let first = desired.first().copied().unwrap_or(0.0);
                 let nominal = parts.first().map_or(1.0, |(_, s)| s.nominal());
                 Prefilter::new(order, hz, nominal, first).map_err(errors::model)?;

@@ -237,7 +237,8 @@ pub(crate) enum Given<'a, 'py> {
     Prefilter(f64),
 }
 
-/// Exactly one of `derivatives` and `prefilter_hz` (a finite, positive bandwidth), for a plant
+/// Exactly one of `derivatives` and `prefilter_hz` (a finite, positive bandwidth: its bound
+/// for the record's sample period is [`bandwidth`]'s, once the period is known), for a plant
 /// of order `order`.
 pub(crate) fn derivatives_from<'a, 'py>(
     derivatives: Option<&'a Bound<'py, PyAny>>,
@@ -246,11 +247,10 @@ pub(crate) fn derivatives_from<'a, 'py>(
 ) -> PyResult<Given<'a, 'py>> {
     match (derivatives, prefilter_hz) {
         (Some(d), None) => Ok(Given::Derivatives(d)),
-        (None, Some(hz)) if hz.is_finite() && hz > 0.0 => Ok(Given::Prefilter(hz)),
-        (None, Some(hz)) => Err(value_error(format!(
-            "prefilter_hz = {}: the bandwidth must be a finite, positive frequency (Hz)",
-            shortest(hz)
-        ))),
+        (None, Some(hz)) => {
+            bandwidth(hz, None)?;
+            Ok(Given::Prefilter(hz))
+        }
         (Some(_), Some(_)) => Err(value_error(
             "derivatives and prefilter_hz: give one (the desired output's derivatives, or the \
              bandwidth of the prefilter that makes them)",
@@ -261,6 +261,14 @@ pub(crate) fn derivatives_from<'a, 'py>(
              prefilter (prefilter_hz=F, the bandwidth in Hz the commands then track)"
         ))),
     }
+}
+
+/// `prefilter_hz` checked as `hyst run` checks `--prefilter-hz`: a finite, positive frequency,
+/// and with the nominal step `period` (s) of a part of the record, at most 1/20 of its Nyquist
+/// frequency (`hyst_model::Prefilter::check_bandwidth`).
+pub(crate) fn bandwidth(hz: f64, period: Option<f64>) -> PyResult<()> {
+    Prefilter::check_bandwidth(hz, period)
+        .map_err(|e| value_error(format!("prefilter_hz = {}: {e}", shortest(hz))))
 }
 
 /// Where the desired output's derivatives come from: given, or a reference prefilter of this

@@ -254,6 +254,16 @@ def test_entry_points_without_time_refuse_a_timed_model(fitted, record):
         m.compensate(desired, t=t[:100], derivatives=np.where(np.arange(100) == 7, np.inf, 0.0))
     with pytest.raises(ValueError, match="^prefilter_hz = 0: the bandwidth must be"):
         m.compensate(desired, t=t[:100], prefilter_hz=0.0)
+    for bad, shown in [(float("nan"), "NaN"), (-1.0, "-1"), (float("inf"), "inf")]:
+        with pytest.raises(ValueError, match=f"^prefilter_hz = {shown}: the bandwidth must be"):
+            m.compensate(desired, t=t[:100], prefilter_hz=bad)
+    # At most 1/20 of the Nyquist frequency of the sample period (25 Hz at 1 kHz), as hyst run.
+    assert np.all(np.isfinite(m.compensate(desired, t=t[:100], prefilter_hz=24.9)))
+    for hz, shown in [(26.0, "26"), (1e12, "1e12")]:
+        with pytest.raises(ValueError, match=rf"^prefilter_hz = {shown}: above 25 Hz, .* sample period of 0\.001 s"):
+            m.compensate(desired, t=t[:100], prefilter_hz=hz)
+        with pytest.raises(ValueError, match=rf"^prefilter_hz = {shown}: above 25 Hz"):
+            m.compensate(desired, period=H, prefilter_hz=hz)
     with pytest.raises(ValueError, match="it needs the record's time stamps t"):
         m.compensate(desired, prefilter_hz=5.0)
     with pytest.raises(ValueError, match=r"^desired\[5\] = NaN: input sample NaN is not finite"):

@@ -272,8 +272,9 @@ fn escape(s: &str) -> String {
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
             '\'' => out.push_str("&apos;"),
-            // Control characters are not allowed in XML 1.0 (TOML strings may hold them).
-            c if c.is_control() => out.push(' '),
+            // Control characters and the non-characters U+FFFE and U+FFFF are not allowed in
+            // XML 1.0 (TOML strings may hold them).
+            c if c.is_control() || matches!(c, '\u{fffe}' | '\u{ffff}') => out.push(' '),
             c => out.push(c),
         }
     }
@@ -757,6 +758,13 @@ mod tests {
     #[test]
     fn escaping_and_numbers() {
         assert_eq!(escape("a<b>&\"c'\u{1}"), "a&lt;b&gt;&amp;&quot;c&apos; ");
+        // Every character that XML 1.0 does not allow becomes a space: the controls (but tab,
+        // line feed and carriage return, which an attribute's value reads as spaces anyway)
+        // and the non-characters U+FFFE and U+FFFF.
+        assert_eq!(
+            escape("\u{0}\t\n\r\u{7f}\u{85}\u{fffe}\u{ffff}µm\u{fffd}"),
+            "        µm\u{fffd}"
+        );
         assert_eq!(number(8.0), "8.0");
         assert_eq!(number(0.2), "0.2");
         assert_eq!(number(1e-7), "1e-7");

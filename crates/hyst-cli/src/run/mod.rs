@@ -87,8 +87,10 @@ pub struct Args {
     /// With --model --inverse for a model with dynamics of order n, when the file does not
     /// hold the desired output's n derivatives: a reference prefilter 1/(s/ω + 1)ⁿ, ω = 2πF,
     /// gives them, and the command makes the plant track the prefiltered reference exactly
-    /// (written as the column `<column>_filtered`).
-    #[arg(long, value_name = "F")]
+    /// (written as the column `<column>_filtered`). F is a finite, positive frequency of at
+    /// most 1/20 of the Nyquist frequency of each record's sample period (25 Hz at 1 kHz): the
+    /// sampled commands carry no more.
+    #[arg(long, value_name = "F", value_parser = bandwidth, allow_negative_numbers = true)]
     pub prefilter_hz: Option<f64>,
     /// The hold of the plant of a model with dynamics, instead of the model file's
     /// (`[dynamics] hold`): zoh, the command held over each step (an actuator driven by a DAC),
@@ -103,6 +105,14 @@ pub struct Args {
     pub output: PathBuf,
 }
 
+/// `--prefilter-hz F`, parsed and checked on its own (finite, positive); its bound for the
+/// records' sample period is checked once they are read.
+fn bandwidth(text: &str) -> std::result::Result<f64, String> {
+    let hz: f64 = text.trim().parse().map_err(|e| format!("{e}"))?;
+    hyst_model::Prefilter::check_bandwidth(hz, None).map_err(|e| e.to_string())?;
+    Ok(hz)
+}
+
 /// Runs `hyst run`.
 pub fn main(args: Args) -> Result<()> {
     if args.saturate && !(args.source.model.is_some() && args.source.inverse) {
@@ -112,6 +122,7 @@ pub fn main(args: Args) -> Result<()> {
         );
     }
     refuse_hold(&args, None)?;
+    refuse_prefilter(&args)?;
     // The data is opened only once the model is known to do what is asked.
     let open = || open_input(&args.input, &args.output);
     let mut columns: Vec<Option<&str>> = args.column.iter().map(|c| Some(c.as_str())).collect();
@@ -233,6 +244,17 @@ fn refuse_hold(args: &Args, model: Option<&std::path::Path>) -> Result<()> {
         ),
         _ => Ok(()),
     }
+}
+
+/// `--prefilter-hz` without `--model` (`--k1/--k2`): no plant, so nothing to prefilter for.
+fn refuse_prefilter(args: &Args) -> Result<()> {
+    if args.prefilter_hz.is_some() && args.source.model.is_none() {
+        bail!(
+            "--prefilter-hz applies to --model FILE --inverse, a model with dynamics (the \
+             prefilter gives its compensator the desired output's derivatives)"
+        );
+    }
+    Ok(())
 }
 
 /// What a run of a model with dynamics or a rate term takes of the arguments.

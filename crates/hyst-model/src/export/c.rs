@@ -20,7 +20,7 @@ use crate::file::ModelFile;
 use crate::smooth::{Form, SmoothModel};
 
 use super::shared::{
-    affine_shapings, check_name, description, has_infinity, k2_parameters, literal,
+    affine_shapings, check_name, comment_text, description, has_infinity, k2_parameters, literal,
     shape_parameters, smooth, timing, Options, Plant, Source, Timing,
 };
 
@@ -195,7 +195,7 @@ fn header_comment(
         ),
     ];
     if let Some(t) = timed {
-        usage.extend(timed_usage(name, &file.columns.output, t));
+        usage.extend(timed_usage(name, &comment_text(&file.columns.output), t));
     }
     usage.extend([
         "Without history the model starts at its first sample by the start rule, exactly as"
@@ -208,7 +208,8 @@ fn header_comment(
     let _ = writeln!(out, " */\n");
 }
 
-/// The header comment's lines on the parts of a model with dynamics.
+/// The header comment's lines on the parts of a model with dynamics (`output`: the model's
+/// output column, as [`comment_text`] renders it).
 fn timed_usage(name: &str, output: &str, t: &Timing) -> Vec<String> {
     let upper = name.to_ascii_uppercase();
     let n = t.order();

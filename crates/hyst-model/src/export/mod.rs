@@ -24,7 +24,7 @@ pub use shared::{check_name, Options, Source};
 
 #[cfg(test)]
 mod tests {
-    #![allow(clippy::unwrap_used)]
+    #![allow(clippy::unwrap_used, clippy::panic)]
     use std::path::Path;
 
     use super::*;
@@ -129,6 +129,115 @@ mod tests {
                 .unwrap_err()
                 .to_string();
             assert!(message.contains("--period"), "{message}");
+        }
+    }
+
+    /// Text a user controls that tries to end a comment, nest one, break a line, splice lines
+    /// (a trigraph) or reorder what a comment shows, each with an item it would define.
+    const HOSTILE: [&str; 4] = [
+        "a*/ int injected_c; /*b",
+        "a\npub const INJECTED_RUST: i32 = 42;\n#define injected_macro 1\n",
+        "a\r\0\t\u{7f}\u{85}\u{2028}\u{2029}\u{202e}\u{2066}\u{feff}??/",
+        "*/ /* /*/ */ \\",
+    ];
+
+    /// `file` with every column name and unit replaced by hostile text.
+    fn hostile_columns(text: &str) -> ModelFile {
+        // A TOML basic string.
+        let quote = |s: &str| {
+            let mut q = String::from("\"");
+            for c in s.chars() {
+                match c {
+                    '"' | '\\' => q.extend(['\\', c]),
+                    c if c.is_control() => q.push_str(&format!("\\u{:04X}", u32::from(c))),
+                    c => q.push(c),
+                }
+            }
+            q + "\""
+        };
+        let mut text = text.to_string();
+        for (from, to) in [
+            ("input = \"x\"", HOSTILE[0]),
+            ("output = \"y\"", HOSTILE[1]),
+            ("input = \"\"", HOSTILE[2]),
+            ("output = \"\"", HOSTILE[3]),
+            ("input = \"u_actuator_V\"", HOSTILE[0]),
+            ("output = \"y_capsensor_um\"", HOSTILE[1]),
+        ] {
+            let key = from.split(' ').next().unwrap_or_default();
+            text = text.replacen(from, &format!("{key} = {}", quote(to)), 1);
+        }
+        let file = ModelFile::from_toml(&text, Path::new("hostile.toml")).unwrap();
+        assert_eq!(file.columns.output, HOSTILE[1]);
+        file
+    }
+
+    /// C `text` without its comments, or what is wrong with them: a `/*` inside a comment
+    /// (GCC's -Wcomment), a comment that never ends.
+    fn c_outside_comments(text: &str) -> Result<String, String> {
+        let mut code = String::new();
+        let mut rest = text;
+        while let Some(start) = rest.find("/*") {
+            code.push_str(&rest[..start]);
+            let inside = &rest[start + 2..];
+            let end = inside.find("*/").ok_or("a comment that never ends")?;
+            if inside[..end].contains("/*") {
+                return Err(format!("/* inside a comment: {}", &inside[..end]));
+            }
+            rest = &inside[end + 2..];
+        }
+        code.push_str(rest);
+        Ok(code)
+    }
+
+    /// Rust `text` without its line comments.
+    fn rust_outside_comments(text: &str) -> String {
+        text.lines()
+            .map(|l| l.find("//").map_or(l, |i| &l[..i]))
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    /// A model path, column names and units that try to end the comment they are written in,
+    /// break its line or reorder its text stay inside it: the C and the Rust outside their
+    /// comments hold none of it, no line breaks but at a line feed of the generator, and no
+    /// character that a compiler refuses or warns about in a comment is written.
+    #[test]
+    fn user_text_stays_inside_the_comments() {
+        let source = Source::of_file(&HOSTILE.concat(), b"");
+        let pi = include_str!("../../../../examples/firmware/models/piezo_pi.toml");
+        let dynamics = STATIC.replace("version = 1", "version = 4")
+            + "[dynamics]\nb = 1.0\na = [0.05, 0.001]\n";
+        let period = Options { period: Some(1e-3) };
+        let mut outputs = Vec::new();
+        for text in [STATIC, &dynamics] {
+            let file = hostile_columns(text);
+            outputs.push(("c", c_with(&file, "m", &source, &period).unwrap()));
+            outputs.push(("rust", rust_with(&file, "m", &source, &period).unwrap()));
+        }
+        outputs.push(("rust", rust(&hostile_columns(pi), "m", &source).unwrap()));
+        for (language, text) in outputs {
+            let code = if language == "c" {
+                c_outside_comments(&text).unwrap_or_else(|e| panic!("{e}\n{text}"))
+            } else {
+                rust_outside_comments(&text)
+            };
+            for injected in ["injected", "INJECTED"] {
+                assert!(!code.contains(injected), "{language}: {injected}\n{text}");
+            }
+            assert!(text.contains("a*\\/ int injected_c; /\\*b"), "{text}");
+            // No trigraph (`??/` at the end of a line joins the next), no control character but
+            // the generator's line feeds, no line separator, byte-order mark or bidirectional
+            // control (rustc refuses those in comments, GCC warns).
+            assert!(!text.contains("??"), "{language}: {text}");
+            let bad = text.chars().find(|c| {
+                *c != '\n'
+                    && (c.is_control()
+                        || matches!(c, '\u{2028}' | '\u{2029}' | '\u{feff}')
+                        || ('\u{202a}'..='\u{202e}').contains(c)
+                        || ('\u{2066}'..='\u{2069}').contains(c))
+            });
+            assert_eq!(bad, None, "{language}: {text}");
         }
     }
 }

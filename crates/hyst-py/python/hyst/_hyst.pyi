@@ -137,8 +137,9 @@ class Model:
     ) -> FloatArray:
         """Lemma 5.1's compensator of a model with dynamics: the commands for the desired
         outputs of one record, given their first n time derivatives (shape (len, n)) or a
-        reference prefilter of bandwidth ``prefilter_hz``; as ``hyst run --model M --inverse``
-        on a timed record."""
+        reference prefilter of bandwidth ``prefilter_hz`` (finite, positive, at most 1/20 of
+        the Nyquist frequency of the sample period); as ``hyst run --model M --inverse`` on a
+        timed record."""
     @property
     def dynamics(self) -> Optional[Dict[str, Any]]:
         """The plant before the hysteresis, {"b": b, "a": [a_1, ..., a_n], ...}, or None."""
