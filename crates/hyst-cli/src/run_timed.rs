@@ -78,17 +78,19 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
         eprintln!("{note}");
     }
     plan.check_bandwidth(args, &records, fault.as_ref().map(|f| f.0))?;
+    // A refused time stamp stops the run before any row is written (to stdout, too): the
+    // records before it are checked above, not run.
+    if let Some((_, (line, message))) = &fault {
+        bail!(
+            "{}:{line}: column {:?}: {message}",
+            plan.source,
+            plan.time_name
+        );
+    }
     let mut rows = input.read_again()?;
     let mut out = CsvWriter::create(args.output, plan.output_names.clone())?;
     let mut cells = String::new();
-    for (k, record) in records.iter().enumerate() {
-        if let Some((line, message)) = fault.as_ref().filter(|f| f.0 == k).map(|f| &f.1) {
-            bail!(
-                "{}:{line}: column {:?}: {message}",
-                plan.source,
-                plan.time_name
-            );
-        }
+    for record in &records {
         plan.run_record(smooth, args, record, &mut rows, &mut cells, &mut out)?;
     }
     if rows.next_cells()?.is_some() {

@@ -966,3 +966,44 @@ fn a_timed_run_streams_its_input_from_a_file_or_a_pipe() {
         assert!(!out_path.exists());
     }
 }
+
+/// A timed run to standard output writes nothing when a later record's time stamps are refused:
+/// not the rows of the records before it (more than a buffer's worth).
+#[test]
+fn a_refused_stamp_writes_nothing_to_standard_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("m.toml");
+    let x: Vec<f64> = (0..400).map(|k| (k as f64 * 0.05).sin()).collect();
+    let y = hysteresis(&mut Hysteresis::new(0.1, 5.0).unwrap(), &x);
+    fit_with_plant(dir.path(), &x, &y, "[0.02]", &model);
+    let mut csv = String::from("t,u,rec\n");
+    for k in 0..5000 {
+        csv.push_str(&format!(
+            "{:e},{},a\n",
+            k as f64 * 1e-3,
+            (k as f64 * 0.01).sin()
+        ));
+    }
+    // The second record's third stamp goes back.
+    for (k, t) in [0.0, 1e-3, 0.5e-3, 3e-3].iter().enumerate() {
+        csv.push_str(&format!("{t:e},{},b\n", k as f64 * 0.1));
+    }
+    let input = dir.path().join("in.csv");
+    std::fs::write(&input, &csv).unwrap();
+    let out = Command::new(HYST)
+        .args(["run", "--model", model.to_str().unwrap(), "--record", "rec"])
+        .args([input.to_str().unwrap(), "-o", "-"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains(":5004: column \"t\"") && err.contains("goes back"),
+        "{err}"
+    );
+    assert!(
+        out.stdout.is_empty(),
+        "{} bytes written before the refusal",
+        out.stdout.len()
+    );
+}
