@@ -158,6 +158,11 @@ fn data_36k() -> Dataset {
     Dataset::from_records("bench", Columns::default(), records)
 }
 
+/// One fit of `data` as `request` asks, silent and never interrupted.
+fn fit_once(data: &Dataset, request: &Request) -> hyst_fit::identify::Identified {
+    identify(data, request, &mut Silent, &|| false, Provenance::default()).expect("the fit")
+}
+
 fn fit(c: &mut Criterion) {
     let data = data_100k();
     let mut group = c.benchmark_group("fit_100k");
@@ -170,18 +175,7 @@ fn fit(c: &mut Criterion) {
             },
             ..Request::default()
         };
-        group.bench_function(name, |b| {
-            b.iter(|| {
-                identify(
-                    &data,
-                    &request,
-                    &mut Silent,
-                    &|| false,
-                    Provenance::default(),
-                )
-                .expect("the fit")
-            })
-        });
+        group.bench_function(name, |b| b.iter(|| fit_once(&data, &request)));
     }
     group.finish();
 
@@ -200,18 +194,7 @@ fn fit(c: &mut Criterion) {
     group.sample_size(10);
     // One fit a sample: a fit takes seconds.
     group.sampling_mode(SamplingMode::Flat);
-    group.bench_function("dynamics_1", |b| {
-        b.iter(|| {
-            identify(
-                &data,
-                &request,
-                &mut Silent,
-                &|| false,
-                Provenance::default(),
-            )
-            .expect("the fit")
-        })
-    });
+    group.bench_function("dynamics_1", |b| b.iter(|| fit_once(&data, &request)));
     group.finish();
 }
 

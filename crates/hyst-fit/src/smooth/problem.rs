@@ -480,8 +480,22 @@ impl SmoothProblem<'_> {
         count: usize,
     ) -> Result<Vec<f64>, Infeasible> {
         let m = self.model(theta)?;
+        self.residuals_of(&m, self.bands(&m).as_deref(), count)
+    }
+
+    /// The first `count` residuals (at most) of the model `m` run from the starts `bands`, in
+    /// order.
+    ///
+    /// # Errors
+    /// [`Infeasible`] when `m` cannot run the records.
+    fn residuals_of(
+        &self,
+        m: &SmoothModel,
+        bands: Option<&[f64]>,
+        count: usize,
+    ) -> Result<Vec<f64>, Infeasible> {
         let mut out = vec![0.0; count.min(self.n)];
-        self.run_rows(&m, self.bands(&m).as_deref(), |k, h, i, s| {
+        self.run_rows(m, bands, |k, h, i, s| {
             let (Some(obs), Some(w)) = (h.output.get(i), h.weight.get(i)) else {
                 return;
             };
@@ -540,26 +554,15 @@ impl SmoothProblem<'_> {
         let n = self.n;
         let m = self.model(theta)?;
         let bands = self.bands(&m);
-        let mut r = vec![0.0; n];
-        self.run_rows(&m, bands.as_deref(), |k, h, i, s| {
-            if let (Some(obs), Some(w), Some(slot)) =
-                (h.output.get(i), h.weight.get(i), r.get_mut(k))
-            {
-                *slot = (s.y - obs) * self.scale(w);
-            }
-        })?;
+        let r = self.residuals_of(&m, bands.as_deref(), n)?;
         let mut columns: Vec<Vec<f64>> = Vec::new();
         if let (Some(hold), Some(d)) = (other_hold, m.dynamics) {
             let mut other = m;
             other.dynamics = Some(d.with_hold(hold));
-            let mut c = vec![0.0; n];
-            self.run_rows(&other, bands.as_deref(), |k, h, i, s| {
-                if let (Some(obs), Some(w), Some(slot), Some(rk)) =
-                    (h.output.get(i), h.weight.get(i), c.get_mut(k), r.get(k))
-                {
-                    *slot = (s.y - obs) * self.scale(w) - rk;
-                }
-            })?;
+            let mut c = self.residuals_of(&other, bands.as_deref(), n)?;
+            for (c, r) in c.iter_mut().zip(&r) {
+                *c -= r;
+            }
             columns.push(c);
         }
         for &tau in creep {

@@ -216,9 +216,8 @@ fn estimates(
     // The hold's shifts in the parameters' own units.
     let added = added.map(|mut d| {
         if let Some(shift) = d.hold.as_mut() {
-            for (a, s) in shift.iter_mut().enumerate() {
-                let j = kept[a];
-                *s *= spec_derivative(layout, best, j);
+            for (s, &j) in shift.iter_mut().zip(&kept) {
+                *s *= layout.params[j].transform.derivative(best.theta[j]);
             }
         }
         d
@@ -255,11 +254,6 @@ fn sandwich_diagonal(
         }
         _ => None,
     }
-}
-
-/// d value / d θ of parameter `j` at the optimum `best`.
-fn spec_derivative(layout: &Layout, best: &Solution, j: usize) -> f64 {
-    layout.params[j].transform.derivative(best.theta[j])
 }
 
 /// The parameters the data cannot identify at θ (`model` is the model there): those a parameter
