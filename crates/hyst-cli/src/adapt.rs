@@ -91,7 +91,7 @@ pub struct Args {
     /// The record (CSV with a header row).
     pub data: PathBuf,
     /// Output CSV file: written atomically; `-` is standard output. Must not be DATA.
-    #[arg(short, long)]
+    #[arg(short = 'o', long = "out", alias = "output-file", value_name = "FILE")]
     pub output_file: PathBuf,
 }
 

@@ -36,7 +36,7 @@ pub enum Target {
 /// Arguments of `hyst export c` and `hyst export rust`.
 #[derive(clap::Args, Debug)]
 pub struct Files {
-    /// The model file (`hyst fit --model-out`).
+    /// The model file (`hyst fit -o`).
     pub model: PathBuf,
     /// The prefix of every identifier of the file: a C identifier (letters, digits, `_`), not
     /// starting with `hyst` (hyst.h's own). Default: the model file's name without its
@@ -44,7 +44,7 @@ pub struct Files {
     #[arg(long)]
     pub name: Option<String>,
     /// The file to write (written atomically); `-` or none: standard output.
-    #[arg(short, long)]
+    #[arg(short = 'o', long = "out", alias = "output", value_name = "FILE")]
     pub output: Option<PathBuf>,
     /// For a model with dynamics: the sample period in seconds of the exported model with its
     /// plant (NAME_timed), which is discretised for it here. The records' mean time step (what

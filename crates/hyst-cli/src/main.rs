@@ -52,6 +52,7 @@ mod run;
 mod run_timed;
 mod signals;
 mod source;
+mod spelling;
 mod workloads;
 
 /// Smooth parametric hysteresis: model, bound, compensate and fit.
@@ -114,6 +115,10 @@ fn spill_setting() -> anyhow::Result<()> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let argv: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
+    for old in spelling::used(&argv) {
+        eprintln!("{}", spelling::note(&old));
+    }
     if let Err(e) = signals::install() {
         eprintln!("error: {}", message(&e));
         return ExitCode::FAILURE;

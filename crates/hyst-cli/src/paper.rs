@@ -16,7 +16,7 @@ use crate::plot::{Figure, Legend, Panel, Series};
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Output directory for the figures and summary.json.
-    #[arg(long, default_value = "paper-out")]
+    #[arg(short = 'o', long, default_value = "paper-out", value_name = "DIR")]
     pub out: PathBuf,
 }
 

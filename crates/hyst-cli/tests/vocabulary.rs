@@ -362,3 +362,72 @@ fn every_cargo_install_of_this_project_is_locked() {
     }
     assert!(shown > 0, "no page shows how to install hyst");
 }
+
+/// Each flag has one meaning on every subcommand (`-o`/`--out`: what the command writes); the
+/// old spellings still parse, with a note that names the new flag, and the new ones give none.
+#[test]
+fn old_spellings_of_flags_still_work_with_a_note() {
+    let dir = std::env::temp_dir().join(format!("hyst-spelling-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temporary folder");
+    let input = dir.join("x.csv");
+    std::fs::write(&input, "x\n0\n0.5\n").expect("writes the input");
+    let path = |name: &str| dir.join(name).to_str().expect("utf-8 path").to_string();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_hyst"))
+            .args(args)
+            .output()
+            .expect("runs hyst")
+    };
+    let x = path("x.csv");
+    for (flag, name) in [
+        ("--output", "old.csv"),
+        ("--out", "new.csv"),
+        ("-o", "short.csv"),
+    ] {
+        let out = run(&["run", "--k1", "0.2", "--k2", "8", &x, flag, &path(name)]);
+        assert!(out.status.success(), "{flag}: {out:?}");
+        assert!(dir.join(name).exists(), "{flag} wrote no {name}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        let noted = err.contains("`hyst run --output` is the old spelling of -o/--out");
+        assert_eq!(noted, flag == "--output", "{flag}: {err}");
+    }
+    // fit's and adapt's old spellings parse (the data is missing: the note comes before that
+    // error), and fit's `--output` stays its output column.
+    let missing = path("missing.csv");
+    for (args, old) in [
+        (
+            vec![
+                "fit",
+                &missing,
+                "--input",
+                "x",
+                "--output",
+                "y",
+                "--model-out",
+                "m.toml",
+            ],
+            "--model-out",
+        ),
+        (
+            vec![
+                "adapt",
+                "--model",
+                "m.toml",
+                &missing,
+                "--output-file",
+                "a.csv",
+            ],
+            "--output-file",
+        ),
+    ] {
+        let out = run(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.contains(&format!("{old}` is the old spelling of -o/--out")),
+            "{err}"
+        );
+        assert!(!err.contains("unexpected argument"), "{err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

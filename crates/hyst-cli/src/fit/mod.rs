@@ -38,7 +38,7 @@ pub struct Args {
     #[arg(long)]
     pub output: String,
     /// The model file to write (TOML, docs/formats.md).
-    #[arg(short = 'o', long = "model-out", value_name = "MODEL")]
+    #[arg(short = 'o', long = "out", alias = "model-out", value_name = "MODEL")]
     pub model_out: PathBuf,
     /// Which model to fit.
     #[arg(long, value_enum, default_value_t = ModelKind::Smooth)]

@@ -53,7 +53,7 @@ pub struct Args {
     #[arg(long)]
     pub saturate: bool,
     /// The FMU to write (NAME.fmu; NAME becomes the modelName). Written atomically.
-    #[arg(short, long)]
+    #[arg(short = 'o', long = "out", alias = "output", value_name = "FILE")]
     pub output: PathBuf,
 }
 

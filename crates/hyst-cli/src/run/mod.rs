@@ -101,7 +101,7 @@ pub struct Args {
     pub input: PathBuf,
     /// Output CSV file: written atomically (temporary file, then rename); `-` is standard
     /// output; a symbolic link or a device (/dev/null) is written through. Must not be INPUT.
-    #[arg(short, long)]
+    #[arg(short = 'o', long = "out", alias = "output", value_name = "OUTPUT")]
     pub output: PathBuf,
 }
 
