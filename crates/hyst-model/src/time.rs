@@ -172,14 +172,27 @@ impl<P> Gap<P> {
     #[must_use]
     pub fn describe(&self) -> String {
         format!(
-            "a gap of {} s before time stamp {} ({:.0} × the record's median step {} s, more \
-             than {GAP_FACTOR}): the record is split there, the part after it starting at rest",
+            "a gap of {} s before time stamp {} ({} × the record's median step {} s, more \
+             than {GAP_FACTOR} ×): the record is split there, the part after it starting at rest",
             self.step,
             self.stamp,
-            self.step / self.median,
+            ratio_text(self.step / self.median),
             self.median
         )
     }
+}
+
+/// A gap's ratio to the median step in as few decimals as show it above [`GAP_FACTOR`]
+/// (`250`, `10.002`), at most 6.
+fn ratio_text(ratio: f64) -> String {
+    let mut text = String::new();
+    for decimals in 0..=6 {
+        text = format!("{ratio:.decimals$}");
+        if text.parse::<f64>().is_ok_and(|shown| shown > GAP_FACTOR) {
+            break;
+        }
+    }
+    text
 }
 
 /// What the stamps of a record say once all are seen ([`Stamps::check`]).
@@ -562,6 +575,24 @@ mod tests {
         // 9 × the median is not a gap.
         let t = [0.0, 1.0, 2.0, 11.0, 12.0, 13.0];
         assert_eq!(split(&t).unwrap().0.len(), 1);
+    }
+
+    /// A gap just above the factor is not called the factor itself.
+    #[test]
+    fn a_gap_just_above_the_factor_says_by_how_much() {
+        let gap = Gap {
+            at: 3,
+            stamp: 12.0015,
+            step: 10.0015,
+            median: 1.0,
+        };
+        let text = gap.describe();
+        assert!(
+            text.contains("(10.002 × the record's median step 1 s, more than 10 ×)"),
+            "{text}"
+        );
+        let gap = Gap { step: 250.0, ..gap };
+        assert!(gap.describe().contains("(250 × "), "{}", gap.describe());
     }
 
     #[test]

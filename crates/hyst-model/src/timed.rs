@@ -307,15 +307,10 @@ impl TimedCompensator {
     /// a rate term.
     ///
     /// # Errors
-    /// [`ModelError::Invalid`] saying why not.
+    /// [`ModelError::Invalid`] saying why not, the first that applies of: the stop form (no
+    /// inverse at all), a rate term (none hyst can compute), no dynamics (the exact inverse is
+    /// the compensator: only then is that the advice).
     pub fn check(model: &SmoothModel) -> Result<(), ModelError> {
-        if model.dynamics.is_none() {
-            return Err(ModelError::Invalid(
-                "the model has no dynamics: its compensator is the exact inverse \
-                 (`hyst run --model M --inverse` without time)"
-                    .into(),
-            ));
-        }
         if model.form == Form::Stop {
             return Err(ModelError::Invalid(
                 "a stop-form (friction) model has no inverse: it predicts the force from the \
@@ -329,6 +324,13 @@ impl TimedCompensator {
                 "an operator-form model with a rate term has no inverse hyst can compute: its \
                  output depends on the rate of the command that the inverse would have to \
                  compute. Fit without --rate-term to compensate it"
+                    .into(),
+            ));
+        }
+        if model.dynamics.is_none() {
+            return Err(ModelError::Invalid(
+                "the model has no dynamics: its compensator is the exact inverse \
+                 (`hyst run --model M --inverse` without time)"
                     .into(),
             ));
         }
@@ -590,6 +592,11 @@ mod tests {
         m.rate = Some(Rate { c: 0.1 });
         let e = TimedCompensator::new(&m, 0.0).unwrap_err().to_string();
         assert!(e.contains("rate term"), "{e}");
+        // Without dynamics too: the advice to run the exact inverse would send the user back
+        // to the command that refused.
+        m.dynamics = None;
+        let e = TimedCompensator::check(&m).unwrap_err().to_string();
+        assert!(e.contains("rate term") && !e.contains("no dynamics"), "{e}");
     }
 
     /// The rate term adds c times the backward difference of v, 0 at the first sample.
