@@ -422,3 +422,25 @@ fn the_inverse_of_a_stop_form_model_is_refused_before_the_data() {
     );
     assert!(!d.join("o.csv").exists());
 }
+
+/// A quote never closed in a column the run passes through is refused on its line: the parser
+/// would read the rest of the file into that cell, and the run would lose those rows with exit
+/// status 0.
+#[test]
+fn a_quote_never_closed_loses_no_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("q.csv");
+    std::fs::write(&input, "x,note\n0,a\n0.5,\"b\n1,c\n").unwrap();
+    let output = dir.path().join("o.csv");
+    let out = hyst()
+        .args(["run", "--k1", "0.2", "--k2", "8", "--column", "x"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("q.csv:3: malformed CSV: a quote (\") on this line"), "{err}");
+    assert!(!output.exists());
+}

@@ -317,6 +317,37 @@ impl<R: Read> CsvReader<R> {
                     },
                 }
             })?;
+            if more {
+                // A quote that is never closed runs to the end of the input, which the parser
+                // takes as the end of the cell (and of the record).
+                let end = usize::try_from(self.reader.position().byte()).unwrap_or(usize::MAX);
+                let window = self.reader.get_mut();
+                let first = window.skip_to_record(start);
+                let raw = window.from(first);
+                let raw = raw.get(..end.saturating_sub(first)).unwrap_or(raw);
+                if let Some(at) = raw.contains(&b'"').then(|| unclosed_quote(raw)).flatten() {
+                    let opened = line
+                        + raw
+                            .get(..at)
+                            .unwrap_or_default()
+                            .iter()
+                            .filter(|&&b| b == b'\n')
+                            .count();
+                    let tail = raw.get(at..).unwrap_or_default();
+                    let tail = tail.strip_suffix(b"\n").unwrap_or(tail);
+                    let rest = tail.iter().filter(|&&b| b == b'\n').count() + 1;
+                    return Err(IoError::Csv {
+                        file: self.source.clone(),
+                        line: opened,
+                        message: format!(
+                            "a quote (\") on this line opens a cell that is never closed: the \
+                             {rest} line(s) from it to the end of the file would be read as that \
+                             one cell. Close the quote, or remove it"
+                        ),
+                    });
+                }
+            }
+            let window = self.reader.get_mut();
             window.drop_before(self.lines.pos);
             if !more {
                 return Ok(None);
@@ -326,6 +357,35 @@ impl<R: Read> CsvReader<R> {
             }
         }
     }
+}
+
+/// The offset in `raw` (one record's bytes as read) of a quote that opens a cell and is never
+/// closed, by the parser's rules: a `"` at the start of a cell opens it, `""` inside is a quote,
+/// and the next lone `"` closes it; a `"` inside an unquoted cell is plain text.
+fn unclosed_quote(raw: &[u8]) -> Option<usize> {
+    let mut opened = None;
+    let mut cell_start = true;
+    let mut i = 0;
+    while let Some(&b) = raw.get(i) {
+        if opened.is_some() {
+            if b == b'"' {
+                if raw.get(i + 1) == Some(&b'"') {
+                    i += 1;
+                } else {
+                    opened = None;
+                }
+            }
+        } else if b == b'"' && cell_start {
+            opened = Some(i);
+        } else {
+            cell_start = matches!(b, b',' | b'\n' | b'\r');
+            i += 1;
+            continue;
+        }
+        cell_start = false;
+        i += 1;
+    }
+    opened
 }
 
 /// The reader under the CSV parser, keeping the bytes read since the last located offset (the
@@ -615,5 +675,36 @@ mod tests {
         }
         let err = CsvReader::new(Failing, "f.csv").err().unwrap();
         assert_eq!(err.to_string(), "f.csv: cannot read: disk on fire");
+    }
+
+    /// A quote that is never closed is refused on the line it opens, wherever the parser's
+    /// reads end, instead of swallowing the rest of the file into one cell (a lost row when the
+    /// cell is a column nobody reads); closed quotes, `""` inside them and a `"` inside an
+    /// unquoted cell read as before.
+    #[test]
+    fn a_quote_never_closed_is_refused_where_it_opens() {
+        for chunk in [1, 3, 4096] {
+            for text in [&b"x,y\n0,1\n0.5,\"2\n1,3\n"[..], b"x,y\n0,1\n\"0.5,2\n1,3"] {
+                let mut rows = CsvReader::new(Trickle { bytes: text, chunk }, "q.csv").unwrap();
+                assert!(rows.next_cells().unwrap().is_some());
+                let e = rows.next_cells().unwrap_err().to_string();
+                assert!(
+                    e.starts_with(
+                        "q.csv:3: malformed CSV: a quote (\") on this line opens a cell \
+                                   that is never closed: the 2 line(s)"
+                    ),
+                    "{chunk}: {e}"
+                );
+            }
+            let text = b"x,label\n0,\"a \"\"b\"\" c\"\n1,12\"\n2,\"two\nlines\"\n";
+            let mut rows = CsvReader::new(Trickle { bytes: text, chunk }, "q.csv").unwrap();
+            let mut labels = Vec::new();
+            while let Some(line) = rows.next_cells().unwrap() {
+                labels.push(rows.cell_text(1, line).unwrap().to_string());
+            }
+            assert_eq!(labels, ["a \"b\" c", "12\"", "two\nlines"]);
+        }
+        assert_eq!(unclosed_quote(b"1,\"a\"\"\n"), Some(2));
+        assert_eq!(unclosed_quote(b"1,\"a\"\"\"\n"), None);
     }
 }
