@@ -47,6 +47,8 @@ pub struct Options<'a> {
     pub time: Option<&'a str>,
     /// `--record`.
     pub record: Option<&'a str>,
+    /// `--no-record`.
+    pub no_record: bool,
     /// `--prefilter-hz`.
     pub prefilter_hz: Option<f64>,
     /// `--hold`.
@@ -81,11 +83,29 @@ pub fn main(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<()> {
     // A refused time stamp stops the run before any row is written (to stdout, too): the
     // records before it are checked above, not run.
     if let Some((_, (line, message))) = &fault {
+        // Time that goes back in a file of one record is most often the next record's start.
+        let hint = if plan.record.is_none() && message.contains("goes back") {
+            " (if the file holds several records, each with its own time, name the column that \
+             tells them apart with --record COLUMN)"
+        } else {
+            ""
+        };
         bail!(
-            "{}:{line}: column {:?}: {message}",
+            "{}:{line}: column {:?}: {message}{hint}",
             plan.source,
             plan.time_name
         );
+    }
+    // A record sampled far from the periods the model was fitted at (a time column in
+    // milliseconds) runs without error, and wrong: said once, for the first.
+    let off = records.iter().enumerate().find_map(|(k, r)| {
+        r.parts
+            .iter()
+            .find_map(|p| model.provenance.period_note(p.nominal))
+            .map(|note| (k, note))
+    });
+    if let Some((k, note)) = off {
+        eprintln!("note: {}: record {}: {note}", plan.source, k + 1);
     }
     let mut rows = input.read_again()?;
     let mut out = CsvWriter::create(args.output, plan.output_names.clone())?;
@@ -284,7 +304,7 @@ impl Plan {
                 })?,
         };
         let time = rows.column(&time_name)?;
-        let record = args.record.map(|r| rows.column(r)).transpose()?;
+        let record = crate::run::record_column(&rows, args.record, args.no_record, args.columns)?;
         let order = smooth.dynamics.map_or(0, |d| d.order());
         let derivatives: Option<Vec<usize>> = (1..=order)
             .map(|k| rows.column_index(&format!("{name}_d{k}")))

@@ -297,6 +297,32 @@ fn example2_first_order_plant_is_identified_and_compensated() {
     ]);
     // The command is named after the model's input column.
     let dynamic_error = through_truth(&read_column(&out, "u"));
+    // The file records the period the records were sampled at, and a record whose time is in
+    // milliseconds (read as seconds: 1000 × the period) runs with a note saying so.
+    let periods = &json["model"]["provenance"]["sample_periods"];
+    for end in 0..2 {
+        let p = periods[end].as_f64().unwrap();
+        assert!((p / h - 1.0).abs() < 1e-9, "sample_periods {periods}");
+    }
+    let in_ms: Vec<Vec<f64>> = rows.iter().map(|r| vec![r[0] * 1e3, r[1], r[2]]).collect();
+    let target_ms = dir.path().join("desired-ms.csv");
+    write_csv(&target_ms, "t,phi,phi_d1", &in_ms);
+    for (file, noted) in [(&target, false), (&target_ms, true)] {
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_hyst"))
+            .args(["run", "--model", model.to_str().unwrap(), "--inverse"])
+            .arg(file)
+            .args(["-o", dir.path().join("c.csv").to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{err}");
+        assert_eq!(
+            err.contains("record 1: the record's sample period 1.000e0 s is 1000 × longer than \
+                          the period the model was fitted at (1.000e-3 s): is the time column in seconds?"),
+            noted,
+            "{err}"
+        );
+    }
     let out_static = dir.path().join("command-static.csv");
     hyst(&[
         "run",

@@ -464,3 +464,78 @@ fn saturate_clamps_into_the_stated_fraction_of_the_range_and_says_so() {
         );
     }
 }
+
+/// `hyst run` tells records apart by the column `hyst fit` takes for it (`loop`,
+/// `curve_index`, `record`, `segment`) unless told `--no-record`, with a note: a model with
+/// dynamics runs a file whose time restarts at each record, and a static run equals
+/// `--record`'s.
+#[test]
+fn run_finds_the_record_column_fit_finds() {
+    let dir = tempfile::tempdir().unwrap();
+    let (forc, _) = forc_file(dir.path());
+    let text = std::fs::read_to_string(&forc)
+        .unwrap()
+        .replace(",curve\n", ",segment\n");
+    let input = dir.path().join("segments.csv");
+    std::fs::write(&input, text).unwrap();
+    let args = ["--k1", "0.2", "--k2", "8", "--column", "H"];
+    let found = hyst(
+        &[
+            &["run"],
+            &args[..],
+            &[s(&input), "-o", s(&dir.path().join("a.csv"))],
+        ]
+        .concat(),
+    );
+    assert!(found.status.success(), "{}", stderr(&found));
+    assert!(
+        stderr(&found).contains("note: column \"segment\" tells the records apart"),
+        "{}",
+        stderr(&found)
+    );
+    let named = run_ok(
+        &[&args[..], &["--record", "segment"]].concat(),
+        &input,
+        &dir.path().join("b.csv"),
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("a.csv")).unwrap(),
+        named
+    );
+    let one = run_ok(
+        &[&args[..], &["--no-record"]].concat(),
+        &input,
+        &dir.path().join("c.csv"),
+    );
+    assert_ne!(one, named);
+
+    // A model with dynamics on records whose time starts at 0 each: without the record
+    // column, the second record's first stamp would go back.
+    let model = repo().join("examples/firmware/models/piezo_dyn.toml");
+    let mut text = String::from("t,u_actuator_V,record\n");
+    for record in 0..2 {
+        for k in 0..200 {
+            let t = f64::from(k) * 1e-3;
+            text += &format!("{t},{},{record}\n", 2.0 + (20.0 * t).sin());
+        }
+    }
+    let input = dir.path().join("timed.csv");
+    std::fs::write(&input, text).unwrap();
+    let out = run_ok(&["--model", s(&model)], &input, &dir.path().join("t.csv"));
+    assert_eq!(rows(&out).len(), 400);
+    let refused = hyst(&[
+        "run",
+        "--model",
+        s(&model),
+        "--no-record",
+        s(&input),
+        "-o",
+        s(&dir.path().join("u.csv")),
+    ]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(
+        stderr(&refused).contains("goes back"),
+        "{}",
+        stderr(&refused)
+    );
+}

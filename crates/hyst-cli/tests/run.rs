@@ -441,6 +441,9 @@ fn a_quote_never_closed_loses_no_rows() {
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
-    assert!(err.contains("q.csv:3: malformed CSV: a quote (\") on this line"), "{err}");
+    assert!(
+        err.contains("q.csv:3: malformed CSV: a quote (\") on this line"),
+        "{err}"
+    );
     assert!(!output.exists());
 }

@@ -164,6 +164,7 @@ impl ModelFile {
             bad(format!("invalid model file: {}", toml_message(text, &e)))
         })?;
         file.install_timed().map_err(bad)?;
+        file.provenance.check().map_err(bad)?;
         if file.version < file.required_version() {
             return Err(bad(format!(
                 "version = {} but {} needs format version {}",

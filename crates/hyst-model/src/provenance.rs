@@ -68,6 +68,63 @@ pub struct Provenance {
     pub hyst_version: String,
     /// Creation time, seconds since the Unix epoch.
     pub created_unix: u64,
+    /// The smallest and largest nominal sample period (s) of the records a model with
+    /// dynamics or a rate term was fitted on (absent for a static fit, and in files written
+    /// before it was recorded): a record run at a period far from them ([`PERIOD_FACTOR`]) is
+    /// noted ([`Provenance::period_note`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sample_periods: Option<[f64; 2]>,
+}
+
+/// How far (a factor either way) a record's sample period may be from the periods a model was
+/// fitted at before [`Provenance::period_note`] notes it: a time column in milliseconds read as
+/// seconds is 1000 × off; sampling 10 × faster or slower than the fit is ordinary.
+pub const PERIOD_FACTOR: f64 = 100.0;
+
+impl Provenance {
+    /// Checks `sample_periods`: finite, positive, the smallest first.
+    ///
+    /// # Errors
+    /// What is wrong, naming the key and the values.
+    pub fn check(&self) -> Result<(), String> {
+        match self.sample_periods {
+            Some([lo, hi]) if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) => {
+                Err(format!(
+                    "[provenance] sample_periods = [{lo:e}, {hi:e}]: expected the smallest and \
+                     the largest sample period (s) of the records, finite and positive, the \
+                     smallest first"
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// A note for a record run at the sample period `period` (s) more than [`PERIOD_FACTOR`]
+    /// away from the periods the model was fitted at (the plant's and the rate term's
+    /// discretisation are in seconds: a record in other units runs without error, and wrong);
+    /// `None` within them, or when the file records none.
+    #[must_use]
+    pub fn period_note(&self, period: f64) -> Option<String> {
+        let [lo, hi] = self.sample_periods?;
+        if !(period < lo / PERIOD_FACTOR || period > hi * PERIOD_FACTOR) {
+            return None;
+        }
+        let fitted = if lo == hi {
+            format!("{lo:.3e} s")
+        } else {
+            format!("{lo:.3e} to {hi:.3e} s")
+        };
+        let ratio = if period > hi {
+            period / hi
+        } else {
+            lo / period
+        };
+        Some(format!(
+            "the record's sample period {period:.3e} s is {ratio:.0} × {} the period the model was \
+             fitted at ({fitted}): is the time column in seconds?",
+            if period > hi { "longer than" } else { "shorter than" }
+        ))
+    }
 }
 
 /// A fitted parameter with its standard error.
@@ -184,5 +241,23 @@ mod tests {
             ErrorStats::of(std::iter::empty(), 1.0),
             ErrorStats::default()
         );
+    }
+    #[test]
+    fn sample_periods_are_checked_and_noted_100_times_away() {
+        let mut p = super::Provenance {
+            sample_periods: Some([1e-3, 2e-3]),
+            ..super::Provenance::default()
+        };
+        assert!(p.check().is_ok());
+        assert_eq!(p.period_note(1e-4), None);
+        assert_eq!(p.period_note(0.1), None);
+        assert!(p.period_note(0.3).unwrap().contains("150 × longer"));
+        assert!(p.period_note(5e-6).unwrap().contains("200 × shorter"));
+        for bad in [[2e-3, 1e-3], [0.0, 1.0], [f64::NAN, 1.0]] {
+            p.sample_periods = Some(bad);
+            assert!(p.check().unwrap_err().contains("sample_periods"));
+        }
+        p.sample_periods = None;
+        assert_eq!(p.period_note(1e9), None);
     }
 }
