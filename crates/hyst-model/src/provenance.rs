@@ -219,6 +219,7 @@ impl ErrorSums {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
     use super::ErrorStats;
 
     /// The one-pass statistics are those of the errors collected, bit for bit (the fit's
