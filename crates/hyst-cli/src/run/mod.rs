@@ -379,7 +379,7 @@ fn run<R: Read>(
             derivatives,
         });
     }
-    let record = record_column(&rows, args.record.as_deref(), args.no_record, &args.column)?;
+    let record = record_column(rows, args.record.as_deref(), args.no_record, &args.column)?;
     let run_names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
     let saturated = args.saturate;
     let names = crate::naming::output_names(
