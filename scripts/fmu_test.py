@@ -9,7 +9,8 @@ Run by scripts/test-fmu with the Python of its virtual environment (FMPy install
 
 For every FMU: FMPy's validate_fmu finds no problem; FMU2Slave stepped sample by sample (set x,
 get y, doStep) over a signal with many reversals gives y equal to `hyst run` on the same signal
-within 1e-12 relative (and says whether it is bit-identical); get/set FMU state and
+within 1e-12 relative (and says whether it is bit-identical), and y read again after doStep is
+the same output; get/set FMU state and
 serialise/deserialise round trips reproduce the outputs; two instances at once stay independent;
 fmi2Reset starts over; a non-finite x is refused and logged; simulate_fmu runs it with a
 structured-array input. For the operator FMUs: k1, k2 set before initialisation change the result
@@ -234,6 +235,18 @@ def check_fmu(fmu, hyst, run_args, xs, others):
     compare(f"{fmu.name}: FMU2Slave == hyst run {' '.join(run_args)}", step(s, xs), want)
     close(s)
 
+    # fmuCheck's stepping: set x, read y, doStep, read y again. Both reads are the output at
+    # the communication point: the step commits the sample once and y keeps its output.
+    s = fmu.instance()
+    after = []
+    for k, x in enumerate(xs):
+        s.setReal([VR_X], [float(x)])
+        s.getReal([VR_Y])
+        s.doStep(currentCommunicationPoint=float(k), communicationStepSize=1.0)
+        after.append(s.getReal([VR_Y])[0])
+    compare(f"{fmu.name}: y read after doStep == y read before it (== hyst run)", after, want)
+    close(s)
+
     # Rate independence: the communication step sizes do not matter (zero included).
     s = fmu.instance()
     got = step(s, xs, sizes=[1e-6, 0.5, 0.0, 3.0, 1e-3])
@@ -364,8 +377,8 @@ def check_fmu(fmu, hyst, run_args, xs, others):
     close(s)
 
     # FMPy's own master: simulate_fmu with the input as a structured array (time, x). It sets x
-    # at t_k and records y after the step, at t_k+1, while x still holds x_k: y(t_0) = y_0 and
-    # y(t_k+1) = y_k (the output for x_0..x_k).
+    # at t_k and records y after initialisation and after each step, at t_k+1: y(t_0) = y_0 and
+    # y(t_k+1) = y_k (the output for x_0..x_k, which y keeps after the step).
     signal = np.array(
         list(zip(np.arange(n, dtype=np.float64), xs)),
         dtype=[("time", np.float64), ("x", np.float64)],

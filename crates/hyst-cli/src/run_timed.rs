@@ -31,9 +31,12 @@ use std::path::Path;
 use std::rc::Rc;
 
 use anyhow::{anyhow, bail, Context, Result};
+use hyst_io::number::sig;
 use hyst_io::{CsvReader, CsvWriter};
 use hyst_model::time::{Part, Parts, Stamps};
-use hyst_model::{Hold, ModelFile, Prefilter, SmoothModel, TimedCompensator, TimedRun};
+use hyst_model::{
+    Corner, Hold, ModelFile, Prefilter, SmoothModel, TimedCompensator, TimedRun, CORNER_SAMPLES,
+};
 
 use crate::run::rows::Records;
 
@@ -564,7 +567,9 @@ impl Plan {
         let order = self.order;
         let mut started: Option<(TimedCompensator, Option<Prefilter>, f64)> = None;
         let mut desired = Vec::with_capacity(order + 1);
-        for _ in 0..part.len {
+        // The fastest corner of the loop the compensator met, and its line.
+        let mut fastest: Option<(Corner, usize)> = None;
+        for sample in 0..part.len {
             let (line, x, t) = self.next_row(rows, cells)?;
             let at = || format!("{source}:{line}");
             let (c, prefilter, h) = match &mut started {
@@ -605,12 +610,33 @@ impl Plan {
                     hyst_io::number::sig(desired[0], 6)
                 )
             })?;
+            if let Some(corner) = c.fastest_corner().filter(|f| f.sample == sample) {
+                fastest = Some((corner, line));
+            }
             let computed = [u, desired[0]];
             let n = if self.filtered { 2 } else { 1 };
             out.write_row_after(cells, self.width, computed.get(..n).unwrap_or_default())?;
         }
+        if let Some((corner, line)) = fastest.filter(|(c, _)| !c.resolved_by(part.nominal)) {
+            eprintln!("{}", corner_warning(source, line, corner, part.nominal));
+        }
         Ok(())
     }
+}
+
+/// The warning of a compensator whose sample period `h` (s) does not resolve the loop's
+/// fastest corner `corner`, met on `source`'s line `line`: the period it needs.
+fn corner_warning(source: &str, line: usize, corner: Corner, h: f64) -> String {
+    format!(
+        "hyst run: warning: {source}:{line}: the desired output crosses a corner of the \
+         model's loop (1/k2 wide in the operator's output units) in {} s there, less than \
+         {CORNER_SAMPLES} samples of this record's period {} s: the commands spike near the \
+         loop's corners, and the plant driven by them strays from the desired output in \
+         proportion to the period; sample at most every {} s (or slow the desired output down)",
+        sig(corner.time, 4),
+        sig(h, 4),
+        sig(corner.needed_period(), 4),
+    )
 }
 
 /// Refuses, before the data is read, what a timed model cannot do as `args` ask; returns its

@@ -1033,3 +1033,75 @@ fn a_refused_stamp_writes_nothing_to_standard_output() {
         out.stdout.len()
     );
 }
+
+/// `hyst run --inverse` of a model with dynamics warns, on standard error, when the record's
+/// sample period does not resolve the corners of the model's loop: the desired output
+/// 30 sin³(4πt) µm about the piezo model's centre (at 1 kHz, with its exact derivatives) crosses a
+/// corner (1/k2 wide in the operator's output units) in 1/(k2 |ẏ_d| / gain) s. The piezo model
+/// (k2 = 2.39) resolves it; the same model with k2 = 1000 does not, and the warning names the
+/// line of the fastest corner and the period needed (a third of its time).
+#[test]
+fn a_compensator_warns_when_the_sample_period_cannot_resolve_the_loops_corners() {
+    let dir = tempfile::tempdir().unwrap();
+    let piezo =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/firmware/models/piezo_dyn.toml");
+    let text = std::fs::read_to_string(&piezo).unwrap();
+    let sharp = dir.path().join("sharp.toml");
+    std::fs::write(&sharp, text.replace("2.393823624410437", "1000.0")).unwrap();
+    let (w, h, gain) = (4.0 * std::f64::consts::PI, 1e-3, 35.078039285444284);
+    let rows: Vec<Vec<f64>> = (0..2000)
+        .map(|k| {
+            let t = k as f64 * h;
+            let (s, c) = (w * t).sin_cos();
+            vec![
+                t,
+                -95.9 + 30.0 * s * s * s,
+                90.0 * w * s * s * c,
+                90.0 * w * w * s * (2.0 * c * c - s * s),
+            ]
+        })
+        .collect();
+    let data = dir.path().join("d.csv");
+    write_csv(
+        &data,
+        "t,y_capsensor_um,y_capsensor_um_d1,y_capsensor_um_d2",
+        &rows,
+    );
+    let (fastest, rate) = rows.iter().enumerate().fold((0, 0.0), |(i, r), (k, row)| {
+        if row[2].abs() > r {
+            (k, row[2].abs())
+        } else {
+            (i, r)
+        }
+    });
+    let run = |model: &Path| {
+        let out = Command::new(HYST)
+            .args(["run", "--model", model.to_str().unwrap(), "--inverse"])
+            .arg(&data)
+            .args(["-o", dir.path().join("u.csv").to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        // The commands are written whatever the warning says.
+        assert_eq!(
+            read_column(&dir.path().join("u.csv"), "u_actuator_V").len(),
+            2000
+        );
+        String::from_utf8(out.stderr).unwrap()
+    };
+    assert_eq!(run(&piezo), "");
+    let warning = run(&sharp);
+    println!("{warning}");
+    let time = gain / (1000.0 * rate);
+    for part in [
+        "hyst run: warning: ".to_string(),
+        format!("d.csv:{}: ", fastest + 2),
+        format!("in {} s there", hyst_io::number::sig(time, 4)),
+        format!(
+            "sample at most every {} s",
+            hyst_io::number::sig(time / 3.0, 4)
+        ),
+    ] {
+        assert!(warning.contains(&part), "{part:?} not in {warning}");
+    }
+}

@@ -118,6 +118,16 @@ impl Engine {
         }
     }
 
+    /// The fastest corner of the model's loop a timed model's compensator has met
+    /// ([`TimedEngine::fastest_corner`]; `None` for every other engine).
+    #[must_use]
+    pub fn fastest_corner(&self) -> Option<hyst_model::Corner> {
+        match self {
+            Engine::Timed(t) => t.fastest_corner(),
+            _ => None,
+        }
+    }
+
     /// The history to save.
     #[must_use]
     pub fn history(&self) -> History {

@@ -1,11 +1,15 @@
 //! One FMU instance: its mode, variables, committed history and saved states, in safe Rust.
 //! `api` checks the C arguments and the mode, calls these methods and logs their errors.
 //!
-//! Semantics (direct feedthrough, rate independent): after fmi2SetReal(x), y is the operator
-//! applied to the committed input history followed by x, computed on a copy; fmi2DoStep
-//! commits x. The time only matters for fmi2GetRealStatus(fmi2LastSuccessfulTime), and the
-//! step size only for a model with dynamics or a rate term (`crate::timed`: each communication
-//! step is the direct model's time step to the next sample).
+//! Semantics (FMI 2.0 Co-Simulation, direct feedthrough): each communication point is one
+//! sample, its inputs the values set there. After fmi2SetReal of an input, y is the output for
+//! the committed history followed by the current inputs, computed on a copy; fmi2DoStep commits
+//! that sample, once, and y keeps its output (the output at the communication point, held)
+//! until an input is set for the next point. So y read before and after fmi2DoStep is the same
+//! number, and the history advances once per communication point with the inputs set there. The
+//! time only matters for fmi2GetRealStatus(fmi2LastSuccessfulTime), and the step size only for
+//! a model with dynamics or a rate term (`crate::timed`: each communication step is the direct
+//! model's time step to the next sample).
 
 use std::fmt;
 
@@ -87,6 +91,12 @@ pub struct Instance {
     /// `None` until fmi2ExitInitializationMode (operator) or the first fmi2DoStep (model).
     engine: Option<Engine>,
     time: f64,
+    /// The output of the sample the last fmi2DoStep committed, which y keeps until an input is
+    /// set (`None` before the first step, after fmi2Reset and once an input is set).
+    held: Option<f64>,
+    /// Whether the compensator's warning that the communication step does not resolve the
+    /// loop's corners was sent (once per instance, until fmi2Reset).
+    corner_warned: bool,
     /// Whether the last committed x was clamped (`saturate = true`): a warning is sent when
     /// the desired output enters saturation, not at every step it stays there.
     saturated: bool,
@@ -118,6 +128,8 @@ impl Instance {
             parameters: None,
             engine: None,
             time: 0.0,
+            held: None,
+            corner_warned: false,
             saturated: false,
             states: Vec::new(),
         };
@@ -137,6 +149,8 @@ impl Instance {
         };
         self.engine = None;
         self.time = 0.0;
+        self.held = None;
+        self.corner_warned = false;
         self.saturated = false;
         self.log.debug = self.logging_at_instantiation;
     }
@@ -191,7 +205,8 @@ impl Instance {
 
     /// fmi2SetReal: all values or none (every value reference and mode is checked first).
     /// x may be set before and after initialisation, k1 and k2 only before
-    /// fmi2ExitInitializationMode; y never.
+    /// fmi2ExitInitializationMode; y never. Setting an input (x, x_d1 …) starts the sample of
+    /// the next communication point: y is then computed for it, no longer held.
     ///
     /// # Errors
     /// An unknown value reference, an output, a parameter after initialisation.
@@ -217,6 +232,9 @@ impl Instance {
             targets.push((v, *value));
         }
         for (v, value) in targets {
+            if matches!(v, Variable::X | Variable::Derivative(_)) {
+                self.held = None;
+            }
             match (v, &mut self.parameters) {
                 (Variable::X, _) => self.x = value,
                 (Variable::Derivative(k), _) => {
@@ -280,7 +298,8 @@ impl Instance {
         }
     }
 
-    /// fmi2GetReal.
+    /// fmi2GetReal. y is the output held since the last fmi2DoStep while no input has been set
+    /// since, else the output for the committed history followed by the current inputs.
     ///
     /// # Errors
     /// An unknown value reference, or y for a sample the operator refuses (non-finite x, a
@@ -291,7 +310,7 @@ impl Instance {
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
             *value = match (self.variable(*vr)?, self.parameters) {
                 (Variable::X, _) => self.x,
-                (Variable::Y, _) => match y {
+                (Variable::Y, _) => match y.or(self.held) {
                     Some(y) => y,
                     None => {
                         let v = self.output().map_err(|e| format!("y: {e}"))?;
@@ -308,7 +327,8 @@ impl Instance {
         Ok(())
     }
 
-    /// fmi2DoStep: commits the current x (a model's evaluator is created at the first step,
+    /// fmi2DoStep: commits the current x (and x_d1 …) as the sample of the communication point
+    /// `current`, and holds its output as y until an input is set (a model's evaluator is created at the first step,
     /// started at x as `hyst run --model` starts a record). Any step size ≥ 0 is fine, but for
     /// the direct model of a model with dynamics or a rate term: each step's size is the time
     /// step to the next sample, > 0, and the first is its nominal step (`crate::timed`). With
@@ -330,22 +350,25 @@ impl Instance {
         let d = self.derivatives.get(..self.order()).unwrap_or(&[]);
         let raw = self.x;
         let refused = |e: &dyn fmt::Display| format!("{}: {e}", Self::sample(raw, d));
-        match (&mut self.engine, &self.config.kind) {
+        let y = match (&mut self.engine, &self.config.kind) {
             (Some(engine), _) => {
                 engine.check_step(step)?;
-                engine.step(x, d).map_err(|e| refused(&e))?;
+                let y = engine.step(x, d).map_err(|e| refused(&e))?;
                 engine.set_next(step);
+                y
             }
             (None, Kind::Model(file)) => {
                 let mut engine = Engine::model(file, x, self.config.inverse, Some(step))
                     .map_err(|e| refused(&e))?;
-                engine.step(x, d).map_err(|e| refused(&e))?;
+                let y = engine.step(x, d).map_err(|e| refused(&e))?;
                 self.engine = Some(engine);
+                y
             }
             (None, Kind::Operator { .. }) => {
                 return Err("internal error: no operator in step mode".into());
             }
-        }
+        };
+        self.held = Some(y);
         self.time = current + step;
         let warning = match self.config.saturation {
             Some(s) if clamped && !self.saturated => Some(format!(
@@ -356,7 +379,28 @@ impl Instance {
             _ => None,
         };
         self.saturated = clamped;
-        Ok(warning)
+        Ok(warning.or_else(|| self.corner_warning(step)))
+    }
+
+    /// The compensator's warning, once, when the communication step `step` (the time the
+    /// command is applied for) does not resolve the fastest corner of the loop it has met.
+    fn corner_warning(&mut self, step: f64) -> Option<String> {
+        let corner = self.engine.as_ref()?.fastest_corner()?;
+        if self.corner_warned || corner.resolved_by(step) {
+            return None;
+        }
+        self.corner_warned = true;
+        Some(format!(
+            "the desired output crosses a corner of the model's loop (1/k2 wide in the \
+             operator's output units) in {:.4e} s at this instance's sample {}, less than {} \
+             communication steps of {step} s: the commands spike near the loop's corners, and \
+             the plant driven by them strays from the desired output in proportion to the \
+             step; step at most every {:.4e} s (no further warning from this instance)",
+            corner.time,
+            corner.sample,
+            hyst_model::CORNER_SAMPLES,
+            corner.needed_period()
+        ))
     }
 
     /// The end of the last successful communication step (the start time before the first).
@@ -373,6 +417,7 @@ impl Instance {
             derivatives: self.derivatives,
             parameters: self.parameters,
             time: self.time,
+            held: self.held,
             history: self.engine.as_ref().map_or(History::Empty, Engine::history),
         }
     }
@@ -425,6 +470,7 @@ impl Instance {
         self.derivatives = state.derivatives;
         self.parameters = state.parameters;
         self.time = state.time;
+        self.held = state.held;
         Ok(())
     }
 

@@ -6,11 +6,13 @@
 //! `resources/fmu.toml` ([`config`]). Its variables are all Real ([`layout`]): x (value
 //! reference 0, input), y (1, output), and for the operator k1 (2) and k2 (3), fixed parameters.
 //!
-//! Semantics (direct feedthrough, rate independent):
-//! - after fmi2SetReal(x), fmi2GetReal(y) is the operator applied to the committed input
-//!   history followed by x (a copy steps; nothing is committed); fmi2DoStep commits x. So y at
-//!   the communication points equals `hyst run` on the inputs set at those points, bit for bit,
-//!   whatever the times and step sizes (≥ 0);
+//! Semantics (FMI 2.0 Co-Simulation, direct feedthrough, rate independent):
+//! - each communication point is one sample, its inputs the values set there: after
+//!   fmi2SetReal(x), fmi2GetReal(y) is the operator applied to the committed input history
+//!   followed by x (a copy steps; nothing is committed); fmi2DoStep commits x once, and y keeps
+//!   that sample's output until an input is set again. So y read before and after fmi2DoStep is
+//!   the same number, and y at the communication points equals `hyst run` on the inputs set at
+//!   those points, bit for bit, whatever the times and step sizes (≥ 0);
 //! - k1, k2 may be set in Instantiated and InitializationMode; the operator is built at
 //!   fmi2ExitInitializationMode (invalid values: fmi2Error naming the parameter and value);
 //! - a model's evaluator is created at the first fmi2DoStep from the x current then, exactly as

@@ -4,6 +4,7 @@
 //! the time of the last communication point and the committed history (the operator's memory,
 //! or the model's first input and its evaluator's memory; none before the first fmi2DoStep).
 //! The mode (initialisation, step mode, …) is not part of it: fmi2SetFMUstate keeps the mode.
+//! The output y holds after fmi2DoStep is part of it in memory, not in the serialised form.
 //! A model with dynamics or a rate term (`crate::timed`) also has the inputs x_d1 … x_dn, and
 //! its history is a copy of its engine: such a state is never serialised (the FMU says
 //! canSerializeFMUstate = false, and [`encode`] refuses it).
@@ -80,6 +81,11 @@ pub struct FmuState {
     pub parameters: Option<(f64, f64)>,
     /// The end of the last communication step (fmi2GetRealStatus(fmi2LastSuccessfulTime)).
     pub time: f64,
+    /// The output of the last committed sample that y holds until an input is set. Not
+    /// serialised: a serialised state is of an FMU without dynamics or a rate term, whose
+    /// output for x after the committed history is that same number (a repeated input moves
+    /// nothing), so a state read back computes it again.
+    pub held: Option<f64>,
     /// The committed history.
     pub history: History,
 }
@@ -313,6 +319,7 @@ pub fn decode(bytes: &[u8], owner: &Owner) -> Result<FmuState, String> {
         derivatives: [0.0; MAX_DYNAMICS],
         parameters,
         time,
+        held: None,
         history,
     })
 }
@@ -483,6 +490,7 @@ mod tests {
                 derivatives: [0.0; MAX_DYNAMICS],
                 parameters,
                 time: 12.5,
+                held: None,
                 history,
             };
             for inverse in [false, true] {

@@ -18,7 +18,9 @@
 //!   but not serialised (canSerializeFMUstate = false), since hyst-model does not expose the
 //!   state of a `TimedRun` or `TimedCompensator`.
 
-use hyst_model::{Dynamics, ModelFile, SmoothModel, TimedCompensator, TimedRun, MAX_DYNAMICS};
+use hyst_model::{
+    Corner, Dynamics, ModelFile, SmoothModel, TimedCompensator, TimedRun, MAX_DYNAMICS,
+};
 
 /// The nominal step of the engine that computes y before the first fmi2DoStep gives it: the
 /// first sample of a `TimedRun` does not depend on it (the plant starts at rest,
@@ -219,6 +221,16 @@ impl TimedEngine {
                 });
                 c.step(&desired).map(|(u, _)| u).map_err(|e| e.to_string())
             }
+        }
+    }
+
+    /// The fastest corner of the model's loop a compensator has met (`None` for the direct
+    /// model): a sample period must resolve it ([`Corner::resolved_by`]).
+    #[must_use]
+    pub fn fastest_corner(&self) -> Option<Corner> {
+        match self {
+            TimedEngine::Run { .. } => None,
+            TimedEngine::Compensator(c) => c.fastest_corner(),
         }
     }
 

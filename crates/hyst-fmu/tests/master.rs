@@ -1416,14 +1416,10 @@ fn desired(k: usize) -> [f64; 3] {
     ]
 }
 
-/// One communication step of a timed model: set x, read y, step. Unlike `Fmu::step`, y read
-/// after fmi2DoStep may differ from y before it: time has passed (the plant moved on, and the
-/// rate term sees the held x), so it is y at the next communication point for x held.
+/// One communication step of a timed model: set x, read y, step, read y again (`Fmu::step`:
+/// the same bits, the output at the communication point held).
 fn timed_step(fmu: &Fmu, x: f64) -> f64 {
-    assert_eq!(fmu.set(VR_X, x), OK);
-    let y = fmu.y();
-    assert_eq!(fmu.do_step(), OK);
-    y
+    fmu.step(x)
 }
 
 fn timed_steps(fmu: &Fmu, xs: &[f64]) -> Vec<f64> {
@@ -1444,11 +1440,17 @@ fn a_timed_model_runs_as_timed_run_bit_for_bit() {
         let before = fmu.y();
         let ys = timed_steps(&fmu, &xs);
         let reference = timed_run(&file, H, &xs);
-        // y after the last doStep is the next sample's, for the last x held.
+        // y after the last doStep is the last sample's, held; x set again (the same value)
+        // is the next sample's, for x held there (the plant moved on).
+        assert_eq!(fmu.y().to_bits(), reference[xs.len() - 1].to_bits());
         let held: Vec<f64> = xs.iter().chain(xs.last()).copied().collect();
-        assert_eq!(
-            fmu.y().to_bits(),
-            timed_run(&file, H, &held)[xs.len()].to_bits()
+        assert_eq!(fmu.set(VR_X, xs[xs.len() - 1]), OK);
+        let next = timed_run(&file, H, &held)[xs.len()];
+        assert_eq!(fmu.y().to_bits(), next.to_bits());
+        assert_ne!(
+            next.to_bits(),
+            reference[xs.len() - 1].to_bits(),
+            "{sections}"
         );
         assert_eq!(before.to_bits(), reference[0].to_bits(), "{sections}");
         assert_eq!(bits(&ys), bits(&reference), "{sections}");
@@ -1676,4 +1678,172 @@ fn a_timed_model_without_a_compensator_is_refused_as_an_inverse() {
             "dynamics of order 2",
         ],
     );
+}
+
+/// One communication point as fmuCheck steps it: set the inputs (x, then x_d1 … of a
+/// compensator), read y, fmi2DoStep, read y again. Returns y read before the step, and the
+/// samples where the read after it differed.
+fn read_twice(fmu: &Fmu, inputs: &[Vec<f64>]) -> (Vec<f64>, Vec<usize>) {
+    let mut ys = Vec::new();
+    let mut changed = Vec::new();
+    for (k, sample) in inputs.iter().enumerate() {
+        let vrs: Vec<u32> = (0..sample.len())
+            .map(|i| if i == 0 { VR_X } else { VR_Y + i as u32 })
+            .collect();
+        let status = unsafe { fmi2SetReal(fmu.c, vrs.as_ptr(), vrs.len(), sample.as_ptr()) };
+        assert_eq!(status, OK);
+        let y = fmu.y();
+        assert_eq!(fmu.do_step(), OK);
+        if fmu.y().to_bits() != y.to_bits() {
+            changed.push(k);
+        }
+        ys.push(y);
+    }
+    (ys, changed)
+}
+
+/// An FMU to step: its name, its resources, the inputs of each sample (x, then x_d1 …) and
+/// the outputs `hyst run` gives for them.
+type Kind = (String, tempfile::TempDir, Vec<Vec<f64>>, Vec<f64>);
+
+/// Every kind of FMU: y is the output at the communication point, for the inputs set there.
+/// fmi2DoStep commits that sample once, and y read after it (before the next inputs are set)
+/// is the same output, bit for bit; both equal the run of the same samples (`hyst run`).
+#[test]
+fn y_read_before_and_after_do_step_is_the_same_output_for_every_kind() {
+    let xs: Vec<f64> = (0..3000).map(signal).collect();
+    let plain: Vec<Vec<f64>> = xs.iter().map(|x| vec![*x]).collect();
+    let mut kinds: Vec<Kind> = Vec::new();
+    for inverse in [false, true] {
+        let reference = if inverse {
+            core_run(InverseHysteresis::new(0.2, 8.0).unwrap(), &xs)
+        } else {
+            core_run(Hysteresis::new(0.2, 8.0).unwrap(), &xs)
+        };
+        let dir = operator_resources(inverse, 0.2, 8.0);
+        kinds.push((
+            format!("operator, inverse {inverse}"),
+            dir,
+            plain.clone(),
+            reference,
+        ));
+        let file = fitted_model();
+        let input: Vec<f64> = if inverse {
+            xs.iter().map(|x| 3.0 * x + 1.0).collect()
+        } else {
+            xs.clone()
+        };
+        let reference = evaluator_run(&file, inverse, &input);
+        let inputs = input.iter().map(|x| vec![*x]).collect();
+        let dir = model_resources(&file, inverse);
+        kinds.push((format!("model, inverse {inverse}"), dir, inputs, reference));
+    }
+    let both = format!("{DYNAMICS_2}{RATE}");
+    let (text, file) = timed_model(&both);
+    let reference = timed_run(&file, H, &xs);
+    kinds.push((
+        "timed model".into(),
+        timed_resources(&text, false),
+        plain,
+        reference,
+    ));
+    let (text, file) = timed_model(DYNAMICS_2);
+    let smooth = file.smooth.as_ref().unwrap();
+    let mut compensator = hyst_model::TimedCompensator::new(smooth, desired(0)[0]).unwrap();
+    let inputs: Vec<Vec<f64>> = (0..3000).map(|k| desired(k).to_vec()).collect();
+    let reference = inputs
+        .iter()
+        .map(|d| compensator.step(d).unwrap().0)
+        .collect();
+    kinds.push((
+        "compensator".into(),
+        timed_resources(&text, true),
+        inputs,
+        reference,
+    ));
+    let mut changed_by_a_step = Vec::new();
+    for (name, dir, inputs, reference) in kinds {
+        let fmu = Fmu::started(dir.path());
+        fmu.step_size.set(H);
+        let (ys, changed) = read_twice(&fmu, &inputs);
+        // A saved state keeps the held output: another x set and read, the state restored, y
+        // is the last sample's again.
+        let saved = fmu.get_state();
+        assert_eq!(fmu.set(VR_X, inputs[0][0] + 0.25), OK);
+        assert_ne!(fmu.y().to_bits(), ys[ys.len() - 1].to_bits(), "{name}");
+        assert_eq!(fmu.set_state(saved), OK);
+        assert_eq!(fmu.y().to_bits(), ys[ys.len() - 1].to_bits(), "{name}");
+        println!(
+            "{name}: y changed by fmi2DoStep at {} of {} samples",
+            changed.len(),
+            ys.len()
+        );
+        changed_by_a_step.push((name.clone(), changed.len()));
+        assert_eq!(bits(&ys), bits(&reference), "{name}");
+        assert!(fmu.errors().is_empty(), "{name}");
+    }
+    assert!(
+        changed_by_a_step.iter().all(|(_, n)| *n == 0),
+        "{changed_by_a_step:?}"
+    );
+}
+
+/// The compensator of a model whose loop's corners the communication step does not resolve
+/// (k2 = 1000: the desired output crosses a corner in 3.2e-4 s, steps of 2⁻¹⁰ s) warns once,
+/// with the step it needs, and computes the commands all the same; at k2 = 6 it does not warn.
+#[test]
+fn a_compensator_warns_once_when_the_step_cannot_resolve_the_loops_corners() {
+    let (text, _) = timed_model(DYNAMICS_2);
+    let constant = "law = \"constant\"\nvalue = 6.0\n";
+    assert!(text.contains(constant), "{text}");
+    let sharp = text.replace(constant, "law = \"constant\"\nvalue = 1000.0\n");
+    for (text, warns) in [(text.as_str(), false), (sharp.as_str(), true)] {
+        let dir = timed_resources(text, true);
+        let fmu = Fmu::started(dir.path());
+        fmu.step_size.set(H);
+        let file = ModelFile::read(&dir.path().join("model.toml")).unwrap();
+        let smooth = file.smooth.as_ref().unwrap();
+        let mut compensator = hyst_model::TimedCompensator::new(smooth, desired(0)[0]).unwrap();
+        let mut statuses = Vec::new();
+        for k in 0..600 {
+            let d = desired(k);
+            let vrs = [VR_X, 2, 3];
+            assert_eq!(
+                unsafe { fmi2SetReal(fmu.c, vrs.as_ptr(), 3, d.as_ptr()) },
+                OK
+            );
+            let y = fmu.y();
+            statuses.push(fmu.do_step());
+            assert_eq!(
+                y.to_bits(),
+                compensator.step(&d).unwrap().0.to_bits(),
+                "{k}"
+            );
+        }
+        let warnings: Vec<Logged> = fmu
+            .log
+            .take()
+            .into_iter()
+            .filter(|l| l.status == WARNING as c_int)
+            .collect();
+        let warned = statuses.iter().filter(|s| **s == WARNING).count();
+        assert_eq!(
+            (warned, warnings.len()),
+            if warns { (1, 1) } else { (0, 0) }
+        );
+        assert!(statuses.iter().all(|s| *s == OK || *s == WARNING));
+        if warns {
+            let message = &warnings[0].message;
+            let corner = compensator.fastest_corner().unwrap();
+            println!("{message}");
+            assert!((corner.time - 3.2e-4).abs() < 0.05e-4, "{corner:?}");
+            for part in [
+                "fmi2DoStep: ".to_string(),
+                "corner of the model's loop".to_string(),
+                format!("step at most every {:.4e} s", corner.time / 3.0),
+            ] {
+                assert!(message.contains(&part), "{part:?} not in {message}");
+            }
+        }
+    }
 }

@@ -55,4 +55,7 @@ pub use saturation::{Saturated, Saturation};
 pub use smooth::{Form, InitialState, SmoothModel};
 pub use structure::{K2Kind, RateTerm, ShapingKind, Structure};
 pub use time::TimeSteps;
-pub use timed::{Prefilter, TimedCompensator, TimedRun, TimedSample, PREFILTER_NYQUIST_FRACTION};
+pub use timed::{
+    Corner, Prefilter, TimedCompensator, TimedRun, TimedSample, CORNER_SAMPLES,
+    PREFILTER_NYQUIST_FRACTION,
+};

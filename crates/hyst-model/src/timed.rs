@@ -8,7 +8,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use hyst_core::compensator::{Compensator, MAX_ORDER};
-use hyst_core::{AnyK2Law, Error, Hysteresis, Jet, Operator, ScaledShaping, Shaping};
+use hyst_core::{AnyK2Law, Error, Hysteresis, Jet, K2Law, Operator, ScaledShaping, Shaping};
 
 use std::collections::HashMap;
 
@@ -274,13 +274,51 @@ impl<T: FitReal> SmoothModel<T> {
 pub type CoreCompensator =
     Compensator<f64, MAX_ORDER, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
 
+/// The samples a compensator needs in the time its desired output takes to cross a corner of
+/// the model's loop: 3. With fewer, its commands are no longer what the sampled plant needs:
+/// the inverse's derivatives change within a sample near the corners, the commands spike, and
+/// the plant driven by them strays from the desired output, in proportion to the sample period
+/// (`hyst run --inverse` warns, naming the sample period it needs: [`Corner::needed_period`]).
+pub const CORNER_SAMPLES: f64 = 3.0;
+
+/// The fastest corner of the model's loop a [`TimedCompensator`] has met. After a reversal (or
+/// at the start rule's reversal point) the slope of H⁻¹ exceeds its asymptote's by
+/// k2 M* e^(−k2 ũd) (eq. 4): a corner 1/k2 wide in the operator's output units. Its time is
+/// that width over the desired output's rate in those units (through ψ_out⁻¹):
+/// τ = 1 / (k2 |d/dt ψ_out⁻¹(y_d)|).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Corner {
+    /// τ (s).
+    pub time: f64,
+    /// The compensator's sample (counted from 0) where it was met.
+    pub sample: usize,
+}
+
+impl Corner {
+    /// The longest sample period that resolves it: τ / [`CORNER_SAMPLES`] (s).
+    #[must_use]
+    pub fn needed_period(&self) -> f64 {
+        self.time / CORNER_SAMPLES
+    }
+
+    /// Whether the sample period `h` (s) resolves it (h ≤ [`Corner::needed_period`]).
+    #[must_use]
+    pub fn resolved_by(&self, h: f64) -> bool {
+        h <= self.needed_period()
+    }
+}
+
 /// Lemma 5.1's compensator of a model with dynamics: for the desired output y_d and its first
 /// n time derivatives, the command u = (1/b) Σ a_i dⁱ/dtⁱ x, x = ψ_in⁻¹(H⁻¹\[ψ_out⁻¹(y_d)\])
-/// (a_0 = 1), with the derivatives of x by Taylor arithmetic through the inverse.
+/// (a_0 = 1), with the derivatives of x by Taylor arithmetic through the inverse. It keeps the
+/// fastest corner of the loop it met ([`TimedCompensator::fastest_corner`]), which a sample
+/// period must resolve for the commands to be exact near corners.
 #[derive(Clone, Debug)]
 pub struct TimedCompensator {
     compensator: CoreCompensator,
     order: usize,
+    samples: usize,
+    fastest: Option<Corner>,
 }
 
 impl TimedCompensator {
@@ -300,6 +338,8 @@ impl TimedCompensator {
         Ok(Self {
             compensator,
             order: dynamics.order(),
+            samples: 0,
+            fastest: None,
         })
     }
 
@@ -355,7 +395,37 @@ impl TimedCompensator {
         let d: [f64; MAX_ORDER] =
             core::array::from_fn(|k| desired.get(k + 1).copied().unwrap_or(0.0));
         let u = self.compensator.track(Jet::from_derivatives(value, d))?;
+        if let Some(time) = self.corner_time(value, d[0]) {
+            if self.fastest.is_none_or(|c| time < c.time) {
+                self.fastest = Some(Corner {
+                    time,
+                    sample: self.samples,
+                });
+            }
+        }
+        self.samples += 1;
         Ok((u, self.compensator.last_target().value()))
+    }
+
+    /// The fastest corner of the model's loop met so far (`None` while the desired output has
+    /// not moved: no rate, or no derivative given).
+    #[must_use]
+    pub fn fastest_corner(&self) -> Option<Corner> {
+        self.fastest
+    }
+
+    /// The corner time τ ([`Corner`]) at the sample just stepped, whose desired output and
+    /// rate are `value` and `rate`; `None` when it does not move.
+    fn corner_time(&self, value: f64, rate: f64) -> Option<f64> {
+        let inverse = self.compensator.inverse();
+        let ud = inverse
+            .output_shaping()
+            .invert_sample(Jet::<f64, 1>::from_derivatives(value, [rate]))
+            .ok()?;
+        let [r] = ud.derivatives();
+        let k2 = inverse.operator().k2_law().k2(ud.value());
+        let time = 1.0 / (k2 * r.abs());
+        (time.is_finite() && time > 0.0).then_some(time)
     }
 }
 
@@ -582,6 +652,89 @@ mod tests {
         })
         .unwrap();
         assert!(worst < 1e-3, "{worst}");
+    }
+
+    /// The desired output 1.5 sin³(4πt) (at rest at t = 0, so the plant at rest at the first
+    /// command starts on it) and its first two time derivatives.
+    fn cubed_sine(t: f64) -> [f64; 3] {
+        let w = 4.0 * core::f64::consts::PI;
+        let (s, c) = (w * t).sin_cos();
+        [
+            1.5 * s * s * s,
+            4.5 * w * s * s * c,
+            4.5 * w * w * s * (2.0 * c * c - s * s),
+        ]
+    }
+
+    /// The compensator of an order-2 plant at k2 (1 kHz, 2 s of `cubed_sine`): the fastest
+    /// corner it reports, and the largest error of the model driven by its commands, as a
+    /// fraction of the desired output's span (3).
+    fn corner_run(k2: f64, h: f64) -> (Corner, f64) {
+        let mut m = model();
+        m.k1 = 0.2;
+        m.k2 = AnyK2Law::Constant { value: k2 };
+        m.output_shaping = ScaledShaping::identity();
+        m.dynamics = Some(Dynamics::new(1.0, &[0.05, 0.001]).unwrap());
+        let mut c = TimedCompensator::new(&m, 0.0).unwrap();
+        let n = (2.0 / h).round() as usize;
+        let desired: Vec<[f64; 3]> = (0..n).map(|k| cubed_sine(k as f64 * h)).collect();
+        let commands: Vec<f64> = desired.iter().map(|d| c.step(d).unwrap().0).collect();
+        let mut worst: f64 = 0.0;
+        m.run_timed(&commands, Some(&TimeSteps::even(h)), None, |i, s| {
+            worst = worst.max((s.y - desired[i][0]).abs());
+        })
+        .unwrap();
+        // The corner time is 1/(k2 |ẏ_d|) at the fastest sample (identity shapings).
+        let (fastest, rate) = desired.iter().enumerate().fold((0, 0.0), |(i, r), (k, d)| {
+            if d[1].abs() > r {
+                (k, d[1].abs())
+            } else {
+                (i, r)
+            }
+        });
+        let corner = c.fastest_corner().unwrap();
+        assert_eq!(corner.sample, fastest);
+        assert!((corner.time * k2 * rate - 1.0).abs() < 1e-12, "{corner:?}");
+        (corner, worst / 3.0)
+    }
+
+    /// The plant driven by the commands strays from the desired output in proportion to the
+    /// sample period against the corner time: within 1 % of the span where the period resolves
+    /// the corners (h ≤ τ / CORNER_SAMPLES), far beyond where it does not. The figures are
+    /// docs/fitting.md's.
+    #[test]
+    fn the_sample_period_must_resolve_the_loops_corners() {
+        let h = 1e-3;
+        // k2 with h just within τ / CORNER_SAMPLES, and k2 below and above.
+        let rate = (0..2000)
+            .map(|k| cubed_sine(f64::from(k) * h)[1].abs())
+            .fold(0.0, f64::max);
+        let at_the_bound = 0.999 / (CORNER_SAMPLES * h * rate);
+        let mut errors = Vec::new();
+        for k2 in [2.0, 8.0, at_the_bound, 100.0, 1e3, 1e4] {
+            let (corner, error) = corner_run(k2, h);
+            println!(
+                "k2 = {k2:.4}: corner time {:.4e} s, h = {:.3} τ, largest error {:.2} % of the span{}",
+                corner.time,
+                h / corner.time,
+                100.0 * error,
+                if corner.resolved_by(h) { "" } else { " (not resolved)" }
+            );
+            assert_eq!(corner.resolved_by(h), k2 <= at_the_bound, "{k2}");
+            errors.push((h / corner.time, error));
+        }
+        // h / τ: 0.044, 0.17, 1/3, 2.2, 22, 218.
+        let ratios = [0.0436, 0.174, 0.333, 2.18, 21.8, 218.0];
+        for ((ratio, _), want) in errors.iter().zip(ratios) {
+            assert!((ratio / want - 1.0).abs() < 0.01, "{ratio} vs {want}");
+        }
+        // Resolved: 0.1 %, 0.5 %, 0.9 % at the bound; not: 6.5 %, 61 %, 224 %.
+        let within = [0.002, 0.006, 0.01, 0.07, 0.65, 2.3];
+        let beyond = [0.0005, 0.004, 0.007, 0.06, 0.55, 2.0];
+        for (k, (_, e)) in errors.iter().enumerate() {
+            assert!(*e < within[k] && *e > beyond[k], "case {k}: {e}");
+        }
+        assert!((corner_run(100.0, h).0.needed_period() - 1.0 / (300.0 * rate)).abs() < 1e-15);
     }
 
     #[test]

@@ -636,8 +636,10 @@ impl Fmu {
              <p>An FMI 2.0 Co-Simulation FMU (linux64) made by hyst {version}: {what}.</p>\n\
              <p>Direct feedthrough: after <code>x</code> is set, <code>y</code> is the output \
              for the input history including that value; <code>fmi2DoStep</code> commits it to \
-             the memory. So <code>y</code> at each communication point equals <code>hyst \
-             run</code> on the sequence of inputs set at those points. {time}</p>\n\
+             the memory, once, and <code>y</code> keeps that output until an input is set for \
+             the next communication point. So <code>y</code> at each communication point equals \
+             <code>hyst run</code> on the sequence of inputs set at those points, read before \
+             or after the step. {time}</p>\n\
              <h2>Variables</h2>\n<table>\n\
              <tr><th>name</th><th>causality</th><th>start</th><th>unit</th>\
              <th>description</th></tr>\n",

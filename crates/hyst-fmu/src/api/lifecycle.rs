@@ -240,7 +240,8 @@ pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
     }
 }
 
-/// `fmi2DoStep` (StepMode): commits the current x; any step size ≥ 0 (the operator is rate
+/// `fmi2DoStep` (StepMode): commits the current x as the communication point's sample, whose
+/// output y keeps until an input is set; any step size ≥ 0 (the operator is rate
 /// independent). A refused sample gives fmi2Error and changes nothing. With `saturate = true`,
 /// the first step whose desired output is clamped (after unclamped ones) gives fmi2Warning and
 /// a logged warning; the step is committed.
