@@ -262,37 +262,6 @@ fn refuse_prefilter(args: &Args) -> Result<()> {
     Ok(())
 }
 
-/// The index of the column that tells INPUT's records apart: `--record`'s, else (unless
-/// `--no-record`) the first of [`hyst_fit::data::RECORD_COLUMNS`] that INPUT has and that is not
-/// one of `inputs` (`--column`), as `hyst fit` takes it, with a note on standard error.
-///
-/// # Errors
-/// A `--record` column INPUT does not have.
-pub(crate) fn record_column<R: std::io::Read>(
-    rows: &hyst_io::CsvReader<R>,
-    named: Option<&str>,
-    no_record: bool,
-    inputs: &[String],
-) -> Result<Option<usize>> {
-    if let Some(name) = named {
-        return Ok(Some(rows.column(name).context("--record")?));
-    }
-    if no_record {
-        return Ok(None);
-    }
-    let found = hyst_fit::data::RECORD_COLUMNS
-        .iter()
-        .filter(|name| !inputs.iter().any(|c| c == *name))
-        .find_map(|name| rows.column_index(name).map(|index| (*name, index)));
-    Ok(found.map(|(name, index)| {
-        eprintln!(
-            "note: column {name:?} tells the records apart, as hyst fit takes it: each starts \
-             afresh by the start rule (--no-record runs the file as one history)"
-        );
-        index
-    }))
-}
-
 /// What a run of a model with dynamics or a rate term takes of the arguments.
 fn timed_options(args: &Args) -> crate::run_timed::Options<'_> {
     crate::run_timed::Options {
@@ -379,7 +348,7 @@ fn run<R: Read>(
             derivatives,
         });
     }
-    let record = record_column(rows, args.record.as_deref(), args.no_record, &args.column)?;
+    let record = rows::record_column(rows, args.record.as_deref(), args.no_record, &args.column)?;
     let run_names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
     let saturated = args.saturate;
     let names = crate::naming::output_names(
