@@ -178,6 +178,13 @@ impl ModelFile {
                     .smooth
                     .as_ref()
                     .ok_or_else(|| bad("kind = \"smooth\" but no [smooth] section".into()))?;
+                // Each shaping first, so that the error names its section.
+                for (section, psi) in [
+                    ("[smooth.input_shaping]", &m.input_shaping),
+                    ("[smooth.output_shaping]", &m.output_shaping),
+                ] {
+                    psi.validate().map_err(|e| bad(format!("{section}: {e}")))?;
+                }
                 m.validate().map_err(|e| bad(format!("[smooth]: {e}")))?;
             }
             ModelKind::PrandtlIshlinskii => {
@@ -458,7 +465,11 @@ mod tests {
     /// A model whose tanh output shaping holds its data in the last 0.1 % of its range (the
     /// tail used as an exponential, as a fit can place it): ψ_out(u) = 1e8 tanh(u + 5) − 1e8.
     fn tail_model() -> ModelFile {
-        let text = r#"
+        ModelFile::from_toml(TAIL, Path::new("tail.toml")).unwrap()
+    }
+
+    /// The text of [`tail_model`].
+    const TAIL: &str = r#"
 format = "hyst-model"
 version = 1
 kind = "smooth"
@@ -509,8 +520,6 @@ command = "hand-written"
 hyst_version = "0.1.0"
 created_unix = 0
 "#;
-        ModelFile::from_toml(text, Path::new("tail.toml")).unwrap()
-    }
 
     #[test]
     fn saturation_never_clamps_an_output_of_the_fitted_input_range() {
@@ -657,6 +666,42 @@ created_unix = 0
                 assert!((u - x).abs() < 1e-6, "{name}: {y} gave {u}, expected {x}");
             }
             assert_eq!(clamped.clamped, 0, "{name}");
+        }
+    }
+
+    #[test]
+    fn a_gain_whose_inverse_overflows_is_refused_on_load_naming_file_key_and_value() {
+        let text = TAIL;
+        let cases = [
+            (
+                "[smooth.output_shaping]",
+                "post_gain = 1e8",
+                "post_gain = 1e-310",
+                "post_gain = 1e-310",
+            ),
+            (
+                "[smooth.input_shaping]",
+                "pre_gain = 0.5",
+                "pre_gain = 5e-324",
+                "pre_gain = 5e-324",
+            ),
+            (
+                "[smooth.output_shaping]",
+                "gain = 1.0\nscale = 1.0",
+                "gain = 1.0\nscale = 2e-310",
+                "tanh scale = 2e-310",
+            ),
+        ];
+        for (section, from, to, named) in cases {
+            assert!(text.contains(from), "{from} in {text}");
+            let bad = text.replacen(from, to, 1);
+            let e = ModelFile::from_toml(&bad, Path::new("subnormal.toml"))
+                .unwrap_err()
+                .to_string();
+            println!("{e}");
+            assert!(e.starts_with("subnormal.toml: "), "{e}");
+            assert!(e.contains(section) && e.contains(named), "{e}");
+            assert!(e.contains("normal float"), "{e}");
         }
     }
 }
