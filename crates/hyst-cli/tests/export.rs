@@ -950,4 +950,43 @@ fn a_model_float_cannot_represent_exports_in_double_only() {
     );
     let code = String::from_utf8(o.stdout).unwrap();
     assert!(code.contains("name: \"smooth.k1\""), "{code}");
+    // Built and run: f64 works, f32 is refused naming k1.
+    let krate = dir.path().join("check");
+    std::fs::create_dir_all(krate.join("src")).unwrap();
+    std::fs::write(krate.join("src/huge.rs"), code).unwrap();
+    std::fs::write(
+        krate.join("Cargo.toml"),
+        format!(
+            "[package]\nname = \"export-check\"\nversion = \"0.1.0\"\nedition = \"2021\"\n\
+             publish = false\n\n[workspace]\n\n[dependencies]\n\
+             hyst-core = {{ path = {:?}, features = [\"std\"] }}\n",
+            repo().join("crates/hyst-core").display().to_string()
+        ),
+    )
+    .unwrap();
+    std::fs::copy(repo().join("Cargo.lock"), krate.join("Cargo.lock")).unwrap();
+    std::fs::write(
+        krate.join("src/main.rs"),
+        r#"#![allow(clippy::all, dead_code)]
+include!("huge.rs");
+
+fn main() {
+    let mut m = huge::<f64>().unwrap();
+    println!("f64: {}", hyst_core::Operator::try_step(&mut m, 0.5).unwrap());
+    match huge::<f32>() {
+        Err(e) => println!("f32: {e}"),
+        Ok(_) => panic!("f32 accepted"),
+    }
+}
+"#,
+    )
+    .unwrap();
+    let run = cargo(&["run", "--quiet"], &krate);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let printed = String::from_utf8(run.stdout).unwrap();
+    println!("{printed}");
+    assert!(
+        printed.contains("f32: invalid parameter smooth.k1 = 3.5e38"),
+        "{printed}"
+    );
 }

@@ -535,10 +535,10 @@ impl SmoothModel {
         (x(-1.0), x(1.0))
     }
 
-    /// The outputs the model gives over the input interval that ψ_in's scaling maps to
-    /// [−1, 1] (for a model `hyst fit` wrote, the range of the data it was fitted on):
-    /// ψ_out of every operator output within k1 of ψ_in over that interval, (lo, hi). `None`
-    /// for the stop form, and when they are not finite.
+    /// The outputs the model gives over the input interval it was fitted on
+    /// ([`SmoothModel::fitted_input_interval`]): ψ_out of every operator output within k1 of
+    /// ψ_in over that interval, (lo, hi). `None` for the stop form, and when they are not
+    /// finite.
     #[must_use]
     pub fn fitted_output_range(&self) -> Option<(f64, f64)> {
         if self.form == Form::Stop {

@@ -210,40 +210,10 @@ fn shaping(s: &ScaledShaping<f64>, linear: bool) -> String {
     )
 }
 
-/// The constructors of the model and its inverse.
-fn constructor(
-    out: &mut String,
-    m: &SmoothModel,
-    name: &str,
-    camel: &str,
-    no_float: Option<&NoFloat>,
-) {
-    let k2 = match m.k2 {
-        AnyK2Law::Constant { value } => {
-            format!("hyst_core::AnyK2Law::Constant {{ value: {} }}", num(value))
-        }
-        AnyK2Law::Affine(a) => format!(
-            "hyst_core::AnyK2Law::Affine(hyst_core::AffineK2::new({}, {}, {}, {})?)",
-            num(a.at_zero),
-            num(a.slope),
-            num(a.min),
-            num(a.max)
-        ),
-    };
-    let rule = match m.initial_state {
-        InitialState::Rising => "Rising",
-        InitialState::Falling => "Falling",
-        InitialState::Line => "Line",
-    };
-    let body = match m.form {
-        Form::Operator => "hyst_core::ShapedModel::new(input, operator, output)?".to_string(),
-        Form::Stop => format!(
-            "hyst_core::Stop::new(input, operator, output, {})?",
-            num(m.linear)
-        ),
-    };
-    // A model float cannot represent: `T = f32` is refused, naming the number.
-    let (errors, guard) = match no_float {
+/// The `# Errors` text of the model's constructor and the guard that opens its body: for a
+/// model float cannot represent, `T = f32` is refused, naming the number ([`NoFloat`]).
+fn f32_guard(no_float: Option<&NoFloat>) -> (String, String) {
+    match no_float {
         Some(n) => {
             let (test, expected) = if n.overflows {
                 (
@@ -276,7 +246,42 @@ fn constructor(
             "Never for this file's parameters; the core's check of each part is kept.".to_string(),
             String::new(),
         ),
+    }
+}
+
+/// The constructors of the model and its inverse.
+fn constructor(
+    out: &mut String,
+    m: &SmoothModel,
+    name: &str,
+    camel: &str,
+    no_float: Option<&NoFloat>,
+) {
+    let k2 = match m.k2 {
+        AnyK2Law::Constant { value } => {
+            format!("hyst_core::AnyK2Law::Constant {{ value: {} }}", num(value))
+        }
+        AnyK2Law::Affine(a) => format!(
+            "hyst_core::AnyK2Law::Affine(hyst_core::AffineK2::new({}, {}, {}, {})?)",
+            num(a.at_zero),
+            num(a.slope),
+            num(a.min),
+            num(a.max)
+        ),
     };
+    let rule = match m.initial_state {
+        InitialState::Rising => "Rising",
+        InitialState::Falling => "Falling",
+        InitialState::Line => "Line",
+    };
+    let body = match m.form {
+        Form::Operator => "hyst_core::ShapedModel::new(input, operator, output)?".to_string(),
+        Form::Stop => format!(
+            "hyst_core::Stop::new(input, operator, output, {})?",
+            num(m.linear)
+        ),
+    };
+    let (errors, guard) = f32_guard(no_float);
     let _ = writeln!(
         out,
         "/// The model `{name}` (x in, y out) with no history, in the precision `T` (`f32` or\n\
