@@ -534,8 +534,61 @@ fn run_finds_the_record_column_fit_finds() {
     ]);
     assert_eq!(refused.status.code(), Some(1));
     assert!(
-        stderr(&refused).contains("goes back"),
+        stderr(&refused).contains("goes back")
+            && stderr(&refused).contains("with --record COLUMN)"),
         "{}",
         stderr(&refused)
     );
+}
+
+/// The piezo record (inputs 0 to 3.6 V) fitted with input shaping `input` and a tanh output
+/// shaping (its data in the tail of the tanh).
+fn piezo_saturating(dir: &Path, input: &str) -> PathBuf {
+    let model = dir.join(format!("piezo-{input}.toml"));
+    let data = common::piezo();
+    let mut args = common::piezo_fit(&data, &model).to_vec();
+    args.extend_from_slice(&["--input-shaping", input, "--output-shaping", "tanh"]);
+    let o = hyst(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    model
+}
+
+#[test]
+fn saturate_with_a_saturating_input_shaping_leaves_the_training_range_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    for input in ["tanh", "langevin"] {
+        let model = piezo_saturating(dir.path(), input);
+        // Desired outputs inside the training range (about -130 to -75 um).
+        let desired = dir.path().join("desired.csv");
+        std::fs::write(&desired, "y_capsensor_um\n-120\n-100\n-80\n").unwrap();
+        let out = dir.path().join("cmd.csv");
+        let o = hyst(&[
+            "run",
+            "--model",
+            s(&model),
+            "--inverse",
+            "--saturate",
+            s(&desired),
+            "-o",
+            s(&out),
+        ]);
+        assert!(o.status.success(), "{input}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("clamped"), "{input}: {}", stderr(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        let k = index(&text, "u_actuator_V");
+        let command: Vec<f64> = rows(&text).iter().map(|r| r[k].parse().unwrap()).collect();
+        let saturated = index(&text, "y_capsensor_um_saturated");
+        let inverted: Vec<f64> = rows(&text)
+            .iter()
+            .map(|r| r[saturated].parse().unwrap())
+            .collect();
+        assert_eq!(inverted, [-120.0, -100.0, -80.0], "{input}");
+        println!("{input}: commands {command:?} V");
+        for (u, right) in command.iter().zip([1.33, 2.30, 3.34]) {
+            assert!(
+                (u - right).abs() < 0.01,
+                "{input}: {u} V, expected about {right} V"
+            );
+        }
+    }
 }

@@ -44,7 +44,7 @@ pub fn training_noise(file: &ModelFile) -> Option<f64> {
 }
 
 /// The commands the estimator learns from by default: for a fitted model, the input range it
-/// was fitted on (ψ_in's scaling maps it to \[−1, 1\]) widened by 10 % of its span on each side;
+/// was fitted on ([`SmoothModel::fitted_input_interval`]) widened by 10 % of its span on each side;
 /// the whole line for a model that was not fitted (no data rows in its provenance).
 #[must_use]
 pub fn fitted_input_range(file: &ModelFile, smooth: &SmoothModel) -> (f64, f64) {

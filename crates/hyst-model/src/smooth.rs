@@ -3,11 +3,11 @@
 //! from the core's types, run over records, and turned into the core's exact compensator.
 
 pub use hyst_core::InitialState;
-use hyst_core::ScaledShaping;
 use hyst_core::{
     on_asymptote, AnyK2Law, Direction, Dual, Error, Hysteresis, InverseShapedModel, K2Law,
     Operator, Real, ShapedModel, Shaping, Stop,
 };
+use hyst_core::{AnyShaping, ScaledShaping};
 use serde::{Deserialize, Serialize};
 
 use crate::dynamics::{Dynamics, Rate};
@@ -512,19 +512,33 @@ impl SmoothModel {
         (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
     }
 
-    /// The input interval that ψ_in's scaling maps to \[−1, 1\] (input units): for a model
-    /// `hyst fit` wrote, the range of the data it was fitted on.
+    /// The input interval the model was fitted on (input units), read from ψ_in as `hyst fit`
+    /// builds it on the normalised input x̂ = (x − centre) / half-span: a saturating ψ_in
+    /// (tanh, Langevin) has value 0 and slope 1 per unit of x̂ at the centre, so the interval
+    /// is centre ± 1 / ψ_in'(centre); any other ψ_in takes x̂ itself as its shape's argument,
+    /// so the interval is the one ψ_in's scaling (`pre_gain`, `pre_offset`) maps to \[−1, 1\].
+    /// A saturating ψ_in that never takes the value 0 (written by hand) falls back on the
+    /// latter. Every surface that needs the model's range of validity (the saturation limits,
+    /// the default input range of adaptation) reads it here.
     #[must_use]
     pub fn fitted_input_interval(&self) -> (f64, f64) {
         let psi = &self.input_shaping;
+        if matches!(psi.shape, AnyShaping::Tanh(_) | AnyShaping::Langevin(_)) {
+            if let Ok(centre) = psi.invert(0.0) {
+                let half = 1.0 / psi.slope(centre);
+                if half.is_finite() && half > 0.0 {
+                    return (centre - half, centre + half);
+                }
+            }
+        }
         let x = |z: f64| (z - psi.pre_offset) / psi.pre_gain;
         (x(-1.0), x(1.0))
     }
 
-    /// The outputs the model gives over the input interval that ψ_in's scaling maps to
-    /// [−1, 1] (for a model `hyst fit` wrote, the range of the data it was fitted on):
-    /// ψ_out of every operator output within k1 of ψ_in over that interval, (lo, hi). `None`
-    /// for the stop form, and when they are not finite.
+    /// The outputs the model gives over the input interval it was fitted on
+    /// ([`SmoothModel::fitted_input_interval`]): ψ_out of every operator output within k1 of
+    /// ψ_in over that interval, (lo, hi). `None` for the stop form, and when they are not
+    /// finite.
     #[must_use]
     pub fn fitted_output_range(&self) -> Option<(f64, f64)> {
         if self.form == Form::Stop {
@@ -553,7 +567,7 @@ impl SmoothModel {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use hyst_core::{AnyShaping, Langevin};
+    use hyst_core::Langevin;
 
     #[test]
     fn the_output_envelope_is_the_envelope_of_the_outputs() {
