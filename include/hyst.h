@@ -1877,6 +1877,21 @@ int32_t hyst_model_saturate(struct hyst_model *m, int32_t on);
 // `count` is NULL or writable.
 int32_t hyst_model_clamped(const struct hyst_model *m, uint64_t *count);
 
+// Writes into `*period` the longest sample period (s) that resolves the fastest corner of the
+// loop `hyst_model_compensate` has met since the model was loaded or reset: τ/3, where τ is the
+// time the desired output takes to cross a corner 1/k2 wide (docs/fitting.md); +∞ before it has met one. A longer period than this, given to
+// `hyst_model_load_timed`, makes commands near reversals inexact (they are still written):
+// sample faster, or slow the reference.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_UNSUPPORTED` for a model without
+// Lemma 5.1's compensator (no dynamics; as `hyst_model_compensate`).
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+// `period` is NULL or writable.
+int32_t hyst_model_corner_period(const struct hyst_model *m,
+                                 double *period);
+
 // Forgets every run: the next `hyst_model_process` of each kind (and the next
 // `hyst_model_compensate`) starts a new record.
 //

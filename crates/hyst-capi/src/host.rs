@@ -607,6 +607,41 @@ pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u6
     HYST_OK
 }
 
+/// Writes into `*period` the longest sample period (s) that resolves the fastest corner of the
+/// loop `hyst_model_compensate` has met since the model was loaded or reset: τ/3, where τ is the
+/// time the desired output takes to cross a corner 1/k2 wide (docs/fitting.md); +∞ before it has met one. A longer period than this, given to
+/// `hyst_model_load_timed`, makes commands near reversals inexact (they are still written):
+/// sample faster, or slow the reference.
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_UNSUPPORTED` for a model without
+/// Lemma 5.1's compensator (no dynamics; as `hyst_model_compensate`).
+///
+/// # Safety
+/// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+/// `period` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_corner_period(m: *const hyst_model, period: *mut f64) -> i32 {
+    if m.is_null() || period.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: a live model (caller's contract).
+    let model = unsafe { &*m };
+    let Some(smooth) = model.timed_model() else {
+        return HYST_ERR_UNSUPPORTED;
+    };
+    if TimedCompensator::check(smooth).is_err() {
+        return HYST_ERR_UNSUPPORTED;
+    }
+    let needed = model
+        .compensator
+        .as_ref()
+        .and_then(TimedCompensator::fastest_corner)
+        .map_or(f64::INFINITY, |c| c.needed_period());
+    // SAFETY: non-NULL and writable (caller's contract).
+    unsafe { period.write(needed) };
+    HYST_OK
+}
+
 /// Forgets every run: the next `hyst_model_process` of each kind (and the next
 /// `hyst_model_compensate`) starts a new record.
 ///
