@@ -145,7 +145,7 @@ pub use any_shaping::{AnyShaping, LinearShaping};
 #[cfg(feature = "std")]
 pub use bank::BankVec;
 pub use bank::{Bank, BankError, DirectBank, InverseBank, ParametricBank};
-pub use compensator::Compensator;
+pub use compensator::{Compensator, CompensatorState};
 pub use dual::Dual;
 pub use error::Error;
 pub use family::{Bound, Family, RangeBound, Reproducibility, ShiftedK2};

@@ -222,6 +222,7 @@ pub fn identify(
         pi,
         report: Report {
             model_file: String::new(),
+            input_units: hyst_model::input_units(&model),
             model,
             output_span: hi - lo,
             findings: Findings {

@@ -290,6 +290,39 @@ impl ModelFile {
         Ok(())
     }
 
+    /// The hysteresis part of a model with dynamics or a rate term: this file without its plant
+    /// (`[dynamics]`, Lemma 5.1's b / (a_n sⁿ + … + a_1 s + 1), eq. 18) and its rate term
+    /// (`[rate]`), their parameters (`dynamics.a1` …, `rate.c`) and their entries in
+    /// `[structure]`, written at the lowest format version that holds the rest. It maps the
+    /// plant output x1 (input units) to the output y = ψ_out(H(k1, k2)[ψ_in(x1)]) (output
+    /// units), and runs, inverts and exports as a static model. Its metrics and family are the
+    /// fit's, of the model with its plant. A static model's file comes back as it is.
+    #[must_use]
+    pub fn hysteresis(&self) -> ModelFile {
+        let mut out = self.clone();
+        if self.dynamics.is_none()
+            && self.rate.is_none()
+            && !self.smooth.as_ref().is_some_and(SmoothModel::is_timed)
+        {
+            return out;
+        }
+        if let Some(m) = out.smooth.as_mut() {
+            m.dynamics = None;
+            m.rate = None;
+        }
+        out.dynamics = None;
+        out.rate = None;
+        if let Some(s) = out.structure.as_mut() {
+            s.dynamics = 0;
+            s.rate = None;
+            s.hold = crate::dynamics::Hold::UNRECORDED;
+        }
+        out.parameters
+            .retain(|e| !(e.name.starts_with("dynamics.") || e.name.starts_with("rate.")));
+        out.version = out.required_version();
+        out
+    }
+
     /// Refuses a model with dynamics or a rate term ([`SmoothModel::is_timed`]) for a use
     /// that cannot run one (`what`, in words: "the FMU", "the C host API", …): such a model
     /// needs the sample period of a timed record, and running it without would silently drop
@@ -704,5 +737,48 @@ created_unix = 0
             assert!(e.contains(section) && e.contains(named), "{e}");
             assert!(e.contains("normal float"), "{e}");
         }
+    }
+
+    #[test]
+    fn the_hysteresis_part_of_a_timed_model_is_its_static_model() {
+        let file = tail_model();
+        let mut timed = file.clone();
+        let estimate = |name: &str, value: f64| Estimate {
+            name: name.into(),
+            value,
+            std_error: 0.001,
+            unit: "s".into(),
+        };
+        timed.parameters = vec![estimate("k1", 0.2), estimate("dynamics.a1", 0.01)];
+        timed.parameters.push(estimate("rate.c", 0.5));
+        timed.dynamics = Some(DynamicsSection {
+            b: 2.0,
+            a: vec![0.01],
+            a_std_error: vec![0.001],
+            identified: vec![true],
+            hold: Some(crate::dynamics::Hold::Zoh),
+        });
+        timed.rate = Some(RateSection {
+            c: 0.5,
+            c_std_error: 0.01,
+        });
+        timed.version = VERSION;
+        // Through its text, as a file is read: the sections are installed in the model.
+        let timed = ModelFile::from_toml(&timed.to_toml().unwrap(), Path::new("t.toml")).unwrap();
+        assert!(timed.untimed("a test").is_err());
+        let part = timed.hysteresis();
+        part.untimed("a test").unwrap();
+        assert_eq!(part.version, 1);
+        let names: Vec<&str> = part.parameters.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(names, ["k1"]);
+        assert_eq!(part.smooth, file.smooth);
+        // It reads back as what it is, and runs as the static model does.
+        let text = part.to_toml().unwrap();
+        assert!(!text.contains("dynamics") && !text.contains("[rate]"));
+        let back = ModelFile::from_toml(&text, Path::new("p.toml")).unwrap();
+        let x = [0.0, 1.0, 3.0, 2.0, 4.0];
+        assert_eq!(back.run(&x).unwrap(), file.run(&x).unwrap());
+        // A static model's file comes back as it is.
+        assert_eq!(file.hysteresis(), file);
     }
 }

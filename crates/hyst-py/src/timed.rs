@@ -324,15 +324,18 @@ pub(crate) enum Halt {
 
 /// Lemma 5.1's compensator of `m` over the desired outputs `desired` (one record, each of its
 /// `parts` started afresh), their derivatives from `reference`: the computation of
-/// `hyst run --model M --inverse` on a timed record, command by command.
+/// `hyst run --model M --inverse` on a timed record, command by command. Returns the commands
+/// and the reference each was computed for (the prefiltered one with a prefilter, as
+/// `hyst run` writes it in `<column>_filtered`; else the desired output itself).
 pub(crate) fn run_compensator(
     m: &SmoothModel,
     desired: &[f64],
     reference: &Reference,
     parts: &Parts,
-) -> Result<Vec<f64>, Halt> {
+) -> Result<(Vec<f64>, Vec<f64>), Halt> {
     let order = m.dynamics.map_or(0, |d| d.order());
     let mut out = Vec::with_capacity(desired.len());
+    let mut followed = Vec::with_capacity(desired.len());
     for (range, steps) in parts {
         let start = range.start;
         let first = desired.get(start).copied().unwrap_or(0.0);
@@ -377,7 +380,63 @@ pub(crate) fn run_compensator(
             };
             let (u, _) = c.step(&jet).map_err(|e| Halt::At(i, *value, reason(e)))?;
             out.push(u);
+            followed.push(jet.first().copied().unwrap_or(*value));
         }
     }
-    Ok(out)
+    Ok((out, followed))
+}
+
+/// `Model.compensate` of the smooth model `m` (from the file `source`) with dynamics: the
+/// commands for `desired` at the steps of `timing` (the time stamps t or the period), the
+/// derivatives given or from a prefilter of `prefilter_hz`; with the prefilter, the pair
+/// (commands, prefiltered reference).
+pub(crate) fn compensate<'py>(
+    py: Python<'py>,
+    m: &SmoothModel,
+    source: &str,
+    desired: &Bound<'py, PyAny>,
+    timing: (Option<&Bound<'py, PyAny>>, Option<f64>),
+    derivatives: Option<&Bound<'py, PyAny>>,
+    prefilter_hz: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    TimedCompensator::check(m).map_err(errors::model)?;
+    let order = m.dynamics.map_or(0, |d| d.order());
+    let (desired, f32) = values_of(desired, "desired")?;
+    let given = derivatives_from(derivatives, prefilter_hz, order)?;
+    let what = format!("the compensator of the model {source} (dynamics of order {order})");
+    let filtered = matches!(given, Given::Prefilter(_));
+    let answer = |commands: Vec<f64>, followed: Vec<f64>| -> PyResult<Bound<'py, PyAny>> {
+        let commands = as_array_of(py, commands, f32);
+        if filtered {
+            let reference = as_array_of(py, followed, f32);
+            Ok(pyo3::types::PyTuple::new(py, [commands, reference])?.into_any())
+        } else {
+            Ok(commands)
+        }
+    };
+    let Some(parts) = steps_of(py, timing.0, timing.1, desired.len(), &what)? else {
+        return answer(desired.clone(), desired);
+    };
+    let reference = match given {
+        Given::Derivatives(d) => Reference::Given(desired_derivatives(d, desired.len(), order)?),
+        Given::Prefilter(hz) => {
+            // Every part's sample period carries the bandwidth, or nothing runs.
+            for (_, steps) in &parts {
+                bandwidth(hz, Some(steps.nominal()))?;
+            }
+            let first = desired.first().copied().unwrap_or(0.0);
+            let nominal = parts.first().map_or(1.0, |(_, s)| s.nominal());
+            Prefilter::new(order, hz, nominal, first).map_err(errors::model)?;
+            Reference::Prefilter(hz)
+        }
+    };
+    let (commands, followed) = py
+        .detach(|| run_compensator(m, &desired, &reference, &parts))
+        .map_err(|halt| match halt {
+            Halt::At(i, value, message) => {
+                value_error(format!("desired[{i}] = {}: {message}", shortest(value)))
+            }
+            Halt::Interrupted(e) => e,
+        })?;
+    answer(commands, followed)
 }
