@@ -370,14 +370,18 @@ impl Model {
             let me = borrow(slf)?;
             match timed_model(&me.file) {
                 Some(m) if me.inverse => return Err(me.no_inverse(m)),
-                Some(m) => Some((*m, me.source.clone())),
+                Some(m) => Some((*m, me.source.clone(), me.file.provenance.clone())),
                 None => None,
             }
         };
-        if let Some((m, source)) = timed {
+        if let Some((m, source, provenance)) = timed {
             // A timed run keeps no history: the model is not held while it runs, and other
             // threads may use it meanwhile.
-            return crate::timed::process(slf.py(), &m, &source, x, derivatives, t, period, hold);
+            let origin = crate::timed::Origin {
+                source: &source,
+                provenance: &provenance,
+            };
+            return crate::timed::process(slf.py(), &m, &origin, x, derivatives, t, period, hold);
         }
         if let Some(hold) = hold {
             return Err(value_error(format!(
@@ -485,10 +489,10 @@ impl Model {
     ) -> PyResult<Bound<'py, PyAny>> {
         // What the run needs, copied: the model is not held while it runs (it keeps no
         // history), and other threads may use it meanwhile.
-        let (smooth, source) = {
+        let (smooth, source, provenance) = {
             let me = borrow(slf)?;
             match (&me.file.smooth, me.file.kind) {
-                (Some(m), ModelKind::Smooth) => (*m, me.source.clone()),
+                (Some(m), ModelKind::Smooth) => (*m, me.source.clone(), me.file.provenance.clone()),
                 _ => {
                     return Err(value_error(format!(
                         "the model {} is a Prandtl-Ishlinskii model: it has no dynamics, and \
@@ -500,10 +504,14 @@ impl Model {
         };
         let t = t.filter(|t| !t.is_none());
         let derivatives = derivatives.filter(|d| !d.is_none());
+        let origin = crate::timed::Origin {
+            source: &source,
+            provenance: &provenance,
+        };
         crate::timed::compensate(
             slf.py(),
             &smooth,
-            &source,
+            &origin,
             desired,
             (t, period),
             derivatives,

@@ -417,3 +417,30 @@ def test_a_timed_models_compensator_in_python_control_is_compensate(fitted, reco
     err = np.abs(y - v)[100:]
     print(f"closed loop: max |y - v| = {err.max():.3g} (span {np.ptp(v):.3g})")
     assert err.max() < 2e-3 * np.ptp(v)
+
+
+def test_compensate_warns_of_unresolved_corners_and_of_a_far_sample_period(fitted, record, tmp_path):
+    """As `hyst run --inverse` says on standard error: a sample period that does not resolve the
+    loop's corners (here k2 raised to 1e4), and a record sampled 1000 × slower than the fit's
+    (a time axis in milliseconds), each give a UserWarning naming what to do; the fit's own
+    record gives none."""
+    import re
+    import warnings
+
+    t, _, _, _ = record
+    f = 1.3
+    desired = 1.0 + 3.0 * np.sin(np.pi * f * t) ** 2
+    d1 = 3.0 * np.pi * f * np.sin(2 * np.pi * f * t)
+    m = fitted.model
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m.compensate(desired, t=t, derivatives=d1)
+    with pytest.warns(UserWarning, match=r"sample period 1\.000e0 s is 1000 × longer .* in seconds\?"):
+        m.compensate(desired, t=t * 1e3, derivatives=d1 / 1e3)
+    text = re.sub(r"(\[smooth\.k2\][^\[]*?value = )[^\n]+", r"\g<1>1e4", m.to_toml())
+    path = tmp_path / "sharp.toml"
+    path.write_text(text)
+    sharp = hyst.load_model(path)
+    with pytest.warns(UserWarning, match=r"desired\[\d+\]: .* corner .* sample at most every"):
+        commands = sharp.compensate(desired, t=t, derivatives=d1)
+    assert commands.shape == desired.shape
