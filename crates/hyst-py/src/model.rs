@@ -377,10 +377,7 @@ impl Model {
         if let Some((m, source, provenance)) = timed {
             // A timed run keeps no history: the model is not held while it runs, and other
             // threads may use it meanwhile.
-            let origin = crate::timed::Origin {
-                source: &source,
-                provenance: &provenance,
-            };
+            let origin = crate::timed::Origin::of(&source, &provenance);
             return crate::timed::process(slf.py(), &m, &origin, x, derivatives, t, period, hold);
         }
         if let Some(hold) = hold {
@@ -504,10 +501,7 @@ impl Model {
         };
         let t = t.filter(|t| !t.is_none());
         let derivatives = derivatives.filter(|d| !d.is_none());
-        let origin = crate::timed::Origin {
-            source: &source,
-            provenance: &provenance,
-        };
+        let origin = crate::timed::Origin::of(&source, &provenance);
         crate::timed::compensate(
             slf.py(),
             &smooth,

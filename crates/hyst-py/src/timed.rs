@@ -35,6 +35,13 @@ pub(crate) struct Origin<'a> {
     pub provenance: &'a Provenance,
 }
 
+impl<'a> Origin<'a> {
+    /// The origin of a model read from `source`, with its file's `provenance`.
+    pub fn of(source: &'a str, provenance: &'a Provenance) -> Self {
+        Self { source, provenance }
+    }
+}
+
 /// A `UserWarning` with `text`.
 fn warn(py: Python<'_>, text: String) -> PyResult<()> {
     let message = CString::new(text).unwrap_or_default();
