@@ -16,7 +16,7 @@ use crate::evaluator::Evaluator;
 use crate::family::FamilyWidths;
 use crate::pi::PiModel;
 use crate::provenance::{Columns, Estimate, Metrics, Provenance, Units};
-use crate::saturation::{Saturation, SATURATION_FRACTION};
+use crate::saturation::Saturation;
 use crate::smooth::{Form, SmoothModel};
 use crate::structure::Structure;
 
@@ -348,42 +348,17 @@ impl ModelFile {
         )))
     }
 
-    /// The saturation of a smooth model whose output shaping is bounded (tanh, Langevin): the
-    /// open range of its output and the limits that `hyst run --inverse --saturate` clamps
-    /// desired outputs to. The limits are [`SATURATION_FRACTION`] of the range about its
-    /// centre, widened to every output the model gives over the input range it was fitted on
-    /// ([`SmoothModel::fitted_output_range`]): a fit may put its data in the last 0.1 % of a
-    /// tanh's range (its tail used as an exponential), and no output the model produces for
-    /// its own data range is clamped. `None` for a model whose output is unbounded (affine or
-    /// polynomial shaping, Prandtl–Ishlinskii).
+    /// The saturation of a smooth model whose output is bounded, by a saturating output or
+    /// input shaping (tanh, Langevin): the open range of its output and the limits that
+    /// `hyst run --inverse --saturate` (and every other surface's saturation) clamps desired
+    /// outputs to ([`Saturation::of`]). `None` for a model whose output is unbounded (affine or
+    /// polynomial shapings, Prandtl–Ishlinskii).
     #[must_use]
     pub fn saturation(&self) -> Option<Saturation> {
-        let m = self
-            .smooth
+        self.smooth
             .as_ref()
-            .filter(|_| self.kind == ModelKind::Smooth)?;
-        let (lo, hi) = m.output_range()?;
-        let (centre, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
-        let (mut a, mut b) = (
-            centre - SATURATION_FRACTION * half,
-            centre + SATURATION_FRACTION * half,
-        );
-        let mut widened = false;
-        if let Some((y_lo, y_hi)) = m.fitted_output_range() {
-            // Strictly inside the open range: its ends have no command.
-            if y_lo > lo && y_lo < a {
-                (a, widened) = (y_lo, true);
-            }
-            if y_hi < hi && y_hi > b {
-                (b, widened) = (y_hi, true);
-            }
-        }
-        Some(Saturation {
-            shaping: m.output_shaping.name(),
-            range: (lo, hi),
-            limits: (a, b),
-            widened,
-        })
+            .filter(|_| self.kind == ModelKind::Smooth)
+            .and_then(Saturation::of)
     }
 
     /// Reads and checks a model file.

@@ -117,8 +117,12 @@ impl Model {
                 let limits = self.limits();
                 let at = Saturated::new((), limits).clamp(first).unwrap_or(first);
                 let e = self.file.evaluator(at, self.inverse).map_err(|e| {
+                    let advice = match &e {
+                        hyst_model::ModelError::Core(core) => errors::advice(core),
+                        _ => "",
+                    };
                     value_error(format!(
-                        "x[0] = {first}: the model {} cannot start here: {e}",
+                        "x[0] = {first}: the model {} cannot start here: {e}{advice}",
                         self.source
                     ))
                 })?;
@@ -309,8 +313,8 @@ impl Model {
         }
         if saturate && self.file.saturation().is_none() {
             return Err(value_error(
-                "saturate=True: the model's output is unbounded (its output shaping does not \
-                 saturate), so no desired output needs clamping",
+                "saturate=True: the model's output is unbounded (neither its input nor its \
+                 output shaping saturates), so no desired output needs clamping",
             ));
         }
         let mut m = Self::new(self.file.clone(), true, self.source.clone());
@@ -442,7 +446,7 @@ impl Model {
     /// PI⁻¹ for a Prandtl–Ishlinskii model): desired output in, command out. No history.
     /// Raises ValueError for a stop-form (friction) model, which has no inverse.
     ///
-    /// `saturate=True` (a model whose output shaping saturates: tanh, Langevin; see
+    /// `saturate=True` (a model whose output or input shaping saturates: tanh, Langevin; see
     /// `saturation`): a desired output beyond the limits is clamped to the nearer one instead of
     /// raising ValueError, as `hyst run --inverse --saturate` does; `clamped` counts them.
     /// ValueError for a model whose output is unbounded (nothing could need clamping).
@@ -484,8 +488,7 @@ impl Model {
         derivatives: Option<&Bound<'py, PyAny>>,
         prefilter_hz: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        // What the run needs, copied: the model is not held while it runs (it keeps no
-        // history), and other threads may use it meanwhile.
+        // Copied: the model is not held while it runs, and other threads may use it meanwhile.
         let (smooth, source, provenance) = {
             let me = borrow(slf)?;
             match (&me.file.smooth, me.file.kind) {
@@ -567,8 +570,8 @@ impl Model {
         }
     }
 
-    /// The output range of a saturating output shaping (tanh, Langevin) and the limits (99.9 %
-    /// of it about its centre, widened to every output over the model's fitted input range)
+    /// The output range of a model bounded by a saturating output or input shaping (tanh,
+    /// Langevin) and the limits (docs/formats.md; `hyst_model::Saturation::of`)
     /// that `inverse(saturate=True)` clamps desired outputs into:
     /// {"shaping": "tanh", "range": (lo, hi), "limits": (lo, hi)}; None for a model whose
     /// output is unbounded.

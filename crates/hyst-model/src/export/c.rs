@@ -400,7 +400,7 @@ fn functions(
         Some((lo, hi)) => {
             let (lo, hi) = (literal(lo, "INFINITY"), literal(hi, "INFINITY"));
             format!(
-                "    /* The inverse clamps a finite desired y into the limits of the saturating psi_out. */\n    \
+                "    /* The inverse clamps a finite desired y into the saturation limits of the bounded output. */\n    \
                  if (s->inverse && x - x == 0) {{\n        \
                      const {real} lo = ({real}){lo}, hi = ({real}){hi};\n        \
                      if (x < lo) {{\n            x = lo;\n            s->clamped++;\n        }} \

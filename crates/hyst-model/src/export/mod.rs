@@ -1,8 +1,8 @@
 //! A model file as firmware source: a header-only C99 file over `hyst.h` ([`c()`]), or a `no_std`
 //! Rust constructor over hyst-core ([`rust()`]). Both run the model exactly as `hyst run --model`
 //! does, from the first sample: the start rule is applied at the first sample, the parameters
-//! are the file's, bit for bit, and an inverse clamps desired outputs into the limits of a
-//! saturating output shaping as `hyst run --inverse --saturate` does.
+//! are the file's, bit for bit, and an inverse clamps desired outputs into the saturation limits
+//! of a bounded output as `hyst run --inverse --saturate` does.
 //!
 //! A model with dynamics (Lemma 5.1's plant before the hysteresis) exports, besides its
 //! hysteresis, its compensator (operator form): the desired output and its first n time

@@ -4,8 +4,8 @@
 //! - `fn NAME<T: Real>() -> Result<NAME_TYPE<T>, Error>`: the model (x in, y out), run by its
 //!   start rule from the first sample;
 //! - `fn NAME_inverse<T: Real>()`: its exact inverse (operator form only);
-//! - `fn NAME_clamp<T: Real>(y: T) -> T`: a desired output clamped into the limits of a
-//!   saturating output shaping (the identity otherwise), as `hyst run --inverse --saturate`;
+//! - `fn NAME_clamp<T: Real>(y: T) -> T`: a desired output clamped into the saturation limits
+//!   of a bounded output (the identity otherwise), as `hyst run --inverse --saturate`;
 //! - the types of both, named from `NAME` in CamelCase, for statics and struct fields.
 //!
 //! A model with dynamics adds `NAME_ORDER` (upper case), `fn NAME_timed_compensator<T>(first)`:
@@ -332,9 +332,9 @@ fn clamp(out: &mut String, file: &ModelFile, name: &str) {
         None => "    y".to_string(),
     };
     let what = if file.saturation().is_some() {
-        "a finite desired output clamped into the limits of the saturating output shaping"
+        "a finite desired output clamped into the saturation limits of the bounded output"
     } else {
-        "the desired output itself (this model's output shaping does not saturate)"
+        "the desired output itself (this model's output is unbounded)"
     };
     let _ = writeln!(
         out,

@@ -654,11 +654,12 @@ pub(super) fn description(
     }
     if let Some(s) = file.saturation() {
         lines.push(format!(
-            "The inverse clamps a desired y into [{:?}, {:?}] ({}; the open range of the \
-             saturating psi_out is ({:?}, {:?})), as `hyst run --inverse --saturate`.",
+            "The inverse clamps a desired y into [{:?}, {:?}] ({}; the open range of {} is \
+             ({:?}, {:?})), as `hyst run --inverse --saturate`.",
             s.limits.0,
             s.limits.1,
             s.rule(),
+            s.range_of(),
             s.range.0,
             s.range.1
         ));
