@@ -122,6 +122,23 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T> for ShapedM
     forward_memory!(operator, Option<Memory<T>>);
 }
 
+impl<T: Real, I: Shaping<T>, K: K2Law<T> + Clone, O: Shaping<T>> InverseShapedModel<T, I, K, O> {
+    /// ψ_in's refusal `e` of the operator output the desired output `y` needs, in output units
+    /// ([`unreachable_output`], the reach from the current state) where a message shows it
+    /// (`std`). Without `std` (firmware) it stays ψ_in's own [`Error::OutOfRange`]: the C API's
+    /// status is the same (`HYST_ERR_OUT_OF_RANGE`), and the direct operator the reach needs
+    /// stays out of the flash of a firmware that only inverts.
+    #[cold]
+    fn unreachable(&self, y: T, e: Error) -> Error {
+        if cfg!(feature = "std") {
+            let direct = self.operator.direct();
+            unreachable_output(y, e, &self.output, |w| direct.peek(w))
+        } else {
+            e
+        }
+    }
+}
+
 impl<T: Real, I: Shaping<T> + Clone, K: K2Law<T> + Clone, O: Shaping<T> + Clone>
     ShapedModel<T, I, K, O>
 {
@@ -184,10 +201,10 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T> + Clone, O: Shaping<T>> Operator<T>
     fn try_step<S: Sample<T>>(&mut self, y: S) -> Result<S, Error> {
         let ud = self.output.invert_sample(y)?;
         let (v, memory) = self.operator.compute(ud)?;
-        let x = self.input.invert_sample(v).map_err(|e| {
-            let direct = self.operator.direct();
-            unreachable_output(y.value(), e, &self.output, |w| direct.peek(w))
-        })?;
+        let x = match self.input.invert_sample(v) {
+            Ok(x) => x,
+            Err(e) => return Err(self.unreachable(y.value(), e)),
+        };
         if !x.all_finite() {
             return Err(Error::NonFiniteOutput {
                 input: y.value().as_f64(),
@@ -213,13 +230,19 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T> + Clone, O: Shaping<T>> Operator<T>
 /// units) becomes [`Error::Unreachable`] with the outputs ψ_out(`reach`(a)) and
 /// ψ_out(`reach`(b)), where `reach` is the direct operator's output for an input from the state
 /// the inverse is in (the ends of what it can reach: the branches are monotone). An end where
-/// `reach` fails, or that is infinite, is ψ_out of the end itself. Other errors pass unchanged.
+/// `reach` fails, or that is infinite, is ψ_out of the end itself. Other errors pass unchanged,
+/// and so does every error without the `std` feature (firmware: the C status is the same,
+/// `HYST_ERR_OUT_OF_RANGE`, and the flash is spared the reach's code).
 pub fn unreachable_output<T: Real, O: Shaping<T>>(
     y: T,
     e: Error,
     output: &O,
     reach: impl Fn(T) -> Result<T, Error>,
 ) -> Error {
+    // Without `std` (firmware), ψ_in's refusal as it is: the same C status, less flash.
+    if !cfg!(feature = "std") {
+        return e;
+    }
     let Error::OutOfRange { min, max, .. } = e else {
         return e;
     };
