@@ -10,64 +10,7 @@ use hyst::host::*;
 use hyst::status::*;
 
 /// y = 10 · H(0.1, 8)[tanh(x)]: outputs in (−11, 11), limits 10 · (±0.999 ∓ 0.1) = ±8.99.
-const MODEL: &str = r#"format = "hyst-model"
-version = 3
-kind = "smooth"
-parameters = []
-
-[columns]
-input = "x_V"
-output = "y_um"
-
-[units]
-input = "V"
-output = "um"
-
-[metrics]
-parameters = 2
-fit_seconds = 0.0
-ns_per_sample = 0.0
-
-[metrics.training]
-samples = 0
-rms = 0.0
-max_abs = 0.0
-rms_pct_span = 0.0
-max_pct_span = 0.0
-
-[smooth]
-k1 = 0.1
-initial_state = "rising"
-
-[smooth.k2]
-law = "constant"
-value = 8.0
-
-[smooth.input_shaping]
-pre_gain = 1.0
-pre_offset = 0.0
-shape = { tanh = { gain = 1.0, scale = 1.0 } }
-post_gain = 1.0
-post_offset = 0.0
-
-[smooth.output_shaping]
-pre_gain = 1.0
-pre_offset = 0.0
-shape = { affine = { gain = 10.0, offset = 0.0 } }
-post_gain = 1.0
-post_offset = 0.0
-
-[provenance]
-file = "written by hand"
-bytes = 0
-fnv1a64 = "0000000000000000"
-rows = 0
-records = 1
-validation_records = []
-command = "written by hand"
-hyst_version = "0.1.0"
-created_unix = 0
-"#;
+const MODEL: &str = include_str!("../../hyst-model/testdata/tanh-input.toml");
 
 #[test]
 fn a_saturating_input_shaping_bounds_the_inverse() {

@@ -597,64 +597,7 @@ fn saturate_with_a_saturating_input_shaping_leaves_the_training_range_alone() {
 /// y = 10 · H(0.1, 8)[tanh(x)] (affine ψ_out). The operator input lies in (−1, 1), so the
 /// outputs lie in (−11, 11); from every state the model reaches 10 · [−0.899, 0.899] (k1 inside
 /// 99.9 % of tanh's range), the limits of `--saturate`.
-const TANH_INPUT_MODEL: &str = r#"format = "hyst-model"
-version = 3
-kind = "smooth"
-parameters = []
-
-[columns]
-input = "x_V"
-output = "y_um"
-
-[units]
-input = "V"
-output = "um"
-
-[metrics]
-parameters = 2
-fit_seconds = 0.0
-ns_per_sample = 0.0
-
-[metrics.training]
-samples = 0
-rms = 0.0
-max_abs = 0.0
-rms_pct_span = 0.0
-max_pct_span = 0.0
-
-[smooth]
-k1 = 0.1
-initial_state = "rising"
-
-[smooth.k2]
-law = "constant"
-value = 8.0
-
-[smooth.input_shaping]
-pre_gain = 1.0
-pre_offset = 0.0
-shape = { tanh = { gain = 1.0, scale = 1.0 } }
-post_gain = 1.0
-post_offset = 0.0
-
-[smooth.output_shaping]
-pre_gain = 1.0
-pre_offset = 0.0
-shape = { affine = { gain = 10.0, offset = 0.0 } }
-post_gain = 1.0
-post_offset = 0.0
-
-[provenance]
-file = "written by hand"
-bytes = 0
-fnv1a64 = "0000000000000000"
-rows = 0
-records = 1
-validation_records = []
-command = "written by hand"
-hyst_version = "0.1.0"
-created_unix = 0
-"#;
+const TANH_INPUT_MODEL: &str = include_str!("../../hyst-model/testdata/tanh-input.toml");
 
 /// A desired output that a model bounded by its tanh input shaping cannot reach is refused in
 /// the user's units (the value as given, the line, the outputs the state reaches, the limits of

@@ -8,65 +8,9 @@ import numpy as np
 import pytest
 
 import hyst
+from conftest import ROOT
 
-MODEL = """format = "hyst-model"
-version = 3
-kind = "smooth"
-parameters = []
-
-[columns]
-input = "x_V"
-output = "y_um"
-
-[units]
-input = "V"
-output = "um"
-
-[metrics]
-parameters = 1
-fit_seconds = 0.0
-ns_per_sample = 0.0
-
-[metrics.training]
-samples = 0
-rms = 0.0
-max_abs = 0.0
-rms_pct_span = 0.0
-max_pct_span = 0.0
-
-[smooth]
-k1 = 0.1
-initial_state = "rising"
-
-[smooth.k2]
-law = "constant"
-value = 8.0
-
-[smooth.input_shaping]
-pre_gain = 1.0
-pre_offset = 0.0
-shape = { tanh = { gain = 1.0, scale = 1.0 } }
-post_gain = 1.0
-post_offset = 0.0
-
-[smooth.output_shaping]
-pre_gain = 1.0
-pre_offset = 0.0
-shape = { affine = { gain = 10.0, offset = 0.0 } }
-post_gain = 1.0
-post_offset = 0.0
-
-[provenance]
-file = "hand.csv"
-bytes = 0
-fnv1a64 = "0000000000000000"
-rows = 0
-records = 1
-validation_records = []
-command = "written by hand"
-hyst_version = "0.1.0"
-created_unix = 0
-"""
+MODEL = (ROOT / "crates/hyst-model/testdata/tanh-input.toml").read_text()
 
 
 @pytest.fixture
