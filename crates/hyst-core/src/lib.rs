@@ -1,7 +1,6 @@
 #![doc = include_str!("../README.md")]
 #![no_std]
-// `unsafe` only in `bank::x86` (std::arch intrinsics behind a safe wrapper; docs/performance.md)
-// and in `fukushima::w0`'s call of its copy compiled for FMA, after asking the processor.
+// `unsafe` only in `bank::x86` (std::arch intrinsics behind a safe wrapper; docs/performance.md).
 #![deny(unsafe_code)]
 #![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 // No indexing that could panic in library code (unit tests may index).
@@ -123,7 +122,6 @@ pub mod dual;
 pub mod error;
 mod exp;
 pub mod family;
-mod fukushima;
 pub mod jet;
 pub mod k2law;
 pub mod lambert;
