@@ -11,7 +11,7 @@ use serde_json::json;
 
 use crate::bench_fit::{self, FitFigures, FIT_OVER_RUN_GOAL};
 use crate::workloads::{Inputs, NAMES};
-use hyst_core::bank::{force_isa, isa, Isa};
+use hyst_bank::{force_isa, isa, Isa};
 
 /// Arguments of `hyst bench`.
 #[derive(clap::Args, Debug)]

@@ -19,10 +19,10 @@
 use std::cell::RefCell;
 use std::hint::black_box;
 
-use hyst_core::bank::{force_isa, isa, BankFormula, Isa, Lane};
+use hyst_bank::{force_isa, isa, BankFormula, BankVec, Isa, Lane};
 use hyst_core::{
-    Affine, BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Polynomial,
-    Real as _, ShapedModel,
+    Affine, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Polynomial, Real as _,
+    ShapedModel,
 };
 
 /// Samples per workload call.
