@@ -10,8 +10,10 @@ use core::fmt::{Debug, Display};
 /// `libm`'s, with `std` they are the platform's (the standard library's `exp`, `ln`, …), so
 /// results may differ in the last bit between the two builds. One exception with `std`: the
 /// inverse operator's `f64` exponential is hyst's own, inline ([`Real::exp_inline`]). The Lambert
-/// W approximation is always Fukushima's, from the `lambert_w` crate. The extra items here are
-/// the constants and the Lambert W approximation the operator needs at each precision.
+/// W approximation is always Fukushima's, from the `lambert_w` crate, whose square roots and
+/// logarithms are likewise the platform's with `std` and `libm`'s without (so W0 too may differ
+/// in the last bit between the two builds). The extra items here are the constants and the
+/// Lambert W approximation the operator needs at each precision.
 pub trait Real:
     num_traits::Float + num_traits::FloatConst + Debug + Display + Default + Send + Sync + 'static
 {
