@@ -82,7 +82,7 @@ pub(super) fn one_tick<V: Simd, F: BankFormula>(
         (start, one, input, output)
     });
     // The direct operator runs chunks of four vectors, one at a time (`run`): on an Intel Xeon
-    // (AVX-512), `cargo bench -p hyst-core --bench bank`, rows cold, `step` direct f64
+    // (AVX-512), `cargo bench -p hyst-bank --bench bank`, rows cold, `step` direct f64
     // 0.40 → 0.33 × scalar, and 0.56 → 0.43 with the AVX2 kernel forced (two vectors
     // pipelined before). The inverse runs chunks of `Simd::Tick` by `inverse_visit`, which
     // measured faster than the block's tick, software-pipelined, on every kernel
@@ -137,7 +137,7 @@ fn visit<V: Simd, F: BankFormula>(
 ///   channel-sample, against keeping them for it), and eq. (4) loads x, k1 and the memory after
 ///   the update again after `decay` ([`reloaded`]: s k1 and s M* formed anew, bit for bit what
 ///   the update gives). AVX-512 with the barrier too: f32 `step` with reversals in
-///   every chunk together (`cargo bench -p hyst-core --bench bank`, rows in cache) ran
+///   every chunk together (`cargo bench -p hyst-bank --bench bank`, rows in cache) ran
 ///   1,211–1,246 M channel-samples/s, slower than the block's tick, software-pipelined
 ///   (1,285–1,386); without it 1,547–1,575;
 /// - the output goes to `output` before the band test, and the test's rare path ([`edge`],
