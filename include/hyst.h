@@ -141,7 +141,9 @@
 // A memory or initial state lies outside the band |output − input| ≤ k1.
 #define HYST_ERR_STATE_OUTSIDE_BAND 5
 
-// A desired output is outside the range of a saturating shaping function (tanh, Langevin).
+// A desired output is outside the range of a saturating shaping function (tanh, Langevin), or
+// outside the outputs the model can reach from its state (a saturating input shaping bounds
+// its operator input).
 #define HYST_ERR_OUT_OF_RANGE 6
 
 // A shaping function is not strictly increasing on its domain.
@@ -1852,9 +1854,10 @@ int32_t hyst_model_compensate(struct hyst_model *m,
                               size_t n);
 
 // Makes the inverse (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
-// beyond a saturating model's limits (tanh or Langevin output shaping, whose range itself is
-// unreachable: 99.9 % of the range about its centre, widened to every output over the model's
-// fitted input range) to them instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
+// beyond the limits of a model whose output is bounded (by a tanh or Langevin output or input
+// shaping: the outputs reachable from every state within 99.9 % of each saturating shaping's
+// range, widened to every output over the model's fitted input range; `hyst_model_saturation`
+// gives them) instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
 // `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
 // an inverse run already started. `hyst_model_clamped` counts the clamped values.
 //
@@ -1867,6 +1870,20 @@ int32_t hyst_model_compensate(struct hyst_model *m,
 // `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed.
 int32_t hyst_model_saturate(struct hyst_model *m, int32_t on);
 
+// Writes the open range of a bounded model's outputs into `range[0]`, `range[1]` (no command,
+// from any state, gives them or beyond) and the limits `hyst_model_saturate` clamps desired
+// outputs into into `limits[0]`, `limits[1]`: the figures `hyst run --inverse` names when it
+// refuses a desired output out of reach (`HYST_ERR_OUT_OF_RANGE` here).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_INVALID_PARAMETER` when the model's
+// output is unbounded (nothing is written), or `HYST_ERR_UNSUPPORTED` for a model with
+// dynamics or a rate term.
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+// `range` and `limits` are NULL or writable for 2 values each.
+int32_t hyst_model_saturation(const struct hyst_model *m, double *range, double *limits);
+
 // Writes into `*count` how many desired outputs the inverse clamped
 // (`hyst_model_saturate`) since the model was loaded or reset.
 //
@@ -1876,6 +1893,21 @@ int32_t hyst_model_saturate(struct hyst_model *m, int32_t on);
 // `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
 // `count` is NULL or writable.
 int32_t hyst_model_clamped(const struct hyst_model *m, uint64_t *count);
+
+// Writes into `*period` the longest sample period (s) that resolves the fastest corner of the
+// loop `hyst_model_compensate` has met since the model was loaded or reset: τ/3, where τ is the
+// time the desired output takes to cross a corner 1/k2 wide (docs/fitting.md); +∞ before it has met one. A longer period than this, given to
+// `hyst_model_load_timed`, makes commands near reversals inexact (they are still written):
+// sample faster, or slow the reference.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_UNSUPPORTED` for a model without
+// Lemma 5.1's compensator (no dynamics; as `hyst_model_compensate`).
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+// `period` is NULL or writable.
+int32_t hyst_model_corner_period(const struct hyst_model *m,
+                                 double *period);
 
 // Forgets every run: the next `hyst_model_process` of each kind (and the next
 // `hyst_model_compensate`) starts a new record.

@@ -38,11 +38,11 @@ impl Isa {
         match self {
             Isa::Portable => true,
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Isa::Avx512 => crate::x86::Avx512::detect().is_some(),
+            Isa::Avx512 => crate::token::Avx512::detect().is_some(),
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Isa::Sse2 => crate::x86::Sse2::detect().is_some(),
+            Isa::Sse2 => crate::token::Sse2::detect().is_some(),
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Isa::Avx2 => crate::x86::Avx2::detect().is_some(),
+            Isa::Avx2 => crate::token::Avx2::detect().is_some(),
             #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
             _ => false,
         }

@@ -70,6 +70,8 @@ mod par;
 #[doc(hidden)]
 pub mod simd;
 mod step;
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+mod token;
 mod vector;
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 mod x86;

@@ -549,9 +549,10 @@ fn compensate(model: &mut hyst_model, desired: &[f64], order: usize, command: &m
 }
 
 /// Makes the inverse (`hyst_model_process` with `inverse` ≠ 0) clamp every desired output
-/// beyond a saturating model's limits (tanh or Langevin output shaping, whose range itself is
-/// unreachable: 99.9 % of the range about its centre, widened to every output over the model's
-/// fitted input range) to them instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
+/// beyond the limits of a model whose output is bounded (by a tanh or Langevin output or input
+/// shaping: the outputs reachable from every state within 99.9 % of each saturating shaping's
+/// range, widened to every output over the model's fitted input range; `hyst_model_saturation`
+/// gives them) instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
 /// `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
 /// an inverse run already started. `hyst_model_clamped` counts the clamped values.
 ///
@@ -587,6 +588,45 @@ pub unsafe extern "C" fn hyst_model_saturate(m: *mut hyst_model, on: i32) -> i32
     HYST_OK
 }
 
+/// Writes the open range of a bounded model's outputs into `range[0]`, `range[1]` (no command,
+/// from any state, gives them or beyond) and the limits `hyst_model_saturate` clamps desired
+/// outputs into into `limits[0]`, `limits[1]`: the figures `hyst run --inverse` names when it
+/// refuses a desired output out of reach (`HYST_ERR_OUT_OF_RANGE` here).
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_INVALID_PARAMETER` when the model's
+/// output is unbounded (nothing is written), or `HYST_ERR_UNSUPPORTED` for a model with
+/// dynamics or a rate term.
+///
+/// # Safety
+/// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+/// `range` and `limits` are NULL or writable for 2 values each.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_saturation(
+    m: *const hyst_model,
+    range: *mut f64,
+    limits: *mut f64,
+) -> i32 {
+    if m.is_null() || range.is_null() || limits.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: a live model (caller's contract).
+    let model = unsafe { &*m };
+    if model.timed_model().is_some() {
+        return HYST_ERR_UNSUPPORTED;
+    }
+    let Some(s) = model.file.saturation() else {
+        return HYST_ERR_INVALID_PARAMETER;
+    };
+    // SAFETY: both writable for 2 values (caller's contract).
+    unsafe {
+        range.write(s.range.0);
+        range.add(1).write(s.range.1);
+        limits.write(s.limits.0);
+        limits.add(1).write(s.limits.1);
+    }
+    HYST_OK
+}
+
 /// Writes into `*count` how many desired outputs the inverse clamped
 /// (`hyst_model_saturate`) since the model was loaded or reset.
 ///
@@ -604,6 +644,41 @@ pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u6
     let model = unsafe { &*m };
     // SAFETY: non-NULL and writable (caller's contract).
     unsafe { count.write(model.inverse.as_ref().map_or(0, |r| r.clamped)) };
+    HYST_OK
+}
+
+/// Writes into `*period` the longest sample period (s) that resolves the fastest corner of the
+/// loop `hyst_model_compensate` has met since the model was loaded or reset: τ/3, where τ is the
+/// time the desired output takes to cross a corner 1/k2 wide (docs/fitting.md); +∞ before it has met one. A longer period than this, given to
+/// `hyst_model_load_timed`, makes commands near reversals inexact (they are still written):
+/// sample faster, or slow the reference.
+///
+/// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_UNSUPPORTED` for a model without
+/// Lemma 5.1's compensator (no dynamics; as `hyst_model_compensate`).
+///
+/// # Safety
+/// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+/// `period` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_corner_period(m: *const hyst_model, period: *mut f64) -> i32 {
+    if m.is_null() || period.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    // SAFETY: a live model (caller's contract).
+    let model = unsafe { &*m };
+    let Some(smooth) = model.timed_model() else {
+        return HYST_ERR_UNSUPPORTED;
+    };
+    if TimedCompensator::check(smooth).is_err() {
+        return HYST_ERR_UNSUPPORTED;
+    }
+    let needed = model
+        .compensator
+        .as_ref()
+        .and_then(TimedCompensator::fastest_corner)
+        .map_or(f64::INFINITY, |c| c.needed_period());
+    // SAFETY: non-NULL and writable (caller's contract).
+    unsafe { period.write(needed) };
     HYST_OK
 }
 

@@ -17,7 +17,9 @@ pub const HYST_ERR_NON_FINITE: i32 = 3;
 pub const HYST_ERR_INVALID_PARAMETER: i32 = 4;
 /// A memory or initial state lies outside the band |output − input| ≤ k1.
 pub const HYST_ERR_STATE_OUTSIDE_BAND: i32 = 5;
-/// A desired output is outside the range of a saturating shaping function (tanh, Langevin).
+/// A desired output is outside the range of a saturating shaping function (tanh, Langevin), or
+/// outside the outputs the model can reach from its state (a saturating input shaping bounds
+/// its operator input).
 pub const HYST_ERR_OUT_OF_RANGE: i32 = 6;
 /// A shaping function is not strictly increasing on its domain.
 pub const HYST_ERR_NOT_MONOTONE: i32 = 7;
@@ -49,7 +51,7 @@ pub(crate) fn of(error: &Error) -> i32 {
         Error::NonFiniteInput { .. } => HYST_ERR_NON_FINITE,
         Error::StateOutsideBand { .. } => HYST_ERR_STATE_OUTSIDE_BAND,
         Error::NotMonotone { .. } => HYST_ERR_NOT_MONOTONE,
-        Error::OutOfRange { .. } => HYST_ERR_OUT_OF_RANGE,
+        Error::OutOfRange { .. } | Error::Unreachable { .. } => HYST_ERR_OUT_OF_RANGE,
         Error::InvalidK2 { .. } => HYST_ERR_INVALID_K2,
         Error::LengthMismatch { .. } => HYST_ERR_LENGTH,
         Error::NonFiniteOutput { .. } => HYST_ERR_OVERFLOW,
@@ -71,7 +73,8 @@ pub extern "C" fn hyst_status_message(status: i32) -> *const c_char {
         HYST_ERR_INVALID_PARAMETER => c"a parameter is outside its range",
         HYST_ERR_STATE_OUTSIDE_BAND => c"the state lies outside the band |output - input| <= k1",
         HYST_ERR_OUT_OF_RANGE => {
-            c"the desired output is outside the range of a saturating shaping function"
+            c"the desired output is outside the range of a saturating shaping function, or of \
+              the outputs the model can reach from its state"
         }
         HYST_ERR_NOT_MONOTONE => c"a shaping function is not strictly increasing on its domain",
         HYST_ERR_INVALID_K2 => c"the k2 law gave a k2 that is not finite and > 0",

@@ -768,3 +768,43 @@ fn set_memory_refuses_impossible_states() {
         assert_eq!(now, kept);
     }
 }
+
+/// The piezo record (0 to 3.6 V) fitted with a tanh or a Langevin input shaping and a tanh
+/// output shaping (crates/hyst-model/testdata): `hyst_model_saturate` leaves desired outputs of
+/// the training range alone, so the commands are the plain inverse's (1.33, 2.30, 3.34 V).
+#[test]
+fn host_model_saturate_with_a_saturating_input_shaping_keeps_the_training_range() {
+    let testdata = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hyst-model/testdata");
+    for name in ["piezo-tanh-in", "piezo-langevin-in"] {
+        let c = CString::new(testdata.join(format!("{name}.toml")).to_str().unwrap()).unwrap();
+        let desired = [-120.0, -100.0, -80.0];
+        let run = |saturate: i32| {
+            let mut u = [0.0; 3];
+            let mut count = u64::MAX;
+            unsafe {
+                let m = hyst_model_load(c.as_ptr(), ptr::null_mut(), 0);
+                assert!(!m.is_null(), "{name}");
+                assert_eq!(hyst_model_saturate(m, saturate), HYST_OK, "{name}");
+                assert_eq!(
+                    hyst_model_process(m, 1, desired.as_ptr(), u.as_mut_ptr(), 3),
+                    HYST_OK,
+                    "{name}"
+                );
+                assert_eq!(hyst_model_clamped(m, &mut count), HYST_OK);
+                hyst_model_free(m);
+            }
+            (u, count)
+        };
+        let (plain, _) = run(0);
+        let (saturated, clamped) = run(1);
+        println!("{name}: hyst_model_saturate commands {saturated:?} V, {clamped} clamped");
+        assert_eq!(saturated, plain, "{name}");
+        assert_eq!(clamped, 0, "{name}");
+        for (u, right) in saturated.iter().zip([1.33, 2.30, 3.34]) {
+            assert!(
+                (u - right).abs() < 0.01,
+                "{name}: {u} V, expected about {right} V"
+            );
+        }
+    }
+}

@@ -260,6 +260,25 @@ fn the_compensator_equals_timed_compensator() {
         let got: Vec<u64> = whole.iter().map(|v| v.to_bits()).collect();
         assert_eq!(got, expected, "{name}");
         assert_eq!(whole, blocks, "{name}");
+        // The period that resolves the corners met: the core's, +∞ before the first sample.
+        let needed = core.fastest_corner().map(|c| c.needed_period()).unwrap();
+        let m = load_timed(&c, h);
+        let mut period = 0.0;
+        unsafe {
+            assert_eq!(hyst_model_corner_period(m, &mut period), HYST_OK);
+            assert_eq!(period, f64::INFINITY);
+            assert_eq!(
+                hyst_model_compensate(m, rows.as_ptr(), order, whole.as_mut_ptr(), n),
+                HYST_OK
+            );
+            assert_eq!(hyst_model_corner_period(m, &mut period), HYST_OK);
+            assert_eq!(period.to_bits(), needed.to_bits(), "{name}");
+            assert_eq!(
+                hyst_model_corner_period(m, ptr::null_mut()),
+                HYST_ERR_NULL_POINTER
+            );
+            hyst_model_free(m);
+        }
     }
     // No compensator: a static model (its exact inverse is hyst_model_process), a rate term.
     for (name, sections) in [
@@ -273,6 +292,12 @@ fn the_compensator_equals_timed_compensator() {
         unsafe {
             assert_eq!(
                 hyst_model_compensate(m, [1.0, 0.0].as_ptr(), 1, u.as_mut_ptr(), 1),
+                HYST_ERR_UNSUPPORTED,
+                "{name}"
+            );
+            let mut period = 0.0;
+            assert_eq!(
+                hyst_model_corner_period(m, &mut period),
                 HYST_ERR_UNSUPPORTED,
                 "{name}"
             );

@@ -14,7 +14,9 @@
 //! - The summary (`--json`: one JSON object on standard output, or on standard error with
 //!   `-o -`) has `rms_fixed` (the fitted model, not adapted, run over the same rows from the
 //!   same start) and `rms_adaptive` (the one-step prediction), over the rows after `--settle`
-//!   whose measurement and both predictions are finite.
+//!   whose measurement and both predictions are finite, summed without overflow (any finite
+//!   errors give a finite RMS unless the RMS itself exceeds the largest double); `rms_note`
+//!   says why when either is `null` (no such row, or that) and is `null` otherwise.
 //! - The file is streamed; OUTPUT is written atomically (nothing on failure), and must not be
 //!   DATA or the model file.
 
@@ -282,8 +284,8 @@ struct Run<'a> {
     settle: usize,
     rows: usize,
     used: usize,
-    sum_fixed: f64,
-    sum_adaptive: f64,
+    sum_fixed: SquareSum,
+    sum_adaptive: SquareSum,
     /// Rows with a command that is not finite before the first model started.
     bad_before_start: u64,
 }
@@ -298,8 +300,8 @@ impl<'a> Run<'a> {
             settle,
             rows: 0,
             used: 0,
-            sum_fixed: 0.0,
-            sum_adaptive: 0.0,
+            sum_fixed: SquareSum::default(),
+            sum_adaptive: SquareSum::default(),
             bad_before_start: 0,
         }
     }
@@ -344,8 +346,8 @@ impl<'a> Run<'a> {
         let p = update.prediction;
         if self.rows > self.settle && y.is_finite() && p.is_finite() && fixed_y.is_finite() {
             self.used += 1;
-            self.sum_fixed += (y - fixed_y) * (y - fixed_y);
-            self.sum_adaptive += (y - p) * (y - p);
+            self.sum_fixed.add(y, fixed_y);
+            self.sum_adaptive.add(y, p);
         }
         Ok(p)
     }
@@ -356,12 +358,21 @@ impl<'a> Run<'a> {
         adapted: &[Parameter],
         config: &AdaptiveConfig<f64>,
     ) -> serde_json::Value {
-        let rms = |s: f64| {
-            if self.used > 0 {
-                (s / self.used as f64).sqrt()
-            } else {
-                f64::NAN
-            }
+        let rms = |s: &SquareSum| s.rms(self.used).unwrap_or(f64::NAN);
+        let (fixed, adaptive) = (rms(&self.sum_fixed), rms(&self.sum_adaptive));
+        let note = if self.used == 0 {
+            Some(format!(
+                "no row after --settle {} has a finite measurement and finite predictions",
+                self.settle
+            ))
+        } else if !(fixed.is_finite() && adaptive.is_finite()) {
+            Some(format!(
+                "an RMS is null: it exceeds the largest double ({}), which errors of that size \
+                 make (a measurement or prediction near it)",
+                sig(f64::MAX, 4)
+            ))
+        } else {
+            None
         };
         let mut counts = self
             .adaptive
@@ -385,8 +396,9 @@ impl<'a> Run<'a> {
             "rows": self.rows,
             "samples": self.used,
             "settle": self.settle,
-            "rms_fixed": json_number(rms(self.sum_fixed)),
-            "rms_adaptive": json_number(rms(self.sum_adaptive)),
+            "rms_fixed": json_number(fixed),
+            "rms_adaptive": json_number(adaptive),
+            "rms_note": note,
             "parameters": adapted.iter().map(|p| p.name()).collect::<Vec<_>>(),
             "fitted": values(&|a, p| a.fitted_value(p)),
             "final": values(&|a, p| a.value(p)),
@@ -406,6 +418,37 @@ impl<'a> Run<'a> {
                 "input_range": [json_number(config.input_range.0), json_number(config.input_range.1)],
             },
         })
+    }
+}
+
+/// A sum of squared errors that cannot overflow: Σ e² = (2 · scale)² · ssq, with scale the
+/// largest |e| / 2 so far (each error is taken halved, (y − p) / 2 = y / 2 − p / 2, so the
+/// difference of two finite numbers is finite too) and ssq ≥ 1 once an error was added
+/// (the rescaling of LAPACK's dnrm2).
+#[derive(Clone, Copy, Debug, Default)]
+struct SquareSum {
+    scale: f64,
+    ssq: f64,
+}
+
+impl SquareSum {
+    /// Adds the error y − p of two finite numbers.
+    fn add(&mut self, y: f64, p: f64) {
+        let e = (0.5 * y - 0.5 * p).abs();
+        if e > self.scale {
+            let r = self.scale / e;
+            self.ssq = 1.0 + self.ssq * r * r;
+            self.scale = e;
+        } else if e > 0.0 {
+            let r = e / self.scale;
+            self.ssq += r * r;
+        }
+    }
+
+    /// The RMS over `n` errors (`None` for n = 0); infinite only when it exceeds the largest
+    /// double.
+    fn rms(&self, n: usize) -> Option<f64> {
+        (n > 0).then(|| self.scale * (2.0 * (self.ssq / n as f64).sqrt()))
     }
 }
 
@@ -429,6 +472,9 @@ fn text(s: &serde_json::Value) -> String {
         num(&s["rms_fixed"]),
         num(&s["rms_adaptive"])
     );
+    if let Some(note) = s["rms_note"].as_str() {
+        t += &format!("  ({note})\n");
+    }
     if let Some(names) = s["parameters"].as_array() {
         for n in names.iter().filter_map(|n| n.as_str()) {
             t += &format!(

@@ -87,6 +87,15 @@ pub fn main(args: Args) -> Result<()> {
             a.model.display()
         )
     })?;
+    if let Some(reason) = export::no_float_reason(&file, &options) {
+        eprintln!(
+            "hyst export: note: no float form ({}): {reason}",
+            match &args.target {
+                Target::C(_) => "no _f32 twins written",
+                Target::Rust(_) => "T = f32 returns Err(InvalidParameter)",
+            }
+        );
+    }
     match &a.output {
         Some(path) if path.as_os_str() != "-" => {
             hyst_io::write_atomic(path, generated.as_bytes())?;

@@ -307,7 +307,8 @@ impl Plan {
                 })?,
         };
         let time = rows.column(&time_name)?;
-        let record = crate::run::record_column(rows, args.record, args.no_record, args.columns)?;
+        let record =
+            crate::run::rows::record_column(rows, args.record, args.no_record, args.columns)?;
         let order = smooth.dynamics.map_or(0, |d| d.order());
         let derivatives: Option<Vec<usize>> = (1..=order)
             .map(|k| rows.column_index(&format!("{name}_d{k}")))

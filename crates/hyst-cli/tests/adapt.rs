@@ -370,3 +370,116 @@ fn models_and_settings_it_cannot_take_are_refused_by_name() {
     let e = run(MODEL, &["--noise", "1", "--input-range", "2,-2"]);
     assert!(e.contains("--input-range \"2,-2\""), "{e}");
 }
+
+/// `rows` rows of MODEL's truth (y = 2 · H(0.15, 10)[u] + 0.1), with row `at` replaced.
+fn record_with(path: &Path, rows: usize, at: usize, row: &str) {
+    let mut truth = model(0.15, 2.0);
+    let mut csv = String::from("u,y\n");
+    for k in 0..rows {
+        let x = command(k);
+        let y = truth.step(x);
+        if k == at {
+            writeln!(csv, "{row}").unwrap();
+        } else {
+            writeln!(csv, "{x},{y}").unwrap();
+        }
+    }
+    std::fs::write(path, csv).unwrap();
+}
+
+#[test]
+fn one_huge_finite_error_gives_a_finite_rms() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = dir.path().join("m.toml");
+    std::fs::write(&m, MODEL).unwrap();
+    let data = dir.path().join("huge.csv");
+    let out = dir.path().join("out.csv");
+    let rows = 20_000;
+    let adapt = |extra: &[&str]| {
+        let mut args = vec!["adapt", "--model", s(&m), s(&data), "--noise", "0.002"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--json", "-o", s(&out)]);
+        json(&hyst(&args))
+    };
+    // A measurement of 1e308: its error dominates both sums; (1e308)² overflows a double.
+    record_with(&data, rows, 5000, &format!("{},1e308", command(5000)));
+    let r = adapt(&[]);
+    let n = r["samples"].as_f64().unwrap();
+    let (fixed, adaptive) = (
+        r["rms_fixed"].as_f64().unwrap(),
+        r["rms_adaptive"].as_f64().unwrap(),
+    );
+    println!("y = 1e308 in {rows} rows: rms_fixed {fixed:e}, rms_adaptive {adaptive:e} over {n}");
+    let expected = 1e308 / n.sqrt();
+    assert!(
+        (fixed / expected - 1.0).abs() < 1e-9,
+        "{fixed} against {expected}"
+    );
+    assert!(
+        (adaptive / expected - 1.0).abs() < 1e-9,
+        "{adaptive} against {expected}"
+    );
+    assert!(r["rms_note"].is_null(), "{r}");
+    // A command of 1e300 (outside no input range: the model was not fitted): both models
+    // predict about 2e300 there.
+    record_with(&data, rows, 5000, "1e300,0.1");
+    let r = adapt(&["--parameters", "offset"]);
+    let fixed = r["rms_fixed"].as_f64().unwrap();
+    let n = r["samples"].as_f64().unwrap();
+    println!(
+        "x = 1e300 in {rows} rows: rms_fixed {fixed:e} over {n}, {}",
+        r["rms_adaptive"]
+    );
+    assert!((fixed / (2e300 / n.sqrt()) - 1.0).abs() < 1e-6, "{fixed}");
+    assert!(r["rms_adaptive"].as_f64().unwrap().is_finite(), "{r}");
+    assert!(r["rms_note"].is_null(), "{r}");
+    // No row to count: the RMS are null, and the summary says why.
+    let r = adapt(&["--settle", "30000"]);
+    assert!(
+        r["rms_fixed"].is_null() && r["rms_adaptive"].is_null(),
+        "{r}"
+    );
+    let note = r["rms_note"].as_str().unwrap();
+    assert!(note.contains("no row after --settle 30000"), "{note}");
+}
+
+#[test]
+fn a_saturating_input_shaping_adapts_over_its_fitted_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let piezo = common::piezo();
+    for input in ["tanh", "langevin"] {
+        let m = dir.path().join(format!("{input}.toml"));
+        let mut fit = common::piezo_fit(&piezo, &m).to_vec();
+        fit.extend_from_slice(&["--input-shaping", input]);
+        let o = hyst(&fit);
+        assert!(o.status.success(), "{input}: {}", text(&o.stderr));
+        let out = dir.path().join("out.csv");
+        let r = json(&hyst(&[
+            "adapt",
+            "--model",
+            s(&m),
+            s(&piezo),
+            "--json",
+            "-o",
+            s(&out),
+        ]));
+        let range = &r["settings"]["input_range"];
+        let (lo, hi) = (range[0].as_f64().unwrap(), range[1].as_f64().unwrap());
+        println!(
+            "{input}: default input range [{lo}, {hi}] V, counts {}",
+            r["counts"]
+        );
+        // The data's 0 to 3.6 V, widened by 10 % of the span on each side (to the precision
+        // of ψ_in, which the fit puts far in the tanh's tail: its value is a difference of two
+        // numbers of 1.6e11).
+        assert!(
+            (lo + 0.36).abs() < 1e-3 && (hi - 3.96).abs() < 1e-3,
+            "{input}: {range}"
+        );
+        assert_eq!(r["counts"]["out_of_range"], 0, "{input}: {r}");
+        assert!(
+            r["counts"]["updated"].as_u64().unwrap() > 1000,
+            "{input}: {r}"
+        );
+    }
+}

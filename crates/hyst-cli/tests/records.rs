@@ -1,6 +1,6 @@
 //! Integration tests of `hyst run --record` (one operator start per record, FORC curves and B-H
-//! loops) and `--saturate` (desired outputs beyond a saturating output shaping), and of their
-//! messages.
+//! loops) and `--saturate` (desired outputs beyond a saturating output shaping, or out of the
+//! reach of a saturating input shaping), and of their messages.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use std::path::{Path, PathBuf};
@@ -534,8 +534,220 @@ fn run_finds_the_record_column_fit_finds() {
     ]);
     assert_eq!(refused.status.code(), Some(1));
     assert!(
-        stderr(&refused).contains("goes back"),
+        stderr(&refused).contains("goes back")
+            && stderr(&refused).contains("with --record COLUMN)"),
         "{}",
         stderr(&refused)
     );
+}
+
+/// The piezo record (inputs 0 to 3.6 V) fitted with input shaping `input` and a tanh output
+/// shaping (its data in the tail of the tanh).
+fn piezo_saturating(dir: &Path, input: &str) -> PathBuf {
+    let model = dir.join(format!("piezo-{input}.toml"));
+    let data = common::piezo();
+    let mut args = common::piezo_fit(&data, &model).to_vec();
+    args.extend_from_slice(&["--input-shaping", input, "--output-shaping", "tanh"]);
+    let o = hyst(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    model
+}
+
+#[test]
+fn saturate_with_a_saturating_input_shaping_leaves_the_training_range_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    for input in ["tanh", "langevin"] {
+        let model = piezo_saturating(dir.path(), input);
+        // Desired outputs inside the training range (about -130 to -75 um).
+        let desired = dir.path().join("desired.csv");
+        std::fs::write(&desired, "y_capsensor_um\n-120\n-100\n-80\n").unwrap();
+        let out = dir.path().join("cmd.csv");
+        let o = hyst(&[
+            "run",
+            "--model",
+            s(&model),
+            "--inverse",
+            "--saturate",
+            s(&desired),
+            "-o",
+            s(&out),
+        ]);
+        assert!(o.status.success(), "{input}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("clamped"), "{input}: {}", stderr(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        let k = index(&text, "u_actuator_V");
+        let command: Vec<f64> = rows(&text).iter().map(|r| r[k].parse().unwrap()).collect();
+        let saturated = index(&text, "y_capsensor_um_saturated");
+        let inverted: Vec<f64> = rows(&text)
+            .iter()
+            .map(|r| r[saturated].parse().unwrap())
+            .collect();
+        assert_eq!(inverted, [-120.0, -100.0, -80.0], "{input}");
+        println!("{input}: commands {command:?} V");
+        for (u, right) in command.iter().zip([1.33, 2.30, 3.34]) {
+            assert!(
+                (u - right).abs() < 0.01,
+                "{input}: {u} V, expected about {right} V"
+            );
+        }
+    }
+}
+
+/// A hand-built model with a bounded output through its input shaping alone:
+/// y = 10 · H(0.1, 8)[tanh(x)] (affine ψ_out). The operator input lies in (−1, 1), so the
+/// outputs lie in (−11, 11); from every state the model reaches 10 · [−0.899, 0.899] (k1 inside
+/// 99.9 % of tanh's range), the limits of `--saturate`.
+const TANH_INPUT_MODEL: &str = r#"format = "hyst-model"
+version = 3
+kind = "smooth"
+parameters = []
+
+[columns]
+input = "x_V"
+output = "y_um"
+
+[units]
+input = "V"
+output = "um"
+
+[metrics]
+parameters = 2
+fit_seconds = 0.0
+ns_per_sample = 0.0
+
+[metrics.training]
+samples = 0
+rms = 0.0
+max_abs = 0.0
+rms_pct_span = 0.0
+max_pct_span = 0.0
+
+[smooth]
+k1 = 0.1
+initial_state = "rising"
+
+[smooth.k2]
+law = "constant"
+value = 8.0
+
+[smooth.input_shaping]
+pre_gain = 1.0
+pre_offset = 0.0
+shape = { tanh = { gain = 1.0, scale = 1.0 } }
+post_gain = 1.0
+post_offset = 0.0
+
+[smooth.output_shaping]
+pre_gain = 1.0
+pre_offset = 0.0
+shape = { affine = { gain = 10.0, offset = 0.0 } }
+post_gain = 1.0
+post_offset = 0.0
+
+[provenance]
+file = "written by hand"
+bytes = 0
+fnv1a64 = "0000000000000000"
+rows = 0
+records = 1
+validation_records = []
+command = "written by hand"
+hyst_version = "0.1.0"
+created_unix = 0
+"#;
+
+/// A desired output that a model bounded by its tanh input shaping cannot reach is refused in
+/// the user's units (the value as given, the line, the outputs the state reaches, the limits of
+/// `--saturate`), and nothing is written; `--saturate` clamps into the limits instead.
+#[test]
+fn a_saturating_input_shaping_bounds_the_output_said_in_output_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("tanh-in.toml");
+    std::fs::write(&model, TANH_INPUT_MODEL).unwrap();
+    let out = dir.path().join("cmd.csv");
+    std::fs::write(&out, "previous\n").unwrap();
+    let cases = [
+        // From the lower asymptote (rising through 8.5), up to 10 · (1 − 0.1).
+        (
+            &[0.0, 5.0, 8.5, 9.5, 12.0, 3.0][..],
+            "desired.csv:5: column 1 (\"y_um\"): desired output 9.5 is outside the range \
+             (-9.000002, 9.000000) of the outputs the model can reach from its state at this line \
+             (its tanh input shaping bounds its operator input); --saturate clamps desired \
+             outputs into [-8.990000, 8.990000] (",
+        ),
+        // A first sample: the start rule puts the operator input at u0 + k1.
+        (
+            &[10.5][..],
+            "desired.csv:2: column 1 (\"y_um\"): desired output 10.5 is outside the range \
+             (-11.00000, 9.000000) of the outputs the model can reach from its state",
+        ),
+        // Beyond the model's whole range.
+        (
+            &[-3.0, 12.0][..],
+            "desired.csv:3: column 1 (\"y_um\"): desired output 12 is outside the range \
+             (-11.00000, 11.00000) of the model's outputs (bounded by its tanh input shaping), \
+             which no command reaches; --saturate clamps such values into [-8.990000, 8.990000]",
+        ),
+    ];
+    for (values, expected) in cases {
+        let input = dir.path().join("desired.csv");
+        let text: String = values.iter().map(|v| format!("{v}\n")).collect();
+        std::fs::write(&input, format!("y_um\n{text}")).unwrap();
+        let o = hyst(&[
+            "run",
+            "--model",
+            s(&model),
+            "--inverse",
+            s(&input),
+            "-o",
+            s(&out),
+        ]);
+        assert_eq!(o.status.code(), Some(1));
+        let err = stderr(&o);
+        assert!(err.contains(expected), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous\n");
+    }
+    // --saturate: the first case runs, 9.5 and 12 inverted at 8.99 (v = 0.999, x = atanh 0.999).
+    let input = dir.path().join("desired.csv");
+    std::fs::write(&input, "y_um\n0\n5\n8.5\n9.5\n12\n3\n").unwrap();
+    let o = hyst(&[
+        "run",
+        "--model",
+        s(&model),
+        "--inverse",
+        "--saturate",
+        s(&input),
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.starts_with(
+            "hyst run: --saturate clamped 2 of 6 desired outputs into [-8.990000, 8.990000]"
+        ),
+        "{err}"
+    );
+    assert!(
+        err.contains(
+            "the open range of the model's outputs (bounded by its tanh input shaping) is \
+             (-11.00000, 11.00000)"
+        ),
+        "{err}"
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    let (x, inverted) = (index(&text, "x_V"), index(&text, "y_um_saturated"));
+    let rows = rows(&text);
+    let at = |k: usize| -> Vec<f64> { rows.iter().map(|r| r[k].parse().unwrap()).collect() };
+    assert_eq!(at(inverted), [0.0, 5.0, 8.5, 8.99, 8.99, 3.0]);
+    let command = at(x);
+    assert!((command[3] - 0.999_f64.atanh()).abs() < 1e-9, "{command:?}");
+    assert_eq!(command[4], command[3]);
+    // The model gives the inverted outputs back.
+    let direct = hyst_model::ModelFile::read(&model).unwrap();
+    let mut m = direct.evaluator(command[0], false).unwrap();
+    for (x, y) in command.iter().zip(at(inverted)) {
+        assert!((m.try_step(*x).unwrap() - y).abs() < 1e-9, "{x} -> {y}");
+    }
 }

@@ -17,6 +17,7 @@
 use crate::error::Error;
 use crate::jet::Jet;
 use crate::k2law::{ConstantK2, K2Law};
+use crate::memory::Memory;
 use crate::operator::Operator;
 use crate::real::Real;
 use crate::shaped_model::{InverseShapedModel, ShapedModel};
@@ -64,6 +65,29 @@ pub struct Compensator<T, const N: usize, I = Identity, K = ConstantK2<T>, O = I
     last_command: T,
     last_reference: T,
     last_target: Jet<T, N>,
+}
+
+/// Everything a [`Compensator`] changes as it steps, as plain data: read it with
+/// [`Compensator::saved_state`] and give it back (to the same compensator or to one built with
+/// the same model, b and a) with [`Compensator::restore_state`], and the compensator goes on
+/// bit for bit as the one it was read from. A controller that restarts, a simulator that
+/// keeps the state outside (python-control's state vector) or a firmware that stores it in
+/// its own memory use it. `Copy`, no allocation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CompensatorState<T, const N: usize> {
+    /// The integrator chain (v, v̇, …, v⁽ⁿ⁻¹⁾) (Lemma 5.1: v⁽ⁿ⁾ = u_new), in output units and
+    /// their time derivatives (units/sⁱ); entries from n on are 0.
+    pub integrators: [T; N],
+    /// The inverse model's memory (Definition 2.1, of H⁻¹ in operator units: inputs
+    /// ψ_out⁻¹(v), outputs ψ_in of the target); `None` before any history.
+    pub memory: Option<Memory<T>>,
+    /// The command u of the last sample (eq. 19): what [`Compensator::step`] holds on a
+    /// refused sample.
+    pub last_command: T,
+    /// The reference v of the last sample.
+    pub last_reference: T,
+    /// The target x1 and its n time derivatives at the last sample.
+    pub last_target: Jet<T, N>,
 }
 
 impl<T: Real, const N: usize, I, K, O> Compensator<T, N, I, K, O>
@@ -437,6 +461,56 @@ where
         Ok(u)
     }
 
+    /// The whole state: integrators, the inverse model's memory and the last sample's values
+    /// ([`CompensatorState`]).
+    #[must_use]
+    pub fn saved_state(&self) -> CompensatorState<T, N> {
+        CompensatorState {
+            integrators: self.v,
+            memory: self.inverse.memory(),
+            last_command: self.last_command,
+            last_reference: self.last_reference,
+            last_target: self.last_target,
+        }
+    }
+
+    /// Puts back a whole state read by [`Compensator::saved_state`] (of this compensator or of
+    /// one with the same model, b and a): the next [`Compensator::step`] is the one that
+    /// followed the state when it was read, bit for bit. Integrator entries from n on are
+    /// ignored (set to 0). [`Compensator::reset`] still returns to the start state.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the field for a non-finite value (among the first n
+    /// integrators, the last command, reference or target), and the inverse model's refusal of
+    /// the memory (a non-finite value, a memory outside the band |output − input| ≤ k1); the
+    /// compensator is then unchanged.
+    pub fn restore_state(&mut self, state: &CompensatorState<T, N>) -> Result<(), Error> {
+        for x in state.integrators.iter().take(self.order) {
+            crate::error::finite("integrator state", *x)?;
+        }
+        crate::error::finite("last_command", state.last_command)?;
+        crate::error::finite("last_reference", state.last_reference)?;
+        crate::error::finite("last_target", state.last_target.value())?;
+        for d in state.last_target.derivatives().iter() {
+            crate::error::finite("last_target", *d)?;
+        }
+        let mut inverse = self.inverse.clone();
+        inverse.set_memory(state.memory)?;
+        let n = self.order;
+        self.inverse = inverse;
+        self.v = core::array::from_fn(|k| {
+            if k < n {
+                state.integrators.get(k).copied().unwrap_or_else(T::zero)
+            } else {
+                T::zero()
+            }
+        });
+        self.last_command = state.last_command;
+        self.last_reference = state.last_reference;
+        self.last_target = state.last_target;
+        Ok(())
+    }
+
     /// Back to the initial integrator state, and the inverse model's memory forgotten.
     pub fn reset(&mut self) {
         self.v = self.initial_v;
@@ -524,6 +598,59 @@ mod tests {
             assert_eq!(c.last_reference(), r);
         }
         Ok(())
+    }
+
+    #[test]
+    fn a_restored_state_goes_on_bit_for_bit() -> Result<(), Error> {
+        // Read mid-run (after reversals of v), given to a fresh compensator of the same model,
+        // b and a: both then give the same commands, bit for bit; f32 as f64.
+        fn run<T: Real>() -> Result<(), Error> {
+            let model = ShapedModel::new(
+                Identity,
+                Hysteresis::new(T::from_f64(0.2), T::from_f64(8.0))?,
+                Identity,
+            )?;
+            let a = [T::from_f64(0.9), T::from_f64(1.0)];
+            let mut c = Compensator::from_shaped_model(&model, T::from_f64(1.5), a)?;
+            let u_new = |k: usize| T::from_f64(30.0 * (k as f64 * 0.01).sin());
+            for k in 0..700 {
+                let _ = c.try_step(u_new(k), T::from_f64(1e-2))?;
+            }
+            let saved = c.saved_state();
+            assert!(saved.memory.is_some());
+            let mut d = Compensator::from_shaped_model(&model, T::from_f64(1.5), a)?;
+            assert_ne!(d.saved_state(), saved);
+            d.restore_state(&saved)?;
+            assert_eq!(d.saved_state(), saved);
+            assert_eq!(d.last_command(), c.last_command());
+            for k in 700..1400 {
+                let (x, y) = (
+                    c.try_step(u_new(k), T::from_f64(1e-2))?,
+                    d.try_step(u_new(k), T::from_f64(1e-2))?,
+                );
+                assert_eq!(x.as_f64().to_bits(), y.as_f64().to_bits(), "sample {k}");
+            }
+            // A bad state is refused, naming it, and changes nothing.
+            let before = d.saved_state();
+            let mut bad = before;
+            bad.integrators[1] = T::nan();
+            assert!(matches!(
+                d.restore_state(&bad),
+                Err(Error::InvalidParameter {
+                    name: "integrator state",
+                    ..
+                })
+            ));
+            let mut bad = before;
+            if let Some(m) = bad.memory.as_mut() {
+                m.last_output = m.last_input + T::from_f64(5.0); // outside the band (k1 = 0.2)
+            }
+            assert!(d.restore_state(&bad).is_err());
+            assert_eq!(d.saved_state(), before);
+            Ok(())
+        }
+        run::<f64>()?;
+        run::<f32>()
     }
 
     #[test]

@@ -70,6 +70,18 @@ pub enum Error {
         /// Upper end of the range.
         max: f64,
     },
+    /// A desired output that an inverse model cannot produce from its state: the operator input
+    /// it needs lies beyond the bounded range of the input shaping (tanh, Langevin). Told in the
+    /// model's output units: the value given and the open range of outputs the model reaches
+    /// from its state (its start rule's state at a first sample).
+    Unreachable {
+        /// The desired output.
+        value: f64,
+        /// Lower end of the outputs reachable from the state (exclusive).
+        min: f64,
+        /// Upper end (exclusive).
+        max: f64,
+    },
     /// The input-dependent k2 law returned a value that is not finite and positive.
     InvalidK2 {
         /// The operator input at which the law was evaluated.
@@ -142,6 +154,14 @@ impl fmt::Display for Error {
                 Num(min),
                 Num(max)
             ),
+            Error::Unreachable { value, min, max } => write!(
+                f,
+                "desired output {} is outside the range ({}, {}) of outputs the model can reach \
+                 from its state (its input shaping's range is bounded)",
+                Num(value),
+                Sig7(min),
+                Sig7(max)
+            ),
             Error::InvalidK2 { input, k2 } => write!(
                 f,
                 "the k2 law gave k2 = {} at input {}: must be finite and > 0",
@@ -168,6 +188,34 @@ impl fmt::Display for Num {
             write!(f, "{}", self.0)
         } else {
             write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+/// A computed number in an error message (the ends of a range): 7 significant digits, fixed
+/// for magnitudes in [1e-3, 1e6), in exponent form otherwise (as `hyst_io::number::sig`).
+struct Sig7(f64);
+
+impl fmt::Display for Sig7 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let x = self.0;
+        if !x.is_finite() || x == 0.0 {
+            return write!(f, "{x}");
+        }
+        let magnitude = libm::floor(libm::log10(x.abs()));
+        if (-3.0..6.0).contains(&magnitude) {
+            // 1 to 9 decimals (magnitude is an integer in [−3, 5]).
+            let decimals = (6.0 - magnitude) as usize;
+            // Rounding may carry into a new digit (9.9999996 → 10.000000): one decimal fewer.
+            let scaled = libm::round(libm::fabs(x) * libm::pow(10.0, 6.0 - magnitude));
+            let decimals = if scaled >= 1e7 {
+                decimals - 1
+            } else {
+                decimals
+            };
+            write!(f, "{x:.decimals$}")
+        } else {
+            write!(f, "{x:.6e}")
         }
     }
 }

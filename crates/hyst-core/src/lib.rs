@@ -138,7 +138,7 @@ pub mod stop;
 
 pub use adaptive::{Adaptive, AdaptiveCompensator, AdaptiveConfig};
 pub use any_shaping::{AnyShaping, LinearShaping};
-pub use compensator::Compensator;
+pub use compensator::{Compensator, CompensatorState};
 pub use dual::Dual;
 pub use error::Error;
 pub use family::{Bound, Family, RangeBound, Reproducibility, ShiftedK2};

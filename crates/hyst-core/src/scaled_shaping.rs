@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::any_shaping::{AnyShaping, LinearShaping};
-use crate::error::{finite, positive, Error};
+use crate::error::{finite, positive_normal, Error};
 use crate::real::Real;
 use crate::sample::Sample;
 use crate::shaping::Shaping;
@@ -21,13 +21,15 @@ use crate::shaping::Shaping;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct ScaledShaping<T, S = AnyShaping<T>> {
-    /// Scale applied to x before the shape (1 / units of x), > 0.
+    /// Scale applied to x before the shape (1 / units of x), > 0 and a normal float (the
+    /// inverse divides by it).
     pub pre_gain: T,
     /// Offset added after that scale (dimensionless shape units).
     pub pre_offset: T,
     /// The core shaping function.
     pub shape: S,
-    /// Scale of the shape's value (units of ψ), > 0.
+    /// Scale of the shape's value (units of ψ), > 0 and a normal float (the inverse divides
+    /// by it: a subnormal gain turns every desired output into an infinite command).
     pub post_gain: T,
     /// Offset of ψ (units of ψ).
     pub post_offset: T,
@@ -147,9 +149,9 @@ impl<T: Real, S: Shaping<T>> Shaping<T> for ScaledShaping<T, S> {
         Ok((z - self.pre_offset) / self.pre_gain)
     }
     fn validate(&self) -> Result<(), Error> {
-        positive("pre_gain", self.pre_gain)?;
+        positive_normal("pre_gain", self.pre_gain)?;
         finite("pre_offset", self.pre_offset)?;
-        positive("post_gain", self.post_gain)?;
+        positive_normal("post_gain", self.post_gain)?;
         finite("post_offset", self.post_offset)?;
         self.shape.validate()
     }

@@ -166,7 +166,7 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> InverseShapedModel<T, I
     }
 }
 
-impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T>
+impl<T: Real, I: Shaping<T>, K: K2Law<T> + Clone, O: Shaping<T>> Operator<T>
     for InverseShapedModel<T, I, K, O>
 {
     /// The memory of the inverse operator H⁻¹ (on its input u_d and output v).
@@ -176,14 +176,18 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T>
     /// gives the command and its time derivatives.
     ///
     /// # Errors
-    /// [`Error::OutOfRange`] when y (or the operator's output) has no preimage under a saturating
-    /// shaping function, or as [`InverseHysteresis`]'s [`Operator::try_step`]. The memory is
-    /// then unchanged. [`Error::NonFiniteOutput`] when the command ψ_in⁻¹(v) is beyond the float
-    /// range.
+    /// [`Error::OutOfRange`] when y has no preimage under a saturating ψ_out;
+    /// [`Error::Unreachable`] when the operator output v it needs lies beyond a saturating
+    /// ψ_in's range (told in output units: y and the outputs reachable from the state); as
+    /// [`InverseHysteresis`]'s [`Operator::try_step`]. The memory is then unchanged.
+    /// [`Error::NonFiniteOutput`] when the command ψ_in⁻¹(v) is beyond the float range.
     fn try_step<S: Sample<T>>(&mut self, y: S) -> Result<S, Error> {
         let ud = self.output.invert_sample(y)?;
         let (v, memory) = self.operator.compute(ud)?;
-        let x = self.input.invert_sample(v)?;
+        let x = self.input.invert_sample(v).map_err(|e| {
+            let direct = self.operator.direct();
+            unreachable_output(y.value(), e, &self.output, |w| direct.peek(w))
+        })?;
         if !x.all_finite() {
             return Err(Error::NonFiniteOutput {
                 input: y.value().as_f64(),
@@ -202,4 +206,83 @@ impl<T: Real, I: Shaping<T>, K: K2Law<T>, O: Shaping<T>> Operator<T>
     }
 
     forward_memory!(operator, Option<Memory<T>>);
+}
+
+/// ψ_in's refusal `e` of the operator output an inverse needs for the desired output `y`, told
+/// in the model's output units: an [`Error::OutOfRange`] of ψ_in (range (a, b) in operator
+/// units) becomes [`Error::Unreachable`] with the outputs ψ_out(`reach`(a)) and
+/// ψ_out(`reach`(b)), where `reach` is the direct operator's output for an input from the state
+/// the inverse is in (the ends of what it can reach: the branches are monotone). An end where
+/// `reach` fails, or that is infinite, is ψ_out of the end itself. Other errors pass unchanged.
+pub fn unreachable_output<T: Real, O: Shaping<T>>(
+    y: T,
+    e: Error,
+    output: &O,
+    reach: impl Fn(T) -> Result<T, Error>,
+) -> Error {
+    let Error::OutOfRange { min, max, .. } = e else {
+        return e;
+    };
+    let end = |w: f64| {
+        let w = T::from_f64(w);
+        let u = if w.is_finite() {
+            reach(w).unwrap_or(w)
+        } else {
+            w
+        };
+        let out = output.apply(u);
+        // ψ_out of an infinite end (a Langevin's limit): the end itself.
+        if out.is_nan() { w } else { out }.as_f64()
+    };
+    Error::Unreachable {
+        value: y.as_f64(),
+        min: end(min),
+        max: end(max),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::panic)]
+    use super::*;
+    use crate::shaping::{Affine, Tanh};
+    use std::string::ToString;
+
+    /// y = 10 · H(0.1, 8)[tanh(x)]: the operator input lies in (−1, 1), so from a state on the
+    /// lower asymptote (rising) the outputs stay below 10 · (1 − 0.1) = 9. A desired output
+    /// beyond is refused in output units, with what the state reaches; the memory is unchanged.
+    #[test]
+    fn beyond_a_saturating_input_shaping_is_refused_in_output_units() {
+        let model = ShapedModel::new(
+            Tanh::new(1.0_f64, 1.0).unwrap(),
+            Hysteresis::new(0.1, 8.0)
+                .unwrap()
+                .with_initial_state(0.1, 0.0, crate::memory::Direction::Rising)
+                .unwrap(),
+            Affine::new(10.0, 0.0).unwrap(),
+        )
+        .unwrap();
+        let mut inverse = model.inverse();
+        for y in [0.0, 5.0, 8.5] {
+            inverse.try_step(y).unwrap();
+        }
+        let before = inverse.memory();
+        let Err(Error::Unreachable { value, min, max }) = inverse.try_step(9.5) else {
+            panic!("not refused as unreachable");
+        };
+        assert_eq!(value, 9.5);
+        assert!(
+            (max - 9.0).abs() < 1e-9 && (min + 9.0).abs() < 1e-5,
+            "{min} {max}"
+        );
+        assert_eq!(inverse.memory(), before);
+        let text = Error::Unreachable { value, min, max }.to_string();
+        assert_eq!(
+            text,
+            "desired output 9.5 is outside the range (-9.000002, 9.000000) of outputs the model \
+             can reach from its state (its input shaping's range is bounded)"
+        );
+        // Inside the reach: a command.
+        assert!(inverse.try_step(8.9).unwrap().is_finite());
+    }
 }

@@ -10,7 +10,7 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::error::{finite, positive, Error};
+use crate::error::{finite, positive_normal, Error};
 use crate::jet::Jet;
 use crate::real::Real;
 use crate::sample::Sample;
@@ -280,7 +280,7 @@ impl<T: Real> Shaping<T> for Identity {
     }
 }
 
-/// Affine ψ(x) = gain · x + offset, gain finite and > 0 (Example 1: ψ_in = 0.2 in,
+/// Affine ψ(x) = gain · x + offset, gain finite, > 0 and a normal float (Example 1: ψ_in = 0.2 in,
 /// ψ_out = 1.4 out).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
@@ -295,7 +295,8 @@ impl<T: Real> Affine<T> {
     /// Builds and validates ψ(x) = gain · x + offset.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] unless gain is finite and > 0 and offset finite.
+    /// [`Error::InvalidParameter`] unless gain is finite, > 0 and a normal float (not
+    /// subnormal: the inverse divides by it) and offset finite.
     pub fn new(gain: T, offset: T) -> Result<Self, Error> {
         let s = Self { gain, offset };
         s.validate()?;
@@ -315,7 +316,7 @@ impl<T: Real> Shaping<T> for Affine<T> {
         Ok((y - self.offset) / self.gain)
     }
     fn validate(&self) -> Result<(), Error> {
-        positive("affine gain", self.gain)?;
+        positive_normal("affine gain", self.gain)?;
         finite("affine offset", self.offset).map(|_| ())
     }
     fn lipschitz(&self, _lo: T, _hi: T) -> T {
@@ -421,7 +422,8 @@ impl<T: Real> Shaping<T> for Polynomial<T> {
     }
 }
 
-/// ψ(x) = gain · tanh(x / scale): a saturating boundary. gain, scale finite and > 0. Its range
+/// ψ(x) = gain · tanh(x / scale): a saturating boundary. gain, scale finite, > 0 and normal
+/// floats (not subnormal: the function and its inverse divide by them). Its range
 /// is (−gain, gain).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
@@ -436,7 +438,7 @@ impl<T: Real> Tanh<T> {
     /// Builds and validates the tanh shaping.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] unless gain and scale are finite and > 0.
+    /// [`Error::InvalidParameter`] unless gain and scale are finite, > 0 and normal floats.
     pub fn new(gain: T, scale: T) -> Result<Self, Error> {
         let s = Self { gain, scale };
         s.validate()?;
@@ -479,8 +481,8 @@ impl<T: Real> Shaping<T> for Tanh<T> {
         Ok(self.scale * T::from_f64(0.5) * (T::from_f64(2.0) * t / (T::one() - t)).ln_1p())
     }
     fn validate(&self) -> Result<(), Error> {
-        positive("tanh gain", self.gain)?;
-        positive("tanh scale", self.scale).map(|_| ())
+        positive_normal("tanh gain", self.gain)?;
+        positive_normal("tanh scale", self.scale).map(|_| ())
     }
     fn lipschitz(&self, lo: T, hi: T) -> T {
         if lo <= T::zero() && hi >= T::zero() {
@@ -567,7 +569,7 @@ impl<T: Real> Langevin<T> {
     /// Builds and validates the Langevin shaping.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] unless gain and scale are finite and > 0.
+    /// [`Error::InvalidParameter`] unless gain and scale are finite, > 0 and normal floats.
     pub fn new(gain: T, scale: T) -> Result<Self, Error> {
         let s = Self { gain, scale };
         s.validate()?;
@@ -600,8 +602,8 @@ impl<T: Real> Shaping<T> for Langevin<T> {
         )
     }
     fn validate(&self) -> Result<(), Error> {
-        positive("langevin gain", self.gain)?;
-        positive("langevin scale", self.scale).map(|_| ())
+        positive_normal("langevin gain", self.gain)?;
+        positive_normal("langevin scale", self.scale).map(|_| ())
     }
     fn lipschitz(&self, lo: T, hi: T) -> T {
         if lo <= T::zero() && hi >= T::zero() {

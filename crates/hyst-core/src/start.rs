@@ -13,7 +13,7 @@ use crate::operator::Operator;
 use crate::parametric::Hysteresis;
 use crate::real::Real;
 use crate::sample::Sample;
-use crate::shaped_model::{InverseShapedModel, ShapedModel};
+use crate::shaped_model::{unreachable_output, InverseShapedModel, ShapedModel};
 use crate::shaping::Shaping;
 use crate::stop::Stop;
 
@@ -158,9 +158,13 @@ impl<T: Real, I: Shaping<T> + Clone, K: K2Law<T> + Clone, O: Shaping<T> + Clone>
     fn start_at(&mut self, first: T, rule: InitialState) -> Result<(), Error> {
         let u0 = self.output_shaping().invert(first)?;
         let memory = rule.memory_from_output(u0, self.operator().k1())?;
-        // The command exists (a saturating ψ_in has a bounded range).
+        // The command exists (a saturating ψ_in has a bounded range): the rule puts the first
+        // operator input at u0 − d, so the first outputs it can reach are ψ_out((a + d, b + d)).
         if let Some(m) = memory {
-            self.input_shaping().invert(m.last_input)?;
+            let d = m.last_output - m.last_input;
+            self.input_shaping()
+                .invert(m.last_input)
+                .map_err(|e| unreachable_output(first, e, self.output_shaping(), |w| Ok(w + d)))?;
         }
         self.restore_direct(memory);
         Ok(())

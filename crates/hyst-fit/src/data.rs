@@ -288,6 +288,18 @@ impl Dataset {
         self.records.iter().filter(|r| !r.validation)
     }
 
+    /// The smallest and largest nominal sample period (s) of the records of a timed dataset
+    /// (the model file's `[provenance] sample_periods`); `None` for a static one.
+    #[must_use]
+    pub fn sample_periods(&self) -> Option<[f64; 2]> {
+        self.records
+            .iter()
+            .filter_map(|r| r.period.as_ref().map(hyst_model::TimeSteps::nominal))
+            .fold(None, |range, h| {
+                Some(range.map_or([h, h], |[lo, hi]: [f64; 2]| [lo.min(h), hi.max(h)]))
+            })
+    }
+
     /// The validation records.
     pub fn validation(&self) -> impl Iterator<Item = &Record> {
         self.records.iter().filter(|r| r.validation)

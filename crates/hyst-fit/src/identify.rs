@@ -193,13 +193,7 @@ pub fn identify(
     }
     provenance.records = data.records.len();
     provenance.validation_records = data.validation().map(|r| r.id).collect();
-    provenance.sample_periods = data
-        .records
-        .iter()
-        .filter_map(|r| r.period.as_ref().map(hyst_model::TimeSteps::nominal))
-        .fold(None, |range: Option<[f64; 2]>, h| {
-            Some(range.map_or([h, h], |[lo, hi]| [lo.min(h), hi.max(h)]))
-        });
+    provenance.sample_periods = data.sample_periods();
 
     let smooth_summary = smooth.as_ref().map(|f| smooth_summary(data, f));
     let pi_summary = pi.as_ref().map(|f| pi_summary(data, f));
@@ -228,6 +222,7 @@ pub fn identify(
         pi,
         report: Report {
             model_file: String::new(),
+            input_units: hyst_model::input_units(&model),
             model,
             output_span: hi - lo,
             findings: Findings {

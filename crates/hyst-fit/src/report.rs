@@ -2,7 +2,9 @@
 //! the JSON report and its text form.
 
 use hyst_io::number::{percent_floor, percent_given, sig};
-use hyst_model::{ErrorStats, FamilyWidths, Form, InitialState, K2Kind, ModelFile, ModelKind};
+use hyst_model::{
+    ErrorStats, FamilyWidths, Form, InitialState, InputUnits, K2Kind, ModelFile, ModelKind,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::orientation::Orientation;
@@ -48,6 +50,11 @@ pub struct Report {
     pub model: ModelFile,
     /// Output span of the data (output units).
     pub output_span: f64,
+    /// k1 in input units and k2 in 1/input units beside the normalised values of the model
+    /// (smooth models; JSON: top-level keys `k1_input`, `k1_input_std_error`, `k2_input`,
+    /// `k2_input_std_error`, `input_slope`), from [`hyst_model::input_units`].
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub input_units: Option<InputUnits>,
     /// What the identification found beside the fit (JSON: top-level keys `orientation`,
     /// `loop_gap`, `degenerate`, `notes`).
     #[serde(flatten)]
@@ -87,6 +94,9 @@ pub fn text_report(r: &Report) -> String {
     s += &findings_lines(r);
     s += &errors_table(r, &u);
     s += &parameter_table(m);
+    if let Some(k) = &r.input_units {
+        s += &input_units_lines(m, k);
+    }
     if let Some(w) = &m.family {
         s += &family_lines(m, w, &u);
     }
@@ -257,6 +267,25 @@ fn parameter_table(m: &ModelFile) -> String {
         s += "  (k1, k2 in normalised input units: the input range maps to [-1, 1]; standard errors\n   allow for correlated residuals: docs/fitting.md)\n";
     }
     s
+}
+
+/// k1 and k2 in the input's units (`k`), beside the normalised values of the table above.
+fn input_units_lines(m: &ModelFile, k: &InputUnits) -> String {
+    let u = if m.units.input.is_empty() {
+        "input units".to_string()
+    } else {
+        m.units.input.clone()
+    };
+    format!(
+        "  in input units: k1 = {} {u} (std. error {}), k2 = {} 1/{u} (std. error {})\n   \
+         (k1 / s and k2 · s, s = {} operator units per {u}: ψ_in's mean slope over the fitted \
+         input range)\n",
+        sig(k.k1_input, 7),
+        sig(k.k1_input_std_error, 3),
+        sig(k.k2_input, 7),
+        sig(k.k2_input_std_error, 3),
+        sig(k.input_slope, 7),
+    )
 }
 
 /// The family widths `w` that reproduce the data (Definition 2.8) and the bound Δa they give

@@ -7,7 +7,7 @@
 //! guid = "{...}"      # the same string as modelDescription.xml's guid
 //! kind = "operator"   # or "model" (then resources/model.toml is the model file)
 //! inverse = false     # true: H^-1 (operator) or the model's exact inverse (model)
-//! saturate = false    # kind = "model", inverse = true, a saturating output shaping only:
+//! saturate = false    # kind = "model", inverse = true, a bounded output only:
 //!                     # clamp desired outputs into the model's saturation limits
 //! k1 = 0.2            # kind = "operator" only: the start values of the parameters
 //! k2 = 8.0
@@ -49,10 +49,9 @@ pub struct Config {
     pub inverse: bool,
     /// The operator or the model.
     pub kind: Kind,
-    /// `saturate = true`: the output range of the model's saturating output shaping and the
-    /// limits (`ModelFile::saturation`: 99.9 % of it about its centre, widened to the outputs
-    /// over the model's fitted input range) that desired outputs are clamped into before the
-    /// inverse sees them, as `hyst run --saturate` clamps them.
+    /// `saturate = true`: the output range of a model bounded by a saturating output or input
+    /// shaping and the limits (`ModelFile::saturation`) that desired outputs are clamped into
+    /// before the inverse sees them, as `hyst run --saturate` clamps them.
     /// `None`: a desired output beyond the range is refused.
     pub saturation: Option<Saturation>,
     /// A model with dynamics or a rate term ([`Timing`]); `None` for a static model or the
@@ -153,15 +152,16 @@ impl Config {
             (Kind::Model(model), true) if raw.inverse => {
                 Some(model.saturation().ok_or_else(|| {
                     format!(
-                        "{name}: saturate = true: the model's output is unbounded (its output \
-                     shaping does not saturate), so no desired output needs clamping"
+                        "{name}: saturate = true: the model's output is unbounded (neither its \
+                         input nor its output shaping saturates), so no desired output needs \
+                         clamping"
                     )
                 })?)
             }
             (_, true) => {
                 return Err(format!(
                     "{name}: saturate = true: applies to kind = \"model\" with inverse = true \
-                     (the inverse of a model whose output shaping saturates)"
+                     (the inverse of a model whose output is bounded)"
                 ))
             }
         };

@@ -44,7 +44,7 @@ pub fn training_noise(file: &ModelFile) -> Option<f64> {
 }
 
 /// The commands the estimator learns from by default: for a fitted model, the input range it
-/// was fitted on (ψ_in's scaling maps it to \[−1, 1\]) widened by 10 % of its span on each side;
+/// was fitted on ([`SmoothModel::fitted_input_interval`]) widened by 10 % of its span on each side;
 /// the whole line for a model that was not fitted (no data rows in its provenance).
 #[must_use]
 pub fn fitted_input_range(file: &ModelFile, smooth: &SmoothModel) -> (f64, f64) {
@@ -77,9 +77,11 @@ pub fn estimator(
 }
 
 /// `file` with the parameters of `adapted` (k1, the k2 law, both shaping functions): a model
-/// file `hyst run`, `hyst export` and the bindings use as any other. Its standard errors and
-/// metrics (the `parameters` table, `[metrics]`) stay the fit's, and its provenance's command
-/// says what adapted it.
+/// file `hyst run`, `hyst export` and the bindings use as any other. In its `parameters`
+/// table, each value that is one of the model's numbers ([`table_value`]: k1, k2, k2.slope, an
+/// unsaturated output's out.gain and out.offset) becomes the adapted number the model computes
+/// with; the standard errors and metrics (`[metrics]`) stay the fit's, and its provenance's
+/// command says what adapted it.
 #[must_use]
 pub fn adapted_file(file: &ModelFile, adapted: &AdaptiveModel<f64>, command: &str) -> ModelFile {
     let mut out = file.clone();
@@ -89,6 +91,44 @@ pub fn adapted_file(file: &ModelFile, adapted: &AdaptiveModel<f64>, command: &st
         m.input_shaping = *adapted.input_shaping();
         m.output_shaping = *adapted.output_shaping();
     }
+    if let (Some(before), Some(after)) = (file.smooth.as_ref(), out.smooth) {
+        for e in &mut out.parameters {
+            // Only where the table held the fitted model's own number (bit for bit): a name
+            // that is not one of them keeps the fit's value.
+            if let (Some(was), Some(now)) =
+                (table_value(before, &e.name), table_value(&after, &e.name))
+            {
+                if was.to_bits() == e.value.to_bits() {
+                    e.value = now;
+                }
+            }
+        }
+    }
     out.provenance.command = format!("{command} (adapted from: {})", file.provenance.command);
     out
+}
+
+/// The number of `m` that the parameters table's entry `name` holds, for the entries that are
+/// one of the model's own numbers: `k1`; `k2` (a constant law's value, an affine law's φ(0)) and
+/// `k2.slope` (an affine law's dφ/dv); `out.gain` and `out.offset`, the gain and offset after
+/// an unsaturated ψ_out of the operator form. `None` for the others (normalised or derived
+/// quantities, such as a saturating shaping's scale).
+#[must_use]
+pub fn table_value(m: &SmoothModel, name: &str) -> Option<f64> {
+    let unsaturated = m.form.is_operator()
+        && !matches!(
+            m.output_shaping.shape,
+            hyst_core::AnyShaping::Tanh(_) | hyst_core::AnyShaping::Langevin(_)
+        );
+    match name {
+        "k1" => Some(m.k1),
+        "k2" => Some(m.k2.at_zero()),
+        "k2.slope" => match m.k2 {
+            hyst_core::AnyK2Law::Affine(law) => Some(law.slope),
+            hyst_core::AnyK2Law::Constant { .. } => None,
+        },
+        "out.gain" if unsaturated => Some(m.output_shaping.post_gain),
+        "out.offset" if unsaturated => Some(m.output_shaping.post_offset),
+        _ => None,
+    }
 }

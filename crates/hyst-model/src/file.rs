@@ -16,7 +16,7 @@ use crate::evaluator::Evaluator;
 use crate::family::FamilyWidths;
 use crate::pi::PiModel;
 use crate::provenance::{Columns, Estimate, Metrics, Provenance, Units};
-use crate::saturation::{Saturation, SATURATION_FRACTION};
+use crate::saturation::Saturation;
 use crate::smooth::{Form, SmoothModel};
 use crate::structure::Structure;
 
@@ -179,6 +179,13 @@ impl ModelFile {
                     .smooth
                     .as_ref()
                     .ok_or_else(|| bad("kind = \"smooth\" but no [smooth] section".into()))?;
+                // Each shaping first, so that the error names its section.
+                for (section, psi) in [
+                    ("[smooth.input_shaping]", &m.input_shaping),
+                    ("[smooth.output_shaping]", &m.output_shaping),
+                ] {
+                    psi.validate().map_err(|e| bad(format!("{section}: {e}")))?;
+                }
                 m.validate().map_err(|e| bad(format!("[smooth]: {e}")))?;
             }
             ModelKind::PrandtlIshlinskii => {
@@ -283,6 +290,39 @@ impl ModelFile {
         Ok(())
     }
 
+    /// The hysteresis part of a model with dynamics or a rate term: this file without its plant
+    /// (`[dynamics]`, Lemma 5.1's b / (a_n sⁿ + … + a_1 s + 1), eq. 18) and its rate term
+    /// (`[rate]`), their parameters (`dynamics.a1` …, `rate.c`) and their entries in
+    /// `[structure]`, written at the lowest format version that holds the rest. It maps the
+    /// plant output x1 (input units) to the output y = ψ_out(H(k1, k2)[ψ_in(x1)]) (output
+    /// units), and runs, inverts and exports as a static model. Its metrics and family are the
+    /// fit's, of the model with its plant. A static model's file comes back as it is.
+    #[must_use]
+    pub fn hysteresis(&self) -> ModelFile {
+        let mut out = self.clone();
+        if self.dynamics.is_none()
+            && self.rate.is_none()
+            && !self.smooth.as_ref().is_some_and(SmoothModel::is_timed)
+        {
+            return out;
+        }
+        if let Some(m) = out.smooth.as_mut() {
+            m.dynamics = None;
+            m.rate = None;
+        }
+        out.dynamics = None;
+        out.rate = None;
+        if let Some(s) = out.structure.as_mut() {
+            s.dynamics = 0;
+            s.rate = None;
+            s.hold = crate::dynamics::Hold::UNRECORDED;
+        }
+        out.parameters
+            .retain(|e| !(e.name.starts_with("dynamics.") || e.name.starts_with("rate.")));
+        out.version = out.required_version();
+        out
+    }
+
     /// Refuses a model with dynamics or a rate term ([`SmoothModel::is_timed`]) for a use
     /// that cannot run one (`what`, in words: "the FMU", "the C host API", …): such a model
     /// needs the sample period of a timed record, and running it without would silently drop
@@ -308,42 +348,17 @@ impl ModelFile {
         )))
     }
 
-    /// The saturation of a smooth model whose output shaping is bounded (tanh, Langevin): the
-    /// open range of its output and the limits that `hyst run --inverse --saturate` clamps
-    /// desired outputs to. The limits are [`SATURATION_FRACTION`] of the range about its
-    /// centre, widened to every output the model gives over the input range it was fitted on
-    /// ([`SmoothModel::fitted_output_range`]): a fit may put its data in the last 0.1 % of a
-    /// tanh's range (its tail used as an exponential), and no output the model produces for
-    /// its own data range is clamped. `None` for a model whose output is unbounded (affine or
-    /// polynomial shaping, Prandtl–Ishlinskii).
+    /// The saturation of a smooth model whose output is bounded, by a saturating output or
+    /// input shaping (tanh, Langevin): the open range of its output and the limits that
+    /// `hyst run --inverse --saturate` (and every other surface's saturation) clamps desired
+    /// outputs to ([`Saturation::of`]). `None` for a model whose output is unbounded (affine or
+    /// polynomial shapings, Prandtl–Ishlinskii).
     #[must_use]
     pub fn saturation(&self) -> Option<Saturation> {
-        let m = self
-            .smooth
+        self.smooth
             .as_ref()
-            .filter(|_| self.kind == ModelKind::Smooth)?;
-        let (lo, hi) = m.output_range()?;
-        let (centre, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
-        let (mut a, mut b) = (
-            centre - SATURATION_FRACTION * half,
-            centre + SATURATION_FRACTION * half,
-        );
-        let mut widened = false;
-        if let Some((y_lo, y_hi)) = m.fitted_output_range() {
-            // Strictly inside the open range: its ends have no command.
-            if y_lo > lo && y_lo < a {
-                (a, widened) = (y_lo, true);
-            }
-            if y_hi < hi && y_hi > b {
-                (b, widened) = (y_hi, true);
-            }
-        }
-        Some(Saturation {
-            shaping: m.output_shaping.name(),
-            range: (lo, hi),
-            limits: (a, b),
-            widened,
-        })
+            .filter(|_| self.kind == ModelKind::Smooth)
+            .and_then(Saturation::of)
     }
 
     /// Reads and checks a model file.
@@ -453,11 +468,17 @@ pub fn toml_message(text: &str, e: &toml::de::Error) -> String {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+    use crate::saturation::Saturated;
+    use hyst_core::AnyShaping;
 
     /// A model whose tanh output shaping holds its data in the last 0.1 % of its range (the
     /// tail used as an exponential, as a fit can place it): ψ_out(u) = 1e8 tanh(u + 5) − 1e8.
     fn tail_model() -> ModelFile {
-        let text = r#"
+        ModelFile::from_toml(TAIL, Path::new("tail.toml")).unwrap()
+    }
+
+    /// The text of [`tail_model`].
+    const TAIL: &str = r#"
 format = "hyst-model"
 version = 1
 kind = "smooth"
@@ -508,8 +529,6 @@ command = "hand-written"
 hyst_version = "0.1.0"
 created_unix = 0
 "#;
-        ModelFile::from_toml(text, Path::new("tail.toml")).unwrap()
-    }
 
     #[test]
     fn saturation_never_clamps_an_output_of_the_fitted_input_range() {
@@ -532,5 +551,209 @@ created_unix = 0
             }
         }
         assert!(s.rule().contains("widened"));
+    }
+
+    /// The piezo record (inputs 0 to 3.6 V) fitted with a tanh or a Langevin ψ_in and a tanh
+    /// ψ_out whose data sit in its tail (`hyst fit --input-shaping tanh|langevin
+    /// --output-shaping tanh`, see each file's provenance).
+    fn saturating_input_models() -> [(&'static str, ModelFile); 2] {
+        let read = |name: &str, text: &str| ModelFile::from_toml(text, Path::new(name)).unwrap();
+        [
+            (
+                "tanh",
+                read(
+                    "piezo-tanh-in.toml",
+                    include_str!("../testdata/piezo-tanh-in.toml"),
+                ),
+            ),
+            (
+                "langevin",
+                read(
+                    "piezo-langevin-in.toml",
+                    include_str!("../testdata/piezo-langevin-in.toml"),
+                ),
+            ),
+        ]
+    }
+
+    #[test]
+    fn a_saturating_input_shaping_keeps_the_fitted_range_and_its_limits() {
+        for (name, file) in saturating_input_models() {
+            let m = file.smooth.as_ref().unwrap();
+            let (lo, hi) = m.fitted_input_interval();
+            println!("{name}: fitted input interval [{lo}, {hi}] V");
+            assert!(
+                lo.abs() < 1e-6 && (hi - 3.6).abs() < 1e-6,
+                "{name}: [{lo}, {hi}]"
+            );
+            // Adaptation learns over the fitted range widened by 10 % of its span.
+            let (a, b) = crate::adaptive::fitted_input_range(&file, m);
+            assert!(
+                (a + 0.36).abs() < 1e-6 && (b - 3.96).abs() < 1e-6,
+                "{name}: [{a}, {b}]"
+            );
+            // Desired outputs inside the training range (-130 to -75 um) are not clamped:
+            // the saturated inverse gives the plain inverse's commands, bit for bit.
+            let s = file.saturation().unwrap();
+            println!("{name}: limits {:?} ({})", s.limits, s.rule());
+            let desired = [-120.0, -100.0, -80.0];
+            let plain = file.run_inverse(&desired).unwrap();
+            let mut clamped =
+                Saturated::new(file.evaluator(desired[0], true).unwrap(), Some(s.limits));
+            let saturated: Vec<f64> = desired
+                .iter()
+                .map(|y| clamped.try_step(*y).unwrap())
+                .collect();
+            println!("{name}: commands {saturated:?} V");
+            assert_eq!(saturated, plain, "{name}");
+            assert_eq!(clamped.clamped, 0, "{name}");
+            for (u, right) in saturated.iter().zip([1.33, 2.30, 3.34]) {
+                assert!(
+                    (u - right).abs() < 0.01,
+                    "{name}: {u} V, expected about {right} V"
+                );
+            }
+            // Every output of the fitted input range is inside the limits.
+            for k in 0..=360 {
+                let x = 3.6 * f64::from(k) / 360.0;
+                for y in file.run(&[0.0, x, 0.0]).unwrap() {
+                    assert!(s.limits.0 <= y && y <= s.limits.1, "{name}: {y} at {x}");
+                }
+            }
+        }
+    }
+
+    /// `tail_model` with a curved ψ_in of the form `hyst fit` writes for a saturating input
+    /// shaping, on data from 0 to 4: ψ_in(x) = (σ / f'(a)) (f(x̂ / σ + a) − f(a)), x̂ = (x − 2) / 2,
+    /// σ = 0.7, a = 0.4 (value 0 and slope 1 per unit of x̂ at the centre).
+    fn curved_input_model(shape: AnyShaping<f64>) -> ModelFile {
+        let mut file = tail_model();
+        let (sigma, a, centre, half) = (0.7, 0.4, 2.0, 2.0);
+        let (value, slope) = shape.value_and_slope(a);
+        let gain = sigma / slope;
+        let m = file.smooth.as_mut().unwrap();
+        m.input_shaping = hyst_core::ScaledShaping::new(
+            1.0 / (half * sigma),
+            -centre / (half * sigma) + a,
+            shape,
+            gain,
+            -gain * value,
+        )
+        .unwrap();
+        file.provenance.rows = 1000;
+        file
+    }
+
+    #[test]
+    fn a_curved_saturating_input_shaping_keeps_the_fitted_range_and_its_limits() {
+        use hyst_core::{Langevin, Tanh};
+        for shape in [
+            AnyShaping::Tanh(Tanh::new(1.0, 1.0).unwrap()),
+            AnyShaping::Langevin(Langevin::new(1.0, 1.0).unwrap()),
+        ] {
+            let file = curved_input_model(shape);
+            let name = shape.name();
+            let m = file.smooth.as_ref().unwrap();
+            let (lo, hi) = m.fitted_input_interval();
+            assert!(
+                lo.abs() < 1e-12 && (hi - 4.0).abs() < 1e-12,
+                "{name}: [{lo}, {hi}]"
+            );
+            let (a, b) = crate::adaptive::fitted_input_range(&file, m);
+            assert!(
+                (a + 0.4).abs() < 1e-12 && (b - 4.4).abs() < 1e-12,
+                "{name}: [{a}, {b}]"
+            );
+            let s = file.saturation().unwrap();
+            // Outputs of commands inside the fitted range invert, saturated, to those commands.
+            let commands = [0.0, 0.5, 2.0, 3.5, 4.0, 1.0];
+            let desired = file.run(&commands).unwrap();
+            let mut clamped =
+                Saturated::new(file.evaluator(desired[0], true).unwrap(), Some(s.limits));
+            for (x, y) in commands.iter().zip(&desired) {
+                let u = clamped.try_step(*y).unwrap();
+                assert!((u - x).abs() < 1e-6, "{name}: {y} gave {u}, expected {x}");
+            }
+            assert_eq!(clamped.clamped, 0, "{name}");
+        }
+    }
+
+    #[test]
+    fn a_gain_whose_inverse_overflows_is_refused_on_load_naming_file_key_and_value() {
+        let text = TAIL;
+        let cases = [
+            (
+                "[smooth.output_shaping]",
+                "post_gain = 1e8",
+                "post_gain = 1e-310",
+                "post_gain = 1e-310",
+            ),
+            (
+                "[smooth.input_shaping]",
+                "pre_gain = 0.5",
+                "pre_gain = 5e-324",
+                "pre_gain = 5e-324",
+            ),
+            (
+                "[smooth.output_shaping]",
+                "gain = 1.0\nscale = 1.0",
+                "gain = 1.0\nscale = 2e-310",
+                "tanh scale = 2e-310",
+            ),
+        ];
+        for (section, from, to, named) in cases {
+            assert!(text.contains(from), "{from} in {text}");
+            let bad = text.replacen(from, to, 1);
+            let e = ModelFile::from_toml(&bad, Path::new("subnormal.toml"))
+                .unwrap_err()
+                .to_string();
+            println!("{e}");
+            assert!(e.starts_with("subnormal.toml: "), "{e}");
+            assert!(e.contains(section) && e.contains(named), "{e}");
+            assert!(e.contains("normal float"), "{e}");
+        }
+    }
+
+    #[test]
+    fn the_hysteresis_part_of_a_timed_model_is_its_static_model() {
+        let file = tail_model();
+        let mut timed = file.clone();
+        let estimate = |name: &str, value: f64| Estimate {
+            name: name.into(),
+            value,
+            std_error: 0.001,
+            unit: "s".into(),
+        };
+        timed.parameters = vec![estimate("k1", 0.2), estimate("dynamics.a1", 0.01)];
+        timed.parameters.push(estimate("rate.c", 0.5));
+        timed.dynamics = Some(DynamicsSection {
+            b: 2.0,
+            a: vec![0.01],
+            a_std_error: vec![0.001],
+            identified: vec![true],
+            hold: Some(crate::dynamics::Hold::Zoh),
+        });
+        timed.rate = Some(RateSection {
+            c: 0.5,
+            c_std_error: 0.01,
+        });
+        timed.version = VERSION;
+        // Through its text, as a file is read: the sections are installed in the model.
+        let timed = ModelFile::from_toml(&timed.to_toml().unwrap(), Path::new("t.toml")).unwrap();
+        assert!(timed.untimed("a test").is_err());
+        let part = timed.hysteresis();
+        part.untimed("a test").unwrap();
+        assert_eq!(part.version, 1);
+        let names: Vec<&str> = part.parameters.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(names, ["k1"]);
+        assert_eq!(part.smooth, file.smooth);
+        // It reads back as what it is, and runs as the static model does.
+        let text = part.to_toml().unwrap();
+        assert!(!text.contains("dynamics") && !text.contains("[rate]"));
+        let back = ModelFile::from_toml(&text, Path::new("p.toml")).unwrap();
+        let x = [0.0, 1.0, 3.0, 2.0, 4.0];
+        assert_eq!(back.run(&x).unwrap(), file.run(&x).unwrap());
+        // A static model's file comes back as it is.
+        assert_eq!(file.hysteresis(), file);
     }
 }

@@ -2,12 +2,13 @@
 //! out = ψ_out(v − H(k1, k2)\[v\]) + c·v, v = ψ_in(in), for clockwise loops, as plain data: built
 //! from the core's types, run over records, and turned into the core's exact compensator.
 
+use hyst_core::shaped_model::unreachable_output;
 pub use hyst_core::InitialState;
-use hyst_core::ScaledShaping;
 use hyst_core::{
     on_asymptote, AnyK2Law, Direction, Dual, Error, Hysteresis, InverseShapedModel, K2Law,
     Operator, Real, ShapedModel, Shaping, Stop,
 };
+use hyst_core::{AnyShaping, ScaledShaping};
 use serde::{Deserialize, Serialize};
 
 use crate::dynamics::{Dynamics, Rate};
@@ -393,6 +394,18 @@ impl<T: FitReal> SmoothModel<T> {
     }
 }
 
+/// The open range of a shaping function bounded at both ends (tanh, Langevin), read from the
+/// range its shape names when asked to invert a value beyond it; `None` otherwise.
+fn bounded_range(psi: &ScaledShaping<f64>) -> Option<(f64, f64)> {
+    let end = |probe: f64, pick: fn(f64, f64) -> f64| match psi.shape.invert(probe) {
+        Err(Error::OutOfRange { min, max, .. }) => psi.post_gain * pick(min, max) + psi.post_offset,
+        _ => probe * f64::INFINITY,
+    };
+    let lo = end(-f64::MAX, |min, _| min);
+    let hi = end(f64::MAX, |_, max| max);
+    (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
+}
+
 impl SmoothModel {
     /// As [`SmoothModel::shaped`] for a record with inputs `input`, started by the rule or at
     /// the estimated band fraction `band` (see [`SmoothModel::simulate_from`]).
@@ -483,9 +496,14 @@ impl SmoothModel {
         // step the wrong way that turns the branch).
         let operator = Hysteresis::with_k2_law(self.k1, self.k2)?;
         let operator = self.initial_state.start_from_output(operator, u0)?;
-        // Checks the command exists (a saturating ψ_in has a bounded range).
+        // Checks the command exists (a saturating ψ_in has a bounded range), as the core's
+        // start of an inverse does: refused in output units, with the first desired outputs
+        // the start rule's state reaches.
         if let Some(m) = operator.memory() {
-            self.input_shaping.invert(m.last_input)?;
+            let d = m.last_output - m.last_input;
+            self.input_shaping.invert(m.last_input).map_err(|e| {
+                unreachable_output(first_desired, e, &self.output_shaping, |w| Ok(w + d))
+            })?;
         }
         Ok(ShapedModel::new(self.input_shaping, operator, self.output_shaping)?.inverse())
     }
@@ -499,32 +517,45 @@ impl SmoothModel {
         if self.form == Form::Stop {
             return None;
         }
-        let psi = &self.output_shaping;
-        // The shape names its range when asked to invert a value beyond it.
-        let end = |probe: f64, pick: fn(f64, f64) -> f64| match psi.shape.invert(probe) {
-            Err(Error::OutOfRange { min, max, .. }) => {
-                psi.post_gain * pick(min, max) + psi.post_offset
-            }
-            _ => probe * f64::INFINITY,
-        };
-        let lo = end(-f64::MAX, |min, _| min);
-        let hi = end(f64::MAX, |_, max| max);
-        (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
+        bounded_range(&self.output_shaping)
     }
 
-    /// The input interval that ψ_in's scaling maps to \[−1, 1\] (input units): for a model
-    /// `hyst fit` wrote, the range of the data it was fitted on.
+    /// The open range (a, b) of the operator input v = ψ_in(x) when ψ_in saturates (tanh,
+    /// Langevin), in operator units: no command gives a or b or beyond, so the operator's
+    /// outputs, within k1 of v, lie in (a − k1, b + k1). `None` when ψ_in is unbounded (at
+    /// either end).
+    #[must_use]
+    pub fn input_range(&self) -> Option<(f64, f64)> {
+        bounded_range(&self.input_shaping)
+    }
+
+    /// The input interval the model was fitted on (input units), read from ψ_in as `hyst fit`
+    /// builds it on the normalised input x̂ = (x − centre) / half-span: a saturating ψ_in
+    /// (tanh, Langevin) has value 0 and slope 1 per unit of x̂ at the centre, so the interval
+    /// is centre ± 1 / ψ_in'(centre); any other ψ_in takes x̂ itself as its shape's argument,
+    /// so the interval is the one ψ_in's scaling (`pre_gain`, `pre_offset`) maps to \[−1, 1\].
+    /// A saturating ψ_in that never takes the value 0 (written by hand) falls back on the
+    /// latter. Every surface that needs the model's range of validity (the saturation limits,
+    /// the default input range of adaptation) reads it here.
     #[must_use]
     pub fn fitted_input_interval(&self) -> (f64, f64) {
         let psi = &self.input_shaping;
+        if matches!(psi.shape, AnyShaping::Tanh(_) | AnyShaping::Langevin(_)) {
+            if let Ok(centre) = psi.invert(0.0) {
+                let half = 1.0 / psi.slope(centre);
+                if half.is_finite() && half > 0.0 {
+                    return (centre - half, centre + half);
+                }
+            }
+        }
         let x = |z: f64| (z - psi.pre_offset) / psi.pre_gain;
         (x(-1.0), x(1.0))
     }
 
-    /// The outputs the model gives over the input interval that ψ_in's scaling maps to
-    /// [−1, 1] (for a model `hyst fit` wrote, the range of the data it was fitted on):
-    /// ψ_out of every operator output within k1 of ψ_in over that interval, (lo, hi). `None`
-    /// for the stop form, and when they are not finite.
+    /// The outputs the model gives over the input interval it was fitted on
+    /// ([`SmoothModel::fitted_input_interval`]): ψ_out of every operator output within k1 of
+    /// ψ_in over that interval, (lo, hi). `None` for the stop form, and when they are not
+    /// finite.
     #[must_use]
     pub fn fitted_output_range(&self) -> Option<(f64, f64)> {
         if self.form == Form::Stop {
@@ -553,7 +584,7 @@ impl SmoothModel {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use hyst_core::{AnyShaping, Langevin};
+    use hyst_core::Langevin;
 
     #[test]
     fn the_output_envelope_is_the_envelope_of_the_outputs() {

@@ -251,14 +251,16 @@ pub struct Refused {
 }
 
 impl Refused {
-    /// `ValueError("{name}[{index}] = {value}: {reason}")`.
+    /// `ValueError("{name}[{index}] = {value}: {reason}")`, with the reason's advice
+    /// ([`crate::errors::advice`]).
     #[must_use]
     pub fn into_err(self, name: &str) -> PyErr {
         value_error(format!(
-            "{name}[{}] = {}: {}",
+            "{name}[{}] = {}: {}{}",
             self.index,
             shortest(self.value),
-            self.error
+            self.error,
+            crate::errors::advice(&self.error)
         ))
     }
 }

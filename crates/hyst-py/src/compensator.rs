@@ -5,14 +5,14 @@ use hyst_core::compensator::Compensator as CoreCompensator;
 use hyst_core::{AnyK2Law, Hysteresis as CoreHysteresis, ScaledShaping, ShapedModel};
 use hyst_io::number::shortest;
 use hyst_model::smooth::CoreInverseShapedModel;
-use hyst_model::ModelKind;
+use hyst_model::{ModelKind, TimedCompensator};
 use numpy::ndarray::ArrayView1;
 use pyo3::prelude::*;
 
 use crate::arrays::{samples, signals, to_numpy, Refused, Samples, Stop, CHUNK};
 use crate::errors::{borrow, borrow_mut, core, value_error, Shared};
 use crate::model::Model;
-use crate::operator::{Hysteresis, InverseHysteresis};
+use crate::operator::{Hysteresis, InverseHysteresis, Memory};
 
 pub use hyst_core::compensator::MAX_ORDER;
 
@@ -41,8 +41,9 @@ macro_rules! each {
 /// followed by the hysteresis `model` (a smooth `Model`, `Hysteresis(k1, k2)` or
 /// `InverseHysteresis(k1, k2)`, which stands for the same H(k1, k2)).
 ///
-/// `Compensator(model, b, a, state=None)`: `b` ≠ 0 is the plant gain, `a = [a_1, …, a_n]` the
-/// denominator coefficients (n ≤ `hyst.MAX_ORDER`; n = 0 is a static plant), `state` the
+/// `Compensator(model, b=None, a=None, state=None)`: `b` ≠ 0 is the plant gain,
+/// `a = [a_1, …, a_n]` the denominator coefficients (n ≤ `hyst.MAX_ORDER`; n = 0 is a static
+/// plant; both required unless `model` brings its own, below), `state` the
 /// integrators' start (v, v̇, …, v⁽ⁿ⁻¹⁾) (default 0). Each `step(u_new, dt)` takes the new
 /// input u_new = v⁽ⁿ⁾ (the n-th derivative of the reference v, the desired output), evaluates
 /// the exact inverse model on the jet (v, …, v⁽ⁿ⁾), which gives the target x1 and its
@@ -52,8 +53,12 @@ macro_rules! each {
 /// reproduced by a family, within the family's Δa. `last_reference`, `last_target` and
 /// `last_command` are v, x1 and u of the last step.
 ///
-/// A `Model` with its own dynamics or a rate term is refused (ValueError): its plant is part of
-/// the model, and its compensator is `Model.compensate`.
+/// A `Model` with dynamics brings its own plant: `Compensator(model)` takes b and a from it
+/// (`Model.dynamics`; giving them too raises ValueError), and with `derivatives` equal to the
+/// integrators' jet its commands are `Model.compensate`'s. A model with a rate term or of the
+/// stop form has no compensator (ValueError, as `compensate`). `state` and `memory` read and
+/// restore the whole state (`hyst.control.iosys` keeps it as its state vector); `copy.copy`
+/// copies it.
 #[pyclass(module = "hyst")]
 pub struct Compensator {
     inner: Inner,
@@ -63,21 +68,57 @@ pub struct Compensator {
 
 impl Shared for Compensator {
     const OWN: &'static str = "one Compensator holds the state of one plant, so give each thread \
-                               its own object (a Compensator cannot be copied: build one per \
-                               thread with hyst.Compensator(model, b, a, state))";
+                               its own object (copy.copy(compensator), which goes on from the \
+                               same state independently)";
+}
+
+/// The plant a `Model` with dynamics brings (b, [a_1, …, a_n]); `None` for anything else. A
+/// model whose compensator Lemma 5.1 cannot give (a rate term, the stop form) is refused here,
+/// in the words of `Model.compensate`.
+fn own_plant(model: &Bound<'_, PyAny>) -> PyResult<Option<(f64, Vec<f64>)>> {
+    let Ok(m) = model.cast::<Model>() else {
+        return Ok(None);
+    };
+    let m = borrow(m)?;
+    match (m.file.kind, &m.file.smooth) {
+        (ModelKind::Smooth, Some(s)) if s.is_timed() => {
+            TimedCompensator::check(s).map_err(crate::errors::model)?;
+            Ok(s.dynamics.map(|d| (d.b, d.a().to_vec())))
+        }
+        _ => Ok(None),
+    }
+}
+
+/// The plant (b, a) of a compensator: given, or the model's own.
+fn plant_of(
+    model: &Bound<'_, PyAny>,
+    b: Option<f64>,
+    a: Option<Vec<f64>>,
+) -> PyResult<(f64, Vec<f64>)> {
+    match (own_plant(model)?, b, a) {
+        (Some(plant), None, None) => Ok(plant),
+        (Some((b, a)), _, _) => {
+            let a: Vec<String> = a.iter().map(|x| shortest(*x)).collect();
+            Err(value_error(format!(
+                "b, a: the model has its own plant (dynamics of order {}: b = {}, a = [{}]), \
+                 which its compensator takes: give neither (Compensator(model)), or give the \
+                 hysteresis part another plant: Compensator(model.hysteresis, b, a)",
+                a.len(),
+                shortest(b),
+                a.join(", ")
+            )))
+        }
+        (None, Some(b), Some(a)) => Ok((b, a)),
+        (None, _, _) => Err(value_error(
+            "b and a: give the plant gain b and the denominator coefficients a = [a_1, ..., a_n] \
+             of eq. (18) (a = [] for a static plant); only a Model with dynamics brings its own",
+        )),
+    }
 }
 
 fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverseShapedModel> {
     if let Ok(m) = model.cast::<Model>() {
         let m = borrow(m)?;
-        // Lemma 5.1's plant here is (b, a): a model with its own plant would lose it.
-        m.file
-            .untimed(
-                "hyst.Compensator, whose plant is its b and a: the compensator of the model's \
-                 own plant is Model.compensate(desired, t=..., derivatives=... or \
-                 prefilter_hz=...)",
-            )
-            .map_err(crate::errors::model)?;
         let smooth = match (m.file.kind, &m.file.smooth) {
             (ModelKind::Smooth, Some(s)) => *s,
             _ => {
@@ -121,13 +162,14 @@ fn inverse_of(model: &Bound<'_, PyAny>, v0: f64) -> PyResult<CoreInverseShapedMo
 #[pymethods]
 impl Compensator {
     #[new]
-    #[pyo3(signature = (model, b, a, state=None))]
+    #[pyo3(signature = (model, b=None, a=None, state=None))]
     fn new(
         model: &Bound<'_, PyAny>,
-        b: f64,
-        a: Vec<f64>,
+        b: Option<f64>,
+        a: Option<Vec<f64>>,
         state: Option<Vec<f64>>,
     ) -> PyResult<Self> {
+        let (b, a) = plant_of(model, b, a)?;
         if a.len() > MAX_ORDER {
             return Err(value_error(format!(
                 "a has {} coefficients: the plant order n = len(a) must be at most \
@@ -294,15 +336,80 @@ impl Compensator {
         Ok(borrow(slf)?.a.clone())
     }
 
-    /// The integrators' state (v, v̇, …, v⁽ⁿ⁻¹⁾) now.
+    /// The integrators' state (v, v̇, …, v⁽ⁿ⁻¹⁾) now: n floats (output units and their time
+    /// derivatives). Assigning n finite floats sets it (the next `step` integrates from
+    /// there); ValueError for another count or a non-finite value, and nothing changes.
+    /// With `memory`, the whole state: saved and assigned back (to this compensator or a copy
+    /// of it), the compensator goes on bit for bit.
     #[getter]
-    fn state(slf: &Bound<'_, Self>) -> PyResult<Vec<f64>> {
+    fn get_state(slf: &Bound<'_, Self>) -> PyResult<Vec<f64>> {
         let me = borrow(slf)?;
         let n = me.a.len();
         Ok(match &me.inner {
             Inner::Small(c) => c.state().iter().take(n).copied().collect(),
             Inner::Large(c) => c.state().iter().take(n).copied().collect(),
         })
+    }
+
+    #[setter]
+    fn set_state(slf: &Bound<'_, Self>, state: Vec<f64>) -> PyResult<()> {
+        let mut me = borrow_mut(slf)?;
+        let n = me.a.len();
+        if state.len() != n {
+            return Err(value_error(format!(
+                "state has {} values: give n = len(a) = {n} (v, v', ...)",
+                state.len()
+            )));
+        }
+        let check = |e| core(format!("state = {state:?}"), e);
+        each!(&mut me.inner, c => {
+            let mut saved = c.saved_state();
+            for (slot, v) in saved.integrators.iter_mut().zip(&state) {
+                *slot = *v;
+            }
+            c.restore_state(&saved).map_err(check)
+        })
+    }
+
+    /// The memory of the compensator's inverse model (Definition 2.1): a `hyst.Memory` of
+    /// H⁻¹ in operator units (reversal_input, last_input: ψ_out⁻¹(v); reversal_output,
+    /// last_output: ψ_in of the target x1), as `Model.memory` of the inverse model gives it;
+    /// None before any history. A new compensator of a `Model` already has the memory its
+    /// start rule gives at v = state[0]. Assigning one restores it (None forgets the history);
+    /// ValueError for a memory the inverse cannot be in (outside the band |output − input| ≤
+    /// k1, non-finite), and nothing changes.
+    #[getter]
+    fn get_memory(slf: &Bound<'_, Self>) -> PyResult<Option<Memory>> {
+        let me = borrow(slf)?;
+        let m = each!(&me.inner, c => c.saved_state().memory);
+        Ok(m.map(|inner| Memory { inner }))
+    }
+
+    #[setter]
+    fn set_memory(slf: &Bound<'_, Self>, memory: Option<PyRef<'_, Memory>>) -> PyResult<()> {
+        let mut me = borrow_mut(slf)?;
+        let m = memory.as_deref().map(|m| m.inner);
+        each!(&mut me.inner, c => {
+            let mut saved = c.saved_state();
+            saved.memory = m;
+            c.restore_state(&saved).map_err(|e| core("memory", e))
+        })
+    }
+
+    /// A copy with the same model, plant and whole state (integrators, memory, last step): it
+    /// goes on as this one does, independently.
+    fn __copy__(slf: &Bound<'_, Self>) -> PyResult<Self> {
+        let me = borrow(slf)?;
+        Ok(Self {
+            inner: me.inner.clone(),
+            b: me.b,
+            a: me.a.clone(),
+        })
+    }
+
+    /// As `__copy__` (a compensator holds no Python objects).
+    fn __deepcopy__(slf: &Bound<'_, Self>, _memo: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Self::__copy__(slf)
     }
 
     /// The reference v of the last step: the plant output the command aims at (u_new

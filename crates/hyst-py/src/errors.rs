@@ -24,9 +24,23 @@ pub fn value_error(message: impl Display) -> PyErr {
 }
 
 /// `ValueError("{context}: {error}")` for an error of the core (an invalid parameter, a
-/// refused sample).
+/// refused sample), with its [`advice`].
 pub fn core(context: impl Display, error: hyst_core::Error) -> PyErr {
-    value_error(format!("{context}: {error}"))
+    value_error(format!("{context}: {error}{}", advice(&error)))
+}
+
+/// What to do about a refused sample, appended to its message: a desired output out of the
+/// model's reach ([`hyst_core::Error::Unreachable`]) is what the saturating inverse clamps
+/// (as the CLI advises `--saturate`); "" for any other error.
+#[must_use]
+pub fn advice(error: &hyst_core::Error) -> &'static str {
+    match error {
+        hyst_core::Error::Unreachable { .. } => {
+            "; Model.inverse(saturate=True) clamps desired outputs into \
+             Model.saturation[\"limits\"]"
+        }
+        _ => "",
+    }
 }
 
 /// The `OSError` subclass for an I/O error's kind, with `message`.

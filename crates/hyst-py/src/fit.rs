@@ -759,6 +759,7 @@ pub fn fit_result_from_json(
         py,
         Report {
             model_file: String::new(),
+            input_units: hyst_model::input_units(&model),
             model,
             output_span,
             findings,

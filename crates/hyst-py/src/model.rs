@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use hyst_model::FamilyWidths;
 use hyst_model::ModelKind;
 use hyst_model::{Estimate, Evaluator, ModelFile, Saturated};
-use hyst_model::{Prefilter, SmoothModel, TimedCompensator};
+use hyst_model::{SmoothModel, TimedCompensator};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -16,10 +16,7 @@ use crate::arrays::{
 };
 use crate::errors::{self, borrow, borrow_mut, value_error, Shared};
 use crate::model_memory;
-use crate::timed::{
-    as_array_of, bandwidth, derivatives_from, desired_derivatives, run_compensator, steps_of,
-    timed_model, timed_parts, untimed, values_of, Given, Halt, Reference,
-};
+use crate::timed::{timed_model, timed_parts, untimed};
 
 /// A value as a Python object through JSON (dicts, lists, floats, strings; NaN becomes None).
 ///
@@ -120,8 +117,12 @@ impl Model {
                 let limits = self.limits();
                 let at = Saturated::new((), limits).clamp(first).unwrap_or(first);
                 let e = self.file.evaluator(at, self.inverse).map_err(|e| {
+                    let advice = match &e {
+                        hyst_model::ModelError::Core(core) => errors::advice(core),
+                        _ => "",
+                    };
                     value_error(format!(
-                        "x[0] = {first}: the model {} cannot start here: {e}",
+                        "x[0] = {first}: the model {} cannot start here: {e}{advice}",
                         self.source
                     ))
                 })?;
@@ -138,7 +139,8 @@ impl Model {
     fn no_inverse(&self, m: &SmoothModel) -> PyErr {
         let how = if TimedCompensator::check(m).is_ok() {
             "its Lemma 5.1 compensator is Model.compensate(desired, t=..., derivatives=... or \
-             prefilter_hz=...)"
+             prefilter_hz=...) or hyst.Compensator(model), and the inverse of its hysteresis \
+             part Model.hysteresis.inverse()"
         } else {
             "it has no inverse"
         };
@@ -311,8 +313,8 @@ impl Model {
         }
         if saturate && self.file.saturation().is_none() {
             return Err(value_error(
-                "saturate=True: the model's output is unbounded (its output shaping does not \
-                 saturate), so no desired output needs clamping",
+                "saturate=True: the model's output is unbounded (neither its input nor its \
+                 output shaping saturates), so no desired output needs clamping",
             ));
         }
         let mut m = Self::new(self.file.clone(), true, self.source.clone());
@@ -372,14 +374,15 @@ impl Model {
             let me = borrow(slf)?;
             match timed_model(&me.file) {
                 Some(m) if me.inverse => return Err(me.no_inverse(m)),
-                Some(m) => Some((*m, me.source.clone())),
+                Some(m) => Some((*m, me.source.clone(), me.file.provenance.clone())),
                 None => None,
             }
         };
-        if let Some((m, source)) = timed {
+        if let Some((m, source, provenance)) = timed {
             // A timed run keeps no history: the model is not held while it runs, and other
             // threads may use it meanwhile.
-            return crate::timed::process(slf.py(), &m, &source, x, derivatives, t, period, hold);
+            let origin = crate::timed::Origin::of(&source, &provenance);
+            return crate::timed::process(slf.py(), &m, &origin, x, derivatives, t, period, hold);
         }
         if let Some(hold) = hold {
             return Err(value_error(format!(
@@ -443,7 +446,7 @@ impl Model {
     /// PI⁻¹ for a Prandtl–Ishlinskii model): desired output in, command out. No history.
     /// Raises ValueError for a stop-form (friction) model, which has no inverse.
     ///
-    /// `saturate=True` (a model whose output shaping saturates: tanh, Langevin; see
+    /// `saturate=True` (a model whose output or input shaping saturates: tanh, Langevin; see
     /// `saturation`): a desired output beyond the limits is clamped to the nearer one instead of
     /// raising ValueError, as `hyst run --inverse --saturate` does; `clamped` counts them.
     /// ValueError for a model whose output is unbounded (nothing could need clamping).
@@ -469,6 +472,10 @@ impl Model {
     /// `prefilter_hz` is a finite, positive frequency of at most 1/20 of the Nyquist frequency
     /// of the record's sample period (25 Hz at 1 kHz): ValueError otherwise, saying the bound.
     ///
+    /// Returns the commands, shape (len(desired),); with `prefilter_hz`, the pair
+    /// `(commands, y_filtered)`: the commands and the prefiltered reference they make the plant
+    /// track (`hyst run`'s column `<column>_filtered`), both of shape (len(desired),).
+    ///
     /// Raises ValueError for a model without dynamics (its compensator is the exact inverse,
     /// `inverse()`), with a rate term or of the stop form, and at the first desired output the
     /// model cannot give, naming its index. Each call is one record, started at rest.
@@ -481,13 +488,11 @@ impl Model {
         derivatives: Option<&Bound<'py, PyAny>>,
         prefilter_hz: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let py = slf.py();
-        // What the run needs, copied: the model is not held while it runs (it keeps no
-        // history), and other threads may use it meanwhile.
-        let (smooth, source) = {
+        // Copied: the model is not held while it runs, and other threads may use it meanwhile.
+        let (smooth, source, provenance) = {
             let me = borrow(slf)?;
             match (&me.file.smooth, me.file.kind) {
-                (Some(m), ModelKind::Smooth) => (*m, me.source.clone()),
+                (Some(m), ModelKind::Smooth) => (*m, me.source.clone(), me.file.provenance.clone()),
                 _ => {
                     return Err(value_error(format!(
                         "the model {} is a Prandtl-Ishlinskii model: it has no dynamics, and \
@@ -497,40 +502,30 @@ impl Model {
                 }
             }
         };
-        TimedCompensator::check(&smooth).map_err(errors::model)?;
-        let order = smooth.dynamics.map_or(0, |d| d.order());
         let t = t.filter(|t| !t.is_none());
         let derivatives = derivatives.filter(|d| !d.is_none());
-        let (desired, f32) = values_of(desired, "desired")?;
-        let given = derivatives_from(derivatives, prefilter_hz, order)?;
-        let what = format!("the compensator of the model {source} (dynamics of order {order})");
-        let Some(parts) = steps_of(py, t, period, desired.len(), &what)? else {
-            return Ok(as_array_of(py, desired, f32));
-        };
-        let reference = match given {
-            Given::Derivatives(d) => {
-                Reference::Given(desired_derivatives(d, desired.len(), order)?)
-            }
-            Given::Prefilter(hz) => {
-                // Every part's sample period carries the bandwidth, or nothing runs.
-                for (_, steps) in &parts {
-                    bandwidth(hz, Some(steps.nominal()))?;
-                }
-                let first = desired.first().copied().unwrap_or(0.0);
-                let nominal = parts.first().map_or(1.0, |(_, s)| s.nominal());
-                Prefilter::new(order, hz, nominal, first).map_err(errors::model)?;
-                Reference::Prefilter(hz)
-            }
-        };
-        let commands = py
-            .detach(|| run_compensator(&smooth, &desired, &reference, &parts))
-            .map_err(|halt| match halt {
-                Halt::At(i, value, message) => {
-                    value_error(format!("desired[{i}] = {}: {message}", shortest(value)))
-                }
-                Halt::Interrupted(e) => e,
-            })?;
-        Ok(as_array_of(py, commands, f32))
+        let origin = crate::timed::Origin::of(&source, &provenance);
+        crate::timed::compensate(
+            slf.py(),
+            &smooth,
+            &origin,
+            desired,
+            (t, period),
+            derivatives,
+            prefilter_hz,
+        )
+    }
+
+    /// The hysteresis part of a model with dynamics or a rate term: the static model
+    /// x1 → y = ψ_out(H(k1, k2)[ψ_in(x1)]) of the plant output x1 (input units), without the
+    /// plant (eq. 18) or the rate term, and without their parameters; a new `Model` with no
+    /// history, which `inverse()`, `step()`, `memory`, `hyst.control.iosys` and the exports
+    /// take as any static model (its metrics and family are the fit's, of the whole model). A
+    /// static model gives a copy of itself (no history).
+    #[getter]
+    fn hysteresis(slf: &Bound<'_, Self>) -> PyResult<Self> {
+        let me = borrow(slf)?;
+        Ok(Self::new(me.file.hysteresis(), false, me.source.clone()))
     }
 
     /// Lemma 5.1's plant before the hysteresis, b / (a_n sⁿ + … + a_1 s + 1) (eq. 18), as the
@@ -575,8 +570,8 @@ impl Model {
         }
     }
 
-    /// The output range of a saturating output shaping (tanh, Langevin) and the limits (99.9 %
-    /// of it about its centre, widened to every output over the model's fitted input range)
+    /// The output range of a model bounded by a saturating output or input shaping (tanh,
+    /// Langevin) and the limits (docs/formats.md; `hyst_model::Saturation::of`)
     /// that `inverse(saturate=True)` clamps desired outputs into:
     /// {"shaping": "tanh", "range": (lo, hi), "limits": (lo, hi)}; None for a model whose
     /// output is unbounded.
@@ -625,11 +620,28 @@ impl Model {
         Ok(borrow(slf)?.kind_name())
     }
 
-    /// The fitted parameters by name ("k1", "k2", "out.gain", …), in the units of `units`.
+    /// The fitted parameters by name ("k1", "k2", "out.gain", …), in the units of `units`
+    /// (k1, k2 in normalised input units; in input units: `in_input_units`). For a model file
+    /// of adapted parameters (`Adaptive.model()`, `hyst adapt --model-out`), k1, k2, k2.slope
+    /// and an unsaturated output's out.gain and out.offset are the adapted values the model
+    /// computes with; the other entries (and `stderr`) are the fit's.
     #[getter]
     fn params<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let (py, me) = (slf.py(), borrow(slf)?);
         by_parameter(py, &me.file, |e| e.value)
+    }
+
+    /// k1 in input units and k2 in 1/input units beside the normalised `params`:
+    /// {"k1_input", "k1_input_std_error", "k2_input", "k2_input_std_error", "input_slope"}
+    /// (the JSON report's keys), k1_input = k1 / s and k2_input = k2 · s with s (operator
+    /// units per input unit) ψ_in's mean slope over the fitted input range (exact for an
+    /// affine ψ_in: 1 / half-span); None for a Prandtl–Ishlinskii model.
+    #[getter]
+    fn in_input_units<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let (py, me) = (slf.py(), borrow(slf)?);
+        hyst_model::input_units(&me.file)
+            .map(|k| to_python(py, &k))
+            .transpose()
     }
 
     /// The parameters' standard errors by name (NaN where the data do not identify one).

@@ -6,11 +6,15 @@
 use std::ffi::CString;
 use std::ops::Range;
 
-use hyst_io::number::shortest;
+use hyst_io::number::{shortest, sig};
 use hyst_model::time::split;
 use hyst_model::ModelFile;
 use hyst_model::ModelKind;
-use hyst_model::{Hold, Prefilter, SmoothModel, TimeSteps, TimedCompensator, TimedRun};
+
+use hyst_model::{
+    Corner, Hold, Prefilter, Provenance, SmoothModel, TimeSteps, TimedCompensator, TimedRun,
+    CORNER_SAMPLES,
+};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
@@ -22,6 +26,47 @@ use crate::errors::{self, value_error};
 /// A record's parts between gaps: their samples and time steps.
 pub(crate) type Parts = Vec<(Range<usize>, TimeSteps)>;
 
+/// Where a timed run's model comes from: its file's name (for messages) and what the file
+/// records of its fit (the sample periods it was fitted at).
+pub(crate) struct Origin<'a> {
+    /// The model file, as messages name it.
+    pub source: &'a str,
+    /// The file's provenance.
+    pub provenance: &'a Provenance,
+}
+
+impl<'a> Origin<'a> {
+    /// The origin of a model read from `source`, with its file's `provenance`.
+    pub fn of(source: &'a str, provenance: &'a Provenance) -> Self {
+        Self { source, provenance }
+    }
+}
+
+/// A `UserWarning` with `text`.
+fn warn(py: Python<'_>, text: String) -> PyResult<()> {
+    let message = CString::new(text).unwrap_or_default();
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    PyErr::warn(py, &category, &message, 1)
+}
+
+/// Warns of the first part of a record sampled far from the periods the model of `origin` was
+/// fitted at (a time axis in milliseconds runs without error, and wrong), as `hyst run` notes.
+fn warn_periods(py: Python<'_>, origin: &Origin<'_>, parts: &Parts) -> PyResult<()> {
+    let off = parts.iter().find_map(|(range, steps)| {
+        origin
+            .provenance
+            .period_note(steps.nominal())
+            .map(|note| (range.start, note))
+    });
+    match off {
+        Some((start, note)) => warn(
+            py,
+            format!("{} (from sample {start}): {note}", origin.source),
+        ),
+        None => Ok(()),
+    }
+}
+
 /// `Model.process` of a timed model `m` (from the file `source`): the whole of `x` as one
 /// record starting at rest (each part after a gap afresh), at the steps of `t` or `period`,
 /// under `hold` (the model file's when `None`).
@@ -29,13 +74,14 @@ pub(crate) type Parts = Vec<(Range<usize>, TimeSteps)>;
 pub(crate) fn process<'py>(
     py: Python<'py>,
     m: &SmoothModel,
-    source: &str,
+    origin: &Origin<'_>,
     x: &Bound<'py, PyAny>,
     derivatives: Option<&Bound<'py, PyAny>>,
     t: Option<&Bound<'py, PyAny>>,
     period: Option<f64>,
     hold: Option<&str>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let source = origin.source;
     if derivatives.is_some() {
         return Err(value_error(format!(
             "derivatives: the model {} has {}: it runs without derivatives (give the \
@@ -64,6 +110,7 @@ pub(crate) fn process<'py>(
     let Some(parts) = steps_of(py, t, period, x.len(), &what)? else {
         return Ok(as_array_of(py, x, f32));
     };
+    warn_periods(py, origin, &parts)?;
     let y = py
         .detach(|| run_timed(&m, &x, &parts))
         .map_err(|e| e.into_err("x"))?;
@@ -130,10 +177,7 @@ pub(crate) fn steps_of(
                 value_error(format!("t[{i}] = {value}: {message}"))
             })?;
             for gap in gaps {
-                let text = format!("t[{}]: {}", gap.at, gap.describe());
-                let message = CString::new(text).unwrap_or_default();
-                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
-                PyErr::warn(py, &category, &message, 1)?;
+                warn(py, format!("t[{}]: {}", gap.at, gap.describe()))?;
             }
             Ok(Some(parts))
         }
@@ -324,15 +368,19 @@ pub(crate) enum Halt {
 
 /// Lemma 5.1's compensator of `m` over the desired outputs `desired` (one record, each of its
 /// `parts` started afresh), their derivatives from `reference`: the computation of
-/// `hyst run --model M --inverse` on a timed record, command by command.
+/// `hyst run --model M --inverse` on a timed record, command by command. Returns the commands
+/// and the reference each was computed for (the prefiltered one with a prefilter, as
+/// `hyst run` writes it in `<column>_filtered`; else the desired output itself).
 pub(crate) fn run_compensator(
     m: &SmoothModel,
     desired: &[f64],
     reference: &Reference,
     parts: &Parts,
-) -> Result<Vec<f64>, Halt> {
+) -> Result<Compensated, Halt> {
     let order = m.dynamics.map_or(0, |d| d.order());
     let mut out = Vec::with_capacity(desired.len());
+    let mut followed = Vec::with_capacity(desired.len());
+    let mut unresolved = None;
     for (range, steps) in parts {
         let start = range.start;
         let first = desired.get(start).copied().unwrap_or(0.0);
@@ -377,7 +425,103 @@ pub(crate) fn run_compensator(
             };
             let (u, _) = c.step(&jet).map_err(|e| Halt::At(i, *value, reason(e)))?;
             out.push(u);
+            followed.push(jet.first().copied().unwrap_or(*value));
+        }
+        if unresolved.is_none() {
+            unresolved = c
+                .fastest_corner()
+                .filter(|corner| !corner.resolved_by(steps.nominal()))
+                .map(|corner| (start + corner.sample, corner, steps.nominal()));
         }
     }
-    Ok(out)
+    Ok(Compensated {
+        commands: out,
+        followed,
+        unresolved,
+    })
+}
+
+/// What [`run_compensator`] gives: the commands, the reference each was computed for, and the
+/// first part's fastest corner its sample period does not resolve (with the sample where it
+/// was met and that period, s).
+pub(crate) struct Compensated {
+    /// The commands.
+    pub commands: Vec<f64>,
+    /// The reference each command was computed for.
+    pub followed: Vec<f64>,
+    /// The first unresolved corner: its sample, the corner and the part's period (s).
+    pub unresolved: Option<(usize, Corner, f64)>,
+}
+
+/// `Model.compensate` of the smooth model `m` (from the file `source`) with dynamics: the
+/// commands for `desired` at the steps of `timing` (the time stamps t or the period), the
+/// derivatives given or from a prefilter of `prefilter_hz`; with the prefilter, the pair
+/// (commands, prefiltered reference).
+pub(crate) fn compensate<'py>(
+    py: Python<'py>,
+    m: &SmoothModel,
+    origin: &Origin<'_>,
+    desired: &Bound<'py, PyAny>,
+    timing: (Option<&Bound<'py, PyAny>>, Option<f64>),
+    derivatives: Option<&Bound<'py, PyAny>>,
+    prefilter_hz: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    TimedCompensator::check(m).map_err(errors::model)?;
+    let source = origin.source;
+    let order = m.dynamics.map_or(0, |d| d.order());
+    let (desired, f32) = values_of(desired, "desired")?;
+    let given = derivatives_from(derivatives, prefilter_hz, order)?;
+    let what = format!("the compensator of the model {source} (dynamics of order {order})");
+    let filtered = matches!(given, Given::Prefilter(_));
+    let answer = |commands: Vec<f64>, followed: Vec<f64>| -> PyResult<Bound<'py, PyAny>> {
+        let commands = as_array_of(py, commands, f32);
+        if filtered {
+            let reference = as_array_of(py, followed, f32);
+            Ok(pyo3::types::PyTuple::new(py, [commands, reference])?.into_any())
+        } else {
+            Ok(commands)
+        }
+    };
+    let Some(parts) = steps_of(py, timing.0, timing.1, desired.len(), &what)? else {
+        return answer(desired.clone(), desired);
+    };
+    warn_periods(py, origin, &parts)?;
+    let reference = match given {
+        Given::Derivatives(d) => Reference::Given(desired_derivatives(d, desired.len(), order)?),
+        Given::Prefilter(hz) => {
+            // Every part's sample period carries the bandwidth, or nothing runs.
+            for (_, steps) in &parts {
+                bandwidth(hz, Some(steps.nominal()))?;
+            }
+            let first = desired.first().copied().unwrap_or(0.0);
+            let nominal = parts.first().map_or(1.0, |(_, s)| s.nominal());
+            Prefilter::new(order, hz, nominal, first).map_err(errors::model)?;
+            Reference::Prefilter(hz)
+        }
+    };
+    let run = py
+        .detach(|| run_compensator(m, &desired, &reference, &parts))
+        .map_err(|halt| match halt {
+            Halt::At(i, value, message) => {
+                value_error(format!("desired[{i}] = {}: {message}", shortest(value)))
+            }
+            Halt::Interrupted(e) => e,
+        })?;
+    if let Some((i, corner, h)) = run.unresolved {
+        warn(
+            py,
+            format!(
+                "desired[{i}]: the desired output crosses a corner of the model's loop (1/k2 \
+                 wide in the operator's output units) in {} s there, less than \
+                 {CORNER_SAMPLES} samples of the period {} s: the commands spike near the \
+                 loop's corners, and the plant driven by them strays from the desired output in \
+                 proportion to the period; sample at most every {} s (or slow the desired \
+                 output down)",
+                sig(corner.time, 4),
+                sig(h, 4),
+                sig(corner.needed_period(), 4)
+            ),
+        )?;
+    }
+    answer(run.commands, run.followed)
 }

@@ -151,3 +151,22 @@ def test_the_adapted_model_is_a_model():
     assert "adapted from: hand-written" in m.to_toml()
     a.reset()
     assert a.values["gain"] == 2.0
+
+
+def test_the_adapted_models_params_are_the_values_it_computes_with(piezo_model, piezo):
+    """Model.params of an adapted model: k1, k2, out.gain and out.offset are the adapted
+    numbers (the model file's [smooth] values), not the fit's; the standard errors stay the
+    fit's."""
+    u, y = piezo
+    fitted = hyst.load_model(piezo_model)
+    a = hyst.Adaptive(fitted)
+    a.process(u, 1.1 * y + 0.5)  # the actuator's gain and offset have moved
+    m = a.model()
+    for name, adapted in (("k1", "k1"), ("k2", "k2"), ("out.gain", "gain"), ("out.offset", "offset")):
+        assert m.params[name] == a.values[adapted], name
+        assert m.params[name] != fitted.params[name], name
+    assert m.stderr == fitted.stderr
+    # The values are those of the model file's model section, read back.
+    text = m.to_toml()
+    assert f"k1 = {m.params['k1']!r}" in text.split("[smooth]")[1]
+    assert hyst._hyst._model_from_toml(text).params == m.params

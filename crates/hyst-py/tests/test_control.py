@@ -270,15 +270,19 @@ def test_names_are_passed_through():
 
 def test_refusals(root):
     h = hyst.Hysteresis(0.2, 8.0)
-    supported = r"supported: hyst\.Hysteresis, hyst\.InverseHysteresis, hyst\.Bank, and a hyst\.Model"
-    with pytest.raises(TypeError, match=r"Compensator keeps the memory.*" + "Supported"):
-        hyst.control.iosys(hyst.Compensator(h, 1.0, [0.02]), DT)
+    supported = r"supported: hyst\.Hysteresis, hyst\.InverseHysteresis, hyst\.Bank, a hyst\.Model"
+    with pytest.raises(ValueError, match=r"^dt = True: a hyst\.Compensator integrates"):
+        hyst.control.iosys(hyst.Compensator(h, 1.0, [0.02]), True)
     with pytest.raises(TypeError, match=r"expected hyst\.Hysteresis.*got float"):
         hyst.control.iosys(0.5, DT)
     text = STATIC.read_text()
     timed = text.replace("version = 1", "version = 4").replace("[provenance]", "[dynamics]\nb = 1.0\na = [0.05]\n\n[provenance]")
-    with pytest.raises(TypeError, match=r"dynamics or a rate term.*" + supported):
+    with pytest.raises(TypeError, match=r"dynamics or a rate term.*its hysteresis part is model\.hysteresis.*" + supported):
         hyst.control.iosys(hyst._hyst._model_from_toml(timed), DT)
+    # Its hysteresis part and its compensator are taken.
+    part = hyst._hyst._model_from_toml(timed).hysteresis
+    assert np.array_equal(response(part, signal()).outputs, part.process(signal()))
+    assert hyst.control.iosys(hyst.Compensator(hyst._hyst._model_from_toml(timed)), DT).nstates == 1 + 6
     with pytest.raises(TypeError, match=r"hyst\.control\.state: .*dynamics or a rate term"):
         hyst.control.state(hyst._hyst._model_from_toml(timed))
     rate = text.replace("version = 1", "version = 4").replace("[provenance]", "[rate]\nc = 0.05\n\n[provenance]")
@@ -363,3 +367,52 @@ def test_docs_python_control_block_runs(monkeypatch):
     block = section.split("```python\n", 1)[1].split("```", 1)[0]
     monkeypatch.chdir(ROOT)
     exec(compile(block, "docs/python.md", "exec"), {})
+
+
+@pytest.mark.parametrize("a", [[], [0.02], [0.9, 1.0], [0.1, 0.03, 0.002]], ids=["n0", "n1", "n2", "n3"])
+def test_compensator_response_is_process_and_its_state_resumes_it(a):
+    """A Lemma 5.1 compensator in python-control: the commands are its process(u_new, dt)'s bit
+    for bit (turning points of v between samples included, n >= 2); the state vector is its
+    integrators and its inverse model's memory, which resume it exactly."""
+    h = hyst.Hysteresis(0.2, 8.0)
+    n = len(a)
+    u_new = 0.6 * np.sin(2 * np.pi * 3.0 * T) + (0.3 if n == 0 else 0.0)
+    comp = hyst.Compensator(h, 1.5, a)
+    sys = hyst.control.iosys(comp, DT)
+    assert sys.nstates == n + 6 and sys.state_labels[:n] == ["v", "v_d1", "v_d2"][:n]
+    half = N // 2
+    first = ct.input_output_response(sys, T[:half], u_new[:half], X0=hyst.control.state(comp))
+    expected = copy.copy(comp).process(u_new, DT)
+    assert np.array_equal(first.outputs, expected[:half])
+    # The last state resumes it: in python-control, and assigned to a fresh compensator.
+    end = first.states[:, -1]
+    fresh = hyst.Compensator(h, 1.5, a)
+    ref = copy.copy(comp)
+    ref.process(u_new[: half - 1], DT)
+    x_last = hyst.control.state(ref)
+    # first.states[:, -1] is the state before the last sample of the first half.
+    assert np.array_equal(end, x_last)
+    ref.step(float(u_new[half - 1]), DT)
+    fresh.state = list(hyst.control.state(ref)[:n])
+    fresh.memory = hyst.control.memory(hyst.control.state(ref)[n:])
+    assert np.array_equal(fresh.process(u_new[half:], DT), expected[half:])
+    again = ct.input_output_response(sys, T[half:], u_new[half:], X0=hyst.control.state(ref))
+    assert np.array_equal(again.outputs, expected[half:])
+    assert comp.state == [0.0] * n  # the system steps a copy
+
+
+def test_compensator_state_and_memory_are_checked():
+    comp = hyst.Compensator(hyst.Hysteresis(0.2, 8.0), 1.0, [0.9, 1.0])
+    comp.process(np.full(200, 3.0), 1e-2)
+    state, memory = comp.state, comp.memory
+    with pytest.raises(ValueError, match=r"state has 1 values: give n = len\(a\) = 2"):
+        comp.state = [1.0]
+    with pytest.raises(ValueError, match=r"^state = \[NaN, 0\.0\]: invalid parameter integrator state = NaN"):
+        comp.state = [float("nan"), 0.0]
+    with pytest.raises(ValueError, match=r"^memory: "):
+        comp.memory = hyst.Memory(0.0, 5.0, "rising", 0.0, 5.0)  # outside the band (k1 = 0.2)
+    with pytest.raises(TypeError):
+        comp.memory = 1.0
+    assert comp.state == state and comp.memory == memory
+    comp.memory = None
+    assert comp.memory is None

@@ -3,6 +3,7 @@ dynamics=N, rate_term="viscous")``, ``Model.process(x, t=...)`` and Lemma 5.1's 
 ``Model.compensate(...)``, bit for bit as ``hyst run --model M [--inverse]`` on the same CSV
 file, and the refusals of every entry point that would run such a model without time."""
 
+import copy
 import pickle
 
 import numpy as np
@@ -140,9 +141,17 @@ def test_compensate_is_hyst_run_inverse(fitted, record, cli, tmp_path):
     plain = write_csv(tmp_path / "r.csv", {"t": t, "y": desired})
     out = tmp_path / "uf.csv"
     cli("run", "--model", path, "--inverse", "--prefilter-hz", "20", plain, "-o", out)
-    filtered = m.compensate(desired, t=t, prefilter_hz=20.0)
-    assert np.array_equal(filtered, computed(out, 2))  # then y_filtered
-    assert np.array_equal(m.compensate(desired, period=1e-3, prefilter_hz=20.0), filtered)
+    # With the prefilter: the commands and the prefiltered reference they track, the CLI's
+    # last two columns (the command, then y_filtered).
+    filtered, y_filtered = m.compensate(desired, t=t, prefilter_hz=20.0)
+    assert np.array_equal(filtered, computed(out, 2))
+    assert np.array_equal(y_filtered, computed(out, 1))
+    assert filtered.shape == y_filtered.shape == desired.shape
+    assert 0 < np.max(np.abs(y_filtered - desired)) < 0.1 * np.ptp(desired)
+    again, y_again = m.compensate(desired, period=1e-3, prefilter_hz=20.0)
+    assert np.array_equal(again, filtered) and np.array_equal(y_again, y_filtered)
+    f32, y32 = m.compensate(desired.astype(np.float32), t=t, prefilter_hz=20.0)
+    assert f32.dtype == y32.dtype == np.float32
 
 
 def test_rate_term(record, cli, tmp_path):
@@ -236,12 +245,15 @@ def test_entry_points_without_time_refuse_a_timed_model(fitted, record):
         (m.inverse, "Model.inverse"),
         (lambda: m.inverse(saturate=True), "Model.inverse"),
         (lambda: m.step(0.2), "Model.step"),
-        (lambda: hyst.Compensator(m, 1.0, [TAU]), "hyst.Compensator"),
         (lambda: hyst._hyst._model_from_toml(m.to_toml(), True), "Model.inverse"),
     ]
     for call, what in refusals:
         with pytest.raises(ValueError, match=rf"the model has dynamics of order 1: it runs on timed records only .*not for {what}"):
             call()
+    # hyst.Compensator takes the model's own plant; another plant goes with its hysteresis part.
+    with pytest.raises(ValueError, match=r"^b, a: the model has its own plant \(dynamics of order 1: b = 1, a = \[0\.0"):
+        hyst.Compensator(m, 1.0, [TAU])
+    assert hyst.Compensator(m.hysteresis, 1.0, [TAU]).a == [TAU]
     # The compensator's own checks and arguments.
     desired = y[:100]
     with pytest.raises(ValueError, match=r"needs the desired output's first 1 time derivatives: give derivatives"):
@@ -326,3 +338,109 @@ def test_uneven_stamps_and_the_hold_are_hyst_run(fitted, record, cli, tmp_path):
     with pytest.warns(UserWarning, match=r"t\[2000\]: a gap of 5\.00"):
         y = fitted.model.process(x, t=gap)
     assert np.array_equal(y[2000:], fitted.model.process(x[2000:], t=gap[2000:]))
+
+
+def test_the_hysteresis_part_of_a_timed_model(fitted, record, tmp_path):
+    """Model.hysteresis: the static model of the plant output, without the plant; what a user
+    got before by deleting [dynamics] from the model file."""
+    t, x, _, _ = record
+    m = fitted.model
+    h = m.hysteresis
+    assert h.dynamics is None and h.rate is None and not h.is_inverse
+    assert "dynamics.a1" in m.params and "dynamics.a1" not in h.params
+    assert {k: v for k, v in m.params.items() if not k.startswith("dynamics.")} == h.params
+    text = h.to_toml()
+    assert "[dynamics]" not in text and "version = 1" in text
+    # Held at a constant command, the plant rests at b·x, and the timed model gives the
+    # hysteresis part's output at b·x.
+    b = m.dynamics["b"]
+    for level in (-0.2, 0.4):
+        held = np.full(500, level)
+        h.reset()  # a static model keeps its history between calls; each level starts afresh
+        assert np.allclose(m.process(held, t=t[:500]), h.process(b * held), rtol=0, atol=1e-12)
+    h.reset()
+    # The timed model's refusal of inverse() names it.
+    with pytest.raises(ValueError, match=r"hyst\.Compensator\(model\), and the inverse of its hysteresis part Model\.hysteresis\.inverse\(\)"):
+        m.inverse()
+    # It takes what a static model takes: inverse, step, memory, pickling.
+    v = 0.2 + 0.4 * np.sin(np.linspace(0, 12, 600))
+    y = h.process(v)
+    assert np.max(np.abs(h.inverse().process(y) - v)) < 1e-9
+    assert h.memory is not None and h.step(0.1) == h.step(0.1)
+    assert pickle.loads(pickle.dumps(h)).params == h.params
+    # A static model's part is a copy of it, without history.
+    assert h.hysteresis.to_toml() == h.to_toml() and h.hysteresis.memory is None
+
+
+def test_a_timed_models_compensator_in_python_control_is_compensate(fitted, record, cli, tmp_path):
+    """hyst.Compensator(model) of a model with dynamics in python-control: the open loop
+    (u_new -> commands) equals Model.compensate and `hyst run --inverse` bit for bit on the
+    reference its integrators give; closed through the plant and the hysteresis part, the
+    output follows the reference."""
+    ct = pytest.importorskip("control")
+    import hyst.control
+
+    t, _, _, _ = record
+    m = fitted.model
+    path = tmp_path / "m.toml"
+    m.save(path)
+    comp = hyst.Compensator(m, state=[1.0])
+    assert comp.b == m.dynamics["b"] and comp.a == m.dynamics["a"] and comp.order == 1
+    f = 1.3
+    u_new = 3.0 * np.pi * f * np.sin(2 * np.pi * f * t)  # v' of v = 1 + 3 sin²(π f t)
+    sys = hyst.control.iosys(comp, H, inputs="u_new", outputs="u", name="comp")
+    assert sys.state_labels == ["v", *hyst.control.STATE_NAMES]
+    start = hyst.control.state(comp)
+    resp = ct.input_output_response(sys, t, u_new, X0=start)
+    commands, v = resp.outputs, resp.states[0]
+    assert np.max(np.abs(v - (1.0 + 3.0 * np.sin(np.pi * f * t) ** 2))) < 1e-2
+    # The library's compensate and the CLI on the same reference and derivative.
+    assert np.array_equal(commands, m.compensate(v, period=H, derivatives=u_new))
+    assert np.array_equal(commands, copy.copy(comp).process(u_new, H))  # the object, stepped
+    data = write_csv(tmp_path / "d.csv", {"t": t, "y": v, "y_d1": u_new})
+    out = tmp_path / "u.csv"
+    cli("run", "--model", path, "--inverse", data, "-o", out)
+    assert np.array_equal(commands, computed(out))
+
+    # Closed: u_new -> compensator -> plant b/(a1 s + 1) under its hold -> hysteresis part.
+    plant = ct.sample_system(ct.tf([m.dynamics["b"]], [m.dynamics["a"][0], 1.0]), H, method="foh")
+    plant = ct.ss(plant, inputs="u", outputs="x1", name="plant")
+    hyst_part = hyst.control.iosys(m.hysteresis, H, inputs="x1", outputs="y", name="H")
+    loop = ct.interconnect([sys, plant, hyst_part], inputs="u_new", outputs="y")
+    # The plant starts at rest at the first command, the hysteresis part with no history.
+    rest = np.linalg.solve(np.eye(plant.nstates) - plant.A, plant.B[:, 0] * commands[0])
+    y = ct.input_output_response(loop, t, u_new, X0=np.r_[start, rest, np.zeros(6)]).outputs
+    # The loop is the timed model run on the commands (python-control's first-order-hold
+    # discretisation against hyst's, to rounding), and its output follows the reference to the
+    # accuracy of commands given as samples (docs/fitting.md, "Compensation").
+    assert np.max(np.abs(y - m.process(commands, t=t))) < 1e-9 * np.ptp(v)
+    err = np.abs(y - v)[100:]
+    print(f"closed loop: max |y - v| = {err.max():.3g} (span {np.ptp(v):.3g})")
+    assert err.max() < 2e-3 * np.ptp(v)
+
+
+def test_compensate_warns_of_unresolved_corners_and_of_a_far_sample_period(fitted, record, tmp_path):
+    """As `hyst run --inverse` says on standard error: a sample period that does not resolve the
+    loop's corners (here k2 raised to 1e4), and a record sampled 1000 × slower than the fit's
+    (a time axis in milliseconds), each give a UserWarning naming what to do; the fit's own
+    record gives none."""
+    import re
+    import warnings
+
+    t, _, _, _ = record
+    f = 1.3
+    desired = 1.0 + 3.0 * np.sin(np.pi * f * t) ** 2
+    d1 = 3.0 * np.pi * f * np.sin(2 * np.pi * f * t)
+    m = fitted.model
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m.compensate(desired, t=t, derivatives=d1)
+    with pytest.warns(UserWarning, match=r"sample period 1\.000e0 s is 1000 × longer .* in seconds\?"):
+        m.compensate(desired, t=t * 1e3, derivatives=d1 / 1e3)
+    text = re.sub(r"(\[smooth\.k2\][^\[]*?value = )[^\n]+", r"\g<1>1e4", m.to_toml())
+    path = tmp_path / "sharp.toml"
+    path.write_text(text)
+    sharp = hyst.load_model(path)
+    with pytest.warns(UserWarning, match=r"desired\[\d+\]: .* corner .* sample at most every"):
+        commands = sharp.compensate(desired, t=t, derivatives=d1)
+    assert commands.shape == desired.shape

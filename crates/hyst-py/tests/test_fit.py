@@ -154,3 +154,35 @@ def test_a_fit_without_hysteresis_raises_unless_kept():
     assert kept.degenerate and kept.notes[0].startswith("no hysteresis found")
     with pytest.raises(ValueError, match="form"):
         hyst.fit(x, force, form="clockwise")
+
+
+def test_k1_k2_in_input_units_recover_a_model_stated_in_them(cli, tmp_path):
+    """y = 2 H(5 V, 0.2 /V)[x] + 3 on an input of 5 to 95 V: the fit's k1, k2 are in normalised
+    input units (the input range maps to [-1, 1], half-span 45 V); k1_input = k1 / s and
+    k2_input = k2 · s (s = 1/45 per V) give back 5 V and 0.2 /V, in Python, the text report, the
+    JSON report and `hyst fit --json`."""
+    t = np.linspace(0.0, 6.0, 6000)
+    x = 50.0 + 45.0 * np.sin(2 * np.pi * 0.5 * t) * (0.55 + 0.45 * np.cos(2 * np.pi * 0.17 * t))
+    x = 50.0 + 45.0 * (x - 50.0) / np.max(np.abs(x - 50.0))  # exactly 5 … 95 V
+    y = 2.0 * hyst.Hysteresis(5.0, 0.2).process(x) + 3.0
+    r = hyst.fit(x, y, initial_state="line", input_name="x", output_name="y")
+    k = r.model.in_input_units
+    half_span = 0.5 * (x.max() - x.min())
+    print(f"k1 = {r.params['k1']:.6g}, k2 = {r.params['k2']:.6g} (normalised); "
+          f"k1_input = {k['k1_input']:.6g} V, k2_input = {k['k2_input']:.6g} /V")
+    assert abs(k["input_slope"] * half_span - 1.0) < 1e-12
+    assert abs(k["k1_input"] / 5.0 - 1.0) < 1e-4 and abs(k["k2_input"] / 0.2 - 1.0) < 1e-4
+    assert abs(r.params["k1"] / (5.0 / half_span) - 1.0) < 1e-4  # normalised: 5 V / 45 V
+    assert k["k1_input"] == r.params["k1"] / k["input_slope"]
+    assert k["k2_input"] == r.params["k2"] * k["input_slope"]
+    assert k["k1_input_std_error"] == r.stderr["k1"] / k["input_slope"]
+    # The text report, the JSON report and the CLI's.
+    assert f"in input units: k1 = {k['k1_input']:.7g}"[:28] in r.report()
+    mine = json.loads(r.to_json())
+    assert {name: mine[name] for name in k} == k
+    path = tmp_path / "d.csv"
+    path.write_text("x,y\n" + "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(x, y)))
+    report = json.loads(cli("fit", path, "--input", "x", "--output", "y", "--initial-state", "line", "-o", tmp_path / "m.toml", "--json").stdout)
+    assert {name: report[name] for name in k} == k
+    # A Prandtl-Ishlinskii model has no k1, k2.
+    assert hyst.fit(x, y, model_kind="pi").model.in_input_units is None

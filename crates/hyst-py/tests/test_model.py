@@ -151,6 +151,24 @@ def test_saturating_inverse_clamps_as_hyst_run_saturate(cli, models, piezo_path,
         affine.inverse(saturate=True)
 
 
+@pytest.mark.parametrize("input_shaping", ["tanh", "langevin"])
+def test_saturate_with_a_saturating_input_shaping_keeps_the_training_range(cli, piezo_path, tmp_path, input_shaping):
+    """The limits come from the input range the model was fitted on (0 to 3.6 V), whatever ψ_in:
+    desired outputs of the training range are not clamped and get the plain inverse's commands."""
+    common = [piezo_path, "--input", "u_actuator_V", "--output", "y_capsensor_um"]
+    path = tmp_path / f"{input_shaping}.toml"
+    cli("fit", *common, "-o", path, "--input-shaping", input_shaping, "--output-shaping", "tanh")
+    m = hyst.load_model(path)
+    within = np.array([-120.0, -100.0, -80.0])
+    inverse = m.inverse(saturate=True)
+    commands = inverse.process(within)
+    assert inverse.clamped == 0
+    assert np.array_equal(commands, m.inverse().process(within))
+    assert np.allclose(commands, [1.33, 2.30, 3.34], atol=0.01), commands
+    lo, hi = m.saturation["limits"]
+    assert lo < -130.0 and hi > -75.0, (lo, hi)
+
+
 @pytest.mark.parametrize("kind", ["smooth", "pi"])
 @pytest.mark.parametrize("inverse", [False, True])
 def test_memory_round_trip(models, piezo, kind, inverse):

@@ -30,9 +30,7 @@ use hyst_core::real::Real;
 /// 2⁵².
 const TWO_52: f64 = (1_u64 << 52) as f64;
 
-mod token;
-
-pub(crate) use token::{Avx2, Avx512, Sse2};
+pub(crate) use crate::token::{Avx2, Avx512, Sse2};
 
 /// A vector type and the token of its instruction set (the one its intrinsics need).
 pub(crate) trait Proven {

@@ -44,12 +44,12 @@ pub struct Args {
     /// The operator.
     #[command(flatten)]
     pub source: Source,
-    /// With --model --inverse, for a model whose output shaping saturates (tanh, Langevin; open
-    /// range (lo, hi), unreachable): the FMU clamps every desired output beyond the model's
-    /// limits (99.9 % of the range about its centre, widened to every output over its fitted
-    /// input range) to them, as `hyst run --saturate` does, instead of refusing
-    /// a value outside (lo, hi); fmi2DoStep returns fmi2Warning (and logs it) when the desired
-    /// output enters saturation.
+    /// With --model --inverse, for a model whose output is bounded by a saturating output or
+    /// input shaping (tanh, Langevin): the FMU clamps every desired output beyond the model's
+    /// limits (the outputs reachable from every state, within 99.9 % of each saturating
+    /// shaping's range: docs/formats.md) to them, as `hyst run --saturate` does, instead of
+    /// refusing a value out of reach; fmi2DoStep returns fmi2Warning (and logs it) when the
+    /// desired output enters saturation.
     #[arg(long)]
     pub saturate: bool,
     /// The FMU to write (NAME.fmu; NAME becomes the modelName). Written atomically.
@@ -98,14 +98,14 @@ pub fn main(args: Args) -> Result<()> {
             Kind::Model { file, .. } if args.source.inverse => {
                 if file.saturation().is_none() {
                     bail!(
-                        "--saturate: the model's output is unbounded (its output shaping does \
-                         not saturate), so no desired output needs clamping"
+                        "--saturate: the model's output is unbounded (neither its input nor its \
+                         output shaping saturates), so no desired output needs clamping"
                     );
                 }
             }
             _ => bail!(
                 "--saturate applies to --model FILE --inverse: the inverse of a model whose \
-                 output shaping saturates"
+                 output is bounded (a saturating input or output shaping)"
             ),
         }
     }

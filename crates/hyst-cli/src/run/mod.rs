@@ -41,6 +41,7 @@ use hyst_io::{CsvReader, CsvWriter};
 use hyst_model::saturation::Saturation;
 
 mod columns;
+mod reach;
 pub(crate) mod rows;
 use columns::{Columns, Input, Num};
 use rows::{label_of, read_row, Block, Records, BLOCK};
@@ -75,10 +76,10 @@ pub struct Args {
     /// that is not an input column tells the records apart, with a note).
     #[arg(long, conflicts_with = "record")]
     pub no_record: bool,
-    /// With --model --inverse, for a model whose output shaping saturates (tanh, Langevin; open
-    /// range (lo, hi), unreachable): clamp every desired output beyond the limits (99.9 % of the
-    /// range about its centre, widened to every output the model gives over its fitted input
-    /// range: docs/formats.md) to them, instead of stopping at the first one outside (lo, hi). A
+    /// With --model --inverse, for a model whose output is bounded by a saturating output or
+    /// input shaping (tanh, Langevin): clamp every desired output beyond the limits (the outputs
+    /// reachable from every state, within 99.9 % of each saturating shaping's range:
+    /// docs/formats.md) to them, instead of stopping at the first one out of reach. A
     /// clamped row is inverted at the clamped value (with zero derivatives), which OUTPUT's
     /// column `<column>_saturated` holds; stderr says how many rows were clamped and which was
     /// first.
@@ -123,7 +124,7 @@ pub fn main(args: Args) -> Result<()> {
     if args.saturate && !(args.source.model.is_some() && args.source.inverse) {
         bail!(
             "--saturate applies to --model FILE --inverse: the inverse of a model whose output \
-             shaping saturates"
+             is bounded (a saturating input or output shaping)"
         );
     }
     refuse_hold(&args, None)?;
@@ -160,8 +161,8 @@ pub fn main(args: Args) -> Result<()> {
             let saturation = if inverse { model.saturation() } else { None };
             if args.saturate && saturation.is_none() {
                 eprintln!(
-                    "hyst run: --saturate: the model's output is unbounded (no saturating output \
-                     shaping); nothing will be clamped"
+                    "hyst run: --saturate: the model's output is unbounded (no saturating input \
+                     or output shaping); nothing will be clamped"
                 );
             }
             let limits = saturation.map(|s| Limits {
@@ -262,37 +263,6 @@ fn refuse_prefilter(args: &Args) -> Result<()> {
     Ok(())
 }
 
-/// The index of the column that tells INPUT's records apart: `--record`'s, else (unless
-/// `--no-record`) the first of [`hyst_fit::data::RECORD_COLUMNS`] that INPUT has and that is not
-/// one of `inputs` (`--column`), as `hyst fit` takes it, with a note on standard error.
-///
-/// # Errors
-/// A `--record` column INPUT does not have.
-pub(crate) fn record_column<R: std::io::Read>(
-    rows: &hyst_io::CsvReader<R>,
-    named: Option<&str>,
-    no_record: bool,
-    inputs: &[String],
-) -> Result<Option<usize>> {
-    if let Some(name) = named {
-        return Ok(Some(rows.column(name).context("--record")?));
-    }
-    if no_record {
-        return Ok(None);
-    }
-    let found = hyst_fit::data::RECORD_COLUMNS
-        .iter()
-        .filter(|name| !inputs.iter().any(|c| c == *name))
-        .find_map(|name| rows.column_index(name).map(|index| (*name, index)));
-    Ok(found.map(|(name, index)| {
-        eprintln!(
-            "note: column {name:?} tells the records apart, as hyst fit takes it: each starts \
-             afresh by the start rule (--no-record runs the file as one history)"
-        );
-        index
-    }))
-}
-
 /// What a run of a model with dynamics or a rate term takes of the arguments.
 fn timed_options(args: &Args) -> crate::run_timed::Options<'_> {
     crate::run_timed::Options {
@@ -379,7 +349,7 @@ fn run<R: Read>(
             derivatives,
         });
     }
-    let record = record_column(rows, args.record.as_deref(), args.no_record, &args.column)?;
+    let record = rows::record_column(rows, args.record.as_deref(), args.no_record, &args.column)?;
     let run_names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
     let saturated = args.saturate;
     let names = crate::naming::output_names(
@@ -404,13 +374,13 @@ fn run<R: Read>(
         let s = limits.saturation;
         eprintln!(
             "hyst run: --saturate clamped {} of {} desired outputs into [{}, {}] ({}; the open \
-             range of the model's {} output shaping is ({}, {})); the first on {}:{} (value {})",
+             range of {} is ({}, {})); the first on {}:{} (value {})",
             clamped.rows,
             clamped.of,
             sig(s.limits.0, 7),
             sig(s.limits.1, 7),
             s.rule(),
-            s.shaping,
+            s.range_of(),
             sig(s.range.0, 7),
             sig(s.range.1, 7),
             rows.source(),
@@ -518,6 +488,11 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>> Scalar<E, S> {
         Ok(Clamped { limits, ..clamped })
     }
 
+    /// The saturation of the model, if its output is bounded (for messages).
+    fn saturation(&self) -> Option<&Saturation> {
+        self.limits.as_ref().map(|l| &l.saturation)
+    }
+
     /// `--saturate`: checks (or clamps) the desired output `x` of input column `k`.
     fn saturate<const N: usize>(
         &self,
@@ -540,14 +515,13 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>> Scalar<E, S> {
             *x = Jet::constant(v.clamp(lo, hi));
         } else if v <= s.range.0 || v >= s.range.1 {
             bail!(
-                "{}: desired output {} is outside the range ({}, {}) of the model's {} output \
-                 shaping, which no command reaches; --saturate clamps such values into [{}, \
-                 {}] ({})",
+                "{}: desired output {} is outside the range ({}, {}) of {}, which no command \
+                 reaches; --saturate clamps such values into [{}, {}] ({})",
                 place.column(line, k),
                 Num(v),
                 sig(s.range.0, 7),
                 sig(s.range.1, 7),
-                s.shaping,
+                s.range_of(),
                 sig(lo, 7),
                 sig(hi, 7),
                 s.rule()
@@ -580,7 +554,12 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>, const N: usize> Channels<N> f
                 self.saturate(x, line, c, place, clamped)?;
                 let at = || place.at(line, c, x.value());
                 if fresh {
-                    let started = (self.start)(x.value()).with_context(|| match id {
+                    let started = (self.start)(x.value());
+                    // A first desired output out of reach: said as at any other sample.
+                    if let Some(e) = started.as_ref().err().and_then(reach::core_error) {
+                        reach::refuse(&e, &place.column(line, c), self.saturation())?;
+                    }
+                    let started = started.with_context(|| match id {
                         Some(id) => format!(
                             "{} (first sample of record {})",
                             at(),
@@ -593,7 +572,13 @@ impl<E: Operator<f64>, S: FnMut(f64) -> Result<E>, const N: usize> Channels<N> f
                 let Some(op) = self.ops.get_mut(c) else {
                     bail!("{}: the operator was not started", at());
                 };
-                let y = op.try_step(*x).with_context(at)?;
+                let y = match op.try_step(*x) {
+                    Ok(y) => y,
+                    Err(e) => {
+                        reach::refuse(&e, &place.column(line, c), self.saturation())?;
+                        return Err(anyhow::Error::from(e).context(at()));
+                    }
+                };
                 if !y.all_finite() {
                     // The core refuses overflowing outputs; a model's own parts (a
                     // Prandtl–Ishlinskii output polynomial) are checked here, so the error

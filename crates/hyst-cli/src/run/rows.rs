@@ -134,3 +134,37 @@ pub(super) fn read_row<R: Read, const N: usize>(
     block.lines.push(line);
     Ok(true)
 }
+
+/// The index of the column that tells INPUT's records apart: `--record`'s, else (unless
+/// `--no-record`) the first of [`hyst_fit::data::RECORD_COLUMNS`] that INPUT has and that is not
+/// one of `inputs` (`--column`), as `hyst fit` takes it, with a note on standard error.
+///
+/// # Errors
+/// A `--record` column INPUT does not have.
+pub(crate) fn record_column<R: Read>(
+    rows: &CsvReader<R>,
+    named: Option<&str>,
+    no_record: bool,
+    inputs: &[String],
+) -> anyhow::Result<Option<usize>> {
+    if let Some(name) = named {
+        return Ok(Some(anyhow::Context::context(
+            rows.column(name),
+            "--record",
+        )?));
+    }
+    if no_record {
+        return Ok(None);
+    }
+    let found = hyst_fit::data::RECORD_COLUMNS
+        .iter()
+        .filter(|name| !inputs.iter().any(|c| c == *name))
+        .find_map(|name| rows.column_index(name).map(|index| (*name, index)));
+    Ok(found.map(|(name, index)| {
+        eprintln!(
+            "note: column {name:?} tells the records apart, as hyst fit takes it: each starts \
+             afresh by the start rule (--no-record runs the file as one history)"
+        );
+        index
+    }))
+}

@@ -4,7 +4,9 @@
 //! desired outputs into a saturating model's limits), `NAME_step`, `NAME_reset`, `NAME_params`
 //! (the model's `hyst_shaped_model_params`) and the model's Lemma 5.1 compensator
 //! (`NAME_compensator`, `_init`, `_step`, `_reset`). A model whose shapings are affine runs on
-//! the `hyst_linear_*` functions, which link no nonlinear shape.
+//! the `hyst_linear_*` functions, which link no nonlinear shape. A model float cannot represent
+//! (a number beyond float's range, whose `(float)` cast is undefined behaviour, or a gain that
+//! turns subnormal) gets no `_f32` twins, and its header says which number stands in the way.
 //!
 //! A model with dynamics adds `NAME_ORDER` and the compensator of its own plant in track mode
 //! (`NAME_timed_compensator`, `_init`, `_step`, `_reset`: the desired output and its first n
@@ -21,7 +23,7 @@ use crate::smooth::{Form, SmoothModel};
 
 use super::shared::{
     affine_shapings, check_name, comment_text, description, has_infinity, k2_parameters, literal,
-    shape_parameters, smooth, timing, Options, Plant, Source, Timing,
+    no_float, shape_parameters, smooth, timing, NoFloat, Options, Plant, Source, Timing,
 };
 
 /// The header for the model `file` under the name `name` (see the module documentation), with
@@ -49,8 +51,17 @@ pub fn c_with(
     check_name(name)?;
     let m = smooth(file, "the C firmware API (hyst.h)")?;
     let timed = timing(m, options, "hyst export c")?;
+    let no_float = no_float(file, m, timed.as_ref());
     let mut out = String::new();
-    header_comment(&mut out, file, m, name, source, timed.as_ref());
+    header_comment(
+        &mut out,
+        file,
+        m,
+        name,
+        source,
+        timed.as_ref(),
+        no_float.as_ref(),
+    );
     let upper = name.to_ascii_uppercase();
     let guard = format!("{upper}_H");
     let fill = format!("{upper}_FILL_PARAMS_");
@@ -70,13 +81,19 @@ pub fn c_with(
          #endif\n\n\
          #ifdef __cplusplus\nextern \"C\" {\n#endif\n\n",
     );
-    params_macro(&mut out, m, &fill);
+    params_macro(&mut out, m, &fill, no_float.is_none());
     if let Some(t) = &timed {
         timed_macros(&mut out, name, &upper, t);
     }
     let limits = file.saturation().map(|s| s.limits);
     let api = Api::of(m);
-    for (real, suffix) in [("double", ""), ("float", "_f32")] {
+    // A model float cannot represent has no float twins: `(float)x` of a double beyond float's
+    // range is undefined behaviour in C, and a parameter that turns subnormal would be refused.
+    let precisions: &[(&str, &str)] = match no_float {
+        Some(_) => &[("double", "")],
+        None => &[("double", ""), ("float", "_f32")],
+    };
+    for &(real, suffix) in precisions {
         functions(&mut out, name, &fill, real, suffix, limits, api);
         compensator(&mut out, name, real, suffix, api);
         if let Some(t) = &timed {
@@ -144,13 +161,15 @@ fn header_comment(
     name: &str,
     source: &Source,
     timed: Option<&Timing>,
+    no_float: Option<&NoFloat>,
 ) {
     let _ = writeln!(
         out,
         "/* {name}.h: a hyst model as firmware code, over hyst.h."
     );
     let _ = writeln!(out, " *");
-    for line in description(file, m, source, &format!("hyst export c --name {name}")) {
+    let tool = format!("hyst export c --name {name}");
+    for line in description(file, m, source, &tool, no_float) {
         // The source line stays whole: a path is not split.
         let lines = if line.starts_with("source:") {
             vec![line]
@@ -182,7 +201,10 @@ fn header_comment(
     };
     let mut usage = vec![
         String::new(),
-        "Use (double; the _f32 twins take float):".to_string(),
+        match no_float {
+            Some(_) => "Use (double only: no _f32 twins, see above):".to_string(),
+            None => "Use (double; the _f32 twins take float):".to_string(),
+        },
         format!("  {name}_state s;   plain data: static, stack or retained RAM; memcpy copies it"),
         format!("  {name}_init(&s): {what};"),
         inverse,
@@ -271,7 +293,7 @@ fn wrap(text: &str, width: usize) -> Vec<String> {
 
 /// The macro that fills a `hyst_shaped_model_params` (`double` or `float`) with the model's
 /// numbers, each written once as its exact `double` literal and converted by a cast.
-fn params_macro(out: &mut String, m: &SmoothModel, fill: &str) {
+fn params_macro(out: &mut String, m: &SmoothModel, fill: &str, float: bool) {
     let num = |x: f64| literal(x, "INFINITY");
     let mut lines = vec![format!("(p)->k1 = (T){};", num(m.k1))];
     let (k2_kind, [value, slope, min, max]) = k2_parameters(&m.k2);
@@ -311,9 +333,10 @@ fn params_macro(out: &mut String, m: &SmoothModel, fill: &str) {
     };
     lines.push(format!("(p)->form = {form};"));
     lines.push(format!("(p)->linear = (T){};", num(m.linear)));
+    let twin = if float { " or _f32 (T: float)" } else { "" };
     let _ = writeln!(
         out,
-        "/* The model's parameters in a hyst_shaped_model_params (T: double) or _f32 (T: float):\n \
+        "/* The model's parameters in a hyst_shaped_model_params (T: double){twin}:\n \
          * every number is the model file's, as a double literal converted by the cast. */"
     );
     let _ = writeln!(out, "#define {fill}(p, T) \\\n    do {{ \\");
@@ -377,7 +400,7 @@ fn functions(
         Some((lo, hi)) => {
             let (lo, hi) = (literal(lo, "INFINITY"), literal(hi, "INFINITY"));
             format!(
-                "    /* The inverse clamps a finite desired y into the limits of the saturating psi_out. */\n    \
+                "    /* The inverse clamps a finite desired y into the saturation limits of the bounded output. */\n    \
                  if (s->inverse && x - x == 0) {{\n        \
                      const {real} lo = ({real}){lo}, hi = ({real}){hi};\n        \
                      if (x < lo) {{\n            x = lo;\n            s->clamped++;\n        }} \

@@ -1,8 +1,8 @@
 //! A model file as firmware source: a header-only C99 file over `hyst.h` ([`c()`]), or a `no_std`
 //! Rust constructor over hyst-core ([`rust()`]). Both run the model exactly as `hyst run --model`
 //! does, from the first sample: the start rule is applied at the first sample, the parameters
-//! are the file's, bit for bit, and an inverse clamps desired outputs into the limits of a
-//! saturating output shaping as `hyst run --inverse --saturate` does.
+//! are the file's, bit for bit, and an inverse clamps desired outputs into the saturation limits
+//! of a bounded output as `hyst run --inverse --saturate` does.
 //!
 //! A model with dynamics (Lemma 5.1's plant before the hysteresis) exports, besides its
 //! hysteresis, its compensator (operator form): the desired output and its first n time
@@ -21,6 +21,20 @@ mod shared;
 pub use c::{c, c_with};
 pub use rust::{rust, rust_with};
 pub use shared::{check_name, Options, Source};
+
+use crate::file::ModelFile;
+
+/// Why the export of `file` has no float form, when it has none: the first number float cannot
+/// represent, in words ("smooth.k1 = 3.5e38 is beyond float's range (±3.4028235e38)"). The
+/// exported C then has no `_f32` twins and the exported Rust refuses `T = f32`, naming it;
+/// `hyst export` prints it as a note. `None` for a model float represents, and for one that
+/// does not export (the export's own error says why).
+#[must_use]
+pub fn no_float_reason(file: &ModelFile, options: &Options) -> Option<String> {
+    let m = shared::smooth(file, "").ok()?;
+    let timed = shared::timing(m, options, "").ok()?;
+    shared::no_float(file, m, timed.as_ref()).map(|n| n.reason())
+}
 
 #[cfg(test)]
 mod tests {
@@ -238,6 +252,65 @@ mod tests {
                         || ('\u{2066}'..='\u{2069}').contains(c))
             });
             assert_eq!(bad, None, "{language}: {text}");
+        }
+    }
+
+    /// A model float cannot represent gets no `_f32` twins in C and a refusal of `T = f32` in
+    /// Rust, each naming the number; a model float represents gets both as before.
+    #[test]
+    fn a_model_float_cannot_represent_has_no_float_twins_and_says_why() {
+        let source = Source::of_file("m.toml", b"");
+        let options = Options::default();
+        let plain = ModelFile::from_toml(STATIC, Path::new("static.toml")).unwrap();
+        assert_eq!(no_float_reason(&plain, &options), None);
+        let header = c(&plain, "m", &source).unwrap();
+        assert!(header.contains("m_init_f32(") && !header.contains("No float form"));
+        assert!(!rust(&plain, "m", &source)
+            .unwrap()
+            .contains("InvalidParameter"));
+        for (from, to, reason) in [
+            (
+                "k1 = 0.2",
+                "k1 = 3.5e38",
+                "smooth.k1 = 3.5e38 is beyond float's range (±3.4028235e38)",
+            ),
+            (
+                "post_gain = 3.0",
+                "post_gain = 1e-40",
+                "smooth.output_shaping.post_gain = 1e-40 is below float's smallest normal number \
+                 (1.1754944e-38)",
+            ),
+        ] {
+            assert!(STATIC.contains(from), "{from}");
+            let text = STATIC.replacen(from, to, 1);
+            let file = ModelFile::from_toml(&text, Path::new("big.toml")).unwrap();
+            let why = no_float_reason(&file, &options).unwrap();
+            println!("{to}: {why}");
+            assert!(why.starts_with(reason), "{why}");
+            let header = c(&file, "m", &source).unwrap();
+            for f32_code in [
+                "_state_f32",
+                "_init_f32(",
+                "_step_f32(",
+                "(float)",
+                "float *",
+            ] {
+                assert!(!header.contains(f32_code), "{f32_code} in {header}");
+            }
+            assert!(
+                // The comment's lines joined.
+                header
+                    .replace("\n * ", " ")
+                    .contains(&format!("No float form: {reason}")),
+                "{header}"
+            );
+            assert!(header.contains("m_init_inverse(") && header.contains("(double)"));
+            let code = rust(&file, "m", &source).unwrap();
+            assert!(
+                code.contains("return Err(hyst_core::Error::InvalidParameter"),
+                "{code}"
+            );
+            assert!(code.contains(reason), "{code}");
         }
     }
 }

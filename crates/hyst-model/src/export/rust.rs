@@ -4,8 +4,8 @@
 //! - `fn NAME<T: Real>() -> Result<NAME_TYPE<T>, Error>`: the model (x in, y out), run by its
 //!   start rule from the first sample;
 //! - `fn NAME_inverse<T: Real>()`: its exact inverse (operator form only);
-//! - `fn NAME_clamp<T: Real>(y: T) -> T`: a desired output clamped into the limits of a
-//!   saturating output shaping (the identity otherwise), as `hyst run --inverse --saturate`;
+//! - `fn NAME_clamp<T: Real>(y: T) -> T`: a desired output clamped into the saturation limits
+//!   of a bounded output (the identity otherwise), as `hyst run --inverse --saturate`;
 //! - the types of both, named from `NAME` in CamelCase, for statics and struct fields.
 //!
 //! A model with dynamics adds `NAME_ORDER` (upper case), `fn NAME_timed_compensator<T>(first)`:
@@ -26,8 +26,8 @@ use crate::pi::PiModel;
 use crate::smooth::{Form, SmoothModel};
 
 use super::shared::{
-    affine_shapings, check_name, description, literal, smooth, source_line, timing, Options, Plant,
-    Source, Timing,
+    affine_shapings, check_name, description, literal, no_float, smooth, source_line, timing,
+    NoFloat, Options, Plant, Source, Timing,
 };
 
 /// The generated Rust for the model `file` under the name `name` (see the module
@@ -64,11 +64,12 @@ pub fn rust_with(
     }
     let m = smooth(file, "hyst-core")?;
     let timed = timing(m, options, "hyst export rust")?;
+    let no_float = no_float(file, m, timed.as_ref());
     let _ = writeln!(
         out,
         "// {name}: a hyst model as no_std Rust over hyst-core."
     );
-    for line in description(file, m, source, &tool) {
+    for line in description(file, m, source, &tool, no_float.as_ref()) {
         let _ = writeln!(out, "// {line}");
     }
     if let Some(t) = &timed {
@@ -122,7 +123,7 @@ pub fn rust_with(
              pub type {camel}Inverse<T> = hyst_core::Started<{inverse_ty}>;\n"
         );
     }
-    constructor(&mut out, m, name, &camel);
+    constructor(&mut out, m, name, &camel, no_float.as_ref());
     clamp(&mut out, file, name);
     if let Some(t) = &timed {
         let upper = name.to_ascii_uppercase();
@@ -209,8 +210,53 @@ fn shaping(s: &ScaledShaping<f64>, linear: bool) -> String {
     )
 }
 
+/// The `# Errors` text of the model's constructor and the guard that opens its body: for a
+/// model float cannot represent, `T = f32` is refused, naming the number ([`NoFloat`]).
+fn f32_guard(no_float: Option<&NoFloat>) -> (String, String) {
+    match no_float {
+        Some(n) => {
+            let (test, expected) = if n.overflows {
+                (
+                    "is_finite",
+                    "within f32's range (a model f32 cannot represent)",
+                )
+            } else {
+                ("is_normal", "a normal f32 (a model f32 cannot represent)")
+            };
+            let value = literal(n.value, "f64::INFINITY");
+            (
+                format!(
+                    "[`hyst_core::Error::InvalidParameter`] for `T = f32`: {}. For `f64`, never \
+                     for this file's parameters.",
+                    n.reason()
+                ),
+                format!(
+                    "if !c({value}).{test}() {{\n        \
+                         return Err(hyst_core::Error::InvalidParameter {{\n            \
+                             name: {key:?},\n            \
+                             value: {value},\n            \
+                             expected: {expected:?},\n        \
+                         }});\n    \
+                     }}\n    ",
+                    key = n.key,
+                ),
+            )
+        }
+        None => (
+            "Never for this file's parameters; the core's check of each part is kept.".to_string(),
+            String::new(),
+        ),
+    }
+}
+
 /// The constructors of the model and its inverse.
-fn constructor(out: &mut String, m: &SmoothModel, name: &str, camel: &str) {
+fn constructor(
+    out: &mut String,
+    m: &SmoothModel,
+    name: &str,
+    camel: &str,
+    no_float: Option<&NoFloat>,
+) {
     let k2 = match m.k2 {
         AnyK2Law::Constant { value } => {
             format!("hyst_core::AnyK2Law::Constant {{ value: {} }}", num(value))
@@ -235,17 +281,18 @@ fn constructor(out: &mut String, m: &SmoothModel, name: &str, camel: &str) {
             num(m.linear)
         ),
     };
+    let (errors, guard) = f32_guard(no_float);
     let _ = writeln!(
         out,
         "/// The model `{name}` (x in, y out) with no history, in the precision `T` (`f32` or\n\
          /// `f64`: each number is the model file's `f64`, rounded once to `T`).\n\
          ///\n\
          /// # Errors\n\
-         /// Never for this file's parameters; the core's check of each part is kept.\n\
+         /// {errors}\n\
          #[allow(non_snake_case, clippy::excessive_precision, clippy::unreadable_literal)]\n\
          pub fn {name}<T: hyst_core::Real>() -> Result<{camel}<T>, hyst_core::Error> {{\n    \
              let c = T::from_f64;\n    \
-             let input = {input};\n    \
+             {guard}let input = {input};\n    \
              let output = {output};\n    \
              let operator = hyst_core::Hysteresis::with_k2_law({k1}, {k2})?;\n    \
              let model = {body};\n    \
@@ -285,9 +332,9 @@ fn clamp(out: &mut String, file: &ModelFile, name: &str) {
         None => "    y".to_string(),
     };
     let what = if file.saturation().is_some() {
-        "a finite desired output clamped into the limits of the saturating output shaping"
+        "a finite desired output clamped into the saturation limits of the bounded output"
     } else {
-        "the desired output itself (this model's output shaping does not saturate)"
+        "the desired output itself (this model's output is unbounded)"
     };
     let _ = writeln!(
         out,

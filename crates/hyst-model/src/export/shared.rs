@@ -384,6 +384,125 @@ pub(super) fn has_infinity(m: &SmoothModel) -> bool {
         .any(|s| shape_parameters(s).1.iter().any(|p| p.is_infinite()))
 }
 
+/// A number of an exported model that float cannot represent: the first found by
+/// [`no_float`]. The model then has no float form (C: no `_f32` twins; Rust: `T = f32` is
+/// refused with this number).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct NoFloat {
+    /// Where the number is: its key in the model file (`smooth.k1`,
+    /// `smooth.output_shaping.post_gain`, …), or what it is (`saturation limit`, `dynamics b`).
+    pub key: String,
+    /// The number (the model file's double).
+    pub value: f64,
+    /// Whether it is beyond float's range (else: a parameter that must be a positive normal
+    /// float, which in float is subnormal or 0).
+    pub overflows: bool,
+}
+
+impl NoFloat {
+    /// Why, in words: "smooth.k1 = 3.5e38 is beyond float's range (±3.4028235e38)".
+    pub fn reason(&self) -> String {
+        if self.overflows {
+            format!(
+                "{} = {:e} is beyond float's range (±{:e})",
+                self.key,
+                self.value,
+                f32::MAX
+            )
+        } else {
+            format!(
+                "{} = {:e} is below float's smallest normal number ({:e}), and it must be a \
+                 positive normal number",
+                self.key,
+                self.value,
+                f32::MIN_POSITIVE
+            )
+        }
+    }
+}
+
+/// The first number of the exported model that float cannot represent, if any: a finite
+/// double beyond float's range (C's `(float)x` is then undefined behaviour), or a parameter
+/// the core needs as a positive normal float (k1, a constant k2, a shaping's gains and
+/// scales) that is subnormal or 0 in float. The numbers are every parameter, the saturation
+/// limits and, for a model with dynamics, its plant's coefficients.
+pub(super) fn no_float(
+    file: &ModelFile,
+    m: &SmoothModel,
+    timed: Option<&Timing>,
+) -> Option<NoFloat> {
+    // (key, value, must be a positive normal float)
+    let mut numbers: Vec<(String, f64, bool)> = vec![("smooth.k1".into(), m.k1, true)];
+    match m.k2 {
+        AnyK2Law::Constant { value } => numbers.push(("smooth.k2.value".into(), value, true)),
+        AnyK2Law::Affine(a) => numbers.extend([
+            ("smooth.k2.at_zero".into(), a.at_zero, false),
+            ("smooth.k2.slope".into(), a.slope, false),
+            ("smooth.k2.min".into(), a.min, false),
+            ("smooth.k2.max".into(), a.max, false),
+        ]),
+    }
+    for (section, psi) in [
+        ("smooth.input_shaping", &m.input_shaping),
+        ("smooth.output_shaping", &m.output_shaping),
+    ] {
+        numbers.extend([
+            (format!("{section}.pre_gain"), psi.pre_gain, true),
+            (format!("{section}.pre_offset"), psi.pre_offset, false),
+            (format!("{section}.post_gain"), psi.post_gain, true),
+            (format!("{section}.post_offset"), psi.post_offset, false),
+        ]);
+        let (_, p) = shape_parameters(psi);
+        let names: &[(&str, bool)] = match psi.shape {
+            AnyShaping::Identity => &[],
+            AnyShaping::Affine(_) => &[("affine.gain", true), ("affine.offset", false)],
+            AnyShaping::Polynomial(_) => &[
+                ("polynomial.coefficients[0]", false),
+                ("polynomial.coefficients[1]", false),
+                ("polynomial.coefficients[2]", false),
+                ("polynomial.coefficients[3]", false),
+                ("polynomial.lo", false),
+                ("polynomial.hi", false),
+            ],
+            AnyShaping::Tanh(_) => &[("tanh.gain", true), ("tanh.scale", true)],
+            AnyShaping::Langevin(_) => &[("langevin.gain", true), ("langevin.scale", true)],
+            AnyShaping::QuadraticExp(_) => &[
+                ("quadratic-exp.a", false),
+                ("quadratic-exp.b", false),
+                ("quadratic-exp.c", false),
+                ("quadratic-exp.lo", false),
+                ("quadratic-exp.hi", false),
+            ],
+        };
+        for ((name, normal), x) in names.iter().zip(p) {
+            numbers.push((format!("{section}.shape.{name}"), x, *normal));
+        }
+    }
+    numbers.push(("smooth.linear".into(), m.linear, false));
+    if let Some(s) = file.saturation() {
+        numbers.push(("saturation limit".into(), s.limits.0, false));
+        numbers.push(("saturation limit".into(), s.limits.1, false));
+    }
+    if let Some(t) = timed {
+        numbers.push(("dynamics b".into(), t.b, false));
+        numbers.extend(t.a.iter().map(|a| ("dynamics a".to_string(), *a, false)));
+        if let Some(p) = &t.plant {
+            let all = p.phi.iter().flatten().chain(&p.g0).chain(&p.g1);
+            numbers.extend(all.map(|x| ("discretised plant".to_string(), *x, false)));
+        }
+    }
+    numbers.into_iter().find_map(|(key, value, normal)| {
+        #[allow(clippy::cast_possible_truncation)] // the point: what float makes of it
+        let single = value as f32;
+        let overflows = value.is_finite() && value.abs() > f64::from(f32::MAX);
+        (overflows || (normal && !single.is_normal())).then_some(NoFloat {
+            key,
+            value,
+            overflows,
+        })
+    })
+}
+
 /// The C API's shaping kind (`HYST_SHAPING_*`) and the six parameters `p` of a shape.
 pub(super) fn shape_parameters(s: &ScaledShaping<f64>) -> (&'static str, [f64; 6]) {
     match s.shape {
@@ -475,6 +594,7 @@ pub(super) fn description(
     m: &SmoothModel,
     source: &Source,
     tool: &str,
+    no_float: Option<&NoFloat>,
 ) -> Vec<String> {
     let form = match m.form {
         Form::Operator => "y = psi_out(H[psi_in(x)]) (operator form)",
@@ -517,20 +637,29 @@ pub(super) fn description(
          scaling. They are not the k1, k2 of the plain operator between x and y."
             .to_string(),
     );
-    // f32 resolves the normalised operator input (|v| up to about 1) to its epsilon.
-    lines.push(format!(
-        "In float (the _f32 twins) the operator input is resolved to about 6e-8 of its \
-         normalised range [-1, 1]: {} of k1, the share of the loop's width that rounding can \
-         move. Use double where that matters.",
-        percent(0.5 * f64::from(f32::EPSILON) / m.k1)
-    ));
+    match no_float {
+        Some(n) => lines.push(format!(
+            "No float form: {}. Float cannot represent this model, so it runs in double only \
+             (C: no _f32 twins are written; Rust: `T = f32` returns Err(InvalidParameter) \
+             naming it).",
+            n.reason()
+        )),
+        // f32 resolves the normalised operator input (|v| up to about 1) to its epsilon.
+        None => lines.push(format!(
+            "In float (the _f32 twins) the operator input is resolved to about 6e-8 of its \
+             normalised range [-1, 1]: {} of k1, the share of the loop's width that rounding \
+             can move. Use double where that matters.",
+            percent(0.5 * f64::from(f32::EPSILON) / m.k1)
+        )),
+    }
     if let Some(s) = file.saturation() {
         lines.push(format!(
-            "The inverse clamps a desired y into [{:?}, {:?}] ({}; the open range of the \
-             saturating psi_out is ({:?}, {:?})), as `hyst run --inverse --saturate`.",
+            "The inverse clamps a desired y into [{:?}, {:?}] ({}; the open range of {} is \
+             ({:?}, {:?})), as `hyst run --inverse --saturate`.",
             s.limits.0,
             s.limits.1,
             s.rule(),
+            s.range_of(),
             s.range.0,
             s.range.1
         ));

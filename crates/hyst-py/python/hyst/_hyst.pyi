@@ -126,20 +126,41 @@ class Model:
     def process(self, x: ArrayLike, derivatives: ArrayLike) -> Tuple[FloatArray, FloatArray]:
         """With ``derivatives`` of shape (n, N), N <= MAX_ORDER (1-D: the first derivative):
         the outputs and their time derivatives ``(y, dy)``."""
+    @overload
     def compensate(
         self,
         desired: ArrayLike,
         *,
         t: Optional[ArrayLike] = None,
         period: Optional[float] = None,
-        derivatives: Optional[ArrayLike] = None,
-        prefilter_hz: Optional[float] = None,
+        derivatives: ArrayLike,
+        prefilter_hz: None = None,
     ) -> FloatArray:
-        """Lemma 5.1's compensator of a model with dynamics: the commands for the desired
-        outputs of one record, given their first n time derivatives (shape (len, n)) or a
-        reference prefilter of bandwidth ``prefilter_hz`` (finite, positive, at most 1/20 of
-        the Nyquist frequency of the sample period); as ``hyst run --model M --inverse`` on a
-        timed record."""
+        """Lemma 5.1's compensator of a model with dynamics: the commands (shape (len,)) for
+        the desired outputs of one record, given their first n time derivatives (shape
+        (len, n)); as ``hyst run --model M --inverse`` on a timed record."""
+    @overload
+    def compensate(
+        self,
+        desired: ArrayLike,
+        *,
+        t: Optional[ArrayLike] = None,
+        period: Optional[float] = None,
+        derivatives: None = None,
+        prefilter_hz: float,
+    ) -> Tuple[FloatArray, FloatArray]:
+        """With a reference prefilter of bandwidth ``prefilter_hz`` (finite, positive, at most
+        1/20 of the Nyquist frequency of the sample period): ``(commands, y_filtered)``, the
+        commands and the prefiltered reference they track (``hyst run``'s column
+        ``<column>_filtered``), both of shape (len,)."""
+    @property
+    def hysteresis(self) -> "Model":
+        """The hysteresis part of a model with dynamics or a rate term: the static model of the
+        plant output x1, without the plant or rate term (a copy of a static model)."""
+    @property
+    def in_input_units(self) -> Optional[Dict[str, float]]:
+        """k1 in input units and k2 in 1/input units: {"k1_input", "k1_input_std_error",
+        "k2_input", "k2_input_std_error", "input_slope"}; None for a Prandtl-Ishlinskii model."""
     @property
     def dynamics(self) -> Optional[Dict[str, Any]]:
         """The plant before the hysteresis, {"b": b, "a": [a_1, ..., a_n], ...}, or None."""
@@ -159,7 +180,7 @@ class Model:
     def memory(self, memory: Union[Memory, _Plays, None]) -> None: ...
     def inverse(self, *, saturate: bool = False) -> Model:
         """The exact inverse of the model (``hyst run --inverse``); with ``saturate=True`` it
-        clamps desired outputs beyond a saturating output shaping's range."""
+        clamps desired outputs into the limits of a bounded output (``saturation``)."""
     def direct(self) -> Model: ...
     @property
     def is_inverse(self) -> bool: ...
@@ -319,10 +340,11 @@ class Compensator:
     def __init__(
         self,
         model: Union[Model, Hysteresis, InverseHysteresis],
-        b: float,
-        a: Sequence[float],
+        b: Optional[float] = None,
+        a: Optional[Sequence[float]] = None,
         state: Optional[Sequence[float]] = None,
-    ) -> None: ...
+    ) -> None:
+        """b and a: the plant; a Model with dynamics brings its own (give neither)."""
     def step(self, u_new: float, dt: float) -> float: ...
     def process(self, u_new: ArrayLike, dt: float) -> FloatArray: ...
     def reset(self) -> None: ...
@@ -333,7 +355,15 @@ class Compensator:
     @property
     def a(self) -> List[float]: ...
     @property
-    def state(self) -> List[float]: ...
+    def state(self) -> List[float]:
+        """The integrators (v, v', ..., v^(n-1)); assignable."""
+    @state.setter
+    def state(self, state: Sequence[float]) -> None: ...
+    @property
+    def memory(self) -> Optional[Memory]:
+        """The inverse model's memory (of H^-1, operator units); assignable."""
+    @memory.setter
+    def memory(self, memory: Optional[Memory]) -> None: ...
     @property
     def last_reference(self) -> float:
         """The reference v of the last step: the plant output the command aims at."""

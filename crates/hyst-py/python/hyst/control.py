@@ -43,8 +43,9 @@ _EXTRA = (
 )
 
 _SUPPORTED = (
-    "hyst.Hysteresis, hyst.InverseHysteresis, hyst.Bank, and a hyst.Model without dynamics or a "
-    "rate term (smooth or Prandtl-Ishlinskii; direct, or its inverse from Model.inverse())"
+    "hyst.Hysteresis, hyst.InverseHysteresis, hyst.Bank, a hyst.Model without dynamics or a "
+    "rate term (smooth or Prandtl-Ishlinskii; direct, or its inverse from Model.inverse()), and "
+    "a hyst.Compensator"
 )
 
 
@@ -110,6 +111,8 @@ def _model_refusal(model: Model) -> Optional[str]:
         return (
             f"hyst.control.iosys: {model!r} is a model with dynamics or a rate term (it runs on "
             "timed records and keeps no memory: Model.process(x, t=...) and Model.compensate); "
+            "its hysteresis part is model.hysteresis (put the plant in the loop as a "
+            "control.ss/control.tf system), its Lemma 5.1 compensator hyst.Compensator(model); "
             f"supported: {_SUPPORTED}"
         )
     return None
@@ -123,21 +126,25 @@ def _plays(model: Model) -> int:
     return len(cast(_Plays, probe.memory)[0])
 
 
-def state(obj: Union[Hysteresis, InverseHysteresis, Bank, Model]) -> np.ndarray:
+def state(obj: Union[Hysteresis, InverseHysteresis, Bank, Model, Compensator]) -> np.ndarray:
     """The state vector of ``iosys(obj, dt)`` that continues from ``obj``'s memory now: the
     initial state to give ``control.input_output_response`` (``X0``) to resume where ``obj``
     stopped. A ``Bank`` gives its channels' six values one after the other; a ``Model`` the six
     values of its operator's memory (``Model.memory``), or for a Prandtl–Ishlinskii model
-    ``has_history``, ``last_output`` and its play outputs. TypeError for anything else (and for
-    a model with dynamics or a rate term, which keeps no memory)."""
+    ``has_history``, ``last_output`` and its play outputs; a ``Compensator`` its n integrators
+    (``Compensator.state``) then the six values of its inverse model's memory
+    (``Compensator.memory``). TypeError for anything else (and for a model with dynamics or a
+    rate term, which keeps no memory)."""
     if isinstance(obj, (Hysteresis, InverseHysteresis)):
         return _encode(obj.memory)
     if isinstance(obj, Bank):
         return np.concatenate([_encode(obj.memory(c)) for c in range(obj.channels)])
+    if isinstance(obj, Compensator):
+        return np.concatenate([np.asarray(obj.state, dtype=float), _encode(obj.memory)])
     if isinstance(obj, Model):
         why = _model_refusal(obj)
         if why is not None:
-            raise TypeError(why.replace("hyst.control.iosys", "hyst.control.state"))
+            raise TypeError(why.replace("hyst.control.iosys", "hyst.control.state", 1))
         if obj.kind == "smooth":
             return _encode(cast(Optional[Memory], obj.memory))
         return _encode_plays(cast(Optional[_Plays], obj.memory), _plays(obj))
@@ -240,7 +247,27 @@ class _Model:
         return np.array([y]), self.encode(self.model.memory)
 
 
-def _stepper(obj: Any) -> Any:
+class _Compensator:
+    """Lemma 5.1's compensator: input u_new = v⁽ⁿ⁾, output the command u (eq. 19); the state is
+    its n integrators (v, v̇, …, v⁽ⁿ⁻¹⁾) then its inverse model's memory (six values). Each
+    sample integrates u_new over the system's sample time ``dt``."""
+
+    def __init__(self, comp: Compensator, dt: float) -> None:
+        self.comp = copy.copy(comp)
+        self.dt = dt
+        n = comp.order
+        self.n = n
+        self.ninputs, self.noutputs, self.nstates = 1, 1, n + _N
+        self.state_names = [*(["v"] if n else []), *(f"v_d{i}" for i in range(1, n)), *STATE_NAMES]
+
+    def step(self, x: np.ndarray, u: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        self.comp.state = [float(v) for v in x[: self.n]]
+        self.comp.memory = _decode(x[self.n :])
+        command = self.comp.step(float(u[0]), self.dt)
+        return np.array([command]), np.concatenate([np.asarray(self.comp.state, dtype=float), _encode(self.comp.memory)])
+
+
+def _stepper(obj: Any, dt: Union[float, bool]) -> Any:
     if isinstance(obj, (Hysteresis, InverseHysteresis)):
         return _Operator(obj)
     if isinstance(obj, Bank):
@@ -248,20 +275,17 @@ def _stepper(obj: Any) -> Any:
     if isinstance(obj, Model):
         return _Model(obj)
     if isinstance(obj, Compensator):
-        raise TypeError(
-            "hyst.control.iosys: a hyst.Compensator keeps the memory of its inverse model and the "
-            "state of its integrators inside, where Python can neither read nor restore them (it "
-            "has no memory property), so it has no state vector for python-control (and for a "
-            "plant of order n >= 1 its integrators pass turning points between samples). "
-            f"Supported: {_SUPPORTED}. The compensator of a static plant x1 = b·u is "
-            "iosys(model.inverse()) followed by the gain 1/b; for a plant with dynamics, put its "
-            "linear part in the loop as a control.ss/control.tf system"
-        )
+        if dt is True:
+            raise ValueError(
+                "dt = True: a hyst.Compensator integrates its new input u_new = v^(n) over the "
+                "sample time, so it needs dt in seconds (> 0)"
+            )
+        return _Compensator(obj, float(dt))
     raise TypeError(f"hyst.control.iosys: expected {_SUPPORTED}; got {type(obj).__name__}")
 
 
 def iosys(
-    obj: Union[Hysteresis, InverseHysteresis, Bank, Model],
+    obj: Union[Hysteresis, InverseHysteresis, Bank, Model, Compensator],
     dt: Union[float, bool],
     *,
     inputs: Any = None,
@@ -274,18 +298,21 @@ def iosys(
 
     Parameters
     ----------
-    obj : hyst.Hysteresis, hyst.InverseHysteresis, hyst.Bank or hyst.Model
+    obj : hyst.Hysteresis, hyst.InverseHysteresis, hyst.Bank, hyst.Model or hyst.Compensator
         The operator u = H(k1, k2)[v] (eq. 2) or its inverse v = H⁻¹[u_d] (eq. 4); a bank of N
         of them (N inputs, N outputs); a fitted model without dynamics or a rate term, smooth,
         x → y = ψ_out(H[ψ_in(x)]) (or its stop form), or Prandtl–Ishlinskii, or its exact
         inverse from ``Model.inverse()`` (desired output y_d → command x;
-        ``inverse(saturate=True)`` clamps as it does). ``obj`` itself is not changed: the system
-        steps a copy of it, given the memory the state encodes. A ``hyst.Compensator`` is
-        refused (TypeError): its state cannot be read or restored from Python.
+        ``inverse(saturate=True)`` clamps as it does); the hysteresis part of a model with
+        dynamics (``Model.hysteresis``); a Lemma 5.1 ``Compensator`` (of a model with dynamics,
+        ``Compensator(model)``): input the new input u_new = v⁽ⁿ⁾, output the command u of
+        eq. (19), each sample integrating u_new over ``dt``. ``obj`` itself is not changed: the
+        system steps a copy of it, given the state the state vector encodes.
     dt : float or True
         The sample time in seconds (> 0; ``True``: discrete time with an unspecified sample
         time, as python-control takes it). The operators are rate independent, so ``dt`` only
-        sets the system's time base: systems in one interconnection share it.
+        sets the system's time base: systems in one interconnection share it. A
+        ``Compensator`` integrates over it, so it needs a number (ValueError for ``True``).
     inputs, outputs, states, name
         python-control's signal and system names, passed to ``NonlinearIOSystem`` (defaults:
         python-control's ``u[i]``, ``y[i]``; the states are named by ``STATE_NAMES``, per
@@ -314,6 +341,12 @@ def iosys(
         object. ``hyst.control.state(obj)`` is the state that continues from an object's
         memory, ``hyst.control.memory(x)`` the memory a state vector holds.
 
+        A ``Compensator``'s state is its n integrators ``v``, ``v_d1`` … ``v_d{n-1}``
+        (``Compensator.state``) followed by the six values above of its inverse model's memory
+        (``Compensator.memory``, of H⁻¹ in operator units). Its zero state is not where it
+        starts (its inverse model starts by the model's start rule): give
+        ``X0=hyst.control.state(comp)``.
+
         The output has direct feedthrough: y[k] = H(memory[k−1], u[k]), so the output
         function computes the sample from the state and the input without changing the state,
         and the update function gives the memory after it. A loop closed through this system
@@ -321,9 +354,10 @@ def iosys(
         as python-control's interconnections do for any algebraic loop.
 
     Every sample is the object's own ``step`` from the memory the state encodes, so the
-    outputs are ``process``'s bit for bit, for operators, banks and models alike. A model with
-    dynamics or a rate term is refused (TypeError): it runs on timed records and keeps no
-    memory.
+    outputs are ``process``'s bit for bit, for operators, banks and models alike (a
+    compensator's are its ``process(u_new, dt)``'s). A model with dynamics or a rate term is
+    refused (TypeError): it runs on timed records and keeps no memory; its hysteresis part
+    ``Model.hysteresis`` and its ``Compensator(model)`` are taken.
 
     Raises
     ------
@@ -340,7 +374,7 @@ def iosys(
         isinstance(dt, bool) or not isinstance(dt, (int, float)) or not (math.isfinite(dt) and dt > 0)
     ):
         raise ValueError(f"dt = {dt!r}: expected the sample time in seconds (> 0), or True")
-    impl = _stepper(obj)
+    impl = _stepper(obj, dt)
     label = name or type(obj).__name__
     cache: Dict[Tuple[bytes, bytes], Tuple[np.ndarray, np.ndarray]] = {}
 

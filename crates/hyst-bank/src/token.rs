@@ -1,4 +1,4 @@
-//! The tokens of the instruction sets: zero-sized proofs that this processor has them. Their
+//! The tokens of the x86 instruction sets: zero-sized proofs that this processor has them. Their
 //! field is private to this module, so `detect`, which asks the processor, is the only way to
 //! make one (the safety argument of the `x86` module rests on this).
 
