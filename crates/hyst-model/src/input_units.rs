@@ -11,7 +11,7 @@
 //! s = (ψ_in(x_hi) − ψ_in(x_lo)) / (x_hi − x_lo), k1_input = k1 / s, k2_input = k2 · s,
 //!
 //! exact for an affine ψ_in (s = 1 / half-span: H(k1, k2) on v is H(k1 / s, k2 · s) on x, by
-//! the scaling H(k1, k2)[s x] = s H(k1 / s, k2 s)[x]), and the mean conversion over that
+//! the scaling H(k1, k2)\[s x\] = s H(k1 / s, k2 s)\[x\]), and the mean conversion over that
 //! interval for a curved one.
 
 use serde::{Deserialize, Serialize};
