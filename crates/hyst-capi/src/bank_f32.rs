@@ -2,7 +2,7 @@
 //! GENERATED from `bank_f64.rs` by `scripts/gen-capi-f32`: do not edit.
 //!
 //! A bank is N operators H(k1[c], k2[c]) (or H⁻¹), each with its own memory, stepped together
-//! in SIMD lanes (`hyst_core::BankVec`): the actuators of a deformable mirror, the axes of a
+//! in SIMD lanes (`hyst_bank::BankVec`): the actuators of a deformable mirror, the axes of a
 //! stage. Its outputs agree with `hyst_operator_step_f32` on each channel to a few ulp, not bit for
 //! bit (the bank has its own `exp`, `ln` and ω). A call that fails names the channel in
 //! `*channel` (when `channel` is not NULL) and leaves every channel's memory as it was.
@@ -10,8 +10,8 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
-use hyst_core::bank::BankFormula;
-use hyst_core::{BankError, BankVec, Direct, Error, Inverse, Real as _};
+use ::hyst_bank::{BankError, BankFormula, BankVec};
+use hyst_core::{Direct, Error, Inverse, Real as _};
 
 use crate::api_f32::memory::hyst_memory_f32;
 use crate::engine::MemoryFields;

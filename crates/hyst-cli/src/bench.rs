@@ -11,7 +11,7 @@ use serde_json::json;
 
 use crate::bench_fit::{self, FitFigures, FIT_OVER_RUN_GOAL};
 use crate::workloads::{Inputs, NAMES};
-use hyst_core::bank::{force_isa, isa, Isa};
+use hyst_bank::{force_isa, isa, Isa};
 
 /// Arguments of `hyst bench`.
 #[derive(clap::Args, Debug)]
@@ -24,8 +24,6 @@ pub struct Args {
     /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, c_peer_ns (a plain-C
     /// inverse with no checks on the same signal), inverse_over_c_peer and c_peer_goal_met,
     /// exp_inline_ns (the inline f64 `exp` the inverse evaluates) and inverse_over_exp_inline,
-    /// lambert_w0_estrin_ns (the W0 the direct operator evaluates; lambert_w0_ns is the
-    /// lambert_w crate's) and direct_over_w0_estrin_plus_exp,
     /// kernel, the bank's instruction set; the same banks tick by tick (one `step` per tick of
     /// the 64, ns per channel-sample): bank_tick_inverse_ns, bank_tick_direct_ns,
     /// bank_tick_inverse_f32_ns, next to 1,024 scalar operators stepped once a tick each,
@@ -47,7 +45,7 @@ pub struct Args {
     #[arg(long, value_name = "ISA", value_parser = ["avx512", "avx2", "sse2", "portable"])]
     pub kernel: Option<String>,
     /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
-    /// takes this plus about 0.2 s of calibration). The time is shared by the 23 workloads,
+    /// takes this plus about 0.2 s of calibration). The time is shared by the 22 workloads,
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
@@ -197,9 +195,6 @@ struct Ratios {
     /// Scalar H⁻¹ over the inline `exp` it evaluates (no goal: what the operator costs beyond
     /// its exponential).
     inverse_over_exp_inline: f64,
-    /// Scalar H over the W0 and `exp` it evaluates (hyst's W0 by Estrin's scheme, the
-    /// platform's `exp`; no goal).
-    direct_over_own: f64,
     /// The banks tick by tick on the kernel of the run (issue 13's bank goals).
     tick: TickRatios,
     /// The banks tick by tick with the AVX2 kernel forced (issue 29's goals; `None` where the
@@ -351,7 +346,6 @@ impl Ratios {
             adaptive: at(11) / direct,
             c_peer: inverse / at(12),
             inverse_over_exp_inline: inverse / at(21),
-            direct_over_own: direct / (at(22) + exp),
             tick,
             avx2_tick,
         }
@@ -393,10 +387,6 @@ fn print_json(best: &[f64], ratios: &Ratios, fit: Option<&FitFigures>) -> Result
     map.insert(
         "inverse_over_exp_inline".into(),
         json!(ratios.inverse_over_exp_inline),
-    );
-    map.insert(
-        "direct_over_w0_estrin_plus_exp".into(),
-        json!(ratios.direct_over_own),
     );
     map.insert("kernel".into(), json!(isa().name()));
     map.insert(ratios.tick.met_key.into(), json!(ratios.tick.met()));
@@ -465,10 +455,6 @@ fn print_table(best: &[f64], ratios: &Ratios) {
     outln!(
         "inverse / the inline exp it evaluates: {:.2} (no goal)",
         ratios.inverse_over_exp_inline
-    );
-    outln!(
-        "direct / (its lambert_w0 + exp):      {:.2} (no goal)",
-        ratios.direct_over_own
     );
     outln!();
     outln!("{:<37} {}", "bank kernel:", isa().name());

@@ -19,10 +19,10 @@
 use std::cell::RefCell;
 use std::hint::black_box;
 
-use hyst_core::bank::{force_isa, isa, BankFormula, Isa, Lane};
+use hyst_bank::{force_isa, isa, BankFormula, BankVec, Isa, Lane};
 use hyst_core::{
-    Affine, BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Polynomial,
-    Real as _, ShapedModel,
+    Affine, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Polynomial, Real as _,
+    ShapedModel,
 };
 
 /// Samples per workload call.
@@ -36,7 +36,7 @@ pub const BANK_CHANNELS: usize = 1024;
 pub const BANK_TICKS: usize = 64;
 
 /// The names of the workloads, in report order, with their JSON keys.
-pub const NAMES: [(&str, &str); 23] = [
+pub const NAMES: [(&str, &str); 22] = [
     ("direct operator H (eq. 2)", "direct_ns"),
     ("inverse operator H^-1 (eq. 4)", "inverse_ns"),
     ("inverse with 2 derivatives (jet)", "inverse_d2_ns"),
@@ -80,7 +80,6 @@ pub const NAMES: [(&str, &str); 23] = [
         "bank_avx2_tick_inverse_f32_ns",
     ),
     ("f64 exp inline, the inverse's", "exp_inline_ns"),
-    ("lambert_w0 by Estrin, the direct's", "lambert_w0_estrin_ns"),
 ];
 
 /// The workloads run on 1,024 channels (reported per channel-sample): the banks in blocks, then
@@ -236,8 +235,7 @@ impl Inputs {
                 black_box(&self.x).iter().map(|&v| m.step(v)).sum()
             }
             4 => black_box(&self.exp_args).iter().map(|&a| a.exp()).sum(),
-            // The yardstick: the lambert_w crate's W0 (the direct operator evaluates the same
-            // approximation by Estrin's scheme, workload 22).
+            // The yardstick: the lambert_w crate's W0, the one the direct operator evaluates.
             5 => black_box(&self.w_args)
                 .iter()
                 .map(|&a| lambert_w::lambert_w0(a))
@@ -295,10 +293,6 @@ impl Inputs {
             21 => black_box(&self.exp_args)
                 .iter()
                 .map(|&a| a.exp_inline())
-                .sum(),
-            22 => black_box(&self.w_args)
-                .iter()
-                .map(|&a| a.lambert_w0_fukushima())
                 .sum(),
             _ => return None,
         })

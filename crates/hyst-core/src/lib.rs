@@ -1,8 +1,6 @@
 #![doc = include_str!("../README.md")]
 #![no_std]
-// `unsafe` only in `bank::x86` (std::arch intrinsics behind a safe wrapper; docs/performance.md)
-// and in `fukushima::w0`'s call of its copy compiled for FMA, after asking the processor.
-#![deny(unsafe_code)]
+#![forbid(unsafe_code)]
 #![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 // No indexing that could panic in library code (unit tests may index).
 #![cfg_attr(not(test), deny(clippy::indexing_slicing))]
@@ -117,13 +115,11 @@ macro_rules! linear_ops {
 
 pub mod adaptive;
 pub mod any_shaping;
-pub mod bank;
 pub mod compensator;
 pub mod dual;
 pub mod error;
 mod exp;
 pub mod family;
-mod fukushima;
 pub mod jet;
 pub mod k2law;
 pub mod lambert;
@@ -142,9 +138,6 @@ pub mod stop;
 
 pub use adaptive::{Adaptive, AdaptiveCompensator, AdaptiveConfig};
 pub use any_shaping::{AnyShaping, LinearShaping};
-#[cfg(feature = "std")]
-pub use bank::BankVec;
-pub use bank::{Bank, BankError, DirectBank, InverseBank, ParametricBank};
 pub use compensator::{Compensator, CompensatorState};
 pub use dual::Dual;
 pub use error::Error;

@@ -181,6 +181,8 @@ fn repair<T: Real, F: Formula>(
 /// On a host out of line and by `&mut`: the caller then reads the memory again after the call,
 /// and keeps no copy of it in registers across the formula's `exp` for a refusal. On bare metal
 /// (built for size) inlined: one swap in the caller takes fewer bytes than one in each copy.
+/// The host/bare-metal forks here change the code's shape, not its results: each computes the
+/// same values.
 #[cfg_attr(not(target_os = "none"), cold, inline(never))]
 #[cfg_attr(target_os = "none", inline(always))]
 fn rare<T: Real, F: Formula>(
@@ -219,7 +221,8 @@ fn rare<T: Real, F: Formula>(
 #[inline]
 fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
     // On a host, a plain sample at the reversal point returns at once (a jet needs its
-    // derivatives): then ṽ is not kept across the calls below for the test at the end.
+    // derivatives): then ṽ is not kept across the calls below for the test at the end. The
+    // result is the one the end gives it, exactly 0.
     if S::ORDER == 0 && cfg!(not(target_os = "none")) && v_tilde.value() == T::zero() {
         return S::constant(T::zero());
     }
@@ -248,6 +251,7 @@ fn direct_transition<T: Real, S: Sample<T>>(v_tilde: S, m_star: T, k2: S) -> S {
             v_tilde - m_star + w / k2
         }
     } else if cfg!(target_os = "none") {
+        // Inline on bare metal, out of line on a host: the same operations, the same value.
         let ln_a = k2.ln() + m_star.ln();
         let w = (ln_a + b).omega();
         (ln_a - w.ln()) / k2

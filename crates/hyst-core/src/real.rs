@@ -10,9 +10,10 @@ use core::fmt::{Debug, Display};
 /// `libm`'s, with `std` they are the platform's (the standard library's `exp`, `ln`, …), so
 /// results may differ in the last bit between the two builds. One exception with `std`: the
 /// inverse operator's `f64` exponential is hyst's own, inline ([`Real::exp_inline`]). The Lambert
-/// W approximation is always Fukushima's (the `lambert_w` crate's, by Estrin's scheme for
-/// `f64`). The extra items here are the constants and the Lambert W approximation the operator
-/// needs at each precision.
+/// W approximation is always Fukushima's, from the `lambert_w` crate, whose square roots and
+/// logarithms are likewise the platform's with `std` and `libm`'s without (so W0 too may differ
+/// in the last bit between the two builds). The extra items here are the constants and the
+/// Lambert W approximation the operator needs at each precision.
 pub trait Real:
     num_traits::Float + num_traits::FloatConst + Debug + Display + Default + Send + Sync + 'static
 {
@@ -23,9 +24,9 @@ pub trait Real:
     /// Converts a small count (a derivative order, a factorial factor) to this type without
     /// going through `f64` (an `f32`-only FPU has no double arithmetic); exact below 2^24.
     fn from_usize(n: usize) -> Self;
-    /// Principal branch of the Lambert W function for `x ≥ 0`, by Fukushima's minimax method:
-    /// 50 bits for `f64` (the `lambert_w` crate's approximation evaluated by Estrin's scheme,
-    /// `fukushima.rs`), 24 bits for `f32` (the crate's).
+    /// Principal branch of the Lambert W function for `x ≥ 0`, by Fukushima's minimax method
+    /// (the `lambert_w` crate's `lambert_w0` and `lambert_w0f`): 50 bits for `f64`, 24 bits for
+    /// `f32`.
     fn lambert_w0_fukushima(self) -> Self;
     /// The next representable value after `self` in the direction of `target` (one ulp;
     /// `self` when they are equal or either is NaN). A [`Dual`](crate::Dual) steps its value
@@ -86,7 +87,7 @@ impl Real for f64 {
     }
     #[inline]
     fn lambert_w0_fukushima(self) -> Self {
-        crate::fukushima::w0(self)
+        lambert_w::lambert_w0(self)
     }
     #[inline]
     fn ulp_toward(self, target: Self) -> Self {

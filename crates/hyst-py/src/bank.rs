@@ -7,8 +7,8 @@
 //! (Fortran order, strided views) is read tick block by tick block into a time-major buffer.
 //! Results are in the bank's dtype.
 
-use hyst_core::bank::{BankFormula, Lane};
-use hyst_core::{BankError, BankVec, Direct, Error, Inverse, Memory as CoreMemory, Real};
+use hyst_bank::{BankError, BankFormula, BankVec, Lane};
+use hyst_core::{Direct, Error, Inverse, Memory as CoreMemory, Real};
 use numpy::ndarray::{ArrayView2, ArrayViewMut2, Axis, Dimension, Slice};
 use numpy::{
     Element, PyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray,

@@ -7,7 +7,7 @@
 //! | Python | Rust |
 //! |---|---|
 //! | `Hysteresis`, `InverseHysteresis`, `Memory` ([`operator`]) | `hyst_core::Hysteresis`, `InverseHysteresis`, `Memory` (eqs. 2, 4, Definition 2.1) |
-//! | `Bank` ([`bank`]) | `hyst_core::BankVec`: N operators stepped together in SIMD lanes |
+//! | `Bank` ([`bank`]) | `hyst_bank::BankVec`: N operators stepped together in SIMD lanes |
 //! | `load_model`, `Model` ([`model`]) | `hyst_model::ModelFile` + `Evaluator` (the model file of `hyst fit`) |
 //! | `fit`, `FitResult` ([`fit`]) | `hyst_fit::identify` (what `hyst fit` runs) |
 //! | `Family` ([`family`]) | `hyst_core::Family` (Definition 2.8, Proposition 3.2) |

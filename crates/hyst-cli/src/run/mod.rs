@@ -34,8 +34,8 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 
 use crate::source::{Chosen, Source};
-use hyst_core::bank::BankFormula;
-use hyst_core::{BankVec, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Sample};
+use hyst_bank::{BankFormula, BankVec};
+use hyst_core::{Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Sample};
 use hyst_io::number::sig;
 use hyst_io::{CsvReader, CsvWriter};
 use hyst_model::saturation::Saturation;

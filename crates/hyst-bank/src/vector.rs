@@ -1,13 +1,13 @@
 //! The two traits the bank's kernels are written against, which name each other: [`Simd`], a
-//! vector of lanes (implemented in [`simd`](super::simd) for one lane of `f32`/`f64` and for
-//! [`Pair`](super::simd::Pair), and in the bank's `x86` module for SSE2, AVX2 + FMA and AVX-512
+//! vector of lanes (implemented in [`simd`](crate::simd) for one lane of `f32`/`f64` and for
+//! [`Pair`](crate::simd::Pair), and in the bank's `x86` module for SSE2, AVX2 + FMA and AVX-512
 //! vectors), and [`Lane`], the float type of its lanes with the constants of the elementary
-//! functions (implemented for `f32` and `f64` in [`lanes`](super::lanes), with the functions).
+//! functions (implemented for `f32` and `f64` in [`lanes`](crate::lanes), with the functions).
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use super::block::RunBlock;
-use crate::real::Real;
+use crate::block::RunBlock;
+use hyst_core::real::Real;
 
 /// A vector of `LANES` floats of type `T` and its comparison mask.
 ///
@@ -25,17 +25,24 @@ pub trait Simd:
     type T: Lane;
     /// A lane mask (the result of a comparison).
     type M: Copy;
+    /// The proof that this processor runs the vector's instructions: a value only run-time
+    /// detection gives (the `x86` module's `Sse2`, `Avx2`, `Avx512`), `()` for plain floats.
+    /// Every constructor of a vector takes one, and every vector holds its own, so no vector
+    /// exists on a processor without its instruction set.
+    type Token: Copy;
     /// The chunk a one-tick `step` of the inverse operator visits: two vectors with AVX-512,
     /// four with AVX2, SSE2 and the portable kernel (as blocks do); the direct operator's `step`
     /// runs a block's chunk of four vectors (measured: docs/performance.md, "Where a tick of
     /// `step` goes").
-    type Tick: Simd<T = Self::T>;
+    type Tick: Simd<T = Self::T, Token = Self::Token>;
     /// Lanes per vector.
     const LANES: usize;
+    /// The proof this vector holds (see [`Simd::Token`]).
+    fn token(self) -> Self::Token;
     /// Every lane `v`.
-    fn splat(v: Self::T) -> Self;
+    fn splat(token: Self::Token, v: Self::T) -> Self;
     /// The first [`Simd::LANES`] values of `s` (`s` must hold that many; zeros otherwise).
-    fn load(s: &[Self::T]) -> Self;
+    fn load(token: Self::Token, s: &[Self::T]) -> Self;
     /// Writes the lanes to the first [`Simd::LANES`] places of `s` (nothing if it is shorter).
     fn store(self, s: &mut [Self::T]);
     /// `self · b + c`.
@@ -99,7 +106,7 @@ pub trait Simd:
             let j = v.low_bits() & (table.len() - 1);
             *v = <Self::T as Real>::from_f64(table.get(j).copied().unwrap_or(1.0));
         }
-        Self::load(&a)
+        Self::load(t.token(), &a)
     }
 
     /// e · 2^⌊n⌋ for every n (|n| ≤ 2000), with overflow to +∞ and underflow to 0. This default
@@ -117,7 +124,7 @@ pub trait Simd:
                     num_traits::Float::floor(k).as_f64() as i32,
                 );
         }
-        Self::load(&a)
+        Self::load(e.token(), &a)
     }
 
     /// `exp`'s argument before the reduction: as is by default; clamped to ±1100 (NaN kept)
@@ -133,23 +140,24 @@ pub trait Simd:
     #[inline(always)]
     fn exp_tail(e: Self, t: Self, n: Self, x: Self) -> Self {
         let _ = n;
+        let k = x.token();
         let y = e * Self::pow2_shifted(t);
         let y = Self::select(
-            x.less(Self::splat(<Self::T as Lane>::EXP_LO)),
-            Self::c(0.0),
+            x.less(Self::splat(k, <Self::T as Lane>::EXP_LO)),
+            Self::c(k, 0.0),
             y,
         );
         Self::select(
-            Self::splat(<Self::T as Lane>::EXP_HI).less(x),
-            Self::splat(<Self::T as num_traits::Float>::infinity()),
+            Self::splat(k, <Self::T as Lane>::EXP_HI).less(x),
+            Self::splat(k, <Self::T as num_traits::Float>::infinity()),
             y,
         )
     }
 
     /// A constant from an `f64` literal.
     #[inline(always)]
-    fn c(v: f64) -> Self {
-        Self::splat(<Self::T as Real>::from_f64(v))
+    fn c(token: Self::Token, v: f64) -> Self {
+        Self::splat(token, <Self::T as Real>::from_f64(v))
     }
 }
 
@@ -159,11 +167,11 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + RunBlock {
     /// rounding (its first omitted term, 10.8 t⁶, is below half an ulp of t).
     const OMEGA_SERIES: Self;
     /// Below this y, ω(y) = t − t² (t = eʸ) to within an ulp (used by
-    /// [`omega`](super::lanes::omega)).
+    /// [`omega`](crate::lanes::omega)).
     const OMEGA_SMALL: Self;
     /// One Fritsch–Shafer–Crowley step from the bank's start is accepted when the residual
     /// |y − w − ln w| of the start is below this (the step's fourth order then leaves less
-    /// than an ulp); otherwise [`omega`](super::lanes::omega) evaluates the lane from scratch.
+    /// than an ulp); otherwise [`omega`](crate::lanes::omega) evaluates the lane from scratch.
     const RESIDUAL_OK: Self;
     /// Above this `exp` returns +∞.
     const EXP_HI: Self;
@@ -175,7 +183,7 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + RunBlock {
     const EXP_LN2: (f64, f64);
     /// ln 2 in two parts for `ln`.
     const LOG_LN2: (f64, f64);
-    /// How many of [`INV_FACTORIALS`](super::lanes::INV_FACTORIALS) `exp` uses:
+    /// How many of [`INV_FACTORIALS`](crate::lanes::INV_FACTORIALS) `exp` uses:
     /// e^r = 1 + r + r² Σ cᵢ rⁱ, |r| ≤ ln 2 / 2.
     const EXP_TERMS: usize;
     /// fdlibm's odd-indexed (Lg1, Lg3, …) and even-indexed (Lg2, Lg4, …) log coefficients.
@@ -184,7 +192,7 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + RunBlock {
     const EXP_TABLE_BITS: u32;
     /// 2^(j / 2^b), j = 0 … 2^b − 1, rounded to this type.
     const EXP_TABLE: &'static [f64];
-    /// How many of [`INV_FACTORIALS`](super::lanes::INV_FACTORIALS) the table reduction uses
+    /// How many of [`INV_FACTORIALS`](crate::lanes::INV_FACTORIALS) the table reduction uses
     /// (|r| ≤ ln 2 / 2^(b+1)).
     const EXP_TABLE_TERMS: usize;
     /// The bank's `decay` raises its arguments to this (e^z is then at least the smallest normal
@@ -207,7 +215,7 @@ pub trait Lane: Real + Simd<T = Self, M = bool> + RunBlock {
     /// The next float towards +∞ (finite values).
     fn next_above(self) -> Self;
 
-    /// eˣ, branch-free (see the [`lanes`](super::lanes) module documentation for its range and
+    /// eˣ, branch-free (see the [`lanes`](crate::lanes) module documentation for its range and
     /// error).
     fn exp_l(self) -> Self;
     /// ln x for normal positive x, branch-free (−∞ at 0, +∞ at +∞, NaN below 0 and for NaN).

@@ -28,8 +28,8 @@
 //! - S. Winitzki, "Uniform approximations for transcendental functions", ICCSA 2003.
 //! - F. N. Fritsch, R. E. Shafer, W. P. Crowley, Comm. ACM 16 (1973), Algorithm 443.
 
-pub use super::vector::Lane;
-use super::vector::Simd;
+pub use crate::vector::Lane;
+use crate::vector::Simd;
 
 /// 1/k!, k = 2 … 13: the Taylor coefficients of (e^r − 1 − r) / r².
 pub const INV_FACTORIALS: [f64; 12] = [
@@ -196,9 +196,10 @@ impl Lane for f32 {
 /// Σ cᵢ xⁱ by Horner's scheme.
 #[inline(always)]
 fn horner<V: Simd>(x: V, coefficients: &[f64]) -> V {
-    let mut p = V::c(0.0);
+    let tk = x.token();
+    let mut p = V::c(tk, 0.0);
     for c in coefficients.iter().rev() {
-        p = p.fma(x, V::c(*c));
+        p = p.fma(x, V::c(tk, *c));
     }
     p
 }
@@ -206,20 +207,21 @@ fn horner<V: Simd>(x: V, coefficients: &[f64]) -> V {
 /// Σ cᵢ xⁱ in pairs: qⱼ = c₂ⱼ + c₂ⱼ₊₁ x (independent), then Horner in x² (half the chain).
 #[inline(always)]
 fn poly_pairs<V: Simd>(x: V, coefficients: &[f64]) -> V {
+    let tk = x.token();
     let x2 = x * x;
     let mut p: Option<V> = None;
     for pair in coefficients.chunks(2).rev() {
         let q = match pair {
-            [a, b] => x.fma(V::c(*b), V::c(*a)),
-            [a] => V::c(*a),
-            _ => V::c(0.0),
+            [a, b] => x.fma(V::c(tk, *b), V::c(tk, *a)),
+            [a] => V::c(tk, *a),
+            _ => V::c(tk, 0.0),
         };
         p = Some(match p {
             Some(p) => p.fma(x2, q),
             None => q,
         });
     }
-    p.unwrap_or(V::c(0.0))
+    p.unwrap_or(V::c(tk, 0.0))
 }
 
 /// e^z for z ≤ 0 (the decay e^(−k2 ũd) of eq. 4), with an absolute error of about an ulp of 1,
@@ -241,14 +243,15 @@ pub(crate) fn decay<V: Simd>(z: V) -> V
 where
     V::T: Lane,
 {
-    let z = z.max_or(V::splat(<V::T as Lane>::DECAY_MIN));
+    let tk = z.token();
+    let z = z.max_or(V::splat(tk, <V::T as Lane>::DECAY_MIN));
     if V::EXP_TABLE {
         return exp_by_table(z);
     }
-    let shift = V::splat(<V::T as Lane>::SHIFT);
-    let t = z.fma(V::c(core::f64::consts::LOG2_E), shift);
+    let shift = V::splat(tk, <V::T as Lane>::SHIFT);
+    let t = z.fma(V::c(tk, core::f64::consts::LOG2_E), shift);
     let n = t - shift;
-    let r = n.fma(V::c(-core::f64::consts::LN_2), z);
+    let r = n.fma(V::c(tk, -core::f64::consts::LN_2), z);
     poly_pairs(r, <V::T as Lane>::DECAY_POLY) * V::pow2_shifted(t)
 }
 
@@ -258,18 +261,19 @@ pub(crate) fn exp<V: Simd>(x: V) -> V
 where
     V::T: Lane,
 {
-    let shift = V::splat(<V::T as Lane>::SHIFT);
+    let tk = x.token();
+    let shift = V::splat(tk, <V::T as Lane>::SHIFT);
     let (ln2_hi, ln2_lo) = <V::T as Lane>::EXP_LN2;
     if V::EXP_TABLE {
         return exp_by_table(V::exp_arg(x));
     }
     let xr = V::exp_arg(x);
-    let t = xr.fma(V::c(core::f64::consts::LOG2_E), shift);
+    let t = xr.fma(V::c(tk, core::f64::consts::LOG2_E), shift);
     let n = t - shift;
-    let r = n.fma(V::c(-ln2_hi), xr);
-    let r = n.fma(V::c(-ln2_lo), r);
+    let r = n.fma(V::c(tk, -ln2_hi), xr);
+    let r = n.fma(V::c(tk, -ln2_lo), r);
     let p = poly_pairs(r, inv_factorials(<V::T as Lane>::EXP_TERMS));
-    let e = (r * r).fma(p, r) + V::c(1.0);
+    let e = (r * r).fma(p, r) + V::c(tk, 1.0);
     V::exp_tail(e, t, n, x)
 }
 
@@ -281,16 +285,17 @@ fn exp_by_table<V: Simd>(x: V) -> V
 where
     V::T: Lane,
 {
-    let shift = V::splat(<V::T as Lane>::SHIFT);
+    let tk = x.token();
+    let shift = V::splat(tk, <V::T as Lane>::SHIFT);
     let (ln2_hi, ln2_lo) = <V::T as Lane>::EXP_LN2;
     let k = f64::from(1_u32 << <V::T as Lane>::EXP_TABLE_BITS);
-    let t = x.fma(V::c(k * core::f64::consts::LOG2_E), shift);
+    let t = x.fma(V::c(tk, k * core::f64::consts::LOG2_E), shift);
     let m = t - shift;
-    let r = m.fma(V::c(-ln2_hi / k), x);
-    let r = m.fma(V::c(-ln2_lo / k), r);
+    let r = m.fma(V::c(tk, -ln2_hi / k), x);
+    let r = m.fma(V::c(tk, -ln2_lo / k), r);
     let p = poly_pairs(r, inv_factorials(<V::T as Lane>::EXP_TABLE_TERMS));
-    let e = (r * r).fma(p, r) + V::c(1.0);
-    V::scale(e * V::exp2_frac(t), m * V::c(1.0 / k))
+    let e = (r * r).fma(p, r) + V::c(tk, 1.0);
+    V::scale(e * V::exp2_frac(t), m * V::c(tk, 1.0 / k))
 }
 
 /// ln x for positive normal x (no special cases: 0, subnormals, ∞ and NaN give wrong finite
@@ -300,19 +305,20 @@ pub(crate) fn ln_pos<V: Simd>(x: V) -> V
 where
     V::T: Lane,
 {
+    let tk = x.token();
     let (m, k) = x.split_exponent();
-    let big = V::c(core::f64::consts::SQRT_2).less(m);
-    let m = V::select(big, m * V::c(0.5), m);
-    let k = V::select(big, k + V::c(1.0), k);
+    let big = V::c(tk, core::f64::consts::SQRT_2).less(m);
+    let m = V::select(big, m * V::c(tk, 0.5), m);
+    let k = V::select(big, k + V::c(tk, 1.0), k);
     let (ln2_hi, ln2_lo) = <V::T as Lane>::LOG_LN2;
     let (odd, even) = <V::T as Lane>::LOG_POLY;
-    let f = m - V::c(1.0);
-    let hfsq = V::c(0.5) * f * f;
-    let s = f / (V::c(2.0) + f);
+    let f = m - V::c(tk, 1.0);
+    let hfsq = V::c(tk, 0.5) * f * f;
+    let s = f / (V::c(tk, 2.0) + f);
     let z = s * s;
     let w = z * z;
     let r = z * horner(w, odd) + w * horner(w, even);
-    k * V::c(ln2_hi) - ((hfsq - (s * (hfsq + r) + k * V::c(ln2_lo))) - f)
+    k * V::c(tk, ln2_hi) - ((hfsq - (s * (hfsq + r) + k * V::c(tk, ln2_lo))) - f)
 }
 
 /// ln x with its special values: −∞ at 0, +∞ at +∞, NaN below 0 and for NaN.
@@ -321,13 +327,14 @@ pub(crate) fn ln<V: Simd>(x: V) -> V
 where
     V::T: Lane,
 {
-    let inf = V::splat(<V::T as num_traits::Float>::infinity());
-    let zero = V::c(0.0);
+    let tk = x.token();
+    let inf = V::splat(tk, <V::T as num_traits::Float>::infinity());
+    let zero = V::c(tk, 0.0);
     let inside = V::and(zero.less(x), x.less(inf));
     let v = V::select(
         inside,
         ln_pos(x),
-        V::splat(<V::T as num_traits::Float>::nan()),
+        V::splat(tk, <V::T as num_traits::Float>::nan()),
     );
     let v = V::select(x.equal(zero), -inf, v);
     V::select(x.equal(inf), inf, v)
@@ -363,9 +370,10 @@ const OMEGA_HIGH: [f64; 7] = [
 /// rounding below [`Lane::OMEGA_SERIES`], a start within 3.4e-6 below y = −3.
 #[inline(always)]
 pub(crate) fn omega_series<V: Simd>(t: V) -> V {
-    let one = V::c(1.0);
-    let inner = t.fma(-V::c(125.0 / 24.0), V::c(8.0 / 3.0));
-    let inner = (-t).fma(inner, V::c(1.5));
+    let tk = t.token();
+    let one = V::c(tk, 1.0);
+    let inner = t.fma(-V::c(tk, 125.0 / 24.0), V::c(tk, 8.0 / 3.0));
+    let inner = (-t).fma(inner, V::c(tk, 1.5));
     let inner = (-t).fma(inner, one);
     t * (-t).fma(inner, one)
 }
@@ -379,25 +387,26 @@ pub(crate) fn omega_start<V: Simd>(y: V, series: V) -> V
 where
     V::T: Lane,
 {
+    let tk = y.token();
     let mut start = series;
-    let mid_on = V::c(-3.0).less_eq(y);
+    let mid_on = V::c(tk, -3.0).less_eq(y);
     if V::any(mid_on) {
-        start = V::select(mid_on, horner(y * V::c(1.0 / 3.0), &OMEGA_MID), start);
+        start = V::select(mid_on, horner(y * V::c(tk, 1.0 / 3.0), &OMEGA_MID), start);
     }
-    let high_on = V::c(3.0).less(y);
+    let high_on = V::c(tk, 3.0).less(y);
     if V::any(high_on) {
-        let x = y.fma(V::c(2.0 / 9.0), V::c(-15.0 / 9.0));
+        let x = y.fma(V::c(tk, 2.0 / 9.0), V::c(tk, -15.0 / 9.0));
         start = V::select(high_on, horner(x, &OMEGA_HIGH), start);
     }
-    let asym_on = V::c(12.0).less(y);
+    let asym_on = V::c(tk, 12.0).less(y);
     if V::any(asym_on) {
-        let one = V::c(1.0);
+        let one = V::c(tk, 1.0);
         // Lanes below 12 would take ln of anything; 12 keeps them finite.
-        let ys = V::select(asym_on, y, V::c(12.0));
+        let ys = V::select(asym_on, y, V::c(tk, 12.0));
         let l = ln_pos(ys);
         let iy = one / ys;
-        let c2 = (V::c(2.0) * l - V::c(9.0)).fma(l, V::c(6.0)) * V::c(1.0 / 6.0);
-        let c1 = V::c(0.5) * (l - V::c(2.0));
+        let c2 = (V::c(tk, 2.0) * l - V::c(tk, 9.0)).fma(l, V::c(tk, 6.0)) * V::c(tk, 1.0 / 6.0);
+        let c1 = V::c(tk, 0.5) * (l - V::c(tk, 2.0));
         let asym = ys - l + l * iy * iy.fma(iy.fma(c2, c1), one);
         start = V::select(asym_on, asym, start);
     }
@@ -411,12 +420,13 @@ pub(crate) fn fsc_step<V: Simd>(w: V, y: V) -> (V, V)
 where
     V::T: Lane,
 {
-    let one = V::c(1.0);
+    let tk = w.token();
+    let one = V::c(tk, 1.0);
     let r = y - w - ln_pos(w);
     let iq = one / (one + w);
     let rq = r * iq;
-    let t = rq.fma(V::c(2.0 / 3.0), one);
-    let num = (V::c(-0.5) * rq).fma(iq, t);
+    let t = rq.fma(V::c(tk, 2.0 / 3.0), one);
+    let num = (V::c(tk, -0.5) * rq).fma(iq, t);
     let den = (-rq).fma(iq, t);
     (w * (rq * (num / den)) + w, r)
 }
@@ -429,27 +439,32 @@ pub(crate) fn omega_v<V: Simd>(y: V) -> V
 where
     V::T: Lane,
 {
-    let one = V::c(1.0);
-    let zero = V::c(0.0);
+    let tk = y.token();
+    let one = V::c(tk, 1.0);
+    let zero = V::c(tk, 0.0);
     let t = exp(y);
     let positive = zero.less(y);
     // L = ln(1 + eʸ) without overflow: max(y, 0) + ln(1 + e^(−|y|)).
     let l = V::select(positive, y, zero) + ln_pos(one + exp(-y.magnitude()));
-    let mut w = l * (one - ln_pos(one + l) / (V::c(2.0) + l));
+    let mut w = l * (one - ln_pos(one + l) / (V::c(tk, 2.0) + l));
     for _ in 0..2 {
         w = fsc_step(w, y).0;
     }
-    V::select(y.less(V::splat(<V::T as Lane>::OMEGA_SMALL)), t - t * t, w)
+    V::select(
+        y.less(V::splat(tk, <V::T as Lane>::OMEGA_SMALL)),
+        t - t * t,
+        w,
+    )
 }
 
 /// ω(y) = W0(eʸ), the Wright omega function, for one value, as the bank evaluates it from
 /// scratch: Winitzki's start L (1 − ln(1 + L) / (2 + L)), L = ln(1 + eʸ), refined by two
 /// fourth-order Fritsch–Shafer–Crowley steps; t − t² (t = eʸ) below [`Lane::OMEGA_SMALL`].
-/// ω(−∞) = 0. For tests and comparisons with [`crate::lambert::omega`].
+/// ω(−∞) = 0. For tests and comparisons with [`hyst_core::lambert::omega`].
 ///
 /// # Examples
 /// ```
-/// use hyst_core::bank::lanes::omega;
+/// use hyst_bank::lanes::omega;
 /// let w = omega(1.0_f64); // W(e) = 1
 /// assert!((w - 1.0).abs() < 1e-15);
 /// ```

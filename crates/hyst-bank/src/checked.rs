@@ -3,14 +3,14 @@
 //! checked path that runs a block up to the first tick with a sample at or beyond that limit,
 //! then that tick alone.
 
-use super::block::Block;
-use super::columns::{Columns, Slab};
-use super::error::BankError;
-use super::formula::BankFormula;
-use super::vector::Lane;
-use crate::error::Error;
-use crate::k2law::ConstantK2;
-use crate::parametric::ParametricHysteresis;
+use crate::block::Block;
+use crate::columns::{Columns, Slab};
+use crate::error::BankError;
+use crate::formula::BankFormula;
+use crate::vector::Lane;
+use hyst_core::error::Error;
+use hyst_core::k2law::ConstantK2;
+use hyst_core::parametric::ParametricHysteresis;
 
 /// Checks each channel's parameters as [`ParametricHysteresis::new`] does for one operator
 /// (the bank accepts exactly the channels the scalar operator accepts).

@@ -1,4 +1,4 @@
-//! The bank's speed goals of issue 13 as ratios measured in one run (`cargo bench -p hyst-core
+//! The bank's speed goals of issue 13 as ratios measured in one run (`cargo bench -p hyst-bank
 //! --bench bank`; docs/performance.md records the figures): 1,024 channels, f64 (and f32), ns
 //! per channel-sample, each figure the fastest of interleaved rounds (on a shared machine the
 //! slower rounds measure the neighbours).
@@ -25,8 +25,9 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use hyst_core::bank::{force_isa, BankFormula, Isa, Lane};
-use hyst_core::{BankVec, ConstantK2, Direct, Inverse, Operator, ParametricHysteresis};
+use hyst_bank::BankVec;
+use hyst_bank::{force_isa, BankFormula, Isa, Lane};
+use hyst_core::{ConstantK2, Direct, Inverse, Operator, ParametricHysteresis};
 
 const CHANNELS: usize = 1024;
 const TICKS: usize = 256;
@@ -237,5 +238,5 @@ fn main() {
             1e3 / inv32
         );
     }
-    println!("kernel: {}", hyst_core::bank::isa().name());
+    println!("kernel: {}", hyst_bank::isa().name());
 }

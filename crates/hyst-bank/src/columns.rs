@@ -66,7 +66,7 @@ impl<T: Copy + core::fmt::Debug + PartialEq> Slab<T> for std::vec::Vec<T> {
 
 /// The per-channel state columns (structure of arrays): `n` channels, column j at
 /// `j * stride` in the slab. Public only as a parameter of the sealed
-/// [`RunBlock`](super::RunBlock); nothing outside the bank can build or read one.
+/// [`RunBlock`](crate::RunBlock); nothing outside the bank can build or read one.
 #[doc(hidden)]
 #[derive(Clone, Debug, PartialEq)]
 pub struct Columns<B> {
@@ -129,7 +129,7 @@ impl<B> Columns<B> {
 }
 
 /// The columns of a range of channels, borrowed: what a kernel runs on (a whole bank, or one
-/// thread's part of it). Public only as a parameter of the sealed [`RunBlock`](super::RunBlock).
+/// thread's part of it). Public only as a parameter of the sealed [`RunBlock`](crate::RunBlock).
 #[doc(hidden)]
 pub struct ColumnsMut<'a, T> {
     pub(super) k1: &'a [T],
@@ -245,7 +245,7 @@ impl<'a, T> ColumnsMut<'a, T> {
 }
 
 /// The storage of a bank: `[T; N]` (arrays, no allocation) or `Vec<T>` (`std`), the type of
-/// the k1 and k2 given to [`ParametricBank::new`](super::ParametricBank::new).
+/// the k1 and k2 given to [`ParametricBank::new`](crate::ParametricBank::new).
 pub trait Storage<T>: AsRef<[T]> + AsMut<[T]> + Clone {
     /// Where the bank's state columns live.
     #[doc(hidden)]
@@ -281,7 +281,7 @@ impl<T: Copy + core::fmt::Debug + PartialEq> Storage<T> for std::vec::Vec<T> {
 #[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
-    use crate::bank::vector::Lane;
+    use crate::vector::Lane;
 
     /// Where each column of `Vec` storage for `n` channels starts, in bytes modulo 4 KiB, and
     /// its length.

@@ -1,6 +1,6 @@
 //! A bank's error: the channel that failed and the core's [`Error`] for it.
 
-use crate::error::Error;
+use hyst_core::error::Error;
 
 /// A channel's error: which channel, and the core's error for it.
 #[derive(Clone, Copy, Debug, PartialEq)]

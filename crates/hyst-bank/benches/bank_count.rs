@@ -2,7 +2,7 @@
 //! `valgrind --tool=callgrind` (timings on the shared machine are noisy; counts are not):
 //!
 //! ```text
-//! cargo bench -p hyst-core --bench bank_count --no-run
+//! cargo bench -p hyst-bank --bench bank_count --no-run
 //! valgrind --tool=callgrind <the bench binary> bank inverse f64   # or: scalar / direct / f32
 //! valgrind --tool=callgrind <the bench binary> step inverse f64   # the bank by `step`, tick by tick
 //! ```
@@ -15,8 +15,9 @@
 
 use std::hint::black_box;
 
-use hyst_core::bank::{BankFormula, Lane};
-use hyst_core::{BankVec, ConstantK2, Direct, Inverse, Operator, ParametricHysteresis};
+use hyst_bank::BankVec;
+use hyst_bank::{BankFormula, Lane};
+use hyst_core::{ConstantK2, Direct, Inverse, Operator, ParametricHysteresis};
 
 const CHANNELS: usize = 1024;
 const TICKS: usize = 256;
@@ -46,7 +47,7 @@ fn run<T: Lane, F: BankFormula>(bank: bool, step: bool, repeats: usize) {
                 b.process(black_box(&ticks), &mut out).unwrap();
             }
         }
-        eprintln!("kernel: {}", hyst_core::bank::isa().name());
+        eprintln!("kernel: {}", hyst_bank::isa().name());
     } else {
         let channels: Vec<T> = (0..CHANNELS)
             .flat_map(|c| (0..TICKS).map(move |t| T::from_f64(signal(c, t))))

@@ -1,7 +1,7 @@
 //! The formula a bank runs on every channel: the direct operator (eq. 2) or the inverse
 //! (eq. 4), told apart at compile time.
 
-use crate::parametric::{Direct, Formula, Inverse};
+use hyst_core::parametric::{Direct, Formula, Inverse};
 
 /// The formula of a bank: eq. (2) or eq. (4). Implemented by [`Direct`] and [`Inverse`].
 pub trait BankFormula: Formula {

@@ -2,9 +2,9 @@
 //! [`RunBlock`], the trait by which a float type runs a block through the columns of a range
 //! of channels. Both are public only as parts of the sealed bank API.
 
-use super::columns::ColumnsMut;
-use super::error::BankError;
-use super::formula::BankFormula;
+use crate::columns::ColumnsMut;
+use crate::error::BankError;
+use crate::formula::BankFormula;
 
 /// The samples a kernel runs: `samples` ticks of all channels, channel c at tick t at
 /// `c * samples + t` (`channel_major`) or `t * channels + c`, of which ticks `begin..end` run;

@@ -3,14 +3,14 @@
 //! the arithmetic and one load and store of the samples. The chunk and its tick are the `chunk`
 //! module's; a block of one tick (`step`) runs the `step` module's visits instead.
 
-use super::block::Block;
-use super::chunk::{all_within, load, put_state, tick, MAX_LANES};
-use super::columns::ColumnsMut;
-use super::error::BankError;
-use super::formula::BankFormula;
-use super::step::one_tick;
-use super::vector::Simd;
-use crate::real::Real;
+use crate::block::Block;
+use crate::chunk::{all_within, load, put_state, tick, MAX_LANES};
+use crate::columns::ColumnsMut;
+use crate::error::BankError;
+use crate::formula::BankFormula;
+use crate::step::one_tick;
+use crate::vector::Simd;
+use hyst_core::real::Real;
 
 /// Ticks per tile: the block runs tile by tile, and in a tile chunk by chunk, so that a chunk's
 /// samples of a tile are a few cache lines that the next chunk's neighbours share (a chunk
@@ -29,6 +29,7 @@ const TILE: usize = 16;
 /// channels have then run further than others (the caller restores the memory).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn run<V: Simd, F: BankFormula>(
+    tk: V::Token,
     cols: &mut ColumnsMut<'_, V::T>,
     block: &mut Block<'_, V::T>,
 ) -> Result<Option<usize>, BankError> {
@@ -41,9 +42,9 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
         // chunk of four vectors, whose four chains the processor overlaps; the inverse's
         // shorter one runs `Simd::Tick`, two chunks at a time (see the `step` module).
         return if F::DIRECT {
-            one_tick::<V, F>(cols, block)
+            one_tick::<V, F>(tk, cols, block)
         } else {
-            one_tick::<V::Tick, F>(cols, block)
+            one_tick::<V::Tick, F>(tk, cols, block)
         };
     }
     let layout = Layout {
@@ -56,7 +57,7 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
     while t0 < end {
         let mut t1 = (t0 + TILE).min(end);
         let stop = match block.limit {
-            Some(limit) => first_beyond::<V>(input, &layout, t0, t1, limit),
+            Some(limit) => first_beyond::<V>(tk, input, &layout, t0, t1, limit),
             None => None,
         };
         if let Some(bad) = stop {
@@ -65,7 +66,7 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
         let mut start = 0;
         while start < n && t0 < t1 {
             let width = (n - start).min(V::LANES);
-            let x0 = gather::<V>(input, &layout, start, width, t0);
+            let x0 = gather::<V>(tk, input, &layout, start, width, t0);
             let (mut st, mut changed) = load::<V, F>(cols, start, width, x0);
             let mut x = x0;
             for t in t0..t1 {
@@ -74,7 +75,7 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
                 // of 4 KiB (1,024 f32 channels) a load after a store to the same address modulo
                 // 4 KiB waits for it (4K aliasing).
                 if t + 1 < t1 {
-                    x = gather::<V>(input, &layout, start, width, t + 1);
+                    x = gather::<V>(tk, input, &layout, start, width, t + 1);
                 }
                 scatter(block.output, &layout, start, width, t, y);
             }
@@ -93,6 +94,7 @@ pub(crate) fn run<V: Simd, F: BankFormula>(
 /// near the end of the float range), a vector at a time over the tile.
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn first_beyond<V: Simd>(
+    tk: V::Token,
     input: &[V::T],
     at: &Layout,
     t0: usize,
@@ -107,7 +109,7 @@ fn first_beyond<V: Simd>(
             let row = input
                 .get(c * at.samples + t0..c * at.samples + t1)
                 .unwrap_or(&[]);
-            if !all_within::<V>(row, limit) {
+            if !all_within::<V>(tk, row, limit) {
                 let t = row.iter().position(|x| !within(x)).map_or(t1, |i| t0 + i);
                 first = Some(first.map_or(t, |f: usize| f.min(t)));
             }
@@ -115,7 +117,7 @@ fn first_beyond<V: Simd>(
         first
     } else {
         let tile = input.get(t0 * at.n..t1 * at.n).unwrap_or(&[]);
-        if all_within::<V>(tile, limit) {
+        if all_within::<V>(tk, tile, limit) {
             None
         } else {
             Some(
@@ -147,17 +149,24 @@ impl Layout {
 
 /// The samples of tick `t` of the chunk at `start` (`width` channels; padding lanes 0).
 #[inline(always)]
-fn gather<V: Simd>(input: &[V::T], at: &Layout, start: usize, width: usize, t: usize) -> V {
+fn gather<V: Simd>(
+    tk: V::Token,
+    input: &[V::T],
+    at: &Layout,
+    start: usize,
+    width: usize,
+    t: usize,
+) -> V {
     if !at.channel_major && width == V::LANES {
         let i = t * at.n + start;
-        return V::load(input.get(i..i + V::LANES).unwrap_or(&[]));
+        return V::load(tk, input.get(i..i + V::LANES).unwrap_or(&[]));
     }
     let zero = <V::T as Real>::ZERO;
     let mut buf = [zero; MAX_LANES];
     for (i, b) in buf.iter_mut().enumerate().take(width) {
         *b = input.get(at.index(start + i, t)).copied().unwrap_or(zero);
     }
-    V::load(&buf)
+    V::load(tk, &buf)
 }
 
 /// Writes the outputs `y` of tick `t` of the chunk at `start`.

@@ -11,16 +11,16 @@
 //! inlined into their `#[target_feature]` entry points, but in debug builds the unoptimised
 //! frames of all of them inlined together need more than a thread's 2 MiB of stack.
 
-use super::columns::ColumnsMut;
-use super::error::BankError;
-use super::formula::BankFormula;
-use super::lanes::{decay, exp, fsc_step, ln, omega_series, omega_start, omega_v};
-use super::vector::{Lane, Simd};
-use crate::k2law::ConstantK2;
-use crate::memory::{Direction, Memory};
-use crate::operator::Operator;
-use crate::parametric::ParametricHysteresis;
-use crate::real::Real;
+use crate::columns::ColumnsMut;
+use crate::error::BankError;
+use crate::formula::BankFormula;
+use crate::lanes::{decay, exp, fsc_step, ln, omega_series, omega_start, omega_v};
+use crate::vector::{Lane, Simd};
+use hyst_core::k2law::ConstantK2;
+use hyst_core::memory::{Direction, Memory};
+use hyst_core::operator::Operator;
+use hyst_core::parametric::ParametricHysteresis;
+use hyst_core::real::Real;
 
 /// The most lanes of any vector (AVX-512 f32).
 pub(super) const MAX_LANES: usize = 64;
@@ -51,17 +51,23 @@ pub(super) struct State<V> {
 
 /// A column's values for `start .. start + width` into a vector, padding with `fill`.
 #[inline(always)]
-pub(super) fn column<V: Simd>(s: &[V::T], start: usize, width: usize, fill: V::T) -> V {
+pub(super) fn column<V: Simd>(
+    tk: V::Token,
+    s: &[V::T],
+    start: usize,
+    width: usize,
+    fill: V::T,
+) -> V {
     if width == V::LANES {
         // An exact range: the slice's length is then the constant V::LANES, so the vector
         // loads inside (a `Pair` splits it) need no length checks of their own.
-        return V::load(s.get(start..start + V::LANES).unwrap_or(&[]));
+        return V::load(tk, s.get(start..start + V::LANES).unwrap_or(&[]));
     }
     let mut buf = [fill; MAX_LANES];
     for (b, v) in buf.iter_mut().zip(s.iter().skip(start).take(width)) {
         *b = *v;
     }
-    V::load(&buf)
+    V::load(tk, &buf)
 }
 
 /// Writes the first `width` lanes of `v` to `s[start..]`.
@@ -83,7 +89,8 @@ pub(super) fn put<V: Simd>(s: &mut [V::T], start: usize, width: usize, v: V) {
 /// M* of eq. (2) (M + k1 clamped into [0, 2 k1]) and ln(k2 M*) = ln k2 + ln M* (−∞ at M* = 0).
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn direct_cache<V: Simd>(st: &State<V>) -> (V, V) {
-    let zero = V::c(0.0);
+    let tk = st.k1.token();
+    let zero = V::c(tk, 0.0);
     let two_k1 = st.k1 + st.k1;
     let m = (st.rout - st.rin).fma(st.sign, st.k1);
     let m = V::select(m.less(zero), zero, V::select(two_k1.less(m), two_k1, m));
@@ -96,11 +103,12 @@ fn direct_cache<V: Simd>(st: &State<V>) -> (V, V) {
 /// fewer a chunk in registers), whose sign is −s.
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn observe<V: Simd, F: BankFormula>(st: &mut State<V>, x: V) -> V::M {
+    let tk = x.token();
     let step = x - st.lin;
     let reversed = if F::DIRECT {
-        (step * st.sign).less(V::c(0.0))
+        (step * st.sign).less(V::c(tk, 0.0))
     } else {
-        V::c(0.0).less(step * st.neg_k2)
+        V::c(tk, 0.0).less(step * st.neg_k2)
     };
     st.rin = V::select(reversed, st.lin, st.rin);
     st.rout = V::select(reversed, st.lout, st.rout);
@@ -116,7 +124,8 @@ fn observe<V: Simd, F: BankFormula>(st: &mut State<V>, x: V) -> V::M {
 /// The inverse kernel's s from −k2 s (k2 > 0).
 #[inline(always)]
 fn sign_of<V: Simd>(neg_k2_s: V) -> V {
-    V::select(neg_k2_s.less(V::c(0.0)), V::c(1.0), V::c(-1.0))
+    let tk = neg_k2_s.token();
+    V::select(neg_k2_s.less(V::c(tk, 0.0)), V::c(tk, 1.0), V::c(tk, -1.0))
 }
 
 /// Eq. (4) with the transformation folded in: v = (x − α0 + β0) + (1 − e^(−k2 ũd)) · s M*,
@@ -157,19 +166,21 @@ fn direct_output<V: Simd>(st: &State<V>, x: V) -> V
 where
     V::T: Lane,
 {
-    let zero = V::c(0.0);
+    let tk = x.token();
+    let zero = V::c(tk, 0.0);
     let vt = (x - st.rin) * st.sign;
     let y = (st.m_star - vt).fma(st.k2, st.ln_a);
     let t = exp(y);
     let series = omega_series(t);
-    let exact = y.less(V::splat(<V::T as Lane>::OMEGA_SERIES));
+    let exact = y.less(V::splat(tk, <V::T as Lane>::OMEGA_SERIES));
     let w = if V::all(exact) {
         series
     } else {
         let (w1, r) = fsc_step(omega_start(y, series), y);
         let ok = V::or(
             exact,
-            r.magnitude().less_eq(V::splat(<V::T as Lane>::RESIDUAL_OK)),
+            r.magnitude()
+                .less_eq(V::splat(tk, <V::T as Lane>::RESIDUAL_OK)),
         );
         let w = V::select(exact, series, w1);
         if V::all(ok) {
@@ -179,7 +190,7 @@ where
         }
     };
     let plain = w.fma(st.inv_k2, vt - st.m_star);
-    let huge = V::splat(<V::T as Real>::EXP_ARG_MAX).less(y);
+    let huge = V::splat(tk, <V::T as Real>::EXP_ARG_MAX).less(y);
     let u = if V::any(huge) {
         V::select(huge, (st.ln_a - ln(w)) * st.inv_k2, plain)
     } else {
@@ -203,6 +214,7 @@ fn repair<V: Simd, F: BankFormula>(
     start: usize,
     width: usize,
 ) -> Result<[V; 4], BankError> {
+    let tk = x.token();
     let zero = <V::T as Real>::ZERO;
     let spill = |v: V| {
         let mut a = [zero; MAX_LANES];
@@ -252,11 +264,16 @@ fn repair<V: Simd, F: BankFormula>(
             *slot = within_band(out, xi, k1i);
         }
     }
-    Ok([V::load(&ys), V::load(&rin), V::load(&rout), V::load(&sign)])
+    Ok([
+        V::load(tk, &ys),
+        V::load(tk, &rin),
+        V::load(tk, &rout),
+        V::load(tk, &sign),
+    ])
 }
 
 /// `y` clamped so that |y − x|, computed in floating point, is at most k1 (the test
-/// [`crate::Memory::validate`] makes): the edges x ± k1 rounded, then moved one float towards
+/// [`hyst_core::Memory::validate`] makes): the edges x ± k1 rounded, then moved one float towards
 /// x where rounding put them outside.
 fn within_band<T: Lane>(y: T, x: T, k1: T) -> T {
     let mut lo = x - k1;
@@ -285,7 +302,8 @@ fn into_band<V: Simd>(y: V, x: V, k1: V) -> V
 where
     V::T: Lane,
 {
-    let step = V::splat(<V::T as Lane>::ONE_STEP);
+    let tk = y.token();
+    let step = V::splat(tk, <V::T as Lane>::ONE_STEP);
     let hi = x + k1;
     let hi = V::select(k1.less(hi - x), (-hi.magnitude()).fma(step, hi), hi);
     let lo = x - k1;
@@ -303,7 +321,8 @@ fn near_band<V: Simd>(k1: V, rout: V, x: V, y: V) -> V::M
 where
     V::T: Lane,
 {
-    let slack = V::splat(<V::T as Lane>::ONE_STEP) * V::c(192.0);
+    let tk = k1.token();
+    let slack = V::splat(tk, <V::T as Lane>::ONE_STEP) * V::c(tk, 192.0);
     let scale = x.magnitude().max_or(k1).max_or(rout.magnitude());
     (y - x).magnitude().less_eq(scale.fma(slack, k1))
 }
@@ -440,27 +459,27 @@ pub(super) fn put_state<V: Simd, F: BankFormula>(
 /// sample that follows. (`step` pays for this pass before any channel's memory may change: the
 /// test of each sample took 6 % of an AVX2 `step` of the inverse.)
 #[inline(always)]
-pub(super) fn all_within<V: Simd>(input: &[V::T], limit: V::T) -> bool {
+pub(super) fn all_within<V: Simd>(tk: V::Token, input: &[V::T], limit: V::T) -> bool {
     if limit == <V::T as num_traits::Float>::max_value() {
         let mut pairs = input.chunks_exact(2 * V::LANES);
-        let (mut a, mut b) = (V::c(0.0), V::c(0.0));
+        let (mut a, mut b) = (V::c(tk, 0.0), V::c(tk, 0.0));
         for pair in &mut pairs {
             let (low, high) = pair.split_at(V::LANES);
-            a = a + V::load(low);
-            b = b + V::load(high);
+            a = a + V::load(tk, low);
+            b = b + V::load(tk, high);
         }
         let sum = a + b;
-        if V::all((sum * V::c(0.0)).equal(V::c(0.0)))
+        if V::all((sum * V::c(tk, 0.0)).equal(V::c(tk, 0.0)))
             && pairs.remainder().iter().all(|x| x.magnitude() <= limit)
         {
             return true;
         }
     }
-    let lim = V::splat(limit);
+    let lim = V::splat(tk, limit);
     let mut chunks = input.chunks_exact(V::LANES);
-    let mut ok = V::splat(<V::T as Real>::ZERO).equal(V::c(0.0));
+    let mut ok = V::splat(tk, <V::T as Real>::ZERO).equal(V::c(tk, 0.0));
     for c in &mut chunks {
-        ok = V::and(ok, V::load(c).magnitude().less_eq(lim));
+        ok = V::and(ok, V::load(tk, c).magnitude().less_eq(lim));
     }
     V::all(ok) && chunks.remainder().iter().all(|x| x.magnitude() <= limit)
 }
@@ -475,18 +494,19 @@ pub(super) fn load<V: Simd, F: BankFormula>(
     width: usize,
     x0: V,
 ) -> (State<V>, bool) {
+    let tk = x0.token();
     let zero = <V::T as Real>::ZERO;
-    let one = V::c(1.0);
-    let lin = column::<V>(cols.last_input, start, width, zero);
+    let one = V::c(tk, 1.0);
+    let lin = column::<V>(tk, cols.last_input, start, width, zero);
     let started = lin.equal(lin);
     let mut st = State {
-        k1: column::<V>(cols.k1, start, width, <V::T as Real>::from_f64(1.0)),
-        k2: column::<V>(cols.k2, start, width, <V::T as Real>::from_f64(1.0)),
-        rin: column::<V>(cols.reversal_input, start, width, zero),
-        rout: column::<V>(cols.reversal_output, start, width, zero),
-        sign: column::<V>(cols.sign, start, width, zero),
+        k1: column::<V>(tk, cols.k1, start, width, <V::T as Real>::from_f64(1.0)),
+        k2: column::<V>(tk, cols.k2, start, width, <V::T as Real>::from_f64(1.0)),
+        rin: column::<V>(tk, cols.reversal_input, start, width, zero),
+        rout: column::<V>(tk, cols.reversal_output, start, width, zero),
+        sign: column::<V>(tk, cols.sign, start, width, zero),
         lin,
-        lout: column::<V>(cols.last_output, start, width, zero),
+        lout: column::<V>(tk, cols.last_output, start, width, zero),
         inv_k2: one,
         ln_k2: one,
         m_star: one,
@@ -504,10 +524,10 @@ pub(super) fn load<V: Simd, F: BankFormula>(
         st.sign = V::select(started, st.sign, one);
     }
     if F::DIRECT {
-        st.inv_k2 = column::<V>(cols.inv_k2, start, width, <V::T as Real>::from_f64(1.0));
-        st.ln_k2 = column::<V>(cols.ln_k2, start, width, zero);
-        st.m_star = column::<V>(cols.m_star, start, width, zero);
-        st.ln_a = column::<V>(cols.ln_a, start, width, zero);
+        st.inv_k2 = column::<V>(tk, cols.inv_k2, start, width, <V::T as Real>::from_f64(1.0));
+        st.ln_k2 = column::<V>(tk, cols.ln_k2, start, width, zero);
+        st.m_star = column::<V>(tk, cols.m_star, start, width, zero);
+        st.ln_a = column::<V>(tk, cols.ln_a, start, width, zero);
         // Cached values are NaN after `new` and `set_memory`.
         let valid = V::and(started, st.m_star.equal(st.m_star));
         if !V::all(valid) {
@@ -602,7 +622,7 @@ mod tests {
     /// place of a row of any length, at the float range's end as the limit and below it.
     #[test]
     fn the_input_check_is_the_test_of_each_sample() {
-        use super::super::simd::Pair;
+        use crate::simd::Pair;
         use std::{vec, vec::Vec};
         fn each(row: &[f64], limit: f64) -> bool {
             row.iter().all(|x| x.abs() <= limit)
@@ -633,9 +653,9 @@ mod tests {
                 }
                 for row in &rows {
                     let want = each(row, limit);
-                    assert_eq!(all_within::<f64>(row, limit), want, "{row:?} {limit}");
+                    assert_eq!(all_within::<f64>((), row, limit), want, "{row:?} {limit}");
                     assert_eq!(
-                        all_within::<Pair<Pair<f64>>>(row, limit),
+                        all_within::<Pair<Pair<f64>>>((), row, limit),
                         want,
                         "{row:?} {limit}"
                     );

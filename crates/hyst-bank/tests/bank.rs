@@ -5,9 +5,10 @@
 //! ones.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
-use hyst_core::bank::lanes::{omega, Lane};
-use hyst_core::bank::{force_isa, isa, Isa};
-use hyst_core::{BankError, BankVec, Direct, Error, Inverse, Memory, Operator};
+use hyst_bank::lanes::{omega, Lane};
+use hyst_bank::{force_isa, isa, Isa};
+use hyst_bank::{BankError, BankVec};
+use hyst_core::{Direct, Error, Inverse, Memory, Operator};
 use std::sync::Mutex;
 
 /// Tests that force a kernel or depend on which one runs hold this (the choice is global).
@@ -121,7 +122,7 @@ const DIRECT_ULP: f64 = 16.0;
 
 /// Ticks per comparison of 67 channels (not a multiple of any vector width, so the padded
 /// remainder chunk runs too): 67 × 40,000 × 4 (two formulas, two precisions) = 1.07e7 samples
-/// per kernel in release builds (`cargo test --release -p hyst-core --test bank`, ~1 s per
+/// per kernel in release builds (`cargo test --release -p hyst-bank --test bank`, ~1 s per
 /// kernel); a tenth in debug builds.
 const TICKS: usize = if cfg!(debug_assertions) {
     4_000
@@ -137,7 +138,7 @@ const CHANNELS: usize = 67;
 fn compare<T, F>(seed: u64, ticks: usize) -> f64
 where
     T: LaneEps,
-    F: hyst_core::bank::BankFormula,
+    F: hyst_bank::BankFormula,
 {
     let mut rng = Rng(seed);
     let wide = T::EPSILON_F64 < 1e-10;
@@ -262,7 +263,7 @@ fn every_kernel_agrees_with_the_scalar_operator() {
     assert!(ran >= 1);
 }
 
-fn memories<F: hyst_core::bank::BankFormula>(bank: &BankVec<f64, F>) -> Vec<Option<Memory<f64>>> {
+fn memories<F: hyst_bank::BankFormula>(bank: &BankVec<f64, F>) -> Vec<Option<Memory<f64>>> {
     (0..bank.channels()).map(|c| bank.memory(c)).collect()
 }
 
@@ -345,7 +346,7 @@ fn bad_input_is_an_error_that_leaves_every_memory_as_before_the_tick() {
 /// the channel, with every memory as before the block.
 #[test]
 fn the_end_of_the_float_range_is_handled_like_the_scalar_operator() {
-    fn run<F: hyst_core::bank::BankFormula>() -> (usize, usize) {
+    fn run<F: hyst_bank::BankFormula>() -> (usize, usize) {
         // Four kinds of channel, nine of each: whole chunks of every kernel and a remainder.
         const N: usize = 36;
         let (mut fine, mut refused) = (0, 0);
@@ -443,7 +444,7 @@ fn layouts_and_storage_agree() {
     force_isa(None).unwrap();
 }
 
-fn layouts_agree<F: hyst_core::bank::BankFormula>() {
+fn layouts_agree<F: hyst_bank::BankFormula>() {
     const N: usize = 45;
     const T: usize = 37;
     let k1: [f64; N] = core::array::from_fn(|c| 0.05 + 0.03 * c as f64);
@@ -456,7 +457,7 @@ fn layouts_agree<F: hyst_core::bank::BankFormula>() {
         };
         offset + (0.21 * t as f64 + c as f64).sin() * (1.0 + 0.1 * c as f64)
     };
-    let mut by_tick = hyst_core::bank::Bank::<f64, F, N>::new(k1, k2).unwrap();
+    let mut by_tick = hyst_bank::Bank::<f64, F, N>::new(k1, k2).unwrap();
     let mut ticks = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
     let mut block = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
     let mut one = vec![0.0; N * T];

@@ -2,13 +2,13 @@
 //! [`ParametricBank::process_block_par`] split the channels into parts of whole chunks, one
 //! part per task, and give the same outputs as one thread, bit for bit.
 
-use super::block::Block;
-use super::checked::{check_block, run_checked};
-use super::columns::Storage;
-use super::error::BankError;
-use super::formula::BankFormula;
-use super::vector::Lane;
-use super::ParametricBank;
+use crate::block::Block;
+use crate::checked::{check_block, run_checked};
+use crate::columns::Storage;
+use crate::error::BankError;
+use crate::formula::BankFormula;
+use crate::vector::Lane;
+use crate::ParametricBank;
 
 /// Threads: the channels split into parts of whole chunks, one part per task (rayon).
 impl<T: Lane + Send + Sync, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {

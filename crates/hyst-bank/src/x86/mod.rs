@@ -2,98 +2,119 @@
 //! code (docs/performance.md says why it is not left to the autovectoriser).
 //!
 //! # Safety argument
-//! The intrinsics are `unsafe` only because the processor must have the instruction set. The
-//! types here are private to the crate and are created and used only inside the
-//! `#[target_feature]` kernels at the bottom of this module, which `run_f64` / `run_f32` call
-//! only after `is_x86_feature_detected!` has confirmed the features (AVX2 and FMA for
-//! [`F64x4`] / [`F32x8`], AVX-512F for [`F64x8`] / [`F32x16`]); [`F64x2`] / [`F32x4`] need
-//! SSE2, which every x86-64 processor has. Loads and stores check the
-//! slice length first, so no intrinsic reads or writes outside a slice.
+//! The intrinsics are `unsafe` only because the processor must have the instruction set. Each
+//! vector type holds a token of its instruction set ([`Sse2`] for [`F64x2`] / [`F32x4`],
+//! [`Avx2`] (AVX2 and FMA) for [`F64x4`] / [`F32x8`], [`Avx512`] (AVX-512F) for [`F64x8`] /
+//! [`F32x16`]): a zero-sized value whose field is private to this module and whose only
+//! constructor, `detect`, asks the processor (`is_x86_feature_detected!`). Every constructor of
+//! a vector takes a token, and every operation makes its result from its operands' token, so a
+//! vector exists only on a processor with its instruction set. The `#[target_feature]` kernels
+//! take the token too, which is what makes their calls sound. Loads and stores check the slice
+//! length first, so no intrinsic reads or writes outside a slice.
 
 #![allow(unsafe_code)]
 
 use core::arch::x86_64::*;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use super::block::Block;
-use super::columns::ColumnsMut;
-use super::error::BankError;
-use super::formula::BankFormula;
-use super::instruction_set::Isa;
-use super::kernel;
-use super::simd::Pair;
-use super::vector::{Lane, Simd};
-use crate::real::Real;
+use crate::block::Block;
+use crate::columns::ColumnsMut;
+use crate::error::BankError;
+use crate::formula::BankFormula;
+use crate::instruction_set::Isa;
+use crate::kernel;
+use crate::simd::Pair;
+use crate::vector::{Lane, Simd};
+use hyst_core::real::Real;
 
 /// 2⁵².
 const TWO_52: f64 = (1_u64 << 52) as f64;
 
-/// Runs an intrinsic. SAFETY: the module's safety argument (the vector types exist only on a
-/// processor with their instruction set; pointers are passed after the slice length is checked).
+pub(crate) use crate::token::{Avx2, Avx512, Sse2};
+
+/// A vector type and the token of its instruction set (the one its intrinsics need).
+pub(crate) trait Proven {
+    /// [`Sse2`], [`Avx2`] or [`Avx512`].
+    type Token;
+}
+
+/// Runs an intrinsic. SAFETY: the module's safety argument (a vector, or the token it is made
+/// from, exists only on a processor with its instruction set; pointers are passed after the
+/// slice length is checked).
 macro_rules! arch {
     ($e:expr) => {
-        // SAFETY: the module's safety argument (instruction set detected before any value of
-        // these types exists; slice lengths checked before pointer loads and stores).
+        // SAFETY: the module's safety argument (the operands' token, or the token passed to the
+        // constructor, proves the instruction set; slice lengths checked before pointer loads
+        // and stores).
         unsafe { $e }
     };
 }
 
+mod sse2;
+
+use sse2::*;
+
 macro_rules! vector {
     (
-        $name:ident, $t:ty, $raw:ty, $mask:ty, $lanes:expr,
+        $name:ident, $token:ty, $t:ty, $raw:ty, $mask:ty, $lanes:expr,
         add $add:ident, sub $sub:ident, mul $mul:ident, div $div:ident, fma $fma:ident,
         set1 $set1:ident, loadu $loadu:ident, storeu $storeu:ident, xor $xor:ident
     ) => {
-        /// A vector of the bank (see the module's safety argument).
+        /// A vector of the bank, with the proof that this processor runs its instructions
+        /// (see the module's safety argument).
         #[derive(Clone, Copy)]
-        pub(crate) struct $name($raw);
+        pub(crate) struct $name($raw, $token);
+
+        impl Proven for $name {
+            type Token = $token;
+        }
 
         impl Add for $name {
             type Output = Self;
             #[inline(always)]
             fn add(self, b: Self) -> Self {
-                Self(arch!($add(self.0, b.0)))
+                Self(arch!($add(self.0, b.0)), self.1)
             }
         }
         impl Sub for $name {
             type Output = Self;
             #[inline(always)]
             fn sub(self, b: Self) -> Self {
-                Self(arch!($sub(self.0, b.0)))
+                Self(arch!($sub(self.0, b.0)), self.1)
             }
         }
         impl Mul for $name {
             type Output = Self;
             #[inline(always)]
             fn mul(self, b: Self) -> Self {
-                Self(arch!($mul(self.0, b.0)))
+                Self(arch!($mul(self.0, b.0)), self.1)
             }
         }
         impl Div for $name {
             type Output = Self;
             #[inline(always)]
             fn div(self, b: Self) -> Self {
-                Self(arch!($div(self.0, b.0)))
+                Self(arch!($div(self.0, b.0)), self.1)
             }
         }
         impl Neg for $name {
             type Output = Self;
             #[inline(always)]
             fn neg(self) -> Self {
-                Self($xor(self.0))
+                Self($xor(self.0), self.1)
             }
         }
         impl $name {
             #[inline(always)]
-            fn splat_raw(v: $t) -> Self {
-                Self(arch!($set1(v)))
+            fn splat_raw(token: $token, v: $t) -> Self {
+                Self(arch!($set1(v)), token)
             }
             #[inline(always)]
-            fn load_raw(s: &[$t]) -> Self {
+            fn load_raw(token: $token, s: &[$t]) -> Self {
                 if s.len() < $lanes {
-                    return Self::splat_raw(0.0);
+                    return Self::splat_raw(token, 0.0);
                 }
-                Self(arch!($loadu(s.as_ptr())))
+                Self(arch!($loadu(s.as_ptr())), token)
             }
             #[inline(always)]
             fn store_raw(self, s: &mut [$t]) {
@@ -103,25 +124,25 @@ macro_rules! vector {
             }
             #[inline(always)]
             fn fma_raw(self, b: Self, c: Self) -> Self {
-                Self(arch!($fma(self.0, b.0, c.0)))
+                Self(arch!($fma(self.0, b.0, c.0)), self.1)
             }
         }
     };
 }
 
-vector!(F64x4, f64, __m256d, __m256d, 4,
+vector!(F64x4, Avx2, f64, __m256d, __m256d, 4,
     add _mm256_add_pd, sub _mm256_sub_pd, mul _mm256_mul_pd, div _mm256_div_pd,
     fma _mm256_fmadd_pd, set1 _mm256_set1_pd, loadu _mm256_loadu_pd,
     storeu _mm256_storeu_pd, xor flip_mm256_xor_pd);
-vector!(F32x8, f32, __m256, __m256, 8,
+vector!(F32x8, Avx2, f32, __m256, __m256, 8,
     add _mm256_add_ps, sub _mm256_sub_ps, mul _mm256_mul_ps, div _mm256_div_ps,
     fma _mm256_fmadd_ps, set1 _mm256_set1_ps, loadu _mm256_loadu_ps,
     storeu _mm256_storeu_ps, xor flip_mm256_xor_ps);
-vector!(F64x8, f64, __m512d, __mmask8, 8,
+vector!(F64x8, Avx512, f64, __m512d, __mmask8, 8,
     add _mm512_add_pd, sub _mm512_sub_pd, mul _mm512_mul_pd, div _mm512_div_pd,
     fma _mm512_fmadd_pd, set1 _mm512_set1_pd, loadu _mm512_loadu_pd,
     storeu _mm512_storeu_pd, xor flip_mm512_xor_pd);
-vector!(F32x16, f32, __m512, __mmask16, 16,
+vector!(F32x16, Avx512, f32, __m512, __mmask16, 16,
     add _mm512_add_ps, sub _mm512_sub_ps, mul _mm512_mul_ps, div _mm512_div_ps,
     fma _mm512_fmadd_ps, set1 _mm512_set1_ps, loadu _mm512_loadu_ps,
     storeu _mm512_storeu_ps, xor flip_mm512_xor_ps);
@@ -130,15 +151,20 @@ vector!(F32x16, f32, __m512, __mmask16, 16,
 macro_rules! common {
     ($t:ty, $lanes:expr, $tick:ty) => {
         type T = $t;
+        type Token = <Self as Proven>::Token;
         type Tick = $tick;
         const LANES: usize = $lanes;
         #[inline(always)]
-        fn splat(v: $t) -> Self {
-            Self::splat_raw(v)
+        fn token(self) -> Self::Token {
+            self.1
         }
         #[inline(always)]
-        fn load(s: &[$t]) -> Self {
-            Self::load_raw(s)
+        fn splat(token: Self::Token, v: $t) -> Self {
+            Self::splat_raw(token, v)
+        }
+        #[inline(always)]
+        fn load(token: Self::Token, s: &[$t]) -> Self {
+            Self::load_raw(token, s)
         }
         #[inline(always)]
         fn store(self, s: &mut [$t]) {
@@ -267,17 +293,20 @@ macro_rules! bits {
      $exponent:ident) => {
         #[inline(always)]
         fn pow2_shifted(t: Self) -> Self {
-            Self(arch!($from_int($shl::<$mant>($add_int(
-                $to_int(t.0),
-                $set1_int($bias)
-            )))))
+            Self(
+                arch!($from_int($shl::<$mant>($add_int(
+                    $to_int(t.0),
+                    $set1_int($bias)
+                )))),
+                t.1,
+            )
         }
         #[inline(always)]
         fn split_exponent(self) -> (Self, Self) {
             let bits = arch!($to_int(self.0));
             let m = arch!($or($and(bits, $set1_int($mant_mask)), $set1_int($one)));
             let k = $exponent(arch!($shr::<$mant>(bits)));
-            (Self(arch!($from_int(m))), Self(k))
+            (Self(arch!($from_int(m)), self.1), Self(k, self.1))
         }
     };
 }
@@ -304,7 +333,7 @@ macro_rules! avx2_simd {
             }
             #[inline(always)]
             fn select(m: $raw, a: Self, b: Self) -> Self {
-                Self(arch!($blend(b.0, a.0, m)))
+                Self(arch!($blend(b.0, a.0, m)), a.1)
             }
             #[inline(always)]
             fn and(a: $raw, b: $raw) -> $raw {
@@ -328,15 +357,15 @@ macro_rules! avx2_simd {
             }
             #[inline(always)]
             fn magnitude(self) -> Self {
-                Self(arch!($andnot($set1(-0.0), self.0)))
+                Self(arch!($andnot($set1(-0.0), self.0)), self.1)
             }
             #[inline(always)]
             fn negate_where(self, m: $raw) -> Self {
-                Self(arch!($xor(self.0, $and(m, $set1(-0.0)))))
+                Self(arch!($xor(self.0, $and(m, $set1(-0.0)))), self.1)
             }
             #[inline(always)]
             fn max_or(self, b: Self) -> Self {
-                Self(arch!($max(self.0, b.0)))
+                Self(arch!($max(self.0, b.0)), self.1)
             }
             bits!($($bits)*);
         }
@@ -411,7 +440,7 @@ avx2_simd!(
 );
 
 /// [`Simd`] for an AVX-512 vector (mask registers), with `exp` by the table of
-/// [`super::lanes::Lane::EXP_TABLE`] in one register (`vpermpd`) and `vscalefpd`.
+/// [`crate::lanes::Lane::EXP_TABLE`] in one register (`vpermpd`) and `vscalefpd`.
 macro_rules! avx512_simd {
     ($name:ident, $tick:ty, $t:ty, $raw:ty, $mask:ty, $lanes:expr, $full:expr, $cmp:ident, $blend:ident,
      $abs:ident, $min:ident, $max:ident, $scalef:ident, $permute:ident, $to_int:ident,
@@ -424,9 +453,9 @@ macro_rules! avx512_simd {
             #[inline(always)]
             fn exp_arg(x: Self) -> Self {
                 // max/min return their second operand when either is NaN: NaN stays NaN.
-                let lo = Self::splat_raw(-1100.0).0;
-                let hi = Self::splat_raw(1100.0).0;
-                Self(arch!($min(hi, $max(lo, x.0))))
+                let lo = Self::splat_raw(x.1, -1100.0).0;
+                let hi = Self::splat_raw(x.1, 1100.0).0;
+                Self(arch!($min(hi, $max(lo, x.0))), x.1)
             }
             #[inline(always)]
             fn exp2_frac(t: Self) -> Self {
@@ -434,12 +463,12 @@ macro_rules! avx512_simd {
                 for (v, c) in table.iter_mut().zip(<$t as Lane>::EXP_TABLE) {
                     *v = <$t as Real>::from_f64(*c);
                 }
-                let table = Self::load_raw(&table);
-                Self(arch!($permute($to_int(t.0), table.0)))
+                let table = Self::load_raw(t.1, &table);
+                Self(arch!($permute($to_int(t.0), table.0)), t.1)
             }
             #[inline(always)]
             fn scale(e: Self, n: Self) -> Self {
-                Self(arch!($scalef(e.0, n.0)))
+                Self(arch!($scalef(e.0, n.0)), e.1)
             }
             #[inline(always)]
             fn less(self, b: Self) -> $mask {
@@ -455,7 +484,7 @@ macro_rules! avx512_simd {
             }
             #[inline(always)]
             fn select(m: $mask, a: Self, b: Self) -> Self {
-                Self(arch!($blend(m, b.0, a.0)))
+                Self(arch!($blend(m, b.0, a.0)), a.1)
             }
             #[inline(always)]
             fn and(a: $mask, b: $mask) -> $mask {
@@ -479,11 +508,11 @@ macro_rules! avx512_simd {
             }
             #[inline(always)]
             fn magnitude(self) -> Self {
-                Self(arch!($abs(self.0)))
+                Self(arch!($abs(self.0)), self.1)
             }
             #[inline(always)]
             fn max_or(self, b: Self) -> Self {
-                Self(arch!($max(self.0, b.0)))
+                Self(arch!($max(self.0, b.0)), self.1)
             }
             bits!($($bits)*);
         }
@@ -557,82 +586,35 @@ avx512_simd!(
     ]
 );
 
-/// The kernels compiled for one instruction set each.
+/// The kernels compiled for one instruction set each: `$name` takes the token of the
+/// instruction set and calls `$inner`, compiled for it.
 macro_rules! entry {
-    ($name:ident, $t:ty, $v:ty, $features:literal) => {
+    ($name:ident, $inner:ident, $token:ty, $t:ty, $v:ty, $features:literal) => {
         #[target_feature(enable = $features)]
-        fn $name<F: BankFormula>(
+        fn $inner<F: BankFormula>(
+            token: $token,
             cols: &mut ColumnsMut<'_, $t>,
             block: &mut Block<'_, $t>,
         ) -> Result<Option<usize>, BankError> {
-            kernel::run::<$v, F>(cols, block)
+            kernel::run::<$v, F>(token, cols, block)
+        }
+
+        fn $name<F: BankFormula>(
+            token: $token,
+            cols: &mut ColumnsMut<'_, $t>,
+            block: &mut Block<'_, $t>,
+        ) -> Result<Option<usize>, BankError> {
+            // SAFETY: `token` proves that this processor has the features `$inner` is compiled
+            // for (the module's safety argument).
+            unsafe { $inner::<F>(token, cols, block) }
         }
     };
 }
 
-/// SSE2 in the shape of the AVX intrinsics the macros above take: x86-64's baseline (every
-/// x86-64 processor has SSE2, so no detection); no fused multiply-add (a multiply, then an add).
-macro_rules! sse2_shims {
-    ($raw:ty, $cmp:ident, $blend:ident, $fma:ident, $lt:ident, $le:ident, $eq:ident,
-     $and:ident, $or:ident, $andnot:ident, $add:ident, $mul:ident) => {
-        /// # Safety
-        /// The processor has SSE2 (every x86-64 processor has).
-        #[inline(always)]
-        unsafe fn $cmp<const P: i32>(a: $raw, b: $raw) -> $raw {
-            match P {
-                _CMP_LT_OQ => arch!($lt(a, b)),
-                _CMP_LE_OQ => arch!($le(a, b)),
-                _ => arch!($eq(a, b)),
-            }
-        }
-        /// # Safety
-        /// As the comparison.
-        #[inline(always)]
-        unsafe fn $blend(b: $raw, a: $raw, m: $raw) -> $raw {
-            arch!($or($and(m, a), $andnot(m, b)))
-        }
-        /// # Safety
-        /// As the comparison.
-        #[inline(always)]
-        unsafe fn $fma(a: $raw, b: $raw, c: $raw) -> $raw {
-            arch!($add($mul(a, b), c))
-        }
-    };
-}
-
-sse2_shims!(
-    __m128d,
-    sse2_cmp_pd,
-    sse2_blend_pd,
-    sse2_mul_add_pd,
-    _mm_cmplt_pd,
-    _mm_cmple_pd,
-    _mm_cmpeq_pd,
-    _mm_and_pd,
-    _mm_or_pd,
-    _mm_andnot_pd,
-    _mm_add_pd,
-    _mm_mul_pd
-);
-sse2_shims!(
-    __m128,
-    sse2_cmp_ps,
-    sse2_blend_ps,
-    sse2_mul_add_ps,
-    _mm_cmplt_ps,
-    _mm_cmple_ps,
-    _mm_cmpeq_ps,
-    _mm_and_ps,
-    _mm_or_ps,
-    _mm_andnot_ps,
-    _mm_add_ps,
-    _mm_mul_ps
-);
-
-vector!(F64x2, f64, __m128d, __m128d, 2,
+vector!(F64x2, Sse2, f64, __m128d, __m128d, 2,
     add _mm_add_pd, sub _mm_sub_pd, mul _mm_mul_pd, div _mm_div_pd, fma sse2_mul_add_pd,
     set1 _mm_set1_pd, loadu _mm_loadu_pd, storeu _mm_storeu_pd, xor flip_mm_xor_pd);
-vector!(F32x4, f32, __m128, __m128, 4,
+vector!(F32x4, Sse2, f32, __m128, __m128, 4,
     add _mm_add_ps, sub _mm_sub_ps, mul _mm_mul_ps, div _mm_div_ps, fma sse2_mul_add_ps,
     set1 _mm_set1_ps, loadu _mm_loadu_ps, storeu _mm_storeu_ps, xor flip_mm_xor_ps);
 flip!(
@@ -747,25 +729,41 @@ type Avx512F32 = Pair<Pair<F32x16>>;
 type Sse2F64 = Pair<Pair<F64x2>>;
 type Sse2F32 = Pair<Pair<F32x4>>;
 
-/// The SSE2 kernels (x86-64's baseline: no detection, no `unsafe` call).
+/// The SSE2 kernels (x86-64's baseline: compiled for it, no `unsafe` call).
 fn f64_sse2<F: BankFormula>(
+    token: Sse2,
     cols: &mut ColumnsMut<'_, f64>,
     block: &mut Block<'_, f64>,
 ) -> Result<Option<usize>, BankError> {
-    kernel::run::<Sse2F64, F>(cols, block)
+    kernel::run::<Sse2F64, F>(token, cols, block)
 }
 
 fn f32_sse2<F: BankFormula>(
+    token: Sse2,
     cols: &mut ColumnsMut<'_, f32>,
     block: &mut Block<'_, f32>,
 ) -> Result<Option<usize>, BankError> {
-    kernel::run::<Sse2F32, F>(cols, block)
+    kernel::run::<Sse2F32, F>(token, cols, block)
 }
 
-entry!(f64_avx2, f64, Avx2F64, "avx2,fma");
-entry!(f32_avx2, f32, Avx2F32, "avx2,fma");
-entry!(f64_avx512, f64, Avx512F64, "avx512f");
-entry!(f32_avx512, f32, Avx512F32, "avx512f");
+entry!(f64_avx2, f64_avx2_compiled, Avx2, f64, Avx2F64, "avx2,fma");
+entry!(f32_avx2, f32_avx2_compiled, Avx2, f32, Avx2F32, "avx2,fma");
+entry!(
+    f64_avx512,
+    f64_avx512_compiled,
+    Avx512,
+    f64,
+    Avx512F64,
+    "avx512f"
+);
+entry!(
+    f32_avx512,
+    f32_avx512_compiled,
+    Avx512,
+    f32,
+    Avx512F32,
+    "avx512f"
+);
 
 /// Runs the kernel of `isa` when this processor has it (`None` otherwise, and for
 /// [`Isa::Portable`]).
@@ -777,19 +775,10 @@ macro_rules! dispatch {
             block: &mut Block<'_, $t>,
         ) -> Option<Result<Option<usize>, BankError>> {
             match isa {
-                Isa::Avx512 if std::arch::is_x86_feature_detected!("avx512f") => {
-                    // SAFETY: AVX-512F was detected on this processor just above.
-                    Some(unsafe { $avx512::<F>(cols, block) })
-                }
-                Isa::Avx2
-                    if std::arch::is_x86_feature_detected!("avx2")
-                        && std::arch::is_x86_feature_detected!("fma") =>
-                {
-                    // SAFETY: AVX2 and FMA were detected on this processor just above.
-                    Some(unsafe { $avx2::<F>(cols, block) })
-                }
-                Isa::Sse2 => Some($sse2::<F>(cols, block)),
-                _ => None,
+                Isa::Avx512 => Avx512::detect().map(|t| $avx512::<F>(t, cols, block)),
+                Isa::Avx2 => Avx2::detect().map(|t| $avx2::<F>(t, cols, block)),
+                Isa::Sse2 => Sse2::detect().map(|t| $sse2::<F>(t, cols, block)),
+                Isa::Portable => None,
             }
         }
     };
@@ -799,9 +788,10 @@ dispatch!(run_f64, f64, f64_avx512, f64_avx2, f64_sse2);
 dispatch!(run_f32, f32, f32_avx512, f32_avx2, f32_sse2);
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
-    use crate::bank::lanes::{decay, exp, ln};
+    use crate::lanes::{decay, exp, ln};
 
     /// The i-th point of the golden-ratio sequence in [0, 1) (evenly spread, deterministic).
     fn spread(i: usize) -> f64 {
@@ -811,6 +801,7 @@ mod tests {
     /// The worst error of `exp` and `ln` on vector `V` against the platform's, in ulp of the
     /// result (normal results only), over 2e5 arguments.
     fn worst<V: Simd>(
+        tk: V::Token,
         to: impl Fn(f64) -> V::T,
         from: impl Fn(V::T) -> f64,
         eps: f64,
@@ -825,8 +816,8 @@ mod tests {
                 .collect();
             let mut ex = std::vec![to(0.0); n];
             let mut lx = std::vec![to(0.0); n];
-            exp(V::load(&xs)).store(&mut ex);
-            ln(V::load(&ys)).store(&mut lx);
+            exp(V::load(tk, &xs)).store(&mut ex);
+            ln(V::load(tk, &ys)).store(&mut lx);
             for i in 0..n {
                 let r = from(xs[i]).exp();
                 e = e.max((from(ex[i]) - r).abs() / (r * eps));
@@ -840,7 +831,12 @@ mod tests {
     /// The worst absolute error of `decay` on vector `V` against the platform's `exp`, in ulp
     /// of 1, over 2e5 arguments in [−760, 0] (beyond the clamp too), and whether NaN gives a
     /// value below an ulp of 1.
-    fn worst_decay<V: Simd>(to: impl Fn(f64) -> V::T, from: impl Fn(V::T) -> f64, eps: f64) -> f64
+    fn worst_decay<V: Simd>(
+        tk: V::Token,
+        to: impl Fn(f64) -> V::T,
+        from: impl Fn(V::T) -> f64,
+        eps: f64,
+    ) -> f64
     where
         V::T: Lane,
     {
@@ -858,14 +854,14 @@ mod tests {
             };
             let zs: std::vec::Vec<V::T> = (0..n).map(|i| to(z(i))).collect();
             let mut out = std::vec![to(0.0); n];
-            decay(V::load(&zs)).store(&mut out);
+            decay(V::load(tk, &zs)).store(&mut out);
             for i in 0..n {
                 let r = from(zs[i]).exp();
                 worst = worst.max((from(out[i]) - r).abs() / eps);
             }
         }
         let mut out = std::vec![to(1.0); n];
-        decay(V::load(&std::vec![to(f64::NAN); n])).store(&mut out);
+        decay(V::load(tk, &std::vec![to(f64::NAN); n])).store(&mut out);
         assert!(
             out.iter().all(|&v| from(v) >= 0.0 && from(v) < eps),
             "decay(NaN)"
@@ -875,35 +871,47 @@ mod tests {
 
     #[test]
     fn every_vector_decay_is_within_an_ulp_of_1() {
+        let sse2 = Sse2::detect().unwrap();
         let f64s = |v: f64| v;
         let f32s = |v: f64| v as f32;
         let f32eps = f64::from(f32::EPSILON);
         let mut all = std::vec![
             (
                 "portable f64",
-                worst_decay::<f64>(f64s, f64::from, f64::EPSILON)
+                worst_decay::<f64>((), f64s, f64::from, f64::EPSILON)
             ),
-            ("portable f32", worst_decay::<f32>(f32s, f64::from, f32eps)),
+            (
+                "portable f32",
+                worst_decay::<f32>((), f32s, f64::from, f32eps)
+            ),
             (
                 "sse2 f64",
-                worst_decay::<F64x2>(f64s, f64::from, f64::EPSILON)
+                worst_decay::<F64x2>(sse2, f64s, f64::from, f64::EPSILON)
             ),
-            ("sse2 f32", worst_decay::<F32x4>(f32s, f64::from, f32eps)),
+            (
+                "sse2 f32",
+                worst_decay::<F32x4>(sse2, f32s, f64::from, f32eps)
+            ),
         ];
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
+        if let Some(avx2) = Avx2::detect() {
             all.push((
                 "avx2 f64",
-                worst_decay::<F64x4>(f64s, f64::from, f64::EPSILON),
+                worst_decay::<F64x4>(avx2, f64s, f64::from, f64::EPSILON),
             ));
-            all.push(("avx2 f32", worst_decay::<F32x8>(f32s, f64::from, f32eps)));
+            all.push((
+                "avx2 f32",
+                worst_decay::<F32x8>(avx2, f32s, f64::from, f32eps),
+            ));
         }
-        if std::arch::is_x86_feature_detected!("avx512f") {
+        if let Some(avx512) = Avx512::detect() {
             all.push((
                 "avx512 f64",
-                worst_decay::<F64x8>(f64s, f64::from, f64::EPSILON),
+                worst_decay::<F64x8>(avx512, f64s, f64::from, f64::EPSILON),
             ));
-            all.push(("avx512 f32", worst_decay::<F32x16>(f32s, f64::from, f32eps)));
+            all.push((
+                "avx512 f32",
+                worst_decay::<F32x16>(avx512, f32s, f64::from, f32eps),
+            ));
         }
         for (what, ulp) in all {
             assert!(ulp <= 1.0, "{what}: decay {ulp} ulp of 1");
@@ -912,7 +920,11 @@ mod tests {
 
     /// `negate_where` on vector `V` against the select it replaces, bit for bit: values of both
     /// signs, zeros, ±∞ and NaN, each lane negated or not by a comparison's mask.
-    fn negate_where_is_the_select<V: Simd>(to: impl Fn(f64) -> V::T, bits: impl Fn(V::T) -> u64) {
+    fn negate_where_is_the_select<V: Simd>(
+        tk: V::Token,
+        to: impl Fn(f64) -> V::T,
+        bits: impl Fn(V::T) -> u64,
+    ) {
         let values = [
             1.5,
             -2.25,
@@ -934,7 +946,7 @@ mod tests {
             let m: std::vec::Vec<V::T> = (0..n)
                 .map(|i| to(if (i * 3 + shift) % 2 == 1 { 1.0 } else { -1.0 }))
                 .collect();
-            let (a, m) = (V::load(&a), V::c(0.0).less(V::load(&m)));
+            let (a, m) = (V::load(tk, &a), V::c(tk, 0.0).less(V::load(tk, &m)));
             let (mut got, mut want) = (std::vec![to(0.0); n], std::vec![to(0.0); n]);
             a.negate_where(m).store(&mut got);
             V::select(m, -a, a).store(&mut want);
@@ -946,26 +958,27 @@ mod tests {
 
     #[test]
     fn every_vector_negates_where_its_mask_says() {
+        let sse2 = Sse2::detect().unwrap();
         let (f64s, f32s) = (|v: f64| v, |v: f64| v as f32);
         let (b64, b32) = (f64::to_bits, |v: f32| u64::from(v.to_bits()));
-        negate_where_is_the_select::<f64>(f64s, b64);
-        negate_where_is_the_select::<f32>(f32s, b32);
-        negate_where_is_the_select::<F64x2>(f64s, b64);
-        negate_where_is_the_select::<F32x4>(f32s, b32);
-        negate_where_is_the_select::<Pair<F64x2>>(f64s, b64);
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            negate_where_is_the_select::<F64x4>(f64s, b64);
-            negate_where_is_the_select::<F32x8>(f32s, b32);
+        negate_where_is_the_select::<f64>((), f64s, b64);
+        negate_where_is_the_select::<f32>((), f32s, b32);
+        negate_where_is_the_select::<F64x2>(sse2, f64s, b64);
+        negate_where_is_the_select::<F32x4>(sse2, f32s, b32);
+        negate_where_is_the_select::<Pair<F64x2>>(sse2, f64s, b64);
+        if let Some(avx2) = Avx2::detect() {
+            negate_where_is_the_select::<F64x4>(avx2, f64s, b64);
+            negate_where_is_the_select::<F32x8>(avx2, f32s, b32);
         }
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            negate_where_is_the_select::<F64x8>(f64s, b64);
-            negate_where_is_the_select::<F32x16>(f32s, b32);
+        if let Some(avx512) = Avx512::detect() {
+            negate_where_is_the_select::<F64x8>(avx512, f64s, b64);
+            negate_where_is_the_select::<F32x16>(avx512, f32s, b32);
         }
     }
 
     #[test]
     fn every_vector_exp_and_ln_match_the_platform() {
+        let sse2 = Sse2::detect().unwrap();
         let f64s = |v: f64| v;
         let f32s = |v: f64| v as f32;
         let mut checked = 0;
@@ -973,23 +986,31 @@ mod tests {
             assert!(e <= 2.0 && l <= 2.0, "{what}: exp {e} ulp, ln {l} ulp");
             checked += 1;
         };
-        check(worst::<F64x2>(f64s, f64::from, f64::EPSILON), "sse2 f64");
         check(
-            worst::<F32x4>(f32s, f64::from, f64::from(f32::EPSILON)),
+            worst::<F64x2>(sse2, f64s, f64::from, f64::EPSILON),
+            "sse2 f64",
+        );
+        check(
+            worst::<F32x4>(sse2, f32s, f64::from, f64::from(f32::EPSILON)),
             "sse2 f32",
         );
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            check(worst::<F64x4>(f64s, f64::from, f64::EPSILON), "avx2 f64");
+        if let Some(avx2) = Avx2::detect() {
             check(
-                worst::<F32x8>(f32s, f64::from, f64::from(f32::EPSILON)),
+                worst::<F64x4>(avx2, f64s, f64::from, f64::EPSILON),
+                "avx2 f64",
+            );
+            check(
+                worst::<F32x8>(avx2, f32s, f64::from, f64::from(f32::EPSILON)),
                 "avx2 f32",
             );
         }
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            check(worst::<F64x8>(f64s, f64::from, f64::EPSILON), "avx512 f64");
+        if let Some(avx512) = Avx512::detect() {
             check(
-                worst::<F32x16>(f32s, f64::from, f64::from(f32::EPSILON)),
+                worst::<F64x8>(avx512, f64s, f64::from, f64::EPSILON),
+                "avx512 f64",
+            );
+            check(
+                worst::<F32x16>(avx512, f32s, f64::from, f64::from(f32::EPSILON)),
                 "avx512 f32",
             );
         }

@@ -2,25 +2,28 @@
 //! here by `f32` and `f64` themselves (one lane: the portable kernels, which `no_std` builds and
 //! other processors run) and by [`Pair`] (two vectors as one: four per chunk in every kernel),
 //! and in the bank's `x86` module by SSE2, AVX2 + FMA and AVX-512 vectors. The kernels and the
-//! elementary functions ([`super::lanes`]) are written once against it.
+//! elementary functions ([`crate::lanes`]) are written once against it.
 
 use core::ops::Neg;
 
-pub use super::vector::Simd;
+pub use crate::vector::Simd;
 
 macro_rules! scalar_simd {
     ($t:ty, $bits:ty, $mant:expr, $bias:expr, $mant_mask:expr, $one_bits:expr) => {
         impl Simd for $t {
             type T = $t;
             type M = bool;
+            type Token = ();
             type Tick = Pair<Pair<Self>>;
             const LANES: usize = 1;
             #[inline(always)]
-            fn splat(v: $t) -> Self {
+            fn token(self) {}
+            #[inline(always)]
+            fn splat(_: (), v: $t) -> Self {
                 v
             }
             #[inline(always)]
-            fn load(s: &[$t]) -> Self {
+            fn load(_: (), s: &[$t]) -> Self {
                 s.first().copied().unwrap_or(0.0)
             }
             #[inline(always)]
@@ -143,17 +146,25 @@ impl<V: Simd> Neg for Pair<V> {
 impl<V: Simd> Simd for Pair<V> {
     type T = V::T;
     type M = (V::M, V::M);
+    type Token = V::Token;
     type Tick = V::Tick;
     const LANES: usize = 2 * V::LANES;
     const EXP_TABLE: bool = V::EXP_TABLE;
     const REGISTERS: u32 = V::REGISTERS;
     #[inline(always)]
-    fn splat(v: V::T) -> Self {
-        Pair(V::splat(v), V::splat(v))
+    fn token(self) -> V::Token {
+        self.0.token()
     }
     #[inline(always)]
-    fn load(s: &[V::T]) -> Self {
-        Pair(V::load(s), V::load(s.get(V::LANES..).unwrap_or(&[])))
+    fn splat(token: V::Token, v: V::T) -> Self {
+        Pair(V::splat(token, v), V::splat(token, v))
+    }
+    #[inline(always)]
+    fn load(token: V::Token, s: &[V::T]) -> Self {
+        Pair(
+            V::load(token, s),
+            V::load(token, s.get(V::LANES..).unwrap_or(&[])),
+        )
     }
     #[inline(always)]
     fn store(self, s: &mut [V::T]) {

@@ -2,16 +2,16 @@
 //! (AVX-512, AVX2 + FMA or SSE2 with `std` on x86-64), else the portable kernel on plain
 //! floats, four channels at a time.
 
-use super::block::{Block, RunBlock};
-use super::columns::ColumnsMut;
-use super::error::BankError;
-use super::formula::BankFormula;
+use crate::block::{Block, RunBlock};
+use crate::columns::ColumnsMut;
+use crate::error::BankError;
+use crate::formula::BankFormula;
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
-use super::instruction_set::{isa, Isa};
-use super::kernel;
-use super::simd::Pair;
+use crate::instruction_set::{isa, Isa};
+use crate::kernel;
+use crate::simd::Pair;
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
-use super::x86;
+use crate::x86;
 
 macro_rules! run_block {
     ($t:ty, $entry:ident) => {
@@ -29,7 +29,7 @@ macro_rules! run_block {
                         }
                     }
                 }
-                kernel::run::<Pair<Pair<$t>>, F>(cols, block)
+                kernel::run::<Pair<Pair<$t>>, F>((), cols, block)
             }
         }
     };

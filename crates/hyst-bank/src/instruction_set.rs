@@ -31,20 +31,18 @@ impl Isa {
         }
     }
 
-    /// Whether this processor (and build) can run it.
+    /// Whether this processor (and build) can run it: whether its token can be made (the `x86`
+    /// module's `detect`, the one place that asks the processor).
     #[must_use]
     pub fn available(self) -> bool {
         match self {
             Isa::Portable => true,
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Isa::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
+            Isa::Avx512 => crate::token::Avx512::detect().is_some(),
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Isa::Sse2 => true,
+            Isa::Sse2 => crate::token::Sse2::detect().is_some(),
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Isa::Avx2 => {
-                std::arch::is_x86_feature_detected!("avx2")
-                    && std::arch::is_x86_feature_detected!("fma")
-            }
+            Isa::Avx2 => crate::token::Avx2::detect().is_some(),
             #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
             _ => false,
         }

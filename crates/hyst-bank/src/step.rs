@@ -2,18 +2,18 @@
 //! (a visit); what a visit costs beyond the tick is what `step` costs beyond a block
 //! (docs/performance.md, "Where a tick of `step` goes").
 
-use super::block::Block;
-use super::chunk::{
+use crate::block::Block;
+use crate::chunk::{
     all_within, clamp_near, column, in_band, inverse_cache, inverse_from, load, mend, put,
     put_state, tick, State,
 };
-use super::columns::ColumnsMut;
-use super::error::BankError;
-use super::formula::BankFormula;
-use super::lanes::decay;
-use super::vector::{Lane, Simd};
-use crate::parametric::Inverse;
-use crate::real::Real;
+use crate::columns::ColumnsMut;
+use crate::error::BankError;
+use crate::formula::BankFormula;
+use crate::lanes::decay;
+use crate::vector::{Lane, Simd};
+use hyst_core::parametric::Inverse;
+use hyst_core::real::Real;
 
 /// A block of one tick (`step`; both layouts are then `input[c]`): chunk by chunk, the state
 /// loaded, one tick, the state stored, in a loop with none of the tiles' bookkeeping (a `step`
@@ -21,6 +21,7 @@ use crate::real::Real;
 /// costs beyond a block).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn one_tick<V: Simd, F: BankFormula>(
+    tk: V::Token,
     cols: &mut ColumnsMut<'_, V::T>,
     block: &mut Block<'_, V::T>,
 ) -> Result<Option<usize>, BankError> {
@@ -28,7 +29,7 @@ pub(super) fn one_tick<V: Simd, F: BankFormula>(
     let input = block.input.get(..n).unwrap_or(&[]);
     let output = block.output.get_mut(..n).unwrap_or(&mut []);
     if let Some(limit) = block.limit {
-        if !all_within::<V>(input, limit) {
+        if !all_within::<V>(tk, input, limit) {
             return Ok(Some(0));
         }
     }
@@ -81,22 +82,22 @@ pub(super) fn one_tick<V: Simd, F: BankFormula>(
         (start, one, input, output)
     });
     // The direct operator runs chunks of four vectors, one at a time (`run`): on an Intel Xeon
-    // (AVX-512), `cargo bench -p hyst-core --bench bank`, rows cold, `step` direct f64
+    // (AVX-512), `cargo bench -p hyst-bank --bench bank`, rows cold, `step` direct f64
     // 0.40 → 0.33 × scalar, and 0.56 → 0.43 with the AVX2 kernel forced (two vectors
     // pipelined before). The inverse runs chunks of `Simd::Tick` by `inverse_visit`, which
     // measured faster than the block's tick, software-pipelined, on every kernel
     // (docs/performance.md, "Where a tick of `step` goes").
     if F::DIRECT {
         for (start, mut one, input, output) in chunks {
-            visit::<V, F>(&mut one, input, output, start, l)?;
+            visit::<V, F>(tk, &mut one, input, output, start, l)?;
         }
     } else {
         for (start, mut one, input, output) in chunks {
-            inverse_visit::<V>(&mut one, input, output, start)?;
+            inverse_visit::<V>(tk, &mut one, input, output, start)?;
         }
     }
     if full < n {
-        visit::<V, F>(&mut rest, input_rest, output_rest, full, n - full)?;
+        visit::<V, F>(tk, &mut rest, input_rest, output_rest, full, n - full)?;
     }
     Ok(None)
 }
@@ -105,6 +106,7 @@ pub(super) fn one_tick<V: Simd, F: BankFormula>(
 /// the state loaded, the tick, the state stored.
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn visit<V: Simd, F: BankFormula>(
+    tk: V::Token,
     cols: &mut ColumnsMut<'_, V::T>,
     input: &[V::T],
     output: &mut [V::T],
@@ -112,7 +114,7 @@ fn visit<V: Simd, F: BankFormula>(
     width: usize,
 ) -> Result<(), BankError> {
     let zero = <V::T as Real>::ZERO;
-    let x = column::<V>(input, 0, width, zero);
+    let x = column::<V>(tk, input, 0, width, zero);
     let (mut st, mut changed) = load::<V, F>(cols, 0, width, x);
     let y = tick::<V, F>(&mut st, x, start, width, &mut changed)?;
     store::<V, F>(cols, output, 0, width, &st, y, changed);
@@ -135,7 +137,7 @@ fn visit<V: Simd, F: BankFormula>(
 ///   channel-sample, against keeping them for it), and eq. (4) loads x, k1 and the memory after
 ///   the update again after `decay` ([`reloaded`]: s k1 and s M* formed anew, bit for bit what
 ///   the update gives). AVX-512 with the barrier too: f32 `step` with reversals in
-///   every chunk together (`cargo bench -p hyst-core --bench bank`, rows in cache) ran
+///   every chunk together (`cargo bench -p hyst-bank --bench bank`, rows in cache) ran
 ///   1,211–1,246 M channel-samples/s, slower than the block's tick, software-pipelined
 ///   (1,285–1,386); without it 1,547–1,575;
 /// - the output goes to `output` before the band test, and the test's rare path ([`edge`],
@@ -149,6 +151,7 @@ fn visit<V: Simd, F: BankFormula>(
 /// (AVX-512 blocks 0.22 → 0.25 × scalar).
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn inverse_visit<V: Simd>(
+    tk: V::Token,
     cols: &mut ColumnsMut<'_, V::T>,
     input: &[V::T],
     output: &mut [V::T],
@@ -158,29 +161,29 @@ where
     V::T: Lane,
 {
     let (l, zero) = (V::LANES, <V::T as Real>::ZERO);
-    let x = column::<V>(input, 0, l, zero);
-    let lin = column::<V>(cols.last_input, 0, l, zero);
+    let x = column::<V>(tk, input, 0, l, zero);
+    let lin = column::<V>(tk, cols.last_input, 0, l, zero);
     if !V::all(lin.equal(lin)) {
         // A channel's first sample: the general tick.
-        return visit::<V, Inverse>(cols, input, output, start, l);
+        return visit::<V, Inverse>(tk, cols, input, output, start, l);
     }
-    let sign = column::<V>(cols.sign, 0, l, zero);
-    let neg_k2 = -(column::<V>(cols.k2, 0, l, zero) * sign);
+    let sign = column::<V>(tk, cols.sign, 0, l, zero);
+    let neg_k2 = -(column::<V>(tk, cols.k2, 0, l, zero) * sign);
     let p = (x - lin) * neg_k2;
-    let rin = column::<V>(cols.reversal_input, 0, l, zero);
-    let reversed = V::c(0.0).less(p);
+    let rin = column::<V>(tk, cols.reversal_input, 0, l, zero);
+    let reversed = V::c(tk, 0.0).less(p);
     let z = V::select(reversed, -p, (x - rin) * neg_k2);
     let (e, x, k1, ks, sm) = if V::REGISTERS >= 32 {
         // The memory after the update stays in registers across `decay`.
-        let rout = column::<V>(cols.reversal_output, 0, l, zero);
+        let rout = column::<V>(tk, cols.reversal_output, 0, l, zero);
         let (rin, rout, sign) = if V::any(reversed) {
-            let lout = column::<V>(cols.last_output, 0, l, zero);
+            let lout = column::<V>(tk, cols.last_output, 0, l, zero);
             reverse::<V>(cols, reversed, (lin, lout), (rin, rout), sign)
         } else {
             (rin, rout, sign)
         };
         let e = decay(z);
-        let k1 = column::<V>(cols.k1, 0, l, zero);
+        let k1 = column::<V>(tk, cols.k1, 0, l, zero);
         let ks = k1 * sign;
         (e, x, k1, ks, inverse_cache(ks, rin, rout))
     } else {
@@ -190,14 +193,14 @@ where
         core::hint::black_box(());
         if any {
             let last = (
-                column::<V>(cols.last_input, 0, l, zero),
-                column::<V>(cols.last_output, 0, l, zero),
+                column::<V>(tk, cols.last_input, 0, l, zero),
+                column::<V>(tk, cols.last_output, 0, l, zero),
             );
             let reversal = (
-                column::<V>(cols.reversal_input, 0, l, zero),
-                column::<V>(cols.reversal_output, 0, l, zero),
+                column::<V>(tk, cols.reversal_input, 0, l, zero),
+                column::<V>(tk, cols.reversal_output, 0, l, zero),
             );
-            let sign = column::<V>(cols.sign, 0, l, zero);
+            let sign = column::<V>(tk, cols.sign, 0, l, zero);
             reverse::<V>(cols, reversed, last, reversal, sign);
         }
         reloaded::<V>(cols, input, z)
@@ -208,7 +211,7 @@ where
     core::hint::black_box(());
     if !in_band(y, x, k1) {
         cold();
-        return edge::<V>(cols, input, output, start);
+        return edge::<V>(tk, cols, input, output, start);
     }
     put(cols.last_input, 0, l, x);
     put(cols.last_output, 0, l, y);
@@ -244,16 +247,17 @@ fn reloaded<V: Simd>(cols: &ColumnsMut<'_, V::T>, input: &[V::T], z: V) -> (V, V
 where
     V::T: Lane,
 {
+    let tk = z.token();
     let (l, zero) = (V::LANES, <V::T as Real>::ZERO);
     core::hint::black_box(());
     let e = decay(z);
-    let x = column::<V>(input, 0, l, zero);
-    let k1 = column::<V>(cols.k1, 0, l, zero);
-    let ks = k1 * column::<V>(cols.sign, 0, l, zero);
+    let x = column::<V>(tk, input, 0, l, zero);
+    let k1 = column::<V>(tk, cols.k1, 0, l, zero);
+    let ks = k1 * column::<V>(tk, cols.sign, 0, l, zero);
     let sm = inverse_cache(
         ks,
-        column::<V>(cols.reversal_input, 0, l, zero),
-        column::<V>(cols.reversal_output, 0, l, zero),
+        column::<V>(tk, cols.reversal_input, 0, l, zero),
+        column::<V>(tk, cols.reversal_output, 0, l, zero),
     );
     (e, x, k1, ks, sm)
 }
@@ -263,6 +267,7 @@ where
 /// the state after the memory update, from the columns (the last point not yet moved).
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn edge<V: Simd>(
+    tk: V::Token,
     cols: &mut ColumnsMut<'_, V::T>,
     input: &[V::T],
     output: &mut [V::T],
@@ -272,10 +277,10 @@ where
     V::T: Lane,
 {
     let (l, zero) = (V::LANES, <V::T as Real>::ZERO);
-    let x = column::<V>(input, 0, l, zero);
-    let y = column::<V>(output, 0, l, zero);
-    let k1 = column::<V>(cols.k1, 0, l, zero);
-    let rout = column::<V>(cols.reversal_output, 0, l, zero);
+    let x = column::<V>(tk, input, 0, l, zero);
+    let y = column::<V>(tk, output, 0, l, zero);
+    let k1 = column::<V>(tk, cols.k1, 0, l, zero);
+    let rout = column::<V>(tk, cols.reversal_output, 0, l, zero);
     if let Some(clamped) = clamp_near(k1, rout, x, y) {
         finish(cols, output, x, clamped);
         return Ok(());

@@ -15,8 +15,8 @@
 //! (plain floats, four channels at a time). [`isa`] tells which runs, [`force_isa`] chooses one. docs/performance.md
 //! has the measurements behind these choices.
 //!
-//! The results agree with the scalar operator ([`crate::Hysteresis`],
-//! [`crate::InverseHysteresis`]) to a few ulp, not bit for bit: the bank has its own `exp`, `ln`
+//! The results agree with the scalar operator ([`hyst_core::Hysteresis`],
+//! [`hyst_core::InverseHysteresis`]) to a few ulp, not bit for bit: the bank has its own `exp`, `ln`
 //! and ω where the scalar operator calls the platform's `exp` and the `lambert_w` crate, and the
 //! AVX2 and AVX-512 kernels fuse multiply-adds (so they also differ from the SSE2 and portable
 //! kernels in the last bits). For every kernel, |bank − scalar| ≤ 4 ulp (inverse) and 16 ulp
@@ -35,12 +35,25 @@
 //! ũ = (ln(k2 M*) − ln ω)/k2 where e^y would overflow. M* and ln(k2 M*) change only at reversals
 //! and are cached per channel.
 //!
-//! This module holds the bank's public API. Its parts: `columns` (the storage of the state
+//! This file holds the bank's public API. Its modules: `columns` (the storage of the state
 //! columns, [`Storage`]), `checked` (the checks of the parameters and of a block, and the checked
 //! path around the kernels), `block` (what a kernel runs on, [`RunBlock`]), `vector` (the
 //! vector trait and [`Lane`]), `simd` and [`lanes`] (the one-lane and paired vectors, the
 //! elementary functions), `kernel` (the kernels), `instruction_set` and `dispatch` (the choice
-//! of kernel, [`Isa`]), `x86` (the SSE2, AVX2 and AVX-512 vectors) and `par` (rayon's threads).
+//! of kernel, [`Isa`]), `x86` (the SSE2, AVX2 and AVX-512 vectors, each holding the token of its
+//! instruction set, which only run-time detection makes) and `par` (rayon's threads).
+
+#![no_std]
+// `unsafe` only in `x86` (std::arch intrinsics; its vectors exist only with a proof that the
+// processor has their instruction set, see that module).
+#![deny(unsafe_code)]
+#![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+// No indexing that could panic in library code (unit tests may index).
+#![cfg_attr(not(test), deny(clippy::indexing_slicing))]
+#![warn(missing_docs)]
+
+#[cfg(feature = "std")]
+extern crate std;
 
 mod block;
 mod checked;
@@ -57,6 +70,8 @@ mod par;
 #[doc(hidden)]
 pub mod simd;
 mod step;
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+mod token;
 mod vector;
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 mod x86;
@@ -79,9 +94,9 @@ pub use formula::BankFormula;
 pub use instruction_set::{force_isa, isa, Isa};
 pub use lanes::Lane;
 
-use crate::error::Error;
-use crate::memory::{Direction, Memory};
-use crate::parametric::{Direct, Inverse};
+use hyst_core::error::Error;
+use hyst_core::memory::{Direction, Memory};
+use hyst_core::parametric::{Direct, Inverse};
 
 /// N operators of formula `F` ([`Direct`]: eq. 2, [`Inverse`]: eq. 4) stepped together, state
 /// in storage `S`. Use [`Bank`] (arrays, no allocation) or, with `std`, [`BankVec`].
@@ -108,14 +123,15 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     /// every channel without history (its first sample lies on the line output = input).
     ///
     /// # Errors
-    /// The first channel whose k1, k2 [`crate::ParametricHysteresis::new`] refuses (each
+    /// The first channel whose k1, k2 [`hyst_core::ParametricHysteresis::new`] refuses (each
     /// finite, positive and normal, k1 at most a quarter of the largest float, k1 k2 not below
     /// the subnormal range), with its channel; k1 and k2 of different lengths
     /// ([`Error::LengthMismatch`]).
     ///
     /// # Examples
     /// ```
-    /// use hyst_core::{InverseBank, InverseHysteresis, Operator};
+    /// use hyst_bank::InverseBank;
+    /// use hyst_core::{InverseHysteresis, Operator};
     /// let mut bank = InverseBank::<f64, 3>::new([0.1, 0.2, 0.3], [8.0, 8.0, 2.0])?;
     /// let mut out = [0.0; 3];
     /// bank.step(&[0.0, 0.0, 0.0], &mut out)?;
@@ -178,7 +194,7 @@ impl<T: Lane, F: BankFormula, S: Storage<T>> ParametricBank<T, F, S> {
     }
 
     /// The memory of Definition 2.1 of `channel` (`None` before its first sample or for a
-    /// channel beyond the bank), as [`crate::Operator::memory`] gives it for one operator.
+    /// channel beyond the bank), as [`hyst_core::Operator::memory`] gives it for one operator.
     #[must_use]
     pub fn memory(&self, channel: usize) -> Option<Memory<T>> {
         let get = |j: usize| self.columns.col(j).get(channel).copied();
