@@ -156,8 +156,7 @@ pub fn main(args: Args) -> Result<()> {
             );
         };
         let adapted = hyst_model::adaptive::adapted_file(&file, &a.model()?, &command_line());
-        let text = adapted.to_toml()?;
-        hyst_io::write_atomic(path, text.as_bytes())?;
+        hyst_fit::file::write(&adapted, path)?;
     }
     let summary = run.summary(&args, &adapted, &config);
     let to_stderr = args.output_file.as_os_str() == "-";

@@ -41,6 +41,7 @@ mod adapt;
 mod bench;
 mod bench_fit;
 mod bound;
+mod choice;
 mod export;
 mod fit;
 mod fmu;

@@ -33,9 +33,10 @@ use std::rc::Rc;
 use anyhow::{anyhow, bail, Context, Result};
 use hyst_io::number::sig;
 use hyst_io::{CsvReader, CsvWriter};
-use hyst_model::time::{Part, Parts, Stamps};
+use hyst_model::time::{time_column, Part, Parts, Stamps, TIME_COLUMNS};
 use hyst_model::{
-    Corner, Hold, ModelFile, Prefilter, SmoothModel, TimedCompensator, TimedRun, CORNER_SAMPLES,
+    Choice, Corner, Hold, ModelFile, Prefilter, SmoothModel, TimedCompensator, TimedRun,
+    CORNER_SAMPLES,
 };
 
 use crate::run::rows::Records;
@@ -289,23 +290,18 @@ impl Plan {
             Clone::clone,
         );
         let value = rows.column(&name)?;
-        let time_name = match args.time {
-            Some(t) => t.to_string(),
-            None => hyst_fit::data::TIME_COLUMNS
-                .into_iter()
-                .find(|n| rows.column_index(n).is_some())
-                .map(str::to_string)
-                .with_context(|| {
-                    format!(
-                        "{}: the model {} has {}: it needs the records' time stamps, and the \
+        let time_name = time_column(args.time, |n| rows.column_index(n).is_some())
+            .map(str::to_string)
+            .with_context(|| {
+                format!(
+                    "{}: the model {} has {}: it needs the records' time stamps, and the \
                          file has no column named {} (name it with --time COLUMN)",
-                        rows.source(),
-                        path.display(),
-                        what(smooth),
-                        hyst_fit::data::TIME_COLUMNS.join(", ")
-                    )
-                })?,
-        };
+                    rows.source(),
+                    path.display(),
+                    what(smooth),
+                    TIME_COLUMNS.join(", ")
+                )
+            })?;
         let time = rows.column(&time_name)?;
         let record =
             crate::run::rows::record_column(rows, args.record, args.no_record, args.columns)?;

@@ -5,7 +5,7 @@ use std::borrow::Cow;
 
 use hyst_io::{Samples, Table};
 
-use hyst_model::time::split_of;
+use hyst_model::time::{split_of, time_column};
 use hyst_model::Columns;
 
 use crate::error::FitError;
@@ -25,19 +25,7 @@ pub const MAX_MAGNITUDE: f64 = 1e100;
 /// offset was already unidentified).
 pub const MIN_SPAN: f64 = 1e-100;
 
-/// Column names recognised as the time column (s) when none is named.
-pub const TIME_COLUMNS: [&str; 4] = ["t", "t_s", "time", "time_s"];
-
-/// The time column of `table` when none is named: the first of [`TIME_COLUMNS`] it has.
-#[must_use]
-pub fn default_time_column(table: &Table) -> Option<&'static str> {
-    default_time_in(|n| table.column_index(n).is_some())
-}
-
-/// The first of [`TIME_COLUMNS`] that `has`.
-fn default_time_in(has: impl Fn(&str) -> bool) -> Option<&'static str> {
-    TIME_COLUMNS.into_iter().find(|n| has(n))
-}
+pub use hyst_model::time::TIME_COLUMNS;
 
 /// A dataset: named columns, records, and the file it came from.
 #[derive(Clone, Debug)]
@@ -431,7 +419,7 @@ fn check_columns(
 fn read_columns(has: impl Fn(&str) -> bool, options: &DataOptions) -> [Option<String>; 5] {
     let time = options
         .timed
-        .then(|| (options.time.clone()).or_else(|| default_time_in(&has).map(str::to_string)))
+        .then(|| time_column(options.time.as_deref(), &has).map(str::to_string))
         .flatten();
     [
         Some(options.input.clone()),
@@ -479,7 +467,7 @@ fn set_periods(
 ) -> Result<(String, Vec<Record>), FitError> {
     let name = match &options.time {
         Some(name) => name.clone(),
-        None => default_time_column(table)
+        None => time_column(None, |n| table.column_index(n).is_some())
             .map(str::to_string)
             .ok_or_else(|| {
                 FitError::Invalid(format!(

@@ -8,7 +8,8 @@ use std::time::{Duration, Instant};
 use hyst_io::number::sig;
 use hyst_model::file::{FORMAT, MIN_VERSION};
 use hyst_model::{
-    Columns, Form, InitialState, Metrics, ModelFile, ModelKind, Provenance, Structure, Units,
+    Choice, Columns, Form, InitialState, Metrics, ModelFile, ModelKind, Provenance, Structure,
+    Units,
 };
 
 use crate::data::Dataset;

@@ -24,8 +24,8 @@
 //! - [`identify()`]: the whole identification as one call (the fits a [`identify::Request`]
 //!   asks for, the model file, the [`report`]), shared by `hyst fit` and the Python binding.
 //!
-//! The optional feature `clap` derives `clap::ValueEnum` for the choices a command line offers
-//! ([`FormChoice`], [`StartChoice`], [`pi_fit::PiOutputKind`]) and turns on hyst-model's.
+//! The fit's choices ([`FormChoice`], [`StartChoice`], [`pi_fit::PiOutputKind`]) are
+//! [`hyst_model::Choice`]s: named in one table each, parsed from text by the CLI and Python.
 
 #![forbid(unsafe_code)]
 // Dense numerical kernels read best with explicit indices.

@@ -12,7 +12,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use hyst_model::{Form, InitialState};
+use hyst_model::{Choice, Form, InitialState};
 
 use crate::data::Dataset;
 
@@ -204,7 +204,6 @@ pub fn loops(data: &Dataset) -> Loops {
 
 /// The form the user asks for: chosen from the data, or given.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum FormChoice {
     /// The stop form when the data's loops run clockwise, the operator form otherwise (also
@@ -215,6 +214,28 @@ pub enum FormChoice {
     Operator,
     /// Always the stop form ψ_out(v − H[v]) + c·v.
     Stop,
+}
+
+impl Choice for FormChoice {
+    const WHAT: &'static str = "form";
+    const CHOICES: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            FormChoice::Auto,
+            "auto",
+            "The stop form when the data's loops run clockwise, the operator form otherwise (also \
+             when there is no loop)",
+        ),
+        (
+            FormChoice::Operator,
+            "operator",
+            "Always the operator form ψ_out(H[ψ_in(in)])",
+        ),
+        (
+            FormChoice::Stop,
+            "stop",
+            "Always the stop form ψ_out(v − H[v]) + c·v",
+        ),
+    ];
 }
 
 impl FormChoice {
@@ -313,7 +334,6 @@ pub fn one_way(data: &Dataset) -> Option<bool> {
 
 /// How each record starts, as the user asks for it: chosen from the data, or given.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum StartChoice {
     /// `falling` when every record only rises (first-order reversal curves: each starts at a
@@ -327,6 +347,34 @@ pub enum StartChoice {
     Falling,
     /// No history: the first sample is a reversal point on the anhysteretic line.
     Line,
+}
+
+impl Choice for StartChoice {
+    const WHAT: &'static str = "initial state";
+    const CHOICES: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            StartChoice::Auto,
+            "auto",
+            "`falling` when every record only rises (first-order reversal curves: each starts at \
+             a reversal after a fall from saturation), `rising` when every record only falls, \
+             `rising` otherwise",
+        ),
+        (
+            StartChoice::Rising,
+            "rising",
+            "As after a long rise: on the lower asymptote output = input − k1, heading up",
+        ),
+        (
+            StartChoice::Falling,
+            "falling",
+            "As after a long fall: on the upper asymptote output = input + k1, heading down",
+        ),
+        (
+            StartChoice::Line,
+            "line",
+            "No history: the first sample is a reversal point on the anhysteretic line",
+        ),
+    ];
 }
 
 impl StartChoice {

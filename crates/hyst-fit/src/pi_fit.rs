@@ -14,7 +14,7 @@ use hyst_core::{play, Polynomial, Shaping};
 
 use crate::linalg::{cholesky_solve, nnls, spd_inverse};
 use hyst_model::pi::MAX_PLAYS;
-use hyst_model::{ErrorStats, Estimate, PiModel, PiOutput};
+use hyst_model::{Choice, ErrorStats, Estimate, PiModel, PiOutput};
 
 use crate::data::{Dataset, Record};
 use crate::error::FitError;
@@ -22,7 +22,6 @@ use crate::smooth::stats::{check_finite, error_stats};
 
 /// Which output polynomial follows the Prandtl–Ishlinskii sum (`none`, `poly2`, `poly3`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum PiOutputKind {
     /// No output polynomial: y = PI[x].
     #[default]
@@ -31,6 +30,27 @@ pub enum PiOutputKind {
     Poly2,
     /// y = P(PI[x]), P cubic and increasing on the data.
     Poly3,
+}
+
+impl Choice for PiOutputKind {
+    const WHAT: &'static str = "output polynomial";
+    const CHOICES: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            PiOutputKind::None,
+            "none",
+            "No output polynomial: y = PI[x]",
+        ),
+        (
+            PiOutputKind::Poly2,
+            "poly2",
+            "y = P(PI[x]), P quadratic and increasing on the data",
+        ),
+        (
+            PiOutputKind::Poly3,
+            "poly3",
+            "y = P(PI[x]), P cubic and increasing on the data",
+        ),
+    ];
 }
 
 impl PiOutputKind {

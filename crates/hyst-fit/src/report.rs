@@ -3,7 +3,7 @@
 
 use hyst_io::number::{percent_floor, percent_given, sig};
 use hyst_model::{
-    ErrorStats, FamilyWidths, Form, InitialState, InputUnits, K2Kind, ModelFile, ModelKind,
+    Choice, ErrorStats, FamilyWidths, Form, InitialState, InputUnits, K2Kind, ModelFile, ModelKind,
 };
 use serde::{Deserialize, Serialize};
 

@@ -1,20 +1,14 @@
-//! With the `clap` feature, the command-line names of hyst-fit's choices are fixed: they are
-//! the CLI's contract (`hyst fit --k2 affine`, …) and, where the enum is also serialized, the
-//! model file's names.
-#![cfg(feature = "clap")]
+//! The names of the choices are fixed: they are the CLI's and Python's contract (`hyst fit
+//! --k2 affine`, `hyst.fit(k2="affine")`) and, where the value is also serialized, the model
+//! file's names.
 
-use clap::ValueEnum;
 use hyst_fit::pi_fit::PiOutputKind;
-use hyst_model::ModelKind;
-use hyst_model::{InitialState, K2Kind, ShapingKind};
+use hyst_fit::{FormChoice, StartChoice};
+use hyst_model::{Choice, Form, Hold, InitialState, K2Kind, ModelKind, RateTerm, ShapingKind};
 
-/// The command-line names of every variant, in the order `--help` lists them.
-fn names<E: ValueEnum>() -> Vec<String> {
-    E::value_variants()
-        .iter()
-        .filter_map(|v| v.to_possible_value())
-        .map(|p| p.get_name().to_string())
-        .collect()
+/// The names of every value, in the order `--help` lists them.
+fn names<C: Choice>() -> Vec<&'static str> {
+    C::CHOICES.iter().map(|(_, n, _)| *n).collect()
 }
 
 /// The model file's (serde's) name of a value.
@@ -23,6 +17,15 @@ fn serde_name<E: serde::Serialize>(value: &E) -> String {
         .ok()
         .and_then(|v| v.as_str().map(str::to_string))
         .unwrap_or_default()
+}
+
+/// Every value's name is serde's, and parses back to it.
+fn file_and_command_line_agree<C: Choice + serde::Serialize + std::fmt::Debug>() {
+    for (value, name, _) in C::CHOICES {
+        assert_eq!(serde_name(value), *name, "{value:?}");
+        assert_eq!(value.name(), *name);
+        assert_eq!(C::parse(name, false), Ok(*value));
+    }
 }
 
 #[test]
@@ -39,7 +42,15 @@ fn command_line_names_are_the_contract() {
         ]
     );
     assert_eq!(names::<K2Kind>(), ["constant", "affine"]);
-    // The start rule is the core's (no clap there): its names are the model file's.
+    assert_eq!(names::<Form>(), ["operator", "stop"]);
+    assert_eq!(names::<Hold>(), ["zoh", "foh"]);
+    assert_eq!(names::<RateTerm>(), ["viscous"]);
+    assert_eq!(names::<FormChoice>(), ["auto", "operator", "stop"]);
+    assert_eq!(
+        names::<StartChoice>(),
+        ["auto", "rising", "falling", "line"]
+    );
+    // The start rule is the core's: its names are the model file's.
     let starts = [
         InitialState::Rising,
         InitialState::Falling,
@@ -55,35 +66,26 @@ fn command_line_names_are_the_contract() {
 
 #[test]
 fn command_line_and_model_file_agree() {
-    for (name, kind) in ShapingKind::ALL {
-        assert_eq!(kind.name(), name);
-        assert_eq!(serde_name(&kind), name);
-        assert_eq!(ShapingKind::from_str(name, false), Ok(kind));
-    }
-    for k in K2Kind::value_variants() {
-        assert_eq!(
-            Some(serde_name(k)),
-            k.to_possible_value().map(|p| p.get_name().into())
-        );
-    }
-    // The file and the command line say the same; the command line also takes the short `pi`.
+    file_and_command_line_agree::<ShapingKind>();
+    file_and_command_line_agree::<K2Kind>();
+    file_and_command_line_agree::<Form>();
+    file_and_command_line_agree::<Hold>();
+    file_and_command_line_agree::<RateTerm>();
+    file_and_command_line_agree::<FormChoice>();
+    file_and_command_line_agree::<StartChoice>();
+    file_and_command_line_agree::<ModelKind>();
+    // The command line also takes the short `pi`.
     assert_eq!(
-        serde_name(&ModelKind::PrandtlIshlinskii),
-        "prandtl-ishlinskii"
+        ModelKind::parse("pi", false),
+        Ok(ModelKind::PrandtlIshlinskii)
     );
-    for name in ["prandtl-ishlinskii", "pi"] {
-        assert_eq!(
-            ModelKind::from_str(name, false),
-            Ok(ModelKind::PrandtlIshlinskii)
-        );
-    }
 }
 
 #[test]
 fn the_old_spelling_of_quadratic_exp_still_reads() {
     // Model files and scripts of earlier versions wrote `quad-exp` (docs/formats.md).
     assert_eq!(
-        ShapingKind::from_str("quad-exp", false),
+        ShapingKind::parse("quad-exp", false),
         Ok(ShapingKind::QuadraticExp)
     );
     let old: toml::Table = toml::from_str("s = \"quad-exp\"").unwrap_or_default();

@@ -29,6 +29,8 @@
 use hyst_core::{Error, Real};
 use serde::{Deserialize, Serialize};
 
+use crate::choice::Choice;
+
 /// The highest plant order a model file holds (the core's `MAX_ORDER`, 4).
 pub const MAX_DYNAMICS: usize = hyst_core::compensator::MAX_ORDER;
 
@@ -38,7 +40,6 @@ pub const MAX_DYNAMICS: usize = hyst_core::compensator::MAX_ORDER;
 /// between samples (first-order hold). A model file without the key was fitted with the
 /// first-order hold, and runs with it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Hold {
     /// Zero-order hold: u(t) = u_k on [t_k, t_{k+1}) (MATLAB's `c2d` default). What a fit
@@ -48,31 +49,29 @@ pub enum Hold {
     Foh,
 }
 
+impl Choice for Hold {
+    const WHAT: &'static str = "hold";
+    const CHOICES: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            Hold::Zoh,
+            "zoh",
+            "Zero-order hold: u(t) = u_k on [t_k, t_{k+1}) (MATLAB's `c2d` default). What a fit \
+             writes unless asked otherwise",
+        ),
+        (
+            Hold::Foh,
+            "foh",
+            "First-order hold: u linear from u_k to u_{k+1} (the model files without `hold`)",
+        ),
+    ];
+}
+
 impl Hold {
     /// The hold of a model file's `[dynamics]` without the key: [`Hold::Foh`].
     pub const UNRECORDED: Hold = Hold::Foh;
 
     /// The hold of a new fit: [`Hold::Zoh`].
     pub const FIT_DEFAULT: Hold = Hold::Zoh;
-
-    /// Its name in a model file and on the command line: `"zoh"` or `"foh"`.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Hold::Zoh => "zoh",
-            Hold::Foh => "foh",
-        }
-    }
-
-    /// The hold named `name` (`"zoh"` or `"foh"`), `None` for any other name.
-    #[must_use]
-    pub fn from_name(name: &str) -> Option<Hold> {
-        match name {
-            "zoh" => Some(Hold::Zoh),
-            "foh" => Some(Hold::Foh),
-            _ => None,
-        }
-    }
 
     /// In words, for reports: "zero-order hold (the command held over each step)" or
     /// "first-order hold (the command linear between samples)".
@@ -623,7 +622,7 @@ mod tests {
         assert!(toml::from_str::<DynamicsSection>("b = 1.0\na = [0.1]\nhold = \"x\"").is_err());
         assert_eq!(Hold::Foh.recorded(), None);
         assert_eq!(Hold::Zoh.recorded(), Some(Hold::Zoh));
-        assert_eq!(Hold::from_name("zoh"), Some(Hold::Zoh));
+        assert_eq!(Hold::parse("zoh", false), Ok(Hold::Zoh));
         assert_eq!(Hold::Foh.name(), "foh");
     }
 

@@ -10,6 +10,7 @@ use std::path::Path;
 use hyst_core::{Hysteresis, K2Law, Operator, Shaping};
 use serde::{Deserialize, Serialize};
 
+use crate::choice::Choice;
 use crate::dynamics::{DynamicsSection, Rate, RateSection};
 use crate::error::ModelError;
 use crate::evaluator::Evaluator;
@@ -36,14 +37,30 @@ pub const MIN_VERSION: u32 = 1;
 /// Which model the file holds: `smooth` (section `[smooth]`) or `prandtl-ishlinskii` (section
 /// `[prandtl-ishlinskii]`; the command line also takes `pi` for it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum ModelKind {
     /// The smooth parametric operator with shaping functions.
     Smooth,
-    /// The Prandtl–Ishlinskii baseline.
-    #[cfg_attr(feature = "clap", value(alias = "pi"))]
+    /// The Prandtl–Ishlinskii baseline (also read as `pi`).
+    #[serde(alias = "pi")]
     PrandtlIshlinskii,
+}
+
+impl Choice for ModelKind {
+    const WHAT: &'static str = "model kind";
+    const CHOICES: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            ModelKind::Smooth,
+            "smooth",
+            "The smooth parametric operator with shaping functions",
+        ),
+        (
+            ModelKind::PrandtlIshlinskii,
+            "prandtl-ishlinskii",
+            "The Prandtl–Ishlinskii baseline",
+        ),
+    ];
+    const ALIASES: &'static [(&'static str, Self)] = &[("pi", ModelKind::PrandtlIshlinskii)];
 }
 
 /// A model file (see `docs/formats.md`).

@@ -3,7 +3,8 @@
 //! package run models through it.
 //!
 //! - [`ModelFile`] (module [`file`](mod@file)): the versioned TOML model file (`docs/formats.md`), read,
-//!   checked, written atomically.
+//!   checked and turned into text ([`ModelFile::to_toml`]; `hyst_fit::file::write` writes it
+//!   to disk, atomically, for the fit, `hyst adapt` and Python).
 //! - [`SmoothModel`] (module [`smooth`]): the fitted smooth model y = ψ_out(H(k1, k2)\[ψ_in(x)\])
 //!   or its stop form, with its start rule ([`InitialState`]) and [`Form`]; its exact inverse.
 //! - [`PiModel`] (module [`pi`]): the Prandtl–Ishlinskii baseline, with its optional output
@@ -23,13 +24,15 @@
 //! - [`export`]: a model file as firmware source, a header-only C file over `hyst.h` or `no_std`
 //!   Rust over hyst-core, exact from the first sample (`hyst export c|rust`).
 //!
-//! The optional feature `clap` derives `clap::ValueEnum` for the choices a command line offers
-//! ([`ShapingKind`], [`K2Kind`], [`Form`], [`ModelKind`]; the start rule [`InitialState`] is
-//! hyst-core's).
+//! - [`Choice`] (module [`choice`]): the named choices of a model file, a command line and
+//!   Python's keywords ([`ShapingKind`], [`K2Kind`], [`RateTerm`], [`Form`], [`Hold`],
+//!   [`ModelKind`]): each one's names and descriptions in one table, parsed from text.
+//! - [`time::TIME_COLUMNS`]: the names a record's time column goes by when none is named.
 
 #![forbid(unsafe_code)]
 
 pub mod adaptive;
+pub mod choice;
 pub mod dynamics;
 pub mod error;
 pub mod evaluator;
@@ -45,6 +48,7 @@ pub mod structure;
 pub mod time;
 pub mod timed;
 
+pub use choice::{Choice, UnknownChoice};
 pub use dynamics::{Dynamics, Hold, Rate, MAX_DYNAMICS};
 pub use error::ModelError;
 pub use evaluator::{Evaluator, EvaluatorMemory};

@@ -11,13 +11,14 @@ use hyst_core::{
 use hyst_core::{AnyShaping, ScaledShaping};
 use serde::{Deserialize, Serialize};
 
+use crate::choice::Choice;
+
 use crate::dynamics::{Dynamics, Rate};
 use crate::error::ModelError;
 
 /// Which way the model's loop runs, and so its equation. The kebab-case name (`operator`,
 /// `stop`) is the model file's and the command line's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum Form {
     /// out = ψ_out(H\[ψ_in(in)\]): the operator's counterclockwise loop (the output lags the
@@ -29,20 +30,29 @@ pub enum Form {
     Stop,
 }
 
+impl Choice for Form {
+    const WHAT: &'static str = "form";
+    const CHOICES: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            Form::Operator,
+            "operator",
+            "out = ψ_out(H[ψ_in(in)]): the operator's counterclockwise loop (the output lags the \
+             input: piezo stacks, magnetisation, most actuators)",
+        ),
+        (
+            Form::Stop,
+            "stop",
+            "out = ψ_out(v − H[v]) + c·v, v = ψ_in(in): the smooth stop operator's clockwise loop \
+             (friction against position, a Dahl-like model; any loop whose output leads the input)",
+        ),
+    ];
+}
+
 impl Form {
     /// Whether this is the default [`Form::Operator`] (the model file then omits it).
     #[must_use]
     pub fn is_operator(&self) -> bool {
         *self == Form::Operator
-    }
-
-    /// The command-line name.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Form::Operator => "operator",
-            Form::Stop => "stop",
-        }
     }
 }
 

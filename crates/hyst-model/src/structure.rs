@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::choice::Choice;
 use crate::dynamics::Hold;
 use crate::smooth::{Form, InitialState};
 
@@ -11,7 +12,6 @@ use crate::smooth::{Form, InitialState};
 /// `tanh`, `langevin`, `quadratic-exp`) is the model file's and the command line's. Files and
 /// command lines of hyst before 0.1 wrote `quad-exp`; it still reads as `quadratic-exp`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum ShapingKind {
     /// Affine (ψ_in: the fixed normalisation of the input; ψ_out: gain and offset).
@@ -27,30 +27,43 @@ pub enum ShapingKind {
     Langevin,
     /// Example 2's x − a x² − e^(−(b + c x)).
     #[serde(alias = "quad-exp")]
-    #[cfg_attr(feature = "clap", value(alias = "quad-exp"))]
     QuadraticExp,
 }
 
-impl ShapingKind {
-    /// All kinds, with their command-line names.
-    pub const ALL: [(&'static str, ShapingKind); 6] = [
-        ("affine", ShapingKind::Affine),
-        ("poly2", ShapingKind::Poly2),
-        ("poly3", ShapingKind::Poly3),
-        ("tanh", ShapingKind::Tanh),
-        ("langevin", ShapingKind::Langevin),
-        ("quadratic-exp", ShapingKind::QuadraticExp),
+impl Choice for ShapingKind {
+    const WHAT: &'static str = "shaping";
+    const CHOICES: &'static [(Self, &'static str, &'static str)] = &[
+        (
+            ShapingKind::Affine,
+            "affine",
+            "Affine (ψ_in: the fixed normalisation of the input; ψ_out: gain and offset)",
+        ),
+        (
+            ShapingKind::Poly2,
+            "poly2",
+            "Quadratic polynomial x + p2 x², monotone on the data",
+        ),
+        (
+            ShapingKind::Poly3,
+            "poly3",
+            "Cubic polynomial x + p2 x² + p3 x³, monotone on the data",
+        ),
+        (ShapingKind::Tanh, "tanh", "tanh(x / σ + c): saturation"),
+        (
+            ShapingKind::Langevin,
+            "langevin",
+            "Langevin function L(x / σ + c): the classical anhysteretic curve",
+        ),
+        (
+            ShapingKind::QuadraticExp,
+            "quadratic-exp",
+            "Example 2's x − a x² − e^(−(b + c x))",
+        ),
     ];
+    const ALIASES: &'static [(&'static str, Self)] = &[("quad-exp", ShapingKind::QuadraticExp)];
+}
 
-    /// The command-line name.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        Self::ALL
-            .iter()
-            .find(|(_, k)| *k == self)
-            .map_or("?", |(n, _)| n)
-    }
-
+impl ShapingKind {
     /// Whether the shape saturates (tanh, Langevin): its range is bounded.
     #[must_use]
     pub fn saturating(self) -> bool {
@@ -60,7 +73,6 @@ impl ShapingKind {
 
 /// The k2 law to fit: constant, or affine in the operator input (Proposition 4.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum K2Kind {
     /// k2 constant.
@@ -68,6 +80,18 @@ pub enum K2Kind {
     Constant,
     /// k2 = a + b v, affine in the operator input v (Proposition 4.3).
     Affine,
+}
+
+impl Choice for K2Kind {
+    const WHAT: &'static str = "k2 law";
+    const CHOICES: &'static [(Self, &'static str, &'static str)] = &[
+        (K2Kind::Constant, "constant", "k2 constant"),
+        (
+            K2Kind::Affine,
+            "affine",
+            "k2 = a + b v, affine in the operator input v (Proposition 4.3)",
+        ),
+    ];
 }
 
 /// The model structure chosen by the user.
@@ -117,11 +141,19 @@ fn is_zero(n: &u8) -> bool {
 
 /// The rate term of a model: the command line's `--rate-term` and the structure's `rate`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum RateTerm {
     /// c·v̇: a force proportional to the hysteresis input's rate (viscous friction, dampers).
     Viscous,
+}
+
+impl Choice for RateTerm {
+    const WHAT: &'static str = "rate term";
+    const CHOICES: &'static [(Self, &'static str, &'static str)] = &[(
+        RateTerm::Viscous,
+        "viscous",
+        "c·v̇: a force proportional to the hysteresis input's rate (viscous friction, dampers)",
+    )];
 }
 
 impl Default for Structure {

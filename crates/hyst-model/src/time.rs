@@ -22,6 +22,24 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 use std::sync::Arc;
 
+/// The names a record's time column (s) goes by when none is named (`--time COLUMN`), in the
+/// order they are looked for.
+pub const TIME_COLUMNS: [&str; 4] = ["t", "t_s", "time", "time_s"];
+
+/// The time column of a table that `has` the columns it is asked for: `named` if given (its
+/// presence is the caller's to check), else the first of [`TIME_COLUMNS`] it has.
+#[must_use]
+pub fn time_column(named: Option<&str>, has: impl Fn(&str) -> bool) -> Option<&str> {
+    named.or_else(|| TIME_COLUMNS.into_iter().find(|n| has(n)))
+}
+
+/// Whether `name` is the time column [`time_column`] would take: `named` if given, else one of
+/// [`TIME_COLUMNS`].
+#[must_use]
+pub fn is_time_column(name: &str, named: Option<&str>) -> bool {
+    named.map_or_else(|| TIME_COLUMNS.contains(&name), |named| name == named)
+}
+
 /// The largest relative difference of a step from the nominal step that is taken as the nominal
 /// step: 1e-9. Decimal stamps of 10 significant digits and 64-bit rounding differ by less; the
 /// discretisation for a step 1e-9 off differs by about 1e-9 of a step's change.

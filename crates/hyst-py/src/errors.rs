@@ -9,7 +9,7 @@ use std::path::Path;
 
 use hyst_fit::FitError;
 use hyst_io::IoError;
-use hyst_model::ModelError;
+use hyst_model::{Choice, ModelError};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::exceptions::{
     PyFileExistsError, PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError,
@@ -123,5 +123,15 @@ pub fn borrow_mut<'py, T: Shared>(slf: &Bound<'py, T>) -> PyResult<PyRefMut<'py,
     slf.try_borrow_mut().map_err(|_| {
         let writing = slf.try_borrow().is_err();
         in_use::<T>(writing.then_some(T::WRITER))
+    })
+}
+
+/// A choice by its name (`ShapingKind`, `K2Kind`, …; ASCII letters in either case).
+pub fn choice<E: Choice>(option: &str, value: &str) -> PyResult<E> {
+    E::parse(value, true).map_err(|e| {
+        value_error(format!(
+            "{option} = {value:?}: invalid value; possible values: {}",
+            e.names.join(", ")
+        ))
     })
 }

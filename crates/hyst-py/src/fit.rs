@@ -5,7 +5,6 @@ use std::ops::ControlFlow;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use clap::ValueEnum;
 use hyst_fit::identify::Request;
 use hyst_fit::lm::{Observer, Progress};
 use hyst_fit::pi_fit::PiOutputKind;
@@ -19,23 +18,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::samples_f64;
-use crate::errors::{self, value_error};
+use crate::errors::{self, choice, value_error};
 use crate::model::{by_parameter, reached, to_python, Model};
-
-/// A command-line choice by its command-line name (`ShapingKind`, `K2Kind`, …).
-fn choice<E: ValueEnum>(option: &str, value: &str) -> PyResult<E> {
-    E::from_str(value, true).map_err(|_| {
-        let names: Vec<String> = E::value_variants()
-            .iter()
-            .filter_map(|v| v.to_possible_value())
-            .map(|p| p.get_name().to_string())
-            .collect();
-        value_error(format!(
-            "{option} = {value:?}: invalid value; possible values: {}",
-            names.join(", ")
-        ))
-    })
-}
 
 /// Lets Ctrl-C (KeyboardInterrupt) stop a fit that runs without the GIL: every 50 ms the
 /// observer asks Python for pending signals and stops the least squares if one raised.

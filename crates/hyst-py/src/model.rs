@@ -5,7 +5,7 @@ use hyst_io::number::shortest;
 use std::path::{Path, PathBuf};
 
 use hyst_model::FamilyWidths;
-use hyst_model::ModelKind;
+use hyst_model::{Choice, ModelKind};
 use hyst_model::{Estimate, Evaluator, ModelFile, Saturated};
 use hyst_model::{SmoothModel, TimedCompensator};
 use pyo3::prelude::*;

@@ -92,11 +92,7 @@ pub(crate) fn process<'py>(
     }
     let mut m = *m;
     if let Some(name) = hold {
-        let Some(hold) = Hold::from_name(name) else {
-            return Err(value_error(format!(
-                "hold = {name:?}: invalid value; possible values: zoh, foh"
-            )));
-        };
+        let hold: Hold = crate::errors::choice("hold", name)?;
         let Some(d) = m.dynamics else {
             return Err(value_error(format!(
                 "hold = {name:?}: the model {source} has no dynamics (a rate term alone takes no \

@@ -14,6 +14,9 @@ mod progress;
 
 use std::path::PathBuf;
 
+use hyst_model::Choice;
+
+use crate::choice::choice;
 use anyhow::Result;
 use hyst_fit::identify::Request;
 use hyst_fit::pi_fit::PiOutputKind;
@@ -23,7 +26,8 @@ use hyst_io::Table;
 use hyst_model::{InitialState, K2Kind, ShapingKind, Structure};
 use hyst_model::{ModelKind, Provenance, Units};
 
-use plots::{draw, is_time_column, time_column, Axes};
+use hyst_model::time::is_time_column;
+use plots::{draw, time_column, Axes};
 use progress::ProgressObserver;
 
 /// Arguments of `hyst fit`.
@@ -41,25 +45,25 @@ pub struct Args {
     #[arg(short = 'o', long = "out", alias = "model-out", value_name = "MODEL")]
     pub model_out: PathBuf,
     /// Which model to fit.
-    #[arg(long, value_enum, default_value_t = ModelKind::Smooth)]
+    #[arg(long, value_parser = choice::<ModelKind>(), default_value = ModelKind::Smooth.name())]
     pub model_kind: ModelKind,
     /// Number of plays (play operators) of the Prandtl–Ishlinskii model.
     #[arg(long, default_value_t = 16, alias = "operators")]
     pub plays: usize,
     /// Monotone output polynomial after the Prandtl–Ishlinskii sum (its inverse stays exact).
-    #[arg(long, value_enum, default_value_t = PiOutputKind::None)]
+    #[arg(long, value_parser = choice::<PiOutputKind>(), default_value = PiOutputKind::None.name())]
     pub pi_output: PiOutputKind,
     /// Also fit the other model kind and report both side by side.
     #[arg(long)]
     pub compare: bool,
     /// k2 law.
-    #[arg(long, value_enum, default_value_t = K2Kind::Constant)]
+    #[arg(long, value_parser = choice::<K2Kind>(), default_value = K2Kind::Constant.name())]
     pub k2: K2Kind,
     /// Input shaping ψ_in.
-    #[arg(long, value_enum, default_value_t = ShapingKind::Affine)]
+    #[arg(long, value_parser = choice::<ShapingKind>(), default_value = ShapingKind::Affine.name())]
     pub input_shaping: ShapingKind,
     /// Output shaping ψ_out.
-    #[arg(long, value_enum, default_value_t = ShapingKind::Affine)]
+    #[arg(long, value_parser = choice::<ShapingKind>(), default_value = ShapingKind::Affine.name())]
     pub output_shaping: ShapingKind,
     /// Fit an input offset (default: only for tanh and Langevin input shaping).
     #[arg(long)]
@@ -70,7 +74,7 @@ pub struct Args {
     /// The smooth model's form: `auto` takes the stop form ψ_out(v − H[v]) + c·v when the data's
     /// loops run clockwise (the output leads the input, as friction against position) and the
     /// operator form ψ_out(H[v]) otherwise; the report states the orientation found.
-    #[arg(long, value_enum, default_value_t = FormChoice::Auto)]
+    #[arg(long, value_parser = choice::<FormChoice>(), default_value = FormChoice::Auto.name())]
     pub form: FormChoice,
     /// Keep a fit that found no hysteresis (a model without loops, or parameters the data does
     /// not identify): write the model file and mark the report `degenerate`, instead of
@@ -91,7 +95,7 @@ pub struct Args {
     /// How each record starts (the model's rule for new data too). `auto`: `falling` when every
     /// record only rises (first-order reversal curves, each starting at a reversal after a fall
     /// from saturation), `rising` when every record only falls, `rising` otherwise.
-    #[arg(long, value_enum, default_value_t = StartChoice::Auto)]
+    #[arg(long, value_parser = choice::<StartChoice>(), default_value = StartChoice::Auto.name())]
     pub initial_state: StartChoice,
     /// Record column (default: `loop`, `curve_index`, `record` or `segment` if present).
     #[arg(long)]
@@ -146,13 +150,13 @@ pub struct Args {
     pub dynamics: Option<DynamicsOrder>,
     /// Add a rate term to the output: `viscous` is c·v̇, a force proportional to the rate of
     /// the hysteresis input (friction, dampers). The report says whether the data supports it.
-    #[arg(long, value_enum, value_name = "TERM")]
+    #[arg(long, value_parser = choice::<hyst_model::RateTerm>(), value_name = "TERM")]
     pub rate_term: Option<hyst_model::RateTerm>,
     /// The command between samples, for the plant of --dynamics: zoh, held over each step (an
     /// actuator driven by a DAC; the default), or foh, linear between samples. The model file
     /// records it (`[dynamics] hold`). Given, the standard errors make no allowance for the
     /// other hold, which the records cannot tell apart.
-    #[arg(long, value_enum, value_name = "HOLD", requires = "dynamics")]
+    #[arg(long, value_parser = choice::<hyst_model::Hold>(), value_name = "HOLD", requires = "dynamics")]
     pub hold: Option<hyst_model::Hold>,
     /// Print the report as JSON.
     #[arg(long)]

@@ -19,6 +19,7 @@ use hyst_fit::pi_fit::PiFit;
 use hyst_fit::smooth::run_records;
 use hyst_fit::{Dataset, SmoothFit};
 use hyst_io::Table;
+use hyst_model::time::time_column as named_time_column;
 
 use crate::plot::{Figure, Panel, Series};
 
@@ -41,21 +42,8 @@ pub(super) fn time_column(table: &Table, name: Option<&str>) -> Result<Option<(S
         let column = table.column(name).context("--time")?;
         return Ok(Some((name.to_string(), column.to_vec())));
     }
-    for candidate in hyst_fit::data::TIME_COLUMNS {
-        if let Ok(column) = table.column(candidate) {
-            return Ok(Some((candidate.to_string(), column.to_vec())));
-        }
-    }
-    Ok(None)
-}
-
-/// Whether `name` may be the time axis [`time_column`] looks for: `--time`'s column, else one
-/// of the conventional time names.
-pub(super) fn is_time_column(name: &str, named: Option<&str>) -> bool {
-    match named {
-        Some(named) => name == named,
-        None => hyst_fit::data::TIME_COLUMNS.contains(&name),
-    }
+    Ok(named_time_column(None, |n| table.column(n).is_ok())
+        .and_then(|n| Some((n.to_string(), table.column(n).ok()?.to_vec()))))
 }
 
 /// The names and units of the input and output columns, for the axes.

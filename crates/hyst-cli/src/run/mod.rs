@@ -31,6 +31,9 @@
 use std::io::Read;
 use std::path::PathBuf;
 
+use hyst_model::Choice;
+
+use crate::choice::choice;
 use anyhow::{bail, Context, Result};
 
 use crate::source::{Chosen, Source};
@@ -101,7 +104,7 @@ pub struct Args {
     /// The hold of the plant of a model with dynamics, instead of the model file's
     /// (`[dynamics] hold`): zoh, the command held over each step (an actuator driven by a DAC),
     /// or foh, the command linear between samples.
-    #[arg(long, value_enum, value_name = "HOLD")]
+    #[arg(long, value_parser = choice::<hyst_model::Hold>(), value_name = "HOLD")]
     pub hold: Option<hyst_model::Hold>,
     /// Input CSV file.
     pub input: PathBuf,
