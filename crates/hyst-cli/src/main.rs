@@ -50,7 +50,6 @@ mod paper;
 mod plot;
 mod progress;
 mod run;
-mod run_timed;
 mod signals;
 mod source;
 mod spelling;

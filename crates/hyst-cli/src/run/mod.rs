@@ -46,6 +46,7 @@ use hyst_model::saturation::Saturation;
 mod columns;
 mod reach;
 pub(crate) mod rows;
+mod timed;
 use columns::{Columns, Input, Num};
 use rows::{label_of, read_row, Block, Records, BLOCK};
 
@@ -143,7 +144,7 @@ pub fn main(args: Args) -> Result<()> {
                 refuse_stop_form(&model, path)?;
             }
             if model.smooth.as_ref().is_some_and(|m| m.is_timed()) {
-                return crate::run_timed::main(&timed_options(&args), &model, path);
+                return timed::main(&timed_options(&args), &model, path);
             }
             refuse_hold(&args, Some(path))?;
             if args.prefilter_hz.is_some() {
@@ -267,8 +268,8 @@ fn refuse_prefilter(args: &Args) -> Result<()> {
 }
 
 /// What a run of a model with dynamics or a rate term takes of the arguments.
-fn timed_options(args: &Args) -> crate::run_timed::Options<'_> {
-    crate::run_timed::Options {
+fn timed_options(args: &Args) -> timed::Options<'_> {
+    timed::Options {
         inverse: args.source.inverse,
         columns: &args.column,
         time: args.time.as_deref(),

@@ -39,7 +39,7 @@ use hyst_model::{
     CORNER_SAMPLES,
 };
 
-use crate::run::rows::Records;
+use super::rows::Records;
 
 /// What `hyst run` asks of a timed model (its arguments, as `crate::run` parsed them).
 pub struct Options<'a> {
@@ -303,8 +303,7 @@ impl Plan {
                 )
             })?;
         let time = rows.column(&time_name)?;
-        let record =
-            crate::run::rows::record_column(rows, args.record, args.no_record, args.columns)?;
+        let record = super::rows::record_column(rows, args.record, args.no_record, args.columns)?;
         let order = smooth.dynamics.map_or(0, |d| d.order());
         let derivatives: Option<Vec<usize>> = (1..=order)
             .map(|k| rows.column_index(&format!("{name}_d{k}")))
