@@ -1712,7 +1712,7 @@ void hyst_bank_free(struct hyst_bank *bank);
 // `path` is NULL or a NUL-terminated string; `error` is NULL or writable for `error_len` bytes.
 struct hyst_model *hyst_model_load(const char *path, char *error, size_t error_len);
 
-// Loads and checks a model file whose records are sampled at the period `period_s` (seconds,
+// Loads and checks a model file whose records are sampled at the period `period` (seconds,
 // finite and > 0), as `hyst_model_load` does otherwise. A model with dynamics or a rate term
 // then runs as `hyst run --model` runs a timed record of that period (the period `hyst run`
 // takes from the record's time stamps: their mean step): `hyst_model_process` (direct only)
@@ -1724,7 +1724,7 @@ struct hyst_model *hyst_model_load(const char *path, char *error, size_t error_l
 // # Safety
 // As `hyst_model_load`.
 struct hyst_model *hyst_model_load_timed(const char *path,
-                                         double period_s,
+                                         double period,
                                          char *error,
                                          size_t error_len);
 

@@ -103,7 +103,7 @@ def fit_one(name: str, x: Any, y: Any, options: Dict[str, Any]) -> Tuple[Dict[st
     row: Dict[str, Any] = {"record": name, "rms": r.rms, "rms_percent": r.rms_percent, "delta_a": r.delta_a}
     for p, v in r.params.items():
         row[p] = v
-        row[p + ".stderr"] = r.stderr[p]
+        row[p + ".std_error"] = r.std_errors[p]
     return row, r.model.to_toml()
 
 
@@ -113,8 +113,8 @@ def fit_synthetic(seed: int, samples: int, noise: float, options: Dict[str, Any]
     row, toml = fit_one(f"synthetic-{seed:04d}", x, y, options)
     for p, v in truth.items():
         row[p + ".true"] = v
-        if p in row and row.get(p + ".stderr"):
-            row[p + ".z"] = (row[p] - v) / row[p + ".stderr"]
+        if p in row and row.get(p + ".std_error"):
+            row[p + ".z"] = (row[p] - v) / row[p + ".std_error"]
     return row, toml
 
 

@@ -4,8 +4,8 @@
 use core::ptr;
 
 use hyst_core::{
-    AffineK2, AnyK2Law, AnyShaping, Compensator, ConstantK2, Direction, Error, Hysteresis,
-    Identity, InitialState, InverseHysteresis, InverseShapedModel, Jet, Langevin, LinearShaping,
+    AffineK2, AffineShaping, AnyK2Law, AnyShaping, Compensator, ConstantK2, Direction, Error,
+    Hysteresis, Identity, InitialState, InverseHysteresis, InverseShapedModel, Jet, Langevin,
     Memory, Operator, Polynomial, QuadraticExp, Real, ScaledShaping, ShapedModel, Started, Stop,
     Tanh,
 };
@@ -33,7 +33,7 @@ pub(crate) type AnyShapedModel<T> = ShapedModel<T, Shaping<T>, AnyK2Law<T>, Shap
 
 /// A shaping function whose shape is affine (identity or affine): the same arithmetic as
 /// [`Shaping`], and none of the nonlinear shapes' code in a firmware.
-pub(crate) type Linear<T> = ScaledShaping<T, LinearShaping<T>>;
+pub(crate) type Linear<T> = ScaledShaping<T, AffineShaping<T>>;
 
 /// The shaped model with shapings `S`, direct, inverse or in its stop form, run by its start
 /// rule.
@@ -468,8 +468,8 @@ pub(crate) fn linear_shaping<T: Real>(
 ) -> Result<Linear<T>, Error> {
     let [p0, p1, ..] = p;
     let shape = match kind {
-        0 => LinearShaping::Identity,
-        1 => LinearShaping::Affine(hyst_core::Affine::new(p0, p1)?),
+        0 => AffineShaping::Identity,
+        1 => AffineShaping::Affine(hyst_core::Affine::new(p0, p1)?),
         _ => {
             return Err(Error::InvalidParameter {
                 name: "shaping kind",

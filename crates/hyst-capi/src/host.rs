@@ -85,7 +85,7 @@ pub unsafe extern "C" fn hyst_model_load(
     unsafe { load(path, None, error, error_len) }
 }
 
-/// Loads and checks a model file whose records are sampled at the period `period_s` (seconds,
+/// Loads and checks a model file whose records are sampled at the period `period` (seconds,
 /// finite and > 0), as `hyst_model_load` does otherwise. A model with dynamics or a rate term
 /// then runs as `hyst run --model` runs a timed record of that period (the period `hyst run`
 /// takes from the record's time stamps: their mean step): `hyst_model_process` (direct only)
@@ -99,12 +99,12 @@ pub unsafe extern "C" fn hyst_model_load(
 #[no_mangle]
 pub unsafe extern "C" fn hyst_model_load_timed(
     path: *const c_char,
-    period_s: f64,
+    period: f64,
     error: *mut c_char,
     error_len: usize,
 ) -> *mut hyst_model {
     // SAFETY: the caller's contract.
-    unsafe { load(path, Some(period_s), error, error_len) }
+    unsafe { load(path, Some(period), error, error_len) }
 }
 
 /// `hyst_model_load` (`period` = `None`) and `hyst_model_load_timed`.
@@ -643,7 +643,7 @@ pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u6
     // SAFETY: a live model (caller's contract).
     let model = unsafe { &*m };
     // SAFETY: non-NULL and writable (caller's contract).
-    unsafe { count.write(model.inverse.as_ref().map_or(0, |r| r.clamped)) };
+    unsafe { count.write(model.inverse.as_ref().map_or(0, |r| r.saturated)) };
     HYST_OK
 }
 

@@ -1,5 +1,5 @@
 //! The adaptive compensator of the C API (`hyst_adaptive_*`) called as C would call it: the
-//! `double` one equals `hyst_core::adaptive::AdaptiveCompensator` bit for bit, the `float` twin
+//! `double` one equals `hyst_core::adaptive::AdaptiveInverse` bit for bit, the `float` twin
 //! follows a truth whose output gain is 20 % above the fitted model's, and every bad argument
 //! returns its status without touching anything.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
@@ -12,7 +12,7 @@ use hyst::api_f64::*;
 use hyst::status::*;
 use hyst::*;
 use hyst_core::adaptive::{
-    Adaptive, AdaptiveCompensator, AdaptiveConfig, AdaptiveModel, Parameter, Status,
+    Adaptive, AdaptiveConfig, AdaptiveInverse, AdaptiveModel, Parameter, Status,
 };
 use hyst_core::{
     Affine, AffineK2, AnyK2Law, AnyShaping, Hysteresis, InitialState, Operator, Polynomial,
@@ -191,7 +191,7 @@ fn f64_equals_the_core_bit_for_bit() {
     config.input_range.1 = 0.9;
     let fitted = core_model(1.0);
     let mut core =
-        AdaptiveCompensator::new(Adaptive::new(&fitted, InitialState::Rising, config).unwrap());
+        AdaptiveInverse::new(Adaptive::new(&fitted, InitialState::Rising, config).unwrap());
     let mut truth = core_model(1.15);
     let mut noise = Noise(30);
     let mut statuses = std::collections::BTreeSet::new();
@@ -767,7 +767,7 @@ fn the_linear_variant_is_the_core_of_width_four() {
         ScaledShaping::new(
             s.pre_gain,
             s.pre_offset,
-            hyst_core::LinearShaping::Affine(Affine::new(s.p[0], s.p[1]).unwrap()),
+            hyst_core::AffineShaping::Affine(Affine::new(s.p[0], s.p[1]).unwrap()),
             s.post_gain,
             s.post_offset,
         )
@@ -780,13 +780,13 @@ fn the_linear_variant_is_the_core_of_width_four() {
         linear(&p.output),
     )
     .unwrap();
-    let estimator = Adaptive::<f64, 4, hyst_core::LinearShaping<f64>>::of_width(
+    let estimator = Adaptive::<f64, 4, hyst_core::AffineShaping<f64>>::of_width(
         &model,
         InitialState::Rising,
         AdaptiveConfig::new(2e-3),
     )
     .unwrap();
-    let mut core = AdaptiveCompensator::new(estimator);
+    let mut core = AdaptiveInverse::new(estimator);
     let mut truth = model;
     for k in 0..4000 {
         let d = desired(k);

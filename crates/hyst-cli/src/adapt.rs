@@ -401,7 +401,9 @@ impl<'a> Run<'a> {
             "parameters": adapted.iter().map(|p| p.name()).collect::<Vec<_>>(),
             "fitted": values(&|a, p| a.fitted_value(p)),
             "final": values(&|a, p| a.value(p)),
-            "sigma": values(&|a, p| a.sigma(p)),
+            "std_error": values(&|a, p| a.std_error(p)),
+            // The old key of `std_error` (docs/formats.md, "Deprecated names").
+            "sigma": values(&|a, p| a.std_error(p)),
             "counts": Status::ALL
                 .into_iter()
                 .map(|s| (s.name().to_string(), serde_json::json!(counts.of(s))))

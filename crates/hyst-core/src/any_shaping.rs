@@ -1,5 +1,5 @@
 //! The shaping functions chosen at run time: any of the built-in ones ([`AnyShaping`]: model
-//! files, the CLI, fitting), or only the affine ones ([`LinearShaping`]: the same arithmetic for
+//! files, the CLI, fitting), or only the affine ones ([`AffineShaping`]: the same arithmetic for
 //! them, and a firmware links no nonlinear shape).
 
 #[cfg(feature = "serde")]
@@ -83,7 +83,7 @@ impl<T: Real> Shaping<T> for AnyShaping<T> {
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
-pub enum LinearShaping<T> {
+pub enum AffineShaping<T> {
     /// [`Identity`].
     #[default]
     Identity,
@@ -91,15 +91,20 @@ pub enum LinearShaping<T> {
     Affine(Affine<T>),
 }
 
-impl<T: Real> TryFrom<AnyShaping<T>> for LinearShaping<T> {
+/// The old name of [`AffineShaping`]: its shapes are affine, and "linear" names Lemma 5.1's
+/// plant (docs/formats.md, "Deprecated names").
+#[deprecated(note = "renamed AffineShaping")]
+pub type LinearShaping<T> = AffineShaping<T>;
+
+impl<T: Real> TryFrom<AnyShaping<T>> for AffineShaping<T> {
     type Error = Error;
 
     /// # Errors
     /// [`Error::InvalidParameter`] for a shape that is not identity or affine.
     fn try_from(shape: AnyShaping<T>) -> Result<Self, Error> {
         match shape {
-            AnyShaping::Identity => Ok(LinearShaping::Identity),
-            AnyShaping::Affine(a) => Ok(LinearShaping::Affine(a)),
+            AnyShaping::Identity => Ok(AffineShaping::Identity),
+            AnyShaping::Affine(a) => Ok(AffineShaping::Affine(a)),
             other => Err(Error::InvalidParameter {
                 name: "shaping kind",
                 value: f64::NAN,
@@ -117,16 +122,16 @@ impl<T: Real> TryFrom<AnyShaping<T>> for LinearShaping<T> {
 macro_rules! linear_dispatch {
     ($self:ident, $s:ident => $e:expr) => {
         match $self {
-            LinearShaping::Identity => {
+            AffineShaping::Identity => {
                 let $s = &Identity;
                 $e
             }
-            LinearShaping::Affine($s) => $e,
+            AffineShaping::Affine($s) => $e,
         }
     };
 }
 
-impl<T: Real> Shaping<T> for LinearShaping<T> {
+impl<T: Real> Shaping<T> for AffineShaping<T> {
     fn name(&self) -> &'static str {
         linear_dispatch!(self, s => Shaping::<T>::name(s))
     }
@@ -150,8 +155,8 @@ impl<T: Real> Shaping<T> for LinearShaping<T> {
     }
     fn apply_with_slope(&self, x: T) -> (T, T) {
         match self {
-            LinearShaping::Identity => (x, T::one()),
-            LinearShaping::Affine(a) => (a.apply(x), a.lipschitz(x, x)),
+            AffineShaping::Identity => (x, T::one()),
+            AffineShaping::Affine(a) => (a.apply(x), a.lipschitz(x, x)),
         }
     }
 }

@@ -136,8 +136,12 @@ pub mod shaping;
 pub mod start;
 pub mod stop;
 
-pub use adaptive::{Adaptive, AdaptiveCompensator, AdaptiveConfig};
-pub use any_shaping::{AnyShaping, LinearShaping};
+#[allow(deprecated)]
+pub use adaptive::AdaptiveCompensator;
+pub use adaptive::{Adaptive, AdaptiveConfig, AdaptiveInverse};
+#[allow(deprecated)]
+pub use any_shaping::LinearShaping;
+pub use any_shaping::{AffineShaping, AnyShaping};
 pub use compensator::{Compensator, CompensatorState};
 pub use dual::Dual;
 pub use error::Error;

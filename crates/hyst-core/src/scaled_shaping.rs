@@ -5,7 +5,7 @@
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::any_shaping::{AnyShaping, LinearShaping};
+use crate::any_shaping::{AffineShaping, AnyShaping};
 use crate::error::{finite, positive_normal, Error};
 use crate::real::Real;
 use crate::sample::Sample;
@@ -17,7 +17,7 @@ use crate::shaping::Shaping;
 /// serialized in model files).
 ///
 /// The shape is any of the built-in ones ([`AnyShaping`], the default), or only the affine
-/// ones ([`LinearShaping`]: the same arithmetic, and a firmware links no nonlinear shape).
+/// ones ([`AffineShaping`]: the same arithmetic, and a firmware links no nonlinear shape).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct ScaledShaping<T, S = AnyShaping<T>> {
@@ -49,8 +49,8 @@ impl<T: Real, S: Shaping<T> + Default> ScaledShaping<T, S> {
     }
 }
 
-impl<T: Real> ScaledShaping<T, LinearShaping<T>> {
-    /// The same function with its shape as a [`LinearShaping`].
+impl<T: Real> ScaledShaping<T, AffineShaping<T>> {
+    /// The same function with its shape as a [`AffineShaping`].
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] when the shape is not identity or affine.
@@ -58,7 +58,7 @@ impl<T: Real> ScaledShaping<T, LinearShaping<T>> {
         Ok(Self {
             pre_gain: s.pre_gain,
             pre_offset: s.pre_offset,
-            shape: LinearShaping::try_from(s.shape)?,
+            shape: AffineShaping::try_from(s.shape)?,
             post_gain: s.post_gain,
             post_offset: s.post_offset,
         })

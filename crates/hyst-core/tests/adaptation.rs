@@ -5,7 +5,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 
 use hyst_core::adaptive::{
-    Adaptive, AdaptiveCompensator, AdaptiveConfig, AdaptiveModel, Parameter, Status,
+    Adaptive, AdaptiveConfig, AdaptiveInverse, AdaptiveModel, Parameter, Status,
 };
 use hyst_core::{AnyK2Law, Hysteresis, InitialState, Operator, ScaledShaping, ShapedModel};
 
@@ -169,8 +169,7 @@ fn a_rest_of_a_million_samples_moves_no_parameter() {
 #[test]
 fn the_adaptive_compensator_tracks_the_drifting_truth() {
     let fitted = model(K1, GAIN);
-    let mut c =
-        AdaptiveCompensator::new(Adaptive::new(&fitted, InitialState::Line, config()).unwrap());
+    let mut c = AdaptiveInverse::new(Adaptive::new(&fitted, InitialState::Line, config()).unwrap());
     let mut fixed = fitted.inverse();
     let (mut truth, mut fixed_truth, mut oracle_truth) = (Truth::new(), Truth::new(), Truth::new());
     let mut noise = Noise(99);
@@ -252,7 +251,7 @@ mod hostile {
                 .collect();
             let config = AdaptiveConfig { parameters, drift, step, ..AdaptiveConfig::new(noise) };
             let mut a = Adaptive::new(&m, InitialState::Rising, config).unwrap();
-            let mut c = AdaptiveCompensator::new(Adaptive::new(&m, InitialState::Line, config).unwrap());
+            let mut c = AdaptiveInverse::new(Adaptive::new(&m, InitialState::Line, config).unwrap());
             for (k, &(x, y)) in samples.iter().enumerate() {
                 let u = a.update(x, y);
                 prop_assert!(u.prediction.is_finite() || u.prediction.is_nan());

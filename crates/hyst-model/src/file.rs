@@ -623,7 +623,7 @@ created_unix = 0
                 .collect();
             println!("{name}: commands {saturated:?} V");
             assert_eq!(saturated, plain, "{name}");
-            assert_eq!(clamped.clamped, 0, "{name}");
+            assert_eq!(clamped.saturated, 0, "{name}");
             for (u, right) in saturated.iter().zip([1.33, 2.30, 3.34]) {
                 assert!(
                     (u - right).abs() < 0.01,
@@ -691,7 +691,7 @@ created_unix = 0
                 let u = clamped.try_step(*y).unwrap();
                 assert!((u - x).abs() < 1e-6, "{name}: {y} gave {u}, expected {x}");
             }
-            assert_eq!(clamped.clamped, 0, "{name}");
+            assert_eq!(clamped.saturated, 0, "{name}");
         }
     }
 

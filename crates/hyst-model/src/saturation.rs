@@ -173,19 +173,20 @@ fn fraction(lo: f64, hi: f64, side: f64, fitted: Option<f64>) -> (f64, bool) {
     }
 }
 
-/// A compensator whose desired outputs are clamped into a saturating model's limits
+/// An inverse whose desired outputs are clamped into a saturating model's limits
 /// ([`Saturation::limits`]) before `inner` sees them, as `hyst run --saturate`
 /// clamps them: a finite value beyond the limits steps `inner` with the nearer limit (a jet
 /// with zero derivatives: a clamped desired output stands still); non-finite values reach
 /// `inner`, which refuses them. With `limits` `None` it is `inner` unchanged.
 #[derive(Clone, Debug)]
 pub struct Saturated<O> {
-    /// The compensator.
+    /// The inverse.
     pub inner: O,
     /// The clamp limits (lo, hi), lo < hi; `None`: nothing is clamped.
     pub limits: Option<(f64, f64)>,
-    /// How many accepted samples were clamped since the wrapper was made or reset.
-    pub clamped: u64,
+    /// How many accepted samples were saturated (clamped into the limits) since the wrapper
+    /// was made or reset.
+    pub saturated: u64,
 }
 
 impl<O> Saturated<O> {
@@ -195,7 +196,7 @@ impl<O> Saturated<O> {
         Self {
             inner,
             limits,
-            clamped: 0,
+            saturated: 0,
         }
     }
 
@@ -218,7 +219,7 @@ impl<O: Operator<f64>> Operator<f64> for Saturated<O> {
         match self.clamp(x.value()) {
             Some(v) => {
                 let y = self.inner.try_step(S::constant(v))?;
-                self.clamped += 1;
+                self.saturated += 1;
                 Ok(y)
             }
             None => self.inner.try_step(x),
@@ -232,7 +233,7 @@ impl<O: Operator<f64>> Operator<f64> for Saturated<O> {
     /// `inner` back to its initial state, and the count to 0.
     fn reset(&mut self) {
         self.inner.reset();
-        self.clamped = 0;
+        self.saturated = 0;
     }
 
     fn memory(&self) -> O::Memory {
@@ -263,20 +264,20 @@ mod tests {
                 reference.try_step(seen).unwrap().to_bits()
             );
         }
-        assert_eq!(clamped.clamped, 2);
+        assert_eq!(clamped.saturated, 2);
         // Non-finite values are refused by the compensator, not clamped; nothing changes.
         let before = clamped.memory();
         assert!(clamped.try_step(f64::INFINITY).is_err());
-        assert_eq!((clamped.memory(), clamped.clamped), (before, 2));
+        assert_eq!((clamped.memory(), clamped.saturated), (before, 2));
         clamped.reset();
-        assert_eq!((clamped.memory(), clamped.clamped), (None, 0));
+        assert_eq!((clamped.memory(), clamped.saturated), (None, 0));
         // Without limits: the compensator unchanged.
         let mut open = Saturated::new(plain, None);
         assert_eq!(
             open.try_step(3.0).unwrap(),
             plain.clone().try_step(3.0).unwrap()
         );
-        assert_eq!(open.clamped, 0);
+        assert_eq!(open.saturated, 0);
     }
 
     /// y = 10 · H(0.1, 8)[tanh(x)] (affine ψ_out): ψ_in bounds the output to (−11, 11), and

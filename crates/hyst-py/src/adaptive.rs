@@ -1,9 +1,7 @@
 //! `hyst.Adaptive`: online adaptation of a fitted model (`hyst_core::adaptive`): the recursive
-//! estimator over recorded data, and the compensator that follows a drifting actuator.
+//! estimator over recorded data, and the exact inverse that follows a drifting actuator.
 
-use hyst_core::adaptive::{
-    AdaptiveCompensator, AdaptiveConfig, Parameter, Parameters, Status, Update,
-};
+use hyst_core::adaptive::{AdaptiveConfig, AdaptiveInverse, Parameter, Parameters, Status, Update};
 use hyst_io::number::shortest;
 use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
@@ -11,10 +9,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{samples_f64, to_numpy};
-use crate::errors::{borrow, borrow_mut, core, value_error, Shared};
+use crate::errors::{self, borrow, borrow_mut, core, value_error, Shared};
 use crate::model::Model;
 
-/// The recursive estimator of a fitted model's parameters, and the compensator that uses them.
+/// The recursive estimator of a fitted model's parameters, and the exact inverse that uses them.
 ///
 /// `Adaptive(model, *, parameters=("k1", "k2", "gain", "offset"), noise=None, drift=1e-3,
 /// uncertainty=0.01, rest=1e-3, step=0.01, range=4.0, dead_zone=0.0, input_range=None,
@@ -28,7 +26,7 @@ use crate::model::Model;
 ///   columns in the order of `parameters`).
 /// - `step(desired)` → the command for a desired output with the current parameters;
 ///   `measure(y)` → the update with the output measured for that command (its prediction).
-/// - `values`, `sigmas`, `counts`, `parameters`; `model()` the model with the current
+/// - `values`, `std_errors`, `counts`, `parameters`; `model()` the model with the current
 ///   parameters (a `Model`: save it, export it, run it).
 ///
 /// A sample with a non-finite command or measurement, or a command outside `input_range`,
@@ -36,7 +34,7 @@ use crate::model::Model;
 /// (the state is then as after the samples before it).
 #[pyclass(module = "hyst")]
 pub struct Adaptive {
-    compensator: AdaptiveCompensator<f64>,
+    inverse: AdaptiveInverse<f64>,
     file: hyst_model::ModelFile,
     source: String,
     adapted: Vec<Parameter>,
@@ -57,7 +55,7 @@ impl Adaptive {
     fn check(&self, i: Option<usize>, x: f64, y: f64, u: Update<f64>) -> PyResult<()> {
         if self.strict && bad(u.status) {
             let at = i.map_or(String::new(), |i| format!("sample {i}: "));
-            let (lo, hi) = self.compensator.estimator().config().input_range;
+            let (lo, hi) = self.inverse.estimator().config().input_range;
             return Err(value_error(format!(
                 "{at}x = {}, y = {}: {} (strict=True; input_range = ({}, {}))",
                 shortest(x),
@@ -151,7 +149,7 @@ impl Adaptive {
             e => crate::errors::model(e),
         })?;
         Ok(Self {
-            compensator: AdaptiveCompensator::new(estimator),
+            inverse: AdaptiveInverse::new(estimator),
             adapted: set.iter().collect(),
             file,
             source,
@@ -179,18 +177,18 @@ impl Adaptive {
         let mut me = borrow_mut(slf)?;
         let strict = me.strict;
         let adapted = me.adapted.clone();
-        let compensator = &mut me.compensator;
+        let inverse = &mut me.inverse;
         let mut pred = Vec::with_capacity(xs.len());
         let mut params = Array2::<f64>::zeros((xs.len(), adapted.len()));
         // Without the GIL; with `strict`, up to the first bad sample.
         let stopped = py.detach(|| {
             for (i, (xi, yi)) in xs.iter().zip(ys.iter()).enumerate() {
-                let u = compensator.update(*xi, *yi);
+                let u = inverse.update(*xi, *yi);
                 if strict && bad(u.status) {
                     return Some((i, *xi, *yi, u));
                 }
                 pred.push(u.prediction);
-                let est = compensator.estimator();
+                let est = inverse.estimator();
                 for (j, q) in adapted.iter().enumerate() {
                     if let Some(slot) = params.get_mut((i, j)) {
                         *slot = est.value(*q);
@@ -209,17 +207,17 @@ impl Adaptive {
     /// "bad_input", "out_of_range", "bad_output", "refused".
     fn update(slf: &Bound<'_, Self>, x: f64, y: f64) -> PyResult<(f64, &'static str)> {
         let mut me = borrow_mut(slf)?;
-        let u = me.compensator.update(x, y);
+        let u = me.inverse.update(x, y);
         me.check(None, x, y, u)?;
         Ok((u.prediction, u.status.name()))
     }
 
-    /// The compensator's step: the command for the desired output `desired` with the current
+    /// The inverse's step: the command for the desired output `desired` with the current
     /// parameters. Raises ValueError for a desired output the model cannot produce (the state
     /// is unchanged).
     fn step(slf: &Bound<'_, Self>, desired: f64) -> PyResult<f64> {
         let mut me = borrow_mut(slf)?;
-        me.compensator
+        me.inverse
             .step(desired)
             .map_err(|e| core(format!("desired = {}", shortest(desired)), e))
     }
@@ -228,10 +226,10 @@ impl Adaptive {
     /// command is waiting for a measurement.
     fn measure(slf: &Bound<'_, Self>, y: f64) -> PyResult<Option<f64>> {
         let mut me = borrow_mut(slf)?;
-        let Some(x) = me.compensator.pending() else {
+        let Some(x) = me.inverse.pending() else {
             return Ok(None);
         };
-        let Some(u) = me.compensator.measure(y) else {
+        let Some(u) = me.inverse.measure(y) else {
             return Ok(None);
         };
         me.check(None, x, y, u)?;
@@ -243,11 +241,11 @@ impl Adaptive {
     fn reset(slf: &Bound<'_, Self>) -> PyResult<()> {
         let mut me = borrow_mut(slf)?;
         let estimator = {
-            let mut e = *me.compensator.estimator();
+            let mut e = *me.inverse.estimator();
             e.reset();
             e
         };
-        me.compensator = AdaptiveCompensator::new(estimator);
+        me.inverse = AdaptiveInverse::new(estimator);
         Ok(())
     }
 
@@ -261,22 +259,29 @@ impl Adaptive {
     #[getter]
     fn values<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let me = borrow(slf)?;
-        let e = me.compensator.estimator();
+        let e = me.inverse.estimator();
         me.dict(slf.py(), |p| e.value(p))
     }
 
-    /// σ of each adapted parameter's estimate (its units).
+    /// The standard error σ of each adapted parameter's estimate (its units).
+    #[getter]
+    fn std_errors<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        let me = borrow(slf)?;
+        let e = me.inverse.estimator();
+        me.dict(slf.py(), |p| e.std_error(p))
+    }
+
+    /// The old name of `std_errors` (a DeprecationWarning).
     #[getter]
     fn sigmas<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
-        let me = borrow(slf)?;
-        let e = me.compensator.estimator();
-        me.dict(slf.py(), |p| e.sigma(p))
+        errors::deprecated(slf.py(), "Adaptive.sigmas", "Adaptive.std_errors")?;
+        Self::std_errors(slf)
     }
 
     /// How many samples had each status.
     #[getter]
     fn counts<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
-        let c = borrow(slf)?.compensator.estimator().counts();
+        let c = borrow(slf)?.inverse.estimator().counts();
         let d = PyDict::new(slf.py());
         for s in Status::ALL {
             d.set_item(s.name(), c.of(s))?;
@@ -289,7 +294,7 @@ impl Adaptive {
     fn model(slf: &Bound<'_, Self>) -> PyResult<Model> {
         let me = borrow(slf)?;
         let current = me
-            .compensator
+            .inverse
             .estimator()
             .model()
             .map_err(|e| core("Adaptive.model()", e))?;
@@ -299,7 +304,7 @@ impl Adaptive {
 
     fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
         let me = borrow(slf)?;
-        let e = me.compensator.estimator();
+        let e = me.inverse.estimator();
         let values: Vec<String> = me
             .adapted
             .iter()

@@ -126,12 +126,55 @@ pub fn borrow_mut<'py, T: Shared>(slf: &Bound<'py, T>) -> PyResult<PyRefMut<'py,
     })
 }
 
-/// A choice by its name (`ShapingKind`, `K2Kind`, …; ASCII letters in either case).
+/// A choice by its name (`ShapingKind`, `K2Kind`, …; ASCII letters in either case). An old
+/// name the choice still reads (`quad-exp`, `pi`) gives a DeprecationWarning.
 pub fn choice<E: Choice>(option: &str, value: &str) -> PyResult<E> {
-    E::parse(value, true).map_err(|e| {
+    let chosen = E::parse(value, true).map_err(|e| {
         value_error(format!(
             "{option} = {value:?}: invalid value; possible values: {}",
             e.names.join(", ")
         ))
-    })
+    })?;
+    if !E::CHOICES
+        .iter()
+        .any(|(_, name, _)| name.eq_ignore_ascii_case(value))
+    {
+        Python::attach(|py| {
+            deprecated(
+                py,
+                &format!("{option} = {value:?}"),
+                &format!("{option} = {:?}", chosen.name()),
+            )
+        })?;
+    }
+    Ok(chosen)
+}
+
+/// A `DeprecationWarning` that `old` is the old name of `new` (docs/formats.md lists them).
+pub fn deprecated(py: Python<'_>, old: &str, new: &str) -> PyResult<()> {
+    let text = format!("{old} is deprecated: use {new} (docs/formats.md, \"Deprecated names\")");
+    let message = std::ffi::CString::new(text).unwrap_or_default();
+    let category = py.get_type::<pyo3::exceptions::PyDeprecationWarning>();
+    PyErr::warn(py, &category, &message, 1)
+}
+
+/// The value of a keyword that was renamed from `old` to `new`: the new keyword's, or the old
+/// one's with a DeprecationWarning; ValueError when both are given. A value of None counts as
+/// not given.
+pub fn renamed<'py>(
+    py: Python<'py>,
+    (new, new_value): (&str, Option<&Bound<'py, PyAny>>),
+    (old, old_value): (&str, Option<&Bound<'py, PyAny>>),
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let given = |v: Option<&Bound<'py, PyAny>>| v.filter(|v| !v.is_none()).cloned();
+    match (given(new_value), given(old_value)) {
+        (Some(_), Some(_)) => Err(value_error(format!(
+            "{new} and {old} are given: {old} is the old name of {new}; give {new} alone"
+        ))),
+        (None, Some(v)) => {
+            deprecated(py, old, new)?;
+            Ok(Some(v))
+        }
+        (v, None) => Ok(v),
+    }
 }

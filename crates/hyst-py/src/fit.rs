@@ -18,8 +18,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::samples_f64;
+use crate::dicts::{by_parameter, reached, to_python};
 use crate::errors::{self, choice, value_error};
-use crate::model::{by_parameter, reached, to_python, Model};
+use crate::model::Model;
 
 /// Lets Ctrl-C (KeyboardInterrupt) stop a fit that runs without the GIL: every 50 ms the
 /// observer asks Python for pending signals and stops the least squares if one raised.
@@ -53,7 +54,7 @@ impl Observer for Signals {
 /// The options mirror `hyst fit`'s flags, with the same names and values (docs/fitting.md):
 /// `output_shaping`, `input_shaping` ("affine", "poly2", "poly3", "tanh", "langevin",
 /// "quadratic-exp"), `k2` ("constant", "affine"), `model_kind` ("smooth",
-/// "prandtl-ishlinskii", or "pi" for short), `starts`, `segment` (or `segments`: cut every
+/// "prandtl-ishlinskii"), `starts`, `segment` (cut every
 /// record into segments of that many samples), `record` (an array of record ids, one per
 /// sample: each record starts from its own initial state), `weight` (an array of weights
 /// ≥ 0), `validate` (record ids held out), `validate_every`, `coverage`, `plays` (of a
@@ -68,9 +69,9 @@ impl Observer for Signals {
 /// Dynamics and rate (`hyst fit --dynamics N --rate-term viscous --time COLUMN`): `dynamics`
 /// (1 to 4) identifies Lemma 5.1's plant of order N between the input x (the command) and the
 /// hysteresis, a_N v⁽ᴺ⁾ + … + a_1 v̇ + v = x, jointly with the hysteresis; `rate_term`
-/// ("viscous") adds c·v̇ to the output. Both need `t`, the samples' time stamps in seconds
+/// ("viscous") adds c·v̇ to the output. Both need `time`, the samples' time stamps in seconds
 /// (one per sample, increasing within each record; each step is taken as measured, and a gap
-/// of more than 10 times a record's median step splits it, with a note); `t` is refused
+/// of more than 10 times a record's median step splits it, with a note); `time` is refused
 /// without them. `hold` ("zoh", the default, or "foh"; only with `dynamics`): the command held
 /// over each step or linear between samples (`hyst fit --hold`). `dynamics="auto"` fits
 /// orders 0 to 4 and keeps the best (`--dynamics auto`). Each record's start is discounted
@@ -89,8 +90,8 @@ impl Observer for Signals {
     pi_output = "none", compare = false, input_offset = None, output_offset = true,
     initial_state = "auto", estimate_initial_states = false, form = "auto",
     keep_degenerate = false, input_name = "x", output_name = "y", input_unit = "",
-    output_unit = "", t = None, dynamics = None, rate_term = None, hold = None,
-    fit_from_start = false
+    output_unit = "", time = None, dynamics = None, rate_term = None, hold = None,
+    fit_from_start = false, t = None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
@@ -122,16 +123,18 @@ pub fn fit(
     output_name: &str,
     input_unit: &str,
     output_unit: &str,
-    t: Option<&Bound<'_, PyAny>>,
+    time: Option<&Bound<'_, PyAny>>,
     dynamics: Option<&Bound<'_, PyAny>>,
     rate_term: Option<&str>,
     hold: Option<&str>,
     fit_from_start: bool,
+    t: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<FitResult> {
     if starts == 0 {
         return Err(value_error("starts = 0: expected at least 1 start"));
     }
-    let t = t.filter(|t| !t.is_none());
+    let t = errors::renamed(py, ("time", time), ("t", t))?;
+    let t = t.as_ref();
     let (dynamics, auto_dynamics) = dynamics_arg(dynamics)?;
     let timed = timed(dynamics, auto_dynamics, rate_term, t.is_some())?;
     let hold_stated = hold.is_some();
@@ -142,7 +145,7 @@ pub fn fit(
         k2,
         model_kind,
         starts,
-        segment: one_segment(segment, segments)?,
+        segment: one_segment(py, segment, segments)?,
         validate: validate.unwrap_or_default(),
         validate_every,
         coverage,
@@ -176,7 +179,7 @@ pub fn fit(
     let time = table.samples(TIME).unwrap_or_default();
     let report =
         identify_without_gil(py, table, &data, &request, provenance).map_err(|e| match e {
-            // A time stamp is named as the sample of `t`, not as the line of the in-memory table.
+            // A time stamp is named as the sample of `time`, not as the line of the in-memory table.
             Failed::Fit(FitError::BadTime {
                 line,
                 record,
@@ -235,7 +238,7 @@ fn dynamics_arg(dynamics: Option<&Bound<'_, PyAny>>) -> PyResult<(Option<i64>, b
 
 /// The plant order and rate term of a fit with dynamics or a rate term (`None` for a static
 /// fit), checked: an order of 1 to 4 (as `hyst fit --dynamics`), a rate term by its CLI name,
-/// and `t` given exactly when one of them is.
+/// and `time` given exactly when one of them is.
 fn timed(
     dynamics: Option<i64>,
     auto_dynamics: bool,
@@ -260,15 +263,15 @@ fn timed(
     if order == 0 && rate.is_none() && !auto_dynamics {
         if has_time {
             return Err(value_error(
-                "t: time stamps apply to a fit with dynamics or rate_term; a static fit does not \
-                 use them (leave t out, or give dynamics=N or rate_term=\"viscous\")",
+                "time: time stamps apply to a fit with dynamics or rate_term; a static fit does not \
+                 use them (leave time out, or give dynamics=N or rate_term=\"viscous\")",
             ));
         }
         return Ok(None);
     }
     if !has_time {
         return Err(value_error(
-            "t: a fit with dynamics or rate_term needs the samples' time stamps t (s), one per \
+            "time: a fit with dynamics or rate_term needs the samples' time stamps time (s), one per \
              sample of x",
         ));
     }
@@ -281,16 +284,25 @@ fn bad_time(t: &[f64], line: usize, record: Option<i64>, message: &str) -> PyErr
     let i = line.saturating_sub(2);
     let value = t.get(i).map_or_else(|| "?".into(), |v| shortest(*v));
     let record = record.map_or_else(String::new, |r| format!(" (record {r})"));
-    value_error(format!("t[{i}] = {value}{record}: {message}"))
+    value_error(format!("time[{i}] = {value}{record}: {message}"))
 }
 
-/// `segment` and its alias `segments`: the one given, or ValueError when both are, apart.
-fn one_segment(segment: Option<usize>, segments: Option<usize>) -> PyResult<Option<usize>> {
+/// `segment` and its old name `segments` (a DeprecationWarning): the one given, or ValueError
+/// when both are, apart.
+fn one_segment(
+    py: Python<'_>,
+    segment: Option<usize>,
+    segments: Option<usize>,
+) -> PyResult<Option<usize>> {
     match (segment, segments) {
         (Some(a), Some(b)) if a != b => Err(value_error(format!(
             "segment = {a} and segments = {b}: give one (they are the same option)"
         ))),
-        (a, b) => Ok(a.or(b)),
+        (a, Some(b)) => {
+            errors::deprecated(py, "segments", "segment")?;
+            Ok(a.or(Some(b)))
+        }
+        (a, None) => Ok(a),
     }
 }
 
@@ -391,7 +403,7 @@ impl Options<'_> {
 /// The names of the columns that hold the arrays `record`, `weight` and `t`.
 const RECORD: &str = "record";
 const WEIGHT: &str = "weight";
-const TIME: &str = "t";
+const TIME: &str = "time";
 
 /// The arrays of a fit as the named columns of a table, as `hyst fit` reads them from a CSV
 /// file: x and y under `input_name` and `output_name`, then the record ids, the weights and
@@ -459,7 +471,7 @@ impl Columns {
             .map_or(&[][..], Vec::as_slice);
         if let Some((i, v)) = stamps.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(value_error(format!(
-                "t[{i}] = {}: the time stamp is not a finite number",
+                "time[{i}] = {}: the time stamp is not a finite number",
                 shortest(*v)
             )));
         }
@@ -586,8 +598,15 @@ impl FitResult {
     /// The standard errors by name, from σ² (JᵀJ)⁻¹ (NaN where the data do not identify a
     /// parameter; they assume independent residuals).
     #[getter]
-    fn stderr<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    fn std_errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         by_parameter(py, self.file(), |e| e.std_error)
+    }
+
+    /// The old name of `std_errors` (a DeprecationWarning).
+    #[getter]
+    fn stderr<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        errors::deprecated(py, "FitResult.stderr", "FitResult.std_errors")?;
+        self.std_errors(py)
     }
 
     /// The parameters' units by name.

@@ -12,7 +12,7 @@
 //! | `fit`, `FitResult` ([`fit`]) | `hyst_fit::identify` (what `hyst fit` runs) |
 //! | `Family` ([`family`]) | `hyst_core::Family` (Definition 2.8, Proposition 3.2) |
 //! | `Compensator` ([`compensator`]) | `hyst_core::compensator::Compensator` (Lemma 5.1) |
-//! | `Adaptive` ([`adaptive`]) | `hyst_core::adaptive::AdaptiveCompensator`: the recursive estimator and the compensator that follows it |
+//! | `Adaptive` ([`adaptive`]) | `hyst_core::adaptive::AdaptiveInverse`: the recursive estimator and the compensator that follows it |
 //! | `MAX_ORDER` | `hyst_core::compensator::MAX_ORDER`: the largest plant order n of `Compensator` and the most time derivatives of `process(x, derivatives)` |
 //!
 //! Arrays ([`arrays`]): any 1-D array-like in; float32 stays float32 and float64 stays float64;
@@ -34,6 +34,7 @@ pub mod adaptive;
 pub mod arrays;
 pub mod bank;
 pub mod compensator;
+pub mod dicts;
 pub mod errors;
 pub mod family;
 pub mod fit;

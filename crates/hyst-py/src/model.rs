@@ -4,9 +4,8 @@
 use hyst_io::number::shortest;
 use std::path::{Path, PathBuf};
 
-use hyst_model::FamilyWidths;
 use hyst_model::{Choice, ModelKind};
-use hyst_model::{Estimate, Evaluator, ModelFile, Saturated};
+use hyst_model::{Evaluator, ModelFile, Saturated};
 use hyst_model::{SmoothModel, TimedCompensator};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -14,45 +13,10 @@ use pyo3::types::PyDict;
 use crate::arrays::{
     derivatives, pair, result_array, run_into, run_jets, samples, to_numpy, Samples,
 };
+use crate::dicts::{by_parameter, reached, to_python};
 use crate::errors::{self, borrow, borrow_mut, value_error, Shared};
 use crate::model_memory;
 use crate::timed::{timed_model, timed_parts, untimed};
-
-/// A value as a Python object through JSON (dicts, lists, floats, strings; NaN becomes None).
-///
-/// # Errors
-/// Only if the value cannot be written as JSON.
-pub fn to_python<'py>(
-    py: Python<'py>,
-    value: &impl serde::Serialize,
-) -> PyResult<Bound<'py, PyAny>> {
-    let text = serde_json::to_string(value).map_err(value_error)?;
-    py.import("json")?.call_method1("loads", (text,))
-}
-
-/// A dict from each fitted parameter's name to `field` of its estimate (value, standard
-/// error, unit): what `params`, `stderr` and `units` of `Model` and `FitResult` return.
-///
-/// # Errors
-/// Only if Python cannot store an item.
-pub fn by_parameter<'py, V: IntoPyObject<'py>>(
-    py: Python<'py>,
-    file: &ModelFile,
-    field: impl Fn(&Estimate) -> V,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    for e in &file.parameters {
-        d.set_item(&e.name, field(e))?;
-    }
-    Ok(d)
-}
-
-/// The family of a model file when it reaches the coverage asked (Definition 2.8); `None`
-/// for no family, or one that does not reach it: then neither it nor its bound is reported.
-#[must_use]
-pub fn reached(file: &ModelFile) -> Option<&FamilyWidths> {
-    file.family.as_ref().filter(|w| w.reachable)
-}
 
 /// A fitted model (smooth or Prandtl–Ishlinskii) from a model file, direct (input x, output
 /// y) or as its exact inverse (desired output in, command out).
@@ -62,9 +26,9 @@ pub fn reached(file: &ModelFile) -> Option<&FamilyWidths> {
 /// exact inverse (desired output in, command out; `hyst run --model FILE --inverse`).
 ///
 /// A model with dynamics or a rate term (`dynamics`, `rate`: fitted with `hyst.fit(...,
-/// t=..., dynamics=N, rate_term="viscous")`) runs on timed records only:
+/// time=..., dynamics=N, rate_term="viscous")`) runs on timed records only:
 /// `process(x, t=...)` or `process(x, period=...)`, and its Lemma 5.1 compensator is
-/// `compensate(desired, t=..., derivatives=... or prefilter_hz=...)`; `inverse()`, `step()`
+/// `compensate(desired, time=..., derivatives=... or prefilter_hz=...)`; `inverse()`, `step()`
 /// and the exports refuse it.
 #[pyclass(module = "hyst")]
 #[derive(Clone, Debug)]
@@ -138,7 +102,7 @@ impl Model {
     /// without time, and its compensator is `compensate`.
     fn no_inverse(&self, m: &SmoothModel) -> PyErr {
         let how = if TimedCompensator::check(m).is_ok() {
-            "its Lemma 5.1 compensator is Model.compensate(desired, t=..., derivatives=... or \
+            "its Lemma 5.1 compensator is Model.compensate(desired, time=..., derivatives=... or \
              prefilter_hz=...) or hyst.Compensator(model), and the inverse of its hysteresis \
              part Model.hysteresis.inverse()"
         } else {
@@ -173,7 +137,7 @@ impl Model {
         }
     }
 
-    /// `process` of a static model (`t` and `period` refused).
+    /// `process` of a static model (`time` and `period` refused).
     fn process_static<'py>(
         &mut self,
         py: Python<'py>,
@@ -182,7 +146,7 @@ impl Model {
         t: Option<&Bound<'py, PyAny>>,
         period: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        if let Some(name) = [(t.is_some(), "t"), (period.is_some(), "period")]
+        if let Some(name) = [(t.is_some(), "time"), (period.is_some(), "period")]
             .into_iter()
             .find_map(|(given, name)| given.then_some(name))
         {
@@ -257,7 +221,7 @@ impl Model {
         untimed(
             &self.file,
             "Model.step(x), which has no sample period: run whole records with \
-             Model.process(x, t=...) or Model.process(x, period=...)",
+             Model.process(x, time=...) or Model.process(x, period=...)",
         )?;
         let (op, fresh) = self.started(x)?;
         match op.try_step(x) {
@@ -281,7 +245,7 @@ impl Model {
         };
         untimed(
             &self.file,
-            "Model.memory, which it does not keep: each process(x, t=...) is one record from rest",
+            "Model.memory, which it does not keep: each process(x, time=...) is one record from rest",
         )?;
         let m = model_memory::from_python(&self.file, memory)?;
         let refused = |e| errors::core(format!("memory = {}", model_memory::shown(memory)), e);
@@ -351,24 +315,26 @@ impl Model {
     /// output beyond a saturating shaping's range), naming its index; the model is then as it
     /// was before the call.
     ///
-    /// A model with dynamics or a rate term needs the record's time stamps `t` (s, one per
+    /// A model with dynamics or a rate term needs the record's time stamps `time` (s, one per
     /// sample, increasing; each step is taken as measured, and a gap of more than 10 times the
     /// median step starts the rest afresh, with a `UserWarning`) or its sample `period` (s),
     /// and runs each call as one record that starts at rest at its first sample, as
     /// `hyst run --model FILE` runs a timed record (bit-identical results); it takes no
     /// `derivatives` and keeps no history between calls. `hold` ("zoh" or "foh") runs a model
     /// with dynamics under that hold instead of its file's (`hyst run --hold`). A static model
-    /// refuses `t`, `period` and `hold`.
-    #[pyo3(signature = (x, derivatives=None, *, t=None, period=None, hold=None))]
+    /// refuses `time`, `period` and `hold`.
+    #[pyo3(signature = (x, derivatives=None, *, time=None, period=None, hold=None, t=None))]
     fn process<'py>(
         slf: &Bound<'py, Self>,
         x: &Bound<'py, PyAny>,
         derivatives: Option<&Bound<'py, PyAny>>,
-        t: Option<&Bound<'py, PyAny>>,
+        time: Option<&Bound<'py, PyAny>>,
         period: Option<f64>,
         hold: Option<&str>,
+        t: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let t = t.filter(|t| !t.is_none());
+        let t = errors::renamed(slf.py(), ("time", time), ("t", t))?;
+        let t = t.as_ref();
         let derivatives = derivatives.filter(|d| !d.is_none());
         let timed = {
             let me = borrow(slf)?;
@@ -452,7 +418,7 @@ impl Model {
     /// ValueError for a model whose output is unbounded (nothing could need clamping).
     ///
     /// A model with dynamics or a rate term has no inverse without time: ValueError (its
-    /// compensator is `compensate(desired, t=..., derivatives=... or prefilter_hz=...)`).
+    /// compensator is `compensate(desired, time=..., derivatives=... or prefilter_hz=...)`).
     #[pyo3(signature = (*, saturate=false))]
     fn inverse(slf: &Bound<'_, Self>, saturate: bool) -> PyResult<Self> {
         borrow(slf)?.inverted(saturate)
@@ -464,7 +430,7 @@ impl Model {
     /// x = ψ_in⁻¹(H⁻¹[ψ_out⁻¹(y_d)]) (eq. 19), exactly as `hyst run --model FILE --inverse`
     /// computes them on a timed record (bit-identical results).
     ///
-    /// The record's time stamps `t` (s) or its sample `period` give the sample period. The
+    /// The record's time stamps `time` (s) or its sample `period` give the sample period. The
     /// desired output's first n time derivatives (n the plant order) are `derivatives`, of
     /// shape (len(desired), n) (1-D for n = 1; `hyst run`'s columns `y_d1 … y_dn`), or come
     /// from the reference prefilter 1/(s/ω + 1)ⁿ, ω = 2π·`prefilter_hz` (`--prefilter-hz`):
@@ -479,15 +445,17 @@ impl Model {
     /// Raises ValueError for a model without dynamics (its compensator is the exact inverse,
     /// `inverse()`), with a rate term or of the stop form, and at the first desired output the
     /// model cannot give, naming its index. Each call is one record, started at rest.
-    #[pyo3(signature = (desired, *, t=None, period=None, derivatives=None, prefilter_hz=None))]
+    #[pyo3(signature = (desired, *, time=None, period=None, derivatives=None, prefilter_hz=None, t=None))]
     fn compensate<'py>(
         slf: &Bound<'py, Self>,
         desired: &Bound<'py, PyAny>,
-        t: Option<&Bound<'py, PyAny>>,
+        time: Option<&Bound<'py, PyAny>>,
         period: Option<f64>,
         derivatives: Option<&Bound<'py, PyAny>>,
         prefilter_hz: Option<f64>,
+        t: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let t = errors::renamed(slf.py(), ("time", time), ("t", t))?;
         // Copied: the model is not held while it runs, and other threads may use it meanwhile.
         let (smooth, source, provenance) = {
             let me = borrow(slf)?;
@@ -502,7 +470,6 @@ impl Model {
                 }
             }
         };
-        let t = t.filter(|t| !t.is_none());
         let derivatives = derivatives.filter(|d| !d.is_none());
         let origin = crate::timed::Origin::of(&source, &provenance);
         crate::timed::compensate(
@@ -510,7 +477,7 @@ impl Model {
             &smooth,
             &origin,
             desired,
-            (t, period),
+            (t.as_ref(), period),
             derivatives,
             prefilter_hz,
         )
@@ -594,12 +561,19 @@ impl Model {
         Ok(borrow(slf)?.saturate)
     }
 
-    /// How many desired outputs were clamped since the model was made or `reset()` (0 unless
+    /// How many desired outputs were saturated (clamped into the limits) since the model was made or `reset()` (0 unless
     /// it is an inverse with `saturate=True`).
     #[getter]
-    fn clamped(slf: &Bound<'_, Self>) -> PyResult<u64> {
+    fn saturated(slf: &Bound<'_, Self>) -> PyResult<u64> {
         let me = borrow(slf)?;
-        Ok(me.evaluator.as_ref().map_or(0, |e| e.clamped))
+        Ok(me.evaluator.as_ref().map_or(0, |e| e.saturated))
+    }
+
+    /// The old name of `saturated` (a DeprecationWarning).
+    #[getter]
+    fn clamped(slf: &Bound<'_, Self>) -> PyResult<u64> {
+        errors::deprecated(slf.py(), "Model.clamped", "Model.saturated")?;
+        Self::saturated(slf)
     }
 
     /// The direct model ψ_out(H[ψ_in(x)]), with no history.
@@ -624,7 +598,7 @@ impl Model {
     /// (k1, k2 in normalised input units; in input units: `in_input_units`). For a model file
     /// of adapted parameters (`Adaptive.model()`, `hyst adapt --model-out`), k1, k2, k2.slope
     /// and an unsaturated output's out.gain and out.offset are the adapted values the model
-    /// computes with; the other entries (and `stderr`) are the fit's.
+    /// computes with; the other entries (and `std_errors`) are the fit's.
     #[getter]
     fn params<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let (py, me) = (slf.py(), borrow(slf)?);
@@ -646,9 +620,16 @@ impl Model {
 
     /// The parameters' standard errors by name (NaN where the data do not identify one).
     #[getter]
-    fn stderr<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+    fn std_errors<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let (py, me) = (slf.py(), borrow(slf)?);
         by_parameter(py, &me.file, |e| e.std_error)
+    }
+
+    /// The old name of `std_errors` (a DeprecationWarning).
+    #[getter]
+    fn stderr<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        errors::deprecated(slf.py(), "Model.stderr", "Model.std_errors")?;
+        Self::std_errors(slf)
     }
 
     /// The parameters' units by name.

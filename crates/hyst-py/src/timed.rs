@@ -68,7 +68,7 @@ fn warn_periods(py: Python<'_>, origin: &Origin<'_>, parts: &Parts) -> PyResult<
 }
 
 /// `Model.process` of a timed model `m` (from the file `source`): the whole of `x` as one
-/// record starting at rest (each part after a gap afresh), at the steps of `t` or `period`,
+/// record starting at rest (each part after a gap afresh), at the steps of `time` or `period`,
 /// under `hold` (the model file's when `None`).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn process<'py>(
@@ -85,7 +85,7 @@ pub(crate) fn process<'py>(
     if derivatives.is_some() {
         return Err(value_error(format!(
             "derivatives: the model {} has {}: it runs without derivatives (give the \
-             time stamps as t=..., or the sample period as period=...)",
+             time stamps as time=..., or the sample period as period=...)",
             source,
             timed_parts(m)
         )));
@@ -126,7 +126,7 @@ pub(crate) fn untimed(file: &ModelFile, what: &str) -> PyResult<()> {
     file.untimed(what).map_err(errors::model)
 }
 
-/// The parts and time steps of a timed record of `n` samples: from its time stamps `t` (each
+/// The parts and time steps of a timed record of `n` samples: from its time stamps `time` (each
 /// step as measured; a gap of more than 10 median steps splits the record, with a
 /// `UserWarning`; a bad stamp is named as `t[i]`) or every step `period` (s). Exactly one of
 /// them. `None` for an empty record (with as many stamps, or a valid period): there is nothing
@@ -140,11 +140,11 @@ pub(crate) fn steps_of(
 ) -> PyResult<Option<Parts>> {
     match (t, period) {
         (Some(_), Some(_)) => Err(value_error(
-            "t and period: give one (the time stamps, or the sample period of evenly sampled \
+            "time and period: give one (the time stamps, or the sample period of evenly sampled \
              ones)",
         )),
         (None, None) => Err(value_error(format!(
-            "{what}: it needs the record's time stamps t (s), one per sample, or its sample \
+            "{what}: it needs the record's time stamps time (s), one per sample, or its sample \
              period (period=h, s)"
         ))),
         (None, Some(h)) => {
@@ -158,10 +158,10 @@ pub(crate) fn steps_of(
             }
         }
         (Some(t), None) => {
-            let t = samples_f64(t, "t")?;
+            let t = samples_f64(t, "time")?;
             if t.len() != n {
                 return Err(value_error(format!(
-                    "t has {} samples but the record has {n}",
+                    "time has {} samples but the record has {n}",
                     t.len()
                 )));
             }
@@ -170,10 +170,10 @@ pub(crate) fn steps_of(
             }
             let (parts, gaps) = split(&t).map_err(|(i, message)| {
                 let value = t.get(i).map_or_else(|| "?".into(), |v| shortest(*v));
-                value_error(format!("t[{i}] = {value}: {message}"))
+                value_error(format!("time[{i}] = {value}: {message}"))
             })?;
             for gap in gaps {
-                warn(py, format!("t[{}]: {}", gap.at, gap.describe()))?;
+                warn(py, format!("time[{}]: {}", gap.at, gap.describe()))?;
             }
             Ok(Some(parts))
         }

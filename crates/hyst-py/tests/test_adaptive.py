@@ -30,7 +30,7 @@ def test_process_equals_the_cli_bit_for_bit(piezo_model, piezo, piezo_path, cli,
     np.testing.assert_array_equal(params[:, 2], table["gain"])
     assert a.counts["updated"] > 7000
     assert set(a.values) == {"k1", "k2", "gain", "offset"}
-    assert all(s > 0 for s in a.sigmas.values())
+    assert all(s > 0 for s in a.std_errors.values())
 
 
 def drifting(k, n):
@@ -165,7 +165,7 @@ def test_the_adapted_models_params_are_the_values_it_computes_with(piezo_model, 
     for name, adapted in (("k1", "k1"), ("k2", "k2"), ("out.gain", "gain"), ("out.offset", "offset")):
         assert m.params[name] == a.values[adapted], name
         assert m.params[name] != fitted.params[name], name
-    assert m.stderr == fitted.stderr
+    assert m.std_errors == fitted.std_errors
     # The values are those of the model file's model section, read back.
     text = m.to_toml()
     assert f"k1 = {m.params['k1']!r}" in text.split("[smooth]")[1]

@@ -45,8 +45,8 @@ def models(piezo):
         "affine/langevin": hyst.fit(x, y, output_shaping="langevin", initial_state="falling").model,
         "line/poly2": hyst.fit(x, y, output_shaping="poly2", initial_state="line").model,
         "affine-k2": hyst.fit(x, y, output_shaping="poly3", k2="affine").model,
-        "pi": hyst.fit(x, y, model_kind="pi").model,
-        "pi/poly3": hyst.fit(x, y, model_kind="pi", pi_output="poly3").model,
+        "pi": hyst.fit(x, y, model_kind="prandtl-ishlinskii").model,
+        "pi/poly3": hyst.fit(x, y, model_kind="prandtl-ishlinskii", pi_output="poly3").model,
     }
 
 
@@ -323,9 +323,9 @@ def test_a_model_system_leaves_the_model_alone(models):
     model = models["affine/tanh"].inverse(saturate=True)
     lo, hi = model.saturation["limits"]
     model.process([lo - 1.0, 0.5 * (lo + hi)])
-    before, clamped = model.memory, model.clamped
+    before, clamped = model.memory, model.saturated
     response(model, np.linspace(lo - 1.0, hi + 1.0, 200))
-    assert model.memory == before and model.clamped == clamped == 1
+    assert model.memory == before and model.saturated == clamped == 1
 
 
 def test_import_hyst_without_python_control():

@@ -128,7 +128,7 @@ def test_compensator_with_a_fitted_model_and_errors(piezo):
         hyst.Compensator(r.model, 0.0, [1.0])
     with pytest.raises(ValueError, match="state"):
         hyst.Compensator(r.model, 1.0, [1.0], state=[0.0, 0.0])
-    pi = hyst.fit(u[:3000], y[:3000], model_kind="pi")
+    pi = hyst.fit(u[:3000], y[:3000], model_kind="prandtl-ishlinskii")
     with pytest.raises(ValueError, match="Prandtl-Ishlinskii"):
         hyst.Compensator(pi.model, 1.0, [1.0])
     with pytest.raises(ValueError, match="model"):

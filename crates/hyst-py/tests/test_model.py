@@ -131,16 +131,16 @@ def test_saturating_inverse_clamps_as_hyst_run_saturate(cli, models, piezo_path,
     cli("run", "--model", tanh, "--inverse", "--saturate", "--column", "y", path, "-o", tmp_path / "o.csv")
     ref = computed(tmp_path / "o.csv", 2)  # then y_saturated
     inverse = m.inverse(saturate=True)
-    assert inverse.saturate and inverse.clamped == 0 and not m.saturate
+    assert inverse.saturate and inverse.saturated == 0 and not m.saturate
     assert not hasattr(inverse, "saturates")
     assert np.array_equal(inverse.process(desired), ref)
-    assert inverse.clamped == int(np.sum((desired < clo) | (desired > chi)))
+    assert inverse.saturated == int(np.sum((desired < clo) | (desired > chi)))
     # Pickled, it still clamps; reset() clears the count.
     again = pickle.loads(pickle.dumps(inverse))
     assert again.saturate and "saturate" in repr(again)
     assert np.array_equal(again.process(desired), ref)
     inverse.reset()
-    assert inverse.clamped == 0
+    assert inverse.saturated == 0
     # Without saturate, the first value beyond the range is refused, naming its index.
     with pytest.raises(ValueError, match=r"x\[\d+\]"):
         m.inverse().process(desired)
@@ -162,7 +162,7 @@ def test_saturate_with_a_saturating_input_shaping_keeps_the_training_range(cli, 
     within = np.array([-120.0, -100.0, -80.0])
     inverse = m.inverse(saturate=True)
     commands = inverse.process(within)
-    assert inverse.clamped == 0
+    assert inverse.saturated == 0
     assert np.array_equal(commands, m.inverse().process(within))
     assert np.allclose(commands, [1.33, 2.30, 3.34], atol=0.01), commands
     lo, hi = m.saturation["limits"]
@@ -222,7 +222,7 @@ def test_memory_of_a_saturating_inverse_keeps_clamping(piezo):
     fresh = copy.copy(inverse)
     fresh.memory = inverse.memory
     assert np.array_equal(np.concatenate([first, fresh.process(desired[400:])]), whole)
-    assert fresh.clamped + inverse.clamped == int(np.sum((desired < m.saturation["limits"][0]) | (desired > m.saturation["limits"][1])))
+    assert fresh.saturated + inverse.saturated == int(np.sum((desired < m.saturation["limits"][0]) | (desired > m.saturation["limits"][1])))
 
 
 def test_bad_memory_is_refused(models, piezo):

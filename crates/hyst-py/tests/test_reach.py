@@ -45,7 +45,7 @@ def test_saturate_clamps_into_the_limits(model):
     desired = np.array([0.0, 5.0, 8.5, 9.5, 12.0, 3.0])
     inverse = model.inverse(saturate=True)
     command = inverse.process(desired)
-    assert inverse.clamped == 2
+    assert inverse.saturated == 2
     assert command[3] == pytest.approx(np.arctanh(0.999), abs=1e-9)
     assert command[4] == command[3]
     clamped = np.clip(desired, -8.99, 8.99)

@@ -14,7 +14,8 @@ def stub_names():
     tree = ast.parse(STUB.read_text())
     classes, functions, constants = {}, set(), set()
     for node in tree.body:
-        if isinstance(node, ast.ClassDef):
+        # A TypedDict describes the keys of a dict a method returns: not a class of the module.
+        if isinstance(node, ast.ClassDef) and not any(ast.unparse(b) == "TypedDict" for b in node.bases):
             classes[node.name] = {n.name for n in node.body if isinstance(n, ast.FunctionDef)}
         elif isinstance(node, ast.FunctionDef):
             functions.add(node.name)

@@ -65,7 +65,7 @@ CASES = {
     "Hysteresis": (hysteresis, lambda op: op.memory, lambda op: op.reset()),
     "InverseHysteresis": (inverse_hysteresis, lambda op: op.k1, lambda op: op.reset()),
     "Bank": (bank, lambda b: b.memory(2), lambda b: b.reset()),
-    "Model": (model, lambda m: m.clamped, lambda m: m.reset()),
+    "Model": (model, lambda m: m.saturated, lambda m: m.reset()),
     "Compensator": (compensator, lambda c: c.state, lambda c: c.reset()),
 }
 

@@ -10,7 +10,7 @@
 //! GENERATED from `api_f64/adaptive.rs` by `scripts/gen-capi-f32`: do not edit.
 
 use hyst_core::adaptive::{
-    Adaptive, AdaptiveCompensator, AdaptiveConfig, Parameter, Parameters, Status, Update,
+    Adaptive, AdaptiveConfig, AdaptiveInverse, Parameter, Parameters, Status, Update,
     MAX_PARAMETERS,
 };
 use hyst_core::{AnyShaping, ScaledShaping, Shaping};
@@ -121,7 +121,7 @@ pub struct hyst_adaptive_f32 {
 /// `hyst_linear_adaptive_f32`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct State<const W: usize, S> {
-    compensator: AdaptiveCompensator<f32, W, S>,
+    compensator: AdaptiveInverse<f32, W, S>,
     held: Option<f32>,
 }
 
@@ -150,7 +150,7 @@ impl<const W: usize, S: Shaping<f32> + Copy> State<W, S> {
         });
         match built {
             Ok(estimator) => Ok(Self {
-                compensator: AdaptiveCompensator::new(estimator),
+                compensator: AdaptiveInverse::new(estimator),
                 held: None,
             }),
             Err(e) => Err(status::of(&e)),

@@ -5,7 +5,7 @@
 //!
 //! GENERATED from `api_f64/linear_adaptive.rs` by `scripts/gen-capi-f32`: do not edit.
 
-use hyst_core::LinearShaping;
+use hyst_core::AffineShaping;
 
 use crate::api_f32::adaptive::{hyst_adaptive_config_f32, State};
 use crate::api_f32::checks::done;
@@ -24,7 +24,7 @@ pub struct hyst_linear_adaptive_f32 {
 }
 
 /// Its state: duals of width 4, affine shapes.
-type LinearState = State<4, LinearShaping<f32>>;
+type LinearState = State<4, AffineShaping<f32>>;
 
 const TAG_LINEAR_ADAPTIVE: u32 = 0x4859_6166; // "HYaf"
 

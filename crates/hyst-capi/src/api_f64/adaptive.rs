@@ -10,7 +10,7 @@
 //! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
 
 use hyst_core::adaptive::{
-    Adaptive, AdaptiveCompensator, AdaptiveConfig, Parameter, Parameters, Status, Update,
+    Adaptive, AdaptiveConfig, AdaptiveInverse, Parameter, Parameters, Status, Update,
     MAX_PARAMETERS,
 };
 use hyst_core::{AnyShaping, ScaledShaping, Shaping};
@@ -121,7 +121,7 @@ pub struct hyst_adaptive {
 /// `hyst_linear_adaptive`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct State<const W: usize, S> {
-    compensator: AdaptiveCompensator<f64, W, S>,
+    compensator: AdaptiveInverse<f64, W, S>,
     held: Option<f64>,
 }
 
@@ -150,7 +150,7 @@ impl<const W: usize, S: Shaping<f64> + Copy> State<W, S> {
         });
         match built {
             Ok(estimator) => Ok(Self {
-                compensator: AdaptiveCompensator::new(estimator),
+                compensator: AdaptiveInverse::new(estimator),
                 held: None,
             }),
             Err(e) => Err(status::of(&e)),

@@ -5,7 +5,7 @@
 //!
 //! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
 
-use hyst_core::LinearShaping;
+use hyst_core::AffineShaping;
 
 use crate::api_f64::adaptive::{hyst_adaptive_config, State};
 use crate::api_f64::checks::done;
@@ -24,7 +24,7 @@ pub struct hyst_linear_adaptive {
 }
 
 /// Its state: duals of width 4, affine shapes.
-type LinearState = State<4, LinearShaping<f64>>;
+type LinearState = State<4, AffineShaping<f64>>;
 
 const TAG_LINEAR_ADAPTIVE: u32 = 0x4859_6164; // "HYad"
 

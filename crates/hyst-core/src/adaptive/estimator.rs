@@ -21,7 +21,7 @@ use crate::start::InitialState;
 /// The shaped model an [`Adaptive`] estimator follows: ψ_out ∘ H ∘ ψ_in with scaled shaping
 /// functions and any built-in k2 law (a fitted smooth model of the operator form). The shapes
 /// are any of the built-in ones (`S` = [`AnyShaping`], the default), or only the affine ones
-/// ([`LinearShaping`](crate::LinearShaping): a firmware then links no nonlinear shape).
+/// ([`AffineShaping`](crate::AffineShaping): a firmware then links no nonlinear shape).
 pub type AdaptiveModel<T, S = AnyShaping<T>> =
     ShapedModel<T, ScaledShaping<T, S>, AnyK2Law<T>, ScaledShaping<T, S>>;
 
@@ -369,7 +369,7 @@ impl<T: Real, const W: usize, S: Shaping<T> + Copy> Adaptive<T, W, S> {
     /// the reversal output moves so that the branch passes through the last point
     /// (`anchor::reanchor`), so that the command a compensator computes from it does not jump. The
     /// estimate alone does not need it (its predictions are as good either way): only
-    /// [`AdaptiveCompensator::step`](super::AdaptiveCompensator::step) calls it, once per
+    /// [`AdaptiveInverse::step`](super::AdaptiveInverse::step) calls it, once per
     /// command.
     pub fn anchor(&mut self) {
         if self.anchored {
@@ -440,9 +440,17 @@ impl<T: Real, const W: usize, S: Shaping<T> + Copy> Adaptive<T, W, S> {
         }
     }
 
-    /// σ of parameter `p`'s estimate (its units), from the filter's covariance.
+    /// The old name of [`Adaptive::std_error`].
+    #[deprecated(note = "renamed std_error")]
     #[must_use]
     pub fn sigma(&self, p: Parameter) -> T {
+        self.std_error(p)
+    }
+
+    /// The standard error σ of parameter `p`'s estimate (its units), from the filter's
+    /// covariance.
+    #[must_use]
+    pub fn std_error(&self, p: Parameter) -> T {
         let i = p.index();
         let j = self.slot.get(i).copied().unwrap_or(W);
         self.p.sigma(j) * self.scale.get(i).copied().unwrap_or_else(T::zero)

@@ -1,5 +1,5 @@
 //! Online adaptation: a recursive estimator that follows a drifting actuator's parameters from
-//! each new pair of command x and measured output y, and the compensator that uses them.
+//! each new pair of command x and measured output y, and the exact inverse that uses them ([`AdaptiveInverse`]).
 //!
 //! The model is a shaped model y = ψ_out(H(k1, k2)\[ψ_in(x)\]) (Section 4.3) with
 //! ψ = `post_gain` · shape(`pre_gain` · x + `pre_offset`) + `post_offset` ([`ScaledShaping`](crate::ScaledShaping)).
@@ -37,25 +37,30 @@
 //!    burst when excitation returns after a long rest. A change that the core refuses (k1 k2
 //!    below the float resolution) is not taken.
 //!
-//! The memory stays in operator units across an update. Before a compensator computes a
+//! The memory stays in operator units across an update. Before the inverse computes a
 //! command the memory is re-anchored for the current parameters (`anchor`): the last point
 //! stays (moved onto the band's edge if a smaller k1 leaves it outside) and the reversal output
 //! moves so that the new branch passes through it. The command for the desired output last met
 //! is then the last command wherever the branch still depends on its reversal point: switching
-//! parameters adds no jump to the command ([`AdaptiveCompensator`]).
+//! parameters adds no jump to the command ([`AdaptiveInverse`]).
 //!
 //! Bad samples: a non-finite x, or one outside `input_range`, skips the update (and a
 //! non-finite x leaves the memory unchanged); a non-finite y skips it too; each is counted
 //! ([`Counts`]). Nothing is corrupted.
 
 mod anchor;
-mod compensator;
 mod covariance;
 mod estimator;
+mod inverse;
 mod settings;
 mod status;
 
-pub use compensator::AdaptiveCompensator;
+pub use inverse::AdaptiveInverse;
+
+/// The old name of [`AdaptiveInverse`]: it is an exact inverse, and "compensator" names
+/// Lemma 5.1's law alone (docs/formats.md, "Deprecated names").
+#[deprecated(note = "renamed AdaptiveInverse")]
+pub type AdaptiveCompensator<T> = AdaptiveInverse<T>;
 pub use estimator::{Adaptive, AdaptiveModel};
 pub use settings::{AdaptiveConfig, Parameter, Parameters, MAX_PARAMETERS};
 pub use status::{Counts, Status, Update};

@@ -211,7 +211,7 @@ fn the_compensator_switches_without_a_jump() {
         parameters: [Parameter::K1, Parameter::K2].into_iter().collect(),
         ..AdaptiveConfig::new(1e-3)
     };
-    let mut c = AdaptiveCompensator::new(Adaptive::new(&m, InitialState::Line, config).unwrap());
+    let mut c = AdaptiveInverse::new(Adaptive::new(&m, InitialState::Line, config).unwrap());
     let (mut updates, mut kept, mut largest, mut largest_dk1) = (0, 0, 0.0_f64, 0.0_f64);
     for k in 0..20_000 {
         let desired = 0.9 * command(k);

@@ -95,9 +95,9 @@ pub fn rust_with(
         "// Without history the model starts at its first sample by the start rule, exactly as\n\
          // `hyst run --model` starts a record; `Operator::reset` makes it start again.\n"
     );
-    // Affine shapings as `LinearShaping`: the same arithmetic, and no nonlinear shape's code.
+    // Affine shapings as `AffineShaping`: the same arithmetic, and no nonlinear shape's code.
     let psi = if affine_shapings(m) {
-        "hyst_core::ScaledShaping<T, hyst_core::LinearShaping<T>>"
+        "hyst_core::ScaledShaping<T, hyst_core::AffineShaping<T>>"
     } else {
         "hyst_core::ScaledShaping<T>"
     };
@@ -162,10 +162,10 @@ fn num(x: f64) -> String {
     format!("c({})", literal(x, "f64::INFINITY"))
 }
 
-/// The expression that builds a shaping function (its shape a `LinearShaping` when `linear`).
+/// The expression that builds a shaping function (its shape a `AffineShaping` when `linear`).
 fn shaping(s: &ScaledShaping<f64>, linear: bool) -> String {
     let any = if linear {
-        "LinearShaping"
+        "AffineShaping"
     } else {
         "AnyShaping"
     };

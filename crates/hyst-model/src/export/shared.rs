@@ -370,7 +370,7 @@ pub(super) fn literal(x: f64, infinity: &str) -> String {
 }
 
 /// Whether both shapings are affine (identity or affine shape): such a model exports on the
-/// linear C functions and on `LinearShaping`, which link no nonlinear shape.
+/// linear C functions and on `AffineShaping`, which link no nonlinear shape.
 pub(super) fn affine_shapings(m: &SmoothModel) -> bool {
     [&m.input_shaping, &m.output_shaping]
         .iter()

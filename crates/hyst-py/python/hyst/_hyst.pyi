@@ -1,10 +1,11 @@
 """Type stubs of the extension module hyst._hyst (the Rust core through PyO3)."""
 
 from os import PathLike
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import deprecated
 
 __version__: str
 MAX_ORDER: int
@@ -16,6 +17,18 @@ FloatArray = npt.NDArray[np.floating[Any]]
 DType = Union[str, type, np.dtype[Any], None]
 StrPath = Union[str, "PathLike[str]"]
 _Plays = Tuple[Tuple[float, ...], float]
+_Parameter = Literal["k1", "k2", "gain", "offset", "input_gain", "input_offset"]
+"""The name of a parameter ``Adaptive`` follows."""
+
+class _InputUnits(TypedDict):
+    """``Model.in_input_units``: k1 in input units and k2 in 1/input units, with their standard
+    errors, and the slope of ψ_in they are converted with."""
+
+    k1_input: float
+    k1_input_std_error: float
+    k2_input: float
+    k2_input_std_error: float
+    input_slope: float
 
 class Memory:
     """The memory of Definition 2.1: the last reversal point (alpha0, beta0), the direction
@@ -105,7 +118,7 @@ class Bank:
 class Model:
     """A fitted model from a model file (``hyst fit``): direct (input x, output y) or as its
     exact inverse (desired output in, command out). A model with dynamics or a rate term runs
-    on timed records: ``process(x, t=...)`` and ``compensate(desired, t=..., ...)``."""
+    on timed records: ``process(x, time=...)`` and ``compensate(desired, time=..., ...)``."""
 
     @overload
     def process(
@@ -113,11 +126,11 @@ class Model:
         x: ArrayLike,
         derivatives: None = None,
         *,
-        t: Optional[ArrayLike] = None,
+        time: Optional[ArrayLike] = None,
         period: Optional[float] = None,
         hold: Optional[Literal["zoh", "foh"]] = None,
     ) -> FloatArray:
-        """With ``t`` (time stamps, s; each step as measured, a gap of more than 10 median
+        """With ``time`` (time stamps, s; each step as measured, a gap of more than 10 median
         steps starts afresh with a UserWarning) or ``period`` (s): a model with dynamics or a
         rate term over one record from rest (``hyst run --model M`` with a time column);
         ``hold`` runs its plant under that hold instead of the file's (``hyst run --hold``).
@@ -131,7 +144,7 @@ class Model:
         self,
         desired: ArrayLike,
         *,
-        t: Optional[ArrayLike] = None,
+        time: Optional[ArrayLike] = None,
         period: Optional[float] = None,
         derivatives: ArrayLike,
         prefilter_hz: None = None,
@@ -144,7 +157,7 @@ class Model:
         self,
         desired: ArrayLike,
         *,
-        t: Optional[ArrayLike] = None,
+        time: Optional[ArrayLike] = None,
         period: Optional[float] = None,
         derivatives: None = None,
         prefilter_hz: float,
@@ -158,9 +171,9 @@ class Model:
         """The hysteresis part of a model with dynamics or a rate term: the static model of the
         plant output x1, without the plant or rate term (a copy of a static model)."""
     @property
-    def in_input_units(self) -> Optional[Dict[str, float]]:
-        """k1 in input units and k2 in 1/input units: {"k1_input", "k1_input_std_error",
-        "k2_input", "k2_input_std_error", "input_slope"}; None for a Prandtl-Ishlinskii model."""
+    def in_input_units(self) -> Optional[_InputUnits]:
+        """k1 in input units and k2 in 1/input units, with their standard errors; None for a
+        Prandtl-Ishlinskii model."""
     @property
     def dynamics(self) -> Optional[Dict[str, Any]]:
         """The plant before the hysteresis, {"b": b, "a": [a_1, ..., a_n], ...}, or None."""
@@ -190,12 +203,18 @@ class Model:
     def saturate(self) -> bool:
         """Whether this inverse clamps desired outputs (``inverse(saturate=True)``)."""
     @property
+    def saturated(self) -> int: ...
+    @property
+    @deprecated("renamed saturated")
     def clamped(self) -> int: ...
     @property
     def kind(self) -> Literal["smooth", "prandtl-ishlinskii"]: ...
     @property
     def params(self) -> Dict[str, float]: ...
     @property
+    def std_errors(self) -> Dict[str, float]: ...
+    @property
+    @deprecated("renamed std_errors")
     def stderr(self) -> Dict[str, float]: ...
     @property
     def units(self) -> Dict[str, str]: ...
@@ -228,6 +247,9 @@ class FitResult:
     @property
     def params(self) -> Dict[str, float]: ...
     @property
+    def std_errors(self) -> Dict[str, float]: ...
+    @property
+    @deprecated("renamed std_errors")
     def stderr(self) -> Dict[str, float]: ...
     @property
     def units(self) -> Dict[str, str]: ...
@@ -269,10 +291,9 @@ def fit(
     output_shaping: Shaping = "affine",
     input_shaping: Shaping = "affine",
     k2: Literal["constant", "affine"] = "constant",
-    model_kind: Literal["smooth", "prandtl-ishlinskii", "pi"] = "smooth",
+    model_kind: Literal["smooth", "prandtl-ishlinskii"] = "smooth",
     starts: int = 3,
     segment: Optional[int] = None,
-    segments: Optional[int] = None,
     record: Optional[ArrayLike] = None,
     weight: Optional[ArrayLike] = None,
     validate: Optional[Sequence[int]] = None,
@@ -291,7 +312,7 @@ def fit(
     output_name: str = "y",
     input_unit: str = "",
     output_unit: str = "",
-    t: Optional[ArrayLike] = None,
+    time: Optional[ArrayLike] = None,
     dynamics: Optional[Union[int, Literal["auto"]]] = None,
     rate_term: Optional[Literal["viscous"]] = None,
     hold: Optional[Literal["zoh", "foh"]] = None,
@@ -299,7 +320,7 @@ def fit(
 ) -> FitResult:
     """Identifies a model from its input ``x`` and the measured output ``y`` as ``hyst fit``
     does; ``dynamics`` (1 to 4, or ``"auto"``) and ``rate_term`` (``hyst fit --dynamics``,
-    ``--rate-term``) need the time stamps ``t`` (s); ``hold`` (``--hold``, with ``dynamics``;
+    ``--rate-term``) need the time stamps ``time`` (s); ``hold`` (``--hold``, with ``dynamics``;
     default "zoh") is how the plant sees the command between samples (given, the standard
     errors make no allowance for the other hold); ``fit_from_start`` is
     ``--fit-from-start``."""
@@ -384,7 +405,7 @@ class Adaptive:
         self,
         model: Model,
         *,
-        parameters: Optional[Sequence[str]] = None,
+        parameters: Optional[Sequence[_Parameter]] = None,
         noise: Optional[float] = None,
         drift: float = 1e-3,
         uncertainty: float = 0.01,
@@ -400,18 +421,21 @@ class Adaptive:
         (n, len(parameters))."""
     def update(self, x: float, y: float) -> Tuple[float, str]: ...
     def step(self, desired: float) -> float:
-        """The compensator: the command for a desired output, with the current parameters."""
+        """The exact inverse of the current model: the command for a desired output."""
     def measure(self, y: float) -> Optional[float]: ...
     def reset(self) -> None: ...
     def model(self) -> Model: ...
     @property
-    def parameters(self) -> List[str]: ...
+    def parameters(self) -> List[_Parameter]: ...
     @property
-    def values(self) -> Dict[str, float]: ...
+    def values(self) -> Dict[_Parameter, float]: ...
     @property
-    def sigmas(self) -> Dict[str, float]: ...
+    def std_errors(self) -> Dict[_Parameter, float]: ...
     @property
-    def counts(self) -> Dict[str, int]: ...
+    @deprecated("renamed std_errors")
+    def sigmas(self) -> Dict[_Parameter, float]: ...
+    @property
+    def counts(self) -> Dict[_Parameter, int]: ...
 
 def _bench_core(
     k1: float,

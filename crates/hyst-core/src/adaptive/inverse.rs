@@ -1,4 +1,4 @@
-//! [`AdaptiveCompensator`]: the exact inverse of the estimator's current model, in a loop with
+//! [`AdaptiveInverse`]: the exact inverse of the estimator's current model, in a loop with
 //! the estimator.
 
 use crate::adaptive::estimator::Adaptive;
@@ -11,19 +11,19 @@ use crate::real::Real;
 use crate::shaping::Shaping;
 use crate::start::Start;
 
-/// A compensator that follows a drifting actuator: each command is the exact inverse (eq. 4
-/// through the shaping) of the estimator's current model, from the estimator's memory; each
+/// The exact inverse of a model that follows a drifting actuator: each command is the exact
+/// inverse (eq. 4 through the shaping) of the estimator's current model, from the estimator's memory; each
 /// measurement updates the estimator ([`Adaptive`]).
 ///
-/// A control loop calls [`AdaptiveCompensator::step`] with the desired output, sends the
-/// command to the actuator, and calls [`AdaptiveCompensator::measure`] with the output it
+/// A control loop calls [`AdaptiveInverse::step`] with the desired output, sends the
+/// command to the actuator, and calls [`AdaptiveInverse::measure`] with the output it
 /// measured for that command. The memory is the estimator's, re-anchored at each update so that
-/// the state does not jump (see [the module](super)): the compensator and the model never
+/// the state does not jump (see [the module](super)): the inverse and the model never
 /// disagree on where the actuator is.
 ///
 /// # Examples
 /// ```
-/// use hyst_core::adaptive::{Adaptive, AdaptiveCompensator, AdaptiveConfig, AdaptiveModel};
+/// use hyst_core::adaptive::{Adaptive, AdaptiveInverse, AdaptiveConfig, AdaptiveModel};
 /// use hyst_core::{AnyK2Law, Hysteresis, InitialState, Operator, ScaledShaping, ShapedModel};
 /// # fn main() -> Result<(), hyst_core::Error> {
 /// let fitted: AdaptiveModel<f64> = ShapedModel::new(
@@ -32,27 +32,27 @@ use crate::start::Start;
 ///     ScaledShaping::identity(),
 /// )?;
 /// let estimator = Adaptive::new(&fitted, InitialState::Line, AdaptiveConfig::new(1e-3))?;
-/// let mut compensator = AdaptiveCompensator::new(estimator);
+/// let mut inverse = AdaptiveInverse::new(estimator);
 /// let mut actuator = fitted; // the truth, here equal to the model
 /// for k in 0..1000 {
 ///     let desired = 0.8 * (k as f64 * 0.02).sin();
-///     let command = compensator.step(desired)?;
+///     let command = inverse.step(desired)?;
 ///     let measured = actuator.step(command);
 ///     assert!((measured - desired).abs() < 1e-9);
-///     compensator.measure(measured);
+///     inverse.measure(measured);
 /// }
 /// # Ok(())
 /// # }
 /// ```
 #[derive(Clone, Copy, Debug)]
-pub struct AdaptiveCompensator<T: Real, const W: usize = MAX_PARAMETERS, S = AnyShaping<T>> {
+pub struct AdaptiveInverse<T: Real, const W: usize = MAX_PARAMETERS, S = AnyShaping<T>> {
     estimator: Adaptive<T, W, S>,
     /// The last command, waiting for its measurement.
     pending: Option<T>,
 }
 
-impl<T: Real, const W: usize, S: Shaping<T> + Copy> AdaptiveCompensator<T, W, S> {
-    /// A compensator around `estimator`.
+impl<T: Real, const W: usize, S: Shaping<T> + Copy> AdaptiveInverse<T, W, S> {
+    /// The inverse of `estimator`'s model, following it.
     #[must_use]
     pub fn new(estimator: Adaptive<T, W, S>) -> Self {
         Self {
@@ -90,7 +90,7 @@ impl<T: Real, const W: usize, S: Shaping<T> + Copy> AdaptiveCompensator<T, W, S>
         Some(self.estimator.update(x, measured))
     }
 
-    /// A sample this compensator did not command (a record played back, a command from
+    /// A sample this inverse did not command (a record played back, a command from
     /// elsewhere): the estimator's update for command `x` and output `y`, after any command
     /// still waiting for its measurement (given as unmeasured).
     pub fn update(&mut self, x: T, y: T) -> Update<T> {
