@@ -1,6 +1,6 @@
 //! `step`: one tick of every channel. Each chunk's state is loaded, run one tick and stored
 //! (a visit); what a visit costs beyond the tick is what `step` costs beyond a block
-//! (docs/performance.md, "Where a tick of `step` goes").
+//! (docs/performance.md, "How the bank is built").
 
 use crate::block::Block;
 use crate::chunk::{
