@@ -1,5 +1,5 @@
 /*
- * adaptive.c: online adaptation (issue 30) on a Cortex-M4F (QEMU mps2-an386), in float: the
+ * adaptive.c: online adaptation on a Cortex-M4F (QEMU mps2-an386), in float: the
  * adaptive compensator (hyst_adaptive_*_f32) drives a simulated actuator whose k1 grows by 30 %
  * and whose output gain falls by 30 % over the first 60 % of the run, then stay. Beside it, the
  * fitted model's plain inverse (hyst_shaped_model_init_inverse_f32) drives a copy of the same

@@ -1,6 +1,6 @@
 /*
  * adaptive_size_probe.c: the smallest useful firmware with the adaptive compensator in float
- * (online adaptation, issue 30): each tick the command for a desired output, then the update
+ * (online adaptation): each tick the command for a desired output, then the update
  * from the output measured for it, and now and then a look at a parameter and the counts. The
  * inputs come from volatile variables (a trajectory, an ADC) and the outputs go to volatile ones
  * (a DAC), so the compiler keeps every call. It links only hyst_linear_adaptive_*_f32 (affine

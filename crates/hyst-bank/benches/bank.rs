@@ -1,4 +1,4 @@
-//! The bank's speed goals of issue 13 as ratios measured in one run (`cargo bench -p hyst-bank
+//! The bank's speed goals as ratios measured in one run (`cargo bench -p hyst-bank
 //! --bench bank`; docs/performance.md records the figures): 1,024 channels, f64 (and f32), ns
 //! per channel-sample, each figure the fastest of interleaved rounds (on a shared machine the
 //! slower rounds measure the neighbours).

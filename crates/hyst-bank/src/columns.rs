@@ -25,9 +25,8 @@ pub(super) const COLUMNS: usize = 11;
 /// one's modulo 4 KiB, so that a load of one column never waits on an older store to another
 /// column at an address equal modulo 4 KiB (4K aliasing: the processor compares only the low
 /// 12 bits of addresses before it knows whether they differ). Eleven columns at 320 bytes keep
-/// any two at least five lines apart modulo 4 KiB. Measured (docs/performance.md), against
-/// columns in separate allocations: `step` direct f64 6–7 % faster, direct f32 8 %, inverse
-/// f64 4–6 %.
+/// any two at least five lines apart modulo 4 KiB. `cargo bench -p hyst-bank --bench bank`
+/// measures `step` a few per cent faster this way than with columns in separate allocations.
 #[cfg(feature = "std")]
 pub(super) const SPREAD: usize = 320;
 

@@ -232,12 +232,11 @@ fn poly_pairs<V: Simd>(x: V, coefficients: &[f64]) -> V {
 /// e^DECAY_MIN; ±∞ is not an argument the bank gives it (z = −k2 ũd with finite factors).
 ///
 /// Vectors with a table [`exp`] (AVX-512: `vpermpd` table, `vscalefpd`) reduce by its table
-/// instead, with its two-part ln 2 but without its range clamp: on the Zen 4, `hyst bench` tick
-/// by tick f64 1.35–1.37 → 1.30–1.33 ns a channel-sample, f32 0.63–0.68 → 0.61–0.62, against
-/// `exp` itself. The reduction by ln 2 with the long polynomial made AVX-512 blocks slower
-/// (0.213–0.216 → 0.224–0.255 × scalar); ln 2 / 2^b in one constant was faster still (f64
-/// 1.26–1.28 ns) but raised the bank's worst f64 inverse error (`tests/bank.rs`) from 2.71 to
-/// 3.50 ulp.
+/// instead, with its two-part ln 2 but without its range clamp: `hyst bench` measures the
+/// tick faster this way than through `exp` itself, and the reduction by ln 2 with the long polynomial
+/// slower in AVX-512 blocks. ln 2 / 2^b in one constant would be faster still but raises the
+/// bank's worst f64 inverse error (`tests/bank.rs`) from under 3 to 3.5 ulp, near the bound
+/// of 4.
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn decay<V: Simd>(z: V) -> V
 where

@@ -1,6 +1,6 @@
 //! `step`: one tick of every channel. Each chunk's state is loaded, run one tick and stored
 //! (a visit); what a visit costs beyond the tick is what `step` costs beyond a block
-//! (docs/performance.md, "Where a tick of `step` goes").
+//! (docs/performance.md, "How the bank is built").
 
 use crate::block::Block;
 use crate::chunk::{
@@ -81,12 +81,11 @@ pub(super) fn one_tick<V: Simd, F: BankFormula>(
         };
         (start, one, input, output)
     });
-    // The direct operator runs chunks of four vectors, one at a time (`run`): on an Intel Xeon
-    // (AVX-512), `cargo bench -p hyst-bank --bench bank`, rows cold, `step` direct f64
-    // 0.40 → 0.33 × scalar, and 0.56 → 0.43 with the AVX2 kernel forced (two vectors
-    // pipelined before). The inverse runs chunks of `Simd::Tick` by `inverse_visit`, which
-    // measured faster than the block's tick, software-pipelined, on every kernel
-    // (docs/performance.md, "Where a tick of `step` goes").
+    // The direct operator runs chunks of four vectors, one at a time (`run`): its chain is
+    // long and its state large, and four vectors give the most to overlap (`cargo bench -p
+    // hyst-bank --bench bank`, rows cold, measures it faster than two vectors pipelined). The
+    // inverse runs chunks of `Simd::Tick` by `inverse_visit`, which measures faster than the
+    // block's tick, software-pipelined, on every kernel.
     if F::DIRECT {
         for (start, mut one, input, output) in chunks {
             visit::<V, F>(tk, &mut one, input, output, start, l)?;
@@ -123,8 +122,7 @@ fn visit<V: Simd, F: BankFormula>(
 
 /// One tick of eq. (4) on a whole chunk of channels that have all started (`step`): the memory
 /// update of the chunk module's `observe` and eq. (4) by [`inverse_from`], bit for bit [`tick`],
-/// arranged for a tick that is a chunk's only one (docs/performance.md, "Where a tick of `step`
-/// goes"):
+/// arranged for a tick that is a chunk's only one:
 /// - the exponent −k2 ũd = (x − α0)(−k2 s) is computed for both outcomes of the memory update
 ///   before it: the memory unchanged, or a reversal at the last point, where it is
 ///   (x − x_last)(k2 s) = −p exactly, p the product the reversal test looks at. The test then
@@ -133,22 +131,19 @@ fn visit<V: Simd, F: BankFormula>(
 ///   registers ([`Simd::REGISTERS`], AVX-512) the memory after the update stays in registers
 ///   across `decay`. With 16, LLVM spilled it; so only the exponent and the reversal test's
 ///   outcome stay in registers past the test: after a compiler barrier the reversal loads its
-///   inputs again (AVX2 `bank_count step inverse f64` 19.79 → 19.06 instructions a
-///   channel-sample, against keeping them for it), and eq. (4) loads x, k1 and the memory after
-///   the update again after `decay` ([`reloaded`]: s k1 and s M* formed anew, bit for bit what
-///   the update gives). AVX-512 with the barrier too: f32 `step` with reversals in
-///   every chunk together (`cargo bench -p hyst-bank --bench bank`, rows in cache) ran
-///   1,211–1,246 M channel-samples/s, slower than the block's tick, software-pipelined
-///   (1,285–1,386); without it 1,547–1,575;
+///   inputs again (fewer instructions under callgrind, `bank_count step inverse f64`, than
+///   keeping them for it), and eq. (4) loads x, k1 and the memory after the update again after
+///   `decay` ([`reloaded`]: s k1 and s M* formed anew, bit for bit what the update gives).
+///   AVX-512 has no barrier: with one, f32 `step` (`cargo bench -p hyst-bank --bench bank`,
+///   rows in cache) runs slower even than the block's tick;
 /// - the output goes to `output` before the band test, and the test's rare path ([`edge`],
 ///   behind a call of a `#[cold]` function) reads everything from memory: nothing is kept in
 ///   registers or on the stack for it.
 ///
-/// With AVX2, a visit of two vectors spilled nothing and one of four (faster: more to overlap)
-/// a few values of `decay`; the block's tick, software-pipelined, had spilled three registers
-/// for every value it loaded or stored. Blocks keep [`tick`]: there the state
-/// stays in registers from tick to tick, and the exponent for both outcomes measured slower
-/// (AVX-512 blocks 0.22 → 0.25 × scalar).
+/// With AVX2, a visit of two vectors spills nothing and one of four (faster: more to overlap)
+/// a few values of `decay`; the block's tick, software-pipelined, spills three registers for
+/// every value it loads or stores. Blocks keep [`tick`]: there the state stays in registers
+/// from tick to tick, and the exponent for both outcomes measures slower there.
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn inverse_visit<V: Simd>(
     tk: V::Token,

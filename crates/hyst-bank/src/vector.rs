@@ -32,8 +32,7 @@ pub trait Simd:
     type Token: Copy;
     /// The chunk a one-tick `step` of the inverse operator visits: two vectors with AVX-512,
     /// four with AVX2, SSE2 and the portable kernel (as blocks do); the direct operator's `step`
-    /// runs a block's chunk of four vectors (measured: docs/performance.md, "Where a tick of
-    /// `step` goes").
+    /// runs a block's chunk of four vectors (docs/performance.md, "How the bank is built").
     type Tick: Simd<T = Self::T, Token = Self::Token>;
     /// Lanes per vector.
     const LANES: usize;

@@ -67,7 +67,7 @@ pub const HYST_FORM_OPERATOR: i32 = 0;
 /// clockwise loop (friction); it has no inverse.
 pub const HYST_FORM_STOP: i32 = 1;
 
-// Online adaptation (`hyst_adaptive_*`, issue 30): the bits of `hyst_adaptive_config.parameters`
+// Online adaptation (`hyst_adaptive_*`): the bits of `hyst_adaptive_config.parameters`
 // in the order of `hyst_core::adaptive::Parameter::ALL` (bit i is the parameter of index i in
 // `hyst_adaptive_parameter`), and the status of one sample.
 

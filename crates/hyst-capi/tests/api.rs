@@ -736,7 +736,7 @@ fn host_model_saturate_clamps_the_compensators_desired_outputs() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 28, item 6: `has_history` is 0 or 1, and a memory whose last input lies on the wrong
+/// `has_history` is 0 or 1, and a memory whose last input lies on the wrong
 /// side of its reversal for its direction is refused; the operator keeps its memory.
 #[test]
 fn set_memory_refuses_impossible_states() {

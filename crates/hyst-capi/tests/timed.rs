@@ -1,4 +1,4 @@
-//! Models with dynamics or a rate term (issue 25) through the host API: `hyst_model_load`
+//! Models with dynamics or a rate term through the host API: `hyst_model_load`
 //! refuses them with the reason, `hyst_model_load_timed` runs them bit for bit as
 //! `hyst_model::TimedRun` and `TimedCompensator` (what `hyst run --model` runs on a timed
 //! record), and every call that cannot run them says so by its status.

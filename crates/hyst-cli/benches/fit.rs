@@ -1,9 +1,9 @@
 //! Criterion benchmarks of the fit's speed goals (`cargo bench -p hyst-cli --bench fit`):
-//! - issue 25: a fit with `--dynamics 2` on 100,000 samples costs at most 3 × the static fit of
+//! - a fit with `--dynamics 2` on 100,000 samples costs at most 3 × the static fit of
 //!   the same data (group `fit_100k`; compare the two times of one run). The data: a multisine
 //!   command through the plant 4e-4 s² v̈ + 0.05 s v̇ + v = u (run by the model runtime's
 //!   discretisation at 1 kHz), then 2 H(0.1, 5)[v] with 0.1 % noise.
-//! - issue 46: a timed fit of 36,000 samples (three records, plant order 1) takes at most 3 s on
+//! - a timed fit of 36,000 samples (three records, plant order 1) takes at most 3 s on
 //!   2 cores (group `fit_36k`). The data: three records of 12,000 samples at 1 kHz, an actuator
 //!   commanded by a sine with an overtone at 2, 10 and 40 Hz, through the plant
 //!   0.02 s v̇ + v = u (zero-order hold), then 3 H(0.2, 15)[0.5 v − 1] + 1 with Gaussian noise
@@ -12,7 +12,7 @@
 //!   record's start discounted until its input has swept its range and then until the fitted
 //!   model has forgotten it (settling, which may fit again).
 //!
-//! Issue 46's other goal, a static fit of 10 M rows at most 6 × `hyst run` of the same file, is
+//! The other fit goal, a static fit of 10 M rows at most 6 × `hyst run` of the same file, is
 //! shown by `hyst bench --fit-rows 10000000` (its `fit_over_run`), not here.
 #![allow(missing_docs, clippy::expect_used)]
 
@@ -79,7 +79,7 @@ fn data_100k() -> Dataset {
     Dataset::from_records("bench", Columns::default(), vec![record])
 }
 
-/// Issue 46's timed case, the records of `tests/trust.rs` with a first-order plant: three
+/// The timed case, the records of `tests/trust.rs` with a first-order plant: three
 /// records of [`TIMED_SAMPLES`] at 1 kHz, each the command 2 + 1.6 sin ω + 0.4 sin 2.7ω in
 /// [0, 4] at one of [`TIMED_RATES`], through 0.02 s v̇ + v = u (zero-order hold, from rest),
 /// then 3 H(0.2, 15)[0.5 v − 1] + 1 (each record starting as after a rise), plus Gaussian noise

@@ -182,22 +182,22 @@ struct Ratios {
     bank: [(&'static str, &'static str, f64); 4],
     /// The f32 inverse bank's channel-samples per second.
     f32_rate: f64,
-    /// Issue 13's goals for the bank, each a ratio measured in this run (the last is a rate).
+    /// The goals of the bank, each a ratio measured in this run (the last is a rate).
     bank_goals: [(&'static str, bool); 4],
-    /// A fitted model with dynamics of order 2 over the same model without (issue 25's goal:
-    /// at most 2).
+    /// A fitted model with dynamics of order 2 over the same model without (goal: at
+    /// most 2).
     dynamics: f64,
     /// The adaptive estimator (k1, k2, gain, offset) over the direct operator, per sample
-    /// (issue 30's goal: at most 10).
+    /// (goal: at most 10).
     adaptive: f64,
-    /// Scalar H⁻¹ over the plain-C peer on the same signal (issue 29's goal: at most 1).
+    /// Scalar H⁻¹ over the plain-C peer on the same signal (goal: at most 1).
     c_peer: f64,
     /// Scalar H⁻¹ over the inline `exp` it evaluates (no goal: what the operator costs beyond
     /// its exponential).
     inverse_over_exp_inline: f64,
-    /// The banks tick by tick on the kernel of the run (issue 13's bank goals).
+    /// The banks tick by tick on the kernel of the run (the bank's goals).
     tick: TickRatios,
-    /// The banks tick by tick with the AVX2 kernel forced (issue 29's goals; `None` where the
+    /// The banks tick by tick with the AVX2 kernel forced (their own goals; `None` where the
     /// processor has no AVX2 + FMA).
     avx2_tick: Option<TickRatios>,
 }

@@ -1,4 +1,4 @@
-//! `hyst bench`'s long-record workload (issue 29's fit goals): a random walk with a reversal
+//! `hyst bench`'s long-record workload (the fit's goals): a random walk with a reversal
 //! every three samples or so (the case the turning-point reduction cannot shorten), its output
 //! from a known operator plus noise, written to a temporary CSV; then `hyst fit` and
 //! `hyst run --model` of the fitted model on that file, each as a child process of this very

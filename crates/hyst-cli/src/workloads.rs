@@ -5,8 +5,8 @@
 //! with a slowly growing amplitude) and returns a checksum so the work cannot be optimised away.
 //! Every workload reads its input through one `black_box` of the whole slice, as the C peer
 //! reads its array: the compiler cannot see the values, and no sample pays for a trip through
-//! memory of its own (a `black_box` per sample stored and reloaded each one, about 0.3 ns, in
-//! hyst's workloads but not in the C peer's loop).
+//! memory of its own (a `black_box` per sample would store and reload each one, a cost the C
+//! peer's loop does not pay).
 //! The bank workloads run [`BANK_CHANNELS`] channels (each its own stretch of that signal) for
 //! [`BANK_TICKS`] ticks from no history ([`Inputs::samples`] channel-samples per call), reported
 //! per channel-sample: in one block (`process`, time-major), and tick by tick (`step` with one
@@ -379,8 +379,8 @@ fn fitted_model(dynamics: bool) -> Option<hyst_model::SmoothModel> {
 /// (the first and the last, with every output made observable by `black_box`).
 ///
 /// Not the sum of all outputs: that is a second pass of one dependent add per channel-sample
-/// (3 cycles each, about 1.1 ns on the development machine), which doubled the bank's measured
-/// time, whereas the scalar workloads' sums overlap their operators' own dependency chains.
+/// (3 cycles each, about as long as the bank's own work a channel-sample), which would double
+/// the bank's measured time, whereas the scalar workloads' sums overlap their operators' own dependency chains.
 fn bank<T: Lane, F: BankFormula>(bank: &mut BankVec<T, F>, x: &[T], y: &mut [T]) -> Option<f64> {
     bank.reset();
     bank.process(black_box(x), y).ok()?;

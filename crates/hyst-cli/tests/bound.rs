@@ -153,7 +153,7 @@ fn text_prints_significant_digits_at_any_scale() {
     assert!(text.contains("k2bar = 9.000e299"), "{text}");
 }
 
-/// Issue 28, item 4, as written: k1 above MAX / 4 and a gain that overflows the bound are
+/// k1 above MAX / 4 and a gain that overflows the bound are
 /// refused with status 1, naming the value, instead of printing inf and NaN.
 #[test]
 fn a_bound_beyond_the_float_range_is_refused() {

@@ -267,7 +267,7 @@ fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
     }
 }
 
-/// A computed name that INPUT already has is no longer refused: it gets `_out` appended
+/// A computed name that INPUT already has is not refused: it gets `_out` appended
 /// (`--column a --column y_a` computes `y_a`, written `y_a_out`, and `y_y_a`), and a record
 /// column named like an output is passed through in its place.
 #[test]

@@ -1,4 +1,4 @@
-//! Hostile inputs, odd paths and signals (issue 9): an output that is an input is refused before
+//! Hostile inputs, odd paths and signals: an output that is an input is refused before
 //! anything is written; `-o -`, symbolic links and devices are written through; SIGINT/SIGTERM
 //! stop at once with 130/143 and leave no output or temporary file; extreme numbers give finite
 //! results or a one-line error naming the file and line; fits on data beyond the float range fail;

@@ -1,4 +1,4 @@
-//! Integration tests of text record columns in `hyst fit` (issue 27, item 2): a CSV's text
+//! Integration tests of text record columns in `hyst fit`: a CSV's text
 //! columns are accepted where they are not used as numbers, and a text `record` column gives
 //! record labels numbered in order of first appearance.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]

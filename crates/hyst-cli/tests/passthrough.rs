@@ -1,4 +1,4 @@
-//! `hyst run`'s output as a user sees it (issue 27, "the user's columns are kept"): every
+//! `hyst run`'s output as a user sees it (the user's columns are kept): every
 //! column of INPUT first, in file order, each cell as read (trimmed; text included), then the
 //! computed columns, named after what they are (the model's output column, its input column
 //! with `--inverse`, `y` for `--k1/--k2`), with `_out` appended to a name INPUT already has.

@@ -1,7 +1,6 @@
-//! Pipes, FIFOs and outputs that would replace an input (issue 28, items 5, 7 and 8, as the
-//! issue wrote them): `hyst fit` reads its data once and records the size and hash of what it
-//! read, even from a pipe; no output (the model file or a plot) may be the data or another
-//! output; a FIFO as input or output never hangs the same-file check.
+//! Pipes, FIFOs and outputs that would replace an input: `hyst fit` reads its data once and records
+//! the size and hash of what it read, even from a pipe; no output (the model file or a plot) may be
+//! the data or another output; a FIFO as input or output never hangs the same-file check.
 #![cfg(unix)]
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 

@@ -1,6 +1,6 @@
-//! `hyst fit` checks where it will write before it reads or fits anything (issue 27, "Long
-//! work"): a model file in a missing directory, or a plot directory under a file, is refused
-//! first, so a long fit is never thrown away at the end.
+//! `hyst fit` checks where it will write before it reads or fits anything: a model file in a
+//! missing directory, or a plot directory under a file, is refused first, so a long fit is never
+//! thrown away at the end.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use std::fs;

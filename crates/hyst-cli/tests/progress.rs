@@ -1,4 +1,4 @@
-//! Progress on a terminal (issue 27, "Long work"): `hyst fit` shows one bar with its stage, the
+//! Progress on a terminal: `hyst fit` shows one bar with its stage, the
 //! fraction done and the time left when stderr is a terminal, and nothing on a pipe or with
 //! `--json`. The terminal is a pseudo-terminal from util-linux `script` (the test is skipped,
 //! saying so, where it is missing).

@@ -244,8 +244,8 @@ fn errors_name_file_line_and_column_and_write_nothing() {
     );
 }
 
-/// The record column may be the column run (the output used to have a column `x` of its own,
-/// and this was refused): every change of `x` starts a record, so each sample starts afresh on
+/// The record column may be the column run (the output has no column `x` of its own to clash
+/// with): every change of `x` starts a record, so each sample starts afresh on
 /// the line y = x; the record column `curve` next to it is just passed through.
 #[test]
 fn the_column_run_may_be_the_record_column() {

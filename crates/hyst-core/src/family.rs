@@ -647,7 +647,7 @@ impl<T: Real> Reproducibility<T> {
 mod tests {
     use super::*;
 
-    /// Issue 28, item 4: a family beyond a quarter of the float range is refused; up to it the
+    /// A family beyond a quarter of the float range is refused; up to it the
     /// bound and its corners are finite.
     #[test]
     fn huge_families_are_refused_or_finite() -> Result<(), Error> {

@@ -282,7 +282,7 @@ mod tests {
         assert!(Memory::at_rest(f64::NAN, 0.0, Direction::Rising, 0.1_f64).is_err());
     }
 
-    /// Issue 28, item 6: a memory no operator produces, the last input on the wrong side of
+    /// A memory no operator produces, the last input on the wrong side of
     /// the reversal for its direction, is refused; what operators produce is accepted.
     #[test]
     fn a_last_input_off_the_branch_is_refused() {

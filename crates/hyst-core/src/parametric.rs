@@ -214,7 +214,8 @@ fn rare<T: Real, F: Formula>(
 /// printed (its rounding error is a few ulps of max(|ṽ|, M*), below that of the output
 /// u = β0 + s ũ itself), with w / k2 formed as w · (1 / k2) with `std`: the reciprocal is taken
 /// while `exp` and W run, off the chain of dependent operations that bounds the loop (a division
-/// at its end made the direct operator 3 % slower, 18.0 against 17.5 ns a sample). When a e^b overflows, w = ω(ln a + b) (Wright omega, log domain)
+/// at its end would lengthen that chain). When a e^b overflows, w = ω(ln a + b) (Wright omega,
+/// log domain)
 /// and, using w + ln w = ln a + b, ũ = (ln a − ln w) / k2, which has no cancellation between
 /// large terms: k2 up to 1e12 (near-backlash) stays finite and accurate. At a reversal point
 /// (ṽ = 0) the value is exactly 0.
@@ -306,7 +307,8 @@ impl Formula for Inverse {
     /// its absolute error, ≤ 2 k1 ε, is below the rounding of v itself, and `exp` is faster.
     /// On a host, for plain samples always inlined (with its inline `exp`, LLVM would otherwise
     /// make it a call, and the caller's values would wait in memory across it); for jets left
-    /// to the compiler (always inlined, the loop on jets was a third slower).
+    /// to the compiler (always inlined, the loop on jets runs slower: its code outgrows the
+    /// registers).
     #[cfg_attr(not(target_os = "none"), inline(always))]
     #[cfg_attr(target_os = "none", inline)]
     fn output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {

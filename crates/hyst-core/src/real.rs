@@ -48,8 +48,7 @@ pub trait Real:
     }
     /// The same value as [`Real::exp_inline`], bit for bit, in shorter code: the arguments
     /// beyond its main range (|x| < 2⁻⁵⁴, |x| ≥ 512, ±∞, NaN) go out of line. For a jet's
-    /// value: with the whole `exp` inline, the inverse's loop on jets ran a third slower
-    /// (docs/performance.md).
+    /// value: with the whole `exp` inline, the inverse's loop on jets runs slower.
     #[inline(always)]
     #[must_use]
     fn exp_inline_short(self) -> Self {
@@ -129,8 +128,8 @@ impl Real for f64 {
 /// Whether `f64`'s `exp_inline` and `exp_inline_short` evaluate `exp.rs`'s forms of eˣ: with
 /// `std`; without it (a firmware build, where their table would cost 2 KiB) they call
 /// [`num_traits::Float::exp`]. A constant and a plain `if` in each, not a helper taking the
-/// form as a function: through `Fn::call` the form was not inlined, and the inverse took
-/// 6.5 ns a sample instead of 5.7 (`hyst bench`, Zen 4).
+/// form as a function: through `Fn::call` the form is not inlined, and the inverse's loop then
+/// pays for a call a sample.
 const INLINE_EXP: bool = cfg!(feature = "std");
 
 impl Real for f32 {

@@ -1,4 +1,4 @@
-//! The operators' common path tests nothing before the formula (issue 29): a plain sample goes
+//! The operators' common path tests nothing before the formula: a plain sample goes
 //! through Definition 2.1's memory update and eq. (2) or (4), and one band test
 //! |y − x| ≤ k1 decides whether the rare path runs. These tests show that the rare path still
 //! catches every case the checks before the formula caught: a non-finite input (NaN, ±∞) is

@@ -678,7 +678,7 @@ pub(crate) fn abbreviate(items: &[String]) -> String {
 mod tests {
     use super::*;
 
-    /// Issue 28, item 2: the weights' scale is removed (their ratios kept), unit weights stay
+    /// The weights' scale is removed (their ratios kept), unit weights stay
     /// exactly 1.
     #[test]
     fn weights_are_scaled_to_average_one() -> Result<(), FitError> {

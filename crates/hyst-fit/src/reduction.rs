@@ -10,9 +10,10 @@
 //! the full cost (Horvitz–Thompson): a sample kept because it must be (a turning point, an
 //! output extreme) stands for itself, and a sample kept by the 1-in-k draw, which does not look
 //! at the data, stands for k samples. (Moving each dropped sample's weight onto its nearer kept
-//! neighbour, a midpoint rule, was biased: the turning points, where the model's error is of
-//! its own kind, carried the weight of the runs around them, and the reduction's optimum lay
-//! 180 relative offsets from the full data's on the 2M-row piezo record, against 13 now.)
+//! neighbour, a midpoint rule, is biased: the turning points, where the model's error is of
+//! its own kind, carry the weight of the runs around them, and the reduction's optimum lies
+//! 180 relative offsets from the full data's on the 2M-row piezo record, against 13 with these
+//! weights.)
 //! The fit uses it for the search (start grid, Levenberg–Marquardt from the starts, family
 //! widths) and then polishes the result on the full data.
 //!

@@ -269,7 +269,7 @@ fn path_from_bytes(bytes: Vec<u8>) -> Result<PathBuf, String> {
 mod tests {
     use super::*;
 
-    /// Issue 28, item 16: a corrupt fmu.toml is named in one line, as model files are.
+    /// A corrupt fmu.toml is named in one line, as model files are.
     #[test]
     fn a_corrupt_configuration_is_one_line() {
         let dir = std::env::temp_dir().join(format!("hyst-fmu-config-{}", std::process::id()));

@@ -1,4 +1,4 @@
-//! Models with dynamics or a rate term (issue 25, `SmoothModel::is_timed`) in the FMU: what such
+//! Models with dynamics or a rate term (`SmoothModel::is_timed`) in the FMU: what such
 //! an FMU needs ([`Timing`], which `hyst fmu` asks too, so that it packs only what this binary
 //! runs) and what it steps ([`TimedEngine`]: hyst-model's `TimedRun` or `TimedCompensator`,
 //! exactly as `hyst run --model M [--inverse]` runs a timed record; no formula is written here).

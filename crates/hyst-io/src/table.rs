@@ -747,7 +747,7 @@ mod tests {
         ));
     }
 
-    /// Issue 27, item 2: a column of words is kept as text; used as numbers it gives the
+    /// A column of words is kept as text; used as numbers it gives the
     /// error reading it as numbers gave; its cells are there as text.
     #[test]
     fn a_text_column_is_kept_as_text() {

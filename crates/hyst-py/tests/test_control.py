@@ -1,4 +1,4 @@
-"""hyst.control.iosys against the real python-control (issue 27): input_output_response gives
+"""hyst.control.iosys against the real python-control: input_output_response gives
 what ``.process`` gives on the same samples, bit for bit, for every supported object; series and closed loops
 with python-control's discrete linear systems give what a loop written by hand gives; the state
 is the operator's memory; what cannot be represented is refused; and the example

@@ -1,4 +1,4 @@
-"""Models with dynamics or a rate term (issue 25) from Python: ``hyst.fit(x, y, time=...,
+"""Models with dynamics or a rate term from Python: ``hyst.fit(x, y, time=...,
 dynamics=N, rate_term="viscous")``, ``Model.process(x, time=...)`` and Lemma 5.1's compensator
 ``Model.compensate(...)``, bit for bit as ``hyst run --model M [--inverse]`` on the same CSV
 file, and the refusals of every entry point that would run such a model without time."""

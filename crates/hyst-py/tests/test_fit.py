@@ -52,7 +52,7 @@ def test_options_mirror_the_cli(piezo):
     w[::2] = 0.0
     weighted = hyst.fit(u, y, weight=w)
     assert weighted.model.metrics["training"]["samples"] == 1500
-    # Issue 28, item 2: scaling every weight by one constant changes nothing.
+    # Scaling every weight by one constant changes nothing.
     assert hyst.fit(u, y, weight=np.full(u.size, 1e-100)).params == hyst.fit(u, y).params
     assert hyst.fit(u, y, weight=w * 1e-100).params == weighted.params
     aff = hyst.fit(u, y, k2="affine", input_unit="V", output_unit="um")

@@ -1,6 +1,6 @@
 """examples/python/fleet_fit.py when records fail: a file without the named column, with a value
 that is not a number, or a fit that raises, is reported in summary.csv with its error, the other
-records are fitted, and the script exits with status 1 (issue 27)."""
+records are fitted, and the script exits with status 1."""
 
 import csv
 import importlib.util

@@ -107,8 +107,8 @@ def test_missing_values_are_named_not_reported_as_nan():
 
 
 def test_a_memory_off_its_branch_is_refused():
-    """Issue 28, item 6: rising with the reversal input 1e300 above the last input is a state
-    no operator produces; assigning it raises ValueError and keeps the memory."""
+    """Rising with the reversal input 1e300 above the last input is a state no operator
+    produces; assigning it raises ValueError and keeps the memory."""
     h = hyst.Hysteresis(0.2, 8.0)
     h.step(0.4)
     kept = h.memory
@@ -118,7 +118,8 @@ def test_a_memory_off_its_branch_is_refused():
 
 
 def test_messages_blame_the_right_value_and_print_numbers_shortly():
-    """Issue 28, items 12, 14 and 15, as the issue wrote them."""
+    """A NaN derivative, a negative time step and an empty fit are named in their messages,
+    and huge values print in exponent form."""
     model = hyst.Hysteresis(0.2, 8.0)
     x = np.array([0.0, 0.5, 1.0])
     d = np.array([0.1, np.nan, 0.2])
@@ -136,7 +137,7 @@ def test_messages_blame_the_right_value_and_print_numbers_shortly():
 
 
 def test_out_that_aliases_x_or_is_strided_is_named():
-    """Issue 28, item 13: out=x and a strided out say what is wrong with out."""
+    """out=x and a strided out say what is wrong with out."""
     h = hyst.Hysteresis(0.2, 8.0)
     x = np.linspace(0.0, 1.0, 10)
     with pytest.raises(ValueError, match=r"out|x: the array is being written"):
@@ -146,8 +147,8 @@ def test_out_that_aliases_x_or_is_strided_is_named():
 
 
 def test_pure_noise_is_no_hysteresis(piezo):
-    """Issue 28, item 3, as the issue wrote it: an output that does not depend on the input is
-    "no hysteresis found", not a model (and kept, it is marked degenerate)."""
+    """An output that does not depend on the input is "no hysteresis found", not a model (and
+    kept, it is marked degenerate)."""
     u, _ = piezo
     u = u[:3000]
     for seed in range(3):

@@ -118,7 +118,7 @@ def test_saturating_inverse_clamps_as_hyst_run_saturate(cli, models, piezo_path,
     (lo, hi), (clo, chi) = s["range"], s["limits"]
     assert lo < clo < chi < hi
     # The fit puts the data in the last 0.1 % of the tanh's range: the limits still clamp no
-    # output of the data's range (issue 28: -120, -100, -80 were all clamped to -180210.9).
+    # output of the data's range.
     within = np.array([-120.0, -100.0, -80.0])
     assert np.array_equal(m.inverse(saturate=True).process(within), m.inverse().process(within))
     # Desired outputs that leave the range now and then.

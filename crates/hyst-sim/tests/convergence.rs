@@ -62,13 +62,13 @@ fn check<const N: usize>(a: [f64; N], limits: [f64; 2]) -> Result<(), SimError> 
 
 #[test]
 fn exact_model_error_converges_at_fourth_order_n1() -> Result<(), SimError> {
-    // Measured: 8.5e-11 -> 5.3e-12 (state), 5.7e-11 -> 3.5e-12 (output); before the split at
-    // reversals the output error was 4.3e-6 at 1 ms.
+    // Measured: 8.5e-11 -> 5.3e-12 (state), 5.7e-11 -> 3.5e-12 (output); without the split at
+    // reversals the output error is 4.3e-6 at 1 ms.
     check([0.1], [1e-11, 1e-11])
 }
 
 #[test]
 fn exact_model_error_converges_at_fourth_order_n2() -> Result<(), SimError> {
-    // Measured: 2.0e-12 -> 1.2e-13 for both; before: 2.6e-4 at 1 ms.
+    // Measured: 2.0e-12 -> 1.2e-13 for both; without the split: 2.6e-4 at 1 ms.
     check([0.9, 1.0], [3e-13, 3e-13])
 }

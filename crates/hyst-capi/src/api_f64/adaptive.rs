@@ -1,4 +1,4 @@
-//! The adaptive compensator of online adaptation (issue 30), in caller memory
+//! The adaptive compensator of online adaptation, in caller memory
 //! (`hyst_adaptive_*`): the exact inverse of a shaped model whose parameters (k1, k2, the output
 //! gain and offset, and where asked the input gain and offset) an extended Kalman filter follows
 //! from each pair of command and measured output (`hyst_core::adaptive`), and its settings
