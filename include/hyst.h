@@ -13,6 +13,11 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#if defined(__GNUC__) || defined(__clang__)
+#define HYST_DEPRECATED(note) __attribute__((deprecated(note)))
+#else
+#define HYST_DEPRECATED(note)
+#endif
 
 // Shaping kinds of `hyst_shaping.kind`: ψ(z) = z.
 #define HYST_SHAPING_IDENTITY 0
@@ -305,15 +310,31 @@ typedef struct hyst_shaped_compensator_f32 {
 
 // The shaped model of `hyst_shaped_model_params_f32` whose shapings are affine, as
 // `hyst_shaped_model_f32`: an opaque block of 160 bytes, 8-byte aligned, plain data.
-typedef struct hyst_linear_model_f32 {
+typedef struct hyst_affine_model_f32 {
   uint64_t opaque[20];
-} hyst_linear_model_f32;
+} hyst_affine_model_f32;
 
 // The Lemma 5.1 compensator of such a model, as `hyst_shaped_compensator_f32`: an opaque
 // block of 224 bytes, 8-byte aligned, plain data.
-typedef struct hyst_linear_compensator_f32 {
+typedef struct hyst_affine_compensator_f32 {
   uint64_t opaque[28];
-} hyst_linear_compensator_f32;
+} hyst_affine_compensator_f32;
+
+// Deprecated: renamed `hyst_affine_model_f32`.
+typedef struct hyst_affine_model_f32 hyst_linear_model_f32;
+
+// Deprecated: renamed `hyst_affine_compensator_f32`.
+typedef struct hyst_affine_compensator_f32 hyst_linear_compensator_f32;
+
+// The adaptive compensator of a model with affine shapings (identity or affine ψ_in and
+// ψ_out), adapting up to four parameters: an opaque block of 768 bytes, 8-byte aligned,
+// plain data (copyable with memcpy).
+typedef struct hyst_affine_adaptive_f32 {
+  uint64_t opaque[96];
+} hyst_affine_adaptive_f32;
+
+// Deprecated: renamed `hyst_affine_adaptive_f32`.
+typedef struct hyst_affine_adaptive_f32 hyst_linear_adaptive_f32;
 
 // The settings of an adaptive compensator (`hyst_adaptive_init_f32`).
 // `hyst_adaptive_config_default_f32` fills them for a noise level; change the fields you need
@@ -349,13 +370,6 @@ typedef struct hyst_adaptive_config_f32 {
   float input_max;
 } hyst_adaptive_config_f32;
 
-// An adaptive compensator: the estimator of a shaped model's drifting parameters and the exact
-// inverse of its current model, with the command waiting for its measurement: an opaque
-// block of 1024 bytes, 8-byte aligned, plain data (copyable with memcpy).
-typedef struct hyst_adaptive_f32 {
-  uint64_t opaque[128];
-} hyst_adaptive_f32;
-
 // How many samples of an adaptive compensator had each `HYST_ADAPT_*` status
 // (`hyst_adaptive_counts`, `hyst_adaptive_counts_f32`).
 typedef struct hyst_adaptive_sample_counts {
@@ -377,12 +391,12 @@ typedef struct hyst_adaptive_sample_counts {
   uint64_t refused;
 } hyst_adaptive_sample_counts;
 
-// The adaptive compensator of a model with affine shapings (identity or affine ψ_in and
-// ψ_out), adapting up to four parameters: an opaque block of 768 bytes, 8-byte aligned,
-// plain data (copyable with memcpy).
-typedef struct hyst_linear_adaptive_f32 {
-  uint64_t opaque[96];
-} hyst_linear_adaptive_f32;
+// An adaptive compensator: the estimator of a shaped model's drifting parameters and the exact
+// inverse of its current model, with the command waiting for its measurement: an opaque
+// block of 1024 bytes, 8-byte aligned, plain data (copyable with memcpy).
+typedef struct hyst_adaptive_f32 {
+  uint64_t opaque[128];
+} hyst_adaptive_f32;
 
 // The parametric operator H(k1, k2) (eq. 2) or H⁻¹(k1, k2) (eq. 4) with its memory: an opaque
 // block of 128 bytes, 8-byte aligned, plain data (copyable with memcpy).
@@ -501,15 +515,31 @@ typedef struct hyst_shaped_compensator {
 
 // The shaped model of `hyst_shaped_model_params` whose shapings are affine, as
 // `hyst_shaped_model`: an opaque block of 320 bytes, 8-byte aligned, plain data.
-typedef struct hyst_linear_model {
+typedef struct hyst_affine_model {
   uint64_t opaque[40];
-} hyst_linear_model;
+} hyst_affine_model;
 
 // The Lemma 5.1 compensator of such a model, as `hyst_shaped_compensator`: an opaque
 // block of 448 bytes, 8-byte aligned, plain data.
-typedef struct hyst_linear_compensator {
+typedef struct hyst_affine_compensator {
   uint64_t opaque[56];
-} hyst_linear_compensator;
+} hyst_affine_compensator;
+
+// Deprecated: renamed `hyst_affine_model`.
+typedef struct hyst_affine_model hyst_linear_model;
+
+// Deprecated: renamed `hyst_affine_compensator`.
+typedef struct hyst_affine_compensator hyst_linear_compensator;
+
+// The adaptive compensator of a model with affine shapings (identity or affine ψ_in and
+// ψ_out), adapting up to four parameters: an opaque block of 1536 bytes, 8-byte aligned,
+// plain data (copyable with memcpy).
+typedef struct hyst_affine_adaptive {
+  uint64_t opaque[192];
+} hyst_affine_adaptive;
+
+// Deprecated: renamed `hyst_affine_adaptive`.
+typedef struct hyst_affine_adaptive hyst_linear_adaptive;
 
 // The settings of an adaptive compensator (`hyst_adaptive_init`).
 // `hyst_adaptive_config_default` fills them for a noise level; change the fields you need
@@ -551,13 +581,6 @@ typedef struct hyst_adaptive_config {
 typedef struct hyst_adaptive {
   uint64_t opaque[256];
 } hyst_adaptive;
-
-// The adaptive compensator of a model with affine shapings (identity or affine ψ_in and
-// ψ_out), adapting up to four parameters: an opaque block of 1536 bytes, 8-byte aligned,
-// plain data (copyable with memcpy).
-typedef struct hyst_linear_adaptive {
-  uint64_t opaque[192];
-} hyst_linear_adaptive;
 
 #ifdef __cplusplus
 extern "C" {
@@ -814,53 +837,53 @@ int32_t hyst_shaped_compensator_reset_f32(struct hyst_shaped_compensator_f32 *c)
 // not `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE` (use `hyst_shaped_model_*` then).
 //
 // # Safety
-// `m` is NULL or points to a writable `hyst_linear_model_f32`; `params` is NULL or readable.
-int32_t hyst_linear_model_init_direct_f32(struct hyst_linear_model_f32 *m,
+// `m` is NULL or points to a writable `hyst_affine_model_f32`; `params` is NULL or readable.
+int32_t hyst_affine_model_init_direct_f32(struct hyst_affine_model_f32 *m,
                                           const struct hyst_shaped_model_params_f32 *params);
 
 // Initialises `m` as the exact inverse of the model of `params`, as
-// `hyst_shaped_model_init_inverse_f32` (the same refusals as `hyst_linear_model_init_direct_f32`).
+// `hyst_shaped_model_init_inverse_f32` (the same refusals as `hyst_affine_model_init_direct_f32`).
 //
 // # Safety
-// As `hyst_linear_model_init_direct_f32`.
-int32_t hyst_linear_model_init_inverse_f32(struct hyst_linear_model_f32 *m,
+// As `hyst_affine_model_init_direct_f32`.
+int32_t hyst_affine_model_init_inverse_f32(struct hyst_affine_model_f32 *m,
                                            const struct hyst_shaped_model_params_f32 *params);
 
 // One sample, as `hyst_shaped_model_step_f32`.
 //
 // # Safety
-// `m` is NULL or an initialised `hyst_linear_model_f32`; `y` is NULL or writable.
-int32_t hyst_linear_model_step_f32(struct hyst_linear_model_f32 *m, float x, float *y);
+// `m` is NULL or an initialised `hyst_affine_model_f32`; `y` is NULL or writable.
+int32_t hyst_affine_model_step_f32(struct hyst_affine_model_f32 *m, float x, float *y);
 
 // Copies the memory of the model's operator into `*memory`, as
 // `hyst_shaped_model_get_memory_f32`.
 //
 // # Safety
-// `m` is NULL or an initialised `hyst_linear_model_f32`; `memory` is NULL or writable.
-int32_t hyst_linear_model_get_memory_f32(struct hyst_linear_model_f32 *m,
+// `m` is NULL or an initialised `hyst_affine_model_f32`; `memory` is NULL or writable.
+int32_t hyst_affine_model_get_memory_f32(struct hyst_affine_model_f32 *m,
                                          struct hyst_memory_f32 *memory);
 
 // Restores the memory of the model's operator, as `hyst_shaped_model_set_memory_f32`.
 //
 // # Safety
-// `m` is NULL or an initialised `hyst_linear_model_f32`; `memory` is NULL or readable.
-int32_t hyst_linear_model_set_memory_f32(struct hyst_linear_model_f32 *m,
+// `m` is NULL or an initialised `hyst_affine_model_f32`; `memory` is NULL or readable.
+int32_t hyst_affine_model_set_memory_f32(struct hyst_affine_model_f32 *m,
                                          const struct hyst_memory_f32 *memory);
 
 // Forgets the history: the start rule applies again at the next sample.
 //
 // # Safety
-// `m` is NULL or an initialised `hyst_linear_model_f32`.
-int32_t hyst_linear_model_reset_f32(struct hyst_linear_model_f32 *m);
+// `m` is NULL or an initialised `hyst_affine_model_f32`.
+int32_t hyst_affine_model_reset_f32(struct hyst_affine_model_f32 *m);
 
 // Initialises `c` as the Lemma 5.1 compensator of the model of `params`, as
 // `hyst_shaped_compensator_init_f32` (the same refusals, and those of
-// `hyst_linear_model_init_direct_f32`).
+// `hyst_affine_model_init_direct_f32`).
 //
 // # Safety
-// `c` is NULL or points to a writable `hyst_linear_compensator_f32`; `params` is NULL or
+// `c` is NULL or points to a writable `hyst_affine_compensator_f32`; `params` is NULL or
 // readable; `a` and `v0` are NULL or hold n values.
-int32_t hyst_linear_compensator_init_f32(struct hyst_linear_compensator_f32 *c,
+int32_t hyst_affine_compensator_init_f32(struct hyst_affine_compensator_f32 *c,
                                          const struct hyst_shaped_model_params_f32 *params,
                                          float b,
                                          const float *a,
@@ -870,8 +893,8 @@ int32_t hyst_linear_compensator_init_f32(struct hyst_linear_compensator_f32 *c,
 // One sample, as `hyst_shaped_compensator_step_f32`.
 //
 // # Safety
-// `c` is NULL or an initialised `hyst_linear_compensator_f32`; `u` is NULL or writable.
-int32_t hyst_linear_compensator_step_f32(struct hyst_linear_compensator_f32 *c,
+// `c` is NULL or an initialised `hyst_affine_compensator_f32`; `u` is NULL or writable.
+int32_t hyst_affine_compensator_step_f32(struct hyst_affine_compensator_f32 *c,
                                          float u_new,
                                          float dt,
                                          float *u);
@@ -879,17 +902,159 @@ int32_t hyst_linear_compensator_step_f32(struct hyst_linear_compensator_f32 *c,
 // The integrators and the inverse model's memory, as `hyst_shaped_compensator_get_state_f32`.
 //
 // # Safety
-// `c` is NULL or an initialised `hyst_linear_compensator_f32`; `v` is NULL or holds n values;
+// `c` is NULL or an initialised `hyst_affine_compensator_f32`; `v` is NULL or holds n values;
 // `memory` is NULL or writable.
-int32_t hyst_linear_compensator_get_state_f32(struct hyst_linear_compensator_f32 *c,
+int32_t hyst_affine_compensator_get_state_f32(struct hyst_affine_compensator_f32 *c,
                                               float *v,
                                               struct hyst_memory_f32 *memory);
 
 // Back to the initial integrator state, and the inverse model's memory forgotten.
 //
 // # Safety
-// `c` is NULL or an initialised `hyst_linear_compensator_f32`.
-int32_t hyst_linear_compensator_reset_f32(struct hyst_linear_compensator_f32 *c);
+// `c` is NULL or an initialised `hyst_affine_compensator_f32`.
+int32_t hyst_affine_compensator_reset_f32(struct hyst_affine_compensator_f32 *c);
+
+// Deprecated: renamed [`hyst_affine_model_init_direct_f32`].
+//
+// # Safety
+// As [`hyst_affine_model_init_direct_f32`].
+HYST_DEPRECATED("renamed hyst_affine_model_init_direct_f32")
+int32_t hyst_linear_model_init_direct_f32(hyst_linear_model_f32 *m,
+                                          const struct hyst_shaped_model_params_f32 *params);
+
+// Deprecated: renamed [`hyst_affine_model_init_inverse_f32`].
+//
+// # Safety
+// As [`hyst_affine_model_init_inverse_f32`].
+HYST_DEPRECATED("renamed hyst_affine_model_init_inverse_f32")
+int32_t hyst_linear_model_init_inverse_f32(hyst_linear_model_f32 *m,
+                                           const struct hyst_shaped_model_params_f32 *params);
+
+// Deprecated: renamed [`hyst_affine_model_step_f32`].
+//
+// # Safety
+// As [`hyst_affine_model_step_f32`].
+HYST_DEPRECATED("renamed hyst_affine_model_step_f32")
+int32_t hyst_linear_model_step_f32(hyst_linear_model_f32 *m,
+                                   float x,
+                                   float *y);
+
+// Deprecated: renamed [`hyst_affine_model_get_memory_f32`].
+//
+// # Safety
+// As [`hyst_affine_model_get_memory_f32`].
+HYST_DEPRECATED("renamed hyst_affine_model_get_memory_f32")
+int32_t hyst_linear_model_get_memory_f32(hyst_linear_model_f32 *m,
+                                         struct hyst_memory_f32 *memory);
+
+// Deprecated: renamed [`hyst_affine_model_set_memory_f32`].
+//
+// # Safety
+// As [`hyst_affine_model_set_memory_f32`].
+HYST_DEPRECATED("renamed hyst_affine_model_set_memory_f32")
+int32_t hyst_linear_model_set_memory_f32(hyst_linear_model_f32 *m,
+                                         const struct hyst_memory_f32 *memory);
+
+// Deprecated: renamed [`hyst_affine_model_reset_f32`].
+//
+// # Safety
+// As [`hyst_affine_model_reset_f32`].
+HYST_DEPRECATED("renamed hyst_affine_model_reset_f32")
+int32_t hyst_linear_model_reset_f32(hyst_linear_model_f32 *m);
+
+// Deprecated: renamed [`hyst_affine_compensator_init_f32`].
+//
+// # Safety
+// As [`hyst_affine_compensator_init_f32`].
+HYST_DEPRECATED("renamed hyst_affine_compensator_init_f32")
+int32_t hyst_linear_compensator_init_f32(hyst_linear_compensator_f32 *c,
+                                         const struct hyst_shaped_model_params_f32 *params,
+                                         float b,
+                                         const float *a,
+                                         const float *v0,
+                                         size_t n);
+
+// Deprecated: renamed [`hyst_affine_compensator_step_f32`].
+//
+// # Safety
+// As [`hyst_affine_compensator_step_f32`].
+HYST_DEPRECATED("renamed hyst_affine_compensator_step_f32")
+int32_t hyst_linear_compensator_step_f32(hyst_linear_compensator_f32 *c,
+                                         float u_new,
+                                         float dt,
+                                         float *u);
+
+// Deprecated: renamed [`hyst_affine_compensator_get_state_f32`].
+//
+// # Safety
+// As [`hyst_affine_compensator_get_state_f32`].
+HYST_DEPRECATED("renamed hyst_affine_compensator_get_state_f32")
+int32_t hyst_linear_compensator_get_state_f32(hyst_linear_compensator_f32 *c,
+                                              float *v,
+                                              struct hyst_memory_f32 *memory);
+
+// Deprecated: renamed [`hyst_affine_compensator_reset_f32`].
+//
+// # Safety
+// As [`hyst_affine_compensator_reset_f32`].
+HYST_DEPRECATED("renamed hyst_affine_compensator_reset_f32")
+int32_t hyst_linear_compensator_reset_f32(hyst_linear_compensator_f32 *c);
+
+// Deprecated: renamed [`hyst_affine_adaptive_init_f32`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_init_f32`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_init_f32")
+int32_t hyst_linear_adaptive_init_f32(hyst_linear_adaptive_f32 *a,
+                                      const struct hyst_shaped_model_params_f32 *params,
+                                      const struct hyst_adaptive_config_f32 *cfg);
+
+// Deprecated: renamed [`hyst_affine_adaptive_step_f32`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_step_f32`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_step_f32")
+int32_t hyst_linear_adaptive_step_f32(hyst_linear_adaptive_f32 *a,
+                                      float desired,
+                                      float *x);
+
+// Deprecated: renamed [`hyst_affine_adaptive_measure_f32`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_measure_f32`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_measure_f32")
+int32_t hyst_linear_adaptive_measure_f32(hyst_linear_adaptive_f32 *a,
+                                         float y,
+                                         float *prediction,
+                                         int32_t *status);
+
+// Deprecated: renamed [`hyst_affine_adaptive_update_f32`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_update_f32`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_update_f32")
+int32_t hyst_linear_adaptive_update_f32(hyst_linear_adaptive_f32 *a,
+                                        float x,
+                                        float y,
+                                        float *prediction,
+                                        int32_t *status);
+
+// Deprecated: renamed [`hyst_affine_adaptive_parameter_f32`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_parameter_f32`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_parameter_f32")
+int32_t hyst_linear_adaptive_parameter_f32(const hyst_linear_adaptive_f32 *a,
+                                           int32_t which,
+                                           float *value);
+
+// Deprecated: renamed [`hyst_affine_adaptive_counts_f32`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_counts_f32`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_counts_f32")
+int32_t hyst_linear_adaptive_counts_f32(const hyst_linear_adaptive_f32 *a,
+                                        struct hyst_adaptive_sample_counts *counts);
 
 // Fills `*cfg` with the default settings for measurements with noise σ `noise` (output units):
 // k1, k2, the output gain and offset adapt, and the core's defaults for the rest (see each
@@ -999,24 +1164,24 @@ int32_t hyst_adaptive_counts_f32(const struct hyst_adaptive_f32 *a,
 // `hyst_adaptive_*` then).
 //
 // # Safety
-// `a` is NULL or points to a writable `hyst_linear_adaptive_f32`; `params` and `cfg` are NULL or
+// `a` is NULL or points to a writable `hyst_affine_adaptive_f32`; `params` and `cfg` are NULL or
 // readable.
-int32_t hyst_linear_adaptive_init_f32(struct hyst_linear_adaptive_f32 *a,
+int32_t hyst_affine_adaptive_init_f32(struct hyst_affine_adaptive_f32 *a,
                                       const struct hyst_shaped_model_params_f32 *params,
                                       const struct hyst_adaptive_config_f32 *cfg);
 
 // As `hyst_adaptive_step_f32`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `x` is NULL or writable.
-int32_t hyst_linear_adaptive_step_f32(struct hyst_linear_adaptive_f32 *a, float desired, float *x);
+// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `x` is NULL or writable.
+int32_t hyst_affine_adaptive_step_f32(struct hyst_affine_adaptive_f32 *a, float desired, float *x);
 
 // As `hyst_adaptive_measure_f32`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `prediction` and `status` are NULL or
+// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `prediction` and `status` are NULL or
 // writable.
-int32_t hyst_linear_adaptive_measure_f32(struct hyst_linear_adaptive_f32 *a,
+int32_t hyst_affine_adaptive_measure_f32(struct hyst_affine_adaptive_f32 *a,
                                          float y,
                                          float *prediction,
                                          int32_t *status);
@@ -1024,9 +1189,9 @@ int32_t hyst_linear_adaptive_measure_f32(struct hyst_linear_adaptive_f32 *a,
 // As `hyst_adaptive_update_f32`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `prediction` and `status` are NULL or
+// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `prediction` and `status` are NULL or
 // writable.
-int32_t hyst_linear_adaptive_update_f32(struct hyst_linear_adaptive_f32 *a,
+int32_t hyst_affine_adaptive_update_f32(struct hyst_affine_adaptive_f32 *a,
                                         float x,
                                         float y,
                                         float *prediction,
@@ -1035,16 +1200,16 @@ int32_t hyst_linear_adaptive_update_f32(struct hyst_linear_adaptive_f32 *a,
 // As `hyst_adaptive_parameter_f32`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `value` is NULL or writable.
-int32_t hyst_linear_adaptive_parameter_f32(const struct hyst_linear_adaptive_f32 *a,
+// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `value` is NULL or writable.
+int32_t hyst_affine_adaptive_parameter_f32(const struct hyst_affine_adaptive_f32 *a,
                                            int32_t which,
                                            float *value);
 
 // As `hyst_adaptive_counts_f32`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `counts` is NULL or writable.
-int32_t hyst_linear_adaptive_counts_f32(const struct hyst_linear_adaptive_f32 *a,
+// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `counts` is NULL or writable.
+int32_t hyst_affine_adaptive_counts_f32(const struct hyst_affine_adaptive_f32 *a,
                                         struct hyst_adaptive_sample_counts *counts);
 
 // Initialises `op` as the direct operator u = H(k1, k2)[v] (eq. 2), with no history (its first
@@ -1293,51 +1458,51 @@ int32_t hyst_shaped_compensator_reset(struct hyst_shaped_compensator *c);
 // not `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE` (use `hyst_shaped_model_*` then).
 //
 // # Safety
-// `m` is NULL or points to a writable `hyst_linear_model`; `params` is NULL or readable.
-int32_t hyst_linear_model_init_direct(struct hyst_linear_model *m,
+// `m` is NULL or points to a writable `hyst_affine_model`; `params` is NULL or readable.
+int32_t hyst_affine_model_init_direct(struct hyst_affine_model *m,
                                       const struct hyst_shaped_model_params *params);
 
 // Initialises `m` as the exact inverse of the model of `params`, as
-// `hyst_shaped_model_init_inverse` (the same refusals as `hyst_linear_model_init_direct`).
+// `hyst_shaped_model_init_inverse` (the same refusals as `hyst_affine_model_init_direct`).
 //
 // # Safety
-// As `hyst_linear_model_init_direct`.
-int32_t hyst_linear_model_init_inverse(struct hyst_linear_model *m,
+// As `hyst_affine_model_init_direct`.
+int32_t hyst_affine_model_init_inverse(struct hyst_affine_model *m,
                                        const struct hyst_shaped_model_params *params);
 
 // One sample, as `hyst_shaped_model_step`.
 //
 // # Safety
-// `m` is NULL or an initialised `hyst_linear_model`; `y` is NULL or writable.
-int32_t hyst_linear_model_step(struct hyst_linear_model *m, double x, double *y);
+// `m` is NULL or an initialised `hyst_affine_model`; `y` is NULL or writable.
+int32_t hyst_affine_model_step(struct hyst_affine_model *m, double x, double *y);
 
 // Copies the memory of the model's operator into `*memory`, as
 // `hyst_shaped_model_get_memory`.
 //
 // # Safety
-// `m` is NULL or an initialised `hyst_linear_model`; `memory` is NULL or writable.
-int32_t hyst_linear_model_get_memory(struct hyst_linear_model *m, struct hyst_memory *memory);
+// `m` is NULL or an initialised `hyst_affine_model`; `memory` is NULL or writable.
+int32_t hyst_affine_model_get_memory(struct hyst_affine_model *m, struct hyst_memory *memory);
 
 // Restores the memory of the model's operator, as `hyst_shaped_model_set_memory`.
 //
 // # Safety
-// `m` is NULL or an initialised `hyst_linear_model`; `memory` is NULL or readable.
-int32_t hyst_linear_model_set_memory(struct hyst_linear_model *m, const struct hyst_memory *memory);
+// `m` is NULL or an initialised `hyst_affine_model`; `memory` is NULL or readable.
+int32_t hyst_affine_model_set_memory(struct hyst_affine_model *m, const struct hyst_memory *memory);
 
 // Forgets the history: the start rule applies again at the next sample.
 //
 // # Safety
-// `m` is NULL or an initialised `hyst_linear_model`.
-int32_t hyst_linear_model_reset(struct hyst_linear_model *m);
+// `m` is NULL or an initialised `hyst_affine_model`.
+int32_t hyst_affine_model_reset(struct hyst_affine_model *m);
 
 // Initialises `c` as the Lemma 5.1 compensator of the model of `params`, as
 // `hyst_shaped_compensator_init` (the same refusals, and those of
-// `hyst_linear_model_init_direct`).
+// `hyst_affine_model_init_direct`).
 //
 // # Safety
-// `c` is NULL or points to a writable `hyst_linear_compensator`; `params` is NULL or
+// `c` is NULL or points to a writable `hyst_affine_compensator`; `params` is NULL or
 // readable; `a` and `v0` are NULL or hold n values.
-int32_t hyst_linear_compensator_init(struct hyst_linear_compensator *c,
+int32_t hyst_affine_compensator_init(struct hyst_affine_compensator *c,
                                      const struct hyst_shaped_model_params *params,
                                      double b,
                                      const double *a,
@@ -1347,8 +1512,8 @@ int32_t hyst_linear_compensator_init(struct hyst_linear_compensator *c,
 // One sample, as `hyst_shaped_compensator_step`.
 //
 // # Safety
-// `c` is NULL or an initialised `hyst_linear_compensator`; `u` is NULL or writable.
-int32_t hyst_linear_compensator_step(struct hyst_linear_compensator *c,
+// `c` is NULL or an initialised `hyst_affine_compensator`; `u` is NULL or writable.
+int32_t hyst_affine_compensator_step(struct hyst_affine_compensator *c,
                                      double u_new,
                                      double dt,
                                      double *u);
@@ -1356,17 +1521,159 @@ int32_t hyst_linear_compensator_step(struct hyst_linear_compensator *c,
 // The integrators and the inverse model's memory, as `hyst_shaped_compensator_get_state`.
 //
 // # Safety
-// `c` is NULL or an initialised `hyst_linear_compensator`; `v` is NULL or holds n values;
+// `c` is NULL or an initialised `hyst_affine_compensator`; `v` is NULL or holds n values;
 // `memory` is NULL or writable.
-int32_t hyst_linear_compensator_get_state(struct hyst_linear_compensator *c,
+int32_t hyst_affine_compensator_get_state(struct hyst_affine_compensator *c,
                                           double *v,
                                           struct hyst_memory *memory);
 
 // Back to the initial integrator state, and the inverse model's memory forgotten.
 //
 // # Safety
-// `c` is NULL or an initialised `hyst_linear_compensator`.
-int32_t hyst_linear_compensator_reset(struct hyst_linear_compensator *c);
+// `c` is NULL or an initialised `hyst_affine_compensator`.
+int32_t hyst_affine_compensator_reset(struct hyst_affine_compensator *c);
+
+// Deprecated: renamed [`hyst_affine_model_init_direct`].
+//
+// # Safety
+// As [`hyst_affine_model_init_direct`].
+HYST_DEPRECATED("renamed hyst_affine_model_init_direct")
+int32_t hyst_linear_model_init_direct(hyst_linear_model *m,
+                                      const struct hyst_shaped_model_params *params);
+
+// Deprecated: renamed [`hyst_affine_model_init_inverse`].
+//
+// # Safety
+// As [`hyst_affine_model_init_inverse`].
+HYST_DEPRECATED("renamed hyst_affine_model_init_inverse")
+int32_t hyst_linear_model_init_inverse(hyst_linear_model *m,
+                                       const struct hyst_shaped_model_params *params);
+
+// Deprecated: renamed [`hyst_affine_model_step`].
+//
+// # Safety
+// As [`hyst_affine_model_step`].
+HYST_DEPRECATED("renamed hyst_affine_model_step")
+int32_t hyst_linear_model_step(hyst_linear_model *m,
+                               double x,
+                               double *y);
+
+// Deprecated: renamed [`hyst_affine_model_get_memory`].
+//
+// # Safety
+// As [`hyst_affine_model_get_memory`].
+HYST_DEPRECATED("renamed hyst_affine_model_get_memory")
+int32_t hyst_linear_model_get_memory(hyst_linear_model *m,
+                                     struct hyst_memory *memory);
+
+// Deprecated: renamed [`hyst_affine_model_set_memory`].
+//
+// # Safety
+// As [`hyst_affine_model_set_memory`].
+HYST_DEPRECATED("renamed hyst_affine_model_set_memory")
+int32_t hyst_linear_model_set_memory(hyst_linear_model *m,
+                                     const struct hyst_memory *memory);
+
+// Deprecated: renamed [`hyst_affine_model_reset`].
+//
+// # Safety
+// As [`hyst_affine_model_reset`].
+HYST_DEPRECATED("renamed hyst_affine_model_reset")
+int32_t hyst_linear_model_reset(hyst_linear_model *m);
+
+// Deprecated: renamed [`hyst_affine_compensator_init`].
+//
+// # Safety
+// As [`hyst_affine_compensator_init`].
+HYST_DEPRECATED("renamed hyst_affine_compensator_init")
+int32_t hyst_linear_compensator_init(hyst_linear_compensator *c,
+                                     const struct hyst_shaped_model_params *params,
+                                     double b,
+                                     const double *a,
+                                     const double *v0,
+                                     size_t n);
+
+// Deprecated: renamed [`hyst_affine_compensator_step`].
+//
+// # Safety
+// As [`hyst_affine_compensator_step`].
+HYST_DEPRECATED("renamed hyst_affine_compensator_step")
+int32_t hyst_linear_compensator_step(hyst_linear_compensator *c,
+                                     double u_new,
+                                     double dt,
+                                     double *u);
+
+// Deprecated: renamed [`hyst_affine_compensator_get_state`].
+//
+// # Safety
+// As [`hyst_affine_compensator_get_state`].
+HYST_DEPRECATED("renamed hyst_affine_compensator_get_state")
+int32_t hyst_linear_compensator_get_state(hyst_linear_compensator *c,
+                                          double *v,
+                                          struct hyst_memory *memory);
+
+// Deprecated: renamed [`hyst_affine_compensator_reset`].
+//
+// # Safety
+// As [`hyst_affine_compensator_reset`].
+HYST_DEPRECATED("renamed hyst_affine_compensator_reset")
+int32_t hyst_linear_compensator_reset(hyst_linear_compensator *c);
+
+// Deprecated: renamed [`hyst_affine_adaptive_init`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_init`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_init")
+int32_t hyst_linear_adaptive_init(hyst_linear_adaptive *a,
+                                  const struct hyst_shaped_model_params *params,
+                                  const struct hyst_adaptive_config *cfg);
+
+// Deprecated: renamed [`hyst_affine_adaptive_step`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_step`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_step")
+int32_t hyst_linear_adaptive_step(hyst_linear_adaptive *a,
+                                  double desired,
+                                  double *x);
+
+// Deprecated: renamed [`hyst_affine_adaptive_measure`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_measure`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_measure")
+int32_t hyst_linear_adaptive_measure(hyst_linear_adaptive *a,
+                                     double y,
+                                     double *prediction,
+                                     int32_t *status);
+
+// Deprecated: renamed [`hyst_affine_adaptive_update`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_update`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_update")
+int32_t hyst_linear_adaptive_update(hyst_linear_adaptive *a,
+                                    double x,
+                                    double y,
+                                    double *prediction,
+                                    int32_t *status);
+
+// Deprecated: renamed [`hyst_affine_adaptive_parameter`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_parameter`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_parameter")
+int32_t hyst_linear_adaptive_parameter(const hyst_linear_adaptive *a,
+                                       int32_t which,
+                                       double *value);
+
+// Deprecated: renamed [`hyst_affine_adaptive_counts`].
+//
+// # Safety
+// As [`hyst_affine_adaptive_counts`].
+HYST_DEPRECATED("renamed hyst_affine_adaptive_counts")
+int32_t hyst_linear_adaptive_counts(const hyst_linear_adaptive *a,
+                                    struct hyst_adaptive_sample_counts *counts);
 
 // Fills `*cfg` with the default settings for measurements with noise σ `noise` (output units):
 // k1, k2, the output gain and offset adapt, and the core's defaults for the rest (see each
@@ -1476,24 +1783,24 @@ int32_t hyst_adaptive_counts(const struct hyst_adaptive *a,
 // `hyst_adaptive_*` then).
 //
 // # Safety
-// `a` is NULL or points to a writable `hyst_linear_adaptive`; `params` and `cfg` are NULL or
+// `a` is NULL or points to a writable `hyst_affine_adaptive`; `params` and `cfg` are NULL or
 // readable.
-int32_t hyst_linear_adaptive_init(struct hyst_linear_adaptive *a,
+int32_t hyst_affine_adaptive_init(struct hyst_affine_adaptive *a,
                                   const struct hyst_shaped_model_params *params,
                                   const struct hyst_adaptive_config *cfg);
 
 // As `hyst_adaptive_step`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive`; `x` is NULL or writable.
-int32_t hyst_linear_adaptive_step(struct hyst_linear_adaptive *a, double desired, double *x);
+// `a` is NULL or an initialised `hyst_affine_adaptive`; `x` is NULL or writable.
+int32_t hyst_affine_adaptive_step(struct hyst_affine_adaptive *a, double desired, double *x);
 
 // As `hyst_adaptive_measure`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive`; `prediction` and `status` are NULL or
+// `a` is NULL or an initialised `hyst_affine_adaptive`; `prediction` and `status` are NULL or
 // writable.
-int32_t hyst_linear_adaptive_measure(struct hyst_linear_adaptive *a,
+int32_t hyst_affine_adaptive_measure(struct hyst_affine_adaptive *a,
                                      double y,
                                      double *prediction,
                                      int32_t *status);
@@ -1501,9 +1808,9 @@ int32_t hyst_linear_adaptive_measure(struct hyst_linear_adaptive *a,
 // As `hyst_adaptive_update`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive`; `prediction` and `status` are NULL or
+// `a` is NULL or an initialised `hyst_affine_adaptive`; `prediction` and `status` are NULL or
 // writable.
-int32_t hyst_linear_adaptive_update(struct hyst_linear_adaptive *a,
+int32_t hyst_affine_adaptive_update(struct hyst_affine_adaptive *a,
                                     double x,
                                     double y,
                                     double *prediction,
@@ -1512,16 +1819,16 @@ int32_t hyst_linear_adaptive_update(struct hyst_linear_adaptive *a,
 // As `hyst_adaptive_parameter`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive`; `value` is NULL or writable.
-int32_t hyst_linear_adaptive_parameter(const struct hyst_linear_adaptive *a,
+// `a` is NULL or an initialised `hyst_affine_adaptive`; `value` is NULL or writable.
+int32_t hyst_affine_adaptive_parameter(const struct hyst_affine_adaptive *a,
                                        int32_t which,
                                        double *value);
 
 // As `hyst_adaptive_counts`.
 //
 // # Safety
-// `a` is NULL or an initialised `hyst_linear_adaptive`; `counts` is NULL or writable.
-int32_t hyst_linear_adaptive_counts(const struct hyst_linear_adaptive *a,
+// `a` is NULL or an initialised `hyst_affine_adaptive`; `counts` is NULL or writable.
+int32_t hyst_affine_adaptive_counts(const struct hyst_affine_adaptive *a,
                                     struct hyst_adaptive_sample_counts *counts);
 
 // Creates a bank of `channels` operators: channel c is H(`k1[c]`, `k2[c]`) (eq. 2), or
@@ -1859,7 +2166,7 @@ int32_t hyst_model_compensate(struct hyst_model *m,
 // range, widened to every output over the model's fitted input range; `hyst_model_saturation`
 // gives them) instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
 // `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
-// an inverse run already started. `hyst_model_clamped` counts the clamped values.
+// an inverse run already started. `hyst_model_saturated` counts the clamped values.
 //
 // Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
 // and the model's output is unbounded (nothing could need clamping; nothing changes), or
@@ -1884,15 +2191,23 @@ int32_t hyst_model_saturate(struct hyst_model *m, int32_t on);
 // `range` and `limits` are NULL or writable for 2 values each.
 int32_t hyst_model_saturation(const struct hyst_model *m, double *range, double *limits);
 
-// Writes into `*count` how many desired outputs the inverse clamped
-// (`hyst_model_saturate`) since the model was loaded or reset.
+// Writes into `*count` how many desired outputs the inverse saturated (clamped into the
+// limits, `hyst_model_saturate`) since the model was loaded or reset.
 //
 // Returns `HYST_OK` or `HYST_ERR_NULL_POINTER`.
 //
 // # Safety
 // `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
 // `count` is NULL or writable.
-int32_t hyst_model_clamped(const struct hyst_model *m, uint64_t *count);
+int32_t hyst_model_saturated(const struct hyst_model *m, uint64_t *count);
+
+// Deprecated: renamed [`hyst_model_saturated`].
+//
+// # Safety
+// As [`hyst_model_saturated`].
+HYST_DEPRECATED("renamed hyst_model_saturated")
+int32_t hyst_model_clamped(const struct hyst_model *m,
+                           uint64_t *count);
 
 // Writes into `*period` the longest sample period (s) that resolves the fastest corner of the
 // loop `hyst_model_compensate` has met since the model was loaded or reset: τ/3, where τ is the

@@ -554,7 +554,7 @@ fn compensate(model: &mut hyst_model, desired: &[f64], order: usize, command: &m
 /// range, widened to every output over the model's fitted input range; `hyst_model_saturation`
 /// gives them) instead of refusing it with `HYST_ERR_OUT_OF_RANGE`, as
 /// `hyst run --inverse --saturate` does; `on` = 0 turns it off. Takes effect at once, also in
-/// an inverse run already started. `hyst_model_clamped` counts the clamped values.
+/// an inverse run already started. `hyst_model_saturated` counts the clamped values.
 ///
 /// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_INVALID_PARAMETER` when `on` ≠ 0
 /// and the model's output is unbounded (nothing could need clamping; nothing changes), or
@@ -627,8 +627,8 @@ pub unsafe extern "C" fn hyst_model_saturation(
     HYST_OK
 }
 
-/// Writes into `*count` how many desired outputs the inverse clamped
-/// (`hyst_model_saturate`) since the model was loaded or reset.
+/// Writes into `*count` how many desired outputs the inverse saturated (clamped into the
+/// limits, `hyst_model_saturate`) since the model was loaded or reset.
 ///
 /// Returns `HYST_OK` or `HYST_ERR_NULL_POINTER`.
 ///
@@ -636,7 +636,7 @@ pub unsafe extern "C" fn hyst_model_saturation(
 /// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
 /// `count` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u64) -> i32 {
+pub unsafe extern "C" fn hyst_model_saturated(m: *const hyst_model, count: *mut u64) -> i32 {
     if m.is_null() || count.is_null() {
         return HYST_ERR_NULL_POINTER;
     }
@@ -645,6 +645,17 @@ pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u6
     // SAFETY: non-NULL and writable (caller's contract).
     unsafe { count.write(model.inverse.as_ref().map_or(0, |r| r.saturated)) };
     HYST_OK
+}
+
+/// Deprecated: renamed [`hyst_model_saturated`].
+///
+/// # Safety
+/// As [`hyst_model_saturated`].
+#[deprecated(note = "renamed hyst_model_saturated")]
+#[no_mangle]
+pub unsafe extern "C" fn hyst_model_clamped(m: *const hyst_model, count: *mut u64) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { hyst_model_saturated(m, count) }
 }
 
 /// Writes into `*period` the longest sample period (s) that resolves the fastest corner of the

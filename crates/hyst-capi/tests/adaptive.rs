@@ -761,8 +761,8 @@ fn the_linear_variant_is_the_core_of_width_four() {
     };
     let mut cfg: hyst_adaptive_config = zeroed();
     unsafe { assert_eq!(hyst_adaptive_config_default(&mut cfg, 2e-3), HYST_OK) };
-    let mut a: hyst_linear_adaptive = zeroed();
-    unsafe { assert_eq!(hyst_linear_adaptive_init(&mut a, &p, &cfg), HYST_OK) };
+    let mut a: hyst_affine_adaptive = zeroed();
+    unsafe { assert_eq!(hyst_affine_adaptive_init(&mut a, &p, &cfg), HYST_OK) };
     let linear = |s: &hyst_shaping| {
         ScaledShaping::new(
             s.pre_gain,
@@ -791,13 +791,13 @@ fn the_linear_variant_is_the_core_of_width_four() {
     for k in 0..4000 {
         let d = desired(k);
         let mut x = 0.0;
-        unsafe { assert_eq!(hyst_linear_adaptive_step(&mut a, d, &mut x), HYST_OK) };
+        unsafe { assert_eq!(hyst_affine_adaptive_step(&mut a, d, &mut x), HYST_OK) };
         assert_eq!(x.to_bits(), core.step(d).unwrap().to_bits(), "sample {k}");
         let y = 1.1 * truth.step(x);
         let (mut pred, mut status) = (0.0, -1);
         unsafe {
             assert_eq!(
-                hyst_linear_adaptive_measure(&mut a, y, &mut pred, &mut status),
+                hyst_affine_adaptive_measure(&mut a, y, &mut pred, &mut status),
                 HYST_OK
             )
         };
@@ -807,26 +807,26 @@ fn the_linear_variant_is_the_core_of_width_four() {
         );
     }
     let mut gain = 0.0;
-    unsafe { assert_eq!(hyst_linear_adaptive_parameter(&a, 2, &mut gain), HYST_OK) };
+    unsafe { assert_eq!(hyst_affine_adaptive_parameter(&a, 2, &mut gain), HYST_OK) };
     assert_eq!(gain, core.estimator().value(Parameter::Gain));
 
     // A polynomial ψ_in, or five parameters: refused, the block untouched.
-    let mut b: hyst_linear_adaptive = zeroed();
+    let mut b: hyst_affine_adaptive = zeroed();
     unsafe {
         assert_eq!(
-            hyst_linear_adaptive_init(&mut b, &params(), &cfg),
+            hyst_affine_adaptive_init(&mut b, &params(), &cfg),
             HYST_ERR_INVALID_PARAMETER
         )
     };
     cfg.parameters |= HYST_ADAPT_INPUT_OFFSET;
     unsafe {
         assert_eq!(
-            hyst_linear_adaptive_init(&mut b, &p, &cfg),
+            hyst_affine_adaptive_init(&mut b, &p, &cfg),
             HYST_ERR_INVALID_PARAMETER
         );
         let mut x = 0.0;
         assert_eq!(
-            hyst_linear_adaptive_step(&mut b, 0.1, &mut x),
+            hyst_affine_adaptive_step(&mut b, 0.1, &mut x),
             HYST_ERR_NOT_INITIALISED
         );
     }

@@ -706,10 +706,10 @@ fn host_model_saturate_clamps_the_compensators_desired_outputs() {
         );
         assert_eq!(hyst_model_saturate(m, 1), HYST_OK);
         assert_eq!(hyst_model_process(m, 1, x, y.as_mut_ptr(), n), HYST_OK);
-        assert_eq!(hyst_model_clamped(m, &mut count), HYST_OK);
+        assert_eq!(hyst_model_saturated(m, &mut count), HYST_OK);
         assert_eq!(count, beyond as u64);
         assert_eq!(
-            hyst_model_clamped(m, ptr::null_mut()),
+            hyst_model_saturated(m, ptr::null_mut()),
             HYST_ERR_NULL_POINTER
         );
         // Off again: the next value beyond the range is refused, in the run already started.
@@ -720,7 +720,7 @@ fn host_model_saturate_clamps_the_compensators_desired_outputs() {
             HYST_ERR_OUT_OF_RANGE
         );
         assert_eq!(hyst_model_reset(m), HYST_OK);
-        assert_eq!(hyst_model_clamped(m, &mut count), HYST_OK);
+        assert_eq!(hyst_model_saturated(m, &mut count), HYST_OK);
         assert_eq!(count, 0);
         hyst_model_free(m);
     }
@@ -790,7 +790,7 @@ fn host_model_saturate_with_a_saturating_input_shaping_keeps_the_training_range(
                     HYST_OK,
                     "{name}"
                 );
-                assert_eq!(hyst_model_clamped(m, &mut count), HYST_OK);
+                assert_eq!(hyst_model_saturated(m, &mut count), HYST_OK);
                 hyst_model_free(m);
             }
             (u, count)

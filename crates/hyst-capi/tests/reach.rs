@@ -57,7 +57,7 @@ fn a_saturating_input_shaping_bounds_the_inverse() {
     );
     let mut count = 0_u64;
     // SAFETY: a live model and a writable count.
-    assert_eq!(unsafe { hyst_model_clamped(m, &mut count) }, HYST_OK);
+    assert_eq!(unsafe { hyst_model_saturated(m, &mut count) }, HYST_OK);
     assert_eq!(count, 2);
     // SAFETY: NULL pointers are refused.
     let status = unsafe { hyst_model_saturation(m, ptr::null_mut(), limits.as_mut_ptr()) };

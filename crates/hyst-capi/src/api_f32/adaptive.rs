@@ -118,7 +118,7 @@ pub struct hyst_adaptive_f32 {
 
 /// The compensator (duals of width `W`, shapes `S`) and the last command it gave or was told
 /// about (what `*x` holds when a command is refused): the value behind `hyst_adaptive_f32` and
-/// `hyst_linear_adaptive_f32`.
+/// `hyst_affine_adaptive_f32`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct State<const W: usize, S> {
     compensator: AdaptiveInverse<f32, W, S>,

@@ -327,7 +327,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_init_f32(
     }
 }
 
-/// `hyst_shaped_compensator_init_f32` and `hyst_linear_compensator_init_f32`: the compensator of the
+/// `hyst_shaped_compensator_init_f32` and `hyst_affine_compensator_init_f32`: the compensator of the
 /// model of `params`, its shapings built by `shaping`, written into `c` under `tag`.
 ///
 /// # Safety

@@ -118,7 +118,7 @@ pub struct hyst_adaptive {
 
 /// The compensator (duals of width `W`, shapes `S`) and the last command it gave or was told
 /// about (what `*x` holds when a command is refused): the value behind `hyst_adaptive` and
-/// `hyst_linear_adaptive`.
+/// `hyst_affine_adaptive`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct State<const W: usize, S> {
     compensator: AdaptiveInverse<f64, W, S>,

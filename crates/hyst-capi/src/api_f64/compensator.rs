@@ -325,7 +325,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_init(
     }
 }
 
-/// `hyst_shaped_compensator_init` and `hyst_linear_compensator_init`: the compensator of the
+/// `hyst_shaped_compensator_init` and `hyst_affine_compensator_init`: the compensator of the
 /// model of `params`, its shapings built by `shaping`, written into `c` under `tag`.
 ///
 /// # Safety

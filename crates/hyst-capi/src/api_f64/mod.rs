@@ -16,18 +16,19 @@ pub mod shaped_model;
 
 pub mod compensator;
 
-pub mod linear_model;
+pub mod affine_model;
+pub mod deprecated;
 
 pub mod adaptive;
 
-pub mod linear_adaptive;
+pub mod affine_adaptive;
 
 pub(crate) mod checks;
 
 pub use adaptive::*;
+pub use affine_adaptive::*;
+pub use affine_model::*;
 pub use compensator::*;
-pub use linear_adaptive::*;
-pub use linear_model::*;
 pub use memory::hyst_memory;
 pub use operator::*;
 pub use shaped_model::*;

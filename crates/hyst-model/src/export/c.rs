@@ -4,7 +4,7 @@
 //! desired outputs into a saturating model's limits), `NAME_step`, `NAME_reset`, `NAME_params`
 //! (the model's `hyst_shaped_model_params`) and the model's Lemma 5.1 compensator
 //! (`NAME_compensator`, `_init`, `_step`, `_reset`). A model whose shapings are affine runs on
-//! the `hyst_linear_*` functions, which link no nonlinear shape. A model float cannot represent
+//! the `hyst_affine_*` functions, which link no nonlinear shape. A model float cannot represent
 //! (a number beyond float's range, whose `(float)` cast is undefined behaviour, or a gain that
 //! turns subnormal) gets no `_f32` twins, and its header says which number stands in the way.
 //!
@@ -126,9 +126,9 @@ struct Precision {
 /// none of the nonlinear shapes), else the shaped one. The results are the same, bit for bit.
 #[derive(Clone, Copy)]
 struct Api {
-    /// `hyst_linear_model` or `hyst_shaped_model`.
+    /// `hyst_affine_model` or `hyst_shaped_model`.
     model: &'static str,
-    /// `hyst_linear_compensator` or `hyst_shaped_compensator`.
+    /// `hyst_affine_compensator` or `hyst_shaped_compensator`.
     compensator: &'static str,
 }
 
@@ -136,8 +136,8 @@ impl Api {
     fn of(m: &SmoothModel) -> Self {
         if affine_shapings(m) {
             Self {
-                model: "hyst_linear_model",
-                compensator: "hyst_linear_compensator",
+                model: "hyst_affine_model",
+                compensator: "hyst_affine_compensator",
             }
         } else {
             Self {

@@ -1,6 +1,6 @@
 //! The shaped model whose shapings are affine (identity or affine shape, with their scalings:
-//! what `hyst fit` writes by default), its inverse and stop form (`hyst_linear_model_*`), and
-//! its Lemma 5.1 compensator (`hyst_linear_compensator_*`). The same parameters, arithmetic and
+//! what `hyst fit` writes by default), its inverse and stop form (`hyst_affine_model_*`), and
+//! its Lemma 5.1 compensator (`hyst_affine_compensator_*`). The same parameters, arithmetic and
 //! results as `hyst_shaped_model_*` and `hyst_shaped_compensator_*`, bit for bit, but a
 //! firmware that uses them links none of the nonlinear shapes (tanh, Langevin, polynomial,
 //! quadratic-exp and their inverses), which the run-time choice of `hyst_shaping.kind` brings.
@@ -20,14 +20,14 @@ use hyst_core::AnyK2Law;
 /// The shaped model of `hyst_shaped_model_params` whose shapings are affine, as
 /// `hyst_shaped_model`: an opaque block of 320 bytes, 8-byte aligned, plain data.
 #[repr(C)]
-pub struct hyst_linear_model {
+pub struct hyst_affine_model {
     opaque: [u64; 40],
 }
 
 /// The Lemma 5.1 compensator of such a model, as `hyst_shaped_compensator`: an opaque
 /// block of 448 bytes, 8-byte aligned, plain data.
 #[repr(C)]
-pub struct hyst_linear_compensator {
+pub struct hyst_affine_compensator {
     opaque: [u64; 56],
 }
 
@@ -39,27 +39,27 @@ type LinearComp = Comp<f64, Linear<f64>, AnyK2Law<f64>, Linear<f64>>;
 const TAG_LINEAR: u32 = 0x4859_4c64; // "HYLd"
 const TAG_LINEAR_COMPENSATOR: u32 = 0x4859_6c64; // "HYld"
 
-const _: () = assert!(slot::fits::<hyst_linear_model, LinearShaped>());
-const _: () = assert!(slot::fits::<hyst_linear_compensator, LinearComp>());
+const _: () = assert!(slot::fits::<hyst_affine_model, LinearShaped>());
+const _: () = assert!(slot::fits::<hyst_affine_compensator, LinearComp>());
 
 /// The initialised model behind `m`, or the status of the failed check.
-fn linear<'a>(m: *mut hyst_linear_model) -> Result<&'a mut LinearShaped, i32> {
+fn linear<'a>(m: *mut hyst_affine_model) -> Result<&'a mut LinearShaped, i32> {
     // SAFETY: as in the operator module's `operator`.
     unsafe { slot::value_mut::<_, LinearShaped>(m, TAG_LINEAR) }
 }
 
 /// The initialised compensator behind `c`, or the status of the failed check.
-fn linear_compensator<'a>(c: *mut hyst_linear_compensator) -> Result<&'a mut LinearComp, i32> {
+fn linear_compensator<'a>(c: *mut hyst_affine_compensator) -> Result<&'a mut LinearComp, i32> {
     // SAFETY: as in the operator module's `operator`.
     unsafe { slot::value_mut(c, TAG_LINEAR_COMPENSATOR) }
 }
 
-/// `hyst_linear_model_init_direct` / `_inverse`.
+/// `hyst_affine_model_init_direct` / `_inverse`.
 ///
 /// # Safety
-/// `m` is NULL or points to a writable `hyst_linear_model`; `params` is NULL or readable.
+/// `m` is NULL or points to a writable `hyst_affine_model`; `params` is NULL or readable.
 unsafe fn init_linear(
-    m: *mut hyst_linear_model,
+    m: *mut hyst_affine_model,
     params: *const hyst_shaped_model_params,
     inverse: bool,
 ) -> i32 {
@@ -83,10 +83,10 @@ unsafe fn init_linear(
 /// not `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE` (use `hyst_shaped_model_*` then).
 ///
 /// # Safety
-/// `m` is NULL or points to a writable `hyst_linear_model`; `params` is NULL or readable.
+/// `m` is NULL or points to a writable `hyst_affine_model`; `params` is NULL or readable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_init_direct(
-    m: *mut hyst_linear_model,
+pub unsafe extern "C" fn hyst_affine_model_init_direct(
+    m: *mut hyst_affine_model,
     params: *const hyst_shaped_model_params,
 ) -> i32 {
     // SAFETY: forwarded contract.
@@ -94,13 +94,13 @@ pub unsafe extern "C" fn hyst_linear_model_init_direct(
 }
 
 /// Initialises `m` as the exact inverse of the model of `params`, as
-/// `hyst_shaped_model_init_inverse` (the same refusals as `hyst_linear_model_init_direct`).
+/// `hyst_shaped_model_init_inverse` (the same refusals as `hyst_affine_model_init_direct`).
 ///
 /// # Safety
-/// As `hyst_linear_model_init_direct`.
+/// As `hyst_affine_model_init_direct`.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_init_inverse(
-    m: *mut hyst_linear_model,
+pub unsafe extern "C" fn hyst_affine_model_init_inverse(
+    m: *mut hyst_affine_model,
     params: *const hyst_shaped_model_params,
 ) -> i32 {
     // SAFETY: forwarded contract.
@@ -110,10 +110,10 @@ pub unsafe extern "C" fn hyst_linear_model_init_inverse(
 /// One sample, as `hyst_shaped_model_step`.
 ///
 /// # Safety
-/// `m` is NULL or an initialised `hyst_linear_model`; `y` is NULL or writable.
+/// `m` is NULL or an initialised `hyst_affine_model`; `y` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_step(
-    m: *mut hyst_linear_model,
+pub unsafe extern "C" fn hyst_affine_model_step(
+    m: *mut hyst_affine_model,
     x: f64,
     y: *mut f64,
 ) -> i32 {
@@ -125,10 +125,10 @@ pub unsafe extern "C" fn hyst_linear_model_step(
 /// `hyst_shaped_model_get_memory`.
 ///
 /// # Safety
-/// `m` is NULL or an initialised `hyst_linear_model`; `memory` is NULL or writable.
+/// `m` is NULL or an initialised `hyst_affine_model`; `memory` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_get_memory(
-    m: *mut hyst_linear_model,
+pub unsafe extern "C" fn hyst_affine_model_get_memory(
+    m: *mut hyst_affine_model,
     memory: *mut hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
@@ -138,10 +138,10 @@ pub unsafe extern "C" fn hyst_linear_model_get_memory(
 /// Restores the memory of the model's operator, as `hyst_shaped_model_set_memory`.
 ///
 /// # Safety
-/// `m` is NULL or an initialised `hyst_linear_model`; `memory` is NULL or readable.
+/// `m` is NULL or an initialised `hyst_affine_model`; `memory` is NULL or readable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_set_memory(
-    m: *mut hyst_linear_model,
+pub unsafe extern "C" fn hyst_affine_model_set_memory(
+    m: *mut hyst_affine_model,
     memory: *const hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
@@ -151,29 +151,29 @@ pub unsafe extern "C" fn hyst_linear_model_set_memory(
 /// Forgets the history: the start rule applies again at the next sample.
 ///
 /// # Safety
-/// `m` is NULL or an initialised `hyst_linear_model`.
+/// `m` is NULL or an initialised `hyst_affine_model`.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_reset(m: *mut hyst_linear_model) -> i32 {
+pub unsafe extern "C" fn hyst_affine_model_reset(m: *mut hyst_affine_model) -> i32 {
     reset(linear(m))
 }
 
 /// Initialises `c` as the Lemma 5.1 compensator of the model of `params`, as
 /// `hyst_shaped_compensator_init` (the same refusals, and those of
-/// `hyst_linear_model_init_direct`).
+/// `hyst_affine_model_init_direct`).
 ///
 /// # Safety
-/// `c` is NULL or points to a writable `hyst_linear_compensator`; `params` is NULL or
+/// `c` is NULL or points to a writable `hyst_affine_compensator`; `params` is NULL or
 /// readable; `a` and `v0` are NULL or hold n values.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_compensator_init(
-    c: *mut hyst_linear_compensator,
+pub unsafe extern "C" fn hyst_affine_compensator_init(
+    c: *mut hyst_affine_compensator,
     params: *const hyst_shaped_model_params,
     b: f64,
     a: *const f64,
     v0: *const f64,
     n: usize,
 ) -> i32 {
-    // SAFETY: `c` is NULL or a writable `hyst_linear_compensator`, whose size `fits` checks;
+    // SAFETY: `c` is NULL or a writable `hyst_affine_compensator`, whose size `fits` checks;
     // the rest is the caller's contract, forwarded.
     unsafe {
         init_from_params(
@@ -192,10 +192,10 @@ pub unsafe extern "C" fn hyst_linear_compensator_init(
 /// One sample, as `hyst_shaped_compensator_step`.
 ///
 /// # Safety
-/// `c` is NULL or an initialised `hyst_linear_compensator`; `u` is NULL or writable.
+/// `c` is NULL or an initialised `hyst_affine_compensator`; `u` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_compensator_step(
-    c: *mut hyst_linear_compensator,
+pub unsafe extern "C" fn hyst_affine_compensator_step(
+    c: *mut hyst_affine_compensator,
     u_new: f64,
     dt: f64,
     u: *mut f64,
@@ -207,11 +207,11 @@ pub unsafe extern "C" fn hyst_linear_compensator_step(
 /// The integrators and the inverse model's memory, as `hyst_shaped_compensator_get_state`.
 ///
 /// # Safety
-/// `c` is NULL or an initialised `hyst_linear_compensator`; `v` is NULL or holds n values;
+/// `c` is NULL or an initialised `hyst_affine_compensator`; `v` is NULL or holds n values;
 /// `memory` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_compensator_get_state(
-    c: *mut hyst_linear_compensator,
+pub unsafe extern "C" fn hyst_affine_compensator_get_state(
+    c: *mut hyst_affine_compensator,
     v: *mut f64,
     memory: *mut hyst_memory,
 ) -> i32 {
@@ -222,9 +222,9 @@ pub unsafe extern "C" fn hyst_linear_compensator_get_state(
 /// Back to the initial integrator state, and the inverse model's memory forgotten.
 ///
 /// # Safety
-/// `c` is NULL or an initialised `hyst_linear_compensator`.
+/// `c` is NULL or an initialised `hyst_affine_compensator`.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_compensator_reset(c: *mut hyst_linear_compensator) -> i32 {
+pub unsafe extern "C" fn hyst_affine_compensator_reset(c: *mut hyst_affine_compensator) -> i32 {
     done(linear_compensator(c).map(|comp| {
         comp.reset();
         HYST_OK

@@ -1,7 +1,7 @@
-//! The adaptive compensator of a model with affine shapings (`hyst_linear_adaptive_*`): the
+//! The adaptive compensator of a model with affine shapings (`hyst_affine_adaptive_*`): the
 //! same estimator and compensator as `hyst_adaptive_*` on duals of width 4 (up to four
 //! parameters) and with no nonlinear shape linked, for firmware where code size counts (as
-//! `hyst_linear_model_*` is to `hyst_shaped_model_*`).
+//! `hyst_affine_model_*` is to `hyst_shaped_model_*`).
 //!
 //! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
 
@@ -19,7 +19,7 @@ use crate::status::HYST_ERR_NULL_POINTER;
 /// ψ_out), adapting up to four parameters: an opaque block of 1536 bytes, 8-byte aligned,
 /// plain data (copyable with memcpy).
 #[repr(C)]
-pub struct hyst_linear_adaptive {
+pub struct hyst_affine_adaptive {
     opaque: [u64; 192],
 }
 
@@ -28,16 +28,16 @@ type LinearState = State<4, AffineShaping<f64>>;
 
 const TAG_LINEAR_ADAPTIVE: u32 = 0x4859_6164; // "HYad"
 
-const _: () = assert!(slot::fits::<hyst_linear_adaptive, LinearState>());
+const _: () = assert!(slot::fits::<hyst_affine_adaptive, LinearState>());
 
 /// The initialised adaptive compensator behind `a`, or the status of the failed check.
-fn state<'a>(a: *mut hyst_linear_adaptive) -> Result<&'a mut LinearState, i32> {
+fn state<'a>(a: *mut hyst_affine_adaptive) -> Result<&'a mut LinearState, i32> {
     // SAFETY: as in the operator module's `operator`.
     unsafe { slot::value_mut::<_, LinearState>(a, TAG_LINEAR_ADAPTIVE) }
 }
 
 /// As [`state`], read only.
-fn state_ref<'a>(a: *const hyst_linear_adaptive) -> Result<&'a LinearState, i32> {
+fn state_ref<'a>(a: *const hyst_affine_adaptive) -> Result<&'a LinearState, i32> {
     // SAFETY: as in the operator module's `operator`.
     unsafe { slot::value::<_, LinearState>(a, TAG_LINEAR_ADAPTIVE) }
 }
@@ -47,11 +47,11 @@ fn state_ref<'a>(a: *const hyst_linear_adaptive) -> Result<&'a LinearState, i32>
 /// `hyst_adaptive_*` then).
 ///
 /// # Safety
-/// `a` is NULL or points to a writable `hyst_linear_adaptive`; `params` and `cfg` are NULL or
+/// `a` is NULL or points to a writable `hyst_affine_adaptive`; `params` and `cfg` are NULL or
 /// readable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_init(
-    a: *mut hyst_linear_adaptive,
+pub unsafe extern "C" fn hyst_affine_adaptive_init(
+    a: *mut hyst_affine_adaptive,
     params: *const hyst_shaped_model_params,
     cfg: *const hyst_adaptive_config,
 ) -> i32 {
@@ -70,10 +70,10 @@ pub unsafe extern "C" fn hyst_linear_adaptive_init(
 /// As `hyst_adaptive_step`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive`; `x` is NULL or writable.
+/// `a` is NULL or an initialised `hyst_affine_adaptive`; `x` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_step(
-    a: *mut hyst_linear_adaptive,
+pub unsafe extern "C" fn hyst_affine_adaptive_step(
+    a: *mut hyst_affine_adaptive,
     desired: f64,
     x: *mut f64,
 ) -> i32 {
@@ -87,11 +87,11 @@ pub unsafe extern "C" fn hyst_linear_adaptive_step(
 /// As `hyst_adaptive_measure`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive`; `prediction` and `status` are NULL or
+/// `a` is NULL or an initialised `hyst_affine_adaptive`; `prediction` and `status` are NULL or
 /// writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_measure(
-    a: *mut hyst_linear_adaptive,
+pub unsafe extern "C" fn hyst_affine_adaptive_measure(
+    a: *mut hyst_affine_adaptive,
     y: f64,
     prediction: *mut f64,
     status: *mut i32,
@@ -103,11 +103,11 @@ pub unsafe extern "C" fn hyst_linear_adaptive_measure(
 /// As `hyst_adaptive_update`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive`; `prediction` and `status` are NULL or
+/// `a` is NULL or an initialised `hyst_affine_adaptive`; `prediction` and `status` are NULL or
 /// writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_update(
-    a: *mut hyst_linear_adaptive,
+pub unsafe extern "C" fn hyst_affine_adaptive_update(
+    a: *mut hyst_affine_adaptive,
     x: f64,
     y: f64,
     prediction: *mut f64,
@@ -120,10 +120,10 @@ pub unsafe extern "C" fn hyst_linear_adaptive_update(
 /// As `hyst_adaptive_parameter`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive`; `value` is NULL or writable.
+/// `a` is NULL or an initialised `hyst_affine_adaptive`; `value` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_parameter(
-    a: *const hyst_linear_adaptive,
+pub unsafe extern "C" fn hyst_affine_adaptive_parameter(
+    a: *const hyst_affine_adaptive,
     which: i32,
     value: *mut f64,
 ) -> i32 {
@@ -137,10 +137,10 @@ pub unsafe extern "C" fn hyst_linear_adaptive_parameter(
 /// As `hyst_adaptive_counts`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive`; `counts` is NULL or writable.
+/// `a` is NULL or an initialised `hyst_affine_adaptive`; `counts` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_counts(
-    a: *const hyst_linear_adaptive,
+pub unsafe extern "C" fn hyst_affine_adaptive_counts(
+    a: *const hyst_affine_adaptive,
     counts: *mut hyst_adaptive_sample_counts,
 ) -> i32 {
     if counts.is_null() {

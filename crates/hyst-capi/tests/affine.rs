@@ -1,4 +1,4 @@
-//! `hyst_linear_model_*` and `hyst_linear_compensator_*` compute what `hyst_shaped_model_*` and
+//! `hyst_affine_model_*` and `hyst_affine_compensator_*` compute what `hyst_shaped_model_*` and
 //! `hyst_shaped_compensator_*` compute for affine shapings, bit for bit, with each start rule
 //! and form, in double and float; other shaping kinds are refused and leave the state as it was.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
@@ -87,29 +87,29 @@ fn the_linear_model_is_the_shaped_model_bit_for_bit() {
         ] {
             let p = params(rule, form);
             let p32 = f32_params(&p);
-            let (mut lin, mut shp): (hyst_linear_model, hyst_shaped_model) = (zeroed(), zeroed());
-            let (mut lin32, mut shp32): (hyst_linear_model_f32, hyst_shaped_model_f32) =
+            let (mut lin, mut shp): (hyst_affine_model, hyst_shaped_model) = (zeroed(), zeroed());
+            let (mut lin32, mut shp32): (hyst_affine_model_f32, hyst_shaped_model_f32) =
                 (zeroed(), zeroed());
             unsafe {
                 let (a, b, c, d) = if inverse {
                     (
-                        hyst_linear_model_init_inverse(&mut lin, &p),
+                        hyst_affine_model_init_inverse(&mut lin, &p),
                         hyst_shaped_model_init_inverse(&mut shp, &p),
-                        hyst_linear_model_init_inverse_f32(&mut lin32, &p32),
+                        hyst_affine_model_init_inverse_f32(&mut lin32, &p32),
                         hyst_shaped_model_init_inverse_f32(&mut shp32, &p32),
                     )
                 } else {
                     (
-                        hyst_linear_model_init_direct(&mut lin, &p),
+                        hyst_affine_model_init_direct(&mut lin, &p),
                         hyst_shaped_model_init_direct(&mut shp, &p),
-                        hyst_linear_model_init_direct_f32(&mut lin32, &p32),
+                        hyst_affine_model_init_direct_f32(&mut lin32, &p32),
                         hyst_shaped_model_init_direct_f32(&mut shp32, &p32),
                     )
                 };
                 assert_eq!([a, b, c, d], [HYST_OK; 4]);
                 for k in 0..800 {
                     if k == 500 {
-                        assert_eq!(hyst_linear_model_reset(&mut lin), HYST_OK);
+                        assert_eq!(hyst_affine_model_reset(&mut lin), HYST_OK);
                         assert_eq!(hyst_shaped_model_reset(&mut shp), HYST_OK);
                     }
                     // The inverse takes desired outputs in the output's range.
@@ -119,10 +119,10 @@ fn the_linear_model_is_the_shaped_model_bit_for_bit() {
                         signal(k)
                     };
                     let (mut y1, mut y2, mut y3, mut y4) = (0.0, 0.0, 0.0_f32, 0.0_f32);
-                    assert_eq!(hyst_linear_model_step(&mut lin, x, &mut y1), HYST_OK);
+                    assert_eq!(hyst_affine_model_step(&mut lin, x, &mut y1), HYST_OK);
                     assert_eq!(hyst_shaped_model_step(&mut shp, x, &mut y2), HYST_OK);
                     assert_eq!(
-                        hyst_linear_model_step_f32(&mut lin32, x as f32, &mut y3),
+                        hyst_affine_model_step_f32(&mut lin32, x as f32, &mut y3),
                         HYST_OK
                     );
                     assert_eq!(
@@ -145,11 +145,11 @@ fn the_linear_model_is_the_shaped_model_bit_for_bit() {
 fn the_linear_compensator_is_the_shaped_one_bit_for_bit() {
     let p = params(HYST_INITIAL_STATE_LINE, HYST_FORM_OPERATOR);
     let a = [0.05, 0.001];
-    let (mut lin, mut shp): (hyst_linear_compensator, hyst_shaped_compensator) =
+    let (mut lin, mut shp): (hyst_affine_compensator, hyst_shaped_compensator) =
         (zeroed(), zeroed());
     unsafe {
         assert_eq!(
-            hyst_linear_compensator_init(&mut lin, &p, 1.3, a.as_ptr(), std::ptr::null(), 2),
+            hyst_affine_compensator_init(&mut lin, &p, 1.3, a.as_ptr(), std::ptr::null(), 2),
             HYST_OK
         );
         assert_eq!(
@@ -160,7 +160,7 @@ fn the_linear_compensator_is_the_shaped_one_bit_for_bit() {
             let u_new = if (k / 50) % 2 == 0 { 2000.0 } else { -2000.0 };
             let (mut u1, mut u2) = (0.0, 0.0);
             assert_eq!(
-                hyst_linear_compensator_step(&mut lin, u_new, 1e-3, &mut u1),
+                hyst_affine_compensator_step(&mut lin, u_new, 1e-3, &mut u1),
                 HYST_OK
             );
             assert_eq!(
@@ -177,36 +177,61 @@ fn other_kinds_and_the_stop_forms_compensator_are_refused() {
     let mut p = params(HYST_INITIAL_STATE_RISING, HYST_FORM_OPERATOR);
     p.output.kind = HYST_SHAPING_TANH;
     p.output.p = [1.0, 1.0, 0.0, 0.0, 0.0, 0.0];
-    let mut m: hyst_linear_model = zeroed();
-    let mut c: hyst_linear_compensator = zeroed();
+    let mut m: hyst_affine_model = zeroed();
+    let mut c: hyst_affine_compensator = zeroed();
     unsafe {
         assert_eq!(
-            hyst_linear_model_init_direct(&mut m, &p),
+            hyst_affine_model_init_direct(&mut m, &p),
             HYST_ERR_INVALID_PARAMETER
         );
         // Untouched: still not initialised.
         let mut y = 0.0;
         assert_eq!(
-            hyst_linear_model_step(&mut m, 0.1, &mut y),
+            hyst_affine_model_step(&mut m, 0.1, &mut y),
             HYST_ERR_NOT_INITIALISED
         );
         let stop = params(HYST_INITIAL_STATE_LINE, HYST_FORM_STOP);
         let a = [0.05];
         assert_eq!(
-            hyst_linear_compensator_init(&mut c, &stop, 1.0, a.as_ptr(), std::ptr::null(), 1),
+            hyst_affine_compensator_init(&mut c, &stop, 1.0, a.as_ptr(), std::ptr::null(), 1),
             HYST_ERR_INVALID_PARAMETER
         );
         let rising = params(HYST_INITIAL_STATE_RISING, HYST_FORM_OPERATOR);
         assert_eq!(
-            hyst_linear_compensator_init(&mut c, &rising, 1.0, a.as_ptr(), std::ptr::null(), 1),
+            hyst_affine_compensator_init(&mut c, &rising, 1.0, a.as_ptr(), std::ptr::null(), 1),
             HYST_ERR_INVALID_PARAMETER
         );
         assert_eq!(
-            hyst_linear_model_init_inverse(
+            hyst_affine_model_init_inverse(
                 &mut m,
                 &params(HYST_INITIAL_STATE_LINE, HYST_FORM_STOP)
             ),
             HYST_ERR_INVALID_PARAMETER
         );
+    }
+}
+
+/// The old `hyst_linear_*` names (deprecated) are the affine model's: the same results, bit for
+/// bit, on the same state types.
+#[test]
+#[allow(deprecated)]
+fn the_old_linear_names_run_the_affine_model() {
+    use hyst::api_f64::deprecated::*;
+    let p = params(HYST_INITIAL_STATE_RISING, HYST_FORM_OPERATOR);
+    let mut new: hyst_affine_model = zeroed();
+    let mut old: hyst_linear_model = zeroed();
+    unsafe {
+        assert_eq!(hyst_affine_model_init_inverse(&mut new, &p), HYST_OK);
+        assert_eq!(hyst_linear_model_init_inverse(&mut old, &p), HYST_OK);
+    }
+    for k in 0..500 {
+        let desired = -96.0 + 20.0 * signal(k);
+        let (mut a, mut b) = (f64::NAN, f64::NAN);
+        unsafe {
+            let sa = hyst_affine_model_step(&mut new, desired, &mut a);
+            let sb = hyst_linear_model_step(&mut old, desired, &mut b);
+            assert_eq!(sa, sb, "sample {k}");
+        }
+        assert_eq!(a.to_bits(), b.to_bits(), "sample {k}");
     }
 }

@@ -1,9 +1,9 @@
-//! The adaptive compensator of a model with affine shapings (`hyst_linear_adaptive_*`): the
+//! The adaptive compensator of a model with affine shapings (`hyst_affine_adaptive_*`): the
 //! same estimator and compensator as `hyst_adaptive_*` on duals of width 4 (up to four
 //! parameters) and with no nonlinear shape linked, for firmware where code size counts (as
-//! `hyst_linear_model_*` is to `hyst_shaped_model_*`).
+//! `hyst_affine_model_*` is to `hyst_shaped_model_*`).
 //!
-//! GENERATED from `api_f64/linear_adaptive.rs` by `scripts/gen-capi-f32`: do not edit.
+//! GENERATED from `api_f64/affine_adaptive.rs` by `scripts/gen-capi-f32`: do not edit.
 
 use hyst_core::AffineShaping;
 
@@ -19,7 +19,7 @@ use crate::status::HYST_ERR_NULL_POINTER;
 /// ψ_out), adapting up to four parameters: an opaque block of 768 bytes, 8-byte aligned,
 /// plain data (copyable with memcpy).
 #[repr(C)]
-pub struct hyst_linear_adaptive_f32 {
+pub struct hyst_affine_adaptive_f32 {
     opaque: [u64; 96],
 }
 
@@ -28,16 +28,16 @@ type LinearState = State<4, AffineShaping<f32>>;
 
 const TAG_LINEAR_ADAPTIVE: u32 = 0x4859_6166; // "HYaf"
 
-const _: () = assert!(slot::fits::<hyst_linear_adaptive_f32, LinearState>());
+const _: () = assert!(slot::fits::<hyst_affine_adaptive_f32, LinearState>());
 
 /// The initialised adaptive compensator behind `a`, or the status of the failed check.
-fn state<'a>(a: *mut hyst_linear_adaptive_f32) -> Result<&'a mut LinearState, i32> {
+fn state<'a>(a: *mut hyst_affine_adaptive_f32) -> Result<&'a mut LinearState, i32> {
     // SAFETY: as in the operator module's `operator`.
     unsafe { slot::value_mut::<_, LinearState>(a, TAG_LINEAR_ADAPTIVE) }
 }
 
 /// As [`state`], read only.
-fn state_ref<'a>(a: *const hyst_linear_adaptive_f32) -> Result<&'a LinearState, i32> {
+fn state_ref<'a>(a: *const hyst_affine_adaptive_f32) -> Result<&'a LinearState, i32> {
     // SAFETY: as in the operator module's `operator`.
     unsafe { slot::value::<_, LinearState>(a, TAG_LINEAR_ADAPTIVE) }
 }
@@ -47,11 +47,11 @@ fn state_ref<'a>(a: *const hyst_linear_adaptive_f32) -> Result<&'a LinearState, 
 /// `hyst_adaptive_*` then).
 ///
 /// # Safety
-/// `a` is NULL or points to a writable `hyst_linear_adaptive_f32`; `params` and `cfg` are NULL or
+/// `a` is NULL or points to a writable `hyst_affine_adaptive_f32`; `params` and `cfg` are NULL or
 /// readable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_init_f32(
-    a: *mut hyst_linear_adaptive_f32,
+pub unsafe extern "C" fn hyst_affine_adaptive_init_f32(
+    a: *mut hyst_affine_adaptive_f32,
     params: *const hyst_shaped_model_params_f32,
     cfg: *const hyst_adaptive_config_f32,
 ) -> i32 {
@@ -70,10 +70,10 @@ pub unsafe extern "C" fn hyst_linear_adaptive_init_f32(
 /// As `hyst_adaptive_step_f32`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `x` is NULL or writable.
+/// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `x` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_step_f32(
-    a: *mut hyst_linear_adaptive_f32,
+pub unsafe extern "C" fn hyst_affine_adaptive_step_f32(
+    a: *mut hyst_affine_adaptive_f32,
     desired: f32,
     x: *mut f32,
 ) -> i32 {
@@ -87,11 +87,11 @@ pub unsafe extern "C" fn hyst_linear_adaptive_step_f32(
 /// As `hyst_adaptive_measure_f32`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `prediction` and `status` are NULL or
+/// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `prediction` and `status` are NULL or
 /// writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_measure_f32(
-    a: *mut hyst_linear_adaptive_f32,
+pub unsafe extern "C" fn hyst_affine_adaptive_measure_f32(
+    a: *mut hyst_affine_adaptive_f32,
     y: f32,
     prediction: *mut f32,
     status: *mut i32,
@@ -103,11 +103,11 @@ pub unsafe extern "C" fn hyst_linear_adaptive_measure_f32(
 /// As `hyst_adaptive_update_f32`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `prediction` and `status` are NULL or
+/// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `prediction` and `status` are NULL or
 /// writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_update_f32(
-    a: *mut hyst_linear_adaptive_f32,
+pub unsafe extern "C" fn hyst_affine_adaptive_update_f32(
+    a: *mut hyst_affine_adaptive_f32,
     x: f32,
     y: f32,
     prediction: *mut f32,
@@ -120,10 +120,10 @@ pub unsafe extern "C" fn hyst_linear_adaptive_update_f32(
 /// As `hyst_adaptive_parameter_f32`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `value` is NULL or writable.
+/// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `value` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_parameter_f32(
-    a: *const hyst_linear_adaptive_f32,
+pub unsafe extern "C" fn hyst_affine_adaptive_parameter_f32(
+    a: *const hyst_affine_adaptive_f32,
     which: i32,
     value: *mut f32,
 ) -> i32 {
@@ -137,10 +137,10 @@ pub unsafe extern "C" fn hyst_linear_adaptive_parameter_f32(
 /// As `hyst_adaptive_counts_f32`.
 ///
 /// # Safety
-/// `a` is NULL or an initialised `hyst_linear_adaptive_f32`; `counts` is NULL or writable.
+/// `a` is NULL or an initialised `hyst_affine_adaptive_f32`; `counts` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_adaptive_counts_f32(
-    a: *const hyst_linear_adaptive_f32,
+pub unsafe extern "C" fn hyst_affine_adaptive_counts_f32(
+    a: *const hyst_affine_adaptive_f32,
     counts: *mut hyst_adaptive_sample_counts,
 ) -> i32 {
     if counts.is_null() {

@@ -1,12 +1,12 @@
 //! The shaped model whose shapings are affine (identity or affine shape, with their scalings:
-//! what `hyst fit` writes by default), its inverse and stop form (`hyst_linear_model_*`), and
-//! its Lemma 5.1 compensator (`hyst_linear_compensator_*`). The same parameters, arithmetic and
+//! what `hyst fit` writes by default), its inverse and stop form (`hyst_affine_model_*`), and
+//! its Lemma 5.1 compensator (`hyst_affine_compensator_*`). The same parameters, arithmetic and
 //! results as `hyst_shaped_model_*` and `hyst_shaped_compensator_*`, bit for bit, but a
 //! firmware that uses them links none of the nonlinear shapes (tanh, Langevin, polynomial,
 //! quadratic-exp and their inverses), which the run-time choice of `hyst_shaping_f32.kind` brings.
 //! `hyst export c` uses them for models with affine shapings.
 //!
-//! GENERATED from `api_f64/linear_model.rs` by `scripts/gen-capi-f32`: do not edit.
+//! GENERATED from `api_f64/affine_model.rs` by `scripts/gen-capi-f32`: do not edit.
 
 use crate::api_f32::checks::done;
 use crate::api_f32::compensator::{comp_state, comp_step, init_from_params};
@@ -20,14 +20,14 @@ use hyst_core::AnyK2Law;
 /// The shaped model of `hyst_shaped_model_params_f32` whose shapings are affine, as
 /// `hyst_shaped_model_f32`: an opaque block of 160 bytes, 8-byte aligned, plain data.
 #[repr(C)]
-pub struct hyst_linear_model_f32 {
+pub struct hyst_affine_model_f32 {
     opaque: [u64; 20],
 }
 
 /// The Lemma 5.1 compensator of such a model, as `hyst_shaped_compensator_f32`: an opaque
 /// block of 224 bytes, 8-byte aligned, plain data.
 #[repr(C)]
-pub struct hyst_linear_compensator_f32 {
+pub struct hyst_affine_compensator_f32 {
     opaque: [u64; 28],
 }
 
@@ -39,27 +39,27 @@ type LinearComp = Comp<f32, Linear<f32>, AnyK2Law<f32>, Linear<f32>>;
 const TAG_LINEAR: u32 = 0x4859_4c66; // "HYLf"
 const TAG_LINEAR_COMPENSATOR: u32 = 0x4859_6c66; // "HYlf"
 
-const _: () = assert!(slot::fits::<hyst_linear_model_f32, LinearShaped>());
-const _: () = assert!(slot::fits::<hyst_linear_compensator_f32, LinearComp>());
+const _: () = assert!(slot::fits::<hyst_affine_model_f32, LinearShaped>());
+const _: () = assert!(slot::fits::<hyst_affine_compensator_f32, LinearComp>());
 
 /// The initialised model behind `m`, or the status of the failed check.
-fn linear<'a>(m: *mut hyst_linear_model_f32) -> Result<&'a mut LinearShaped, i32> {
+fn linear<'a>(m: *mut hyst_affine_model_f32) -> Result<&'a mut LinearShaped, i32> {
     // SAFETY: as in the operator module's `operator`.
     unsafe { slot::value_mut::<_, LinearShaped>(m, TAG_LINEAR) }
 }
 
 /// The initialised compensator behind `c`, or the status of the failed check.
-fn linear_compensator<'a>(c: *mut hyst_linear_compensator_f32) -> Result<&'a mut LinearComp, i32> {
+fn linear_compensator<'a>(c: *mut hyst_affine_compensator_f32) -> Result<&'a mut LinearComp, i32> {
     // SAFETY: as in the operator module's `operator`.
     unsafe { slot::value_mut(c, TAG_LINEAR_COMPENSATOR) }
 }
 
-/// `hyst_linear_model_init_direct_f32` / `_inverse`.
+/// `hyst_affine_model_init_direct_f32` / `_inverse`.
 ///
 /// # Safety
-/// `m` is NULL or points to a writable `hyst_linear_model_f32`; `params` is NULL or readable.
+/// `m` is NULL or points to a writable `hyst_affine_model_f32`; `params` is NULL or readable.
 unsafe fn init_linear(
-    m: *mut hyst_linear_model_f32,
+    m: *mut hyst_affine_model_f32,
     params: *const hyst_shaped_model_params_f32,
     inverse: bool,
 ) -> i32 {
@@ -83,10 +83,10 @@ unsafe fn init_linear(
 /// not `HYST_SHAPING_IDENTITY` or `HYST_SHAPING_AFFINE` (use `hyst_shaped_model_*` then).
 ///
 /// # Safety
-/// `m` is NULL or points to a writable `hyst_linear_model_f32`; `params` is NULL or readable.
+/// `m` is NULL or points to a writable `hyst_affine_model_f32`; `params` is NULL or readable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_init_direct_f32(
-    m: *mut hyst_linear_model_f32,
+pub unsafe extern "C" fn hyst_affine_model_init_direct_f32(
+    m: *mut hyst_affine_model_f32,
     params: *const hyst_shaped_model_params_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
@@ -94,13 +94,13 @@ pub unsafe extern "C" fn hyst_linear_model_init_direct_f32(
 }
 
 /// Initialises `m` as the exact inverse of the model of `params`, as
-/// `hyst_shaped_model_init_inverse_f32` (the same refusals as `hyst_linear_model_init_direct_f32`).
+/// `hyst_shaped_model_init_inverse_f32` (the same refusals as `hyst_affine_model_init_direct_f32`).
 ///
 /// # Safety
-/// As `hyst_linear_model_init_direct_f32`.
+/// As `hyst_affine_model_init_direct_f32`.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_init_inverse_f32(
-    m: *mut hyst_linear_model_f32,
+pub unsafe extern "C" fn hyst_affine_model_init_inverse_f32(
+    m: *mut hyst_affine_model_f32,
     params: *const hyst_shaped_model_params_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
@@ -110,10 +110,10 @@ pub unsafe extern "C" fn hyst_linear_model_init_inverse_f32(
 /// One sample, as `hyst_shaped_model_step_f32`.
 ///
 /// # Safety
-/// `m` is NULL or an initialised `hyst_linear_model_f32`; `y` is NULL or writable.
+/// `m` is NULL or an initialised `hyst_affine_model_f32`; `y` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_step_f32(
-    m: *mut hyst_linear_model_f32,
+pub unsafe extern "C" fn hyst_affine_model_step_f32(
+    m: *mut hyst_affine_model_f32,
     x: f32,
     y: *mut f32,
 ) -> i32 {
@@ -125,10 +125,10 @@ pub unsafe extern "C" fn hyst_linear_model_step_f32(
 /// `hyst_shaped_model_get_memory_f32`.
 ///
 /// # Safety
-/// `m` is NULL or an initialised `hyst_linear_model_f32`; `memory` is NULL or writable.
+/// `m` is NULL or an initialised `hyst_affine_model_f32`; `memory` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_get_memory_f32(
-    m: *mut hyst_linear_model_f32,
+pub unsafe extern "C" fn hyst_affine_model_get_memory_f32(
+    m: *mut hyst_affine_model_f32,
     memory: *mut hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
@@ -138,10 +138,10 @@ pub unsafe extern "C" fn hyst_linear_model_get_memory_f32(
 /// Restores the memory of the model's operator, as `hyst_shaped_model_set_memory_f32`.
 ///
 /// # Safety
-/// `m` is NULL or an initialised `hyst_linear_model_f32`; `memory` is NULL or readable.
+/// `m` is NULL or an initialised `hyst_affine_model_f32`; `memory` is NULL or readable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_set_memory_f32(
-    m: *mut hyst_linear_model_f32,
+pub unsafe extern "C" fn hyst_affine_model_set_memory_f32(
+    m: *mut hyst_affine_model_f32,
     memory: *const hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
@@ -151,29 +151,29 @@ pub unsafe extern "C" fn hyst_linear_model_set_memory_f32(
 /// Forgets the history: the start rule applies again at the next sample.
 ///
 /// # Safety
-/// `m` is NULL or an initialised `hyst_linear_model_f32`.
+/// `m` is NULL or an initialised `hyst_affine_model_f32`.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_model_reset_f32(m: *mut hyst_linear_model_f32) -> i32 {
+pub unsafe extern "C" fn hyst_affine_model_reset_f32(m: *mut hyst_affine_model_f32) -> i32 {
     reset(linear(m))
 }
 
 /// Initialises `c` as the Lemma 5.1 compensator of the model of `params`, as
 /// `hyst_shaped_compensator_init_f32` (the same refusals, and those of
-/// `hyst_linear_model_init_direct_f32`).
+/// `hyst_affine_model_init_direct_f32`).
 ///
 /// # Safety
-/// `c` is NULL or points to a writable `hyst_linear_compensator_f32`; `params` is NULL or
+/// `c` is NULL or points to a writable `hyst_affine_compensator_f32`; `params` is NULL or
 /// readable; `a` and `v0` are NULL or hold n values.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_compensator_init_f32(
-    c: *mut hyst_linear_compensator_f32,
+pub unsafe extern "C" fn hyst_affine_compensator_init_f32(
+    c: *mut hyst_affine_compensator_f32,
     params: *const hyst_shaped_model_params_f32,
     b: f32,
     a: *const f32,
     v0: *const f32,
     n: usize,
 ) -> i32 {
-    // SAFETY: `c` is NULL or a writable `hyst_linear_compensator_f32`, whose size `fits` checks;
+    // SAFETY: `c` is NULL or a writable `hyst_affine_compensator_f32`, whose size `fits` checks;
     // the rest is the caller's contract, forwarded.
     unsafe {
         init_from_params(
@@ -192,10 +192,10 @@ pub unsafe extern "C" fn hyst_linear_compensator_init_f32(
 /// One sample, as `hyst_shaped_compensator_step_f32`.
 ///
 /// # Safety
-/// `c` is NULL or an initialised `hyst_linear_compensator_f32`; `u` is NULL or writable.
+/// `c` is NULL or an initialised `hyst_affine_compensator_f32`; `u` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_compensator_step_f32(
-    c: *mut hyst_linear_compensator_f32,
+pub unsafe extern "C" fn hyst_affine_compensator_step_f32(
+    c: *mut hyst_affine_compensator_f32,
     u_new: f32,
     dt: f32,
     u: *mut f32,
@@ -207,11 +207,11 @@ pub unsafe extern "C" fn hyst_linear_compensator_step_f32(
 /// The integrators and the inverse model's memory, as `hyst_shaped_compensator_get_state_f32`.
 ///
 /// # Safety
-/// `c` is NULL or an initialised `hyst_linear_compensator_f32`; `v` is NULL or holds n values;
+/// `c` is NULL or an initialised `hyst_affine_compensator_f32`; `v` is NULL or holds n values;
 /// `memory` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_compensator_get_state_f32(
-    c: *mut hyst_linear_compensator_f32,
+pub unsafe extern "C" fn hyst_affine_compensator_get_state_f32(
+    c: *mut hyst_affine_compensator_f32,
     v: *mut f32,
     memory: *mut hyst_memory_f32,
 ) -> i32 {
@@ -222,10 +222,10 @@ pub unsafe extern "C" fn hyst_linear_compensator_get_state_f32(
 /// Back to the initial integrator state, and the inverse model's memory forgotten.
 ///
 /// # Safety
-/// `c` is NULL or an initialised `hyst_linear_compensator_f32`.
+/// `c` is NULL or an initialised `hyst_affine_compensator_f32`.
 #[no_mangle]
-pub unsafe extern "C" fn hyst_linear_compensator_reset_f32(
-    c: *mut hyst_linear_compensator_f32,
+pub unsafe extern "C" fn hyst_affine_compensator_reset_f32(
+    c: *mut hyst_affine_compensator_f32,
 ) -> i32 {
     done(linear_compensator(c).map(|comp| {
         comp.reset();
