@@ -172,7 +172,6 @@ fn every_surface_uses_the_names_of_the_vocabulary_table() {
         {
             let mut fmu = String::new();
             sources(&root().join("crates/hyst-fmu/src"), &mut fmu);
-            sources(&root().join("crates/hyst-cli/src/fmu"), &mut fmu);
             fmu
         },
     ];
