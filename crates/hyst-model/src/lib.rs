@@ -20,8 +20,8 @@
 //!   reproduces the data and its bound Δa; [`provenance`]: what the file records of the data
 //!   and the fit.
 //!
-//! - [`export`]: a model file as firmware source, a header-only C file over `hyst.h` or `no_std`
-//!   Rust over hyst-core, exact from the first sample (`hyst export c|rust`).
+//! A model file as firmware source (`hyst export c|rust`) is hyst-codegen's: the C library and
+//! the FMU, which run models through this crate, do not compile the code generators.
 //!
 //! The optional feature `clap` derives `clap::ValueEnum` for the choices a command line offers
 //! ([`ShapingKind`], [`K2Kind`], [`Form`], [`ModelKind`]; the start rule [`InitialState`] is
@@ -33,7 +33,6 @@ pub mod adaptive;
 pub mod dynamics;
 pub mod error;
 pub mod evaluator;
-pub mod export;
 pub mod family;
 pub mod file;
 pub mod input_units;
