@@ -4,9 +4,6 @@
 //! builds it with a nested `cargo build` into its own target directory (under OUT_DIR: the
 //! outer build holds the lock of the usual one).
 //!
-//! It also compiles the plain-C peer of the inverse operator (src/peer/peer.c) that `hyst bench`
-//! and the criterion benches measure hyst against, with the `cc` crate at -O2.
-//!
 //! `HYST_EMBED_FMU=0` builds without it (then `hyst fmu` takes `libhyst_fmu.so` beside the
 //! executable or from `HYST_FMU_LIBRARY`), `=1` embeds in any profile; by default only release
 //! builds embed it (debug builds and tests find the library beside the executable).
@@ -18,7 +15,6 @@ use std::process::Command;
 const EMBEDDED: &str = "embedded-fmu.so";
 
 fn main() {
-    compile_peer();
     println!("cargo:rerun-if-env-changed=HYST_EMBED_FMU");
     let out_dir = PathBuf::from(std::env::var_os("OUT_DIR").unwrap_or_default());
     let embedded = out_dir.join(EMBEDDED);
@@ -34,23 +30,6 @@ fn main() {
     };
     if let Err(e) = std::fs::write(&embedded, bytes) {
         fail(&format!("cannot write {}: {e}", embedded.display()));
-    }
-}
-
-/// Compiles src/peer/peer.c into a static library linked into hyst: -O2, no fused multiply-adds
-/// (Rust makes none, so the peer computes what hyst computes), the platform's libm for `exp`.
-fn compile_peer() {
-    println!("cargo:rerun-if-changed=src/peer/peer.c");
-    cc::Build::new()
-        .file("src/peer/peer.c")
-        .opt_level(2)
-        .flag_if_supported("-ffp-contract=off")
-        .warnings(true)
-        .compile("hyst_peer");
-    if std::env::var("CARGO_CFG_TARGET_FAMILY").as_deref() == Ok("unix")
-        && std::env::var("CARGO_CFG_TARGET_OS").as_deref() != Ok("macos")
-    {
-        println!("cargo:rustc-link-lib=m");
     }
 }
 

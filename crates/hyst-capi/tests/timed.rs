@@ -13,7 +13,7 @@ use hyst::host::*;
 use hyst::status::*;
 
 /// A static smooth model file as `hyst fit` writes it (format version 1): y = 3 H(0.2, 6)[v] + 1,
-/// v = x / 2 − 1 (hyst-model's test fixture, shared with its export tests).
+/// v = x / 2 − 1 (hyst-model's test fixture, shared with hyst-codegen's tests).
 const STATIC: &str = include_str!("../../hyst-model/testdata/static-model.toml");
 
 const FIRST_ORDER: &str = "[dynamics]\nb = 1.0\na = [0.05]\n";

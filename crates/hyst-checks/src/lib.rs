@@ -118,13 +118,13 @@ pub fn check_csv(data: &[u8]) -> Result<(), String> {
 /// # Errors
 /// A description of the broken invariant.
 fn check_export(file: &ModelFile) -> Result<(), String> {
-    let source = hyst_model::export::Source {
+    let source = hyst_codegen::Source {
         name: "fuzz.toml".into(),
         fnv1a64: 0,
     };
     for (language, text) in [
-        ("c", hyst_model::export::c(file, "m", &source)),
-        ("rust", hyst_model::export::rust(file, "m", &source)),
+        ("c", hyst_codegen::c(file, "m", &source)),
+        ("rust", hyst_codegen::rust(file, "m", &source)),
     ] {
         match text {
             Ok(text) => {

@@ -1,16 +1,17 @@
 //! `hyst bench`: ns per sample of the operators and of the yardsticks, measured in one process
 //! (rounds of ~10 ms batches, interleaved, the fastest batch of each kept), with the speed goals
 //! as ratios (timings on shared machines are noisy; ratios measured in one
-//! run are what to compare).
+//! run are what to compare). The workloads and the measuring are hyst-bench's
+//! (`crate::workloads`); the plain-C peer of the inverse is timed by `hyst-bench`, not here.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use anyhow::{bail, Result};
 use hyst_io::number::shortest;
 use serde_json::json;
 
 use crate::bench_fit::{self, FitFigures, FIT_OVER_RUN_GOAL};
-use crate::workloads::{Inputs, NAMES};
+use crate::workloads::{calibrate, measure, Inputs, Suite as _, NAMES};
 use hyst_bank::{force_isa, isa, Isa};
 
 /// Arguments of `hyst bench`.
@@ -21,9 +22,7 @@ pub struct Args {
     /// of 64 ticks, ns per channel-sample), fitted_static_ns, fitted_dynamics_ns, adaptive_ns,
     /// the goal ratios and goals_met, the banks' ratios to the scalar operators and to each
     /// other, bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static,
-    /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, c_peer_ns (a plain-C
-    /// inverse with no checks on the same signal), inverse_over_c_peer and c_peer_goal_met,
-    /// exp_inline_ns (the inline f64 `exp` the inverse evaluates) and inverse_over_exp_inline,
+    /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, exp_inline_ns (the inline f64 `exp` the inverse evaluates) and inverse_over_exp_inline,
     /// kernel, the bank's instruction set; the same banks tick by tick (one `step` per tick of
     /// the 64, ns per channel-sample): bank_tick_inverse_ns, bank_tick_direct_ns,
     /// bank_tick_inverse_f32_ns, next to 1,024 scalar operators stepped once a tick each,
@@ -45,7 +44,7 @@ pub struct Args {
     #[arg(long, value_name = "ISA", value_parser = ["avx512", "avx2", "sse2", "portable"])]
     pub kernel: Option<String>,
     /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
-    /// takes this plus about 0.2 s of calibration). The time is shared by the 22 workloads,
+    /// takes this plus about 0.2 s of calibration). The time is shared by the 21 workloads,
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
@@ -62,21 +61,6 @@ pub struct Args {
 /// key of their goals' verdict.
 const AVX2_TICK: &str = "bank_avx2_tick";
 const AVX2_TICK_MET: &str = "bank_avx2_tick_goals_met";
-
-/// Target duration of one batch, in seconds.
-const BATCH_SECONDS: f64 = 0.005;
-
-/// ns per sample of one batch of `calls` calls of workload `index`.
-fn batch_ns(inputs: &Inputs, index: usize, calls: usize) -> f64 {
-    let start = Instant::now();
-    let mut checksum = 0.0;
-    for _ in 0..calls {
-        checksum += inputs.run(index);
-    }
-    let elapsed = start.elapsed();
-    std::hint::black_box(checksum);
-    elapsed.as_secs_f64() * 1e9 / (calls * inputs.samples(index)) as f64
-}
 
 /// Runs `hyst bench`.
 pub fn main(args: Args) -> Result<()> {
@@ -123,54 +107,6 @@ pub fn main(args: Args) -> Result<()> {
     }
 }
 
-/// Calls per batch of each workload, calibrated to about [`BATCH_SECONDS`]: double the calls
-/// until a batch takes ≥ 1 ms, then scale (a single cold call is no guide: it can be much
-/// slower or, rounded, faster). 0 for a workload this processor does not run.
-fn calibrate(inputs: &Inputs) -> Vec<usize> {
-    (0..NAMES.len())
-        .map(|i| {
-            if !inputs.available(i) {
-                return 0;
-            }
-            let mut calls = 1usize;
-            loop {
-                let t = Instant::now();
-                for _ in 0..calls {
-                    std::hint::black_box(inputs.run(i));
-                }
-                let took = t.elapsed();
-                if took >= Duration::from_millis(1) || calls >= 1 << 20 {
-                    let per_call = took.as_secs_f64() / calls as f64;
-                    break ((BATCH_SECONDS / per_call.max(1e-9)) as usize).clamp(1, 1 << 20);
-                }
-                calls *= 2;
-            }
-        })
-        .collect()
-}
-
-/// ns per sample of each workload: batches of `calls` calls in interleaved rounds (at least 5,
-/// for at least `budget`), the fastest batch of each kept, the one least disturbed by other
-/// processes (on a shared machine, slower batches measure the neighbours, not the code). NaN
-/// for a workload of no calls (one this processor does not run).
-fn measure(inputs: &Inputs, calls: &[usize], budget: Duration) -> Vec<f64> {
-    let started = Instant::now();
-    let mut samples = vec![Vec::new(); NAMES.len()];
-    let mut rounds = 0usize;
-    while rounds < 5 || started.elapsed() < budget {
-        for (i, s) in samples.iter_mut().enumerate() {
-            if calls[i] > 0 {
-                s.push(batch_ns(inputs, i, calls[i]));
-            }
-        }
-        rounds += 1;
-    }
-    samples
-        .iter()
-        .map(|s| s.iter().copied().reduce(f64::min).unwrap_or(f64::NAN))
-        .collect()
-}
-
 /// The goals as ratios measured in one run, from the fastest batch of each workload.
 struct Ratios {
     /// Scalar H⁻¹ over exp.
@@ -190,8 +126,6 @@ struct Ratios {
     /// The adaptive estimator (k1, k2, gain, offset) over the direct operator, per sample
     /// (goal: at most 10).
     adaptive: f64,
-    /// Scalar H⁻¹ over the plain-C peer on the same signal (goal: at most 1).
-    c_peer: f64,
     /// Scalar H⁻¹ over the inline `exp` it evaluates (no goal: what the operator costs beyond
     /// its exponential).
     inverse_over_exp_inline: f64,
@@ -316,16 +250,16 @@ impl Ratios {
             ("bank H^-1 f32 <= 0.5 x bank H^-1 f64", f32_over_f64 <= 0.5),
             ("bank H^-1 f32 >= 500 M channel-samples/s", f32_rate >= 5e8),
         ];
-        let scalar_ticks = [at(16), at(17)];
+        let scalar_ticks = [at(15), at(16)];
         let tick = TickRatios::of(
             "bank_tick",
             "tick",
-            [at(13), at(14), at(15)],
+            [at(12), at(13), at(14)],
             scalar_ticks,
             [Some(0.25), Some(0.33), Some(0.5)],
             "bank_tick_goals_met",
         );
-        let avx2 = [at(18), at(19), at(20)];
+        let avx2 = [at(17), at(18), at(19)];
         let avx2_tick = avx2.iter().all(|ns| ns.is_finite()).then(|| {
             TickRatios::of(
                 AVX2_TICK,
@@ -344,8 +278,7 @@ impl Ratios {
             bank_goals,
             dynamics: at(10) / at(9),
             adaptive: at(11) / direct,
-            c_peer: inverse / at(12),
-            inverse_over_exp_inline: inverse / at(21),
+            inverse_over_exp_inline: inverse / at(20),
             tick,
             avx2_tick,
         }
@@ -382,8 +315,6 @@ fn print_json(best: &[f64], ratios: &Ratios, fit: Option<&FitFigures>) -> Result
     map.insert("dynamics_goal_met".into(), json!(ratios.dynamics <= 2.0));
     map.insert("adaptive_over_direct".into(), json!(ratios.adaptive));
     map.insert("adaptive_goal_met".into(), json!(ratios.adaptive <= 10.0));
-    map.insert("inverse_over_c_peer".into(), json!(ratios.c_peer));
-    map.insert("c_peer_goal_met".into(), json!(ratios.c_peer <= 1.0));
     map.insert(
         "inverse_over_exp_inline".into(),
         json!(ratios.inverse_over_exp_inline),
@@ -446,11 +377,6 @@ fn print_table(best: &[f64], ratios: &Ratios) {
     outln!(
         "goal direct <= 1.5 x (lambert_w0+exp): {direct_ratio:.2} ({})",
         verdict(direct_ratio <= 1.5)
-    );
-    outln!(
-        "goal inverse <= 1.0 x plain-C peer:   {:.2} ({})",
-        ratios.c_peer,
-        verdict(ratios.c_peer <= 1.0)
     );
     outln!(
         "inverse / the inline exp it evaluates: {:.2} (no goal)",

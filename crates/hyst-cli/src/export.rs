@@ -1,5 +1,5 @@
 //! `hyst export c|rust MODEL --name NAME -o FILE`: a model file as firmware source, exact from
-//! the first sample (the generators are `hyst_model::export`'s, shared with Python's
+//! the first sample (the generators are hyst-codegen's, shared with Python's
 //! `Model.export_c`/`export_rust`). A model with dynamics adds its compensator, and with
 //! `--period SECONDS` its forward model with the plant discretised for that period. Everything
 //! is checked before anything is written, and the file is written atomically: on failure no
@@ -9,7 +9,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use hyst_model::export::{self, Source};
+use hyst_codegen::Source;
 use hyst_model::ModelFile;
 
 /// Arguments of `hyst export`.
@@ -76,10 +76,13 @@ pub fn main(args: Args) -> Result<()> {
         None => default_name(&a.model)?,
     };
     let source = Source::of_file(&a.model.display().to_string(), &bytes);
-    let options = export::Options { period: a.period };
+    let options = hyst_codegen::Options { period: a.period };
     let (what, generated) = match &args.target {
-        Target::C(_) => ("C", export::c_with(&file, &name, &source, &options)),
-        Target::Rust(_) => ("Rust", export::rust_with(&file, &name, &source, &options)),
+        Target::C(_) => ("C", hyst_codegen::c_with(&file, &name, &source, &options)),
+        Target::Rust(_) => (
+            "Rust",
+            hyst_codegen::rust_with(&file, &name, &source, &options),
+        ),
     };
     let generated = generated.with_context(|| {
         format!(
@@ -87,7 +90,7 @@ pub fn main(args: Args) -> Result<()> {
             a.model.display()
         )
     })?;
-    if let Some(reason) = export::no_float_reason(&file, &options) {
+    if let Some(reason) = hyst_codegen::no_float_reason(&file, &options) {
         eprintln!(
             "hyst export: note: no float form ({}): {reason}",
             match &args.target {
@@ -120,7 +123,7 @@ fn default_name(model: &Path) -> Result<String> {
         .and_then(|s| s.to_str())
         .unwrap_or_default()
         .to_string();
-    export::check_name(&stem).with_context(|| {
+    hyst_codegen::check_name(&stem).with_context(|| {
         format!(
             "hyst export: no --name given, and the model file's name {stem:?} cannot be one; \
              give --name NAME"

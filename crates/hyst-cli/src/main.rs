@@ -53,6 +53,8 @@ mod run;
 mod signals;
 mod source;
 mod spelling;
+// The benchmark workloads, one file with hyst-bench's (which adds the C peer `hyst` leaves out).
+#[path = "../../hyst-bench/src/workloads.rs"]
 mod workloads;
 
 /// Smooth parametric hysteresis: model, bound, compensate and fit.

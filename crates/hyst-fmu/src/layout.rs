@@ -1,6 +1,6 @@
-//! The layout of an FMU of hyst, shared by `hyst fmu` (crates/hyst-cli/src/fmu.rs, which writes
-//! the FMU) and this binary (which reads it): the files of the resources folder, the format and
-//! version of fmu.toml, and the value references and names of the variables (docs/fmu.md).
+//! The layout of an FMU of hyst, shared by what writes the FMU ([`crate::description`], packed
+//! by `hyst fmu`) and this binary (which reads it): the files of the resources folder, the format
+//! and version of fmu.toml, and the value references and names of the variables (docs/fmu.md).
 
 /// The configuration file's name in the resources folder.
 pub const CONFIG_FILE: &str = "fmu.toml";

@@ -5,6 +5,9 @@
 //! file or its exact inverse (kind = "model"), as `hyst run` runs them, configured by
 //! `resources/fmu.toml` ([`config`]). Its variables are all Real ([`layout`]): x (value
 //! reference 0, input), y (1, output), and for the operator k1 (2) and k2 (3), fixed parameters.
+//! The FMU's `modelDescription.xml`, `fmu.toml` and documentation are written here too
+//! ([`description`]: the rlib's part that `hyst fmu` calls before it zips them with this binary),
+//! so the variables an FMU declares and the ones its binary serves have one home.
 //!
 //! Semantics (FMI 2.0 Co-Simulation, direct feedthrough, rate independent):
 //! - each communication point is one sample, its inputs the values set there: after
@@ -37,6 +40,7 @@
 
 pub mod api;
 pub mod config;
+pub mod description;
 pub mod engine;
 pub mod fmi2;
 pub mod instance;

@@ -21,8 +21,8 @@
 //!   reproduces the data and its bound Δa; [`provenance`]: what the file records of the data
 //!   and the fit.
 //!
-//! - [`export`]: a model file as firmware source, a header-only C file over `hyst.h` or `no_std`
-//!   Rust over hyst-core, exact from the first sample (`hyst export c|rust`).
+//! A model file as firmware source (`hyst export c|rust`) is hyst-codegen's: the C library and
+//! the FMU, which run models through this crate, do not compile the code generators.
 //!
 //! - [`Choice`] (module [`choice`]): the named choices of a model file, a command line and
 //!   Python's keywords ([`ShapingKind`], [`K2Kind`], [`RateTerm`], [`Form`], [`Hold`],
@@ -36,7 +36,6 @@ pub mod choice;
 pub mod dynamics;
 pub mod error;
 pub mod evaluator;
-pub mod export;
 pub mod family;
 pub mod file;
 pub mod input_units;

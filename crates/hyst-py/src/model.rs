@@ -122,8 +122,8 @@ impl Model {
     }
 
     /// What an exported file names as its source.
-    fn export_source(&self) -> hyst_model::export::Source {
-        hyst_model::export::Source {
+    fn export_source(&self) -> hyst_codegen::Source {
+        hyst_codegen::Source {
             name: self.source.clone(),
             fnv1a64: self.source_fnv1a64,
         }
@@ -691,9 +691,8 @@ impl Model {
     #[pyo3(signature = (name, *, period=None))]
     fn export_c(slf: &Bound<'_, Self>, name: &str, period: Option<f64>) -> PyResult<String> {
         let me = borrow(slf)?;
-        let options = hyst_model::export::Options { period };
-        hyst_model::export::c_with(&me.file, name, &me.export_source(), &options)
-            .map_err(errors::model)
+        let options = hyst_codegen::Options { period };
+        hyst_codegen::c_with(&me.file, name, &me.export_source(), &options).map_err(errors::model)
     }
 
     /// The model as `no_std` Rust over hyst-core (`NAME::<T>()`, `NAME_inverse::<T>()`,
@@ -705,8 +704,8 @@ impl Model {
     #[pyo3(signature = (name, *, period=None))]
     fn export_rust(slf: &Bound<'_, Self>, name: &str, period: Option<f64>) -> PyResult<String> {
         let me = borrow(slf)?;
-        let options = hyst_model::export::Options { period };
-        hyst_model::export::rust_with(&me.file, name, &me.export_source(), &options)
+        let options = hyst_codegen::Options { period };
+        hyst_codegen::rust_with(&me.file, name, &me.export_source(), &options)
             .map_err(errors::model)
     }
 

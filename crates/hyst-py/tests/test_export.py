@@ -1,5 +1,5 @@
 """Model.export_c / export_rust return exactly what `hyst export c|rust` writes for the same
-model file (one generator, crates/hyst-model/src/export), and bad names raise ValueError."""
+model file (one generator, crates/hyst-codegen), and bad names raise ValueError."""
 
 import pickle
 

@@ -1,9 +1,9 @@
 /*
  * The plain-C peer of hyst's inverse operator: eq. (4) with Definition 2.1's
  * memory, written as a careful C programmer would, with no checks (no finiteness test, no
- * band test, no overflow repair). `hyst bench` times it on the same signal as hyst's inverse
- * (`inverse_over_c_peer`, goal <= 1.0); a unit test checks that it is a real inverse (its
- * outputs equal hyst's).
+ * band test, no overflow repair). `hyst-bench` (crates/hyst-bench) times it on the same signal
+ * as hyst's inverse (`inverse_over_c_peer`, goal <= 1.0); a unit test checks that it is a real
+ * inverse (its outputs equal hyst's).
  *
  * The same arithmetic as InverseHysteresis in crates/hyst-core/src/parametric.rs, in the same
  * order (so the outputs agree to an ulp of the exponential when no band clamp fires: hyst

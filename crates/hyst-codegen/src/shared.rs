@@ -6,10 +6,10 @@ use core::fmt::Write as _;
 
 use hyst_core::{AnyK2Law, AnyShaping, ScaledShaping, Shaping as _};
 
-use crate::dynamics::{PlantState, MAX_DYNAMICS};
-use crate::error::ModelError;
-use crate::file::{ModelFile, ModelKind};
-use crate::smooth::{Form, SmoothModel};
+use hyst_model::dynamics::{PlantState, MAX_DYNAMICS};
+use hyst_model::error::ModelError;
+use hyst_model::file::{ModelFile, ModelKind};
+use hyst_model::smooth::{Form, SmoothModel};
 
 /// Where the exported model came from, for the generated file's comments.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -26,7 +26,7 @@ impl Source {
     pub fn of_file(name: &str, bytes: &[u8]) -> Self {
         Self {
             name: name.to_string(),
-            fnv1a64: crate::file::fnv1a64(bytes),
+            fnv1a64: hyst_model::file::fnv1a64(bytes),
         }
     }
 }
@@ -37,7 +37,7 @@ impl Source {
 pub struct Options {
     /// The sample period (s) at which the exported forward model of a model with dynamics
     /// steps: its plant is discretised for it at export time (Φ, Γ0, Γ1 of
-    /// [`crate::dynamics`], written as constants). `None`: no forward model with the plant is
+    /// [`hyst_model::dynamics`], written as constants). `None`: no forward model with the plant is
     /// written (the compensator needs no period). Unused for a model without dynamics.
     pub period: Option<f64>,
 }
@@ -45,7 +45,7 @@ pub struct Options {
 /// The dynamics part of an export: Lemma 5.1's plant a_n v⁽ⁿ⁾ + … + a_1 v̇ + v = b u of a
 /// model with dynamics, and, for a sample period, its discretisation.
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct Timing {
+pub(crate) struct Timing {
     /// The plant gain b.
     pub b: f64,
     /// [a_1, …, a_n].
@@ -56,11 +56,11 @@ pub(super) struct Timing {
     pub plant: Option<Plant>,
 }
 
-/// A plant discretised for one sample period, as [`crate::dynamics::Discrete`] steps it:
+/// A plant discretised for one sample period, as [`hyst_model::dynamics::Discrete`] steps it:
 /// x_{k+1} = Φ x_k + Γ0 u_k + Γ1 (u_{k+1} − u_k), v = x[0]; at the first sample the plant is
 /// at rest, x = (b u_0, 0, …).
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct Plant {
+pub(crate) struct Plant {
     /// The sample period (s).
     pub period: f64,
     /// Φ, n × n.
@@ -70,15 +70,15 @@ pub(super) struct Plant {
     /// Γ1 (per unit step of the command over one period; 0 under the zero-order hold).
     pub g1: Vec<f64>,
     /// The hold it is discretised with (the model file's).
-    pub hold: crate::Hold,
+    pub hold: hyst_model::Hold,
 }
 
 impl Plant {
     /// What the update does with the command between samples, for the exported comments.
     pub fn hold_words(&self) -> &'static str {
         match self.hold {
-            crate::Hold::Zoh => "G1 = 0: the command held over each step (zero-order hold)",
-            crate::Hold::Foh => "the command linear between samples (first-order hold)",
+            hyst_model::Hold::Zoh => "G1 = 0: the command held over each step (zero-order hold)",
+            hyst_model::Hold::Foh => "the command linear between samples (first-order hold)",
         }
     }
 }
@@ -95,7 +95,7 @@ impl Timing {
 /// dynamics. A rate term is refused, and so is a stop-form model with dynamics without a
 /// period (it has no compensator, and its forward model needs the period), each with the
 /// reason.
-pub(super) fn timing(
+pub(crate) fn timing(
     m: &SmoothModel,
     options: &Options,
     target: &str,
@@ -137,11 +137,11 @@ pub(super) fn timing(
     }))
 }
 
-/// Φ, Γ0 and Γ1 of `d` discretised for `period`, read from [`crate::dynamics::Discrete::step`]
+/// Φ, Γ0 and Γ1 of `d` discretised for `period`, read from [`hyst_model::dynamics::Discrete::step`]
 /// itself: a step from x = e_j with the command 0 gives column j of Φ, a step with the command
 /// held at 1 gives Γ0, a unit step of the command from 0 gives Γ1 (each exactly: the other
 /// terms of the step's sums are zeros).
-fn plant(d: &crate::Dynamics, period: f64) -> Result<Plant, ModelError> {
+fn plant(d: &hyst_model::Dynamics, period: f64) -> Result<Plant, ModelError> {
     let discrete = d.discretise(period).map_err(|e| {
         ModelError::Invalid(format!(
             "--period {period}: {e} (the sample period in seconds of the exported model's step)"
@@ -341,7 +341,7 @@ pub fn check_name(name: &str) -> Result<(), ModelError> {
 }
 
 /// The smooth model of `file`, or a refusal naming what `target` lacks.
-pub(super) fn smooth<'a>(file: &'a ModelFile, target: &str) -> Result<&'a SmoothModel, ModelError> {
+pub(crate) fn smooth<'a>(file: &'a ModelFile, target: &str) -> Result<&'a SmoothModel, ModelError> {
     match (file.kind, &file.smooth) {
         (ModelKind::Smooth, Some(m)) => Ok(m),
         (ModelKind::PrandtlIshlinskii, _) => Err(ModelError::Invalid(format!(
@@ -357,7 +357,7 @@ pub(super) fn smooth<'a>(file: &'a ModelFile, target: &str) -> Result<&'a Smooth
 
 /// A number as a literal that reads back to the same `f64` in C and in Rust: the shortest
 /// decimal that round-trips (`{:?}`), or `inf` and `-inf` as the caller spells them.
-pub(super) fn literal(x: f64, infinity: &str) -> String {
+pub(crate) fn literal(x: f64, infinity: &str) -> String {
     if x.is_infinite() {
         if x > 0.0 {
             infinity.to_string()
@@ -370,15 +370,15 @@ pub(super) fn literal(x: f64, infinity: &str) -> String {
 }
 
 /// Whether both shapings are affine (identity or affine shape): such a model exports on the
-/// linear C functions and on `AffineShaping`, which link no nonlinear shape.
-pub(super) fn affine_shapings(m: &SmoothModel) -> bool {
+/// affine C functions and on `AffineShaping`, which link no nonlinear shape.
+pub(crate) fn affine_shapings(m: &SmoothModel) -> bool {
     [&m.input_shaping, &m.output_shaping]
         .iter()
         .all(|s| matches!(s.shape, AnyShaping::Identity | AnyShaping::Affine(_)))
 }
 
 /// Whether any parameter of the model is infinite (a polynomial's open end).
-pub(super) fn has_infinity(m: &SmoothModel) -> bool {
+pub(crate) fn has_infinity(m: &SmoothModel) -> bool {
     [&m.input_shaping, &m.output_shaping]
         .iter()
         .any(|s| shape_parameters(s).1.iter().any(|p| p.is_infinite()))
@@ -388,7 +388,7 @@ pub(super) fn has_infinity(m: &SmoothModel) -> bool {
 /// [`no_float`]. The model then has no float form (C: no `_f32` twins; Rust: `T = f32` is
 /// refused with this number).
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct NoFloat {
+pub(crate) struct NoFloat {
     /// Where the number is: its key in the model file (`smooth.k1`,
     /// `smooth.output_shaping.post_gain`, …), or what it is (`saturation limit`, `dynamics b`).
     pub key: String,
@@ -426,7 +426,7 @@ impl NoFloat {
 /// the core needs as a positive normal float (k1, a constant k2, a shaping's gains and
 /// scales) that is subnormal or 0 in float. The numbers are every parameter, the saturation
 /// limits and, for a model with dynamics, its plant's coefficients.
-pub(super) fn no_float(
+pub(crate) fn no_float(
     file: &ModelFile,
     m: &SmoothModel,
     timed: Option<&Timing>,
@@ -504,7 +504,7 @@ pub(super) fn no_float(
 }
 
 /// The C API's shaping kind (`HYST_SHAPING_*`) and the six parameters `p` of a shape.
-pub(super) fn shape_parameters(s: &ScaledShaping<f64>) -> (&'static str, [f64; 6]) {
+pub(crate) fn shape_parameters(s: &ScaledShaping<f64>) -> (&'static str, [f64; 6]) {
     match s.shape {
         AnyShaping::Identity => ("HYST_SHAPING_IDENTITY", [0.0; 6]),
         AnyShaping::Affine(a) => (
@@ -528,7 +528,7 @@ pub(super) fn shape_parameters(s: &ScaledShaping<f64>) -> (&'static str, [f64; 6
 }
 
 /// The k2 law as the C API's (kind, value, slope, min, max).
-pub(super) fn k2_parameters(k2: &AnyK2Law<f64>) -> (&'static str, [f64; 4]) {
+pub(crate) fn k2_parameters(k2: &AnyK2Law<f64>) -> (&'static str, [f64; 4]) {
     match k2 {
         AnyK2Law::Constant { value } => ("HYST_K2_CONSTANT", [*value, 0.0, 0.0, 0.0]),
         AnyK2Law::Affine(a) => ("HYST_K2_AFFINE", [a.at_zero, a.slope, a.min, a.max]),
@@ -549,7 +549,7 @@ pub(super) fn k2_parameters(k2: &AnyK2Law<f64>) -> (&'static str, [f64; 4]) {
 /// The text around it must not end in `*` or `/` where the user text starts, nor start with
 /// one where it ends: every caller puts it after a space or a backquote and before a space,
 /// a backquote or punctuation.
-pub(super) fn comment_text(text: &str) -> String {
+pub(crate) fn comment_text(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let mut last = None;
     for c in text.chars() {
@@ -589,7 +589,7 @@ fn breaks_comment(c: char) -> bool {
 
 /// What the comments of a generated file say about the model: its source, kind, units and
 /// which parameters are normalised.
-pub(super) fn description(
+pub(crate) fn description(
     file: &ModelFile,
     m: &SmoothModel,
     source: &Source,
@@ -668,7 +668,7 @@ pub(super) fn description(
 }
 
 /// The comment line that names the model file the export was made from.
-pub(super) fn source_line(source: &Source) -> String {
+pub(crate) fn source_line(source: &Source) -> String {
     format!(
         "source: {} (FNV-1a 64 of its bytes: {:016x})",
         comment_text(&source.name),
@@ -701,7 +701,7 @@ fn percent(fraction: f64) -> String {
 }
 
 /// What x and y are: the model file's columns and units.
-pub(super) fn columns(file: &ModelFile) -> String {
+pub(crate) fn columns(file: &ModelFile) -> String {
     let unit = |u: &str| {
         if u.is_empty() {
             "(no unit recorded)".to_string()
@@ -771,7 +771,7 @@ mod tests {
             &[0.02, 1e-4, 1e-7],
             &[0.3, 0.03, 1e-3, 1e-5],
         ] {
-            let d = crate::Dynamics::new(1.5, a).unwrap();
+            let d = hyst_model::Dynamics::new(1.5, a).unwrap();
             let p = plant(&d, 1.0 / 1024.0).unwrap();
             let discrete = d.discretise(1.0 / 1024.0).unwrap();
             let n = a.len();

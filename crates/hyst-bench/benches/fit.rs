@@ -1,4 +1,4 @@
-//! Criterion benchmarks of the fit's speed goals (`cargo bench -p hyst-cli --bench fit`):
+//! Criterion benchmarks of the fit's speed goals (`cargo bench -p hyst-bench --bench fit`):
 //! - a fit with `--dynamics 2` on 100,000 samples costs at most 3 × the static fit of
 //!   the same data (group `fit_100k`; compare the two times of one run). The data: a multisine
 //!   command through the plant 4e-4 s² v̈ + 0.05 s v̇ + v = u (run by the model runtime's

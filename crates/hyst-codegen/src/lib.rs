@@ -12,7 +12,9 @@
 //! --model M` runs a record of that period. A rate term is refused with the reason.
 //!
 //! `hyst export c|rust` and Python's `Model.export_c`/`export_rust` call these functions, so
-//! every surface writes the same text.
+//! every surface writes the same text. The generators are a crate of their own, over the model
+//! runtime (hyst-model): the C library and the FMU run models through the runtime and do not
+//! compile them.
 
 pub mod c;
 pub mod rust;
@@ -22,7 +24,7 @@ pub use c::{c, c_with};
 pub use rust::{rust, rust_with};
 pub use shared::{check_name, Options, Source};
 
-use crate::file::ModelFile;
+use hyst_model::file::ModelFile;
 
 /// Why the export of `file` has no float form, when it has none: the first number float cannot
 /// represent, in words ("smooth.k1 = 3.5e38 is beyond float's range (±3.4028235e38)"). The
@@ -42,11 +44,11 @@ mod tests {
     use std::path::Path;
 
     use super::*;
-    use crate::file::ModelFile;
+    use hyst_model::file::ModelFile;
 
     /// A static smooth model file as `hyst fit` writes it (format version 1): y = 3 H(0.2,
     /// 6)[v] + 1, v = x / 2 − 1 (shared with hyst-capi's tests of timed models).
-    const STATIC: &str = include_str!("../../testdata/static-model.toml");
+    const STATIC: &str = include_str!("../../hyst-model/testdata/static-model.toml");
 
     /// The static model with `sections` appended, as format version 4.
     fn timed(sections: &str) -> ModelFile {
@@ -219,7 +221,7 @@ mod tests {
     #[test]
     fn user_text_stays_inside_the_comments() {
         let source = Source::of_file(&HOSTILE.concat(), b"");
-        let pi = include_str!("../../../../examples/firmware/models/piezo_pi.toml");
+        let pi = include_str!("../../../examples/firmware/models/piezo_pi.toml");
         let dynamics = STATIC.replace("version = 1", "version = 4")
             + "[dynamics]\nb = 1.0\na = [0.05, 0.001]\n";
         let period = Options { period: Some(1e-3) };

@@ -20,12 +20,12 @@ use core::fmt::Write as _;
 
 use hyst_core::{AnyK2Law, AnyShaping, InitialState, ScaledShaping};
 
-use crate::error::ModelError;
-use crate::file::{ModelFile, ModelKind};
-use crate::pi::PiModel;
-use crate::smooth::{Form, SmoothModel};
+use hyst_model::error::ModelError;
+use hyst_model::file::{ModelFile, ModelKind};
+use hyst_model::pi::PiModel;
+use hyst_model::smooth::{Form, SmoothModel};
 
-use super::shared::{
+use crate::shared::{
     affine_shapings, check_name, description, literal, no_float, smooth, source_line, timing,
     NoFloat, Options, Plant, Source, Timing,
 };
@@ -370,7 +370,7 @@ fn prandtl_ishlinskii(
         } else {
             ""
         },
-        super::shared::columns(file)
+        crate::shared::columns(file)
     );
     let list = |v: &[f64]| v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ");
     let sum = format!(

@@ -1,5 +1,8 @@
-//! The workloads measured by `hyst bench` and by the criterion benches (`cargo bench -p
-//! hyst-cli`): one definition, so both report the same thing.
+//! The workloads measured by `hyst bench` and by this crate (the criterion benches, `cargo bench
+//! -p hyst-bench`, and the plain-C peer's comparison, `hyst-bench`), and how they are measured
+//! ([`calibrate`], [`measure`]): one definition, so all of them report the same thing. hyst-cli
+//! compiles this file as its module `workloads` (it has no dependency on this crate, whose build
+//! compiles the C peer).
 //!
 //! Each workload processes [`SAMPLES`] samples of a signal with many reversals (a sum of sines
 //! with a slowly growing amplitude) and returns a checksum so the work cannot be optimised away.
@@ -12,12 +15,13 @@
 //! per channel-sample: in one block (`process`, time-major), and tick by tick (`step` with one
 //! sample per channel, a controller's loop) next to 1,024 scalar operators stepped the same way
 //! (each once per tick), on the best kernel and with the AVX2 kernel forced (a processor without
-//! AVX-512; not run where the processor has no AVX2 + FMA, see [`Inputs::available`]). The C
-//! peer (`c_peer_ns`) is a plain-C inverse of eq. (4) with no checks (src/peer/peer.c, compiled
-//! by build.rs), on the inverse workload's signal.
+//! AVX-512; not run where the processor has no AVX2 + FMA, see [`Inputs::available`]). The
+//! plain-C peer of the inverse (this crate's `peer`) runs on the inverse workload's [`signal`]
+//! with its [`K1`] and [`K2`].
 
 use std::cell::RefCell;
 use std::hint::black_box;
+use std::time::{Duration, Instant};
 
 use hyst_bank::{force_isa, isa, BankFormula, BankVec, Isa, Lane};
 use hyst_core::{
@@ -36,7 +40,7 @@ pub const BANK_CHANNELS: usize = 1024;
 pub const BANK_TICKS: usize = 64;
 
 /// The names of the workloads, in report order, with their JSON keys.
-pub const NAMES: [(&str, &str); 22] = [
+pub const NAMES: [(&str, &str); 21] = [
     ("direct operator H (eq. 2)", "direct_ns"),
     ("inverse operator H^-1 (eq. 4)", "inverse_ns"),
     ("inverse with 2 derivatives (jet)", "inverse_d2_ns"),
@@ -52,7 +56,6 @@ pub const NAMES: [(&str, &str); 22] = [
     ("fitted model, static (run_timed)", "fitted_static_ns"),
     ("fitted model, dynamics of order 2", "fitted_dynamics_ns"),
     ("adaptive estimator, 4 parameters", "adaptive_ns"),
-    ("plain-C inverse (peer, no checks)", "c_peer_ns"),
     (
         "bank of 1024 H^-1, f64, tick by tick",
         "bank_tick_inverse_ns",
@@ -84,14 +87,108 @@ pub const NAMES: [(&str, &str); 22] = [
 
 /// The workloads run on 1,024 channels (reported per channel-sample): the banks in blocks, then
 /// tick by tick, the scalar operators tick by tick, and the banks with the AVX2 kernel forced.
-const BANK_WORKLOADS: [core::ops::RangeInclusive<usize>; 2] = [6..=8, 13..=20];
+const BANK_WORKLOADS: [core::ops::RangeInclusive<usize>; 2] = [6..=8, 12..=19];
 
-/// The workloads that force the AVX2 kernel (the tick-by-tick ones of `13..=15`, 5 places on).
-const AVX2_WORKLOADS: core::ops::RangeInclusive<usize> = 18..=20;
+/// The workloads that force the AVX2 kernel (the tick-by-tick ones of `12..=14`, 5 places on).
+const AVX2_WORKLOADS: core::ops::RangeInclusive<usize> = 17..=19;
 
-/// The inverse workload's k1 and k2, shared by the C peer.
-const K1: f64 = 0.14;
-const K2: f64 = 8.0;
+/// The inverse workload's k1 (the half-width of the loop), shared by the C peer.
+pub const K1: f64 = 0.14;
+/// The inverse workload's k2 (the rate of the transition), shared by the C peer.
+pub const K2: f64 = 8.0;
+
+/// The sample period of [`signal`], s.
+const DT: f64 = 1e-3;
+
+/// The input of the scalar workloads at time t (s): a sum of sines with a slowly growing
+/// amplitude, many reversals.
+fn signal_at(t: f64) -> f64 {
+    (0.5 + 0.3 * t) * (t * 7.0).sin() + 0.2 * (t * 23.0).sin()
+}
+
+/// The [`SAMPLES`] samples of the scalar workloads' input, 1 ms apart.
+#[must_use]
+pub fn signal() -> Vec<f64> {
+    (0..SAMPLES).map(|k| signal_at(k as f64 * DT)).collect()
+}
+
+/// A set of workloads measured together, each by its index in `0..count()`.
+pub trait Suite {
+    /// How many workloads.
+    fn count(&self) -> usize;
+    /// The (channel-)samples of one call of workload `index`.
+    fn samples(&self, index: usize) -> usize;
+    /// Whether workload `index` runs on this processor.
+    fn available(&self, index: usize) -> bool;
+    /// Runs workload `index` once; a checksum (NaN if it could not run).
+    fn run(&self, index: usize) -> f64;
+}
+
+/// Target duration of one batch, in seconds.
+const BATCH_SECONDS: f64 = 0.005;
+
+/// ns per sample of one batch of `calls` calls of workload `index`.
+fn batch_ns(suite: &impl Suite, index: usize, calls: usize) -> f64 {
+    let start = Instant::now();
+    let mut checksum = 0.0;
+    for _ in 0..calls {
+        checksum += suite.run(index);
+    }
+    let elapsed = start.elapsed();
+    black_box(checksum);
+    elapsed.as_secs_f64() * 1e9 / (calls * suite.samples(index)) as f64
+}
+
+/// Calls per batch of each workload, calibrated to about 5 ms: double the calls until a batch
+/// takes ≥ 1 ms, then scale (a single cold call is no guide: it can be much slower or, rounded,
+/// faster). 0 for a workload this processor does not run.
+#[must_use]
+pub fn calibrate(suite: &impl Suite) -> Vec<usize> {
+    (0..suite.count())
+        .map(|i| {
+            if !suite.available(i) {
+                return 0;
+            }
+            let mut calls = 1usize;
+            loop {
+                let t = Instant::now();
+                for _ in 0..calls {
+                    black_box(suite.run(i));
+                }
+                let took = t.elapsed();
+                if took >= Duration::from_millis(1) || calls >= 1 << 20 {
+                    let per_call = took.as_secs_f64() / calls as f64;
+                    break ((BATCH_SECONDS / per_call.max(1e-9)) as usize).clamp(1, 1 << 20);
+                }
+                calls *= 2;
+            }
+        })
+        .collect()
+}
+
+/// ns per sample of each workload: batches of `calls` calls in interleaved rounds (at least 5,
+/// for at least `budget`), the fastest batch of each kept, the one least disturbed by other
+/// processes (on a shared machine, slower batches measure the neighbours, not the code). NaN
+/// for a workload of no calls (one this processor does not run).
+#[must_use]
+pub fn measure(suite: &impl Suite, calls: &[usize], budget: Duration) -> Vec<f64> {
+    let started = Instant::now();
+    let mut samples = vec![Vec::new(); suite.count()];
+    let mut rounds = 0usize;
+    while rounds < 5 || started.elapsed() < budget {
+        for (i, s) in samples.iter_mut().enumerate() {
+            let calls = calls.get(i).copied().unwrap_or(0);
+            if calls > 0 {
+                s.push(batch_ns(suite, i, calls));
+            }
+        }
+        rounds += 1;
+    }
+    samples
+        .iter()
+        .map(|s| s.iter().copied().reduce(f64::min).unwrap_or(f64::NAN))
+        .collect()
+}
 
 /// Precomputed inputs for all workloads.
 pub struct Inputs {
@@ -147,18 +244,16 @@ impl Inputs {
     /// Builds the input signals.
     #[must_use]
     pub fn new() -> Self {
-        let dt = 1e-3;
-        let signal = |t: f64| (0.5 + 0.3 * t) * (t * 7.0).sin() + 0.2 * (t * 23.0).sin();
         let d1 = |t: f64| {
             0.3 * (t * 7.0).sin()
                 + (0.5 + 0.3 * t) * 7.0 * (t * 7.0).cos()
                 + 0.2 * 23.0 * (t * 23.0).cos()
         };
-        let x: Vec<f64> = (0..SAMPLES).map(|k| signal(k as f64 * dt)).collect();
+        let x = signal();
         let jets = (0..SAMPLES)
             .map(|k| {
-                let t = k as f64 * dt;
-                Jet::from_derivatives(signal(t), [d1(t), -49.0 * signal(t)])
+                let t = k as f64 * DT;
+                Jet::from_derivatives(signal_at(t), [d1(t), -49.0 * signal_at(t)])
             })
             .collect();
         // Arguments like those the direct operator gives W: k2 M* e^(k2 (M* − ṽ)) ∈ (0, ~1e2).
@@ -187,30 +282,6 @@ impl Inputs {
             bank_x32,
             banks: RefCell::new(Banks::new()),
         }
-    }
-
-    /// The (channel-)samples of one call of workload `index`.
-    #[must_use]
-    pub fn samples(&self, index: usize) -> usize {
-        if BANK_WORKLOADS.iter().any(|r| r.contains(&index)) {
-            BANK_CHANNELS * BANK_TICKS
-        } else {
-            SAMPLES
-        }
-    }
-
-    /// Whether workload `index` runs on this processor: all but those that force the AVX2
-    /// kernel where the processor has no AVX2 + FMA (their figures are then null).
-    #[must_use]
-    pub fn available(&self, index: usize) -> bool {
-        !AVX2_WORKLOADS.contains(&index) || Isa::Avx2.available()
-    }
-
-    /// Runs workload `index` (of [`NAMES`]) once over all samples; returns a checksum (NaN if
-    /// the workload could not be built).
-    #[must_use]
-    pub fn run(&self, index: usize) -> f64 {
-        self.try_run(index).unwrap_or(f64::NAN)
     }
 
     fn try_run(&self, index: usize) -> Option<f64> {
@@ -276,9 +347,8 @@ impl Inputs {
                     .map(|(&x, &y)| a.update(x, y).prediction)
                     .sum()
             }
-            12 => peer::inverse_sum(K1, K2, black_box(&self.x)),
-            13..=17 => self.tick(index)?,
-            18..=20 => {
+            12..=16 => self.tick(index)?,
+            17..=19 => {
                 // The AVX2 kernel for this call only, then the kernel that ran before (the
                 // best, or the one --kernel forced).
                 if !Isa::Avx2.available() {
@@ -290,7 +360,7 @@ impl Inputs {
                 force_isa(Some(kernel)).ok()?;
                 sum?
             }
-            21 => black_box(&self.exp_args)
+            20 => black_box(&self.exp_args)
                 .iter()
                 .map(|&a| a.exp_inline())
                 .sum(),
@@ -298,48 +368,48 @@ impl Inputs {
         })
     }
 
-    /// The tick-by-tick workloads `13..=17`: a bank's `step`, or each of 1,024 scalar operators'
+    /// The tick-by-tick workloads `12..=16`: a bank's `step`, or each of 1,024 scalar operators'
     /// `step`, once a tick, over the [`BANK_TICKS`] rows of the bank workloads from no history.
     fn tick(&self, index: usize) -> Option<f64> {
         let mut banks = self.banks.try_borrow_mut().ok()?;
         let b = banks.as_mut()?;
         match index {
-            13 => bank_ticks(&mut b.inverse, &self.bank_x, &mut b.y),
-            14 => bank_ticks(&mut b.direct, &self.bank_x, &mut b.y),
-            15 => bank_ticks(&mut b.inverse32, &self.bank_x32, &mut b.y32),
-            16 => scalar_ticks(&mut b.inverses, &self.bank_x, &mut b.y),
-            17 => scalar_ticks(&mut b.directs, &self.bank_x, &mut b.y),
+            12 => bank_ticks(&mut b.inverse, &self.bank_x, &mut b.y),
+            13 => bank_ticks(&mut b.direct, &self.bank_x, &mut b.y),
+            14 => bank_ticks(&mut b.inverse32, &self.bank_x32, &mut b.y32),
+            15 => scalar_ticks(&mut b.inverses, &self.bank_x, &mut b.y),
+            16 => scalar_ticks(&mut b.directs, &self.bank_x, &mut b.y),
             _ => None,
         }
     }
 }
 
-/// The plain-C peer of the inverse operator (src/peer/peer.c): eq. (4) with Definition 2.1's
-/// memory, the same arithmetic as `InverseHysteresis` with no checks, compiled at -O2 by build.rs.
-pub mod peer {
-    // The only unsafe code of hyst-cli: two calls into C that read `x[..n]` and write `y[..n]`.
-    #![allow(unsafe_code)]
-
-    extern "C" {
-        #[cfg(test)]
-        fn hyst_peer_inverse(k1: f64, k2: f64, x: *const f64, y: *mut f64, n: usize);
-        fn hyst_peer_inverse_sum(k1: f64, k2: f64, x: *const f64, n: usize) -> f64;
+/// The workloads of [`NAMES`], in its order.
+impl Suite for Inputs {
+    fn count(&self) -> usize {
+        NAMES.len()
     }
 
-    /// H⁻¹(k1, k2) from no history over `x`, the sum of its outputs.
-    #[must_use]
-    pub fn inverse_sum(k1: f64, k2: f64, x: &[f64]) -> f64 {
-        // SAFETY: the C function reads x[0..n) only, n = x.len(), and keeps no pointer.
-        unsafe { hyst_peer_inverse_sum(k1, k2, x.as_ptr(), x.len()) }
+    /// [`SAMPLES`], or for a bank workload [`BANK_CHANNELS`] × [`BANK_TICKS`]
+    /// channel-samples.
+    fn samples(&self, index: usize) -> usize {
+        if BANK_WORKLOADS.iter().any(|r| r.contains(&index)) {
+            BANK_CHANNELS * BANK_TICKS
+        } else {
+            SAMPLES
+        }
     }
 
-    /// H⁻¹(k1, k2) from no history over `x` into `y` (as many outputs as both have room for).
-    #[cfg(test)]
-    pub fn inverse(k1: f64, k2: f64, x: &[f64], y: &mut [f64]) {
-        let n = x.len().min(y.len());
-        // SAFETY: the C function reads x[0..n), writes y[0..n) (n within both slices, which
-        // cannot overlap: `y` is borrowed mutably) and keeps no pointer.
-        unsafe { hyst_peer_inverse(k1, k2, x.as_ptr(), y.as_mut_ptr(), n) }
+    /// All but those that force the AVX2 kernel where the processor has no AVX2 + FMA (their
+    /// figures are then null).
+    fn available(&self, index: usize) -> bool {
+        !AVX2_WORKLOADS.contains(&index) || Isa::Avx2.available()
+    }
+
+    /// Runs workload `index` once over all samples; a checksum (NaN if the workload could not
+    /// be built).
+    fn run(&self, index: usize) -> f64 {
+        self.try_run(index).unwrap_or(f64::NAN)
     }
 }
 
@@ -439,40 +509,4 @@ fn example_model() -> Option<ExampleModel> {
     let psi_in = Polynomial::new([0.0, 1.0, -0.098, 0.0], -5.0, 5.0).ok()?;
     let psi_out = Affine::new(2.02, 0.0).ok()?;
     ShapedModel::new(psi_in, Hysteresis::new(0.105, 8.0).ok()?, psi_out).ok()
-}
-
-#[cfg(test)]
-mod tests {
-    #![allow(clippy::unwrap_used)]
-
-    /// The C peer is a real inverse: on the benchmark's signal (and a signal of k1-sized
-    /// reversals) its outputs equal hyst's inverse within 4 ulp of max(|input|, k1) (the same
-    /// arithmetic but for the `exp`, the platform's in the peer and hyst's inline one, which
-    /// agree to an ulp; and hyst's band clamp may move an output by an ulp).
-    #[test]
-    fn the_c_peer_is_the_inverse_operator() {
-        // Here, not at the module's top: the criterion bench includes this file and drops the
-        // test, which would leave the import unused.
-        use super::{peer, Inputs, InverseHysteresis, Operator as _, K1, K2};
-        let inputs = Inputs::new();
-        let small: Vec<f64> = (0..2000)
-            .map(|k| 0.3 * (f64::from(k) * 0.05).sin() * (f64::from(k) * 0.013).cos())
-            .collect();
-        for (k1, k2, x) in [
-            (K1, K2, &inputs.x),
-            (0.2, 40.0, &small),
-            (0.05, 1.0, &small),
-        ] {
-            let mut y = vec![0.0; x.len()];
-            peer::inverse(k1, k2, x, &mut y);
-            let mut h = InverseHysteresis::new(k1, k2).unwrap();
-            for (i, (&u, &c)) in x.iter().zip(&y).enumerate() {
-                let v = h.try_step(u).unwrap();
-                let tol = 4.0 * f64::EPSILON * u.abs().max(k1);
-                assert!((v - c).abs() <= tol, "sample {i}: hyst {v}, C peer {c}");
-            }
-            let sum = y.iter().fold(0.0, |a, b| a + b);
-            assert_eq!(peer::inverse_sum(k1, k2, x).to_bits(), sum.to_bits());
-        }
-    }
 }

@@ -17,11 +17,11 @@
 
 use core::fmt::Write as _;
 
-use crate::error::ModelError;
-use crate::file::ModelFile;
-use crate::smooth::{Form, SmoothModel};
+use hyst_model::error::ModelError;
+use hyst_model::file::ModelFile;
+use hyst_model::smooth::{Form, SmoothModel};
 
-use super::shared::{
+use crate::shared::{
     affine_shapings, check_name, comment_text, description, has_infinity, k2_parameters, literal,
     no_float, shape_parameters, smooth, timing, NoFloat, Options, Plant, Source, Timing,
 };
