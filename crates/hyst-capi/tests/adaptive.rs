@@ -3,6 +3,8 @@
 //! follows a truth whose output gain is 20 % above the fitted model's, and every bad argument
 //! returns its status without touching anything.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+// The tests call the C API through raw pointers, as a C program does.
+#![allow(unsafe_code)]
 
 use std::ffi::CStr;
 use std::ptr;

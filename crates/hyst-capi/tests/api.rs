@@ -2,6 +2,8 @@
 //! from a saved memory, and every bad argument (NULL, misaligned, uninitialised, non-finite, out
 //! of range) returns its status without touching anything.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+// The tests call the C API through raw pointers, as a C program does.
+#![allow(unsafe_code)]
 
 use std::ffi::{CStr, CString};
 use std::ptr;

@@ -3,6 +3,8 @@
 //! channel and leave every memory as it was, memories move between a bank and an operator, and
 //! bad arguments give a status.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+// The tests call the C API through raw pointers, as a C program does.
+#![allow(unsafe_code)]
 
 use std::ptr;
 

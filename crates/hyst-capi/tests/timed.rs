@@ -3,6 +3,8 @@
 //! `hyst_model::TimedRun` and `TimedCompensator` (what `hyst run --model` runs on a timed
 //! record), and every call that cannot run them says so by its status.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+// The tests call the C API through raw pointers, as a C program does.
+#![allow(unsafe_code)]
 
 use std::ffi::{c_char, CStr, CString};
 use std::path::{Path, PathBuf};
