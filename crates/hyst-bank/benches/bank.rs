@@ -28,6 +28,7 @@ use std::time::Instant;
 use hyst_bank::BankVec;
 use hyst_bank::{force_isa, BankFormula, Isa, Lane};
 use hyst_core::{ConstantK2, Direct, Inverse, Operator, ParametricHysteresis};
+use hyst_test_support::rng::{Random, XorShift64};
 
 const CHANNELS: usize = 1024;
 const TICKS: usize = 256;
@@ -50,18 +51,12 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a
     // Each channel's k1, k2 and the factor of its signal: k1 = 0.2, k2 = 8 and the signal as it
     // is; or (`mixed`) k1 log-uniform in [1e-3, 10], k2 in [1e-2, 1e6] and the signal times
     // 20 k1, the ranges of tests/bank.rs, where most ticks are far past the reversal point.
-    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut uniform = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = XorShift64(0x9e37_79b9_7f4a_7c15);
     let params: Vec<(f64, f64, f64)> = (0..CHANNELS)
         .map(|_| {
             if mixed {
-                let k1 = 1e-3 * 1e4f64.powf(uniform());
-                (k1, 1e-2 * 1e8f64.powf(uniform()), 20.0 * k1)
+                let k1 = 1e-3 * 1e4f64.powf(rng.unit());
+                (k1, 1e-2 * 1e8f64.powf(rng.unit()), 20.0 * k1)
             } else {
                 (0.2, 8.0, 1.0)
             }

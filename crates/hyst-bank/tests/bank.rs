@@ -9,24 +9,11 @@ use hyst_bank::lanes::{omega, Lane};
 use hyst_bank::{force_isa, isa, Isa};
 use hyst_bank::{BankError, BankVec};
 use hyst_core::{Direct, Error, Inverse, Memory, Operator};
+use hyst_test_support::rng::{Random, XorShift64Star};
 use std::sync::Mutex;
 
 /// Tests that force a kernel or depend on which one runs hold this (the choice is global).
 static ISA_LOCK: Mutex<()> = Mutex::new(());
-
-/// A small deterministic generator (xorshift64*), so the tests need no dependency.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.next()).exp()
-    }
-}
 
 fn ulps_f64(a: f64, b: f64, scale: f64) -> f64 {
     (a - b).abs() / (scale.abs() * f64::EPSILON)
@@ -34,10 +21,10 @@ fn ulps_f64(a: f64, b: f64, scale: f64) -> f64 {
 
 #[test]
 fn exp_and_ln_match_the_platform() {
-    let mut rng = Rng(7);
+    let mut rng = XorShift64Star(7);
     let mut worst = (0.0_f64, 0.0_f64);
     for _ in 0..1_000_000 {
-        let x = -745.0 + 1454.0 * rng.next();
+        let x = -745.0 + 1454.0 * rng.unit();
         let e = x.exp_l();
         let r = x.exp();
         if r.is_normal() {
@@ -60,7 +47,7 @@ fn exp_and_ln_match_the_platform() {
     assert_eq!(0.0_f64.exp_l(), 1.0);
     let mut worst32 = (0.0_f32, 0.0_f32);
     for _ in 0..1_000_000 {
-        let x = (-87.0 + 175.0 * rng.next()) as f32;
+        let x = (-87.0 + 175.0 * rng.unit()) as f32;
         let r = x.exp();
         if r.is_normal() {
             worst32.0 = worst32.0.max((x.exp_l() - r).abs() / (r * f32::EPSILON));
@@ -80,11 +67,11 @@ fn exp_and_ln_match_the_platform() {
 
 #[test]
 fn omega_matches_the_scalar_one() {
-    let mut rng = Rng(11);
+    let mut rng = XorShift64Star(11);
     let mut worst = 0.0_f64;
     for _ in 0..1_000_000 {
-        let y = if rng.next() < 0.5 {
-            -60.0 + 80.0 * rng.next()
+        let y = if rng.unit() < 0.5 {
+            -60.0 + 80.0 * rng.unit()
         } else {
             rng.log_uniform(1.0, 1e300)
         };
@@ -140,7 +127,7 @@ where
     T: LaneEps,
     F: hyst_bank::BankFormula,
 {
-    let mut rng = Rng(seed);
+    let mut rng = XorShift64Star(seed);
     let wide = T::EPSILON_F64 < 1e-10;
     let (k2_hi, amp_hi) = if wide { (1e6, 100.0) } else { (1e4, 100.0) };
     let k1: Vec<f64> = (0..CHANNELS).map(|_| rng.log_uniform(1e-3, 10.0)).collect();
@@ -155,8 +142,8 @@ where
     let offset: Vec<f64> = k1
         .iter()
         .map(|k| {
-            if rng.next() < 0.5 {
-                k * 100.0 * (2.0 * rng.next() - 1.0)
+            if rng.unit() < 0.5 {
+                k * 100.0 * (2.0 * rng.unit() - 1.0)
             } else {
                 0.0
             }
@@ -182,8 +169,8 @@ where
     let mut worst = 0.0_f64;
     for _ in 0..ticks {
         for c in 0..CHANNELS {
-            let big = if rng.next() < 0.1 { 1.0 } else { 0.3 };
-            x[c] = t(offset[c] + amp[c] * (2.0 * rng.next() - 1.0) * big);
+            let big = if rng.unit() < 0.1 { 1.0 } else { 0.3 };
+            x[c] = t(offset[c] + amp[c] * (2.0 * rng.unit() - 1.0) * big);
             ops[c]
                 .set_memory(bank.memory(c))
                 .unwrap_or_else(|e| panic!("channel {c}: the bank's memory is refused: {e}"));

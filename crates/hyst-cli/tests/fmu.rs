@@ -9,10 +9,12 @@
 use std::collections::HashMap;
 use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-mod common;
-use common::{piezo, piezo_fit};
+use hyst_test_support::cli::Binary;
+use hyst_test_support::files::{piezo, piezo_fit};
+
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// A stand-in for libhyst_fmu.so: a 64-bit x86-64 ELF shared-object header followed by the
 /// names of the FMI functions `hyst fmu` looks for.
@@ -42,7 +44,7 @@ fn fake_library(dir: &Path) -> PathBuf {
 
 /// Runs `hyst fmu ARGS` with HYST_FMU_LIBRARY = `library`.
 fn hyst_fmu(library: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hyst"))
+    HYST.command()
         .arg("fmu")
         .args(args)
         .env("HYST_FMU_LIBRARY", library)
@@ -321,7 +323,8 @@ fn operator_fmu_has_the_layout_and_model_description_of_the_spec() {
 fn fit_piezo(dir: &Path) -> PathBuf {
     let model = dir.join("piezo.toml");
     let data = piezo();
-    let out = Command::new(env!("CARGO_BIN_EXE_hyst"))
+    let out = HYST
+        .command()
         .args(piezo_fit(&data, &model))
         .output()
         .unwrap();
@@ -601,7 +604,8 @@ fn saturate_is_written_for_the_inverse_of_a_saturating_model_only() {
     let affine = fit_piezo(d);
     let tanh = d.join("tanh.toml");
     let data = piezo();
-    let out = Command::new(env!("CARGO_BIN_EXE_hyst"))
+    let out = HYST
+        .command()
         .args(["fit", data.to_str().unwrap(), "--input", "u_actuator_V"])
         .args([
             "--output",

@@ -13,8 +13,10 @@
 // A test reports a broken surface by panicking with what it found.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+use hyst_test_support::cli::Binary;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -60,28 +62,19 @@ fn rust_sources() -> String {
     out
 }
 
-fn hyst(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_hyst"))
-        .args(args)
-        .output()
-        .expect("runs hyst");
-    assert!(out.status.success(), "hyst {args:?}: {out:?}");
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
 /// What the CLI exposes: every command's help, the JSON of `hyst bound`, and the header of a
 /// `hyst run` output.
 fn cli_surface() -> String {
-    let mut text = hyst(&["--help"]);
+    let mut text = HYST.stdout(&["--help"]);
     for command in [
         "run", "bound", "paper", "fit", "fmu", "bench", "export", "adapt",
     ] {
-        text += &hyst(&[command, "--help"]);
+        text += &HYST.stdout(&[command, "--help"]);
     }
     for language in ["c", "rust"] {
-        text += &hyst(&["export", language, "--help"]);
+        text += &HYST.stdout(&["export", language, "--help"]);
     }
-    text += &hyst(&[
+    text += &HYST.stdout(&[
         "bound", "--k1", "0.14", "--dk1", "0.1", "--k2", "8", "--dk2", "5", "--json",
     ]);
     let dir = std::env::temp_dir().join(format!("hyst-vocabulary-{}", std::process::id()));
@@ -89,7 +82,7 @@ fn cli_surface() -> String {
     let input = dir.join("x.csv");
     std::fs::write(&input, "x\n0\n0.5\n").expect("writes the input");
     let output = dir.join("y.csv");
-    hyst(&[
+    HYST.stdout(&[
         "run",
         "--k1",
         "0.2",
@@ -239,14 +232,14 @@ fn no_surface_exposes_an_old_name() {
     let old = table_after(vocabulary, "| old | new |");
     assert!(old.len() >= 8, "the old-names table has {} rows", old.len());
     let help = {
-        let mut text = hyst(&["--help"]);
+        let mut text = HYST.stdout(&["--help"]);
         for command in [
             "run", "bound", "paper", "fit", "fmu", "bench", "export", "adapt",
         ] {
-            text += &hyst(&[command, "--help"]);
+            text += &HYST.stdout(&[command, "--help"]);
         }
         for language in ["c", "rust"] {
-            text += &hyst(&["export", language, "--help"]);
+            text += &HYST.stdout(&["export", language, "--help"]);
         }
         text
     };
@@ -319,7 +312,7 @@ fn an_inverse_is_never_called_a_compensator() {
     if class.to_lowercase().contains("compensator") {
         said.push("the stub's InverseHysteresis".into());
     }
-    let run = hyst(&["run", "--help"]);
+    let run = HYST.stdout(&["run", "--help"]);
     let inverse = run
         .split("--inverse")
         .nth(1)
@@ -372,12 +365,7 @@ fn old_spellings_of_flags_still_work_with_a_note() {
     let input = dir.join("x.csv");
     std::fs::write(&input, "x\n0\n0.5\n").expect("writes the input");
     let path = |name: &str| dir.join(name).to_str().expect("utf-8 path").to_string();
-    let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_hyst"))
-            .args(args)
-            .output()
-            .expect("runs hyst")
-    };
+    let run = |args: &[&str]| HYST.output(args);
     let x = path("x.csv");
     for (flag, name) in [
         ("--output", "old.csv"),

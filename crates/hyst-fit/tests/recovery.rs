@@ -1,13 +1,13 @@
 //! Recovery of known parameters from synthetic data: exact (to 1e-6) without noise, within the
 //! reported standard errors with noise. The truth is a member of the fitted structure.
 
-mod common;
-use common::{loops_input as input, normals};
 use hyst_fit::layout::Layout;
 use hyst_fit::lm::Silent;
 use hyst_fit::smooth::normalisation;
 use hyst_fit::{fit_smooth, Dataset, FitError, FitOptions};
 use hyst_model::{InitialState, K2Kind, ShapingKind, SmoothModel, Structure};
+use hyst_test_support::rng::XorShift64Star;
+use hyst_test_support::signals::{loops as input, normals};
 
 /// The truth: `values` by parameter name, laid out for the data's normalisation.
 fn truth(
@@ -184,7 +184,7 @@ fn noisy_data_recovers_within_the_reported_standard_errors() -> Result<(), FitEr
     let mut within = 0;
     let mut total = 0;
     for seed in [1_u64, 2, 3, 4, 5] {
-        let noise = normals(x.len(), 0x9e37_79b9_7f4a_7c15 ^ seed);
+        let noise = normals(&mut XorShift64Star(0x9e37_79b9_7f4a_7c15 ^ seed), x.len());
         let y: Vec<f64> = model
             .run(&x)?
             .iter()
