@@ -431,19 +431,73 @@ fn layouts_and_storage_agree() {
     force_isa(None).unwrap();
 }
 
+/// The input of channel `c` at tick `t` of the layout tests: a sine of its own, offset by
+/// 1,000 k1 on the even channels (far past the reversal point).
+fn layout_input(k1: &[f64], c: usize, t: usize) -> f64 {
+    let offset = if c.is_multiple_of(2) {
+        1e3 * k1[c]
+    } else {
+        0.0
+    };
+    offset + (0.21 * t as f64 + c as f64).sin() * (1.0 + 0.1 * c as f64)
+}
+
+/// Banks of N channels (k1, k2) started from the memories `start`, every third channel from no
+/// history instead, then driven against their direction of travel: stepped tick by tick and
+/// processed as one block of three ticks, they agree bit for bit.
+fn first_samples_at_a_reversal_agree<F: hyst_bank::BankFormula, const N: usize>(
+    k1: &[f64; N],
+    k2: &[f64; N],
+    start: &[Option<Memory<f64>>],
+) {
+    let x = |c: usize, t: usize| layout_input(k1, c, t);
+    let mut a = vec![0.0; N];
+    // Channels at their first sample in the chunks of channels that run on, and reverse, at
+    // that tick (`step`'s visit hands such a chunk to the general tick): as a block of three
+    // ticks gives them.
+    let mut stepped = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    let mut blocked = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    for (c, m) in start.iter().enumerate() {
+        let m = if c % 3 == 1 { None } else { *m };
+        stepped.set_memory(c, m).unwrap();
+        blocked.set_memory(c, m).unwrap();
+    }
+    let turn = |c: usize, t: usize| match start[c] {
+        // Against the direction of travel: a reversal at the first tick.
+        Some(m) => m.last_input - m.direction.sign::<f64>() * (0.3 + 0.1 * t as f64),
+        None => x(c, t),
+    };
+    let mut by_step = vec![0.0; N * 3];
+    for t in 0..3 {
+        let row: Vec<f64> = (0..N).map(|c| turn(c, t)).collect();
+        stepped.step(&row, &mut a).unwrap();
+        by_step[t * N..(t + 1) * N].copy_from_slice(&a);
+    }
+    let channel_major: Vec<f64> = (0..N)
+        .flat_map(|c| (0..3).map(move |t| turn(c, t)))
+        .collect();
+    let mut by_block = vec![0.0; N * 3];
+    blocked
+        .process_block(&channel_major, &mut by_block, 3)
+        .unwrap();
+    for c in 0..N {
+        for t in 0..3 {
+            assert_eq!(
+                by_step[t * N + c].to_bits(),
+                by_block[c * 3 + t].to_bits(),
+                "channel {c}, tick {t}"
+            );
+        }
+    }
+    assert_eq!(memories(&stepped), memories(&blocked));
+}
+
 fn layouts_agree<F: hyst_bank::BankFormula>() {
     const N: usize = 45;
     const T: usize = 37;
     let k1: [f64; N] = core::array::from_fn(|c| 0.05 + 0.03 * c as f64);
     let k2: [f64; N] = core::array::from_fn(|c| 0.5 + 3.0 * c as f64);
-    let x = |c: usize, t: usize| {
-        let offset = if c.is_multiple_of(2) {
-            1e3 * k1[c]
-        } else {
-            0.0
-        };
-        offset + (0.21 * t as f64 + c as f64).sin() * (1.0 + 0.1 * c as f64)
-    };
+    let x = |c: usize, t: usize| layout_input(&k1, c, t);
     let mut by_tick = hyst_bank::Bank::<f64, F, N>::new(k1, k2).unwrap();
     let mut ticks = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
     let mut block = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
@@ -500,45 +554,7 @@ fn layouts_agree<F: hyst_bank::BankFormula>() {
         assert_eq!(bits(&a), bits(&b), "tick {t}");
     }
     assert_eq!(memories(&ticks), memories(&other));
-    // Channels at their first sample in the chunks of channels that run on, and reverse, at
-    // that tick (`step`'s visit hands such a chunk to the general tick): as a block of three
-    // ticks gives them.
-    let mut stepped = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
-    let mut blocked = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
-    let start = memories(&ticks);
-    for (c, m) in start.iter().enumerate() {
-        let m = if c % 3 == 1 { None } else { *m };
-        stepped.set_memory(c, m).unwrap();
-        blocked.set_memory(c, m).unwrap();
-    }
-    let turn = |c: usize, t: usize| match start[c] {
-        // Against the direction of travel: a reversal at the first tick.
-        Some(m) => m.last_input - m.direction.sign::<f64>() * (0.3 + 0.1 * t as f64),
-        None => x(c, t),
-    };
-    let mut by_step = vec![0.0; N * 3];
-    for t in 0..3 {
-        let row: Vec<f64> = (0..N).map(|c| turn(c, t)).collect();
-        stepped.step(&row, &mut a).unwrap();
-        by_step[t * N..(t + 1) * N].copy_from_slice(&a);
-    }
-    let channel_major: Vec<f64> = (0..N)
-        .flat_map(|c| (0..3).map(move |t| turn(c, t)))
-        .collect();
-    let mut by_block = vec![0.0; N * 3];
-    blocked
-        .process_block(&channel_major, &mut by_block, 3)
-        .unwrap();
-    for c in 0..N {
-        for t in 0..3 {
-            assert_eq!(
-                by_step[t * N + c].to_bits(),
-                by_block[c * 3 + t].to_bits(),
-                "channel {c}, tick {t}"
-            );
-        }
-    }
-    assert_eq!(memories(&stepped), memories(&blocked));
+    first_samples_at_a_reversal_agree::<F, N>(&k1, &k2, &memories(&ticks));
 }
 
 /// Threads: `step_par` and `process_block_par` give the sequential outputs and memories bit for

@@ -317,12 +317,11 @@ impl Inputs {
 /// The plain-C peer of the inverse operator (src/peer/peer.c): eq. (4) with Definition 2.1's
 /// memory, the same arithmetic as `InverseHysteresis` with no checks, compiled at -O2 by build.rs.
 pub mod peer {
-    // The only unsafe code of hyst-cli: two calls into C that read `x[..n]` and write `y[..n]`.
+    // The unsafe code of hyst-cli: a call into C that reads `x[..n]` (and, in this file's
+    // test, one that also writes `y[..n]`).
     #![allow(unsafe_code)]
 
     extern "C" {
-        #[cfg(test)]
-        fn hyst_peer_inverse(k1: f64, k2: f64, x: *const f64, y: *mut f64, n: usize);
         fn hyst_peer_inverse_sum(k1: f64, k2: f64, x: *const f64, n: usize) -> f64;
     }
 
@@ -331,15 +330,6 @@ pub mod peer {
     pub fn inverse_sum(k1: f64, k2: f64, x: &[f64]) -> f64 {
         // SAFETY: the C function reads x[0..n) only, n = x.len(), and keeps no pointer.
         unsafe { hyst_peer_inverse_sum(k1, k2, x.as_ptr(), x.len()) }
-    }
-
-    /// H⁻¹(k1, k2) from no history over `x` into `y` (as many outputs as both have room for).
-    #[cfg(test)]
-    pub fn inverse(k1: f64, k2: f64, x: &[f64], y: &mut [f64]) {
-        let n = x.len().min(y.len());
-        // SAFETY: the C function reads x[0..n), writes y[0..n) (n within both slices, which
-        // cannot overlap: `y` is borrowed mutably) and keeps no pointer.
-        unsafe { hyst_peer_inverse(k1, k2, x.as_ptr(), y.as_mut_ptr(), n) }
     }
 }
 
@@ -452,8 +442,20 @@ mod tests {
     #[test]
     fn the_c_peer_is_the_inverse_operator() {
         // Here, not at the module's top: the criterion bench includes this file and drops the
-        // test, which would leave the import unused.
+        // test, which would leave the imports and this function unused.
         use super::{peer, Inputs, InverseHysteresis, Operator as _, K1, K2};
+        /// The C peer's H⁻¹(k1, k2) from no history over `x` into `y` (as many outputs as both
+        /// have room for).
+        #[allow(unsafe_code)] // a call into C, as the peer module's
+        fn peer_inverse(k1: f64, k2: f64, x: &[f64], y: &mut [f64]) {
+            extern "C" {
+                fn hyst_peer_inverse(k1: f64, k2: f64, x: *const f64, y: *mut f64, n: usize);
+            }
+            let n = x.len().min(y.len());
+            // SAFETY: the C function reads x[0..n), writes y[0..n) (n within both slices, which
+            // cannot overlap: `y` is borrowed mutably) and keeps no pointer.
+            unsafe { hyst_peer_inverse(k1, k2, x.as_ptr(), y.as_mut_ptr(), n) }
+        }
         let inputs = Inputs::new();
         let small: Vec<f64> = (0..2000)
             .map(|k| 0.3 * (f64::from(k) * 0.05).sin() * (f64::from(k) * 0.013).cos())
@@ -464,7 +466,7 @@ mod tests {
             (0.05, 1.0, &small),
         ] {
             let mut y = vec![0.0; x.len()];
-            peer::inverse(k1, k2, x, &mut y);
+            peer_inverse(k1, k2, x, &mut y);
             let mut h = InverseHysteresis::new(k1, k2).unwrap();
             for (i, (&u, &c)) in x.iter().zip(&y).enumerate() {
                 let v = h.try_step(u).unwrap();

@@ -144,21 +144,24 @@ fn records_restart_every_column() {
     }
 }
 
-#[test]
-fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
-    let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("in.csv");
-    let inputs = [
-        "a",
-        "a_d1",
-        "a_d2",
-        "b",
-        "b_d1",
-        "b_d2",
-        "u_actuator_V",
-        "v",
-        "curve",
-    ];
+/// The columns of [`scalar_path_input`].
+const SCALAR_PATH_INPUTS: [&str; 9] = [
+    "a",
+    "a_d1",
+    "a_d2",
+    "b",
+    "b_d1",
+    "b_d2",
+    "u_actuator_V",
+    "v",
+    "curve",
+];
+
+/// Signals of the scalar path, 5,000 rows at 1 kHz in four records (`curve`): the columns
+/// [`SCALAR_PATH_INPUTS`], two with their first two derivatives, in `dir/in.csv`.
+fn scalar_path_input(dir: &Path) -> PathBuf {
+    let input = dir.join("in.csv");
+    let inputs = SCALAR_PATH_INPUTS;
     let mut text = inputs.join(",") + "\n";
     for i in 0..5000 {
         let t = i as f64 * 1e-3;
@@ -178,6 +181,14 @@ fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
         );
     }
     std::fs::write(&input, text).unwrap();
+    input
+}
+
+#[test]
+fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = scalar_path_input(dir.path());
+    let inputs = SCALAR_PATH_INPUTS;
     let smooth = corpus("smooth.toml");
     let pi = corpus("pi.toml");
     // The arguments, the columns run, and the name of what is computed.

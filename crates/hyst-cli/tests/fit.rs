@@ -2,6 +2,7 @@
 //! and every bad-data error (each names what is wrong, and no model file is left behind).
 
 use std::path::Path;
+use std::process::Output;
 
 use hyst_test_support::cli::Binary;
 use hyst_test_support::files::repo;
@@ -355,28 +356,33 @@ fn check_derivatives(csv: &str, input_d1: &[f64], tolerance: f64, allowed_misses
     Ok(())
 }
 
+/// `hyst fit --model-kind pi --json` of the bundled piezo record into `model`, with the
+/// arguments `extra`.
+fn fit_pi(model: &Path, extra: &[&str]) -> Output {
+    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    let mut args = vec![
+        "fit",
+        data.to_str().unwrap_or(""),
+        "--input",
+        "u_actuator_V",
+        "--output",
+        "y_capsensor_um",
+        "-o",
+        model.to_str().unwrap_or(""),
+        "--model-kind",
+        "pi",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    HYST.output(&args)
+}
+
 #[test]
 fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
     let dir = tempfile::tempdir()?;
     let model = dir.path().join("pi.toml");
     let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
-    let fit = |extra: &[&str]| {
-        let mut args = vec![
-            "fit",
-            data.to_str().unwrap_or(""),
-            "--input",
-            "u_actuator_V",
-            "--output",
-            "y_capsensor_um",
-            "-o",
-            model.to_str().unwrap_or(""),
-            "--model-kind",
-            "pi",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
-        HYST.output(&args)
-    };
+    let fit = |extra: &[&str]| fit_pi(&model, extra);
     let plain = fit(&[]);
     assert!(plain.status.success(), "{}", text(&plain.stderr));
     let plain: serde_json::Value = serde_json::from_slice(&plain.stdout)?;
@@ -448,8 +454,18 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
         .fold(0.0, f64::max);
     assert!(worst < 1e-9, "compensator misses the command by {worst}");
 
-    // Derivatives through the PI model with its polynomial (piecewise, value-exact), direct and
-    // inverse.
+    Ok(())
+}
+
+/// Derivatives through the PI model with its output polynomial (piecewise, value-exact), direct
+/// and inverse; a missing derivative column is named with the option.
+#[test]
+fn pi_with_output_polynomial_passes_derivatives_both_ways() -> R {
+    let dir = tempfile::tempdir()?;
+    let model = dir.path().join("pi.toml");
+    let out = fit_pi(&model, &["--pi-output", "poly3"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let m = model.to_str().ok_or("path")?;
     let jets = dir.path().join("jets.csv");
     std::fs::write(&jets, jet_csv("u_actuator_V", 4000, 0.0, 75.0))?;
     let out_jets = dir.path().join("out-jets.csv");

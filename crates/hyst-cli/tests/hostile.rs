@@ -461,68 +461,34 @@ fn tiny_constant_and_repeated_columns_are_refused_with_the_reason() {
     assert_eq!(entries(d), ["flat.csv", "tiny.csv"]);
 }
 
-#[test]
-fn bench_says_what_its_time_means_and_is_short_by_default() {
-    let help = HYST.command().args(["bench", "--help"]).output().unwrap();
-    let help = String::from_utf8(help.stdout).unwrap();
+/// The figure `key` of `hyst bench --json`'s report `json` (NaN if it is null).
+fn ns(json: &serde_json::Value, key: &str) -> f64 {
+    json[key].as_f64().unwrap_or(f64::NAN)
+}
+
+/// The ratio `key` of the report `json` is `expected`, the quotient of the figures it names.
+fn ratio_is(json: &serde_json::Value, key: &str, expected: f64) {
+    let ratio = ns(json, key);
     assert!(
-        help.contains("Total measuring time of the whole run"),
-        "{help}"
+        (ratio - expected).abs() <= 1e-12 * expected,
+        "{key}: {ratio} vs {expected}"
     );
-    // The default measuring budget is 1 s (stated, not timed: wall clocks on a shared machine
-    // say nothing).
-    assert!(help.contains("[default: 1]"), "{help}");
-    let o = HYST.command().args(["bench", "--json"]).output().unwrap();
-    assert!(o.status.success(), "{}", stderr(&o));
-    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert!(json["direct_ns"].as_f64().unwrap() > 0.0);
-    let ns = |key: &str| json[key].as_f64().unwrap_or(f64::NAN);
-    // The banks of 1,024 channels are measured in the same run, next to the scalar keys.
-    for key in [
-        "inverse_ns",
-        "inverse_d2_ns",
-        "model_ns",
-        "exp_ns",
-        "exp_inline_ns",
-        "lambert_w0_ns",
-        "bank_inverse_ns",
-        "bank_direct_ns",
-        "bank_inverse_f32_ns",
-    ] {
-        assert!(ns(key) > 0.0 && ns(key).is_finite(), "{key}: {}", ns(key));
-    }
-    // Each ratio is the quotient of the figures it names, measured in the same run.
-    let ratio_is = |key: &str, expected: f64| {
-        let ratio = ns(key);
-        assert!(
-            (ratio - expected).abs() <= 1e-12 * expected,
-            "{key}: {ratio} vs {expected}"
-        );
-    };
-    ratio_is(
-        "direct_over_w0_plus_exp",
-        ns("direct_ns") / (ns("lambert_w0_ns") + ns("exp_ns")),
-    );
-    // The inverse over the inline exp it evaluates (reported next to the goal's yardstick).
-    ratio_is(
-        "inverse_over_exp_inline",
-        ns("inverse_ns") / ns("exp_inline_ns"),
-    );
-    ratio_is(
-        "bank_inverse_over_inverse",
-        ns("bank_inverse_ns") / ns("inverse_ns"),
-    );
-    // The f32 bank against the f64 bank, its rate, and one verdict over the four bank goals.
-    let f32_ns = ns("bank_inverse_f32_ns");
-    ratio_is(
-        "bank_inverse_f32_over_bank_inverse",
-        f32_ns / ns("bank_inverse_ns"),
-    );
-    let rate = json["bank_inverse_f32_channel_samples_per_s"]
-        .as_f64()
-        .unwrap();
-    assert!((rate * f32_ns - 1e9).abs() <= 1e-3, "{rate} x {f32_ns}");
-    assert!(json["bank_goals_met"].is_boolean());
+}
+
+/// Whether this processor has AVX2 + FMA (the bank's forced-AVX2 figures are null otherwise).
+fn avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    let avx2 =
+        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
+    #[cfg(not(target_arch = "x86_64"))]
+    let avx2 = false;
+    avx2
+}
+
+/// The report's tick-by-tick figures of the banks and of 1,024 scalar operators are there, and
+/// each tick ratio is the quotient of the figures it names (null with them).
+fn tick_ratios_are_the_quotients(json: &serde_json::Value) {
+    let ns = |key: &str| ns(json, key);
     // The banks tick by tick, next to 1,024 scalar operators stepped the same way, on the
     // kernel of the run and with the AVX2 kernel forced (null where the processor has none).
     for key in [
@@ -570,17 +536,81 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
         if json[over].is_null() {
             assert!(json[ratio].is_null(), "{ratio}: {}", json[ratio]);
         } else {
-            ratio_is(ratio, expected);
+            ratio_is(json, ratio, expected);
         }
     }
     assert!(json["bank_tick_goals_met"].is_boolean());
-    #[cfg(target_arch = "x86_64")]
-    let avx2 =
-        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
-    #[cfg(not(target_arch = "x86_64"))]
-    let avx2 = false;
+}
+
+#[test]
+fn bench_says_what_its_time_means_and_is_short_by_default() {
+    let help = HYST.command().args(["bench", "--help"]).output().unwrap();
+    let help = String::from_utf8(help.stdout).unwrap();
+    assert!(
+        help.contains("Total measuring time of the whole run"),
+        "{help}"
+    );
+    // The default measuring budget is 1 s (stated, not timed: wall clocks on a shared machine
+    // say nothing).
+    assert!(help.contains("[default: 1]"), "{help}");
+    let o = HYST.command().args(["bench", "--json"]).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(json["direct_ns"].as_f64().unwrap() > 0.0);
+    let ns = |key: &str| json[key].as_f64().unwrap_or(f64::NAN);
+    // The banks of 1,024 channels are measured in the same run, next to the scalar keys.
+    for key in [
+        "inverse_ns",
+        "inverse_d2_ns",
+        "model_ns",
+        "exp_ns",
+        "exp_inline_ns",
+        "lambert_w0_ns",
+        "bank_inverse_ns",
+        "bank_direct_ns",
+        "bank_inverse_f32_ns",
+    ] {
+        assert!(ns(key) > 0.0 && ns(key).is_finite(), "{key}: {}", ns(key));
+    }
+    // Each ratio is the quotient of the figures it names, measured in the same run.
+    let ratio_is = |key: &str, expected: f64| ratio_is(&json, key, expected);
+    ratio_is(
+        "direct_over_w0_plus_exp",
+        ns("direct_ns") / (ns("lambert_w0_ns") + ns("exp_ns")),
+    );
+    // The inverse over the inline exp it evaluates (reported next to the goal's yardstick).
+    ratio_is(
+        "inverse_over_exp_inline",
+        ns("inverse_ns") / ns("exp_inline_ns"),
+    );
+    ratio_is(
+        "bank_inverse_over_inverse",
+        ns("bank_inverse_ns") / ns("inverse_ns"),
+    );
+    // The f32 bank against the f64 bank, its rate, and one verdict over the four bank goals.
+    let f32_ns = ns("bank_inverse_f32_ns");
+    ratio_is(
+        "bank_inverse_f32_over_bank_inverse",
+        f32_ns / ns("bank_inverse_ns"),
+    );
+    let rate = json["bank_inverse_f32_channel_samples_per_s"]
+        .as_f64()
+        .unwrap();
+    assert!((rate * f32_ns - 1e9).abs() <= 1e-3, "{rate} x {f32_ns}");
+    assert!(json["bank_goals_met"].is_boolean());
+    tick_ratios_are_the_quotients(&json);
+    let avx2 = avx2();
     assert_eq!(json["bank_avx2_tick_goals_met"].is_boolean(), avx2);
     assert_eq!(json["bank_avx2_tick_inverse_ns"].is_f64(), avx2);
+    assert!(json["kernel"].as_str().is_some_and(|k| !k.is_empty()));
+}
+
+/// `hyst bench` prints the banks' rows and goals; `--kernel` forces the kernel that runs
+/// (portable runs everywhere), one this processor cannot run is refused by name, an unknown one
+/// by clap.
+#[test]
+fn bench_prints_the_banks_and_runs_the_kernel_it_is_given() {
+    let avx2 = avx2();
     let text = HYST
         .command()
         .args(["bench", "--seconds", "0.05"])
@@ -600,9 +630,6 @@ fn bench_says_what_its_time_means_and_is_short_by_default() {
     ] {
         assert!(text.contains(row), "{text}");
     }
-    // The kernel that ran, which --kernel forces (portable runs everywhere); one this
-    // processor cannot run is refused by name, an unknown one by clap.
-    assert!(json["kernel"].as_str().is_some_and(|k| !k.is_empty()));
     let forced = HYST
         .command()
         .args([

@@ -332,7 +332,12 @@ fn text_records_restart_at_each_label_and_are_passed_through() {
             "{args:?}: the repeated label starts a new record"
         );
     }
-    // Numeric record cells are compared as numbers: 1, 1.0 and 1e0 are one record.
+}
+
+/// Numeric record cells are compared as numbers: 1, 1.0 and 1e0 are one record.
+#[test]
+fn numeric_record_cells_are_compared_as_numbers() {
+    let dir = tempfile::tempdir().unwrap();
     let numeric = dir.path().join("numeric.csv");
     std::fs::write(&numeric, "r,x\n1,0\n1.0,1\n1e0,0.5\n2,0.5\n").unwrap();
     let out = run_ok(

@@ -120,6 +120,39 @@ fn sample_period_is_recorded_and_checked(
     }
 }
 
+/// The same records fitted without dynamics (static, the same cubic ψ_out), its inverse run on
+/// the reference `target`: the worst flux error of its commands through the truth
+/// ([`through_truth`]).
+fn static_compensation_error(data: &Path, target: &Path, desired: &[f64], h: f64) -> f64 {
+    let dir = target.parent().unwrap();
+    let static_model = dir.join("static.toml");
+    HYST.stdout(&[
+        "fit",
+        data.to_str().unwrap(),
+        "--input",
+        "u",
+        "--output",
+        "phi",
+        "--output-shaping",
+        "poly3",
+        "-o",
+        static_model.to_str().unwrap(),
+    ]);
+    let out_static = dir.join("command-static.csv");
+    HYST.stdout(&[
+        "run",
+        "--model",
+        static_model.to_str().unwrap(),
+        "--inverse",
+        "--column",
+        "phi",
+        target.to_str().unwrap(),
+        "-o",
+        out_static.to_str().unwrap(),
+    ]);
+    through_truth(&read_column(&out_static, "u"), desired, h)
+}
+
 /// Example 2 as a truth: L İ = −R I + U (R = 1 Ω, L = 0.1 H), Φ = ψ(H(0.06, 5)[I]) with the
 /// paper's quadratic-exp ψ (fitted with a cubic ψ_out, which represents it on this range to the
 /// noise), driven by multisines at three amplitudes with 0.1 % noise.
@@ -177,20 +210,6 @@ fn example2_first_order_plant_is_identified_and_compensated() {
         Some(true)
     );
 
-    let static_model = dir.path().join("static.toml");
-    HYST.stdout(&[
-        "fit",
-        data.to_str().unwrap(),
-        "--input",
-        "u",
-        "--output",
-        "phi",
-        "--output-shaping",
-        "poly3",
-        "-o",
-        static_model.to_str().unwrap(),
-    ]);
-
     let (target, desired, rows) = example2_reference(dir.path(), h);
     let out = dir.path().join("command.csv");
     HYST.stdout(&[
@@ -207,19 +226,7 @@ fn example2_first_order_plant_is_identified_and_compensated() {
     // The file records the period the records were sampled at, and a record whose time is in
     // milliseconds (read as seconds: 1000 × the period) runs with a note saying so.
     sample_period_is_recorded_and_checked(&json, &model, &target, &rows, h);
-    let out_static = dir.path().join("command-static.csv");
-    HYST.stdout(&[
-        "run",
-        "--model",
-        static_model.to_str().unwrap(),
-        "--inverse",
-        "--column",
-        "phi",
-        target.to_str().unwrap(),
-        "-o",
-        out_static.to_str().unwrap(),
-    ]);
-    let static_error = through_truth(&read_column(&out_static, "u"), &desired, h);
+    let static_error = static_compensation_error(&data, &target, &desired, h);
     println!(
         "example 2, compensation of a new reference through the true plant: max flux error \
          {:.3} % of span with the fitted plant, {:.2} % with the static model",

@@ -5,6 +5,53 @@ use super::*;
 use crate::headers::*;
 use crate::timed::*;
 
+/// A C program that runs the exported inverses `names` (from their initial state) over the
+/// desired outputs `rows` (a C initialiser list), printing each command's bits as "u HEX", and
+/// fails if one clamps.
+fn c_harness(names: &[&str], rows: &str) -> String {
+    let mut harness = String::from(
+        "#include <stdio.h>\n#include <string.h>\n#include \"piezo_tanh_in.h\"\n\
+         #include \"piezo_langevin_in.h\"\n\n\
+         static unsigned long long bits(double x) {\n    unsigned long long b;\n    \
+         memcpy(&b, &x, sizeof b);\n    return b;\n}\n\n",
+    );
+    harness += &format!("static const double desired[3] = {{{rows}}};\n\n");
+    harness += "int main(void) {\n    int i;\n";
+    for name in names {
+        harness += &format!(
+            "    {{\n        {name}_state s;\n        \
+             if ({name}_init_inverse(&s) != HYST_OK) return 1;\n        \
+             for (i = 0; i < 3; i++) {{\n            double u;\n            \
+             if ({name}_step(&s, desired[i], &u) != HYST_OK) return 2;\n            \
+             printf(\"u %016llx\\n\", bits(u));\n        }}\n        \
+             if (s.clamped != 0) return 3;\n    }}\n"
+        );
+    }
+    harness += "    return 0;\n}\n";
+    harness
+}
+
+/// The main.rs of a crate that runs the exported Rust inverses `names` over the desired outputs
+/// `rows`, none of them clamped, printing each command's bits as "u HEX".
+fn rust_main(names: &[&str], rows: &str) -> String {
+    let mut main = String::from(
+        "#![allow(clippy::all, dead_code)]\ninclude!(\"piezo_tanh_in.rs\");\n\
+         include!(\"piezo_langevin_in.rs\");\n\nfn main() {\n",
+    );
+    main += &format!("    let desired = [{rows}];\n");
+    for name in names {
+        main += &format!(
+            "    let mut m = {name}_inverse::<f64>().unwrap();\n    \
+             for y in desired {{\n        \
+             assert_eq!({name}_clamp(y), y);\n        \
+             let u = hyst_core::Operator::try_step(&mut m, {name}_clamp(y)).unwrap();\n        \
+             println!(\"u {{:016x}}\", u.to_bits());\n    }}\n"
+        );
+    }
+    main += "}\n";
+    main
+}
+
 /// The piezo record (0 to 3.6 V) fitted with a tanh or a Langevin input shaping and a tanh
 /// output shaping (crates/hyst-model/testdata), exported as C and Rust: the exported inverses
 /// clamp no desired output of the training range, and give the commands of `hyst run
@@ -67,25 +114,7 @@ fn exported_inverse_of_a_saturating_input_model_keeps_the_training_range() {
     };
     // C, on the host against the host library.
     if Command::new("cc").arg("--version").output().is_ok() {
-        let mut harness = String::from(
-            "#include <stdio.h>\n#include <string.h>\n#include \"piezo_tanh_in.h\"\n\
-             #include \"piezo_langevin_in.h\"\n\n\
-             static unsigned long long bits(double x) {\n    unsigned long long b;\n    \
-             memcpy(&b, &x, sizeof b);\n    return b;\n}\n\n",
-        );
-        harness += &format!("static const double desired[3] = {{{rows}}};\n\n");
-        harness += "int main(void) {\n    int i;\n";
-        for name in names {
-            harness += &format!(
-                "    {{\n        {name}_state s;\n        \
-                 if ({name}_init_inverse(&s) != HYST_OK) return 1;\n        \
-                 for (i = 0; i < 3; i++) {{\n            double u;\n            \
-                 if ({name}_step(&s, desired[i], &u) != HYST_OK) return 2;\n            \
-                 printf(\"u %016llx\\n\", bits(u));\n        }}\n        \
-                 if (s.clamped != 0) return 3;\n    }}\n"
-            );
-        }
-        harness += "    return 0;\n}\n";
+        let harness = c_harness(&names, &rows);
         let source = dir.path().join("harness.c");
         std::fs::write(&source, harness).unwrap();
         let stdout = run_c_against_the_library(dir.path(), &source).unwrap();
@@ -96,21 +125,7 @@ fn exported_inverse_of_a_saturating_input_model_keeps_the_training_range() {
         println!("no C compiler (cc): the exported C is not run");
     }
     // Rust, in a crate of its own over hyst-core.
-    let mut main = String::from(
-        "#![allow(clippy::all, dead_code)]\ninclude!(\"piezo_tanh_in.rs\");\n\
-         include!(\"piezo_langevin_in.rs\");\n\nfn main() {\n",
-    );
-    main += &format!("    let desired = [{rows}];\n");
-    for name in names {
-        main += &format!(
-            "    let mut m = {name}_inverse::<f64>().unwrap();\n    \
-             for y in desired {{\n        \
-             assert_eq!({name}_clamp(y), y);\n        \
-             let u = hyst_core::Operator::try_step(&mut m, {name}_clamp(y)).unwrap();\n        \
-             println!(\"u {{:016x}}\", u.to_bits());\n    }}\n"
-        );
-    }
-    main += "}\n";
+    let main = rust_main(&names, &rows);
     std::fs::write(krate.join("src/main.rs"), main).unwrap();
     let run = cargo(&["run", "--quiet"], &krate);
     assert!(run.status.success(), "{}", stderr(&run));
