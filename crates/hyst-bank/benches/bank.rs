@@ -28,6 +28,7 @@ use std::time::Instant;
 use hyst_bank::BankVec;
 use hyst_bank::{force_isa, BankFormula, Isa, Lane};
 use hyst_core::{ConstantK2, Direct, Inverse, Operator, ParametricHysteresis};
+use hyst_test_support::rng::{Random, XorShift64};
 
 const CHANNELS: usize = 1024;
 const TICKS: usize = 256;
@@ -44,72 +45,63 @@ fn signal(c: usize, t: usize) -> f64 {
 
 type Job<'a> = (String, Box<dyn FnMut() + 'a>);
 
-/// The six jobs of one precision and formula: bank and scalar, tick by tick, in blocks of
-/// [`SHORT`] ticks and in one block of [`TICKS`] ticks.
-fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a>> {
-    // Each channel's k1, k2 and the factor of its signal: k1 = 0.2, k2 = 8 and the signal as it
-    // is; or (`mixed`) k1 log-uniform in [1e-3, 10], k2 in [1e-2, 1e6] and the signal times
-    // 20 k1, the ranges of tests/bank.rs, where most ticks are far past the reversal point.
-    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut uniform = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+/// The inputs of one precision: each channel's k1 and k2, and its signal of [`TICKS`] ticks,
+/// time-major (`ticks`, a tick's channels together) and channel-major (`channels`).
+struct Workload<T> {
+    k1s: Vec<T>,
+    k2s: Vec<T>,
+    ticks: Vec<T>,
+    channels: Vec<T>,
+}
+
+/// Each channel's k1, k2 and the factor of its signal: k1 = 0.2, k2 = 8 and the signal as it
+/// is; or (`mixed`) k1 log-uniform in [1e-3, 10], k2 in [1e-2, 1e6] and the signal times
+/// 20 k1, the ranges of tests/bank.rs, where most ticks are far past the reversal point.
+fn workload<T: Lane>(mixed: bool) -> Workload<T> {
+    let mut rng = XorShift64(0x9e37_79b9_7f4a_7c15);
     let params: Vec<(f64, f64, f64)> = (0..CHANNELS)
         .map(|_| {
             if mixed {
-                let k1 = 1e-3 * 1e4f64.powf(uniform());
-                (k1, 1e-2 * 1e8f64.powf(uniform()), 20.0 * k1)
+                let k1 = 1e-3 * 1e4f64.powf(rng.unit());
+                (k1, 1e-2 * 1e8f64.powf(rng.unit()), 20.0 * k1)
             } else {
                 (0.2, 8.0, 1.0)
             }
         })
         .collect();
-    let p = params.clone();
-    let ticks: Vec<T> = (0..TICKS)
-        .flat_map(|t| (0..CHANNELS).map(move |c| (c, t)))
-        .map(|(c, t)| T::from_f64(p[c].2 * signal(c, t)))
-        .collect();
-    let channels: Vec<T> = (0..CHANNELS)
-        .flat_map(|c| (0..TICKS).map(move |t| (c, t)))
-        .map(|(c, t)| T::from_f64(p[c].2 * signal(c, t)))
-        .collect();
-    let k1s: Vec<T> = params.iter().map(|p| T::from_f64(p.0)).collect();
-    let k2s: Vec<T> = params.iter().map(|p| T::from_f64(p.1)).collect();
-    let bank = || BankVec::<T, F>::from_vecs(k1s.clone(), k2s.clone()).unwrap();
-    let ops = || -> Vec<ParametricHysteresis<T, ConstantK2<T>, F>> {
-        k1s.iter()
-            .zip(&k2s)
-            .map(|(&k1, &k2)| ParametricHysteresis::new(k1, k2).unwrap())
-            .collect()
-    };
-    let (mut b1, mut b2, mut s1, mut s2) = (bank(), bank(), ops(), ops());
-    let (mut b3, mut s3) = (bank(), ops());
-    // Eight rows, back and forth: row i of the `hot` workloads.
-    let hot: Vec<T> = ticks[..8 * CHANNELS].to_vec();
-    let hot_row = |i: usize| {
-        let m = i % 14;
-        let r = if m < 8 { m } else { 14 - m };
-        r * CHANNELS..(r + 1) * CHANNELS
-    };
-    let (h1, h2) = (hot.clone(), hot);
-    let (mut b4, mut s4) = (bank(), ops());
-    let (mut o7, mut o8) = (vec![T::zero(); CHANNELS], vec![T::zero(); CHANNELS]);
-    let (t1, t2, t3, t5, c4) = (
-        ticks.clone(),
-        ticks.clone(),
-        ticks.clone(),
-        ticks,
-        channels.clone(),
-    );
-    let mut o5 = vec![T::zero(); CHANNELS * TICKS].into_boxed_slice();
-    let mut o6 = vec![T::zero(); CHANNELS * SHORT].into_boxed_slice();
+    let p = &params;
+    Workload {
+        k1s: params.iter().map(|p| T::from_f64(p.0)).collect(),
+        k2s: params.iter().map(|p| T::from_f64(p.1)).collect(),
+        ticks: (0..TICKS)
+            .flat_map(|t| (0..CHANNELS).map(move |c| (c, t)))
+            .map(|(c, t)| T::from_f64(p[c].2 * signal(c, t)))
+            .collect(),
+        channels: (0..CHANNELS)
+            .flat_map(|c| (0..TICKS).map(move |t| (c, t)))
+            .map(|(c, t)| T::from_f64(p[c].2 * signal(c, t)))
+            .collect(),
+    }
+}
+
+/// The channels of row `i` of the `hot` jobs: eight rows, back and forth.
+fn hot_row(i: usize) -> core::ops::Range<usize> {
+    let m = i % 14;
+    let r = if m < 8 { m } else { 14 - m };
+    r * CHANNELS..(r + 1) * CHANNELS
+}
+
+/// The four jobs of the bank: tick by tick, in one block of [`TICKS`] ticks, in blocks of
+/// [`SHORT`] ticks, and on eight hot rows.
+fn bank_jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, w: &Workload<T>) -> Vec<Job<'a>> {
+    let bank = || BankVec::<T, F>::from_vecs(w.k1s.clone(), w.k2s.clone()).unwrap();
+    let (mut b1, mut b2, mut b3, mut b4) = (bank(), bank(), bank(), bank());
+    let (t1, t2, t5) = (w.ticks.clone(), w.ticks.clone(), w.ticks.clone());
+    let h1: Vec<T> = w.ticks[..8 * CHANNELS].to_vec();
     let mut o1 = vec![T::zero(); CHANNELS];
     let mut o2 = vec![T::zero(); CHANNELS * TICKS];
-    let mut o3 = [T::zero(); CHANNELS];
-    let mut o4 = vec![T::zero(); CHANNELS * TICKS];
+    let mut o5 = vec![T::zero(); CHANNELS * TICKS].into_boxed_slice();
+    let mut o7 = vec![T::zero(); CHANNELS];
     vec![
         (
             format!("tick  bank   {name}"),
@@ -142,6 +134,26 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a
                 }
             }),
         ),
+    ]
+}
+
+/// The four jobs of as many scalar operators, the same ways.
+fn scalar_jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, w: &Workload<T>) -> Vec<Job<'a>> {
+    let ops = || -> Vec<ParametricHysteresis<T, ConstantK2<T>, F>> {
+        w.k1s
+            .iter()
+            .zip(&w.k2s)
+            .map(|(&k1, &k2)| ParametricHysteresis::new(k1, k2).unwrap())
+            .collect()
+    };
+    let (mut s1, mut s2, mut s3, mut s4) = (ops(), ops(), ops(), ops());
+    let (t3, c4, channels) = (w.ticks.clone(), w.channels.clone(), w.channels.clone());
+    let h2: Vec<T> = w.ticks[..8 * CHANNELS].to_vec();
+    let mut o3 = [T::zero(); CHANNELS];
+    let mut o4 = vec![T::zero(); CHANNELS * TICKS];
+    let mut o6 = vec![T::zero(); CHANNELS * SHORT].into_boxed_slice();
+    let mut o8 = [T::zero(); CHANNELS];
+    vec![
         (
             format!("tick  scalar {name}"),
             Box::new(move || {
@@ -187,6 +199,14 @@ fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a
             }),
         ),
     ]
+}
+
+/// The eight jobs of one precision and formula: [`bank_jobs`], then [`scalar_jobs`].
+fn jobs<'a, T: Lane, F: BankFormula + 'a>(name: &str, mixed: bool) -> Vec<Job<'a>> {
+    let w = workload::<T>(mixed);
+    let mut jobs = bank_jobs::<T, F>(name, &w);
+    jobs.extend(scalar_jobs::<T, F>(name, &w));
+    jobs
 }
 
 fn main() {

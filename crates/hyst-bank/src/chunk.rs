@@ -547,6 +547,7 @@ pub(super) fn load<V: Simd, F: BankFormula>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hyst_test_support::rng::{Random, XorShift64};
 
     /// `into_band` on one lane (`f64`, `f32` as their own one-lane vectors) against
     /// `within_band`, the scalar clamp of the rare path: both put the edges x ± k1 as rounded one
@@ -595,13 +596,8 @@ mod tests {
     fn the_vector_band_clamp_is_the_scalar_one() {
         // Magnitudes of x from far below k1 to far above (where x ± k1 rounds outside the band
         // about half the time), both signs, powers of two and their neighbours.
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = XorShift64(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.unit();
         for _ in 0..200_000 {
             let k1 = 10f64.powf(-3.0 + 4.0 * next());
             let x = (next() - 0.5) * 10f64.powf(-4.0 + 24.0 * next());

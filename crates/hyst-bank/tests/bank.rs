@@ -9,24 +9,11 @@ use hyst_bank::lanes::{omega, Lane};
 use hyst_bank::{force_isa, isa, Isa};
 use hyst_bank::{BankError, BankVec};
 use hyst_core::{Direct, Error, Inverse, Memory, Operator};
+use hyst_test_support::rng::{Random, XorShift64Star};
 use std::sync::Mutex;
 
 /// Tests that force a kernel or depend on which one runs hold this (the choice is global).
 static ISA_LOCK: Mutex<()> = Mutex::new(());
-
-/// A small deterministic generator (xorshift64*), so the tests need no dependency.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.next()).exp()
-    }
-}
 
 fn ulps_f64(a: f64, b: f64, scale: f64) -> f64 {
     (a - b).abs() / (scale.abs() * f64::EPSILON)
@@ -34,10 +21,10 @@ fn ulps_f64(a: f64, b: f64, scale: f64) -> f64 {
 
 #[test]
 fn exp_and_ln_match_the_platform() {
-    let mut rng = Rng(7);
+    let mut rng = XorShift64Star(7);
     let mut worst = (0.0_f64, 0.0_f64);
     for _ in 0..1_000_000 {
-        let x = -745.0 + 1454.0 * rng.next();
+        let x = -745.0 + 1454.0 * rng.unit();
         let e = x.exp_l();
         let r = x.exp();
         if r.is_normal() {
@@ -60,7 +47,7 @@ fn exp_and_ln_match_the_platform() {
     assert_eq!(0.0_f64.exp_l(), 1.0);
     let mut worst32 = (0.0_f32, 0.0_f32);
     for _ in 0..1_000_000 {
-        let x = (-87.0 + 175.0 * rng.next()) as f32;
+        let x = (-87.0 + 175.0 * rng.unit()) as f32;
         let r = x.exp();
         if r.is_normal() {
             worst32.0 = worst32.0.max((x.exp_l() - r).abs() / (r * f32::EPSILON));
@@ -80,11 +67,11 @@ fn exp_and_ln_match_the_platform() {
 
 #[test]
 fn omega_matches_the_scalar_one() {
-    let mut rng = Rng(11);
+    let mut rng = XorShift64Star(11);
     let mut worst = 0.0_f64;
     for _ in 0..1_000_000 {
-        let y = if rng.next() < 0.5 {
-            -60.0 + 80.0 * rng.next()
+        let y = if rng.unit() < 0.5 {
+            -60.0 + 80.0 * rng.unit()
         } else {
             rng.log_uniform(1.0, 1e300)
         };
@@ -140,7 +127,7 @@ where
     T: LaneEps,
     F: hyst_bank::BankFormula,
 {
-    let mut rng = Rng(seed);
+    let mut rng = XorShift64Star(seed);
     let wide = T::EPSILON_F64 < 1e-10;
     let (k2_hi, amp_hi) = if wide { (1e6, 100.0) } else { (1e4, 100.0) };
     let k1: Vec<f64> = (0..CHANNELS).map(|_| rng.log_uniform(1e-3, 10.0)).collect();
@@ -155,8 +142,8 @@ where
     let offset: Vec<f64> = k1
         .iter()
         .map(|k| {
-            if rng.next() < 0.5 {
-                k * 100.0 * (2.0 * rng.next() - 1.0)
+            if rng.unit() < 0.5 {
+                k * 100.0 * (2.0 * rng.unit() - 1.0)
             } else {
                 0.0
             }
@@ -182,8 +169,8 @@ where
     let mut worst = 0.0_f64;
     for _ in 0..ticks {
         for c in 0..CHANNELS {
-            let big = if rng.next() < 0.1 { 1.0 } else { 0.3 };
-            x[c] = t(offset[c] + amp[c] * (2.0 * rng.next() - 1.0) * big);
+            let big = if rng.unit() < 0.1 { 1.0 } else { 0.3 };
+            x[c] = t(offset[c] + amp[c] * (2.0 * rng.unit() - 1.0) * big);
             ops[c]
                 .set_memory(bank.memory(c))
                 .unwrap_or_else(|e| panic!("channel {c}: the bank's memory is refused: {e}"));
@@ -444,19 +431,73 @@ fn layouts_and_storage_agree() {
     force_isa(None).unwrap();
 }
 
+/// The input of channel `c` at tick `t` of the layout tests: a sine of its own, offset by
+/// 1,000 k1 on the even channels (far past the reversal point).
+fn layout_input(k1: &[f64], c: usize, t: usize) -> f64 {
+    let offset = if c.is_multiple_of(2) {
+        1e3 * k1[c]
+    } else {
+        0.0
+    };
+    offset + (0.21 * t as f64 + c as f64).sin() * (1.0 + 0.1 * c as f64)
+}
+
+/// Banks of N channels (k1, k2) started from the memories `start`, every third channel from no
+/// history instead, then driven against their direction of travel: stepped tick by tick and
+/// processed as one block of three ticks, they agree bit for bit.
+fn first_samples_at_a_reversal_agree<F: hyst_bank::BankFormula, const N: usize>(
+    k1: &[f64; N],
+    k2: &[f64; N],
+    start: &[Option<Memory<f64>>],
+) {
+    let x = |c: usize, t: usize| layout_input(k1, c, t);
+    let mut a = vec![0.0; N];
+    // Channels at their first sample in the chunks of channels that run on, and reverse, at
+    // that tick (`step`'s visit hands such a chunk to the general tick): as a block of three
+    // ticks gives them.
+    let mut stepped = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    let mut blocked = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
+    for (c, m) in start.iter().enumerate() {
+        let m = if c % 3 == 1 { None } else { *m };
+        stepped.set_memory(c, m).unwrap();
+        blocked.set_memory(c, m).unwrap();
+    }
+    let turn = |c: usize, t: usize| match start[c] {
+        // Against the direction of travel: a reversal at the first tick.
+        Some(m) => m.last_input - m.direction.sign::<f64>() * (0.3 + 0.1 * t as f64),
+        None => x(c, t),
+    };
+    let mut by_step = vec![0.0; N * 3];
+    for t in 0..3 {
+        let row: Vec<f64> = (0..N).map(|c| turn(c, t)).collect();
+        stepped.step(&row, &mut a).unwrap();
+        by_step[t * N..(t + 1) * N].copy_from_slice(&a);
+    }
+    let channel_major: Vec<f64> = (0..N)
+        .flat_map(|c| (0..3).map(move |t| turn(c, t)))
+        .collect();
+    let mut by_block = vec![0.0; N * 3];
+    blocked
+        .process_block(&channel_major, &mut by_block, 3)
+        .unwrap();
+    for c in 0..N {
+        for t in 0..3 {
+            assert_eq!(
+                by_step[t * N + c].to_bits(),
+                by_block[c * 3 + t].to_bits(),
+                "channel {c}, tick {t}"
+            );
+        }
+    }
+    assert_eq!(memories(&stepped), memories(&blocked));
+}
+
 fn layouts_agree<F: hyst_bank::BankFormula>() {
     const N: usize = 45;
     const T: usize = 37;
     let k1: [f64; N] = core::array::from_fn(|c| 0.05 + 0.03 * c as f64);
     let k2: [f64; N] = core::array::from_fn(|c| 0.5 + 3.0 * c as f64);
-    let x = |c: usize, t: usize| {
-        let offset = if c.is_multiple_of(2) {
-            1e3 * k1[c]
-        } else {
-            0.0
-        };
-        offset + (0.21 * t as f64 + c as f64).sin() * (1.0 + 0.1 * c as f64)
-    };
+    let x = |c: usize, t: usize| layout_input(&k1, c, t);
     let mut by_tick = hyst_bank::Bank::<f64, F, N>::new(k1, k2).unwrap();
     let mut ticks = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
     let mut block = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
@@ -513,45 +554,7 @@ fn layouts_agree<F: hyst_bank::BankFormula>() {
         assert_eq!(bits(&a), bits(&b), "tick {t}");
     }
     assert_eq!(memories(&ticks), memories(&other));
-    // Channels at their first sample in the chunks of channels that run on, and reverse, at
-    // that tick (`step`'s visit hands such a chunk to the general tick): as a block of three
-    // ticks gives them.
-    let mut stepped = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
-    let mut blocked = BankVec::<f64, F>::from_vecs(k1.to_vec(), k2.to_vec()).unwrap();
-    let start = memories(&ticks);
-    for (c, m) in start.iter().enumerate() {
-        let m = if c % 3 == 1 { None } else { *m };
-        stepped.set_memory(c, m).unwrap();
-        blocked.set_memory(c, m).unwrap();
-    }
-    let turn = |c: usize, t: usize| match start[c] {
-        // Against the direction of travel: a reversal at the first tick.
-        Some(m) => m.last_input - m.direction.sign::<f64>() * (0.3 + 0.1 * t as f64),
-        None => x(c, t),
-    };
-    let mut by_step = vec![0.0; N * 3];
-    for t in 0..3 {
-        let row: Vec<f64> = (0..N).map(|c| turn(c, t)).collect();
-        stepped.step(&row, &mut a).unwrap();
-        by_step[t * N..(t + 1) * N].copy_from_slice(&a);
-    }
-    let channel_major: Vec<f64> = (0..N)
-        .flat_map(|c| (0..3).map(move |t| turn(c, t)))
-        .collect();
-    let mut by_block = vec![0.0; N * 3];
-    blocked
-        .process_block(&channel_major, &mut by_block, 3)
-        .unwrap();
-    for c in 0..N {
-        for t in 0..3 {
-            assert_eq!(
-                by_step[t * N + c].to_bits(),
-                by_block[c * 3 + t].to_bits(),
-                "channel {c}, tick {t}"
-            );
-        }
-    }
-    assert_eq!(memories(&stepped), memories(&blocked));
+    first_samples_at_a_reversal_agree::<F, N>(&k1, &k2, &memories(&ticks));
 }
 
 /// Threads: `step_par` and `process_block_par` give the sequential outputs and memories bit for

@@ -22,6 +22,7 @@ use hyst_fit::identify::{identify, Request};
 use hyst_fit::lm::Silent;
 use hyst_fit::{Dataset, Record};
 use hyst_model::{Columns, Dynamics, Hold, Provenance, Structure, TimeSteps};
+use hyst_test_support::rng::{Lcg64, Random, XorShift64};
 
 const SAMPLES: usize = 100_000;
 
@@ -57,12 +58,11 @@ fn data_100k() -> Dataset {
     let mut op = InitialState::Rising
         .start(Hysteresis::new(0.1, 5.0).expect("valid"), v[0])
         .expect("a start");
-    let mut seed = 1_u64;
+    let mut rng = Lcg64::with_increment(1, 1);
     let y: Vec<f64> = v
         .iter()
         .map(|x| {
-            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
-            let noise = ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.014;
+            let noise = (rng.unit() - 0.5) * 0.014;
             2.0 * op.step(*x) + noise
         })
         .collect();
@@ -126,23 +126,12 @@ fn data_36k() -> Dataset {
             (a.min(*y), b.max(*y))
         });
     let sigma = 0.002 * (hi - lo);
-    let mut seed = 7_u64;
-    // A standard normal (xorshift and Box–Muller).
-    let mut normal = move || {
-        let mut uniform = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            ((seed >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        let (a, b) = (uniform(), uniform());
-        (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
-    };
+    let mut rng = XorShift64(7);
     let records = outputs
         .into_iter()
         .enumerate()
         .map(|(r, (u, y))| {
-            let y: Vec<f64> = y.iter().map(|y| y + sigma * normal()).collect();
+            let y: Vec<f64> = y.iter().map(|y| y + sigma * rng.normal()).collect();
             Record {
                 id: r as i64,
                 weight: hyst_fit::Weights::Unit(TIMED_SAMPLES),

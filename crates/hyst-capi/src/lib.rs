@@ -22,15 +22,25 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![cfg_attr(not(test), deny(clippy::indexing_slicing))]
 
+// The modules of the C boundary read and write through the caller's raw pointers and export
+// `#[no_mangle]` functions: they allow unsafe code (denied in the workspace), each block with its
+// SAFETY argument. `status` has one exported function, which allows it itself.
+#[allow(unsafe_code)]
 pub mod api_f32;
+#[allow(unsafe_code)]
 pub mod api_f64;
 #[cfg(feature = "std")]
+#[allow(unsafe_code)]
 pub mod bank_f32;
 #[cfg(feature = "std")]
+#[allow(unsafe_code)]
 pub mod bank_f64;
+#[allow(unsafe_code)]
 mod engine;
 #[cfg(feature = "std")]
+#[allow(unsafe_code)]
 pub mod host;
+#[allow(unsafe_code)]
 mod slot;
 pub mod status;
 

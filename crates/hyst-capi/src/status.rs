@@ -61,6 +61,8 @@ pub(crate) fn of(error: &Error) -> i32 {
 
 /// The meaning of a status code, as a static NUL-terminated English sentence (never NULL; an
 /// unknown code gives "unknown status").
+// Exported unmangled for C (`no_mangle` counts as unsafe code); nothing else here is unsafe.
+#[allow(unsafe_code)]
 #[no_mangle]
 pub extern "C" fn hyst_status_message(status: i32) -> *const c_char {
     let message: &'static core::ffi::CStr = match status {

@@ -2,6 +2,8 @@
 //! `hyst_shaped_compensator_*` compute for affine shapings, bit for bit, with each start rule
 //! and form, in double and float; other shaping kinds are refused and leave the state as it was.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+// The tests call the C API through raw pointers, as a C program does.
+#![allow(unsafe_code)]
 
 use hyst::api_f32::*;
 use hyst::api_f64::*;

@@ -3,6 +3,8 @@
 //! channel and leave every memory as it was, memories move between a bank and an operator, and
 //! bad arguments give a status.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+// The tests call the C API through raw pointers, as a C program does.
+#![allow(unsafe_code)]
 
 use std::ptr;
 
@@ -152,8 +154,10 @@ fn the_float_bank_agrees_with_the_float_operator() {
     unsafe { hyst_bank_free_f32(bank) };
 }
 
+/// `create` with a bad parameter, no channels or NULLs: its status (naming the channel of the
+/// bad parameter), and no bank.
 #[test]
-fn errors_name_the_channel_and_leave_the_memories() {
+fn create_names_the_channel_of_a_bad_parameter() {
     let mut a: Vec<f64> = (0..CHANNELS).map(k1).collect();
     let b: Vec<f64> = (0..CHANNELS).map(k2).collect();
     a[11] = -1.0;
@@ -187,7 +191,21 @@ fn errors_name_the_channel_and_leave_the_memories() {
         )
     };
     assert_eq!(s, HYST_ERR_NULL_POINTER);
+}
 
+/// The memories of every channel of `bank`.
+fn memories(bank: *mut hyst_bank) -> Vec<hyst_memory> {
+    (0..CHANNELS)
+        .map(|c| {
+            let mut m = hyst_memory::default();
+            assert_eq!(unsafe { hyst_bank_get_memory(bank, c, &mut m) }, HYST_OK);
+            m
+        })
+        .collect()
+}
+
+/// A bank (no channel saturating) stepped once: the bank, the tick's inputs, its memories.
+fn stepped_bank() -> (*mut hyst_bank, Vec<f64>, Vec<hyst_memory>) {
     let bank = create(false);
     let row: Vec<f64> = (0..CHANNELS).map(|c| x(5, c)).collect();
     let mut y = vec![0.0; CHANNELS];
@@ -195,17 +213,17 @@ fn errors_name_the_channel_and_leave_the_memories() {
         unsafe { hyst_bank_step(bank, row.as_ptr(), y.as_mut_ptr(), ptr::null_mut()) },
         HYST_OK
     );
-    let memories = |bank| -> Vec<hyst_memory> {
-        (0..CHANNELS)
-            .map(|c| {
-                let mut m = hyst_memory::default();
-                assert_eq!(unsafe { hyst_bank_get_memory(bank, c, &mut m) }, HYST_OK);
-                m
-            })
-            .collect()
-    };
     let before = memories(bank);
     assert!(before.iter().all(|m| m.has_history == 1));
+    (bank, row, before)
+}
+
+/// A refused sample of a block (a NaN, an output beyond the float range, a tick count beyond
+/// any array) names its channel and leaves every memory as it was.
+#[test]
+fn refused_blocks_name_the_channel_and_leave_the_memories() {
+    let (bank, _, before) = stepped_bank();
+    let mut y = vec![0.0; CHANNELS];
     // A NaN on channel 29 of tick 2 of 3: nothing is processed.
     let mut block: Vec<f64> = (0..3 * CHANNELS)
         .map(|i| x(6 + i / CHANNELS, i % CHANNELS))
@@ -261,6 +279,15 @@ fn errors_name_the_channel_and_leave_the_memories() {
         )
     };
     assert_eq!(s, HYST_ERR_LENGTH);
+    unsafe { hyst_bank_free(bank) };
+}
+
+/// Channels beyond the bank, NULLs and memories outside a channel's band: their statuses, and
+/// the memories as they were.
+#[test]
+fn bad_channels_nulls_and_memories_are_refused() {
+    let (bank, row, before) = stepped_bank();
+    let mut y = vec![0.0; CHANNELS];
     // Channels beyond the bank, NULLs.
     let mut m = hyst_memory::default();
     assert_eq!(

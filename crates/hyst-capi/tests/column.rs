@@ -1,6 +1,8 @@
 //! `hyst_model_column`: the model file's column names through the host API, as C would ask for
 //! them (a buffer sized by a first call, a buffer too small, NULL pointers, a bad `which`).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+// The tests call the C API through raw pointers, as a C program does.
+#![allow(unsafe_code)]
 
 use std::ffi::{c_char, CStr, CString};
 use std::path::{Path, PathBuf};

@@ -2,6 +2,8 @@
 //! the host C API: a desired output out of reach is `HYST_ERR_OUT_OF_RANGE`,
 //! `hyst_model_saturation` gives the figures the CLI names, and `hyst_model_saturate` clamps.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+// The tests call the C API through raw pointers, as a C program does.
+#![allow(unsafe_code)]
 
 use std::ffi::CString;
 use std::ptr;

@@ -3,6 +3,8 @@
 //! `hyst_model::TimedRun` and `TimedCompensator` (what `hyst run --model` runs on a timed
 //! record), and every call that cannot run them says so by its status.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+// The tests call the C API through raw pointers, as a C program does.
+#![allow(unsafe_code)]
 
 use std::ffi::{c_char, CStr, CString};
 use std::path::{Path, PathBuf};
@@ -280,7 +282,15 @@ fn the_compensator_equals_timed_compensator() {
             hyst_model_free(m);
         }
     }
-    // No compensator: a static model (its exact inverse is hyst_model_process), a rate term.
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A model without a compensator (a static model, whose exact inverse is hyst_model_process,
+/// or one with a rate term): `compensate` and `corner_period` are unsupported.
+#[test]
+fn models_without_a_compensator_refuse_to_compensate() {
+    let dir = folder("uncompensated");
+    let h = 1e-3;
     for (name, sections) in [
         ("static.toml", ""),
         ("rate.toml", RATE),

@@ -9,13 +9,15 @@
     clippy::panic
 )]
 
-mod common;
-
 use std::fmt::Write as _;
 use std::path::Path;
 
-use common::{hyst, repo, s};
 use hyst_core::{AnyK2Law, Hysteresis, Operator, ScaledShaping, ShapedModel};
+use hyst_test_support::cli::Binary;
+use hyst_test_support::files::{index, parse_cells, piezo, piezo_fit, repo, s};
+use hyst_test_support::rng::{Lcg64, Random};
+
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 type Model = ShapedModel<f64, ScaledShaping<f64>, AnyK2Law<f64>, ScaledShaping<f64>>;
 
@@ -94,17 +96,8 @@ fn command(k: usize) -> f64 {
 /// 60 % of `n` samples, with noise σ 0.002; columns t, run (a text label), u, y.
 fn drifting_record(path: &Path, n: usize) {
     let mut truth = model(0.15, 2.0);
-    let mut seed = 2026_u64;
-    let mut noise = || {
-        let mut u = || {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            ((seed >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        let (a, b) = (u(), u());
-        0.002 * (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-    };
+    let mut rng = Lcg64::new(2026);
+    let mut noise = || rng.gaussian(0.002);
     let mut csv = String::from("t,run,u,y\n");
     for k in 0..n {
         let r = (k as f64 / (0.6 * n as f64)).min(1.0);
@@ -150,7 +143,7 @@ fn a_drifting_truth_is_followed_and_the_adapted_model_runs() {
         s(&adapted),
         "--json",
     ];
-    let r = json(&hyst(&args));
+    let r = json(&HYST.output(&args));
     let (fixed, adaptive) = (
         r["rms_fixed"].as_f64().unwrap(),
         r["rms_adaptive"].as_f64().unwrap(),
@@ -178,10 +171,10 @@ fn a_drifting_truth_is_followed_and_the_adapted_model_runs() {
 
     // The adapted model file runs as any other, and predicts the end of the record.
     let run = dir.path().join("run.csv");
-    let o = hyst(&["run", "--model", s(&adapted), s(&data), "-o", s(&run)]);
+    let o = HYST.output(&["run", "--model", s(&adapted), s(&data), "-o", s(&run)]);
     assert!(o.status.success(), "{}", text(&o.stderr));
-    let (header, rows) = common::parse_cells(&std::fs::read_to_string(&run).unwrap());
-    let (y, p) = (common::index(&header, "y"), common::index(&header, "y_out"));
+    let (header, rows) = parse_cells(&std::fs::read_to_string(&run).unwrap());
+    let (y, p) = (index(&header, "y"), index(&header, "y_out"));
     let tail = &rows[n - n / 5..];
     let rms = (tail
         .iter()
@@ -198,12 +191,12 @@ fn a_drifting_truth_is_followed_and_the_adapted_model_runs() {
 /// Fits a model to a bundled record, then adapts it on the same record: (fixed, adaptive).
 fn fit_then_adapt(dir: &Path, name: &str, fit: &[&str], adapt: &[&str]) -> (f64, f64) {
     let m = dir.join(format!("{name}.toml"));
-    let o = hyst(&[&["fit"], fit, &["-o", s(&m)]].concat());
+    let o = HYST.output(&[&["fit"], fit, &["-o", s(&m)]].concat());
     assert!(o.status.success(), "{name}: {}", text(&o.stderr));
     let out = dir.join(format!("{name}.csv"));
-    let r = json(&hyst(
-        &[&["adapt", "--model", s(&m), "--json", "-o", s(&out)], adapt].concat(),
-    ));
+    let r = json(
+        &HYST.output(&[&["adapt", "--model", s(&m), "--json", "-o", s(&out)], adapt].concat()),
+    );
     let (f, a) = (
         r["rms_fixed"].as_f64().unwrap(),
         r["rms_adaptive"].as_f64().unwrap(),
@@ -300,7 +293,7 @@ fn bad_rows_are_counted_and_a_bad_cell_is_named() {
         let mut a = vec!["adapt", "--model", s(&m), s(&data), "-o", s(&out), "--json"];
         a.extend_from_slice(&["--noise", "0.01", "--input-range", "-2,2"]);
         a.extend_from_slice(extra);
-        hyst(&a)
+        HYST.output(&a)
     };
     let r = json(&args(&[]));
     let c = &r["counts"];
@@ -349,7 +342,7 @@ fn models_and_settings_it_cannot_take_are_refused_by_name() {
         std::fs::write(&m, model).unwrap();
         let mut a = vec!["adapt", "--model", s(&m), s(&data), "-o", s(&out)];
         a.extend_from_slice(extra);
-        let o = hyst(&a);
+        let o = HYST.output(&a);
         assert!(!o.status.success());
         assert!(!out.exists());
         text(&o.stderr)
@@ -399,7 +392,7 @@ fn one_huge_finite_error_gives_a_finite_rms() {
         let mut args = vec!["adapt", "--model", s(&m), s(&data), "--noise", "0.002"];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--json", "-o", s(&out)]);
-        json(&hyst(&args))
+        json(&HYST.output(&args))
     };
     // A measurement of 1e308: its error dominates both sums; (1e308)² overflows a double.
     record_with(&data, rows, 5000, &format!("{},1e308", command(5000)));
@@ -446,15 +439,15 @@ fn one_huge_finite_error_gives_a_finite_rms() {
 #[test]
 fn a_saturating_input_shaping_adapts_over_its_fitted_range() {
     let dir = tempfile::tempdir().unwrap();
-    let piezo = common::piezo();
+    let piezo = piezo();
     for input in ["tanh", "langevin"] {
         let m = dir.path().join(format!("{input}.toml"));
-        let mut fit = common::piezo_fit(&piezo, &m).to_vec();
+        let mut fit = piezo_fit(&piezo, &m).to_vec();
         fit.extend_from_slice(&["--input-shaping", input]);
-        let o = hyst(&fit);
+        let o = HYST.output(&fit);
         assert!(o.status.success(), "{input}: {}", text(&o.stderr));
         let out = dir.path().join("out.csv");
-        let r = json(&hyst(&[
+        let r = json(&HYST.output(&[
             "adapt",
             "--model",
             s(&m),

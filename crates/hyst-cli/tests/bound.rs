@@ -1,21 +1,11 @@
 //! `hyst bound` end to end: the numbers of the paper's examples (NOTES.md), JSON keys, errors.
 
-use std::process::Command;
+use hyst_test_support::cli::Binary;
 
-fn hyst(args: &[&str]) -> std::process::Output {
-    match Command::new(env!("CARGO_BIN_EXE_hyst")).args(args).output() {
-        Ok(o) => o,
-        Err(e) => unreachable!("cannot run hyst: {e}"),
-    }
-}
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 fn json(args: &[&str]) -> serde_json::Value {
-    let out = hyst(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = HYST.success(args);
     match serde_json::from_slice(&out.stdout) {
         Ok(v) => v,
         Err(e) => unreachable!("bad JSON ({e}): {}", String::from_utf8_lossy(&out.stdout)),
@@ -55,7 +45,7 @@ fn example1_linear_with_output_gain() {
 
 #[test]
 fn example2_text() {
-    let out = hyst(&[
+    let out = HYST.output(&[
         "bound", "--k1", "0.06", "--dk1", "0.005", "--k2", "5", "--dk2", "2.5",
     ]);
     assert!(out.status.success());
@@ -69,7 +59,7 @@ fn example2_text() {
 
 #[test]
 fn invalid_family_is_an_error() {
-    let out = hyst(&[
+    let out = HYST.output(&[
         "bound", "--k1", "0.1", "--dk1", "0.2", "--k2", "5", "--dk2", "1",
     ]);
     assert!(!out.status.success());
@@ -91,7 +81,7 @@ fn a_gain_that_is_not_positive_is_refused_naming_flag_and_value() {
         ("inf", "inf"),
         ("nan", "NaN"),
     ] {
-        let out = hyst(&[&EXAMPLE1[..], &["--output-gain", gain]].concat());
+        let out = HYST.output(&[&EXAMPLE1[..], &["--output-gain", gain]].concat());
         assert_eq!(out.status.code(), Some(1), "--output-gain {gain}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(
@@ -107,14 +97,14 @@ fn a_gain_that_is_not_positive_is_refused_naming_flag_and_value() {
 #[test]
 fn a_given_gain_is_always_reported() {
     // Gain 1 changes nothing, but the line says it was applied.
-    let out = hyst(&[&EXAMPLE1[..], &["--output-gain", "1"]].concat());
+    let out = HYST.output(&[&EXAMPLE1[..], &["--output-gain", "1"]].concat());
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
         text.contains("after the output shaping (gain 1): delta_b <= 0.1301"),
         "{text}"
     );
-    let out = hyst(&EXAMPLE1);
+    let out = HYST.output(&EXAMPLE1);
     assert!(!String::from_utf8_lossy(&out.stdout).contains("after the output shaping"));
 }
 
@@ -122,7 +112,7 @@ fn a_given_gain_is_always_reported() {
 /// report"): tiny and huge parameters print their digits, not "0.0000" or 300-digit numbers.
 #[test]
 fn text_prints_significant_digits_at_any_scale() {
-    let out = hyst(&[
+    let out = HYST.output(&[
         "bound", "--k1", "2e-6", "--dk1", "2e-7", "--k2", "5e5", "--dk2", "5e4",
     ]);
     assert!(out.status.success());
@@ -140,7 +130,7 @@ fn text_prints_significant_digits_at_any_scale() {
     assert!(text.contains(&shown), "{shown} in {text}");
     assert!(!text.contains("0.0000"), "{text}");
     assert!(text.contains("k1bar = 1.800e-6, k2bar = 450000,"), "{text}");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "bound", "--k1", "1e-300", "--dk1", "1e-301", "--k2", "1e300", "--dk2", "1e299",
     ]);
     assert!(out.status.success());
@@ -157,7 +147,7 @@ fn text_prints_significant_digits_at_any_scale() {
 /// refused with status 1, naming the value, instead of printing inf and NaN.
 #[test]
 fn a_bound_beyond_the_float_range_is_refused() {
-    let out = hyst(&[
+    let out = HYST.output(&[
         "bound", "--k1", "1e308", "--dk1", "9e307", "--k2", "1", "--dk2", ".5",
     ]);
     assert_eq!(out.status.code(), Some(1));
@@ -168,7 +158,7 @@ fn a_bound_beyond_the_float_range_is_refused() {
     let wide = [
         "bound", "--k1", "3", "--dk1", "2", "--k2", "8", "--dk2", "5",
     ];
-    let out = hyst(&[&wide[..], &["--output-gain", "1e308"]].concat());
+    let out = HYST.output(&[&wide[..], &["--output-gain", "1e308"]].concat());
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -181,7 +171,7 @@ fn a_bound_beyond_the_float_range_is_refused() {
         ][..],
         &[&wide[..], &["--output-gain", "1e308", "--json"]].concat(),
     ] {
-        let out = hyst(args);
+        let out = HYST.output(args);
         assert_eq!(out.status.code(), Some(1));
         assert!(!String::from_utf8_lossy(&out.stdout).contains("null"));
     }

@@ -7,8 +7,11 @@
 
 use std::path::{Path, PathBuf};
 
-mod common;
-use common::{column, hyst, read_csv, s};
+use hyst_test_support::cli::Binary;
+use hyst_test_support::files::{column, read_csv, s};
+use hyst_test_support::rng::{Random, XorShift64};
+
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 fn corpus(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -21,7 +24,7 @@ fn run_ok(args: &[&str], input: &Path, output: &Path) -> (Vec<String>, Vec<Vec<f
     let mut all = vec!["run"];
     all.extend_from_slice(args);
     all.extend_from_slice(&[s(input), "-o", s(output)]);
-    let out = hyst(&all);
+    let out = HYST.output(&all);
     assert!(
         out.status.success(),
         "{args:?}: {}",
@@ -35,13 +38,10 @@ fn run_ok(args: &[&str], input: &Path, output: &Path) -> (Vec<String>, Vec<Vec<f
 fn signals(dir: &Path) -> PathBuf {
     let path = dir.join("signals.csv");
     let mut text = String::from("t,a,b,c,u_actuator_V,curve\n");
-    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut rng = XorShift64(0x2545_f491_4f6c_dd1d);
     let mut walk = 0.0;
     for i in 0..9000 {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        walk += ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3;
+        walk += (rng.unit() - 0.5) * 0.3;
         let t = i as f64 * 1e-3;
         let a = (t * 7.0).sin() * (0.5 + 0.3 * t) + 0.2 * (t * 23.0).sin();
         let b = 40.0 * (t * 3.0).cos();
@@ -144,21 +144,24 @@ fn records_restart_every_column() {
     }
 }
 
-#[test]
-fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
-    let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("in.csv");
-    let inputs = [
-        "a",
-        "a_d1",
-        "a_d2",
-        "b",
-        "b_d1",
-        "b_d2",
-        "u_actuator_V",
-        "v",
-        "curve",
-    ];
+/// The columns of [`scalar_path_input`].
+const SCALAR_PATH_INPUTS: [&str; 9] = [
+    "a",
+    "a_d1",
+    "a_d2",
+    "b",
+    "b_d1",
+    "b_d2",
+    "u_actuator_V",
+    "v",
+    "curve",
+];
+
+/// Signals of the scalar path, 5,000 rows at 1 kHz in four records (`curve`): the columns
+/// [`SCALAR_PATH_INPUTS`], two with their first two derivatives, in `dir/in.csv`.
+fn scalar_path_input(dir: &Path) -> PathBuf {
+    let input = dir.join("in.csv");
+    let inputs = SCALAR_PATH_INPUTS;
     let mut text = inputs.join(",") + "\n";
     for i in 0..5000 {
         let t = i as f64 * 1e-3;
@@ -178,6 +181,14 @@ fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
         );
     }
     std::fs::write(&input, text).unwrap();
+    input
+}
+
+#[test]
+fn the_scalar_path_gives_the_single_runs_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = scalar_path_input(dir.path());
+    let inputs = SCALAR_PATH_INPUTS;
     let smooth = corpus("smooth.toml");
     let pi = corpus("pi.toml");
     // The arguments, the columns run, and the name of what is computed.
@@ -332,7 +343,7 @@ fn fails(args: &[&str], input: &str, expected: &[&str]) {
     let mut all = vec!["run"];
     all.extend_from_slice(args);
     all.extend_from_slice(&[s(&in_path), "-o", s(&out_path)]);
-    let out = hyst(&all);
+    let out = HYST.output(&all);
     assert!(!out.status.success(), "{args:?} succeeded");
     let stderr = String::from_utf8_lossy(&out.stderr);
     for e in expected {

@@ -2,17 +2,13 @@
 //! and every bad-data error (each names what is wrong, and no model file is left behind).
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-mod common;
-use common::repo;
+use hyst_test_support::cli::Binary;
+use hyst_test_support::files::repo;
+use hyst_test_support::rng::{Lcg64, Random};
 
-fn hyst(args: &[&str]) -> Output {
-    match Command::new(env!("CARGO_BIN_EXE_hyst")).args(args).output() {
-        Ok(o) => o,
-        Err(e) => unreachable!("cannot run hyst: {e}"),
-    }
-}
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
@@ -57,7 +53,7 @@ fn invert_with_derivatives(
     let desired = dir.join(format!("desired-{name}.csv"));
     std::fs::write(&desired, back)?;
     let inv_out = dir.join(format!("{name}.csv"));
-    let out = hyst(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         model,
@@ -84,7 +80,7 @@ fn piezo_fit_is_accurate_and_run_reads_the_model_back() -> R {
     let dir = tempfile::tempdir()?;
     let model = dir.path().join("piezo.toml");
     let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "fit",
         data.to_str().ok_or("path")?,
         "--input",
@@ -108,7 +104,7 @@ fn piezo_fit_is_accurate_and_run_reads_the_model_back() -> R {
 
     // hyst run --model reproduces the fitted model's output on the data: same RMS.
     let run_out = dir.path().join("run.csv");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         model.to_str().ok_or("path")?,
@@ -134,7 +130,7 @@ fn piezo_fit_is_accurate_and_run_reads_the_model_back() -> R {
 
     // --inverse: the inverse turns the model output back into the input exactly.
     let inv_out = dir.path().join("inv.csv");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         model.to_str().ok_or("path")?,
@@ -162,7 +158,7 @@ fn pi_baseline_and_comparison() -> R {
     let dir = tempfile::tempdir()?;
     let model = dir.path().join("pi.toml");
     let data = repo().join("data/bh-loops/mnzn_ferrite_loops.csv");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "fit",
         data.to_str().ok_or("path")?,
         "--input",
@@ -206,7 +202,7 @@ fn fails(csv: &str, extra: &[&str]) -> Result<String, Box<dyn std::error::Error>
         model.to_str().ok_or("path")?,
     ];
     args.extend_from_slice(extra);
-    let out = hyst(&args);
+    let out = HYST.output(&args);
     assert!(!out.status.success(), "{}", text(&out.stdout));
     assert!(!model.exists(), "a model file was written");
     let leftovers = std::fs::read_dir(dir.path())?.count();
@@ -360,28 +356,33 @@ fn check_derivatives(csv: &str, input_d1: &[f64], tolerance: f64, allowed_misses
     Ok(())
 }
 
+/// `hyst fit --model-kind pi --json` of the bundled piezo record into `model`, with the
+/// arguments `extra`.
+fn fit_pi(model: &Path, extra: &[&str]) -> Output {
+    let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
+    let mut args = vec![
+        "fit",
+        data.to_str().unwrap_or(""),
+        "--input",
+        "u_actuator_V",
+        "--output",
+        "y_capsensor_um",
+        "-o",
+        model.to_str().unwrap_or(""),
+        "--model-kind",
+        "pi",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    HYST.output(&args)
+}
+
 #[test]
 fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
     let dir = tempfile::tempdir()?;
     let model = dir.path().join("pi.toml");
     let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
-    let fit = |extra: &[&str]| {
-        let mut args = vec![
-            "fit",
-            data.to_str().unwrap_or(""),
-            "--input",
-            "u_actuator_V",
-            "--output",
-            "y_capsensor_um",
-            "-o",
-            model.to_str().unwrap_or(""),
-            "--model-kind",
-            "pi",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
-        hyst(&args)
-    };
+    let fit = |extra: &[&str]| fit_pi(&model, extra);
     let plain = fit(&[]);
     assert!(plain.status.success(), "{}", text(&plain.stderr));
     let plain: serde_json::Value = serde_json::from_slice(&plain.stdout)?;
@@ -405,7 +406,7 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
     // hyst run --model reproduces the fitted RMS …
     let run_out = dir.path().join("run.csv");
     let m = model.to_str().ok_or("path")?;
-    let out = hyst(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         m,
@@ -432,7 +433,7 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
 
     // … and its exact inverse gives back the command that produced the output.
     let command = dir.path().join("command.csv");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         m,
@@ -453,12 +454,22 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
         .fold(0.0, f64::max);
     assert!(worst < 1e-9, "compensator misses the command by {worst}");
 
-    // Derivatives through the PI model with its polynomial (piecewise, value-exact), direct and
-    // inverse.
+    Ok(())
+}
+
+/// Derivatives through the PI model with its output polynomial (piecewise, value-exact), direct
+/// and inverse; a missing derivative column is named with the option.
+#[test]
+fn pi_with_output_polynomial_passes_derivatives_both_ways() -> R {
+    let dir = tempfile::tempdir()?;
+    let model = dir.path().join("pi.toml");
+    let out = fit_pi(&model, &["--pi-output", "poly3"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let m = model.to_str().ok_or("path")?;
     let jets = dir.path().join("jets.csv");
     std::fs::write(&jets, jet_csv("u_actuator_V", 4000, 0.0, 75.0))?;
     let out_jets = dir.path().join("out-jets.csv");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         m,
@@ -496,7 +507,7 @@ fn pi_with_output_polynomial_fits_runs_and_inverts_exactly() -> R {
     assert_eq!(misses, 0, "the inverse's derivative misses the command's");
 
     // A missing derivative column is named with the option.
-    let out = hyst(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         m,
@@ -520,7 +531,7 @@ fn smooth_model_derivatives_through_run_model() -> R {
     let dir = tempfile::tempdir()?;
     let model = dir.path().join("smooth.toml");
     let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "fit",
         data.to_str().ok_or("path")?,
         "--input",
@@ -537,7 +548,7 @@ fn smooth_model_derivatives_through_run_model() -> R {
     let jets = dir.path().join("jets.csv");
     std::fs::write(&jets, jet_csv("u_actuator_V", 4000, 0.0, 75.0))?;
     let out_jets = dir.path().join("out.csv");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         m,
@@ -607,7 +618,7 @@ fn plots_are_written_and_a_bad_time_column_is_named() -> R {
         a
     };
     let bad = args(Some("seconds"));
-    let out = hyst(&bad.iter().map(String::as_str).collect::<Vec<_>>());
+    let out = HYST.output(&bad.iter().map(String::as_str).collect::<Vec<_>>());
     assert!(!out.status.success());
     let err = text(&out.stderr);
     assert!(
@@ -616,7 +627,7 @@ fn plots_are_written_and_a_bad_time_column_is_named() -> R {
     );
     assert!(!model.exists(), "no model file after a failed fit");
     let good = args(None); // t_s is found by its name
-    let out = hyst(&good.iter().map(String::as_str).collect::<Vec<_>>());
+    let out = HYST.output(&good.iter().map(String::as_str).collect::<Vec<_>>());
     assert!(out.status.success(), "{}", text(&out.stderr));
     for f in [
         "fit-io.png",
@@ -642,7 +653,7 @@ fn the_asked_coverage_is_printed_as_given() -> R {
     let model = dir.path().join("m.toml");
     let data = repo().join("data/piezo-sine/piezo_sine_1hz.csv");
     for (coverage, shown) in [("0.1806", "18.06"), ("0.9999", "99.99"), ("1", "100")] {
-        let out = hyst(&[
+        let out = HYST.output(&[
             "fit",
             data.to_str().ok_or("path")?,
             "--input",
@@ -734,12 +745,9 @@ fn a_bad_operator_count_names_the_option_once() -> R {
 fn json_numbers_read_back_bit_for_bit() -> R {
     let mut values = vec![0.483_575_221_951_782_76_f64, 1e-300, 5e-324, f64::MAX, 0.1];
     // A spread of mantissas and exponents (a fixed linear congruential sequence).
-    let mut bits = 0x3ff0_0000_0000_0001_u64;
+    let mut bits = Lcg64::new(0x3ff0_0000_0000_0001);
     for _ in 0..20_000 {
-        bits = bits
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        let v = f64::from_bits(bits >> 2); // positive, below 2^1022: finite
+        let v = f64::from_bits(bits.next_u64() >> 2); // positive, below 2^1022: finite
         values.push(v);
     }
     for v in values {

@@ -5,14 +5,11 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::Output;
 
-mod common;
-use common::{hyst, s};
+use hyst_test_support::cli::{stderr, Binary};
+use hyst_test_support::files::s;
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// Every 16th row of each record of the friction damper file (a debug-mode fit of all its
 /// 154k rows takes half a minute), written twice: with its text `record` labels as they are,
@@ -68,7 +65,7 @@ fn fit(data: &Path, model: &Path, extra: &[&str]) -> String {
         "--json",
     ];
     args.extend_from_slice(extra);
-    let out = hyst(&args);
+    let out = HYST.output(&args);
     assert!(out.status.success(), "{args:?}: {}", stderr(&out));
     parameters(&String::from_utf8_lossy(&out.stdout))
 }
@@ -88,7 +85,7 @@ fn a_text_record_column_fits_as_numbered_records() {
     assert_eq!(by_label, fit(&numbered, &model, &held));
 
     // A record that does not exist: the records are listed with their labels.
-    let out = hyst(&[
+    let out = HYST.output(&[
         "fit",
         s(&labelled),
         "--input",
@@ -113,7 +110,7 @@ fn a_text_column_used_as_numbers_is_refused_as_before() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("d.csv");
     std::fs::write(&data, "x,y,note\n0,0,a\n1,1,b\n2,3,c\n1,2,d\n0,0,e\n").unwrap();
-    let out = hyst(&[
+    let out = HYST.output(&[
         "fit",
         s(&data),
         "--input",

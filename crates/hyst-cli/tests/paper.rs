@@ -2,16 +2,14 @@
 //! bounds match NOTES.md, Example 2's compensation error stays within its bound and Example 3's is
 //! the measured one.
 
-use std::process::Command;
+use hyst_test_support::cli::Binary;
+
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 #[test]
 fn paper_writes_figures_and_summary() {
     let dir = std::env::temp_dir().join(format!("hyst-paper-test-{}", std::process::id()));
-    let out = match Command::new(env!("CARGO_BIN_EXE_hyst"))
-        .args(["paper", "--out"])
-        .arg(&dir)
-        .output()
-    {
+    let out = match HYST.command().args(["paper", "--out"]).arg(&dir).output() {
         Ok(o) => o,
         Err(e) => unreachable!("cannot run hyst: {e}"),
     };

@@ -8,8 +8,10 @@ use std::path::{Path, PathBuf};
 
 use hyst_core::Operator;
 
-mod common;
-use common::{hyst, numbers, read_cells, repo, s};
+use hyst_test_support::cli::Binary;
+use hyst_test_support::files::{numbers, parse_cells, read_cells, repo, s};
+
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// A model of the firmware examples: `piezo` (fitted on data/piezo-sine: input
 /// `u_actuator_V`, output `y_capsensor_um`), `piezo_dyn` (the same with a plant of order 2),
@@ -25,7 +27,7 @@ fn run_ok(args: &[&str], input: &Path, output: &Path) -> String {
     let mut all = vec!["run"];
     all.extend_from_slice(args);
     all.extend_from_slice(&[s(input), "-o", s(output)]);
-    let out = hyst(&all);
+    let out = HYST.output(&all);
     assert!(
         out.status.success(),
         "{args:?}: {}",
@@ -172,7 +174,7 @@ fn computed_columns_are_named_after_the_model_columns() {
     // Direct: the model's output column.
     let direct = run_ok(&["--model", s(&piezo)], &commands, &out);
     assert_eq!(header(&direct), "t_s,u_actuator_V,y_capsensor_um");
-    let (names, cells) = common::parse_cells(&direct);
+    let (names, cells) = parse_cells(&direct);
     let predicted = numbers(&names, &cells, "y_capsensor_um");
     // On the training data, which has y_capsensor_um: the prediction is y_capsensor_um_out,
     // the same numbers, next to the measured column.
@@ -181,7 +183,7 @@ fn computed_columns_are_named_after_the_model_columns() {
         header(&beside),
         "t_s,u_actuator_V,y_capsensor_um,y_capsensor_um_out"
     );
-    let (names, cells) = common::parse_cells(&beside);
+    let (names, cells) = parse_cells(&beside);
     assert_eq!(
         bits(&numbers(&names, &cells, "y_capsensor_um_out")),
         bits(&predicted)
@@ -198,7 +200,7 @@ fn computed_columns_are_named_after_the_model_columns() {
     std::fs::write(&desired, text).unwrap();
     let inverse = run_ok(&["--model", s(&piezo), "--inverse"], &desired, &out);
     assert_eq!(header(&inverse), "t_s,y_capsensor_um,u_actuator_V");
-    let (names, cells) = common::parse_cells(&inverse);
+    let (names, cells) = parse_cells(&inverse);
     let u = numbers(&names, &cells, "u_actuator_V");
     for (i, (u, r)) in u.iter().zip(&data).enumerate() {
         assert!((u - r[1]).abs() < 1e-9, "row {i}: {u} vs {}", r[1]);
@@ -304,7 +306,7 @@ fn text_records_restart_at_each_label_and_are_passed_through() {
             format!("t,label,u_actuator_V,{computed}"),
             "{args:?}"
         );
-        let (names, cells) = common::parse_cells(&together);
+        let (names, cells) = parse_cells(&together);
         let got: Vec<&str> = cells.iter().map(|r| r[1].as_str()).collect();
         let want: Vec<&str> = records
             .iter()
@@ -317,20 +319,25 @@ fn text_records_restart_at_each_label_and_are_passed_through() {
             let part = dir.path().join(format!("part{k}.csv"));
             std::fs::write(&part, file(std::slice::from_ref(record))).unwrap();
             let alone = run_ok(&args, &part, &dir.path().join("alone.csv"));
-            let (names, cells) = common::parse_cells(&alone);
+            let (names, cells) = parse_cells(&alone);
             alone_y.extend(numbers(&names, &cells, computed));
         }
         assert_eq!(bits(&y), bits(&alone_y), "{args:?}");
         // Without --record the file is one history: the second `up` does not restart.
         let one = run_ok(&args, &input, &dir.path().join("one.csv"));
-        let (names, cells) = common::parse_cells(&one);
+        let (names, cells) = parse_cells(&one);
         let one_y = numbers(&names, &cells, computed);
         assert_ne!(
             one_y[90], y[90],
             "{args:?}: the repeated label starts a new record"
         );
     }
-    // Numeric record cells are compared as numbers: 1, 1.0 and 1e0 are one record.
+}
+
+/// Numeric record cells are compared as numbers: 1, 1.0 and 1e0 are one record.
+#[test]
+fn numeric_record_cells_are_compared_as_numbers() {
+    let dir = tempfile::tempdir().unwrap();
     let numeric = dir.path().join("numeric.csv");
     std::fs::write(&numeric, "r,x\n1,0\n1.0,1\n1e0,0.5\n2,0.5\n").unwrap();
     let out = run_ok(
@@ -382,7 +389,7 @@ fn saturate_writes_the_desired_output_inverted_as_column_saturated() {
     ];
     let got = run_ok(&args, &input, &out);
     assert_eq!(header(&got), "t,B_ref,H_A_per_m,B_ref_saturated");
-    let (names, cells) = common::parse_cells(&got);
+    let (names, cells) = parse_cells(&got);
     let passed: Vec<&str> = cells.iter().map(|r| r[1].as_str()).collect();
     assert_eq!(passed, values);
     let saturated = numbers(&names, &cells, "B_ref_saturated");
@@ -403,7 +410,7 @@ fn saturate_writes_the_desired_output_inverted_as_column_saturated() {
         &dir.path().join("plain.csv"),
     );
     assert_eq!(header(&plain), "B_T,H_A_per_m");
-    let (plain_names, plain_cells) = common::parse_cells(&plain);
+    let (plain_names, plain_cells) = parse_cells(&plain);
     assert_eq!(
         bits(&numbers(&names, &cells, "H_A_per_m")),
         bits(&numbers(&plain_names, &plain_cells, "H_A_per_m"))
@@ -491,7 +498,7 @@ fn refused(args: &[&str], text: &str, expected: &[&str]) {
     let mut all = vec!["run"];
     all.extend_from_slice(args);
     all.extend_from_slice(&[s(&input), "-o", s(&out_path)]);
-    let out = hyst(&all);
+    let out = HYST.output(&all);
     assert_eq!(out.status.code(), Some(1), "{args:?} on {text:?}");
     let err = String::from_utf8_lossy(&out.stderr);
     for e in expected {
@@ -596,10 +603,10 @@ fn several_columns_are_named_base_column() {
             expected += &format!(",{base}_a_d1,{base}_b_d1");
         }
         assert_eq!(header(&got), expected, "{both:?}");
-        let (names, cells) = common::parse_cells(&got);
+        let (names, cells) = parse_cells(&got);
         for column in ["a", "b"] {
             let single = run_ok(&[&args[..], &["--column", column]].concat(), &input, &alone);
-            let (single_names, single_cells) = common::parse_cells(&single);
+            let (single_names, single_cells) = parse_cells(&single);
             let mut pairs = vec![(format!("{base}_{column}"), base.to_string())];
             if n == 1 {
                 pairs.push((format!("{base}_{column}_d1"), format!("{base}_d1")));
@@ -639,7 +646,7 @@ fn a_timed_model_passes_the_columns_through_and_names_its_own() {
     let out = dir.path().join("out.csv");
     let direct = run_ok(&["--model", s(&piezo_dyn)], &input, &out);
     assert_eq!(header(&direct), "t,label,u_actuator_V,y_capsensor_um");
-    let (names, cells) = common::parse_cells(&direct);
+    let (names, cells) = parse_cells(&direct);
     assert_eq!(cells[0][1], "first, rising");
     assert_eq!(cells[150][1], "next");
     let y = numbers(&names, &cells, "y_capsensor_um");
@@ -667,7 +674,7 @@ fn a_timed_model_passes_the_columns_through_and_names_its_own() {
         header(&inverse),
         "t,label,u_actuator_V,y_capsensor_um,u_actuator_V_out,y_capsensor_um_filtered"
     );
-    let (names, cells) = common::parse_cells(&inverse);
+    let (names, cells) = parse_cells(&inverse);
     assert_eq!(cells[0][1], "first, rising");
     assert_eq!(numbers(&names, &cells, "y_capsensor_um"), y);
 }

@@ -4,19 +4,14 @@
 #![cfg(unix)]
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
+use hyst_test_support::cli::{stderr, wait_at_most, Binary};
 use std::fs;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, Stdio};
+use std::time::Duration;
 
-fn hyst() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_hyst"))
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// The first 300 rows of the bundled piezo record: a fit of a few seconds in a debug build.
 fn piezo(dir: &Path) -> PathBuf {
@@ -39,26 +34,14 @@ fn fnv1a64(bytes: &[u8]) -> u64 {
     h
 }
 
-/// Waits for `child` at most `limit`; kills it and fails when it hangs.
-fn wait(mut child: std::process::Child, limit: Duration, what: &str) -> Output {
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > limit {
-            child.kill().ok();
-            panic!("{what}: still running after {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
-}
-
 #[test]
 fn a_fit_from_a_pipe_records_what_it_read() {
     let dir = tempfile::tempdir().unwrap();
     let data = piezo(dir.path());
     let bytes = fs::read(&data).unwrap();
     let model = dir.path().join("m.toml");
-    let mut child = hyst()
+    let mut child = HYST
+        .command()
         .arg("fit")
         .arg("/dev/stdin")
         .args(FIT)
@@ -70,7 +53,7 @@ fn a_fit_from_a_pipe_records_what_it_read() {
         .spawn()
         .unwrap();
     child.stdin.take().unwrap().write_all(&bytes).unwrap();
-    let out = wait(child, Duration::from_secs(120), "hyst fit /dev/stdin");
+    let out = wait_at_most(child, Duration::from_secs(120), "hyst fit /dev/stdin");
     assert!(out.status.success(), "{}", stderr(&out));
     let file: toml::Table = fs::read_to_string(&model).unwrap().parse().unwrap();
     let provenance = &file["provenance"];
@@ -91,7 +74,8 @@ fn no_output_may_be_the_data_or_another_output() {
     // The data file is where a plot would go.
     let inside = plots.join("fit-io.svg");
     fs::copy(&data, &inside).unwrap();
-    let out = hyst()
+    let out = HYST
+        .command()
         .arg("fit")
         .arg(&inside)
         .args(FIT)
@@ -108,7 +92,8 @@ fn no_output_may_be_the_data_or_another_output() {
     assert_eq!(fs::read(&inside).unwrap(), original);
     assert!(!dir.path().join("m.toml").exists());
     // The model file is where a plot would go.
-    let out = hyst()
+    let out = HYST
+        .command()
         .arg("fit")
         .arg(&data)
         .args(FIT)
@@ -149,7 +134,8 @@ fn fifos_as_output_and_as_input_do_not_hang() {
             text
         })
     };
-    let child = hyst()
+    let child = HYST
+        .command()
         .args(["run", "--k1", "0.2", "--k2", "8"])
         .arg(&input)
         .arg("-o")
@@ -158,7 +144,7 @@ fn fifos_as_output_and_as_input_do_not_hang() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let out = wait(child, Duration::from_secs(30), "hyst run -o FIFO");
+    let out = wait_at_most(child, Duration::from_secs(30), "hyst run -o FIFO");
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(reader.join().unwrap().starts_with("x,y\n"));
     // A fit whose data comes through a FIFO.
@@ -178,7 +164,8 @@ fn fifos_as_output_and_as_input_do_not_hang() {
         })
     };
     let model = dir.path().join("fifo.toml");
-    let child = hyst()
+    let child = HYST
+        .command()
         .arg("fit")
         .arg(&in_fifo)
         .args(FIT)
@@ -188,7 +175,7 @@ fn fifos_as_output_and_as_input_do_not_hang() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let out = wait(child, Duration::from_secs(120), "hyst fit FIFO");
+    let out = wait_at_most(child, Duration::from_secs(120), "hyst fit FIFO");
     writer.join().unwrap();
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(model.exists());
@@ -231,7 +218,8 @@ fn a_file_size_limit_is_an_error_that_leaves_nothing() {
 #[test]
 fn endless_lines_are_refused_in_constant_memory() {
     let dir = tempfile::tempdir().unwrap();
-    let out = hyst()
+    let out = HYST
+        .command()
         .args(["run", "--k1", "1", "--k2", "1", "/dev/zero", "-o", "x.csv"])
         .current_dir(dir.path())
         .output()
@@ -277,7 +265,8 @@ fn long_values_are_cut_in_messages() {
         format!("x,y\n1,{}\n", "z".repeat(5_000_000)),
     )
     .unwrap();
-    let out = hyst()
+    let out = HYST
+        .command()
         .args([
             "run", "--k1", "1", "--k2", "1", "cell.csv", "--column", "y", "-o", "o.csv",
         ])
@@ -294,7 +283,8 @@ fn long_values_are_cut_in_messages() {
     // A model whose input column name is 5 MB long.
     let data = piezo(dir.path());
     let model = dir.path().join("m.toml");
-    let fit = hyst()
+    let fit = HYST
+        .command()
         .arg("fit")
         .arg(&data)
         .args(FIT)
@@ -309,7 +299,8 @@ fn long_values_are_cut_in_messages() {
         1,
     );
     fs::write(&model, text).unwrap();
-    let out = hyst()
+    let out = HYST
+        .command()
         .args(["run", "--model", "m.toml", "d.csv", "-o", "o.csv"])
         .current_dir(dir.path())
         .output()
@@ -339,7 +330,8 @@ fn a_closed_standard_output_ends_quietly() {
         &["run", "--k1", "0.1", "--k2", "5", &data, "-o", "-"],
     ];
     for args in commands {
-        let mut child = hyst()
+        let mut child = HYST
+            .command()
             .args(args)
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())

@@ -3,14 +3,16 @@
 //! thrown away at the end.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
+use hyst_test_support::cli::Binary;
 use std::fs;
 use std::path::Path;
-use std::process::Command;
+
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// `hyst fit` of a data file in `dir` that does not exist, with `-o OUT` (and `--plot PLOT`):
 /// it must fail with status 1; returns its stderr.
 fn fit_missing_data(dir: &Path, out: &Path, plot: Option<&Path>) -> String {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_hyst"));
+    let mut command = HYST.command();
     command
         .arg("fit")
         .arg(dir.join("no-such-data.csv"))

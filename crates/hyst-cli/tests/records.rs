@@ -4,23 +4,20 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use std::path::{Path, PathBuf};
-use std::process::Output;
 
 use hyst_core::Operator;
 
-mod common;
-use common::{hyst, repo, s};
+use hyst_test_support::cli::{stderr, Binary};
+use hyst_test_support::files::{piezo, piezo_fit, repo, s};
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// Runs `hyst run ARGS INPUT -o OUTPUT` and returns OUTPUT's text; panics with stderr on failure.
 fn run_ok(args: &[&str], input: &Path, output: &Path) -> String {
     let mut all = vec!["run"];
     all.extend_from_slice(args);
     all.extend_from_slice(&[s(input), "-o", s(output)]);
-    let out = hyst(&all);
+    let out = HYST.output(&all);
     assert!(out.status.success(), "{args:?}: {}", stderr(&out));
     std::fs::read_to_string(output).unwrap()
 }
@@ -137,7 +134,7 @@ fn k1_k2_records_restart_the_operator_and_repeats_are_new_records() {
 fn steel_model(dir: &Path) -> PathBuf {
     let model = dir.join("steel.toml");
     let data = repo().join("data/bh-loops/m130_27s_steel_loops.csv");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "fit",
         "--input",
         "H_A_per_m",
@@ -219,7 +216,7 @@ fn records_carry_derivatives_through_a_model() {
     let data_path = dir.path().join("loop.csv");
     std::fs::write(&data_path, data).unwrap();
     let model = dir.path().join("m.toml");
-    let out = hyst(&[
+    let out = HYST.output(&[
         "fit",
         "--input",
         "H",
@@ -332,7 +329,7 @@ fn beyond_a_saturating_shaping_is_one_clear_error_by_default() {
         (&[-7.5, 0.5][..], 2, "-7.5"),
     ] {
         let input = desired(dir.path(), values);
-        let o = hyst(&[
+        let o = HYST.output(&[
             "run",
             "--model",
             s(&model),
@@ -397,7 +394,7 @@ fn saturate_clamps_into_the_stated_fraction_of_the_range_and_says_so() {
     let values = [0.1, 0.5, 2.0, hi, 0.3, -9.0, 0.5 * (b + hi)];
     let input = desired(dir.path(), &values);
     let out = dir.path().join("cmd.csv");
-    let o = hyst(&[
+    let o = HYST.output(&[
         "run",
         "--model",
         s(&model),
@@ -479,7 +476,7 @@ fn run_finds_the_record_column_fit_finds() {
     let input = dir.path().join("segments.csv");
     std::fs::write(&input, text).unwrap();
     let args = ["--k1", "0.2", "--k2", "8", "--column", "H"];
-    let found = hyst(
+    let found = HYST.output(
         &[
             &["run"],
             &args[..],
@@ -523,7 +520,7 @@ fn run_finds_the_record_column_fit_finds() {
     std::fs::write(&input, text).unwrap();
     let out = run_ok(&["--model", s(&model)], &input, &dir.path().join("t.csv"));
     assert_eq!(rows(&out).len(), 400);
-    let refused = hyst(&[
+    let refused = HYST.output(&[
         "run",
         "--model",
         s(&model),
@@ -545,10 +542,10 @@ fn run_finds_the_record_column_fit_finds() {
 /// shaping (its data in the tail of the tanh).
 fn piezo_saturating(dir: &Path, input: &str) -> PathBuf {
     let model = dir.join(format!("piezo-{input}.toml"));
-    let data = common::piezo();
-    let mut args = common::piezo_fit(&data, &model).to_vec();
+    let data = piezo();
+    let mut args = piezo_fit(&data, &model).to_vec();
     args.extend_from_slice(&["--input-shaping", input, "--output-shaping", "tanh"]);
-    let o = hyst(&args);
+    let o = HYST.output(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     model
 }
@@ -562,7 +559,7 @@ fn saturate_with_a_saturating_input_shaping_leaves_the_training_range_alone() {
         let desired = dir.path().join("desired.csv");
         std::fs::write(&desired, "y_capsensor_um\n-120\n-100\n-80\n").unwrap();
         let out = dir.path().join("cmd.csv");
-        let o = hyst(&[
+        let o = HYST.output(&[
             "run",
             "--model",
             s(&model),
@@ -636,7 +633,7 @@ fn a_saturating_input_shaping_bounds_the_output_said_in_output_units() {
         let input = dir.path().join("desired.csv");
         let text: String = values.iter().map(|v| format!("{v}\n")).collect();
         std::fs::write(&input, format!("y_um\n{text}")).unwrap();
-        let o = hyst(&[
+        let o = HYST.output(&[
             "run",
             "--model",
             s(&model),
@@ -654,7 +651,7 @@ fn a_saturating_input_shaping_bounds_the_output_said_in_output_units() {
     // --saturate: the first case runs, 9.5 and 12 inverted at 8.99 (v = 0.999, x = atanh 0.999).
     let input = dir.path().join("desired.csv");
     std::fs::write(&input, "y_um\n0\n5\n8.5\n9.5\n12\n3\n").unwrap();
-    let o = hyst(&[
+    let o = HYST.output(&[
         "run",
         "--model",
         s(&model),

@@ -3,16 +3,13 @@
 //! name the file, line and column without leaving any output behind.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
-use std::process::Command;
-
 use hyst_core::Operator;
 
-mod common;
-use common::{column, read_csv};
+use hyst_test_support::cli::Binary;
+use hyst_test_support::files::{column, read_csv};
+use hyst_test_support::rng::{Random, XorShift64};
 
-fn hyst() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_hyst"))
-}
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// Independent reference: Definition 2.1 in discrete time and the printed eqs. (2) and (4),
 /// straight from the paper (no log-domain tricks; fine for moderate k2).
@@ -56,15 +53,11 @@ impl Reference {
 }
 
 fn random_walk(n: usize, seed: u64) -> Vec<f64> {
-    let mut state = seed;
+    let mut rng = XorShift64(seed);
     let mut x = 0.0;
     (0..n)
         .map(|_| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let u = (state >> 11) as f64 / (1u64 << 53) as f64;
-            x += (u - 0.5) * 0.4;
+            x += (rng.unit() - 0.5) * 0.4;
             x
         })
         .collect()
@@ -83,7 +76,7 @@ fn agrees_with_the_equations_and_writes_full_precision() {
         std::fs::write(&input, text).unwrap();
         for inverse in [false, true] {
             let output = dir.path().join(format!("out-{seed}-{inverse}.csv"));
-            let mut cmd = hyst();
+            let mut cmd = HYST.command();
             cmd.args([
                 "run",
                 "--k1",
@@ -140,7 +133,8 @@ fn derivatives_columns() {
     let input = dir.path().join("in.csv");
     std::fs::write(&input, "x,x_d1,x_d2\n0,1,0\n0.1,1,0\n0.05,-1,0.5\n").unwrap();
     let output = dir.path().join("out.csv");
-    let status = hyst()
+    let status = HYST
+        .command()
         .args([
             "run",
             "--k1",
@@ -174,7 +168,8 @@ fn assert_fails_cleanly(args: &[&str], input: &str, expected: &[&str]) {
     std::fs::write(&in_path, input).unwrap();
     let out_path = dir.path().join("out.csv");
     std::fs::write(&out_path, "previous contents\n").unwrap();
-    let out = hyst()
+    let out = HYST
+        .command()
         .arg("run")
         .args(args)
         .arg(&in_path)
@@ -253,7 +248,8 @@ fn the_column_run_may_be_the_record_column() {
     let input = dir.path().join("in.csv");
     std::fs::write(&input, "x,curve\n0,0\n0.5,0\n1,1\n0.25,1\n").unwrap();
     let output = dir.path().join("out.csv");
-    let status = hyst()
+    let status = HYST
+        .command()
         .args(["run", "--k1", "0.2", "--k2", "8", "--record", "x"])
         .arg(&input)
         .arg("-o")
@@ -269,7 +265,8 @@ fn the_column_run_may_be_the_record_column() {
 
 #[test]
 fn a_missing_input_file_is_named() {
-    let out = hyst()
+    let out = HYST
+        .command()
         .args([
             "run",
             "--k1",
@@ -292,7 +289,8 @@ fn standard_output_gets_nothing_from_a_run_that_fails_early() {
     for (text, expected) in [("x\n", "no data rows"), ("x\n1\n2\nthree\n", "data.csv:4")] {
         let input = dir.path().join("data.csv");
         std::fs::write(&input, text).unwrap();
-        let out = hyst()
+        let out = HYST
+            .command()
             .args(["run", "--k1", "0.2", "--k2", "8"])
             .arg(&input)
             .args(["-o", "-"])
@@ -392,13 +390,15 @@ fn the_inverse_of_a_stop_form_model_is_refused_before_the_data() {
     std::fs::write(d.join("fric.toml"), STOP_MODEL).unwrap();
     // Without --inverse the model runs (feed-forward of the predicted force).
     std::fs::write(d.join("x.csv"), "x_mm\n0\n0.5\n1\n0.2\n").unwrap();
-    let o = hyst()
+    let o = HYST
+        .command()
         .args(["run", "--model", "fric.toml", "x.csv", "-o", "f.csv"])
         .current_dir(d)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = hyst()
+    let o = HYST
+        .command()
         .args([
             "run",
             "--model",
@@ -432,7 +432,8 @@ fn a_quote_never_closed_loses_no_rows() {
     let input = dir.path().join("q.csv");
     std::fs::write(&input, "x,note\n0,a\n0.5,\"b\n1,c\n").unwrap();
     let output = dir.path().join("o.csv");
-    let out = hyst()
+    let out = HYST
+        .command()
         .args(["run", "--k1", "0.2", "--k2", "8", "--column", "x"])
         .arg(&input)
         .arg("-o")

@@ -5,15 +5,17 @@
 
 use std::ffi::OsStr;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-mod common;
-use common::{piezo, piezo_fit, repo};
+use hyst_test_support::cli::Binary;
+use hyst_test_support::files::{piezo, piezo_fit, repo};
+
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// `hyst ARGS` with the environment variables `env` set (`HYST_SPILL_AFTER` unset unless
 /// `env` sets it).
 fn hyst(args: &[&str], env: &[(&str, &OsStr)]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hyst"))
+    HYST.command()
         .args(args)
         .env_remove("HYST_SPILL_AFTER")
         .envs(env.iter().copied())

@@ -5,11 +5,12 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use hyst_model::{ModelFile, TimeSteps};
+use hyst_test_support::cli::Binary;
+use hyst_test_support::rng::{Lcg64, Random};
 
-const HYST: &str = env!("CARGO_BIN_EXE_hyst");
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// The static model fixture with `[dynamics]` (and whatever `extra` adds) appended.
 fn model_file(dir: &Path, name: &str, sections: &str) -> std::path::PathBuf {
@@ -19,20 +20,6 @@ fn model_file(dir: &Path, name: &str, sections: &str) -> std::path::PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     path
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(HYST).args(args).output().unwrap()
-}
-
-fn ok(args: &[&str]) -> Output {
-    let out = run(args);
-    assert!(
-        out.status.success(),
-        "hyst {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
 }
 
 /// The column `name` of the CSV file `path`.
@@ -49,10 +36,9 @@ fn column(path: &Path, name: &str) -> Vec<f64> {
 /// A DAQ record's stamps: steps of 10 to 63 ms around a 10 ms mean (deterministic), from `t0`.
 fn daq_stamps(t0: f64, n: usize) -> Vec<f64> {
     let mut t = vec![t0];
-    let mut seed = 11_u64;
+    let mut rng = Lcg64::with_increment(11, 1);
     for k in 1..n {
-        seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
-        let r = (seed >> 40) as f64 / (1_u64 << 24) as f64;
+        let r = (rng.next_u64() >> 40) as f64 / (1_u64 << 24) as f64;
         let h = if r < 0.02 {
             0.063
         } else {
@@ -108,7 +94,7 @@ fn uneven_stamps_run_at_their_steps_under_the_file_s_hold() {
         let model = model_file(dir.path(), name, sections);
         let out = dir.path().join("out.csv");
         let s = |p: &Path| p.to_str().unwrap().to_string();
-        ok(&["run", "--model", &s(&model), &s(&data), "-o", &s(&out)]);
+        HYST.success(&["run", "--model", &s(&model), &s(&data), "-o", &s(&out)]);
         let y = column(&out, "y");
         let want = library_run(&model, &t, &u);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
@@ -140,7 +126,7 @@ fn uneven_stamps_run_at_their_steps_under_the_file_s_hold() {
     );
     let (a, b) = (dir.path().join("a.csv"), dir.path().join("b.csv"));
     let s = |p: &Path| p.to_str().unwrap().to_string();
-    ok(&[
+    HYST.success(&[
         "run",
         "--model",
         &s(&foh),
@@ -150,10 +136,10 @@ fn uneven_stamps_run_at_their_steps_under_the_file_s_hold() {
         "-o",
         &s(&a),
     ]);
-    ok(&["run", "--model", &s(&zoh), &s(&data), "-o", &s(&b)]);
+    HYST.success(&["run", "--model", &s(&zoh), &s(&data), "-o", &s(&b)]);
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
     // A hold for the compensator, or for a model without dynamics, is refused with the reason.
-    let out = run(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         &s(&zoh),
@@ -181,7 +167,7 @@ fn a_gap_splits_the_record_and_says_so() {
     let model = model_file(dir.path(), "m.toml", "\n[dynamics]\nb = 1.0\na = [0.05]\n");
     let out = dir.path().join("out.csv");
     let s = |p: &Path| p.to_str().unwrap().to_string();
-    let done = ok(&["run", "--model", &s(&model), &s(&data), "-o", &s(&out)]);
+    let done = HYST.success(&["run", "--model", &s(&model), &s(&data), "-o", &s(&out)]);
     let err = String::from_utf8_lossy(&done.stderr);
     // Line 402: the header, then 400 rows.
     assert!(
@@ -207,7 +193,7 @@ fn a_gap_splits_the_record_and_says_so() {
     let mut bad = t.clone();
     bad[10] = bad[9];
     write(&data, &bad, &u);
-    let out = run(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         &s(&model),
@@ -237,8 +223,8 @@ fn epoch_stamps_run_or_say_why_they_cannot() {
     write(&a, &local, &u);
     write(&b, &epoch, &u);
     let (ya, yb) = (dir.path().join("ya.csv"), dir.path().join("yb.csv"));
-    ok(&["run", "--model", &s(&model), &s(&a), "-o", &s(&ya)]);
-    ok(&["run", "--model", &s(&model), &s(&b), "-o", &s(&yb)]);
+    HYST.success(&["run", "--model", &s(&model), &s(&a), "-o", &s(&ya)]);
+    HYST.success(&["run", "--model", &s(&model), &s(&b), "-o", &s(&yb)]);
     let (ya, yb) = (column(&ya, "y"), column(&yb, "y"));
     let worst = ya
         .iter()
@@ -249,7 +235,7 @@ fn epoch_stamps_run_or_say_why_they_cannot() {
     // At 1 MHz they cannot resolve the steps: refused, saying so.
     let micro: Vec<f64> = (0..n).map(|k| 1.7e9 + k as f64 * 1e-6).collect();
     write(&b, &micro, &u);
-    let out = run(&[
+    let out = HYST.output(&[
         "run",
         "--model",
         &s(&model),
@@ -298,7 +284,7 @@ fn an_uneven_record_fits_and_records_its_hold() {
     let model = dir.path().join("m.toml");
     // The truth's hysteresis starts without history: `--initial-state line`.
     let fit = |hold: &str, out: &Path| {
-        ok(&[
+        HYST.success(&[
             "fit",
             &s(&data),
             "--input",
@@ -326,7 +312,7 @@ fn an_uneven_record_fits_and_records_its_hold() {
     assert!((a1 - tau).abs() < 1e-6 * tau, "a1 = {a1}");
     // The model runs its own data back.
     let out = dir.path().join("out.csv");
-    ok(&["run", "--model", &s(&model), &s(&data), "-o", &s(&out)]);
+    HYST.success(&["run", "--model", &s(&model), &s(&data), "-o", &s(&out)]);
     let fitted = column(&out, "y_out");
     let rms = (fitted
         .iter()
@@ -356,7 +342,7 @@ fn an_uneven_record_fits_and_records_its_hold() {
         "a1 = {a1} under the first-order hold"
     );
     // --hold without --dynamics is refused.
-    let out = run(&[
+    let out = HYST.output(&[
         "fit",
         &s(&data),
         "--input",

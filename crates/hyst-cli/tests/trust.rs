@@ -11,10 +11,12 @@
     clippy::indexing_slicing
 )]
 
+use hyst_test_support::cli::Binary;
+use hyst_test_support::rng::XorShift64;
+use hyst_test_support::signals::normals;
 use std::path::Path;
-use std::process::Command;
 
-const HYST: &str = env!("CARGO_BIN_EXE_hyst");
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 /// A truth: the smooth model out = 3 H(k1, k2)[0.5 v − 1] + 1 on a command u in [0, 4], the
 /// plant a_n v⁽ⁿ⁾ + … + a_1 v̇ + v = u under the zero-order hold.
@@ -43,29 +45,13 @@ fn truth(k1: f64, k2: f64, a: &[f64]) -> String {
 }
 
 fn hyst(args: &[&str]) -> String {
-    let out = Command::new(HYST).args(args).output().unwrap();
+    let out = HYST.command().args(args).output().unwrap();
     assert!(
         out.status.success(),
         "hyst {args:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
     String::from_utf8(out.stdout).unwrap()
-}
-
-/// A deterministic standard normal (xorshift and Box–Muller).
-fn normals(n: usize, mut seed: u64) -> Vec<f64> {
-    let mut uniform = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        ((seed >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    };
-    (0..n)
-        .map(|_| {
-            let (a, b) = (uniform(), uniform());
-            (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
-        })
-        .collect()
 }
 
 /// Records of the truth `model` at 1 kHz, one per frequency of `freqs` (Hz), `seconds` long,
@@ -113,7 +99,7 @@ fn records(dir: &Path, model: &str, freqs: &[f64], seconds: f64, history: usize,
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
             (a.min(r[3]), b.max(r[3]))
         });
-    let e = normals(rows.len(), 7);
+    let e = normals(&mut XorShift64(7), rows.len());
     let mut data = String::from("record,t,u,y\n");
     for (i, r) in rows.iter().enumerate() {
         if i % n >= history {
@@ -266,7 +252,8 @@ fn a_record_too_short_to_place_the_loop_is_refused_with_the_reason() {
     let data = dir.path().join("short.csv");
     std::fs::write(&data, csv).unwrap();
     let model = dir.path().join("short.toml");
-    let out = Command::new(HYST)
+    let out = HYST
+        .command()
         .args([
             "fit",
             data.to_str().unwrap(),

@@ -8,8 +8,10 @@
 // A test reports a broken surface by panicking with what it found.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+use hyst_test_support::cli::Binary;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+const HYST: Binary = Binary::new(env!("CARGO_BIN_EXE_hyst"));
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -17,15 +19,6 @@ fn root() -> PathBuf {
 
 fn read(path: &str) -> String {
     std::fs::read_to_string(root().join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
-}
-
-fn hyst(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_hyst"))
-        .args(args)
-        .output()
-        .expect("runs hyst");
-    assert!(out.status.success(), "hyst {args:?}: {out:?}");
-    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 #[test]
@@ -66,7 +59,7 @@ fn an_inverse_is_never_called_a_compensator() {
     if class.to_lowercase().contains("compensator") {
         said.push("the stub's InverseHysteresis".into());
     }
-    let run = hyst(&["run", "--help"]);
+    let run = HYST.stdout(&["run", "--help"]);
     let inverse = run
         .split("--inverse")
         .nth(1)
@@ -119,12 +112,7 @@ fn old_spellings_of_flags_still_work_with_a_note() {
     let input = dir.join("x.csv");
     std::fs::write(&input, "x\n0\n0.5\n").expect("writes the input");
     let path = |name: &str| dir.join(name).to_str().expect("utf-8 path").to_string();
-    let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_hyst"))
-            .args(args)
-            .output()
-            .expect("runs hyst")
-    };
+    let run = |args: &[&str]| HYST.output(args);
     let x = path("x.csv");
     for (flag, name) in [
         ("--output", "old.csv"),

@@ -8,6 +8,7 @@ use hyst_core::adaptive::{
     Adaptive, AdaptiveConfig, AdaptiveInverse, AdaptiveModel, Parameter, Status,
 };
 use hyst_core::{AnyK2Law, Hysteresis, InitialState, Operator, ScaledShaping, ShapedModel};
+use hyst_test_support::rng::{Lcg64, Random};
 
 /// Samples in the record; the drift ramps over the first 60 %, then stops.
 const SAMPLES: usize = 300_000;
@@ -71,21 +72,6 @@ fn command(k: usize) -> f64 {
     (0.55 + 0.35 * (0.13 * t).sin()) * (1.7 * t).sin() + 0.25 * (4.3 * t + 1.0).sin()
 }
 
-struct Noise(u64);
-impl Noise {
-    fn next(&mut self) -> f64 {
-        let mut u = || {
-            self.0 = self
-                .0
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        let (a, b) = (u(), u());
-        NOISE * (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-    }
-}
-
 fn config() -> AdaptiveConfig<f64> {
     AdaptiveConfig::new(NOISE)
 }
@@ -102,11 +88,11 @@ fn prediction_follows_the_drift_and_converges() {
     let mut fixed = fitted;
     let mut a = Adaptive::new(&fitted, InitialState::Line, config()).unwrap();
     let mut truth = Truth::new();
-    let mut noise = Noise(2026);
+    let mut noise = Lcg64::new(2026);
     let (mut sf, mut sa, mut n) = (0.0, 0.0, 0);
     for k in 0..SAMPLES {
         let x = command(k);
-        let y = truth.at(k).step(x) + noise.next();
+        let y = truth.at(k).step(x) + noise.gaussian(NOISE);
         let u = a.update(x, y);
         let f = fixed.step(x);
         if k >= SETTLE {
@@ -141,16 +127,16 @@ fn a_rest_of_a_million_samples_moves_no_parameter() {
     let fitted = model(K1, GAIN);
     let mut a = Adaptive::new(&fitted, InitialState::Line, config()).unwrap();
     let mut truth = Truth::new();
-    let mut noise = Noise(7);
+    let mut noise = Lcg64::new(7);
     for k in 0..50_000 {
         let x = command(k);
-        a.update(x, truth.at(k).step(x) + noise.next());
+        a.update(x, truth.at(k).step(x) + noise.gaussian(NOISE));
     }
     let before = Parameter::ALL.map(|p| a.value(p));
     let x = command(49_999);
     let truth = truth.at(49_999);
     for _ in 0..1_000_000 {
-        let y = truth.step(x) + noise.next();
+        let y = truth.step(x) + noise.gaussian(NOISE);
         assert_eq!(a.update(x, y).status, Status::Rest);
     }
     let after = Parameter::ALL.map(|p| a.value(p));
@@ -172,17 +158,17 @@ fn the_adaptive_compensator_tracks_the_drifting_truth() {
     let mut c = AdaptiveInverse::new(Adaptive::new(&fitted, InitialState::Line, config()).unwrap());
     let mut fixed = fitted.inverse();
     let (mut truth, mut fixed_truth, mut oracle_truth) = (Truth::new(), Truth::new(), Truth::new());
-    let mut noise = Noise(99);
+    let mut noise = Lcg64::new(99);
     let (mut sa, mut sf, mut so, mut n) = (0.0, 0.0, 0.0, 0);
     for k in 0..SAMPLES {
         let desired = OFFSET + GAIN * 0.8 * command(k);
         let x = c.step(desired).unwrap();
-        let y = truth.at(k).step(x) + noise.next();
+        let y = truth.at(k).step(x) + noise.gaussian(NOISE);
         c.measure(y);
-        let yf = fixed_truth.at(k).step(fixed.step(desired)) + noise.next();
+        let yf = fixed_truth.at(k).step(fixed.step(desired)) + noise.gaussian(NOISE);
         let o = oracle_truth.at(k);
         let xo = o.inverse().step(desired);
-        let yo = o.step(xo) + noise.next();
+        let yo = o.step(xo) + noise.gaussian(NOISE);
         if k >= SETTLE {
             sa += (y - desired) * (y - desired);
             sf += (yf - desired) * (yf - desired);

@@ -9,6 +9,7 @@ use hyst_core::{
     Affine, Compensator, Error, Hysteresis, Identity, Jet, K2Law, QuadraticExp, ShapedModel,
     Shaping,
 };
+use hyst_test_support::plant::LinearPlant;
 
 /// Denominators (τ s + 1)ⁿ written as [a_1, …, a_n], for n = 1..4.
 const A1: [f64; 1] = [0.1];
@@ -19,35 +20,6 @@ const A4: [f64; 4] = [2.0, 1.5, 0.5, 0.0625];
 /// A smooth new input with reversals of v at several amplitudes.
 fn u_new(t: f64) -> f64 {
     (1.3 * t).sin() + 0.6 * (3.1 * t).cos() - 0.2
-}
-
-/// d/dt of the plant state [x1, ẋ1, …, x1⁽ⁿ⁻¹⁾] for the input u.
-fn plant_rhs<const N: usize>(a: &[f64; N], b: f64, x: &[f64; N], u: f64) -> [f64; N] {
-    core::array::from_fn(|k| {
-        if k + 1 < N {
-            x[k + 1]
-        } else {
-            // a_n x⁽ⁿ⁾ = b u − x − Σ_{i<n} a_i x⁽ⁱ⁾
-            let mut s = b * u - x[0];
-            for i in 1..N {
-                s -= a[i - 1] * x[i];
-            }
-            s / a[N - 1]
-        }
-    })
-}
-
-/// One RK4 step of the plant over h with the command at the start, middle and end.
-fn rk4<const N: usize>(a: &[f64; N], b: f64, x: &[f64; N], h: f64, u: [f64; 3]) -> [f64; N] {
-    let k1 = plant_rhs(a, b, x, u[0]);
-    let k2 = plant_rhs(a, b, &axpy(x, 0.5 * h, &k1), u[1]);
-    let k3 = plant_rhs(a, b, &axpy(x, 0.5 * h, &k2), u[1]);
-    let k4 = plant_rhs(a, b, &axpy(x, h, &k3), u[2]);
-    core::array::from_fn(|i| x[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
-}
-
-fn axpy<const N: usize>(x: &[f64; N], h: f64, d: &[f64; N]) -> [f64; N] {
-    core::array::from_fn(|i| x[i] + h * d[i])
 }
 
 /// Simulates the compensated plant for `samples` steps of `dt`; the plant's hysteresis is
@@ -90,9 +62,7 @@ where
                     } else {
                         tb
                     };
-                    x_next = rk4(
-                        a,
-                        b,
+                    x_next = LinearPlant { a: *a, b }.rk4(
                         &x_next,
                         tb - ta,
                         [
@@ -293,12 +263,7 @@ fn family_members_stay_within_delta_a() -> Result<(), Error> {
                 let _ = comp_inner.try_step(un, dt)?;
                 let v = comp_inner.last_reference();
                 worst = worst.max((truth(x[0]) - psi.invert(v)?).abs());
-                let f = |x: &[f64; 1], u: f64| plant_rhs(&[0.1], 1.0, x, u);
-                let q1 = f(&x, u0);
-                let q2 = f(&axpy(&x, 0.5 * dt, &q1), uh);
-                let q3 = f(&axpy(&x, 0.5 * dt, &q2), uh);
-                let q4 = f(&axpy(&x, dt, &q3), u1);
-                x = [x[0] + dt / 6.0 * (q1[0] + 2.0 * q2[0] + 2.0 * q3[0] + q4[0])];
+                x = LinearPlant { a: [0.1], b: 1.0 }.rk4(&x, dt, [u0, uh, u1]);
             }
             (worst, ())
         };

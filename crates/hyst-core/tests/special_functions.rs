@@ -10,6 +10,7 @@
 
 use hyst_core::lambert::{omega, w0};
 use hyst_core::shaping::langevin;
+use hyst_test_support::rng::{Random, XorShift64};
 
 const LAMBERT_W0_CSV: &str = include_str!("data/lambert_w0.csv");
 const WRIGHT_OMEGA_CSV: &str = include_str!("data/wright_omega.csv");
@@ -278,25 +279,6 @@ fn wright_omega_f32_matches_reference() {
     t.finish();
 }
 
-/// Tiny xorshift64 PRNG (Marsaglia 2003), fixed seed: no external crates.
-struct XorShift64(u64);
-
-impl XorShift64 {
-    fn next_u64(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        self.0 = x;
-        x
-    }
-
-    /// Uniform in [0, 1).
-    fn next_f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-}
-
 #[test]
 fn wright_omega_random_sweep_satisfies_defining_equation() {
     // y in [-1e3, 1e20], log-uniform magnitudes in [1e-12, 1e3] (negative)
@@ -312,8 +294,8 @@ fn wright_omega_random_sweep_satisfies_defining_equation() {
     let mut worst_case = (0.0f64, 0.0f64);
     let mut n_residual = 0usize;
     for _ in 0..SWEEP_N {
-        let neg = rng.next_f64() * (NEG_DECADES + POS_DECADES) < NEG_DECADES;
-        let u = rng.next_f64();
+        let neg = rng.unit() * (NEG_DECADES + POS_DECADES) < NEG_DECADES;
+        let u = rng.unit();
         let y = if neg {
             -(10f64.powf(-12.0 + NEG_DECADES * u)).min(1e3)
         } else {

@@ -3,13 +3,13 @@
 //! fade below what the data can tell, not after a crawl of dozens of iterations that changes
 //! nothing the data resolves.
 
-mod common;
-use common::{loops_input as input, normals};
 use hyst_fit::layout::Layout;
 use hyst_fit::lm::{LevenbergMarquardt, Silent, Termination};
 use hyst_fit::smooth::normalisation;
 use hyst_fit::{fit_smooth, Dataset, FitError, FitOptions};
 use hyst_model::{ShapingKind, Structure};
+use hyst_test_support::rng::XorShift64Star;
+use hyst_test_support::signals::{loops as input, normals};
 
 #[test]
 fn a_langevin_input_shaping_on_data_it_cannot_bend_to_stops_when_its_gains_fade(
@@ -40,7 +40,7 @@ fn a_langevin_input_shaping_on_data_it_cannot_bend_to_stops_when_its_gains_fade(
     let clean = model.run(&x)?;
     let y: Vec<f64> = clean
         .iter()
-        .zip(normals(x.len(), 7))
+        .zip(normals(&mut XorShift64Star(7), x.len()))
         .map(|(y, e)| y + 0.05 * e)
         .collect();
     let data = Dataset::single(&x, &y);

@@ -6,16 +6,17 @@
 
 mod common;
 use common::identify;
-use common::normals;
 use hyst_fit::identify::Request;
 use hyst_fit::orientation::{loops, FormChoice, Orientation};
 use hyst_fit::{Dataset, FitError};
 use hyst_model::{Form, ModelFile};
 use hyst_sim::LuGre;
+use hyst_test_support::rng::XorShift64Star;
+use hyst_test_support::signals::normals;
 
 /// A piston stroke: three sines of incommensurate frequencies (mm), 1 kHz, 8 s.
 fn stroke(seed: u64) -> Vec<f64> {
-    common::stroke(8000, seed, 0.3, 0.4)
+    hyst_test_support::signals::stroke(8000, &mut XorShift64Star(seed), 0.3, 0.4)
 }
 
 /// Friction of a seal (N) along the stroke, with 0.5 N of sensor noise.
@@ -24,7 +25,10 @@ fn record(seal: LuGre, seed: u64) -> Result<Dataset, FitError> {
     let mut f = seal
         .force(&x, 1e-3)
         .map_err(|e| FitError::Invalid(e.to_string()))?;
-    for (v, e) in f.iter_mut().zip(normals(x.len(), seed + 100)) {
+    for (v, e) in f
+        .iter_mut()
+        .zip(normals(&mut XorShift64Star(seed + 100), x.len()))
+    {
         *v += 0.5 * e;
     }
     Ok(Dataset::single(&x, &f))

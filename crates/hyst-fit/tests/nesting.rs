@@ -7,13 +7,13 @@
 //! limit without getting back, and only one contained structure was a start: friction records
 //! ended 0.1 % (tanh ψ_out) to 4 % (Langevin ψ_out with tanh ψ_in) above simpler fits.
 
-mod common;
-use common::normals;
 use hyst_fit::lm::Silent;
 use hyst_fit::smooth::contained;
 use hyst_fit::{fit_smooth, Dataset, FitError, FitOptions, SmoothFit};
 use hyst_model::{Form, K2Kind, ShapingKind, Structure};
 use hyst_sim::LuGre;
+use hyst_test_support::rng::XorShift64Star;
+use hyst_test_support::signals::{normals, stroke};
 
 /// Samples of the record, and whether every structure is checked: in release builds 3,000 and
 /// all 50 (25–35 s); in debug builds (the workspace's `cargo test`, ten times slower: 11 min for
@@ -24,7 +24,7 @@ const SAMPLES: usize = if FULL { 3000 } else { 1500 };
 
 /// A seal's friction (N) along a stroke of three sines (mm), 1 kHz, 0.5 N of noise.
 fn friction() -> Result<Dataset, FitError> {
-    let x = common::stroke(SAMPLES, 5, 0.6, 0.8);
+    let x = stroke(SAMPLES, &mut XorShift64Star(5), 0.6, 0.8);
     let seal = LuGre {
         sigma0: 200.0,
         sigma1: 0.5,
@@ -36,7 +36,7 @@ fn friction() -> Result<Dataset, FitError> {
     let mut f = seal
         .force(&x, 1e-3)
         .map_err(|e| FitError::Invalid(e.to_string()))?;
-    for (v, e) in f.iter_mut().zip(normals(x.len(), 105)) {
+    for (v, e) in f.iter_mut().zip(normals(&mut XorShift64Star(105), x.len())) {
         *v += 0.5 * e;
     }
     Ok(Dataset::single(&x, &f))

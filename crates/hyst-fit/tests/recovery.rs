@@ -1,13 +1,13 @@
 //! Recovery of known parameters from synthetic data: exact (to 1e-6) without noise, within the
 //! reported standard errors with noise. The truth is a member of the fitted structure.
 
-mod common;
-use common::{loops_input as input, normals};
 use hyst_fit::layout::Layout;
 use hyst_fit::lm::Silent;
 use hyst_fit::smooth::normalisation;
 use hyst_fit::{fit_smooth, Dataset, FitError, FitOptions};
 use hyst_model::{InitialState, K2Kind, ShapingKind, SmoothModel, Structure};
+use hyst_test_support::rng::XorShift64Star;
+use hyst_test_support::signals::{loops as input, normals};
 
 /// The truth: `values` by parameter name, laid out for the data's normalisation.
 fn truth(
@@ -184,7 +184,7 @@ fn noisy_data_recovers_within_the_reported_standard_errors() -> Result<(), FitEr
     let mut within = 0;
     let mut total = 0;
     for seed in [1_u64, 2, 3, 4, 5] {
-        let noise = normals(x.len(), 0x9e37_79b9_7f4a_7c15 ^ seed);
+        let noise = normals(&mut XorShift64Star(0x9e37_79b9_7f4a_7c15 ^ seed), x.len());
         let y: Vec<f64> = model
             .run(&x)?
             .iter()
@@ -227,8 +227,9 @@ fn noisy_data_recovers_within_the_reported_standard_errors() -> Result<(), FitEr
     Ok(())
 }
 
-#[test]
-fn model_file_reads_back_exactly() -> Result<(), FitError> {
+/// A model file of a smooth model with an affine k2, a cubic input and a Langevin output
+/// shaping (a truth of 500 samples of [`input`]), and those samples.
+fn langevin_model_file() -> Result<(hyst_model::ModelFile, Vec<f64>), FitError> {
     use hyst_model::{file::FORMAT, file::VERSION, Metrics, ModelKind, Provenance, Units};
     let structure = Structure {
         k2: K2Kind::Affine,
@@ -264,6 +265,13 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
         rate: None,
         provenance: Provenance::default(),
     };
+    Ok((file, x))
+}
+
+#[test]
+fn model_file_reads_back_exactly() -> Result<(), FitError> {
+    use hyst_model::file::VERSION;
+    let (file, x) = langevin_model_file()?;
     let text = file.to_toml()?;
     let back = hyst_model::ModelFile::from_toml(&text, std::path::Path::new("m.toml"))?;
     assert_eq!(back, file);
@@ -295,7 +303,18 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
     .to_toml()?;
     assert!(written_as_1.starts_with("# hyst model file, format version 1 "));
     assert!(written_as_1.contains("\nversion = 1\n"));
-    // A version of the wrong type is named with its value and line, not reported missing.
+    Ok(())
+}
+
+/// A format version of the wrong type is named with its value and line, not reported missing;
+/// a float is not told to drop quotes it does not have.
+#[test]
+fn a_version_of_the_wrong_type_is_named_with_its_line() -> Result<(), FitError> {
+    use hyst_model::file::VERSION;
+    let (file, _) = langevin_model_file()?;
+    let older = file
+        .to_toml()?
+        .replace(&format!("version = {VERSION}"), "version = 1");
     let quoted = older.replace("version = 1", "version = \"1\"");
     let err = hyst_model::ModelFile::from_toml(&quoted, std::path::Path::new("m.toml"))
         .err()
@@ -307,7 +326,6 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
              (`version = 1`, no quotes)"
         )
     );
-    // A float is not told to drop quotes it does not have.
     let float = older.replace("version = 1", "version = 1.0");
     let err = hyst_model::ModelFile::from_toml(&float, std::path::Path::new("m.toml"))
         .err()
@@ -319,8 +337,17 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
              (`version = 1`, no decimal point)"
         )
     );
-    // A Langevin output shaping saturates: the range and the limits of `--saturate`.
+    Ok(())
+}
+
+/// A Langevin output shaping saturates: the model file gives the range and the limits of
+/// `--saturate`; the limits are reachable with finite commands, the range's end is not, and the
+/// refusal names the desired output and the range in output units.
+#[test]
+fn a_langevin_output_shaping_gives_the_saturation_range_and_limits() -> Result<(), FitError> {
+    let (file, _) = langevin_model_file()?;
     let missing = |what: &str| FitError::Invalid(format!("the test model has no {what}"));
+    let model = file.smooth.ok_or_else(|| missing("smooth model"))?;
     let sat = file
         .saturation()
         .ok_or_else(|| missing("saturating output shaping"))?;
@@ -337,8 +364,6 @@ fn model_file_reads_back_exactly() -> Result<(), FitError> {
     let half = 0.5 * (hi - lo);
     assert!((sat.limits.0 - (lo + 0.001 * half)).abs() < 1e-12 * half);
     assert!((sat.limits.1 - (hi - 0.001 * half)).abs() < 1e-12 * half);
-    // The limits are reachable with finite commands; the range's end is not, and the refusal
-    // names the desired output and the range in output units.
     let commands = file.run_inverse(&[0.5 * (lo + hi), sat.limits.1, sat.limits.0])?;
     assert!(commands.iter().all(|c| c.is_finite()), "{commands:?}");
     let refused = file.run_inverse(&[hi]);

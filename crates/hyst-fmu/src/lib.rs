@@ -38,6 +38,10 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![cfg_attr(not(test), deny(clippy::indexing_slicing))]
 
+// The FMI functions read and write through the master's raw pointers and are exported
+// `#[no_mangle]`: the module allows unsafe code (denied in the workspace), each block with its
+// SAFETY argument. The logger's call of the master's callback allows it on that function.
+#[allow(unsafe_code)]
 pub mod api;
 pub mod config;
 pub mod description;

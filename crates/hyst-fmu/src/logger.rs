@@ -73,6 +73,8 @@ impl Logger {
     }
 
     /// Sends `message` with `status` and `category`.
+    // Calls the master's C callback: the one unsafe block of this module.
+    #[allow(unsafe_code)]
     pub fn send(&self, status: fmi2Status, category: &CStr, message: &str) {
         let Some(callback) = self.callback else {
             return;

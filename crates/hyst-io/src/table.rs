@@ -544,6 +544,7 @@ mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
     use super::*;
+    use hyst_test_support::rng::{Random, XorShift64Star};
     use std::fs;
 
     /// Parses `text` as a file called `data.csv`, and asks for every column as numbers (the
@@ -1174,16 +1175,11 @@ mod tests {
 
     #[test]
     fn formatting_round_trips_random_bit_patterns() {
-        // xorshift64*: deterministic, no extra dependency.
-        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut rng = XorShift64Star(0x9E37_79B9_7F4A_7C15);
         let mut checked = 0;
         let mut s = String::new();
         while checked < 200_000 {
-            state ^= state >> 12;
-            state ^= state << 25;
-            state ^= state >> 27;
-            let bits = state.wrapping_mul(0x2545_F491_4F6C_DD1D);
-            let v = f64::from_bits(bits);
+            let v = f64::from_bits(rng.next_u64());
             if !v.is_finite() {
                 continue;
             }

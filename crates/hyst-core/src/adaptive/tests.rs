@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::{AnyK2Law, Hysteresis, InitialState, Operator, ScaledShaping, ShapedModel};
+use hyst_test_support::rng::{Lcg64, Random};
 
 fn model(k1: f64, k2: f64, gain: f64, offset: f64) -> AdaptiveModel<f64> {
     let mut out = ScaledShaping::identity();
@@ -20,21 +21,6 @@ fn command(k: usize) -> f64 {
         return command(k - k % 3000 - 1);
     }
     (0.6 + 0.4 * (0.37 * t).sin()) * (2.1 * t).sin() + 0.3 * (5.3 * t).sin()
-}
-
-struct Lcg(u64);
-impl Lcg {
-    fn normal(&mut self) -> f64 {
-        let mut u = || {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        let (a, b) = (u(), u());
-        (-2.0 * a.ln()).sqrt() * (2.0 * core::f64::consts::PI * b).cos()
-    }
 }
 
 #[test]
@@ -63,7 +49,7 @@ fn a_truth_with_other_parameters_is_found() {
     let m = model(0.2, 8.0, 1.0, 0.0);
     let mut truth = model(0.24, 6.5, 1.15, -0.05);
     let mut a = Adaptive::new(&m, InitialState::Line, AdaptiveConfig::new(1e-3)).unwrap();
-    let mut noise = Lcg(7);
+    let mut noise = Lcg64::new(7);
     for k in 0..60_000 {
         let x = command(k);
         let y = truth.step(x) + 1e-3 * noise.normal();
@@ -91,7 +77,7 @@ fn a_rest_of_a_million_samples_moves_nothing() {
     let m = model(0.2, 8.0, 1.0, 0.0);
     let mut truth = model(0.22, 8.0, 1.05, 0.0);
     let mut a = Adaptive::new(&m, InitialState::Line, AdaptiveConfig::new(1e-3)).unwrap();
-    let mut noise = Lcg(11);
+    let mut noise = Lcg64::new(11);
     for k in 0..20_000 {
         let x = command(k);
         a.update(x, truth.step(x) + 1e-3 * noise.normal());

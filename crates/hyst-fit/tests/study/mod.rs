@@ -2,7 +2,8 @@
 //! known mismatch): random parameters of a timed smooth model drawn from a seed, the records it
 //! produces from sine commands at 1 kHz, and how a fit's estimates compare with the truth.
 
-use crate::common::normals;
+use hyst_test_support::rng::XorShift64Star;
+use hyst_test_support::signals::normals;
 
 use hyst_fit::layout::Layout;
 use hyst_fit::smooth::normalisation;
@@ -19,7 +20,7 @@ pub const HISTORY: usize = 733;
 /// The truth's parameters by name, from `seed`: plant order `order` (poles of time constants 2
 /// to 40 samples), the viscous rate term when `rate`.
 pub fn truth_values(seed: u64, order: u8, rate: bool) -> Vec<(String, f64)> {
-    let r = normals(16, seed);
+    let r = normals(&mut XorShift64Star(seed), 16);
     let u = |i: usize| 0.5 * (1.0 + (r[i] / 2.0).tanh()); // in (0, 1)
     let mut v = vec![
         ("k1".to_string(), 0.1 + 0.2 * u(0)),
@@ -69,7 +70,7 @@ pub fn commands(seed: u64, multi_rate: bool, before: usize) -> Vec<Vec<f64>> {
     } else {
         vec![2.0 * base]
     };
-    let r = normals(8, seed ^ 0x5eed);
+    let r = normals(&mut XorShift64Star(seed ^ 0x5eed), 8);
     rates
         .iter()
         .enumerate()
@@ -134,7 +135,10 @@ pub fn dataset(
         .zip(outputs)
         .enumerate()
         .map(|(i, (u, y))| {
-            let e = normals(y.len(), seed.wrapping_mul(31) + i as u64);
+            let e = normals(
+                &mut XorShift64Star(seed.wrapping_mul(31) + i as u64),
+                y.len(),
+            );
             let u = &u[before..];
             let y: Vec<f64> = y[before..]
                 .iter()

@@ -1,8 +1,7 @@
-//! What several integration test files of `hyst` share.
-#![allow(clippy::unwrap_used, clippy::panic, dead_code)]
+//! The repository's paths and the CSV files `hyst` reads and writes: a header row, then rows
+//! of cells.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 /// The repository's root (the bundled data is under `data/`).
 pub fn repo() -> PathBuf {
@@ -27,14 +26,6 @@ pub fn piezo_fit<'a>(data: &'a Path, model: &'a Path) -> [&'a str; 8] {
         "-o",
         model.to_str().unwrap(),
     ]
-}
-
-/// `hyst ARGS` (the binary of this build), run to its end.
-pub fn hyst(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hyst"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 /// A path as the `&str` an argument list takes.
