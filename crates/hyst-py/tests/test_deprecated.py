@@ -33,8 +33,8 @@ def test_old_attribute_names(data):
     with pytest.warns(DeprecationWarning, match=r"Model.stderr is deprecated: use Model.std_errors"):
         assert r.model.stderr == r.model.std_errors
     inverse = r.model.inverse(saturate=False)
-    with pytest.warns(DeprecationWarning, match=r"Model.saturated is deprecated: use Model.saturated"):
-        assert inverse.saturated == inverse.saturated == 0
+    with pytest.warns(DeprecationWarning, match=r"Model.clamped is deprecated: use Model.saturated"):
+        assert inverse.clamped == inverse.saturated == 0
     a = hyst.Adaptive(r.model, noise=0.01)
     a.process(x, y)
     with pytest.warns(DeprecationWarning, match=r"Adaptive.sigmas is deprecated: use Adaptive.std_errors"):

@@ -65,7 +65,7 @@ def test_properties_save_and_pickle(models, piezo, tmp_path):
     m = hyst.load_model(models["smooth"])
     assert m.kind == "smooth" and not m.is_inverse
     assert set(m.params) >= {"k1", "k2", "k2.slope", "out.gain"}
-    assert set(m.stderr) == set(m.params) and set(m.units) == set(m.params)
+    assert set(m.std_errors) == set(m.params) and set(m.units) == set(m.params)
     assert m.columns["input"] == "u_actuator_V"
     assert m.metrics["training"]["samples"] == u.size
     if m.family is not None:
