@@ -6,9 +6,8 @@
  * inverse (its outputs equal hyst's).
  *
  * The same arithmetic as InverseHysteresis in crates/hyst-core/src/parametric.rs, in the same
- * order (so the outputs agree to an ulp of the exponential when no band clamp fires: hyst
- * evaluates e^x with its own inline exp, crates/hyst-core/src/exp.rs, the same algorithm as
- * glibc's):
+ * order, with the same exponential, the platform's exp (so the outputs agree when no band
+ * clamp fires):
  *   a change of direction makes the previous sample the reversal point (alpha0, beta0);
  *   s = +1 rising, -1 falling; M = s (beta0 - alpha0); M* = k1 - M;
  *   ud = s (u_d - alpha0); v = (ud s + beta0) + (1 - exp(-(k2 ud))) (M* s).

@@ -25,8 +25,7 @@ use std::time::{Duration, Instant};
 
 use hyst_bank::{force_isa, isa, BankFormula, BankVec, Isa, Lane};
 use hyst_core::{
-    Affine, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Polynomial, Real as _,
-    ShapedModel,
+    Affine, Direct, Hysteresis, Inverse, InverseHysteresis, Jet, Operator, Polynomial, ShapedModel,
 };
 
 /// Samples per workload call.
@@ -40,7 +39,7 @@ pub const BANK_CHANNELS: usize = 1024;
 pub const BANK_TICKS: usize = 64;
 
 /// The names of the workloads, in report order, with their JSON keys.
-pub const NAMES: [(&str, &str); 21] = [
+pub const NAMES: [(&str, &str); 20] = [
     ("direct operator H (eq. 2)", "direct_ns"),
     ("inverse operator H^-1 (eq. 4)", "inverse_ns"),
     ("inverse with 2 derivatives (jet)", "inverse_d2_ns"),
@@ -82,7 +81,6 @@ pub const NAMES: [(&str, &str); 21] = [
         "bank H^-1 f32 tick, AVX2 kernel forced",
         "bank_avx2_tick_inverse_f32_ns",
     ),
-    ("f64 exp inline, the inverse's", "exp_inline_ns"),
 ];
 
 /// The workloads run on 1,024 channels (reported per channel-sample): the banks in blocks, then
@@ -360,10 +358,6 @@ impl Inputs {
                 force_isa(Some(kernel)).ok()?;
                 sum?
             }
-            20 => black_box(&self.exp_args)
-                .iter()
-                .map(|&a| a.exp_inline())
-                .sum(),
             _ => return None,
         })
     }

@@ -18,25 +18,24 @@ use hyst_bank::{force_isa, isa, Isa};
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Print JSON (keys direct_ns, inverse_ns, inverse_d2_ns, model_ns, exp_ns, lambert_w0_ns,
-    /// bank_inverse_ns, bank_direct_ns, bank_inverse_f32_ns (banks of 1,024 channels in blocks
-    /// of 64 ticks, ns per channel-sample), fitted_static_ns, fitted_dynamics_ns, adaptive_ns,
-    /// the goal ratios and goals_met, the banks' ratios to the scalar operators and to each
-    /// other, bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static,
-    /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, exp_inline_ns (the inline f64 `exp` the inverse evaluates) and inverse_over_exp_inline,
-    /// kernel, the bank's instruction set; the same banks tick by tick (one `step` per tick of
-    /// the 64, ns per channel-sample): bank_tick_inverse_ns, bank_tick_direct_ns,
-    /// bank_tick_inverse_f32_ns, next to 1,024 scalar operators stepped once a tick each,
-    /// scalar_tick_inverse_ns and scalar_tick_direct_ns, with bank_tick_inverse_over_scalar,
-    /// bank_tick_direct_over_scalar, bank_tick_inverse_f32_over_bank_tick_inverse and
-    /// bank_tick_goals_met (inverse <= 0.25, direct <= 0.33, f32 / f64 <= 0.5), and with the AVX2
-    /// kernel forced in the same run (a processor without AVX-512; null where there is no AVX2 +
-    /// FMA): bank_avx2_tick_inverse_ns, bank_avx2_tick_direct_ns,
-    /// bank_avx2_tick_inverse_f32_ns, bank_avx2_tick_inverse_over_scalar,
+    /// bank_inverse_ns, bank_direct_ns, bank_inverse_f32_ns (banks of 1,024 channels in blocks of
+    /// 64 ticks, ns per channel-sample), fitted_static_ns, fitted_dynamics_ns, adaptive_ns, the
+    /// goal ratios and goals_met, the banks' ratios to the scalar operators and to each other,
+    /// bank_inverse_f32_channel_samples_per_s, bank_goals_met, dynamics_over_static,
+    /// dynamics_goal_met, adaptive_over_direct and adaptive_goal_met, kernel, the bank's
+    /// instruction set; the same banks tick by tick (one `step` per tick of the 64, ns per
+    /// channel-sample): bank_tick_inverse_ns, bank_tick_direct_ns, bank_tick_inverse_f32_ns, next
+    /// to 1,024 scalar operators stepped once a tick each, scalar_tick_inverse_ns and
+    /// scalar_tick_direct_ns, with bank_tick_inverse_over_scalar, bank_tick_direct_over_scalar,
+    /// bank_tick_inverse_f32_over_bank_tick_inverse and bank_tick_goals_met (inverse <= 0.25,
+    /// direct <= 0.33, f32 / f64 <= 0.5), and with the AVX2 kernel forced in the same run (a
+    /// processor without AVX-512; null where there is no AVX2 + FMA): bank_avx2_tick_inverse_ns,
+    /// bank_avx2_tick_direct_ns, bank_avx2_tick_inverse_f32_ns, bank_avx2_tick_inverse_over_scalar,
     /// bank_avx2_tick_direct_over_scalar, bank_avx2_tick_inverse_f32_over_bank_avx2_tick_inverse
     /// and bank_avx2_tick_goals_met (inverse <= 0.30, direct <= 0.40); and the long-record fit's
     /// fit_rows, fit_seconds, run_seconds, fit_over_run, fit_goal_met, fit_peak_bytes,
-    /// fit_peak_bytes_per_row, fit_memory_goal_met and run_peak_bytes, null without
-    /// --fit-rows) instead of a table.
+    /// fit_peak_bytes_per_row, fit_memory_goal_met and run_peak_bytes, null without --fit-rows)
+    /// instead of a table.
     #[arg(long)]
     pub json: bool,
     /// Run the banks on this kernel instead of the best this processor has (to see how a
@@ -44,7 +43,7 @@ pub struct Args {
     #[arg(long, value_name = "ISA", value_parser = ["avx512", "avx2", "sse2", "portable"])]
     pub kernel: Option<String>,
     /// Total measuring time of the whole run, in seconds, in (0, 60] (wall clock; the run
-    /// takes this plus about 0.2 s of calibration). The time is shared by the 21 workloads,
+    /// takes this plus about 0.2 s of calibration). The time is shared by the 20 workloads,
     /// measured in interleaved rounds of batches of about 5 ms each (at least 5 rounds).
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
@@ -126,9 +125,6 @@ struct Ratios {
     /// The adaptive estimator (k1, k2, gain, offset) over the direct operator, per sample
     /// (goal: at most 10).
     adaptive: f64,
-    /// Scalar H⁻¹ over the inline `exp` it evaluates (no goal: what the operator costs beyond
-    /// its exponential).
-    inverse_over_exp_inline: f64,
     /// The banks tick by tick on the kernel of the run (the bank's goals).
     tick: TickRatios,
     /// The banks tick by tick with the AVX2 kernel forced (their own goals; `None` where the
@@ -278,7 +274,6 @@ impl Ratios {
             bank_goals,
             dynamics: at(10) / at(9),
             adaptive: at(11) / direct,
-            inverse_over_exp_inline: inverse / at(20),
             tick,
             avx2_tick,
         }
@@ -315,10 +310,6 @@ fn print_json(best: &[f64], ratios: &Ratios, fit: Option<&FitFigures>) -> Result
     map.insert("dynamics_goal_met".into(), json!(ratios.dynamics <= 2.0));
     map.insert("adaptive_over_direct".into(), json!(ratios.adaptive));
     map.insert("adaptive_goal_met".into(), json!(ratios.adaptive <= 10.0));
-    map.insert(
-        "inverse_over_exp_inline".into(),
-        json!(ratios.inverse_over_exp_inline),
-    );
     map.insert("kernel".into(), json!(isa().name()));
     map.insert(ratios.tick.met_key.into(), json!(ratios.tick.met()));
     for (key, _, ratio) in &ratios.tick.ratios {
@@ -377,10 +368,6 @@ fn print_table(best: &[f64], ratios: &Ratios) {
     outln!(
         "goal direct <= 1.5 x (lambert_w0+exp): {direct_ratio:.2} ({})",
         verdict(direct_ratio <= 1.5)
-    );
-    outln!(
-        "inverse / the inline exp it evaluates: {:.2} (no goal)",
-        ratios.inverse_over_exp_inline
     );
     outln!();
     outln!("{:<37} {}", "bank kernel:", isa().name());

@@ -585,19 +585,6 @@ impl<T: Real, const N: usize> Real for Dual<T, N> {
         }
     }
 
-    /// e^x with the value by the value type's [`Real::exp_inline`] (so a dual's value is the
-    /// plain run's, bit for bit); gradient e^x times the argument's. Without `std` that is
-    /// [`Dual::exp`] itself (one copy of the code in a firmware build).
-    #[inline(always)]
-    fn exp_inline(self) -> Self {
-        if cfg!(feature = "std") {
-            let e = self.v.exp_inline();
-            self.chain(e, e)
-        } else {
-            num_traits::Float::exp(self)
-        }
-    }
-
     /// W0 of the value by Fukushima's method; gradient by W0'(x) = W / (x (1 + W)) (1 at x = 0).
     #[inline]
     fn lambert_w0_fukushima(self) -> Self {

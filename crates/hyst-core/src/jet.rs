@@ -146,19 +146,7 @@ impl<T: Real, const N: usize> Jet<T, N> {
     /// e^x, by the recurrence e_k = (1/k) Σ_{j=1..k} j a_j e_{k−j}.
     #[must_use]
     pub fn exp(self) -> Self {
-        self.exp_with_value(self.v.exp())
-    }
-
-    /// e^x − 1, accurate for small x (value by `exp_m1`, derivatives as for `exp`).
-    #[must_use]
-    pub fn exp_m1(self) -> Self {
-        let e = self.exp();
-        e.with_value(self.v.exp_m1())
-    }
-
-    /// The Taylor coefficients of e^x around the value e0 = e^(x0) given.
-    pub(crate) fn exp_with_value(self, e0: T) -> Self {
-        let mut e = Self::constant(e0);
+        let mut e = Self::constant(self.v.exp());
         for k in 1..=N {
             let mut s = T::zero();
             for j in 1..=k {
@@ -167,6 +155,13 @@ impl<T: Real, const N: usize> Jet<T, N> {
             e.set(k, s / T::from_usize(k));
         }
         e
+    }
+
+    /// e^x − 1, accurate for small x (value by `exp_m1`, derivatives as for `exp`).
+    #[must_use]
+    pub fn exp_m1(self) -> Self {
+        let e = self.exp();
+        e.with_value(self.v.exp_m1())
     }
 
     /// ln x for x > 0, by l_k = (a_k − (1/k) Σ_{j=1..k−1} j l_j a_{k−j}) / a_0.

@@ -118,7 +118,6 @@ pub mod any_shaping;
 pub mod compensator;
 pub mod dual;
 pub mod error;
-mod exp;
 pub mod family;
 pub mod jet;
 pub mod k2law;

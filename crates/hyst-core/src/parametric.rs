@@ -284,7 +284,7 @@ fn inverse_output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2
     let s = memory.direction;
     let ud_tilde = memory.transform(x);
     let along_input = s.apply(ud_tilde) + memory.reversal_output;
-    along_input + (S::constant(T::one()) - (-(k2 * ud_tilde)).exp_inline()) * s.apply(m_star)
+    along_input + (S::constant(T::one()) - (-(k2 * ud_tilde)).exp()) * s.apply(m_star)
 }
 
 /// [`inverse_output`] for a jet, inlined where the compiler finds it worth it.
@@ -305,10 +305,9 @@ impl Formula for Inverse {
     /// v = (β0 + s ũ_d) + s M* (1 − e^(−k2 ũ_d)), so only two numbers wait for the exponential.
     /// Exactly β0 at a reversal point (ũ_d = 0). 1 − e^(−z) is computed with `exp`, not `expm1`:
     /// its absolute error, ≤ 2 k1 ε, is below the rounding of v itself, and `exp` is faster.
-    /// On a host, for plain samples always inlined (with its inline `exp`, LLVM would otherwise
-    /// make it a call, and the caller's values would wait in memory across it); for jets left
-    /// to the compiler (always inlined, the loop on jets runs slower: its code outgrows the
-    /// registers).
+    /// On a host, for plain samples always inlined (LLVM would otherwise make it a call, and the
+    /// caller's values would wait in memory across it); for jets left to the compiler (always
+    /// inlined, the loop on jets runs slower: its code outgrows the registers).
     #[cfg_attr(not(target_os = "none"), inline(always))]
     #[cfg_attr(target_os = "none", inline)]
     fn output<T: Real, S: Sample<T>>(memory: &Memory<T>, x: S, m_star: T, k2: S) -> S {

@@ -8,11 +8,10 @@ use core::fmt::{Debug, Display};
 ///
 /// All maths goes through [`num_traits::Float`]: without the `std` feature its functions are
 /// `libm`'s, with `std` they are the platform's (the standard library's `exp`, `ln`, …), so
-/// results may differ in the last bit between the two builds. One exception with `std`: the
-/// inverse operator's `f64` exponential is hyst's own, inline ([`Real::exp_inline`]). The Lambert
-/// W approximation is always Fukushima's, from the `lambert_w` crate, whose square roots and
-/// logarithms are likewise the platform's with `std` and `libm`'s without (so W0 too may differ
-/// in the last bit between the two builds). The extra items here are the constants and the
+/// results may differ in the last bit between the two builds. The Lambert W approximation is
+/// always Fukushima's, from the `lambert_w` crate, whose square roots and logarithms are likewise
+/// the platform's with `std` and `libm`'s without (so W0 too may differ in the last bit between
+/// the two builds). The extra items here are the constants and the
 /// Lambert W approximation the operator needs at each precision.
 pub trait Real:
     num_traits::Float + num_traits::FloatConst + Debug + Display + Default + Send + Sync + 'static
@@ -36,24 +35,6 @@ pub trait Real:
     /// The largest `y` for which `exp(y)` is finite, less a safety margin: above it the Wright
     /// omega function is evaluated in the log domain.
     const EXP_ARG_MAX: Self;
-    /// e^x as the inverse operator (eq. 4) evaluates it ([`Sample::exp_inline`](crate::Sample)):
-    /// for `f64` with `std` inline (`exp.rs`: 0.511 ulp at most, within an ulp of the platform's
-    /// `exp`; a call to the platform's costs the operator's loop more than the function);
-    /// without `std` (a firmware build, where its table would cost 2 KiB) and for other types
-    /// [`num_traits::Float::exp`], like every other function here.
-    #[inline(always)]
-    #[must_use]
-    fn exp_inline(self) -> Self {
-        self.exp()
-    }
-    /// The same value as [`Real::exp_inline`], bit for bit, in shorter code: the arguments
-    /// beyond its main range (|x| < 2⁻⁵⁴, |x| ≥ 512, ±∞, NaN) go out of line. For a jet's
-    /// value: with the whole `exp` inline, the inverse's loop on jets runs slower.
-    #[inline(always)]
-    #[must_use]
-    fn exp_inline_short(self) -> Self {
-        self.exp_inline()
-    }
     /// Zero, as a constant (for constants of composite types such as [`Dual`](crate::Dual)).
     const ZERO: Self;
 
@@ -106,31 +87,8 @@ impl Real for f64 {
         })
     }
     const EXP_ARG_MAX: Self = 700.0;
-    #[inline(always)]
-    fn exp_inline(self) -> Self {
-        if INLINE_EXP {
-            crate::exp::exp(self)
-        } else {
-            num_traits::Float::exp(self)
-        }
-    }
-    #[inline(always)]
-    fn exp_inline_short(self) -> Self {
-        if INLINE_EXP {
-            crate::exp::exp_short(self)
-        } else {
-            num_traits::Float::exp(self)
-        }
-    }
     const ZERO: Self = 0.0;
 }
-
-/// Whether `f64`'s `exp_inline` and `exp_inline_short` evaluate `exp.rs`'s forms of eˣ: with
-/// `std`; without it (a firmware build, where their table would cost 2 KiB) they call
-/// [`num_traits::Float::exp`]. A constant and a plain `if` in each, not a helper taking the
-/// form as a function: through `Fn::call` the form is not inlined, and the inverse's loop then
-/// pays for a call a sample.
-const INLINE_EXP: bool = cfg!(feature = "std");
 
 impl Real for f32 {
     #[inline]

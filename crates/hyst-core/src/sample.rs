@@ -41,13 +41,6 @@ pub trait Sample<T: Real>:
     /// e^x.
     #[must_use]
     fn exp(self) -> Self;
-    /// e^x evaluated inline where that is faster than a call ([`Real::exp_inline`]: `f64` on a
-    /// host), else [`Sample::exp`]; within an ulp of [`Sample::exp`].
-    #[must_use]
-    #[inline(always)]
-    fn exp_inline(self) -> Self {
-        self.exp()
-    }
     /// e^x − 1.
     #[must_use]
     fn exp_m1(self) -> Self;
@@ -100,10 +93,6 @@ impl<T: Real> Sample<T> for T {
     #[inline]
     fn exp(self) -> Self {
         num_traits::Float::exp(self)
-    }
-    #[inline(always)]
-    fn exp_inline(self) -> Self {
-        Real::exp_inline(self)
     }
     #[inline]
     fn exp_m1(self) -> Self {
@@ -173,16 +162,6 @@ impl<T: Real, const N: usize> Sample<T> for Jet<T, N> {
     }
     fn exp(self) -> Self {
         Jet::exp(self)
-    }
-    /// The value by [`Real::exp_inline_short`], the plain run's [`Real::exp_inline`] bit for bit
-    /// (without `std` that is [`Jet::exp`] itself: one copy of the code in a firmware build).
-    #[inline]
-    fn exp_inline(self) -> Self {
-        if cfg!(feature = "std") {
-            self.exp_with_value(self.value().exp_inline_short())
-        } else {
-            Jet::exp(self)
-        }
     }
     fn exp_m1(self) -> Self {
         Jet::exp_m1(self)
