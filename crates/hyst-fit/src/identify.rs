@@ -8,8 +8,7 @@ use std::time::{Duration, Instant};
 use hyst_io::number::sig;
 use hyst_model::file::{FORMAT, MIN_VERSION};
 use hyst_model::{
-    Choice, Estimate, Form, InitialState, Metrics, ModelFile, ModelKind, Provenance, Structure,
-    Units,
+    Choice, Form, InitialState, Metrics, ModelFile, ModelKind, Provenance, Structure, Units,
 };
 
 use crate::data::Dataset;
@@ -159,7 +158,7 @@ pub fn identify(
     request: &Request,
     observer: &mut dyn Observer,
     interrupted: &dyn Fn() -> bool,
-    mut provenance: Provenance,
+    provenance: Provenance,
 ) -> Result<Identified, FitError> {
     if request.kind == ModelKind::PrandtlIshlinskii && crate::timed::is_timed(request.structure) {
         return Err(FitError::Invalid(
@@ -209,31 +208,17 @@ pub fn identify(
         }
         notes.insert(0, message);
     }
-    provenance.records = data.records.len();
-    provenance.validation_records = data.validation().map(|r| r.id).collect();
-    provenance.sample_periods = data.sample_periods();
-
     let smooth_summary = smooth.as_ref().map(|f| smooth_summary(data, f));
     let pi_summary = pi.as_ref().map(|f| pi_summary(data, f));
-    let mut model = match (request.kind, &smooth, &smooth_summary, &pi, &pi_summary) {
-        (ModelKind::Smooth, Some(f), Some(s), _, _) => ModelFile {
-            structure: Some(f.layout.structure),
-            smooth: Some(f.model),
-            dynamics: f.timed.as_ref().and_then(|t| t.dynamics_section(&f.model)),
-            rate: f.timed.as_ref().and_then(|t| t.rate_section(&f.model)),
-            family: f.widths,
-            ..model_file(request, data, &f.estimates, s, provenance)
-        },
-        (ModelKind::PrandtlIshlinskii, _, _, Some(f), Some(s)) => ModelFile {
-            prandtl_ishlinskii: Some(f.model.clone()),
-            ..model_file(request, data, &f.estimates, s, provenance)
-        },
+    let model = match (request.kind, &smooth, &smooth_summary, &pi, &pi_summary) {
+        (ModelKind::Smooth, Some(f), Some(s), _, _) => {
+            model_file(request, data, (Some(f), None), s, provenance)
+        }
+        (ModelKind::PrandtlIshlinskii, _, _, Some(f), Some(s)) => {
+            model_file(request, data, (None, Some(f)), s, provenance)
+        }
         _ => return Err(not_fitted()),
     };
-    // The lowest version that holds the content: readers of older versions refuse a stop form,
-    // version-1 readers keep reading plain PI files and refuse the ones with an output
-    // polynomial.
-    model.version = model.required_version();
     if interrupted() {
         return Err(FitError::Interrupted);
     }
@@ -754,22 +739,28 @@ fn pi_summary(data: &Dataset, f: &PiFit) -> Summary {
     }
 }
 
-/// A model file of the requested kind with its fit's `parameters` and its `summary`'s metrics,
-/// at the lowest format version, without a model: the caller fills in the model's sections.
+/// The model file of the requested kind's fit (`fit`: the smooth one or the
+/// Prandtl–Ishlinskii one) with its parameters, model and `summary`'s metrics, and the records
+/// of `data` added to `provenance`. It is written at the lowest version that holds the
+/// content: readers of older versions refuse a stop form, version-1 readers keep reading plain
+/// PI files and refuse the ones with an output polynomial.
 fn model_file(
     request: &Request,
     data: &Dataset,
-    parameters: &[Estimate],
+    fit: (Option<&SmoothFit>, Option<&PiFit>),
     summary: &Summary,
-    provenance: Provenance,
+    mut provenance: Provenance,
 ) -> ModelFile {
-    ModelFile {
+    provenance.records = data.records.len();
+    provenance.validation_records = data.validation().map(|r| r.id).collect();
+    provenance.sample_periods = data.sample_periods();
+    let mut file = ModelFile {
         format: FORMAT.into(),
         version: MIN_VERSION,
         kind: request.kind,
         columns: data.columns.clone(),
         units: request.units.clone(),
-        parameters: parameters.to_vec(),
+        parameters: Vec::new(),
         metrics: Metrics {
             parameters: summary.parameters,
             training: summary.training,
@@ -784,5 +775,22 @@ fn model_file(
         prandtl_ishlinskii: None,
         family: None,
         provenance,
+    };
+    match fit {
+        (Some(f), _) => {
+            file.parameters = f.estimates.clone();
+            file.structure = Some(f.layout.structure);
+            file.smooth = Some(f.model);
+            file.dynamics = f.timed.as_ref().and_then(|t| t.dynamics_section(&f.model));
+            file.rate = f.timed.as_ref().and_then(|t| t.rate_section(&f.model));
+            file.family = f.widths;
+        }
+        (None, Some(f)) => {
+            file.parameters = f.estimates.clone();
+            file.prandtl_ishlinskii = Some(f.model.clone());
+        }
+        (None, None) => {}
     }
+    file.version = file.required_version();
+    file
 }
