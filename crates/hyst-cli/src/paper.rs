@@ -96,46 +96,38 @@ fn forc_series(points: &[(f64, f64, i64)], label: &str, color: usize, dashed: bo
 
 /// Fig. 3: first-order reversal curves, truth vs model, linear and nonlinear shaping.
 fn fig3(dir: &Path) -> Result<Vec<PathBuf>> {
-    let mut lin_truth = example1::linear_truth()?;
-    let mut lin_model = example1::linear_model()?;
-    let mut nl_truth = example1::nonlinear_truth()?;
-    let mut nl_model = example1::nonlinear_model()?;
-    let curves = 8;
-    let mut left = Panel::new(
+    let left = forc_panel(
         "Linear shaping: 1.4·H(0.14, 8)[0.2·in]",
-        "input in (1)",
-        "output out (1)",
-    )
-    .legend(Legend::UpperLeft);
-    for s in forc_series(
-        &example1::forcs(&mut lin_truth, curves),
+        &mut example1::linear_truth()?,
         "truth: member of RH(0.14, 0.1, 8, 5)",
-        0,
-        false,
-    ) {
-        left = left.series(s);
-    }
-    for s in forc_series(&example1::forcs(&mut lin_model, curves), "model", 1, true) {
-        left = left.series(s);
-    }
-    let mut right = Panel::new(
+        &mut example1::linear_model()?,
+    );
+    let right = forc_panel(
         "Nonlinear shaping: 2.02·H(0.105, φ)[in − 0.098 in²]",
-        "input in (1)",
-        "output out (1)",
-    )
-    .legend(Legend::UpperLeft);
-    for s in forc_series(
-        &example1::forcs(&mut nl_truth, curves),
+        &mut example1::nonlinear_truth()?,
         "truth: member of RH(0.105, 0.005, φ, 0.5)",
-        0,
-        false,
-    ) {
-        right = right.series(s);
-    }
-    for s in forc_series(&example1::forcs(&mut nl_model, curves), "model", 1, true) {
-        right = right.series(s);
-    }
+        &mut example1::nonlinear_model()?,
+    );
     Figure::row(vec![left, right]).save(dir, "fig3_forc")
+}
+
+/// A panel of Fig. 3: 8 first-order reversal curves of the `truth` (labelled `truth_label`)
+/// and, dashed, of the `model`.
+fn forc_panel(
+    title: &str,
+    truth: &mut impl Operator<f64>,
+    truth_label: &str,
+    model: &mut impl Operator<f64>,
+) -> Panel {
+    let curves = 8;
+    let mut panel = Panel::new(title, "input in (1)", "output out (1)").legend(Legend::UpperLeft);
+    for s in forc_series(&example1::forcs(truth, curves), truth_label, 0, false) {
+        panel = panel.series(s);
+    }
+    for s in forc_series(&example1::forcs(model, curves), "model", 1, true) {
+        panel = panel.series(s);
+    }
+    panel
 }
 
 /// Runs `hyst paper`.

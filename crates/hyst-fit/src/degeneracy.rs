@@ -132,11 +132,16 @@ fn line_rms(data: &Dataset) -> f64 {
         0.0
     };
     let a = (sy - b * sx) / sw;
+    training_rms(data, |x, y| y - a - b * x)
+}
+
+/// The RMS of `residual(x, y)` over the training samples of positive weight.
+fn training_rms(data: &Dataset, residual: impl Fn(f64, f64) -> f64) -> f64 {
     let (mut ss, mut n) = (0.0, 0usize);
     for r in data.training() {
         for ((x, y), w) in r.input.iter().zip(&r.output).zip(&r.weight) {
             if w > 0.0 {
-                ss += (y - a - b * x).powi(2);
+                ss += residual(*x, *y).powi(2);
                 n += 1;
             }
         }
@@ -312,16 +317,7 @@ fn constant_rms(data: &Dataset) -> f64 {
         return f64::NAN;
     }
     let mean = sy / sw;
-    let (mut ss, mut n) = (0.0, 0usize);
-    for r in data.training() {
-        for (y, w) in r.output.iter().zip(&r.weight) {
-            if w > 0.0 {
-                ss += (y - mean).powi(2);
-                n += 1;
-            }
-        }
-    }
-    (ss / n.max(1) as f64).sqrt()
+    training_rms(data, |_, y| y - mean)
 }
 
 /// The reason a model of RMS `model_rms` found nothing, when it does barely better than the

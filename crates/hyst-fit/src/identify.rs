@@ -8,8 +8,7 @@ use std::time::{Duration, Instant};
 use hyst_io::number::sig;
 use hyst_model::file::{FORMAT, MIN_VERSION};
 use hyst_model::{
-    Choice, Columns, Form, InitialState, Metrics, ModelFile, ModelKind, Provenance, Structure,
-    Units,
+    Choice, Form, InitialState, Metrics, ModelFile, ModelKind, Provenance, Structure, Units,
 };
 
 use crate::data::Dataset;
@@ -127,6 +126,23 @@ fn ns_per_sample(data: &Dataset, run: impl Fn(&[f64]) -> Option<Vec<f64>>) -> f6
     started.elapsed().as_secs_f64() * 1e9 / (samples * rounds).max(1) as f64
 }
 
+/// The model file's provenance of a fit made now by `command` of the data `file` with its
+/// `rows`: this version of hyst and the time (Unix seconds); [`identify`] adds the records,
+/// the caller the data's size and hash.
+#[must_use]
+pub fn provenance(file: String, rows: usize, command: String) -> Provenance {
+    Provenance {
+        file,
+        rows,
+        command,
+        hyst_version: env!("CARGO_PKG_VERSION").to_string(),
+        created_unix: std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs()),
+        ..Provenance::default()
+    }
+}
+
 /// Fits `data` as `request` asks and assembles the model file and report.
 ///
 /// `observer` sees the smooth fit's progress and may stop it; `interrupted` is asked between
@@ -142,7 +158,7 @@ pub fn identify(
     request: &Request,
     observer: &mut dyn Observer,
     interrupted: &dyn Fn() -> bool,
-    mut provenance: Provenance,
+    provenance: Provenance,
 ) -> Result<Identified, FitError> {
     if request.kind == ModelKind::PrandtlIshlinskii && crate::timed::is_timed(request.structure) {
         return Err(FitError::Invalid(
@@ -192,20 +208,14 @@ pub fn identify(
         }
         notes.insert(0, message);
     }
-    provenance.records = data.records.len();
-    provenance.validation_records = data.validation().map(|r| r.id).collect();
-    provenance.sample_periods = data.sample_periods();
-
     let smooth_summary = smooth.as_ref().map(|f| smooth_summary(data, f));
     let pi_summary = pi.as_ref().map(|f| pi_summary(data, f));
-    let columns = data.columns.clone();
-    let units = request.units.clone();
-    let model = match (request.kind, &smooth, &pi) {
-        (ModelKind::Smooth, Some(f), _) => {
-            smooth_file(f, smooth_summary.as_ref(), columns, units, provenance)
+    let model = match (request.kind, &smooth, &smooth_summary, &pi, &pi_summary) {
+        (ModelKind::Smooth, Some(f), Some(s), _, _) => {
+            model_file(request, data, (Some(f), None), s, provenance)
         }
-        (ModelKind::PrandtlIshlinskii, _, Some(f)) => {
-            pi_file(f, pi_summary.as_ref(), columns, units, provenance)
+        (ModelKind::PrandtlIshlinskii, _, _, Some(f), Some(s)) => {
+            model_file(request, data, (None, Some(f)), s, provenance)
         }
         _ => return Err(not_fitted()),
     };
@@ -729,71 +739,58 @@ fn pi_summary(data: &Dataset, f: &PiFit) -> Summary {
     }
 }
 
-fn smooth_file(
-    f: &SmoothFit,
-    summary: Option<&Summary>,
-    columns: Columns,
-    units: Units,
-    provenance: Provenance,
+/// The model file of the requested kind's fit (`fit`: the smooth one or the
+/// Prandtl–Ishlinskii one) with its parameters, model and `summary`'s metrics, and the records
+/// of `data` added to `provenance`. It is written at the lowest version that holds the
+/// content: readers of older versions refuse a stop form, version-1 readers keep reading plain
+/// PI files and refuse the ones with an output polynomial.
+fn model_file(
+    request: &Request,
+    data: &Dataset,
+    fit: (Option<&SmoothFit>, Option<&PiFit>),
+    summary: &Summary,
+    mut provenance: Provenance,
 ) -> ModelFile {
+    provenance.records = data.records.len();
+    provenance.validation_records = data.validation().map(|r| r.id).collect();
+    provenance.sample_periods = data.sample_periods();
     let mut file = ModelFile {
         format: FORMAT.into(),
         version: MIN_VERSION,
-        kind: ModelKind::Smooth,
-        columns,
-        units,
-        parameters: f.estimates.clone(),
+        kind: request.kind,
+        columns: data.columns.clone(),
+        units: request.units.clone(),
+        parameters: Vec::new(),
         metrics: Metrics {
-            parameters: f.layout.len(),
-            training: f.training,
-            validation: f.validation,
-            fit_seconds: f.seconds,
-            ns_per_sample: summary.map_or(f64::NAN, |s| s.ns_per_sample),
-        },
-        structure: Some(f.layout.structure),
-        smooth: Some(f.model),
-        dynamics: f.timed.as_ref().and_then(|t| t.dynamics_section(&f.model)),
-        rate: f.timed.as_ref().and_then(|t| t.rate_section(&f.model)),
-        prandtl_ishlinskii: None,
-        family: f.widths,
-        provenance,
-    };
-    // The lowest version that holds the content: readers of older versions refuse a stop form.
-    file.version = file.required_version();
-    file
-}
-
-fn pi_file(
-    f: &PiFit,
-    summary: Option<&Summary>,
-    columns: Columns,
-    units: Units,
-    provenance: Provenance,
-) -> ModelFile {
-    let mut file = ModelFile {
-        format: FORMAT.into(),
-        version: MIN_VERSION,
-        kind: ModelKind::PrandtlIshlinskii,
-        columns,
-        units,
-        parameters: f.estimates.clone(),
-        metrics: Metrics {
-            parameters: f.model.parameter_count(),
-            training: f.training,
-            validation: f.validation,
-            fit_seconds: f.seconds,
-            ns_per_sample: summary.map_or(f64::NAN, |s| s.ns_per_sample),
+            parameters: summary.parameters,
+            training: summary.training,
+            validation: summary.validation,
+            fit_seconds: summary.fit_seconds,
+            ns_per_sample: summary.ns_per_sample,
         },
         structure: None,
         smooth: None,
         dynamics: None,
         rate: None,
-        prandtl_ishlinskii: Some(f.model.clone()),
+        prandtl_ishlinskii: None,
         family: None,
         provenance,
     };
-    // The lowest version that holds the content: version-1 readers keep reading plain PI files
-    // and refuse the ones with an output polynomial.
+    match fit {
+        (Some(f), _) => {
+            file.parameters = f.estimates.clone();
+            file.structure = Some(f.layout.structure);
+            file.smooth = Some(f.model);
+            file.dynamics = f.timed.as_ref().and_then(|t| t.dynamics_section(&f.model));
+            file.rate = f.timed.as_ref().and_then(|t| t.rate_section(&f.model));
+            file.family = f.widths;
+        }
+        (None, Some(f)) => {
+            file.parameters = f.estimates.clone();
+            file.prandtl_ishlinskii = Some(f.model.clone());
+        }
+        (None, None) => {}
+    }
     file.version = file.required_version();
     file
 }

@@ -391,34 +391,15 @@ impl Layout {
             c(-1.0 - DOMAIN_MARGIN) + offset,
             c(1.0 + DOMAIN_MARGIN) + offset,
         );
-        let shape = match self.structure.input_shaping {
-            ShapingKind::Affine => AnyShaping::Identity,
-            ShapingKind::Poly2 => AnyShaping::Polynomial(Polynomial::new(
-                [c(0.0), c(1.0), get("in.p2"), c(0.0)],
-                lo,
-                hi,
-            )?),
-            ShapingKind::Poly3 => AnyShaping::Polynomial(Polynomial::new(
-                [c(0.0), c(1.0), get("in.p2"), get("in.p3")],
-                lo,
-                hi,
-            )?),
-            ShapingKind::Tanh | ShapingKind::Langevin => {
-                return self.saturating_input_shaping(
-                    get(IN_SCALE),
-                    get(IN_ARG_AT_CENTRE),
-                    pre_gain,
-                    pre_offset,
-                );
-            }
-            ShapingKind::QuadraticExp => AnyShaping::QuadraticExp(QuadraticExp::new(
-                get("in.a"),
-                get("in.b"),
-                get("in.c"),
-                lo,
-                hi,
-            )?),
-        };
+        if saturating {
+            return self.saturating_input_shaping(
+                get(IN_SCALE),
+                get(IN_ARG_AT_CENTRE),
+                pre_gain,
+                pre_offset,
+            );
+        }
+        let shape = shape(self.structure.input_shaping, IN_COEFFICIENTS, get, (lo, hi))?;
         ScaledShaping::new(pre_gain, pre_offset, shape, c(1.0), c(0.0))
     }
 
@@ -512,42 +493,13 @@ impl Layout {
         };
         let half = (v_range.1 - v_range.0) * c(0.5);
         let (lo, hi) = (v_range.0 - half * c(0.25), v_range.1 + half * c(0.25));
-        let (shape, pre_gain, pre_offset) = match self.structure.output_shaping {
-            ShapingKind::Affine => (AnyShaping::Identity, c(1.0), c(0.0)),
-            ShapingKind::Poly2 => (
-                AnyShaping::Polynomial(Polynomial::new(
-                    [c(0.0), c(1.0), get("out.q2"), c(0.0)],
-                    lo,
-                    hi,
-                )?),
-                c(1.0),
-                c(0.0),
-            ),
-            ShapingKind::Poly3 => (
-                AnyShaping::Polynomial(Polynomial::new(
-                    [c(0.0), c(1.0), get("out.q2"), get("out.q3")],
-                    lo,
-                    hi,
-                )?),
-                c(1.0),
-                c(0.0),
-            ),
-            ShapingKind::Tanh | ShapingKind::Langevin => {
-                (unit_shape(self.structure.output_shaping)?, c(1.0), c(0.0))
-            }
-            ShapingKind::QuadraticExp => (
-                AnyShaping::QuadraticExp(QuadraticExp::new(
-                    get("out.a"),
-                    get("out.b"),
-                    get("out.c"),
-                    lo,
-                    hi,
-                )?),
-                c(1.0),
-                c(0.0),
-            ),
-        };
-        ScaledShaping::new(pre_gain * unit, pre_offset, shape, gain, offset)
+        let shape = shape(
+            self.structure.output_shaping,
+            OUT_COEFFICIENTS,
+            get,
+            (lo, hi),
+        )?;
+        ScaledShaping::new(c(1.0) * unit, c(0.0), shape, gain, offset)
     }
 
     /// The saturating ψ_out of [`Layout::output_shaping`] from its scale σ, argument at the
@@ -668,6 +620,39 @@ impl Layout {
             Dynamics::new(T::one(), &a)?.with_hold(self.structure.hold),
         ))
     }
+}
+
+/// The coefficients of ψ_in by name, as [`shape`] takes them.
+const IN_COEFFICIENTS: [&str; 5] = ["in.p2", "in.p3", "in.a", "in.b", "in.c"];
+
+/// The coefficients of ψ_out by name, as [`shape`] takes them.
+const OUT_COEFFICIENTS: [&str; 5] = ["out.q2", "out.q3", "out.a", "out.b", "out.c"];
+
+/// The shape of a ψ of `kind` on [lo, hi] (the polynomial's and the quadratic exponential's
+/// domain), its coefficients given by `get` under their `names`: the polynomial's quadratic
+/// and cubic ones, then the quadratic exponential's a, b and c. A saturating kind is its
+/// [`unit_shape`]; an affine ψ, the identity.
+fn shape<T: Real>(
+    kind: ShapingKind,
+    names: [&str; 5],
+    get: impl Fn(&str) -> T,
+    (lo, hi): (T, T),
+) -> Result<AnyShaping<T>, hyst_core::Error> {
+    let c = T::from_f64;
+    let [p2, p3, a, b, qe_c] = names;
+    Ok(match kind {
+        ShapingKind::Affine => AnyShaping::Identity,
+        ShapingKind::Poly2 => {
+            AnyShaping::Polynomial(Polynomial::new([c(0.0), c(1.0), get(p2), c(0.0)], lo, hi)?)
+        }
+        ShapingKind::Poly3 => {
+            AnyShaping::Polynomial(Polynomial::new([c(0.0), c(1.0), get(p2), get(p3)], lo, hi)?)
+        }
+        ShapingKind::Tanh | ShapingKind::Langevin => unit_shape(kind)?,
+        ShapingKind::QuadraticExp => {
+            AnyShaping::QuadraticExp(QuadraticExp::new(get(a), get(b), get(qe_c), lo, hi)?)
+        }
+    })
 }
 
 /// tanh or L with gain and scale 1 (the identity for the other kinds, which never ask).

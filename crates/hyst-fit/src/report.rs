@@ -3,7 +3,7 @@
 
 use hyst_io::number::{percent_floor, percent_given, sig};
 use hyst_model::{
-    Choice, ErrorStats, FamilyWidths, Form, InitialState, InputUnits, K2Kind, ModelFile, ModelKind,
+    Choice, ErrorStats, FamilyWidths, Form, InitialState, InputUnits, ModelFile, ModelKind,
 };
 use serde::{Deserialize, Serialize};
 
@@ -153,10 +153,7 @@ fn model_line(m: &ModelFile) -> String {
                 Form::Operator => "operator ψ_out(H[ψ_in(in)])",
                 Form::Stop => "stop form ψ_out(v − H[v]) + c·v, v = ψ_in(in)",
             },
-            match st.k2 {
-                K2Kind::Constant => "constant",
-                K2Kind::Affine => "affine",
-            },
+            st.k2.name(),
             st.input_shaping.name(),
             st.output_shaping.name(),
             if st.output_offset {

@@ -12,8 +12,8 @@ use hyst_fit::report::{text_report, Findings, Report, Summary};
 use hyst_fit::{identify, DataOptions, Dataset, FitError, FitOptions, FormChoice, StartChoice};
 use hyst_io::number::shortest;
 use hyst_io::Table;
-use hyst_model::{file::fnv1a64, ModelKind, Provenance, Units};
-use hyst_model::{Hold, InitialState, K2Kind, ModelFile, RateTerm, ShapingKind, Structure};
+use hyst_model::{file::fnv1a64, Choice, ModelKind, Provenance, Units};
+use hyst_model::{Hold, K2Kind, ModelFile, RateTerm, ShapingKind, Structure};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -139,46 +139,71 @@ pub fn fit(
     let timed = timed(dynamics, auto_dynamics, rate_term, t.is_some())?;
     let hold_stated = hold.is_some();
     let hold = start_and_hold(fit_from_start, estimate_initial_states, hold, dynamics)?;
-    let options = Options {
-        output_shaping,
-        input_shaping,
-        k2,
-        model_kind,
-        starts,
+    let mut data = DataOptions {
+        input: input_name.into(),
+        output: output_name.into(),
         segment: one_segment(py, segment, segments)?,
         validate: validate.unwrap_or_default(),
         validate_every,
-        coverage,
-        plays,
-        pi_output,
-        compare,
-        input_offset,
-        output_offset,
-        initial_state,
-        estimate_initial_states,
-        fit_from_start,
-        form,
-        keep_degenerate,
-        input_name,
-        output_name,
-        input_unit,
-        output_unit,
-        timed,
-        auto_dynamics,
-        hold,
-        hold_stated,
+        timed: timed.is_some(),
+        ..DataOptions::default()
     };
-    let request = options.request()?;
-    let columns = Columns::read(x, y, record, weight, t, input_name, output_name)?;
-    let data = options.data_options(&columns);
+    // What to identify, as `hyst fit` builds it from its flags: the choices by their
+    // command-line names (ValueError naming the option for another name).
+    let request = Request {
+        structure: Structure {
+            k2: choice::<K2Kind>("k2", k2)?,
+            input_shaping: choice::<ShapingKind>("input_shaping", input_shaping)?,
+            output_shaping: choice::<ShapingKind>("output_shaping", output_shaping)?,
+            input_offset,
+            output_offset,
+            dynamics: timed.map_or(0, |(order, _)| order),
+            rate: timed.and_then(|(_, rate)| rate),
+            hold,
+            ..Structure::default()
+        },
+        kind: choice::<ModelKind>("model_kind", model_kind)?,
+        compare,
+        form: choice::<FormChoice>("form", form)?,
+        start: choice::<StartChoice>("initial_state", initial_state)?,
+        keep_degenerate,
+        options: FitOptions {
+            starts,
+            coverage,
+            estimate_starts: estimate_initial_states,
+            fit_from_start,
+            auto_dynamics,
+            hold_stated,
+            ..FitOptions::default()
+        },
+        plays,
+        pi_output: choice::<PiOutputKind>("pi_output", pi_output)?,
+        units: Units {
+            input: input_unit.into(),
+            output: output_unit.into(),
+        },
+    };
+    let columns = Columns::read(x, y, record, weight, t, &mut data)?;
+    identify_columns(py, columns, &data, &request)
+}
+
+/// Identifies the model from the arrays `columns` as `data` and `request` say (see
+/// [`identify_without_gil`]): the `FitResult`, or ValueError naming a bad time stamp as the
+/// sample `time[i]`.
+fn identify_columns(
+    py: Python<'_>,
+    columns: Columns,
+    data: &DataOptions,
+    request: &Request,
+) -> PyResult<FitResult> {
     let provenance = provenance(&columns.values);
-    let has_record = columns.record;
+    let has_record = data.record.is_some();
     let table = Table::new(columns.names, columns.values).map_err(|e| errors::fit(e.into()))?;
     // The time stamps, shared (not copied) for an error's message: the table moves into the
     // dataset.
     let time = table.samples(TIME).unwrap_or_default();
     let report =
-        identify_without_gil(py, table, &data, &request, provenance).map_err(|e| match e {
+        identify_without_gil(py, table, data, request, provenance).map_err(|e| match e {
             // A time stamp is named as the sample of `time`, not as the line of the in-memory table.
             Failed::Fit(FitError::BadTime {
                 line,
@@ -306,137 +331,38 @@ fn one_segment(
     }
 }
 
-/// The options of `hyst.fit` other than its arrays, as given (`segment` merged with its
-/// alias, `validate` defaulted to no record).
-struct Options<'a> {
-    output_shaping: &'a str,
-    input_shaping: &'a str,
-    k2: &'a str,
-    model_kind: &'a str,
-    starts: usize,
-    segment: Option<usize>,
-    validate: Vec<i64>,
-    validate_every: Option<usize>,
-    coverage: f64,
-    plays: usize,
-    pi_output: &'a str,
-    compare: bool,
-    input_offset: Option<bool>,
-    output_offset: bool,
-    initial_state: &'a str,
-    estimate_initial_states: bool,
-    fit_from_start: bool,
-    form: &'a str,
-    keep_degenerate: bool,
-    input_name: &'a str,
-    output_name: &'a str,
-    input_unit: &'a str,
-    output_unit: &'a str,
-    /// The plant order (0: none) and the rate term of a fit with either.
-    timed: Option<(u8, Option<RateTerm>)>,
-    /// `dynamics="auto"`: the plant order picked from 0 to 4.
-    auto_dynamics: bool,
-    /// The plant's hold.
-    hold: Hold,
-    /// Whether `hold` was given (the standard errors then make no allowance for the other).
-    hold_stated: bool,
-}
-
-impl Options<'_> {
-    /// What to identify, as `hyst fit` builds it from its flags: the choices by their
-    /// command-line names (ValueError naming the option for another name).
-    fn request(&self) -> PyResult<Request> {
-        let structure = Structure {
-            k2: choice::<K2Kind>("k2", self.k2)?,
-            input_shaping: choice::<ShapingKind>("input_shaping", self.input_shaping)?,
-            output_shaping: choice::<ShapingKind>("output_shaping", self.output_shaping)?,
-            input_offset: self.input_offset,
-            output_offset: self.output_offset,
-            initial_state: InitialState::Rising,
-            form: hyst_model::Form::Operator,
-            dynamics: self.timed.map_or(0, |(order, _)| order),
-            rate: self.timed.and_then(|(_, rate)| rate),
-            hold: self.hold,
-        };
-        Ok(Request {
-            kind: choice::<ModelKind>("model_kind", self.model_kind)?,
-            compare: self.compare,
-            structure,
-            form: choice::<FormChoice>("form", self.form)?,
-            start: choice::<StartChoice>("initial_state", self.initial_state)?,
-            keep_degenerate: self.keep_degenerate,
-            options: FitOptions {
-                starts: self.starts,
-                coverage: self.coverage,
-                estimate_starts: self.estimate_initial_states,
-                fit_from_start: self.fit_from_start,
-                auto_dynamics: self.auto_dynamics,
-                hold_stated: self.hold_stated,
-                ..FitOptions::default()
-            },
-            plays: self.plays,
-            pi_output: choice::<PiOutputKind>("pi_output", self.pi_output)?,
-            units: Units {
-                input: self.input_unit.into(),
-                output: self.output_unit.into(),
-            },
-        })
-    }
-
-    /// Which columns of `columns` hold what, and how to cut and hold out records.
-    fn data_options(&self, columns: &Columns) -> DataOptions {
-        DataOptions {
-            input: self.input_name.into(),
-            output: self.output_name.into(),
-            record: columns.record.then(|| RECORD.to_string()),
-            no_record: !columns.record,
-            weight: columns.weight.then(|| WEIGHT.to_string()),
-            segment: self.segment,
-            validate: self.validate.clone(),
-            validate_every: self.validate_every,
-            time: columns.time.then(|| TIME.to_string()),
-            timed: self.timed.is_some(),
-        }
-    }
-}
-
 /// The names of the columns that hold the arrays `record`, `weight` and `t`.
 const RECORD: &str = "record";
 const WEIGHT: &str = "weight";
 const TIME: &str = "time";
 
 /// The arrays of a fit as the named columns of a table, as `hyst fit` reads them from a CSV
-/// file: x and y under `input_name` and `output_name`, then the record ids, the weights and
-/// the time stamps when given.
+/// file: x and y under the input and output columns' names, then the record ids, the weights
+/// and the time stamps when given.
 struct Columns {
     names: Vec<String>,
     values: Vec<Vec<f64>>,
-    /// Whether there is a record column.
-    record: bool,
-    /// Whether there is a weight column.
-    weight: bool,
-    /// Whether there is a time column.
-    time: bool,
 }
 
 impl Columns {
     /// Reads the arrays (1-D, finite or not: the dataset checks the values) and checks their
-    /// names apart and their lengths equal; time stamps must be finite (named `t[i]`).
+    /// names apart and their lengths equal; time stamps must be finite (named `t[i]`). The
+    /// columns are named as `data` names x and y, and `data` learns those of the other arrays.
     fn read(
         x: &Bound<'_, PyAny>,
         y: &Bound<'_, PyAny>,
         record: Option<&Bound<'_, PyAny>>,
         weight: Option<&Bound<'_, PyAny>>,
         t: Option<&Bound<'_, PyAny>>,
-        input_name: &str,
-        output_name: &str,
+        data: &mut DataOptions,
     ) -> PyResult<Self> {
         let x = samples_f64(x, "x")?;
         let y = samples_f64(y, "y")?;
-        let mut names = vec![input_name.to_string(), output_name.to_string()];
+        let mut names = vec![data.input.clone(), data.output.clone()];
         if names[0] == names[1] {
             return Err(value_error(format!(
-                "input_name and output_name are both {input_name:?}: name the columns apart"
+                "input_name and output_name are both {:?}: name the columns apart",
+                data.input
             )));
         }
         let mut values = vec![x, y];
@@ -475,15 +401,12 @@ impl Columns {
                 shortest(*v)
             )));
         }
-        let record = names.iter().any(|n| n == RECORD);
-        let weight = names.iter().any(|n| n == WEIGHT);
-        Ok(Self {
-            names,
-            values,
-            record,
-            weight,
-            time: time.is_some(),
-        })
+        let named = |name: &str| names.iter().any(|n| n == name).then(|| name.to_string());
+        data.record = named(RECORD);
+        data.no_record = data.record.is_none();
+        data.weight = named(WEIGHT);
+        data.time = time.map(|_| TIME.to_string());
+        Ok(Self { names, values })
     }
 }
 
@@ -496,17 +419,11 @@ fn provenance(columns: &[Vec<f64>]) -> Provenance {
             bytes.extend_from_slice(&v.to_le_bytes());
         }
     }
+    let rows = columns.first().map_or(0, Vec::len);
     Provenance {
-        file: "<arrays>".into(),
         bytes: bytes.len() as u64,
         fnv1a64: format!("{:016x}", fnv1a64(&bytes)),
-        rows: columns.first().map_or(0, Vec::len),
-        command: "hyst.fit (Python)".into(),
-        hyst_version: env!("CARGO_PKG_VERSION").to_string(),
-        created_unix: std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_secs()),
-        ..Provenance::default()
+        ..hyst_fit::identify::provenance("<arrays>".into(), rows, "hyst.fit (Python)".into())
     }
 }
 
@@ -730,10 +647,7 @@ impl FitResult {
     fn __repr__(&self) -> String {
         format!(
             "FitResult(kind={:?}, rms={:?}, rms_percent={:.4}, delta_a={})",
-            match self.file().kind {
-                ModelKind::Smooth => "smooth",
-                ModelKind::PrandtlIshlinskii => "prandtl-ishlinskii",
-            },
+            self.file().kind.name(),
             self.rms(),
             self.rms_percent(),
             self.delta_a().map_or("None".into(), |d| format!("{d:?}"))

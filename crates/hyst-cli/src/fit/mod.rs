@@ -18,13 +18,13 @@ use hyst_model::Choice;
 
 use crate::choice::choice;
 use anyhow::Result;
-use hyst_fit::identify::Request;
+use hyst_fit::identify::{provenance, Request};
 use hyst_fit::pi_fit::PiOutputKind;
 use hyst_fit::report::text_report;
 use hyst_fit::{identify, DataOptions, Dataset, FitOptions, FormChoice, StartChoice};
 use hyst_io::Table;
-use hyst_model::{InitialState, K2Kind, ShapingKind, Structure};
-use hyst_model::{ModelKind, Provenance, Units};
+use hyst_model::{K2Kind, ShapingKind, Structure};
+use hyst_model::{ModelKind, Units};
 
 use hyst_model::time::is_time_column;
 use plots::{draw, time_column, Axes};
@@ -219,7 +219,8 @@ pub fn main(args: Args) -> Result<()> {
         Some(_) => time_column(&table, args.time.as_deref()),
         None => Ok(None),
     };
-    let provenance = provenance(&args, table.len());
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    let provenance = provenance(args.data.display().to_string(), table.len(), command);
     let data = Dataset::from_table_owned(table, &options)?;
     let time = time?;
     let request = request(&args);
@@ -291,14 +292,13 @@ fn request(args: &Args) -> Request {
         output_shaping: args.output_shaping,
         input_offset: if args.input_offset { Some(true) } else { None },
         output_offset: !args.no_output_offset,
-        initial_state: InitialState::Rising,
-        form: hyst_model::Form::Operator,
         dynamics: match args.dynamics {
             Some(DynamicsOrder::Order(n)) => n,
             None | Some(DynamicsOrder::Auto) => 0,
         },
         rate: args.rate_term,
         hold: args.hold.unwrap_or(hyst_model::Hold::FIT_DEFAULT),
+        ..Structure::default()
     };
     let fit_options = FitOptions {
         starts: args.starts,
@@ -323,20 +323,5 @@ fn request(args: &Args) -> Request {
             input: args.input_unit.clone(),
             output: args.output_unit.clone(),
         },
-    }
-}
-
-/// The model file's provenance: the data file and its rows, the command, the version and the
-/// time (the file's size and hash are added after the fit).
-fn provenance(args: &Args, rows: usize) -> Provenance {
-    Provenance {
-        file: args.data.display().to_string(),
-        rows,
-        command: std::env::args().collect::<Vec<_>>().join(" "),
-        hyst_version: env!("CARGO_PKG_VERSION").to_string(),
-        created_unix: std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_secs()),
-        ..Provenance::default()
     }
 }
