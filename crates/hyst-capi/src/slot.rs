@@ -17,9 +17,18 @@ struct Slot<V> {
     value: V,
 }
 
-/// Whether a value of type `V` fits a state block of type `S` (checked at compile time by the
-/// `const` assertions next to each C type).
-pub(crate) const fn fits<S, V>() -> bool {
+/// A C state type and the Rust value its block holds, marked by the tag `TAG` (one per C type,
+/// so that a block of another type is refused).
+pub(crate) trait Block {
+    /// The value inside.
+    type Value;
+    /// The tag written before the value.
+    const TAG: u32;
+}
+
+/// Whether a value of type `V` fits a state block of type `S` (checked at compile time for each
+/// C type by [`put`]).
+const fn fits<S, V>() -> bool {
     size_of::<Slot<V>>() <= size_of::<S>() && align_of::<Slot<V>>() <= align_of::<S>()
 }
 
@@ -35,26 +44,40 @@ fn check<S, V>(storage: *const S) -> i32 {
     }
 }
 
-/// Writes `value` with `tag` into the block at `storage`.
+/// Writes `value` with its type's tag into the block at `storage` (an `_init` function).
 ///
 /// # Safety
-/// `storage` is NULL or points to writable memory of `size_of::<S>()` bytes, and
-/// `fits::<S, V>()` holds.
-pub(crate) unsafe fn write<S, V>(storage: *mut S, tag: u32, value: V) -> i32 {
-    let status = check::<S, V>(storage);
+/// `storage` is NULL or points to writable memory of `size_of::<B>()` bytes.
+pub(crate) unsafe fn put<B: Block>(storage: *mut B, value: B::Value) -> i32 {
+    const { assert!(fits::<B, B::Value>()) };
+    let status = check::<B, B::Value>(storage);
     if status == HYST_OK {
+        let slot = Slot { tag: B::TAG, value };
         // SAFETY: non-NULL and aligned (checked), large enough (caller's contract and `fits`).
-        unsafe { ptr::write(storage.cast::<Slot<V>>(), Slot { tag, value }) };
+        unsafe { ptr::write(storage.cast::<Slot<B::Value>>(), slot) };
     }
     status
+}
+
+/// The initialised value behind `storage`, or the status of the failed check.
+pub(crate) fn get<'a, B: Block>(storage: *const B) -> Result<&'a B::Value, i32> {
+    // SAFETY: the caller of the C function passes NULL, an initialised block, or any other
+    // readable block of the type's size (whose tag then does not match).
+    unsafe { value::<B, B::Value>(storage, B::TAG) }
+}
+
+/// As [`get`], mutable.
+pub(crate) fn get_mut<'a, B: Block>(storage: *mut B) -> Result<&'a mut B::Value, i32> {
+    // SAFETY: as in `get`, and the C function's caller does not alias the block during the call.
+    unsafe { value_mut::<B, B::Value>(storage, B::TAG) }
 }
 
 /// The value in the block at `storage`, if its tag is `tag`.
 ///
 /// # Safety
 /// `storage` is NULL or points to readable memory of `size_of::<S>()` bytes that is either a
-/// block written by [`write`] with the same `V` (possibly copied) or holds another tag.
-pub(crate) unsafe fn value<'a, S, V>(storage: *const S, tag: u32) -> Result<&'a V, i32> {
+/// block written by [`put`] with the same `V` (possibly copied) or holds another tag.
+unsafe fn value<'a, S, V>(storage: *const S, tag: u32) -> Result<&'a V, i32> {
     let status = check::<S, V>(storage);
     if status != HYST_OK {
         return Err(status);
@@ -63,7 +86,7 @@ pub(crate) unsafe fn value<'a, S, V>(storage: *const S, tag: u32) -> Result<&'a 
     if unsafe { ptr::read(storage.cast::<u32>()) } != tag {
         return Err(HYST_ERR_NOT_INITIALISED);
     }
-    // SAFETY: the tag says `write` put a `Slot<V>` here (caller's contract).
+    // SAFETY: the tag says `put` wrote a `Slot<V>` here (caller's contract).
     Ok(unsafe { &(*storage.cast::<Slot<V>>()).value })
 }
 
@@ -71,7 +94,7 @@ pub(crate) unsafe fn value<'a, S, V>(storage: *const S, tag: u32) -> Result<&'a 
 ///
 /// # Safety
 /// As [`value`], and the memory is writable and not aliased during the call.
-pub(crate) unsafe fn value_mut<'a, S, V>(storage: *mut S, tag: u32) -> Result<&'a mut V, i32> {
+unsafe fn value_mut<'a, S, V>(storage: *mut S, tag: u32) -> Result<&'a mut V, i32> {
     // SAFETY: forwarded contract.
     unsafe { value::<S, V>(storage, tag) }?;
     // SAFETY: as in `value`, and writable and unaliased (caller's contract).

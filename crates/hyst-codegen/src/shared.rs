@@ -101,15 +101,12 @@ pub(crate) fn timing(
     target: &str,
 ) -> Result<Option<Timing>, ModelError> {
     if m.rate.is_some() {
-        let what = match m.dynamics {
-            Some(d) => format!("dynamics of order {} and a rate term", d.order()),
-            None => "a rate term".to_string(),
-        };
         return Err(ModelError::Invalid(format!(
-            "the model has {what}: {target} writes no rate term (c times the backward \
+            "the model has {}: {target} writes no rate term (c times the backward \
              difference of v at the record's sample period, added to the output), and a model \
              with one has no compensator; run it on the host with its sample period \
-             (hyst_model_load_timed, or `hyst run` on a record with a time column)"
+             (hyst_model_load_timed, or `hyst run` on a record with a time column)",
+            m.timed_parts()
         )));
     }
     let Some(d) = m.dynamics else {

@@ -50,11 +50,7 @@ impl Timing {
             return Ok(None);
         };
         let order = model.dynamics.map_or(0, |d| d.order());
-        let what = match (order, model.rate.is_some()) {
-            (0, _) => "a rate term".to_string(),
-            (n, false) => format!("dynamics of order {n}"),
-            (n, true) => format!("dynamics of order {n} and a rate term"),
-        };
+        let what = model.timed_parts();
         if saturate {
             return Err(format!(
                 "--saturate (saturate = true): the model has {what}, and desired outputs are \

@@ -173,6 +173,16 @@ impl<T: FitReal> SmoothModel<T> {
         self.dynamics.is_some() || self.rate.is_some()
     }
 
+    /// What makes the model timed, in words: "dynamics of order 2", "a rate term", or both.
+    #[must_use]
+    pub fn timed_parts(&self) -> String {
+        match (&self.dynamics, &self.rate) {
+            (Some(d), Some(_)) => format!("dynamics of order {} and a rate term", d.order()),
+            (Some(d), None) => format!("dynamics of order {}", d.order()),
+            _ => "a rate term".into(),
+        }
+    }
+
     /// Checks every parameter through the core's constructors.
     ///
     /// # Errors

@@ -306,6 +306,23 @@ impl Corner {
     pub fn resolved_by(&self, h: f64) -> bool {
         h <= self.needed_period()
     }
+
+    /// The warning of a compensator whose sample period `h` (s), named `period` ("the period"),
+    /// does not resolve it: the period it needs. `number` writes each value (4 significant
+    /// digits, as every report).
+    #[must_use]
+    pub fn warning(&self, h: f64, period: &str, number: impl Fn(f64) -> String) -> String {
+        format!(
+            "the desired output crosses a corner of the model's loop (1/k2 wide in the \
+             operator's output units) in {} s there, less than {CORNER_SAMPLES} samples of \
+             {period} {} s: the commands spike near the loop's corners, and the plant driven by \
+             them strays from the desired output in proportion to the period; sample at most \
+             every {} s (or slow the desired output down)",
+            number(self.time),
+            number(h),
+            number(self.needed_period()),
+        )
+    }
 }
 
 /// Lemma 5.1's compensator of a model with dynamics: for the desired output y_d and its first

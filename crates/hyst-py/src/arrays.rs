@@ -18,6 +18,27 @@ use crate::errors::value_error;
 
 use hyst_core::compensator::MAX_ORDER;
 
+/// Runs `$e` with `$a` bound to the array of the samples `$samples` (and `$dtype` to the name of
+/// its dtype), for float64 and float32 separately (numpy arrays are typed).
+macro_rules! each_dtype {
+    ($samples:expr, $a:ident => $e:expr) => {
+        each_dtype!($samples, $a, _dtype => $e)
+    };
+    ($samples:expr, $a:ident, $dtype:ident => $e:expr) => {
+        match $samples {
+            $crate::arrays::Samples::F64($a) => {
+                let $dtype = "float64";
+                $e
+            }
+            $crate::arrays::Samples::F32($a) => {
+                let $dtype = "float32";
+                $e
+            }
+        }
+    };
+}
+pub(crate) use each_dtype;
+
 /// A 1-D array of samples, read in place.
 pub enum Samples<'py> {
     /// float64 samples.
@@ -170,10 +191,7 @@ pub fn samples<'py>(x: &Bound<'py, PyAny>, name: &str) -> PyResult<Samples<'py>>
 /// # Errors
 /// As [`samples`].
 pub fn samples_f64(x: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
-    Ok(match samples(x, name)? {
-        Samples::F64(a) => a.as_array().iter().copied().collect(),
-        Samples::F32(a) => a.as_array().iter().map(|v| f64::from(*v)).collect(),
-    })
+    Ok(each_dtype!(samples(x, name)?, a => a.as_array().iter().map(|v| v.as_f64()).collect()))
 }
 
 /// Reads `d` as the time derivatives of `n` samples: shape (n, N) with 1 ≤ N ≤
@@ -226,17 +244,23 @@ pub fn derivatives<'py>(
     // A non-finite derivative is named here, where its place is known (the operator would
     // blame the sample's value).
     if let Some(((i, k), v)) = ro.as_array().indexed_iter().find(|(_, v)| !v.is_finite()) {
-        let at = if one_d {
-            format!("{i}")
-        } else {
-            format!("{i}, {k}")
-        };
-        return Err(value_error(format!(
-            "derivatives[{at}] = {}: not a finite number",
-            shortest(*v)
-        )));
+        return Err(non_finite_derivative(i, k, *v, one_d));
     }
     Ok((ro, one_d))
+}
+
+/// The error of the non-finite derivative `v` of sample `i`, column `k` (named `[i]` alone for
+/// derivatives given as a 1-D array: `one_d`).
+pub(crate) fn non_finite_derivative(i: usize, k: usize, v: f64, one_d: bool) -> PyErr {
+    let at = if one_d {
+        format!("{i}")
+    } else {
+        format!("{i}, {k}")
+    };
+    value_error(format!(
+        "derivatives[{at}] = {}: not a finite number",
+        shortest(v)
+    ))
 }
 
 /// A sample an operator refused: its index in the array, its value and the core's reason.

@@ -9,7 +9,7 @@ use hyst_model::{ModelKind, TimedCompensator};
 use numpy::ndarray::ArrayView1;
 use pyo3::prelude::*;
 
-use crate::arrays::{samples, signals, to_numpy, Refused, Samples, Stop, CHUNK};
+use crate::arrays::{each_dtype, samples, signals, to_numpy, Refused, Stop, CHUNK};
 use crate::errors::{borrow, borrow_mut, core, value_error, Shared};
 use crate::model::Model;
 use crate::operator::{Hysteresis, InverseHysteresis, Memory};
@@ -298,18 +298,11 @@ impl Compensator {
         let py = slf.py();
         let mut me = borrow_mut(slf)?;
         let inner = &mut me.inner;
-        match samples(u_new, "u_new")? {
-            Samples::F64(a) => {
-                let view = a.as_array();
-                let out = py.detach(|| go(inner, view, dt)).map_err(refused)?;
-                Ok(to_numpy(py, out))
-            }
-            Samples::F32(a) => {
-                let view = a.as_array();
-                let out = py.detach(|| go(inner, view, dt)).map_err(refused)?;
-                Ok(to_numpy(py, out))
-            }
-        }
+        each_dtype!(samples(u_new, "u_new")?, a => {
+            let view = a.as_array();
+            let out = py.detach(|| go(inner, view, dt)).map_err(refused)?;
+            Ok(to_numpy(py, out))
+        })
     }
 
     /// Back to the start state (the integrators' `state`, the inverse model's history).

@@ -11,12 +11,12 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{
-    derivatives, pair, result_array, run_into, run_jets, samples, to_numpy, Samples,
+    derivatives, each_dtype, pair, result_array, run_into, run_jets, samples, to_numpy, Samples,
 };
 use crate::dicts::{by_parameter, reached, to_python};
 use crate::errors::{self, borrow, borrow_mut, value_error, Shared};
 use crate::model_memory;
-use crate::timed::{timed_model, timed_parts, untimed};
+use crate::timed::{timed_model, untimed};
 
 /// A fitted model (smooth or Prandtl–Ishlinskii) from a model file, direct (input x, output
 /// y) or as its exact inverse (desired output in, command out).
@@ -116,7 +116,7 @@ impl Model {
             Ok(()) => value_error(format!(
                 "the model {} has {}: {how}",
                 self.source,
-                timed_parts(m)
+                m.timed_parts()
             )),
         }
     }
@@ -166,43 +166,26 @@ impl Model {
         let (op, fresh) = self.started(first)?;
         let d = match derivatives {
             Some(d) => {
-                let n = match &xs {
-                    Samples::F64(a) => a.len()?,
-                    Samples::F32(a) => a.len()?,
-                };
+                let n = each_dtype!(&xs, a => a.len()?);
                 Some(self::derivatives(d, n)?)
             }
             None => None,
         };
-        let result = match (&xs, &d) {
-            (Samples::F64(a), None) => {
-                let (out, mut o) = result_array::<f64>(py, None, a.len()?, "float64")?;
+        let result = match &d {
+            None => each_dtype!(&xs, a, dtype => {
+                let (out, mut o) = result_array(py, None, a.len()?, dtype)?;
                 let (view, dest) = (
                     a.as_array(),
                     o.as_slice_mut()
                         .map_err(|_| value_error("out: the array is not contiguous"))?,
                 );
                 py.detach(|| run_into(op, view, dest)).map(|()| Ok(out))
-            }
-            (Samples::F32(a), None) => {
-                let (out, mut o) = result_array::<f32>(py, None, a.len()?, "float32")?;
-                let (view, dest) = (
-                    a.as_array(),
-                    o.as_slice_mut()
-                        .map_err(|_| value_error("out: the array is not contiguous"))?,
-                );
-                py.detach(|| run_into(op, view, dest)).map(|()| Ok(out))
-            }
-            (Samples::F64(a), Some((d, one_d))) => {
+            }),
+            Some((d, one_d)) => each_dtype!(&xs, a => {
                 let (view, dv) = (a.as_array(), d.as_array());
                 py.detach(|| run_jets(op, view, dv))
                     .map(|(y, dy)| pair(py, y, dy, dv.ncols(), *one_d))
-            }
-            (Samples::F32(a), Some((d, one_d))) => {
-                let (view, dv) = (a.as_array(), d.as_array());
-                py.detach(|| run_jets(op, view, dv))
-                    .map(|(y, dy)| pair(py, y, dy, dv.ncols(), *one_d))
-            }
+            }),
         };
         match result {
             Ok(out) => out,

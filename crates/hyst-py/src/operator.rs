@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyType};
 
 use crate::arrays::{
-    derivatives, pair, result_array, run_into, run_jets, samples, samples_f64, Samples,
+    derivatives, each_dtype, pair, result_array, run_into, run_jets, samples, samples_f64,
 };
 use crate::errors::{borrow, borrow_mut, core, value_error, Shared};
 
@@ -176,58 +176,33 @@ impl<F: Formula + Send + Sync> Engine<F> {
     ) -> PyResult<Bound<'py, PyAny>> {
         let xs = samples(x, "x")?;
         let Some(d) = d.filter(|d| !d.is_none()) else {
-            return match xs {
-                Samples::F64(a) => {
-                    let (out, mut o) = result_array::<f64>(py, out, a.len()?, "float64")?;
-                    let (view, dest) = (
-                        a.as_array(),
-                        o.as_slice_mut()
-                            .map_err(|_| value_error("out: the array is not contiguous"))?,
-                    );
-                    py.detach(|| each!(self, op => run_into(op, view, dest)))
-                        .map_err(|e| e.into_err("x"))?;
-                    Ok(out)
-                }
-                Samples::F32(a) => {
-                    let (out, mut o) = result_array::<f32>(py, out, a.len()?, "float32")?;
-                    let (view, dest) = (
-                        a.as_array(),
-                        o.as_slice_mut()
-                            .map_err(|_| value_error("out: the array is not contiguous"))?,
-                    );
-                    py.detach(|| each!(self, op => run_into(op, view, dest)))
-                        .map_err(|e| e.into_err("x"))?;
-                    Ok(out)
-                }
-            };
+            return each_dtype!(xs, a, dtype => {
+                let (out, mut o) = result_array(py, out, a.len()?, dtype)?;
+                let (view, dest) = (
+                    a.as_array(),
+                    o.as_slice_mut()
+                        .map_err(|_| value_error("out: the array is not contiguous"))?,
+                );
+                py.detach(|| each!(self, op => run_into(op, view, dest)))
+                    .map_err(|e| e.into_err("x"))?;
+                Ok(out)
+            });
         };
         if out.is_some_and(|o| !o.is_none()) {
             return Err(value_error(
                 "out: not with derivatives (the result is a pair of arrays)",
             ));
         }
-        let n = match &xs {
-            Samples::F64(a) => a.len()?,
-            Samples::F32(a) => a.len()?,
-        };
+        let n = each_dtype!(&xs, a => a.len()?);
         let (d, one_d) = derivatives(d, n)?;
         let dv = d.as_array();
-        match xs {
-            Samples::F64(a) => {
-                let view = a.as_array();
-                let (y, dy) = py
-                    .detach(|| each!(self, op => run_jets(op, view, dv)))
-                    .map_err(|e| e.into_err("x"))?;
-                pair(py, y, dy, dv.ncols(), one_d)
-            }
-            Samples::F32(a) => {
-                let view = a.as_array();
-                let (y, dy) = py
-                    .detach(|| each!(self, op => run_jets(op, view, dv)))
-                    .map_err(|e| e.into_err("x"))?;
-                pair(py, y, dy, dv.ncols(), one_d)
-            }
-        }
+        each_dtype!(xs, a => {
+            let view = a.as_array();
+            let (y, dy) = py
+                .detach(|| each!(self, op => run_jets(op, view, dv)))
+                .map_err(|e| e.into_err("x"))?;
+            pair(py, y, dy, dv.ncols(), one_d)
+        })
     }
 
     /// The memory (float64 values; exact for a float32 operator).

@@ -13,13 +13,13 @@ use hyst_model::ModelKind;
 
 use hyst_model::{
     Corner, Hold, Prefilter, Provenance, SmoothModel, TimeSteps, TimedCompensator, TimedRun,
-    CORNER_SAMPLES,
 };
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
 use crate::arrays::{
-    as_dtype, samples, samples_f64, shape_of, signals, to_numpy, Samples, Stop, CHUNK,
+    as_dtype, non_finite_derivative, samples, samples_f64, shape_of, signals, to_numpy, Samples,
+    Stop, CHUNK,
 };
 use crate::errors::{self, value_error};
 
@@ -87,7 +87,7 @@ pub(crate) fn process<'py>(
             "derivatives: the model {} has {}: it runs without derivatives (give the \
              time stamps as time=..., or the sample period as period=...)",
             source,
-            timed_parts(m)
+            m.timed_parts()
         )));
     }
     let mut m = *m;
@@ -102,7 +102,7 @@ pub(crate) fn process<'py>(
         m.dynamics = Some(d.with_hold(hold));
     }
     let (x, f32) = values_of(x, "x")?;
-    let what = format!("the model {} has {}", source, timed_parts(&m));
+    let what = format!("the model {} has {}", source, m.timed_parts());
     let Some(parts) = steps_of(py, t, period, x.len(), &what)? else {
         return Ok(as_array_of(py, x, f32));
     };
@@ -180,16 +180,6 @@ pub(crate) fn steps_of(
     }
 }
 
-/// What a model has that makes it timed, in words ("dynamics of order 2", "a rate term", or
-/// both).
-pub(crate) fn timed_parts(m: &SmoothModel) -> String {
-    match (m.dynamics, m.rate) {
-        (Some(d), Some(_)) => format!("dynamics of order {} and a rate term", d.order()),
-        (Some(d), None) => format!("dynamics of order {}", d.order()),
-        _ => "a rate term".into(),
-    }
-}
-
 /// The samples of a 1-D array as float64 values, and whether they were float32 (the result
 /// then goes back to float32).
 pub(crate) fn values_of(x: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<f64>, bool)> {
@@ -255,15 +245,7 @@ pub(crate) fn desired_derivatives(
     };
     for (i, row) in rows.iter().enumerate() {
         if let Some((k, v)) = row.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            let at = if one_d {
-                format!("{i}")
-            } else {
-                format!("{i}, {k}")
-            };
-            return Err(value_error(format!(
-                "derivatives[{at}] = {}: not a finite number",
-                shortest(*v)
-            )));
+            return Err(non_finite_derivative(i, k, *v, one_d));
         }
     }
     Ok(rows)
@@ -504,20 +486,8 @@ pub(crate) fn compensate<'py>(
             Halt::Interrupted(e) => e,
         })?;
     if let Some((i, corner, h)) = run.unresolved {
-        warn(
-            py,
-            format!(
-                "desired[{i}]: the desired output crosses a corner of the model's loop (1/k2 \
-                 wide in the operator's output units) in {} s there, less than \
-                 {CORNER_SAMPLES} samples of the period {} s: the commands spike near the \
-                 loop's corners, and the plant driven by them strays from the desired output in \
-                 proportion to the period; sample at most every {} s (or slow the desired \
-                 output down)",
-                sig(corner.time, 4),
-                sig(h, 4),
-                sig(corner.needed_period(), 4)
-            ),
-        )?;
+        let warning = corner.warning(h, "the period", |v| sig(v, 4));
+        warn(py, format!("desired[{i}]: {warning}"))?;
     }
     answer(run.commands, run.followed)
 }

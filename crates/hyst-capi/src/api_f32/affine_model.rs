@@ -36,22 +36,14 @@ type LinearShaped = Shaped<f32, Linear<f32>>;
 /// The compensator inside.
 type LinearComp = Comp<f32, Linear<f32>, AnyK2Law<f32>, Linear<f32>>;
 
-const TAG_LINEAR: u32 = 0x4859_4c66; // "HYLf"
-const TAG_LINEAR_COMPENSATOR: u32 = 0x4859_6c66; // "HYlf"
-
-const _: () = assert!(slot::fits::<hyst_affine_model_f32, LinearShaped>());
-const _: () = assert!(slot::fits::<hyst_affine_compensator_f32, LinearComp>());
-
-/// The initialised model behind `m`, or the status of the failed check.
-fn linear<'a>(m: *mut hyst_affine_model_f32) -> Result<&'a mut LinearShaped, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut::<_, LinearShaped>(m, TAG_LINEAR) }
+impl slot::Block for hyst_affine_model_f32 {
+    type Value = LinearShaped;
+    const TAG: u32 = 0x4859_4c66; // "HYLf"
 }
 
-/// The initialised compensator behind `c`, or the status of the failed check.
-fn linear_compensator<'a>(c: *mut hyst_affine_compensator_f32) -> Result<&'a mut LinearComp, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut(c, TAG_LINEAR_COMPENSATOR) }
+impl slot::Block for hyst_affine_compensator_f32 {
+    type Value = LinearComp;
+    const TAG: u32 = 0x4859_6c66; // "HYlf"
 }
 
 /// `hyst_affine_model_init_direct_f32` / `_inverse`.
@@ -72,8 +64,8 @@ unsafe fn init_linear(
         .model_with(engine::linear_shaping)
         .and_then(|model| engine::shaped(model, p.form, p.linear, p.initial_state, inverse));
     match built {
-        // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(shaped) => unsafe { slot::write(m, TAG_LINEAR, shaped) },
+        // SAFETY: `m` is NULL or a writable block of the type's size.
+        Ok(shaped) => unsafe { slot::put(m, shaped) },
         Err(e) => status::of(&e),
     }
 }
@@ -118,7 +110,7 @@ pub unsafe extern "C" fn hyst_affine_model_step_f32(
     y: *mut f32,
 ) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(linear(m).map(|o| unsafe { engine::step(o, x, y) }))
+    done(slot::get_mut(m).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// Copies the memory of the model's operator into `*memory`, as
@@ -132,7 +124,7 @@ pub unsafe extern "C" fn hyst_affine_model_get_memory_f32(
     memory: *mut hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { get_memory(linear(m), memory) }
+    unsafe { get_memory(slot::get_mut(m), memory) }
 }
 
 /// Restores the memory of the model's operator, as `hyst_shaped_model_set_memory_f32`.
@@ -145,7 +137,7 @@ pub unsafe extern "C" fn hyst_affine_model_set_memory_f32(
     memory: *const hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { set_memory(linear(m), memory) }
+    unsafe { set_memory(slot::get_mut(m), memory) }
 }
 
 /// Forgets the history: the start rule applies again at the next sample.
@@ -154,7 +146,7 @@ pub unsafe extern "C" fn hyst_affine_model_set_memory_f32(
 /// `m` is NULL or an initialised `hyst_affine_model_f32`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_affine_model_reset_f32(m: *mut hyst_affine_model_f32) -> i32 {
-    reset(linear(m))
+    reset(slot::get_mut(m))
 }
 
 /// Initialises `c` as the Lemma 5.1 compensator of the model of `params`, as
@@ -173,20 +165,8 @@ pub unsafe extern "C" fn hyst_affine_compensator_init_f32(
     v0: *const f32,
     n: usize,
 ) -> i32 {
-    // SAFETY: `c` is NULL or a writable `hyst_affine_compensator_f32`, whose size `fits` checks;
-    // the rest is the caller's contract, forwarded.
-    unsafe {
-        init_from_params(
-            c,
-            TAG_LINEAR_COMPENSATOR,
-            params,
-            b,
-            a,
-            v0,
-            n,
-            engine::linear_shaping,
-        )
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_from_params(c, params, b, a, v0, n, engine::linear_shaping) }
 }
 
 /// One sample, as `hyst_shaped_compensator_step_f32`.
@@ -201,7 +181,7 @@ pub unsafe extern "C" fn hyst_affine_compensator_step_f32(
     u: *mut f32,
 ) -> i32 {
     // SAFETY: `u` is NULL or writable (caller's contract).
-    done(linear_compensator(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
 }
 
 /// The integrators and the inverse model's memory, as `hyst_shaped_compensator_get_state_f32`.
@@ -216,7 +196,7 @@ pub unsafe extern "C" fn hyst_affine_compensator_get_state_f32(
     memory: *mut hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(linear_compensator(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
 }
 
 /// Back to the initial integrator state, and the inverse model's memory forgotten.
@@ -227,7 +207,7 @@ pub unsafe extern "C" fn hyst_affine_compensator_get_state_f32(
 pub unsafe extern "C" fn hyst_affine_compensator_reset_f32(
     c: *mut hyst_affine_compensator_f32,
 ) -> i32 {
-    done(linear_compensator(c).map(|comp| {
+    done(slot::get_mut(c).map(|comp| {
         comp.reset();
         HYST_OK
     }))

@@ -38,3 +38,12 @@ pub(crate) unsafe fn read_array(
 pub(crate) fn done(result: Result<i32, i32>) -> i32 {
     result.unwrap_or_else(|status| status)
 }
+
+/// As [`done`], with the pointer `out` the call writes to checked first:
+/// `HYST_ERR_NULL_POINTER` when it is NULL, before `call` looks the state up.
+pub(crate) fn done_into<T>(out: *mut T, call: impl FnOnce() -> Result<i32, i32>) -> i32 {
+    if out.is_null() {
+        return HYST_ERR_NULL_POINTER;
+    }
+    done(call())
+}

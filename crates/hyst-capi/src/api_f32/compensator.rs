@@ -4,7 +4,7 @@
 //!
 //! GENERATED from `api_f64/compensator.rs` by `scripts/gen-capi-f32`: do not edit.
 
-use hyst_core::{ConstantK2, Identity, InverseHysteresis, ShapedModel};
+use hyst_core::{AnyK2Law, ConstantK2, Identity, InverseHysteresis, ShapedModel};
 
 use crate::api_f32::checks::{done, read_array};
 use crate::api_f32::memory::hyst_memory_f32;
@@ -28,24 +28,14 @@ pub struct hyst_shaped_compensator_f32 {
     opaque: [u64; 32],
 }
 
-const TAG_COMPENSATOR: u32 = 0x4859_4366; // "HYCf"
-const TAG_SHAPED_COMPENSATOR: u32 = 0x4859_6366; // "HYcf"
-
-const _: () = assert!(slot::fits::<hyst_compensator_f32, PlainComp<f32>>());
-const _: () = assert!(slot::fits::<hyst_shaped_compensator_f32, ShapedComp<f32>>());
-
-/// The initialised compensator behind `c`, or the status of the failed check.
-fn compensator<'a>(c: *mut hyst_compensator_f32) -> Result<&'a mut PlainComp<f32>, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut(c, TAG_COMPENSATOR) }
+impl slot::Block for hyst_compensator_f32 {
+    type Value = PlainComp<f32>;
+    const TAG: u32 = 0x4859_4366; // "HYCf"
 }
 
-/// The initialised shaped compensator behind `c`, or the status of the failed check.
-fn shaped_compensator<'a>(
-    c: *mut hyst_shaped_compensator_f32,
-) -> Result<&'a mut ShapedComp<f32>, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut(c, TAG_SHAPED_COMPENSATOR) }
+impl slot::Block for hyst_shaped_compensator_f32 {
+    type Value = ShapedComp<f32>;
+    const TAG: u32 = 0x4859_6366; // "HYcf"
 }
 
 /// Reads the plant (a_1 … a_n) and the optional start of the integrators (n values each).
@@ -224,8 +214,8 @@ pub unsafe extern "C" fn hyst_compensator_init_f32(
             build(m.inverse(), b, &plant, n)
         });
     match built {
-        // SAFETY: `c` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(comp) => unsafe { slot::write(c, TAG_COMPENSATOR, comp) },
+        // SAFETY: `c` is NULL or a writable block of the type's size.
+        Ok(comp) => unsafe { slot::put(c, comp) },
         Err(e) => status::of(&e),
     }
 }
@@ -246,7 +236,7 @@ pub unsafe extern "C" fn hyst_compensator_step_f32(
     u: *mut f32,
 ) -> i32 {
     // SAFETY: `u` is NULL or writable (caller's contract).
-    done(compensator(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
 }
 
 /// Reference-trajectory mode: `*u` = the command for the reference `reference` =
@@ -263,7 +253,7 @@ pub unsafe extern "C" fn hyst_compensator_track_f32(
     u: *mut f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(compensator(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
 }
 
 /// Copies the integrators (v, v̇, …, v⁽ⁿ⁻¹⁾) into `v` (n values; may be NULL when n = 0) and the
@@ -279,7 +269,7 @@ pub unsafe extern "C" fn hyst_compensator_get_state_f32(
     memory: *mut hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(compensator(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
 }
 
 /// Back to the initial integrator state, and the inverse operator's memory forgotten.
@@ -288,7 +278,7 @@ pub unsafe extern "C" fn hyst_compensator_get_state_f32(
 /// `c` is NULL or an initialised `hyst_compensator_f32`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_compensator_reset_f32(c: *mut hyst_compensator_f32) -> i32 {
-    done(compensator(c).map(|comp| {
+    done(slot::get_mut(c).map(|comp| {
         comp.reset();
         HYST_OK
     }))
@@ -313,30 +303,17 @@ pub unsafe extern "C" fn hyst_shaped_compensator_init_f32(
     n: usize,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe {
-        init_from_params(
-            c,
-            TAG_SHAPED_COMPENSATOR,
-            params,
-            b,
-            a,
-            v0,
-            n,
-            engine::shaping,
-        )
-    }
+    unsafe { init_from_params(c, params, b, a, v0, n, engine::shaping) }
 }
 
 /// `hyst_shaped_compensator_init_f32` and `hyst_affine_compensator_init_f32`: the compensator of the
-/// model of `params`, its shapings built by `shaping`, written into `c` under `tag`.
+/// model of `params`, its shapings built by `shaping`, written into `c`.
 ///
 /// # Safety
-/// `c` is NULL or a writable block whose type holds the compensator (`slot::fits`);
-/// `params` is NULL or readable; `a` and `v0` are NULL or hold n values.
-#[allow(clippy::too_many_arguments)]
+/// `c` is NULL or a writable block of its type; `params` is NULL or readable; `a` and `v0` are
+/// NULL or hold n values.
 pub(crate) unsafe fn init_from_params<C, S>(
     c: *mut C,
-    tag: u32,
     params: *const hyst_shaped_model_params_f32,
     b: f32,
     a: *const f32,
@@ -345,6 +322,7 @@ pub(crate) unsafe fn init_from_params<C, S>(
     shaping: engine::ShapingFn<f32, S>,
 ) -> i32
 where
+    C: slot::Block<Value = Comp<f32, S, AnyK2Law<f32>, S>>,
     S: hyst_core::Shaping<f32> + Clone,
 {
     if params.is_null() {
@@ -361,8 +339,8 @@ where
         .and_then(|()| params.model_with(shaping))
         .and_then(|model| build(model.inverse(), b, &plant, n));
     match built {
-        // SAFETY: `c` is NULL or a writable block of the compensator's size (caller's contract).
-        Ok(comp) => unsafe { slot::write(c, tag, comp) },
+        // SAFETY: `c` is NULL or a writable block of its type (caller's contract).
+        Ok(comp) => unsafe { slot::put(c, comp) },
         Err(e) => status::of(&e),
     }
 }
@@ -380,7 +358,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_step_f32(
     u: *mut f32,
 ) -> i32 {
     // SAFETY: `u` is NULL or writable (caller's contract).
-    done(shaped_compensator(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
 }
 
 /// Reference-trajectory mode, as `hyst_compensator_track_f32`.
@@ -395,7 +373,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_track_f32(
     u: *mut f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(shaped_compensator(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
 }
 
 /// The integrators and the inverse model's memory, as `hyst_compensator_get_state_f32`.
@@ -410,7 +388,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_get_state_f32(
     memory: *mut hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(shaped_compensator(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
 }
 
 /// Back to the initial integrator state, and the inverse model's memory forgotten.
@@ -421,7 +399,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_get_state_f32(
 pub unsafe extern "C" fn hyst_shaped_compensator_reset_f32(
     c: *mut hyst_shaped_compensator_f32,
 ) -> i32 {
-    done(shaped_compensator(c).map(|comp| {
+    done(slot::get_mut(c).map(|comp| {
         comp.reset();
         HYST_OK
     }))

@@ -16,15 +16,9 @@ pub struct hyst_operator_f32 {
     opaque: [u64; 8],
 }
 
-const TAG_OPERATOR: u32 = 0x4859_5f66; // "HY_f"
-
-const _: () = assert!(slot::fits::<hyst_operator_f32, Pair<f32>>());
-
-/// The initialised operator behind `op`, or the status of the failed check.
-fn operator<'a>(op: *mut hyst_operator_f32) -> Result<&'a mut Pair<f32>, i32> {
-    // SAFETY: the caller of the C function passes NULL, an initialised block, or any other
-    // readable block of the type's size (whose tag then does not match).
-    unsafe { slot::value_mut::<_, Pair<f32>>(op, TAG_OPERATOR) }
+impl slot::Block for hyst_operator_f32 {
+    type Value = Pair<f32>;
+    const TAG: u32 = 0x4859_5f66; // "HY_f"
 }
 
 /// `hyst_operator_init_direct_f32` / `_inverse`.
@@ -33,8 +27,8 @@ fn operator<'a>(op: *mut hyst_operator_f32) -> Result<&'a mut Pair<f32>, i32> {
 /// `op` is NULL or points to a writable `hyst_operator_f32`.
 unsafe fn init_operator(op: *mut hyst_operator_f32, k1: f32, k2: f32, inverse: bool) -> i32 {
     match engine::pair(k1, k2, inverse) {
-        // SAFETY: `op` is NULL or a writable block of the type's size; `fits` holds (asserted).
-        Ok(p) => unsafe { slot::write(op, TAG_OPERATOR, p) },
+        // SAFETY: `op` is NULL or a writable block of the type's size.
+        Ok(p) => unsafe { slot::put(op, p) },
         Err(e) => status::of(&e),
     }
 }
@@ -87,7 +81,7 @@ pub unsafe extern "C" fn hyst_operator_step_f32(
     y: *mut f32,
 ) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(operator(op).map(|o| unsafe { engine::step(o, x, y) }))
+    done(slot::get_mut(op).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// One sample with time derivatives: `x` holds the input and its first `order` time derivatives
@@ -105,7 +99,7 @@ pub unsafe extern "C" fn hyst_operator_step_derivatives_f32(
     order: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
-    done(operator(op).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
+    done(slot::get_mut(op).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
 }
 
 /// `n` samples from `x` into `y` (which may be the same array), each as `hyst_operator_step_f32`;
@@ -123,7 +117,7 @@ pub unsafe extern "C" fn hyst_operator_process_f32(
     n: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
-    done(operator(op).map(|o| unsafe { engine::process(o, x, y, n) }))
+    done(slot::get_mut(op).map(|o| unsafe { engine::process(o, x, y, n) }))
 }
 
 /// Copies the operator's memory into `*memory` (to save it, e.g. across a controller restart).
@@ -136,7 +130,7 @@ pub unsafe extern "C" fn hyst_operator_get_memory_f32(
     memory: *mut hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { get_memory(operator(op), memory) }
+    unsafe { get_memory(slot::get_mut(op), memory) }
 }
 
 /// Restores a memory saved by `hyst_operator_get_memory_f32`. `HYST_ERR_STATE_OUTSIDE_BAND` or
@@ -152,7 +146,7 @@ pub unsafe extern "C" fn hyst_operator_set_memory_f32(
     memory: *const hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { set_memory(operator(op), memory) }
+    unsafe { set_memory(slot::get_mut(op), memory) }
 }
 
 /// Forgets the history: the next sample starts on the line output = input.
@@ -161,5 +155,5 @@ pub unsafe extern "C" fn hyst_operator_set_memory_f32(
 /// `op` is NULL or an initialised `hyst_operator_f32`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_operator_reset_f32(op: *mut hyst_operator_f32) -> i32 {
-    reset(operator(op))
+    reset(slot::get_mut(op))
 }

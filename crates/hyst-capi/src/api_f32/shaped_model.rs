@@ -136,14 +136,9 @@ pub struct hyst_shaped_model_f32 {
     opaque: [u64; 24],
 }
 
-const TAG_SHAPED: u32 = 0x4859_5366; // "HYSf"
-
-const _: () = assert!(slot::fits::<hyst_shaped_model_f32, Shaped<f32>>());
-
-/// The initialised shaped model behind `m`, or the status of the failed check.
-fn shaped<'a>(m: *mut hyst_shaped_model_f32) -> Result<&'a mut Shaped<f32>, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut::<_, Shaped<f32>>(m, TAG_SHAPED) }
+impl slot::Block for hyst_shaped_model_f32 {
+    type Value = Shaped<f32>;
+    const TAG: u32 = 0x4859_5366; // "HYSf"
 }
 
 /// `hyst_shaped_model_init_direct_f32` / `_inverse`.
@@ -160,8 +155,8 @@ unsafe fn init_shaped(
     }
     // SAFETY: non-NULL (checked), readable (caller's contract).
     match unsafe { params.read() }.shaped(inverse) {
-        // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(shaped) => unsafe { slot::write(m, TAG_SHAPED, shaped) },
+        // SAFETY: `m` is NULL or a writable block of the type's size.
+        Ok(shaped) => unsafe { slot::put(m, shaped) },
         Err(e) => status::of(&e),
     }
 }
@@ -211,7 +206,7 @@ pub unsafe extern "C" fn hyst_shaped_model_step_f32(
     y: *mut f32,
 ) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(shaped(m).map(|o| unsafe { engine::step(o, x, y) }))
+    done(slot::get_mut(m).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// One sample with time derivatives, as `hyst_operator_step_derivatives_f32` (order ≤ 4).
@@ -227,7 +222,7 @@ pub unsafe extern "C" fn hyst_shaped_model_step_derivatives_f32(
     order: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
-    done(shaped(m).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
+    done(slot::get_mut(m).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
 }
 
 /// `n` samples, as `hyst_operator_process_f32`.
@@ -243,7 +238,7 @@ pub unsafe extern "C" fn hyst_shaped_model_process_f32(
     n: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
-    done(shaped(m).map(|o| unsafe { engine::process(o, x, y, n) }))
+    done(slot::get_mut(m).map(|o| unsafe { engine::process(o, x, y, n) }))
 }
 
 /// Copies the memory of the model's operator H (or H⁻¹) into `*memory`.
@@ -256,7 +251,7 @@ pub unsafe extern "C" fn hyst_shaped_model_get_memory_f32(
     memory: *mut hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { get_memory(shaped(m), memory) }
+    unsafe { get_memory(slot::get_mut(m), memory) }
 }
 
 /// Restores the memory of the model's operator, as `hyst_operator_set_memory_f32` (values in the
@@ -270,7 +265,7 @@ pub unsafe extern "C" fn hyst_shaped_model_set_memory_f32(
     memory: *const hyst_memory_f32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { set_memory(shaped(m), memory) }
+    unsafe { set_memory(slot::get_mut(m), memory) }
 }
 
 /// Forgets the history.
@@ -279,5 +274,5 @@ pub unsafe extern "C" fn hyst_shaped_model_set_memory_f32(
 /// `m` is NULL or an initialised `hyst_shaped_model_f32`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_shaped_model_reset_f32(m: *mut hyst_shaped_model_f32) -> i32 {
-    reset(shaped(m))
+    reset(slot::get_mut(m))
 }

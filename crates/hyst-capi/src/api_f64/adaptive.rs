@@ -15,7 +15,7 @@ use hyst_core::adaptive::{
 };
 use hyst_core::{AnyShaping, ScaledShaping, Shaping};
 
-use crate::api_f64::checks::done;
+use crate::api_f64::checks::{done, done_into};
 use crate::api_f64::shaped_model::hyst_shaped_model_params;
 use crate::engine;
 use crate::slot;
@@ -128,33 +128,48 @@ pub(crate) struct State<const W: usize, S> {
 /// The state of `hyst_adaptive`: any shapes, any parameters.
 type AnyState = State<MAX_PARAMETERS, AnyShaping<f64>>;
 
-const TAG_ADAPTIVE: u32 = 0x4859_4164; // "HYAd"
-
-const _: () = assert!(slot::fits::<hyst_adaptive, AnyState>());
+impl slot::Block for hyst_adaptive {
+    type Value = AnyState;
+    const TAG: u32 = 0x4859_4164; // "HYAd"
+}
 
 impl<const W: usize, S: Shaping<f64> + Copy> State<W, S> {
-    /// The state of the model `params` with the settings `cfg` (`shaping` builds its shapes), or
-    /// the status that refuses them.
-    pub(crate) fn build(
-        p: &hyst_shaped_model_params,
-        c: &hyst_adaptive_config,
+    /// `hyst_*adaptive_init`: writes into `a` the state of the model `params` with the settings
+    /// `cfg` (`shaping` builds its shapes), or returns the status that refuses them.
+    ///
+    /// # Safety
+    /// `a` is NULL or points to a writable block of its type; `params` and `cfg` are NULL or
+    /// readable.
+    pub(crate) unsafe fn init<B: slot::Block<Value = Self>>(
+        a: *mut B,
+        params: *const hyst_shaped_model_params,
+        cfg: *const hyst_adaptive_config,
         shaping: engine::ShapingFn<f64, ScaledShaping<f64, S>>,
-    ) -> Result<Self, i32> {
-        let config = c.config()?;
+    ) -> i32 {
+        if params.is_null() || cfg.is_null() {
+            return HYST_ERR_NULL_POINTER;
+        }
+        // SAFETY: non-NULL (checked), readable (caller's contract).
+        let (p, c) = unsafe { (params.read(), cfg.read()) };
+        let config = match c.config() {
+            Ok(config) => config,
+            Err(s) => return s,
+        };
         if p.form != HYST_FORM_OPERATOR || p.linear != 0.0 {
-            return Err(HYST_ERR_INVALID_PARAMETER);
+            return HYST_ERR_INVALID_PARAMETER;
         }
         let built = engine::initial_state(p.initial_state).and_then(|start| {
             let model = p.model_with(shaping)?;
             Adaptive::<f64, W, S>::of_width(&model, start, config)
         });
-        match built {
-            Ok(estimator) => Ok(Self {
-                compensator: AdaptiveInverse::new(estimator),
-                held: None,
-            }),
-            Err(e) => Err(status::of(&e)),
-        }
+        let estimator = match built {
+            Ok(estimator) => estimator,
+            Err(e) => return status::of(&e),
+        };
+        let compensator = AdaptiveInverse::new(estimator);
+        let held = None;
+        // SAFETY: `a` is NULL or a writable block of its type (caller's contract).
+        unsafe { slot::put(a, Self { compensator, held }) }
     }
 
     /// `hyst_*adaptive_step` on this state.
@@ -235,18 +250,6 @@ impl<const W: usize, S: Shaping<f64> + Copy> State<W, S> {
     }
 }
 
-/// The initialised adaptive compensator behind `a`, or the status of the failed check.
-fn state<'a>(a: *mut hyst_adaptive) -> Result<&'a mut AnyState, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut::<_, AnyState>(a, TAG_ADAPTIVE) }
-}
-
-/// As [`state`], read only.
-fn state_ref<'a>(a: *const hyst_adaptive) -> Result<&'a AnyState, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value::<_, AnyState>(a, TAG_ADAPTIVE) }
-}
-
 /// The `HYST_ADAPT_*` code of a sample's status: the codes are the statuses in the order of
 /// `Status` (checked below at compile time), so the code is the discriminant.
 fn code(s: Status) -> i32 {
@@ -325,16 +328,8 @@ pub unsafe extern "C" fn hyst_adaptive_init(
     params: *const hyst_shaped_model_params,
     cfg: *const hyst_adaptive_config,
 ) -> i32 {
-    if params.is_null() || cfg.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    let (p, c) = unsafe { (params.read(), cfg.read()) };
-    match AnyState::build(&p, &c, engine::shaping) {
-        // SAFETY: `a` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(value) => unsafe { slot::write(a, TAG_ADAPTIVE, value) },
-        Err(s) => s,
-    }
+    // SAFETY: forwarded contract.
+    unsafe { AnyState::init(a, params, cfg, engine::shaping) }
 }
 
 /// The command: `*x` (input units) = the exact inverse of the current model for the desired
@@ -357,11 +352,10 @@ pub unsafe extern "C" fn hyst_adaptive_step(
     desired: f64,
     x: *mut f64,
 ) -> i32 {
-    if x.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: `x` is non-NULL (checked) and writable (caller's contract).
-    done(state(a).map(|s| unsafe { s.step(desired, x) }))
+    // SAFETY: `x` is non-NULL (checked by `done_into`) and writable (caller's contract).
+    done_into(x, || {
+        slot::get_mut(a).map(|s| unsafe { s.step(desired, x) })
+    })
 }
 
 /// The measurement: the output `y` (output units) measured for the last command updates the
@@ -384,7 +378,7 @@ pub unsafe extern "C" fn hyst_adaptive_measure(
     status: *mut i32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(state(a).map(|s| unsafe { s.measure(y, prediction, status) }))
+    done(slot::get_mut(a).map(|s| unsafe { s.measure(y, prediction, status) }))
 }
 
 /// A recorded sample, not commanded here (a record played back, a command from elsewhere):
@@ -409,7 +403,7 @@ pub unsafe extern "C" fn hyst_adaptive_update(
     status: *mut i32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(state(a).map(|s| unsafe { s.update(x, y, prediction, status) }))
+    done(slot::get_mut(a).map(|s| unsafe { s.update(x, y, prediction, status) }))
 }
 
 /// `*value` = the current value of parameter `which`: the index of its `HYST_ADAPT_*` bit, 0 k1
@@ -429,11 +423,10 @@ pub unsafe extern "C" fn hyst_adaptive_parameter(
     which: i32,
     value: *mut f64,
 ) -> i32 {
-    if value.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: `value` is non-NULL (checked) and writable (caller's contract).
-    done(state_ref(a).map(|s| unsafe { s.parameter(which, value) }))
+    // SAFETY: `value` is non-NULL (checked by `done_into`) and writable (caller's contract).
+    done_into(value, || {
+        slot::get(a).map(|s| unsafe { s.parameter(which, value) })
+    })
 }
 
 /// `*counts` = how many samples had each `HYST_ADAPT_*` status since `hyst_adaptive_init`.
@@ -448,9 +441,6 @@ pub unsafe extern "C" fn hyst_adaptive_counts(
     a: *const hyst_adaptive,
     counts: *mut hyst_adaptive_sample_counts,
 ) -> i32 {
-    if counts.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: `counts` is non-NULL (checked) and writable (caller's contract).
-    done(state_ref(a).map(|s| unsafe { s.counts(counts) }))
+    // SAFETY: `counts` is non-NULL (checked by `done_into`) and writable (caller's contract).
+    done_into(counts, || slot::get(a).map(|s| unsafe { s.counts(counts) }))
 }

@@ -8,12 +8,11 @@
 use hyst_core::AffineShaping;
 
 use crate::api_f64::adaptive::{hyst_adaptive_config, State};
-use crate::api_f64::checks::done;
+use crate::api_f64::checks::{done, done_into};
 use crate::api_f64::shaped_model::hyst_shaped_model_params;
 use crate::engine;
 use crate::hyst_adaptive_sample_counts;
 use crate::slot;
-use crate::status::HYST_ERR_NULL_POINTER;
 
 /// The adaptive compensator of a model with affine shapings (identity or affine ψ_in and
 /// ψ_out), adapting up to four parameters: an opaque block of 1536 bytes, 8-byte aligned,
@@ -26,20 +25,9 @@ pub struct hyst_affine_adaptive {
 /// Its state: duals of width 4, affine shapes.
 type LinearState = State<4, AffineShaping<f64>>;
 
-const TAG_LINEAR_ADAPTIVE: u32 = 0x4859_6164; // "HYad"
-
-const _: () = assert!(slot::fits::<hyst_affine_adaptive, LinearState>());
-
-/// The initialised adaptive compensator behind `a`, or the status of the failed check.
-fn state<'a>(a: *mut hyst_affine_adaptive) -> Result<&'a mut LinearState, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut::<_, LinearState>(a, TAG_LINEAR_ADAPTIVE) }
-}
-
-/// As [`state`], read only.
-fn state_ref<'a>(a: *const hyst_affine_adaptive) -> Result<&'a LinearState, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value::<_, LinearState>(a, TAG_LINEAR_ADAPTIVE) }
+impl slot::Block for hyst_affine_adaptive {
+    type Value = LinearState;
+    const TAG: u32 = 0x4859_6164; // "HYad"
 }
 
 /// As `hyst_adaptive_init`; also `HYST_ERR_INVALID_PARAMETER` when a shaping's kind is not
@@ -55,16 +43,8 @@ pub unsafe extern "C" fn hyst_affine_adaptive_init(
     params: *const hyst_shaped_model_params,
     cfg: *const hyst_adaptive_config,
 ) -> i32 {
-    if params.is_null() || cfg.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: non-NULL (checked), readable (caller's contract).
-    let (p, c) = unsafe { (params.read(), cfg.read()) };
-    match LinearState::build(&p, &c, engine::linear_shaping) {
-        // SAFETY: `a` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(value) => unsafe { slot::write(a, TAG_LINEAR_ADAPTIVE, value) },
-        Err(s) => s,
-    }
+    // SAFETY: forwarded contract.
+    unsafe { LinearState::init(a, params, cfg, engine::linear_shaping) }
 }
 
 /// As `hyst_adaptive_step`.
@@ -77,11 +57,10 @@ pub unsafe extern "C" fn hyst_affine_adaptive_step(
     desired: f64,
     x: *mut f64,
 ) -> i32 {
-    if x.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: `x` is non-NULL (checked) and writable (caller's contract).
-    done(state(a).map(|s| unsafe { s.step(desired, x) }))
+    // SAFETY: `x` is non-NULL (checked by `done_into`) and writable (caller's contract).
+    done_into(x, || {
+        slot::get_mut(a).map(|s| unsafe { s.step(desired, x) })
+    })
 }
 
 /// As `hyst_adaptive_measure`.
@@ -97,7 +76,7 @@ pub unsafe extern "C" fn hyst_affine_adaptive_measure(
     status: *mut i32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(state(a).map(|s| unsafe { s.measure(y, prediction, status) }))
+    done(slot::get_mut(a).map(|s| unsafe { s.measure(y, prediction, status) }))
 }
 
 /// As `hyst_adaptive_update`.
@@ -114,7 +93,7 @@ pub unsafe extern "C" fn hyst_affine_adaptive_update(
     status: *mut i32,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(state(a).map(|s| unsafe { s.update(x, y, prediction, status) }))
+    done(slot::get_mut(a).map(|s| unsafe { s.update(x, y, prediction, status) }))
 }
 
 /// As `hyst_adaptive_parameter`.
@@ -127,11 +106,10 @@ pub unsafe extern "C" fn hyst_affine_adaptive_parameter(
     which: i32,
     value: *mut f64,
 ) -> i32 {
-    if value.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: `value` is non-NULL (checked) and writable (caller's contract).
-    done(state_ref(a).map(|s| unsafe { s.parameter(which, value) }))
+    // SAFETY: `value` is non-NULL (checked by `done_into`) and writable (caller's contract).
+    done_into(value, || {
+        slot::get(a).map(|s| unsafe { s.parameter(which, value) })
+    })
 }
 
 /// As `hyst_adaptive_counts`.
@@ -143,9 +121,6 @@ pub unsafe extern "C" fn hyst_affine_adaptive_counts(
     a: *const hyst_affine_adaptive,
     counts: *mut hyst_adaptive_sample_counts,
 ) -> i32 {
-    if counts.is_null() {
-        return HYST_ERR_NULL_POINTER;
-    }
-    // SAFETY: `counts` is non-NULL (checked) and writable (caller's contract).
-    done(state_ref(a).map(|s| unsafe { s.counts(counts) }))
+    // SAFETY: `counts` is non-NULL (checked by `done_into`) and writable (caller's contract).
+    done_into(counts, || slot::get(a).map(|s| unsafe { s.counts(counts) }))
 }

@@ -36,22 +36,14 @@ type LinearShaped = Shaped<f64, Linear<f64>>;
 /// The compensator inside.
 type LinearComp = Comp<f64, Linear<f64>, AnyK2Law<f64>, Linear<f64>>;
 
-const TAG_LINEAR: u32 = 0x4859_4c64; // "HYLd"
-const TAG_LINEAR_COMPENSATOR: u32 = 0x4859_6c64; // "HYld"
-
-const _: () = assert!(slot::fits::<hyst_affine_model, LinearShaped>());
-const _: () = assert!(slot::fits::<hyst_affine_compensator, LinearComp>());
-
-/// The initialised model behind `m`, or the status of the failed check.
-fn linear<'a>(m: *mut hyst_affine_model) -> Result<&'a mut LinearShaped, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut::<_, LinearShaped>(m, TAG_LINEAR) }
+impl slot::Block for hyst_affine_model {
+    type Value = LinearShaped;
+    const TAG: u32 = 0x4859_4c64; // "HYLd"
 }
 
-/// The initialised compensator behind `c`, or the status of the failed check.
-fn linear_compensator<'a>(c: *mut hyst_affine_compensator) -> Result<&'a mut LinearComp, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut(c, TAG_LINEAR_COMPENSATOR) }
+impl slot::Block for hyst_affine_compensator {
+    type Value = LinearComp;
+    const TAG: u32 = 0x4859_6c64; // "HYld"
 }
 
 /// `hyst_affine_model_init_direct` / `_inverse`.
@@ -72,8 +64,8 @@ unsafe fn init_linear(
         .model_with(engine::linear_shaping)
         .and_then(|model| engine::shaped(model, p.form, p.linear, p.initial_state, inverse));
     match built {
-        // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(shaped) => unsafe { slot::write(m, TAG_LINEAR, shaped) },
+        // SAFETY: `m` is NULL or a writable block of the type's size.
+        Ok(shaped) => unsafe { slot::put(m, shaped) },
         Err(e) => status::of(&e),
     }
 }
@@ -118,7 +110,7 @@ pub unsafe extern "C" fn hyst_affine_model_step(
     y: *mut f64,
 ) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(linear(m).map(|o| unsafe { engine::step(o, x, y) }))
+    done(slot::get_mut(m).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// Copies the memory of the model's operator into `*memory`, as
@@ -132,7 +124,7 @@ pub unsafe extern "C" fn hyst_affine_model_get_memory(
     memory: *mut hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { get_memory(linear(m), memory) }
+    unsafe { get_memory(slot::get_mut(m), memory) }
 }
 
 /// Restores the memory of the model's operator, as `hyst_shaped_model_set_memory`.
@@ -145,7 +137,7 @@ pub unsafe extern "C" fn hyst_affine_model_set_memory(
     memory: *const hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { set_memory(linear(m), memory) }
+    unsafe { set_memory(slot::get_mut(m), memory) }
 }
 
 /// Forgets the history: the start rule applies again at the next sample.
@@ -154,7 +146,7 @@ pub unsafe extern "C" fn hyst_affine_model_set_memory(
 /// `m` is NULL or an initialised `hyst_affine_model`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_affine_model_reset(m: *mut hyst_affine_model) -> i32 {
-    reset(linear(m))
+    reset(slot::get_mut(m))
 }
 
 /// Initialises `c` as the Lemma 5.1 compensator of the model of `params`, as
@@ -173,20 +165,8 @@ pub unsafe extern "C" fn hyst_affine_compensator_init(
     v0: *const f64,
     n: usize,
 ) -> i32 {
-    // SAFETY: `c` is NULL or a writable `hyst_affine_compensator`, whose size `fits` checks;
-    // the rest is the caller's contract, forwarded.
-    unsafe {
-        init_from_params(
-            c,
-            TAG_LINEAR_COMPENSATOR,
-            params,
-            b,
-            a,
-            v0,
-            n,
-            engine::linear_shaping,
-        )
-    }
+    // SAFETY: forwarded contract.
+    unsafe { init_from_params(c, params, b, a, v0, n, engine::linear_shaping) }
 }
 
 /// One sample, as `hyst_shaped_compensator_step`.
@@ -201,7 +181,7 @@ pub unsafe extern "C" fn hyst_affine_compensator_step(
     u: *mut f64,
 ) -> i32 {
     // SAFETY: `u` is NULL or writable (caller's contract).
-    done(linear_compensator(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
 }
 
 /// The integrators and the inverse model's memory, as `hyst_shaped_compensator_get_state`.
@@ -216,7 +196,7 @@ pub unsafe extern "C" fn hyst_affine_compensator_get_state(
     memory: *mut hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(linear_compensator(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
 }
 
 /// Back to the initial integrator state, and the inverse model's memory forgotten.
@@ -225,7 +205,7 @@ pub unsafe extern "C" fn hyst_affine_compensator_get_state(
 /// `c` is NULL or an initialised `hyst_affine_compensator`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_affine_compensator_reset(c: *mut hyst_affine_compensator) -> i32 {
-    done(linear_compensator(c).map(|comp| {
+    done(slot::get_mut(c).map(|comp| {
         comp.reset();
         HYST_OK
     }))

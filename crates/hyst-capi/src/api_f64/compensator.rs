@@ -4,7 +4,7 @@
 //!
 //! Its `float` twin is generated from this file by `scripts/gen-capi-f32`: edit this one.
 
-use hyst_core::{ConstantK2, Identity, InverseHysteresis, ShapedModel};
+use hyst_core::{AnyK2Law, ConstantK2, Identity, InverseHysteresis, ShapedModel};
 
 use crate::api_f64::checks::{done, read_array};
 use crate::api_f64::memory::hyst_memory;
@@ -28,22 +28,14 @@ pub struct hyst_shaped_compensator {
     opaque: [u64; 64],
 }
 
-const TAG_COMPENSATOR: u32 = 0x4859_4364; // "HYCd"
-const TAG_SHAPED_COMPENSATOR: u32 = 0x4859_6364; // "HYcd"
-
-const _: () = assert!(slot::fits::<hyst_compensator, PlainComp<f64>>());
-const _: () = assert!(slot::fits::<hyst_shaped_compensator, ShapedComp<f64>>());
-
-/// The initialised compensator behind `c`, or the status of the failed check.
-fn compensator<'a>(c: *mut hyst_compensator) -> Result<&'a mut PlainComp<f64>, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut(c, TAG_COMPENSATOR) }
+impl slot::Block for hyst_compensator {
+    type Value = PlainComp<f64>;
+    const TAG: u32 = 0x4859_4364; // "HYCd"
 }
 
-/// The initialised shaped compensator behind `c`, or the status of the failed check.
-fn shaped_compensator<'a>(c: *mut hyst_shaped_compensator) -> Result<&'a mut ShapedComp<f64>, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut(c, TAG_SHAPED_COMPENSATOR) }
+impl slot::Block for hyst_shaped_compensator {
+    type Value = ShapedComp<f64>;
+    const TAG: u32 = 0x4859_6364; // "HYcd"
 }
 
 /// Reads the plant (a_1 … a_n) and the optional start of the integrators (n values each).
@@ -222,8 +214,8 @@ pub unsafe extern "C" fn hyst_compensator_init(
             build(m.inverse(), b, &plant, n)
         });
     match built {
-        // SAFETY: `c` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(comp) => unsafe { slot::write(c, TAG_COMPENSATOR, comp) },
+        // SAFETY: `c` is NULL or a writable block of the type's size.
+        Ok(comp) => unsafe { slot::put(c, comp) },
         Err(e) => status::of(&e),
     }
 }
@@ -244,7 +236,7 @@ pub unsafe extern "C" fn hyst_compensator_step(
     u: *mut f64,
 ) -> i32 {
     // SAFETY: `u` is NULL or writable (caller's contract).
-    done(compensator(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
 }
 
 /// Reference-trajectory mode: `*u` = the command for the reference `reference` =
@@ -261,7 +253,7 @@ pub unsafe extern "C" fn hyst_compensator_track(
     u: *mut f64,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(compensator(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
 }
 
 /// Copies the integrators (v, v̇, …, v⁽ⁿ⁻¹⁾) into `v` (n values; may be NULL when n = 0) and the
@@ -277,7 +269,7 @@ pub unsafe extern "C" fn hyst_compensator_get_state(
     memory: *mut hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(compensator(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
 }
 
 /// Back to the initial integrator state, and the inverse operator's memory forgotten.
@@ -286,7 +278,7 @@ pub unsafe extern "C" fn hyst_compensator_get_state(
 /// `c` is NULL or an initialised `hyst_compensator`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_compensator_reset(c: *mut hyst_compensator) -> i32 {
-    done(compensator(c).map(|comp| {
+    done(slot::get_mut(c).map(|comp| {
         comp.reset();
         HYST_OK
     }))
@@ -311,30 +303,17 @@ pub unsafe extern "C" fn hyst_shaped_compensator_init(
     n: usize,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe {
-        init_from_params(
-            c,
-            TAG_SHAPED_COMPENSATOR,
-            params,
-            b,
-            a,
-            v0,
-            n,
-            engine::shaping,
-        )
-    }
+    unsafe { init_from_params(c, params, b, a, v0, n, engine::shaping) }
 }
 
 /// `hyst_shaped_compensator_init` and `hyst_affine_compensator_init`: the compensator of the
-/// model of `params`, its shapings built by `shaping`, written into `c` under `tag`.
+/// model of `params`, its shapings built by `shaping`, written into `c`.
 ///
 /// # Safety
-/// `c` is NULL or a writable block whose type holds the compensator (`slot::fits`);
-/// `params` is NULL or readable; `a` and `v0` are NULL or hold n values.
-#[allow(clippy::too_many_arguments)]
+/// `c` is NULL or a writable block of its type; `params` is NULL or readable; `a` and `v0` are
+/// NULL or hold n values.
 pub(crate) unsafe fn init_from_params<C, S>(
     c: *mut C,
-    tag: u32,
     params: *const hyst_shaped_model_params,
     b: f64,
     a: *const f64,
@@ -343,6 +322,7 @@ pub(crate) unsafe fn init_from_params<C, S>(
     shaping: engine::ShapingFn<f64, S>,
 ) -> i32
 where
+    C: slot::Block<Value = Comp<f64, S, AnyK2Law<f64>, S>>,
     S: hyst_core::Shaping<f64> + Clone,
 {
     if params.is_null() {
@@ -359,8 +339,8 @@ where
         .and_then(|()| params.model_with(shaping))
         .and_then(|model| build(model.inverse(), b, &plant, n));
     match built {
-        // SAFETY: `c` is NULL or a writable block of the compensator's size (caller's contract).
-        Ok(comp) => unsafe { slot::write(c, tag, comp) },
+        // SAFETY: `c` is NULL or a writable block of its type (caller's contract).
+        Ok(comp) => unsafe { slot::put(c, comp) },
         Err(e) => status::of(&e),
     }
 }
@@ -378,7 +358,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_step(
     u: *mut f64,
 ) -> i32 {
     // SAFETY: `u` is NULL or writable (caller's contract).
-    done(shaped_compensator(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_step(comp, u_new, dt, u) }))
 }
 
 /// Reference-trajectory mode, as `hyst_compensator_track`.
@@ -393,7 +373,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_track(
     u: *mut f64,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(shaped_compensator(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_track(comp, reference, u) }))
 }
 
 /// The integrators and the inverse model's memory, as `hyst_compensator_get_state`.
@@ -408,7 +388,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_get_state(
     memory: *mut hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    done(shaped_compensator(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
+    done(slot::get_mut(c).map(|comp| unsafe { comp_state(comp, v, memory) }))
 }
 
 /// Back to the initial integrator state, and the inverse model's memory forgotten.
@@ -417,7 +397,7 @@ pub unsafe extern "C" fn hyst_shaped_compensator_get_state(
 /// `c` is NULL or an initialised `hyst_shaped_compensator`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_shaped_compensator_reset(c: *mut hyst_shaped_compensator) -> i32 {
-    done(shaped_compensator(c).map(|comp| {
+    done(slot::get_mut(c).map(|comp| {
         comp.reset();
         HYST_OK
     }))

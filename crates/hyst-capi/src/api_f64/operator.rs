@@ -16,15 +16,9 @@ pub struct hyst_operator {
     opaque: [u64; 16],
 }
 
-const TAG_OPERATOR: u32 = 0x4859_5f64; // "HY_d"
-
-const _: () = assert!(slot::fits::<hyst_operator, Pair<f64>>());
-
-/// The initialised operator behind `op`, or the status of the failed check.
-fn operator<'a>(op: *mut hyst_operator) -> Result<&'a mut Pair<f64>, i32> {
-    // SAFETY: the caller of the C function passes NULL, an initialised block, or any other
-    // readable block of the type's size (whose tag then does not match).
-    unsafe { slot::value_mut::<_, Pair<f64>>(op, TAG_OPERATOR) }
+impl slot::Block for hyst_operator {
+    type Value = Pair<f64>;
+    const TAG: u32 = 0x4859_5f64; // "HY_d"
 }
 
 /// `hyst_operator_init_direct` / `_inverse`.
@@ -33,8 +27,8 @@ fn operator<'a>(op: *mut hyst_operator) -> Result<&'a mut Pair<f64>, i32> {
 /// `op` is NULL or points to a writable `hyst_operator`.
 unsafe fn init_operator(op: *mut hyst_operator, k1: f64, k2: f64, inverse: bool) -> i32 {
     match engine::pair(k1, k2, inverse) {
-        // SAFETY: `op` is NULL or a writable block of the type's size; `fits` holds (asserted).
-        Ok(p) => unsafe { slot::write(op, TAG_OPERATOR, p) },
+        // SAFETY: `op` is NULL or a writable block of the type's size.
+        Ok(p) => unsafe { slot::put(op, p) },
         Err(e) => status::of(&e),
     }
 }
@@ -83,7 +77,7 @@ pub unsafe extern "C" fn hyst_operator_init_inverse(
 #[no_mangle]
 pub unsafe extern "C" fn hyst_operator_step(op: *mut hyst_operator, x: f64, y: *mut f64) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(operator(op).map(|o| unsafe { engine::step(o, x, y) }))
+    done(slot::get_mut(op).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// One sample with time derivatives: `x` holds the input and its first `order` time derivatives
@@ -101,7 +95,7 @@ pub unsafe extern "C" fn hyst_operator_step_derivatives(
     order: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
-    done(operator(op).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
+    done(slot::get_mut(op).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
 }
 
 /// `n` samples from `x` into `y` (which may be the same array), each as `hyst_operator_step`;
@@ -119,7 +113,7 @@ pub unsafe extern "C" fn hyst_operator_process(
     n: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
-    done(operator(op).map(|o| unsafe { engine::process(o, x, y, n) }))
+    done(slot::get_mut(op).map(|o| unsafe { engine::process(o, x, y, n) }))
 }
 
 /// Copies the operator's memory into `*memory` (to save it, e.g. across a controller restart).
@@ -132,7 +126,7 @@ pub unsafe extern "C" fn hyst_operator_get_memory(
     memory: *mut hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { get_memory(operator(op), memory) }
+    unsafe { get_memory(slot::get_mut(op), memory) }
 }
 
 /// Restores a memory saved by `hyst_operator_get_memory`. `HYST_ERR_STATE_OUTSIDE_BAND` or
@@ -148,7 +142,7 @@ pub unsafe extern "C" fn hyst_operator_set_memory(
     memory: *const hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { set_memory(operator(op), memory) }
+    unsafe { set_memory(slot::get_mut(op), memory) }
 }
 
 /// Forgets the history: the next sample starts on the line output = input.
@@ -157,5 +151,5 @@ pub unsafe extern "C" fn hyst_operator_set_memory(
 /// `op` is NULL or an initialised `hyst_operator`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_operator_reset(op: *mut hyst_operator) -> i32 {
-    reset(operator(op))
+    reset(slot::get_mut(op))
 }

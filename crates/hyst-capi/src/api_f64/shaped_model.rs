@@ -136,14 +136,9 @@ pub struct hyst_shaped_model {
     opaque: [u64; 48],
 }
 
-const TAG_SHAPED: u32 = 0x4859_5364; // "HYSd"
-
-const _: () = assert!(slot::fits::<hyst_shaped_model, Shaped<f64>>());
-
-/// The initialised shaped model behind `m`, or the status of the failed check.
-fn shaped<'a>(m: *mut hyst_shaped_model) -> Result<&'a mut Shaped<f64>, i32> {
-    // SAFETY: as in the operator module's `operator`.
-    unsafe { slot::value_mut::<_, Shaped<f64>>(m, TAG_SHAPED) }
+impl slot::Block for hyst_shaped_model {
+    type Value = Shaped<f64>;
+    const TAG: u32 = 0x4859_5364; // "HYSd"
 }
 
 /// `hyst_shaped_model_init_direct` / `_inverse`.
@@ -160,8 +155,8 @@ unsafe fn init_shaped(
     }
     // SAFETY: non-NULL (checked), readable (caller's contract).
     match unsafe { params.read() }.shaped(inverse) {
-        // SAFETY: `m` is NULL or a writable block of the type's size; `fits` holds.
-        Ok(shaped) => unsafe { slot::write(m, TAG_SHAPED, shaped) },
+        // SAFETY: `m` is NULL or a writable block of the type's size.
+        Ok(shaped) => unsafe { slot::put(m, shaped) },
         Err(e) => status::of(&e),
     }
 }
@@ -211,7 +206,7 @@ pub unsafe extern "C" fn hyst_shaped_model_step(
     y: *mut f64,
 ) -> i32 {
     // SAFETY: `y` is NULL or writable (caller's contract).
-    done(shaped(m).map(|o| unsafe { engine::step(o, x, y) }))
+    done(slot::get_mut(m).map(|o| unsafe { engine::step(o, x, y) }))
 }
 
 /// One sample with time derivatives, as `hyst_operator_step_derivatives` (order ≤ 4).
@@ -227,7 +222,7 @@ pub unsafe extern "C" fn hyst_shaped_model_step_derivatives(
     order: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold order + 1 values (caller's contract).
-    done(shaped(m).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
+    done(slot::get_mut(m).map(|o| unsafe { engine::step_derivatives(o, x, y, order) }))
 }
 
 /// `n` samples, as `hyst_operator_process`.
@@ -243,7 +238,7 @@ pub unsafe extern "C" fn hyst_shaped_model_process(
     n: usize,
 ) -> i32 {
     // SAFETY: `x`, `y` are NULL or hold n values (caller's contract).
-    done(shaped(m).map(|o| unsafe { engine::process(o, x, y, n) }))
+    done(slot::get_mut(m).map(|o| unsafe { engine::process(o, x, y, n) }))
 }
 
 /// Copies the memory of the model's operator H (or H⁻¹) into `*memory`.
@@ -256,7 +251,7 @@ pub unsafe extern "C" fn hyst_shaped_model_get_memory(
     memory: *mut hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { get_memory(shaped(m), memory) }
+    unsafe { get_memory(slot::get_mut(m), memory) }
 }
 
 /// Restores the memory of the model's operator, as `hyst_operator_set_memory` (values in the
@@ -270,7 +265,7 @@ pub unsafe extern "C" fn hyst_shaped_model_set_memory(
     memory: *const hyst_memory,
 ) -> i32 {
     // SAFETY: forwarded contract.
-    unsafe { set_memory(shaped(m), memory) }
+    unsafe { set_memory(slot::get_mut(m), memory) }
 }
 
 /// Forgets the history.
@@ -279,5 +274,5 @@ pub unsafe extern "C" fn hyst_shaped_model_set_memory(
 /// `m` is NULL or an initialised `hyst_shaped_model`.
 #[no_mangle]
 pub unsafe extern "C" fn hyst_shaped_model_reset(m: *mut hyst_shaped_model) -> i32 {
-    reset(shaped(m))
+    reset(slot::get_mut(m))
 }

@@ -36,7 +36,6 @@ use hyst_io::{CsvReader, CsvWriter};
 use hyst_model::time::{time_column, Part, Parts, Stamps, TIME_COLUMNS};
 use hyst_model::{
     Choice, Corner, Hold, ModelFile, Prefilter, SmoothModel, TimedCompensator, TimedRun,
-    CORNER_SAMPLES,
 };
 
 use super::rows::Records;
@@ -298,7 +297,7 @@ impl Plan {
                          file has no column named {} (name it with --time COLUMN)",
                     rows.source(),
                     path.display(),
-                    what(smooth),
+                    smooth.timed_parts(),
                     TIME_COLUMNS.join(", ")
                 )
             })?;
@@ -614,25 +613,11 @@ impl Plan {
             out.write_row_after(cells, self.width, computed.get(..n).unwrap_or_default())?;
         }
         if let Some((corner, line)) = fastest.filter(|(c, _)| !c.resolved_by(part.nominal)) {
-            eprintln!("{}", corner_warning(source, line, corner, part.nominal));
+            let warning = corner.warning(part.nominal, "this record's period", |v| sig(v, 4));
+            eprintln!("hyst run: warning: {source}:{line}: {warning}");
         }
         Ok(())
     }
-}
-
-/// The warning of a compensator whose sample period `h` (s) does not resolve the loop's
-/// fastest corner `corner`, met on `source`'s line `line`: the period it needs.
-fn corner_warning(source: &str, line: usize, corner: Corner, h: f64) -> String {
-    format!(
-        "hyst run: warning: {source}:{line}: the desired output crosses a corner of the \
-         model's loop (1/k2 wide in the operator's output units) in {} s there, less than \
-         {CORNER_SAMPLES} samples of this record's period {} s: the commands spike near the \
-         loop's corners, and the plant driven by them strays from the desired output in \
-         proportion to the period; sample at most every {} s (or slow the desired output down)",
-        sig(corner.time, 4),
-        sig(h, 4),
-        sig(corner.needed_period(), 4),
-    )
 }
 
 /// Refuses, before the data is read, what a timed model cannot do as `args` ask; returns its
@@ -679,13 +664,4 @@ fn check(args: &Options<'_>, model: &ModelFile, path: &Path) -> Result<SmoothMod
         smooth.dynamics = Some(d.with_hold(hold));
     }
     Ok(smooth)
-}
-
-/// What makes a model timed, in words.
-fn what(m: &SmoothModel) -> String {
-    match (m.dynamics, m.rate) {
-        (Some(d), Some(_)) => format!("dynamics of order {} and a rate term", d.order()),
-        (Some(d), None) => format!("dynamics of order {}", d.order()),
-        _ => "a rate term".into(),
-    }
 }
