@@ -212,10 +212,10 @@ pub fn identify(
     let pi_summary = pi.as_ref().map(|f| pi_summary(data, f));
     let model = match (request.kind, &smooth, &smooth_summary, &pi, &pi_summary) {
         (ModelKind::Smooth, Some(f), Some(s), _, _) => {
-            model_file(request, data, (Some(f), None), s, provenance)
+            model_file(request, data, Fitted::Smooth(f), s, provenance)
         }
         (ModelKind::PrandtlIshlinskii, _, _, Some(f), Some(s)) => {
-            model_file(request, data, (None, Some(f)), s, provenance)
+            model_file(request, data, Fitted::PrandtlIshlinskii(f), s, provenance)
         }
         _ => return Err(not_fitted()),
     };
@@ -739,15 +739,20 @@ fn pi_summary(data: &Dataset, f: &PiFit) -> Summary {
     }
 }
 
-/// The model file of the requested kind's fit (`fit`: the smooth one or the
-/// Prandtl–Ishlinskii one) with its parameters, model and `summary`'s metrics, and the records
-/// of `data` added to `provenance`. It is written at the lowest version that holds the
-/// content: readers of older versions refuse a stop form, version-1 readers keep reading plain
-/// PI files and refuse the ones with an output polynomial.
+/// The fit a model file is written from, of either model kind.
+enum Fitted<'a> {
+    Smooth(&'a SmoothFit),
+    PrandtlIshlinskii(&'a PiFit),
+}
+
+/// The model file of `fit` with `summary`'s metrics, and the records of `data` added to
+/// `provenance`. It is written at the lowest version that holds the content: readers of older
+/// versions refuse a stop form, version-1 readers keep reading plain PI files and refuse the
+/// ones with an output polynomial.
 fn model_file(
     request: &Request,
     data: &Dataset,
-    fit: (Option<&SmoothFit>, Option<&PiFit>),
+    fit: Fitted<'_>,
     summary: &Summary,
     mut provenance: Provenance,
 ) -> ModelFile {
@@ -777,7 +782,7 @@ fn model_file(
         provenance,
     };
     match fit {
-        (Some(f), _) => {
+        Fitted::Smooth(f) => {
             file.parameters = f.estimates.clone();
             file.structure = Some(f.layout.structure);
             file.smooth = Some(f.model);
@@ -785,11 +790,10 @@ fn model_file(
             file.rate = f.timed.as_ref().and_then(|t| t.rate_section(&f.model));
             file.family = f.widths;
         }
-        (None, Some(f)) => {
+        Fitted::PrandtlIshlinskii(f) => {
             file.parameters = f.estimates.clone();
             file.prandtl_ishlinskii = Some(f.model.clone());
         }
-        (None, None) => {}
     }
     file.version = file.required_version();
     file
