@@ -17,6 +17,7 @@ use crate::dicts::{by_parameter, reached, to_python};
 use crate::errors::{self, borrow, borrow_mut, value_error, Shared};
 use crate::model_memory;
 use crate::timed::{timed_model, untimed};
+use hyst_core::Real as _;
 
 /// A fitted model (smooth or Prandtl–Ishlinskii) from a model file, direct (input x, output
 /// y) or as its exact inverse (desired output in, command out).
@@ -280,10 +281,7 @@ impl Shared for Model {
 type Pickled = (String, bool, String, bool, u64);
 
 fn first_of(xs: &Samples<'_>) -> Option<f64> {
-    match xs {
-        Samples::F64(a) => a.as_array().first().copied(),
-        Samples::F32(a) => a.as_array().first().map(|v| f64::from(*v)),
-    }
+    each_dtype!(xs, a => a.as_array().first().map(|v| v.as_f64()))
 }
 
 #[pymethods]

@@ -18,10 +18,11 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
 use crate::arrays::{
-    as_dtype, non_finite_derivative, samples, samples_f64, shape_of, signals, to_numpy, Samples,
-    Stop, CHUNK,
+    as_dtype, each_dtype, non_finite_derivative, samples, samples_f64, shape_of, signals, to_numpy,
+    Samples, Stop, CHUNK,
 };
 use crate::errors::{self, value_error};
+use hyst_core::Real as _;
 
 /// A record's parts between gaps: their samples and time steps.
 pub(crate) type Parts = Vec<(Range<usize>, TimeSteps)>;
@@ -183,10 +184,10 @@ pub(crate) fn steps_of(
 /// The samples of a 1-D array as float64 values, and whether they were float32 (the result
 /// then goes back to float32).
 pub(crate) fn values_of(x: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<f64>, bool)> {
-    Ok(match samples(x, name)? {
-        Samples::F64(a) => (a.as_array().iter().copied().collect(), false),
-        Samples::F32(a) => (a.as_array().iter().map(|v| f64::from(*v)).collect(), true),
-    })
+    let xs = samples(x, name)?;
+    let f32 = matches!(xs, Samples::F32(_));
+    let values = each_dtype!(xs, a => a.as_array().iter().map(|v| v.as_f64()).collect());
+    Ok((values, f32))
 }
 
 /// Results as a numpy array of the input's dtype (float32 when `f32`, else float64).
