@@ -2238,6 +2238,39 @@ int32_t hyst_model_reset(struct hyst_model *m);
 // must not be used afterwards.
 void hyst_model_free(struct hyst_model *m);
 
+// Writes the memory of Definition 2.1 of the model's direct run (`inverse` = 0) or of its
+// exact inverse's run (`inverse` ≠ 0) into `*memory`, in the units of the model's operator
+// (after the input shaping, before the output shaping). A run that has not started
+// (`has_history` = 0) starts from the model's start rule at its next sample.
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, or `HYST_ERR_UNSUPPORTED` for a
+// Prandtl–Ishlinskii model or a model with dynamics or a rate term (nothing is written).
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+// `memory` is NULL or writable.
+int32_t hyst_model_get_memory(const struct hyst_model *m,
+                              int32_t inverse,
+                              struct hyst_memory *memory);
+
+// Resumes the model's direct run (`inverse` = 0) or its inverse's run (`inverse` ≠ 0) at a
+// memory saved by `hyst_model_get_memory` from a model of the same file: the next
+// `hyst_model_process` of that kind continues it, bit for bit as the saved run would have
+// gone on. A memory with `has_history` = 0 forgets the run (its next sample starts from the
+// model's start rule, as after `hyst_model_reset`).
+//
+// Returns `HYST_OK`, `HYST_ERR_NULL_POINTER`, `HYST_ERR_UNSUPPORTED` (as
+// `hyst_model_get_memory`), or `HYST_ERR_STATE_OUTSIDE_BAND` / `HYST_ERR_INVALID_PARAMETER`
+// for a memory the model's operator cannot be in (non-finite values, a point outside its band,
+// a direction other than ±1, `has_history` other than 0 and 1); the model is then unchanged.
+//
+// # Safety
+// `m` is NULL or a model from `hyst_model_load` or `hyst_model_load_timed` not yet freed;
+// `memory` is NULL or readable.
+int32_t hyst_model_set_memory(struct hyst_model *m,
+                              int32_t inverse,
+                              const struct hyst_memory *memory);
+
 // The meaning of a status code, as a static NUL-terminated English sentence (never NULL; an
 // unknown code gives "unknown status").
 const char *hyst_status_message(int32_t status);

@@ -25,22 +25,22 @@ use crate::status::{
 /// inverse run (opaque; create with `hyst_model_load` or `hyst_model_load_timed`, release with
 /// `hyst_model_free`).
 pub struct hyst_model {
-    file: ModelFile,
+    pub(crate) file: ModelFile,
     /// The sample period (s) of `hyst_model_load_timed`; `None` from `hyst_model_load`.
     period: Option<f64>,
-    direct: Option<Saturated<Evaluator>>,
-    inverse: Option<Saturated<Evaluator>>,
+    pub(crate) direct: Option<Saturated<Evaluator>>,
+    pub(crate) inverse: Option<Saturated<Evaluator>>,
     /// The direct run of a model with dynamics or a rate term.
     timed: Option<TimedRun>,
     /// Lemma 5.1's compensator of a model with dynamics (`hyst_model_compensate`).
     compensator: Option<TimedCompensator>,
     /// The inverse's clamp limits (`hyst_model_saturate`); `None`: nothing is clamped.
-    limits: Option<(f64, f64)>,
+    pub(crate) limits: Option<(f64, f64)>,
 }
 
 impl hyst_model {
     /// The smooth model with dynamics or a rate term, if the file holds one.
-    fn timed_model(&self) -> Option<&SmoothModel> {
+    pub(crate) fn timed_model(&self) -> Option<&SmoothModel> {
         self.file.smooth.as_ref().filter(|m| m.is_timed())
     }
 }

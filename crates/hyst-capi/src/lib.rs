@@ -40,6 +40,9 @@ mod engine;
 #[cfg(feature = "std")]
 #[allow(unsafe_code)]
 pub mod host;
+#[cfg(feature = "std")]
+#[allow(unsafe_code)]
+pub mod model_memory;
 #[allow(unsafe_code)]
 mod slot;
 pub mod status;

@@ -277,6 +277,39 @@ impl ModelFile {
         }
     }
 
+    /// The smooth model's evaluator resumed at `memory`, a memory its run held
+    /// ([`Operator::memory`] of an evaluator of this file, direct or `inverse` as here): the
+    /// start rule does not apply, and the next sample continues that run exactly.
+    ///
+    /// # Errors
+    /// [`ModelError::Invalid`] for a Prandtl–Ishlinskii model (its memory is its plays);
+    /// [`ModelError::Core`] for a memory the model's operator cannot be in.
+    pub fn evaluator_at(
+        &self,
+        memory: hyst_core::Memory<f64>,
+        inverse: bool,
+    ) -> Result<Evaluator, ModelError> {
+        let Some(m) = self
+            .smooth
+            .as_ref()
+            .filter(|_| self.kind == ModelKind::Smooth)
+        else {
+            return Err(ModelError::Invalid(
+                "only a smooth model's run resumes from a memory of Definition 2.1".into(),
+            ));
+        };
+        // A first sample whose start the memory then replaces: the input or the desired output
+        // that memory's last sample stands for (reachable, so the start rule accepts it).
+        let probe = if inverse {
+            m.output_shaping.apply(memory.last_output)
+        } else {
+            m.input_shaping.invert(memory.last_input).unwrap_or(0.0)
+        };
+        let mut evaluator = self.evaluator(probe, inverse)?;
+        evaluator.set_memory(crate::evaluator::EvaluatorMemory::Smooth(Some(memory)))?;
+        Ok(evaluator)
+    }
+
     /// Puts the `[dynamics]` and `[rate]` sections into the smooth model they belong to.
     fn install_timed(&mut self) -> Result<(), String> {
         if self.dynamics.is_none() && self.rate.is_none() {

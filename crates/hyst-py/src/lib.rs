@@ -40,6 +40,7 @@ pub mod family;
 pub mod fit;
 pub mod model;
 mod model_memory;
+pub mod mujoco;
 pub mod operator;
 mod timed;
 
@@ -64,5 +65,8 @@ fn _hyst(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_result_from_json, m)?)?;
     m.add_function(wrap_pyfunction!(operator::bench_core, m)?)?;
+    // The MuJoCo plugins (hyst.mujoco): the version they were compiled for, 0 without them.
+    m.add("MUJOCO_VERSION", mujoco::VERSION)?;
+    m.add_function(wrap_pyfunction!(mujoco::register, m)?)?;
     Ok(())
 }

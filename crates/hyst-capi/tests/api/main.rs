@@ -11,6 +11,7 @@ use std::ptr;
 use hyst::api_f32::*;
 use hyst::api_f64::*;
 use hyst::host::*;
+use hyst::model_memory::*;
 use hyst::status::*;
 use hyst::{HYST_K2_CONSTANT, HYST_SHAPING_AFFINE, HYST_SHAPING_IDENTITY, HYST_SHAPING_POLYNOMIAL};
 use hyst_core::{
@@ -19,5 +20,6 @@ use hyst_core::{
 };
 
 mod host;
+mod model_memory;
 mod operator;
 mod shaped;

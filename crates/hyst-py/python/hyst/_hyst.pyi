@@ -11,6 +11,9 @@ __version__: str
 MAX_ORDER: int
 """The largest plant order n of ``Compensator`` (``len(a)``) and the most time-derivative
 columns of ``process(x, derivatives)``: ``hyst_core::compensator::MAX_ORDER``."""
+MUJOCO_VERSION: int
+"""The MuJoCo version the actuator plugins were compiled for, as ``mj_version()`` gives it
+(4000001 for 4.0.1); 0 when this extension was built without them (``hyst.mujoco``)."""
 
 ArrayLike = npt.ArrayLike
 FloatArray = npt.NDArray[np.floating[Any]]
@@ -451,3 +454,8 @@ def _model_from_toml(
 def _fit_result_from_json(
     toml: str, output_span: float, comparison: str, findings: str
 ) -> FitResult: ...
+def _mujoco_register(functions: list[int]) -> None:
+    """Registers hyst.backlash and hyst.compensator with the libmujoco whose mj_getPluginConfig,
+    mju_warning, mjp_defaultPlugin, mjp_registerPlugin and mj_version are at these addresses
+    (``hyst.mujoco.load`` takes them with ctypes)."""
+    ...
