@@ -83,17 +83,15 @@ static int config_number(const mjModel *m, int id, const char *plugin, const cha
   return 1;
 }
 
+// The memory that `act` holds. The two flags are read by rounding, so that the small
+// perturbations of finite differences (mjd_transitionFD) leave them as they are.
 static void memory_from_act(const mjtNum *act, hyst_memory *memory) {
-  memory->has_history = (int32_t)act[ACT_HAS_HISTORY];
-  memory->direction = (int32_t)act[ACT_DIRECTION];
+  memory->has_history = act[ACT_HAS_HISTORY] > 0.5;
+  memory->direction = act[ACT_DIRECTION] < 0 ? -1 : 1;
   memory->reversal_input = act[ACT_REVERSAL_INPUT];
   memory->reversal_output = act[ACT_REVERSAL_OUTPUT];
   memory->last_input = act[ACT_LAST_INPUT];
   memory->last_output = act[ACT_LAST_OUTPUT];
-  if (memory->has_history == 0) {
-    // No history: the other values are ignored, and act = 0 is that state.
-    memory->direction = 1;
-  }
 }
 
 static void memory_to(const hyst_memory *memory, mjtNum *out) {

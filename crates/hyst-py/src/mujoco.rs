@@ -82,8 +82,8 @@ pub fn register(functions: [usize; 5]) -> PyResult<()> {
         let _ = functions;
         Err(PyRuntimeError::new_err(
             "this hyst was built without MuJoCo's headers, so it has no MuJoCo plugins: \
-             reinstall it where the `mujoco` package is installed \
-             (pip install \"./crates/hyst-py[mujoco]\", docs/mujoco.md)",
+             reinstall it on Python >= 3.11 (which MuJoCo 4 needs), where the build gets \
+             them (pip install \"./crates/hyst-py[mujoco]\", docs/mujoco.md)",
         ))
     }
 }

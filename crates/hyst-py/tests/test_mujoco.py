@@ -10,7 +10,7 @@ import ctypes
 import numpy as np
 import pytest
 
-mujoco = pytest.importorskip("mujoco", reason="the test venv installs mujoco (requirements-test.txt)")
+import mujoco  # the test venv installs it (requirements-test.txt)
 import hyst  # noqa: E402
 import hyst.mujoco  # noqa: E402
 
@@ -159,3 +159,59 @@ def test_another_mujoco_version_is_refused(monkeypatch):
     monkeypatch.setattr(mujoco, "mj_version", lambda: 3002001)
     with pytest.raises(RuntimeError, match=r"built for MuJoCo 4\.0\.1"):
         hyst.mujoco.load()
+
+
+def test_the_c_plugin_library_runs_bit_for_bit(cli, tmp_path):
+    """The plugin library for C and C++ programs, built as docs/mujoco.md shows (warnings as
+    errors, under AddressSanitizer and UndefinedBehaviorSanitizer), loaded by a C program with
+    mj_loadPluginLibrary: its targets equal `hyst run` too."""
+    import os
+    import subprocess
+
+    capi = ROOT / "target" / "release" / "libhyst.so"
+    if not capi.exists():
+        pytest.fail(f"{capi}: missing; run `cargo build --release -p hyst-capi`")
+    mj = os.path.dirname(mujoco.__file__)
+    libmujoco = sorted(p for p in os.listdir(mj) if p.startswith("libmujoco.so"))[0]
+    flags = ["-std=c11", "-g", "-Wall", "-Wextra", "-Werror", "-fsanitize=address,undefined",
+             "-fno-sanitize-recover=all", f"-I{mj}/include", f"-I{ROOT}/include",
+             f"-I{ROOT}/crates/hyst-capi/mujoco"]
+    plugin = tmp_path / "libhyst_mujoco.so"
+    subprocess.run(["cc", *flags, "-fPIC", "-shared", "-DHYST_MUJOCO_LIBRARY",
+                    ROOT / "crates/hyst-capi/mujoco/hyst_mujoco.c", "-o", plugin,
+                    f"-L{capi.parent}", "-lhyst", f"{mj}/{libmujoco}",
+                    f"-Wl,-rpath,{capi.parent}", f"-Wl,-rpath,{mj}"], check=True)
+    program = tmp_path / "step_arm"
+    subprocess.run(["cc", *flags, ROOT / "examples/mujoco/step_arm.c", "-o", program,
+                    f"{mj}/{libmujoco}", f"-Wl,-rpath,{mj}"], check=True)
+    x = ctrl_signal(1000)
+    for plugin_name, flags_run in (("hyst.backlash", []), ("hyst.compensator", ["--inverse"])):
+        xml = tmp_path / "arm.xml"
+        xml.write_text(arm(plugin_name))
+        env = dict(os.environ, ASAN_OPTIONS="detect_leaks=1", UBSAN_OPTIONS="halt_on_error=1")
+        run = subprocess.run([program, plugin, xml], input="\n".join(f"{v:.17g}" for v in x),
+                             capture_output=True, text=True, env=env, check=True)
+        got = np.array([float(v) for v in run.stdout.split()])
+        want = hyst_run(cli, tmp_path, x, "--k1", 0.1, "--k2", 20, *flags_run)
+        assert got.tobytes() == want.tobytes(), plugin_name
+
+
+def test_finite_differences_see_the_memory_and_change_nothing():
+    model = mujoco.MjModel.from_xml_string(arm())
+    data = mujoco.MjData(model)
+    targets(model, data, ctrl_signal(400))
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    before = np.empty(mujoco.mj_stateSize(model, spec))
+    mujoco.mj_getState(model, data, before, spec)
+    nx = 2 * model.nv + model.na
+    a, b = np.zeros((nx, nx)), np.zeros((nx, model.nu))
+    mujoco.mjd_transitionFD(model, data, 1e-6, True, a, b, None, None)
+    after = np.empty_like(before)
+    mujoco.mj_getState(model, data, after, spec)
+    assert after.tobytes() == before.tobytes()
+    assert np.isfinite(a).all() and np.isfinite(b).all()
+    # The next memory's last input is ctrl itself, and its last output (the target) moves with
+    # ctrl: d act_last_input / d ctrl = 1, and the joint is pulled along.
+    last_input = 2 * model.nv + 4
+    assert b[last_input, 0] == pytest.approx(1.0, rel=1e-6)
+    assert b[2 * model.nv + 5, 0] != 0
