@@ -60,7 +60,7 @@ MOTOR = '<geom type="cylinder" size="0.03 0.01" mass="0.1"/>'
 LOAD = '<geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="0.5"/>'
 # The load's own drag on its absolute motion (a fixed tendon motor + rel): without it the load
 # coasts on through the play when the motor slows down and hits the play's far side. Viscous
-# damping alone cannot stop it in time (0.0157 kg m^2 / 0.05 N m s = 0.3 s), so the load also
+# damping alone cannot stop it in time (0.0158 kg m^2 / 0.05 N m s = 0.32 s), so the load also
 # has Coulomb friction (bearings, seals): 0.4 N m stops it at 25 rad/s^2, above the motions'
 # decelerations (<= 12 rad/s^2), so it stays where the motor leaves it; the servo pushes it
 # with a steady 0.4 / KP = 1 mrad more error, which the fit takes in as play.
