@@ -10,7 +10,9 @@
 3. Reproduction: one hinge with the same inertia, driven by hyst.backlash with that model,
    follows a held-out motion; its load angle is compared with the recipe's.
 4. Cost: mj_step of the plugin arm, of the same hinge under a plain <position> servo and of
-   the recipe arm, timed in one run with interleaved repeats.
+   the recipe arm, timed in one run with interleaved repeats. The plugin's share depends on
+   how hyst was built: a dev-profile build (`maturin develop`) compiles the plugin's C and
+   the C API unoptimised, a release build (`pip install ./crates/hyst-py`) optimised.
 5. Compensation: the recipe's motor driven by hyst.compensator (the model's inverse) against
    the plain servo commanded with the reference: the load's tracking error of both.
 
@@ -21,6 +23,7 @@ crates/hyst-py/tests/test_mujoco_study.py, which asserts the figures.
 import argparse
 import csv
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -268,6 +271,7 @@ def cost(model: Path, steps: int = 1000, repeats: int = 60, chunk: int = 10) -> 
         "plugin_over_plain": float(np.median(col["plugin"] / col["plain"])),
         "plugin_over_recipe": float(np.median(col["plugin"] / col["recipe"])),
         "operator_over_plain": float(np.median(col["operator"] / col["plain"])),
+        "repeats": repeats, "steps": steps,
     }
 
 
@@ -318,7 +322,7 @@ def plot(rep: Dict[str, object], comp: Dict[str, object], path: Path) -> None:
     plt.close(fig)
 
 
-def run(hyst_bin: Path, out: Path, cost_repeats: int = 7) -> Dict[str, object]:
+def run(hyst_bin: Path, out: Path, cost_repeats: int = 60) -> Dict[str, object]:
     """The whole study in `out`: the training log and model, reproduction, cost and
     compensation figures."""
     out.mkdir(parents=True, exist_ok=True)
@@ -333,10 +337,18 @@ def run(hyst_bin: Path, out: Path, cost_repeats: int = 7) -> Dict[str, object]:
     }
 
 
+def fitted(report: str) -> Dict[str, float]:
+    """k1 and k2 in input units (rad, 1/rad) and the training residual's RMS and max (rad)
+    from the report of `hyst fit`."""
+    k = re.search(r"in input units: k1 = (\S+) rad .*, k2 = (\S+) 1/rad", report)
+    e = re.search(r"training \(\d+ samples\)\s+(\S+) rad \(.*\)\s+(\S+) rad", report)
+    return {"k1": float(k.group(1)), "k2": float(k.group(2)), "rms": float(e.group(1)), "max": float(e.group(2))}
+
+
 def describe(results: Dict[str, object]) -> List[str]:
     """The study's figures as lines of text."""
     rep, c, comp = results["reproduction"], results["cost"], results["compensation"]
-    fitted = [line for line in results["fit_report"].splitlines() if line.strip().startswith(("k1", "k2", "training", "in input"))]
+    fit = fitted(results["fit_report"])
 
     def err(s: Dict[str, float]) -> str:
         return f"RMS {s['rms']:.4f} rad ({s['rms_play']:.1%} of the play), max {s['max']:.4f} rad ({s['max_play']:.1%})"
@@ -344,12 +356,14 @@ def describe(results: Dict[str, object]) -> List[str]:
     return [
         f"MuJoCo {mujoco.__version__}, play {PLAY} rad, timestep {TIMESTEP} s, servo kp {KP} kv {KV}",
         f"fit on {results['training_seconds']:.1f} s of the recipe ({results['model']}):",
-        *("  " + line.strip() for line in fitted),
+        f"  k1 = {fit['k1']:.4f} rad (half the play is {PLAY / 2}), k2 = {fit['k2']:.3g} 1/rad",
+        f"  training residual RMS {fit['rms']:.4f} rad ({fit['rms'] / PLAY:.1%} of the play), "
+        f"max {fit['max']:.4f} rad ({fit['max'] / PLAY:.1%})",
         "reproduction (held-out motion, 15 s), hyst.backlash arm - recipe load:",
         f"  {err(rep['error'])}",
         f"  the model's output - recipe load:  {err(rep['model_error'])}",
         f"  the plugin's hinge - its target:   {err(rep['servo_lag'])}",
-        "cost per mj_step (min of repeats, interleaved):",
+        f"cost per mj_step (CPU time, median of {c['repeats']} interleaved runs of {c['steps']} steps):",
         f"  hyst.backlash arm {c['plugin_us']:.2f} us (bare operator {c['operator_us']:.2f} us), "
         f"plain <position> {c['plain_us']:.2f} us, recipe {c['recipe_us']:.2f} us",
         f"  plugin / plain {c['plugin_over_plain']:.2f} (operator / plain {c['operator_over_plain']:.2f}), "

@@ -8,7 +8,6 @@ under the plain servo. The cost figures are only checked to be finite: wall-cloc
 not asserted on a shared machine."""
 
 import math
-import re
 import sys
 
 import numpy as np
@@ -75,11 +74,11 @@ def test_the_recipe_has_its_play_in_radians():
 
 
 def test_hyst_fit_finds_the_play(results):
-    k1 = float(re.search(r"in input units: k1 = (\S+) rad", results["fit_report"]).group(1))
+    fit = study.fitted(results["fit_report"])
     # Half the play, and the servo's lag and the friction's 1 mrad that the fit takes as play.
-    assert 0.05 < k1 < 0.06
-    rms = float(re.search(r"training \(\d+ samples\)\s+(\S+) rad", results["fit_report"]).group(1))
-    assert rms < 0.06 * study.PLAY
+    assert 0.05 < fit["k1"] < 0.06
+    assert fit["k1"] * fit["k2"] > 1e6  # the backlash limit: corners sharper than k1 / 1e6
+    assert fit["rms"] < 0.06 * study.PLAY and fit["max"] < 0.15 * study.PLAY
 
 
 def test_the_plugin_arm_reproduces_the_recipe_on_a_held_out_motion(results):
@@ -94,6 +93,7 @@ def test_the_plugin_arm_reproduces_the_recipe_on_a_held_out_motion(results):
 
 def test_the_cost_figures_are_finite(results):
     cost = results["cost"]
+    assert cost.pop("repeats") == 5 and cost.pop("steps") == 1000
     assert set(cost) == {"plugin_us", "operator_us", "plain_us", "recipe_us", "plugin_over_plain",
                          "plugin_over_recipe", "operator_over_plain"}
     assert all(math.isfinite(v) and v > 0 for v in cost.values())
@@ -109,7 +109,7 @@ def test_the_compensator_cuts_the_tracking_error_tenfold(results):
 def test_the_script_prints_every_figure_and_draws_the_plot(tmp_path, hyst_bin, capsys):
     assert study.main(["--out", str(tmp_path), "--hyst", str(hyst_bin)]) == 0
     out = capsys.readouterr().out
-    for words in ["MuJoCo " + mujoco.__version__, "in input units: k1", "hyst.backlash arm - recipe load",
+    for words in ["MuJoCo " + mujoco.__version__, "k1 = 0.05", "training residual RMS", "hyst.backlash arm - recipe load",
                   "plugin / plain", "plugin / recipe", "plain / compensated: RMS"]:
         assert words in out
     png = tmp_path / "backlash_study.png"
