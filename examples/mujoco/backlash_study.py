@@ -132,18 +132,23 @@ def _extension(plugin: str, model: Path) -> str:
   </instance></plugin></extension>"""
 
 
-def simulate(xml: str, ctrl: np.ndarray) -> np.ndarray:
-    """Steps the arm through ctrl (one value a step) from rest; the load's absolute angle
-    after each step. Every arm here is a chain of hinges about one axis, so that angle is
-    the sum of its joint angles."""
+def angles(xml: str, ctrl: np.ndarray) -> np.ndarray:
+    """Steps the arm through ctrl (one value a step) from rest; its joint angles after each
+    step (a row a step; the motor's or the one hinge's first)."""
     model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
-    load = np.empty(len(ctrl))
+    out = np.empty((len(ctrl), model.nq))
     for k, c in enumerate(ctrl):
         data.ctrl[0] = c
         mujoco.mj_step(model, data)
-        load[k] = data.qpos.sum()
-    return load
+        out[k] = data.qpos
+    return out
+
+
+def simulate(xml: str, ctrl: np.ndarray) -> np.ndarray:
+    """The load's absolute angle after each step through ctrl. Every arm here is a chain of
+    hinges about one axis, so that angle is the sum of its joint angles."""
+    return angles(xml, ctrl).sum(axis=1)
 
 
 def reversals(seed: int, n: int, amplitude: float, speeds=(0.2, 0.8)) -> np.ndarray:
@@ -192,21 +197,22 @@ def reference() -> np.ndarray:
     return two_sines(12.0, 0.3, 0.25, 0.1, 0.7)
 
 
-def write_log(path: Path, ctrl: np.ndarray, load: np.ndarray, every: int = 5) -> None:
-    """The CSV `hyst fit` reads: time, motor command and load angle, every `every`-th step
-    (5 ms: the motions are slow, and the fit then takes a fraction of a second)."""
+def write_log(path: Path, x: np.ndarray, load: np.ndarray, name: str = "command", every: int = 5) -> None:
+    """The CSV `hyst fit` reads: time, the input `name` (the motor command) and the load
+    angle, every `every`-th step (5 ms: the motions are slow, and the fit then takes a
+    fraction of a second)."""
     with open(path, "w", newline="") as f:
         out = csv.writer(f)
-        out.writerow(["t", "command", "load"])
-        for k in range(every - 1, len(ctrl), every):
-            out.writerow([f"{(k + 1) * TIMESTEP:.6g}", repr(float(ctrl[k])), repr(float(load[k]))])
+        out.writerow(["t", name, "load"])
+        for k in range(every - 1, len(x), every):
+            out.writerow([f"{(k + 1) * TIMESTEP:.6g}", repr(float(x[k])), repr(float(load[k]))])
 
 
-def fit_model(hyst_bin: Path, data: Path, model: Path) -> str:
-    """Fits the smooth model load = H[command] with `hyst fit`; returns its report. The start
+def fit_model(hyst_bin: Path, data: Path, model: Path, name: str = "command") -> str:
+    """Fits the smooth model load = H[`name`] with `hyst fit`; returns its report. The start
     rule `line` is the recipe's start: the load in the middle of the play."""
     done = subprocess.run(
-        [str(hyst_bin), "fit", str(data), "--input", "command", "--output", "load",
+        [str(hyst_bin), "fit", str(data), "--input", name, "--output", "load",
          "--initial-state", "line", "--input-unit", "rad", "--output-unit", "rad", "-o", str(model)],
         check=True, capture_output=True, text=True,
     )
@@ -219,35 +225,42 @@ def stats(error: np.ndarray) -> Dict[str, float]:
     return {"rms": rms, "max": peak, "rms_play": rms / PLAY, "max_play": peak / PLAY}
 
 
-def reproduction(model: Path) -> Dict[str, object]:
+def reproduction(model: Path, motor_model: Path) -> Dict[str, object]:
     """The recipe and the plugin arm on the held-out motion. The plugin's error splits into
     the model's (its output for the command against the recipe's load: the fit's residual)
     and the plugin servo's (its hinge against its target: the servo's lag, which the recipe
-    has too and the fit has already taken in)."""
+    has too and the fit has already taken in, so it counts twice). `motor_model`, fitted on
+    the recipe's motor angle instead of its command (the servo's lag left out), shows what
+    the plugin arm reaches when the lag counts once."""
     ctrl = held_out_motion()
     recipe = simulate(recipe_xml(), ctrl)
     plugin = simulate(hinge_xml("backlash", model), ctrl)
     target = hyst.load_model(str(model)).process(ctrl)
+    once = simulate(hinge_xml("backlash", motor_model), ctrl)
     return {
         "ctrl": ctrl, "recipe": recipe, "plugin": plugin,
         "error": stats(plugin - recipe), "model_error": stats(target - recipe),
-        "servo_lag": stats(plugin - target),
+        "servo_lag": stats(plugin - target), "lag_once_error": stats(once - recipe),
     }
 
 
 def cost(model: Path, steps: int = 1000, repeats: int = 60, chunk: int = 10) -> Dict[str, float]:
     """Microseconds per mj_step of the plugin arm (with the fitted model, and with the bare
     operator H(PLAY / 2, 200) for comparison), the same hinge under a plain <position> servo
-    and the recipe arm, each the median over `repeats` runs of `steps` steps of the thread's
+    and under MuJoCo's own actuator plugin mujoco.pid (what any actuator plugin costs), and
+    the recipe arm, each the median over `repeats` runs of `steps` steps of the thread's
     CPU time. The arms take turns within each repeat (in a rotating order), and each ratio is
     the median of the repeats' own ratios: a slow spell of a shared machine hits both arms of
     a ratio alike. The command is a 1 Hz sine, set every `chunk` steps (mj_step's nstep keeps
     Python's share of the time small)."""
+    plugin = hinge_xml("backlash", model)
     operator = f'<config key="k1" value="{PLAY / 2}"/><config key="k2" value="200"/>'
+    pid = plugin.replace(f'<config key="model" value="{model}"/>', "").replace('key="kv"', 'key="kd"')
     arms = {
-        "plugin": hinge_xml("backlash", model),
-        "operator": hinge_xml("backlash", model).replace(f'<config key="model" value="{model}"/>', operator),
+        "plugin": plugin,
+        "operator": plugin.replace(f'<config key="model" value="{model}"/>', operator),
         "plain": hinge_xml("position"),
+        "pid": pid.replace("hyst.backlash", "mujoco.pid").replace(f'actdim="{hyst.mujoco.ACTDIM}"', 'actdim="0"'),
         "recipe": recipe_xml(),
     }
     runs = []
@@ -271,6 +284,7 @@ def cost(model: Path, steps: int = 1000, repeats: int = 60, chunk: int = 10) -> 
         "plugin_over_plain": float(np.median(col["plugin"] / col["plain"])),
         "plugin_over_recipe": float(np.median(col["plugin"] / col["recipe"])),
         "operator_over_plain": float(np.median(col["operator"] / col["plain"])),
+        "pid_over_plain": float(np.median(col["pid"] / col["plain"])),
         "repeats": repeats, "steps": steps,
     }
 
@@ -327,12 +341,17 @@ def run(hyst_bin: Path, out: Path, cost_repeats: int = 60) -> Dict[str, object]:
     compensation figures."""
     out.mkdir(parents=True, exist_ok=True)
     ctrl = training_motion()
+    q = angles(recipe_xml(), ctrl)
     data, model = out / "recipe_training.csv", out / "recipe_backlash.toml"
-    write_log(data, ctrl, simulate(recipe_xml(), ctrl))
+    write_log(data, ctrl, q.sum(axis=1))
     report = fit_model(hyst_bin, data, model)
+    motor_data, motor_model = out / "recipe_training_motor.csv", out / "recipe_backlash_motor.toml"
+    write_log(motor_data, q[:, 0], q.sum(axis=1), name="motor")
+    motor_report = fit_model(hyst_bin, motor_data, motor_model, name="motor")
     return {
         "model": model, "fit_report": report, "training_seconds": len(ctrl) * TIMESTEP,
-        "reproduction": reproduction(model), "cost": cost(model, repeats=cost_repeats),
+        "motor_fit_report": motor_report,
+        "reproduction": reproduction(model, motor_model), "cost": cost(model, repeats=cost_repeats),
         "compensation": compensation(model),
     }
 
@@ -363,11 +382,13 @@ def describe(results: Dict[str, object]) -> List[str]:
         f"  {err(rep['error'])}",
         f"  the model's output - recipe load:  {err(rep['model_error'])}",
         f"  the plugin's hinge - its target:   {err(rep['servo_lag'])}",
+        f"  fitted on the motor's angle (k1 = {fitted(results['motor_fit_report'])['k1']:.4f} rad; "
+        f"the servo's lag counted once): {err(rep['lag_once_error'])}",
         f"cost per mj_step (CPU time, median of {c['repeats']} interleaved runs of {c['steps']} steps):",
         f"  hyst.backlash arm {c['plugin_us']:.2f} us (bare operator {c['operator_us']:.2f} us), "
-        f"plain <position> {c['plain_us']:.2f} us, recipe {c['recipe_us']:.2f} us",
-        f"  plugin / plain {c['plugin_over_plain']:.2f} (operator / plain {c['operator_over_plain']:.2f}), "
-        f"plugin / recipe {c['plugin_over_recipe']:.2f}",
+        f"plain <position> {c['plain_us']:.2f} us, mujoco.pid {c['pid_us']:.2f} us, recipe {c['recipe_us']:.2f} us",
+        f"  plugin / plain {c['plugin_over_plain']:.2f} (operator / plain {c['operator_over_plain']:.2f}, "
+        f"mujoco.pid / plain {c['pid_over_plain']:.2f}), plugin / recipe {c['plugin_over_recipe']:.2f}",
         "compensation (reference 12 s), recipe load - reference:",
         f"  plain servo:      {err(comp['plain_error'])}",
         f"  hyst.compensator: {err(comp['compensated_error'])}",
