@@ -238,7 +238,7 @@ def reproduction(model: Path, motor_model: Path) -> Dict[str, object]:
     target = hyst.load_model(str(model)).process(ctrl)
     once = simulate(hinge_xml("backlash", motor_model), ctrl)
     return {
-        "ctrl": ctrl, "recipe": recipe, "plugin": plugin,
+        "ctrl": ctrl, "recipe": recipe, "plugin": plugin, "plugin_lag_once": once,
         "error": stats(plugin - recipe), "model_error": stats(target - recipe),
         "servo_lag": stats(plugin - target), "lag_once_error": stats(once - recipe),
     }
@@ -319,6 +319,7 @@ def plot(rep: Dict[str, object], comp: Dict[str, object], path: Path) -> None:
     ax[0, 0].plot(t, rep["plugin"], "--", lw=1.5, label="hyst.backlash arm (one joint)")
     ax[0, 0].set(title="Reproduction on a held-out motion", ylabel="angle (rad)")
     ax[1, 0].plot(t, (rep["plugin"] - rep["recipe"]) / PLAY, label="hyst.backlash - recipe")
+    ax[1, 0].plot(t, (rep["plugin_lag_once"] - rep["recipe"]) / PLAY, label="the same, fitted on the motor's angle")
     ax[1, 0].set(xlabel="time (s)", ylabel="error / play")
     t = np.arange(1, len(comp["reference"]) + 1) * TIMESTEP
     ax[0, 1].plot(t, comp["reference"], color="0.3", lw=1, label="reference")
