@@ -11,8 +11,8 @@
    follows a held-out motion; its load angle is compared with the recipe's.
 4. Cost: mj_step of the plugin arm, of the same hinge under a plain <position> servo and of
    the recipe arm, timed in one run with interleaved repeats. The plugin's share depends on
-   how hyst was built: a dev-profile build (`maturin develop`) compiles the plugin's C and
-   the C API unoptimised, a release build (`pip install ./crates/hyst-py`) optimised.
+   how hyst was built: its C takes the Cargo profile's opt-level, none in a dev-profile
+   build (`maturin develop`), so time it in a release build.
 5. Compensation: the recipe's motor driven by hyst.compensator (the model's inverse) against
    the plain servo commanded with the reference: the load's tracking error of both.
 
