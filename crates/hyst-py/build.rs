@@ -29,6 +29,9 @@ fn main() {
         .include(&source)
         .include(root.join("include"))
         .std("c11")
+        // Optimised in every profile: the plugins run inside each mj_step, and a dev build's
+        // -O0 would make their cost the build's rather than the method's.
+        .opt_level(2)
         .warnings_into_errors(true)
         .compile("hyst_mujoco");
     println!("cargo:rustc-cfg=hyst_mujoco");

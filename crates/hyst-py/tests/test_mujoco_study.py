@@ -14,7 +14,7 @@ import sys
 import numpy as np
 import pytest
 
-mujoco = pytest.importorskip("mujoco", reason="the test venv installs mujoco (requirements-test.txt)")
+import mujoco  # noqa: E402  (the test venv installs it: requirements-test.txt)
 
 from conftest import ROOT  # noqa: E402
 
@@ -120,3 +120,16 @@ def test_the_script_prints_every_figure_and_draws_the_plot(tmp_path, hyst_bin, c
         assert words in out
     png = tmp_path / "backlash_study.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_figures_docs_mujoco_md_quotes(results):
+    """docs/mujoco.md quotes the study's figures rounded as the script prints them: the
+    simulation and the fit are deterministic, so they are these."""
+    fit = study.fitted(results["fit_report"])
+    rep, comp = results["reproduction"], results["compensation"]
+    assert (f"{fit['k1']:.4f}", f"{fit['k2']:.3g}", f"{fit['rms'] / study.PLAY:.1%}") == ("0.0571", "1.15e+88", "4.7%")
+    assert (f"{rep['error']['rms_play']:.1%}", f"{rep['error']['max_play']:.1%}") == ("6.4%", "10.0%")
+    assert f"{study.fitted(results['motor_fit_report'])['k1']:.4f}" == "0.0501"
+    assert f"{rep['lag_once_error']['rms_play']:.1%}" == "0.4%"
+    assert (f"{comp['compensated_error']['rms_play']:.1%}", f"{comp['plain_error']['rms_play']:.0%}") == ("4.1%", "52%")
+    assert (f"{comp['rms_ratio']:.1f}", f"{comp['max_ratio']:.1f}") == ("12.7", "7.8")
