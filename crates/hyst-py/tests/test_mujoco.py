@@ -215,3 +215,22 @@ def test_finite_differences_see_the_memory_and_change_nothing():
     last_input = 2 * model.nv + 4
     assert b[last_input, 0] == pytest.approx(1.0, rel=1e-6)
     assert b[2 * model.nv + 5, 0] != 0
+
+
+def test_a_keyframe_holds_the_memory(tmp_path):
+    """A keyframe's act is the operator's memory: resetting to it resumes the run (the MJCF
+    read from a file, as mujoco.MjModel.from_xml_path reads a user's)."""
+    x = ctrl_signal(1200)
+    base = mujoco.MjModel.from_xml_string(arm())
+    whole = targets(base, mujoco.MjData(base), x)
+    data = mujoco.MjData(base)
+    targets(base, data, x[:500])
+    key = (f'<keyframe><key qpos="{float(data.qpos[0])!r}" qvel="{float(data.qvel[0])!r}" '
+           f'act="{" ".join(repr(float(a)) for a in data.act)}"/></keyframe>')
+    path = tmp_path / "arm.xml"
+    path.write_text(arm().replace("</mujoco>", key + "\n</mujoco>"))
+    model = mujoco.MjModel.from_xml_path(str(path))
+    resumed = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, resumed, 0)
+    assert resumed.act.tobytes() == data.act.tobytes()
+    assert targets(model, resumed, x[500:]).tobytes() == whole[500:].tobytes()
