@@ -11,7 +11,7 @@ __version__: str
 MAX_ORDER: int
 """The largest plant order n of ``Compensator`` (``len(a)``) and the most time-derivative
 columns of ``process(x, derivatives)``: ``hyst_core::compensator::MAX_ORDER``."""
-MUJOCO_VERSION: int
+_MUJOCO_VERSION: int
 """The MuJoCo version the actuator plugins were compiled for, as ``mj_version()`` gives it
 (4000001 for 4.0.1); 0 when this extension was built without them (``hyst.mujoco``)."""
 

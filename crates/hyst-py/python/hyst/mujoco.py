@@ -45,7 +45,7 @@ _loaded = False
 def version() -> str:
     """The MuJoCo version the plugins were built for (``"4.0.1"``), or ``""`` when this hyst
     was built without them."""
-    v = _hyst.MUJOCO_VERSION
+    v = _hyst._MUJOCO_VERSION
     return f"{v // 1000000}.{v // 1000 % 1000}.{v % 1000}" if v else ""
 
 
@@ -76,7 +76,7 @@ def load() -> None:
         ) from e
     built = version()
     have = mujoco.mj_versionString()
-    if built and mujoco.mj_version() != _hyst.MUJOCO_VERSION:
+    if built and mujoco.mj_version() != _hyst._MUJOCO_VERSION:
         raise RuntimeError(
             f"the hyst MuJoCo plugins were built for MuJoCo {built}, and MuJoCo {have} is "
             f"installed: MuJoCo plugins work only with the version they were built for "
