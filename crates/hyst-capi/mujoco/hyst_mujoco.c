@@ -294,11 +294,13 @@ static int configure(const mjModel *m, int id, instance *in) {
         mj.warning("%s: %s", name, error);
         return -1;
       }
+      // hyst_model_load refused a model with dynamics or a rate term, with its reason; what
+      // has no memory of Definition 2.1 to keep in act now is a Prandtl-Ishlinskii model.
       hyst_memory probe;
-      int32_t status = hyst_model_get_memory(u->model, in->inverse, &probe);
-      if (status != HYST_OK) {
-        mj.warning("%s: model %s: only a smooth model without dynamics runs here (%s)", name,
-                   path, hyst_status_message(status));
+      if (hyst_model_get_memory(u->model, in->inverse, &probe) != HYST_OK) {
+        mj.warning("%s: model %s is a Prandtl-Ishlinskii model, whose memory (its plays) the "
+                   "activations do not hold: fit the smooth model (hyst fit --model-kind smooth)",
+                   name, path);
         return -1;
       }
     } else {

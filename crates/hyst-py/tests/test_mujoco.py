@@ -144,6 +144,15 @@ def test_a_model_with_dynamics_is_refused(tmp_path):
     assert "timed.toml" in str(refused.value) and "dynamics" in str(refused.value)
 
 
+def test_a_prandtl_ishlinskii_model_is_refused(cli, root, tmp_path):
+    path = tmp_path / "pi.toml"
+    cli("fit", root / "data/piezo-sine/piezo_sine_1hz.csv", "--input", "u_actuator_V", "--output", "y_capsensor_um",
+        "--model-kind", "prandtl-ishlinskii", "-o", path)
+    with pytest.raises(ValueError, match="init failed") as refused:
+        mujoco.MjModel.from_xml_string(arm(config={"model": path, "kp": 5}))
+    assert "pi.toml is a Prandtl-Ishlinskii model" in str(refused.value)
+
+
 def test_another_mujoco_version_is_refused(monkeypatch):
     # The C side: a libmujoco whose mj_version() is not the headers' version.
     lib = ctypes.CDLL(None)
