@@ -22,14 +22,14 @@ crates/hyst-py/tests/test_mujoco_study.py, which asserts the figures.
 
 import argparse
 import csv
+import json
 import os
-import re
 import shutil
 import subprocess
 import sys
 import time
 from pathlib import Path
-from typing import Dict, List, Optional
+from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -83,12 +83,7 @@ def recipe_xml(motor: str = "position", model: Optional[Path] = None) -> str:
     """The two-joint recipe. `motor`: "position" (a plain <position> servo on the motor
     hinge) or "compensator" (hyst.compensator with `model`). The load's absolute angle is
     the fixed tendon `load` = motor + rel, which also carries the load's damping."""
-    if motor == "position":
-        extension = ""
-        actuator = f'<position joint="motor" kp="{KP}" kv="{KV}"/>'
-    else:
-        extension = _extension("hyst.compensator", model)
-        actuator = f'<plugin joint="motor" plugin="hyst.compensator" instance="gear" actdim="{hyst.mujoco.ACTDIM}"/>'
+    extension, actuator = _actuator("motor", None if motor == "position" else "hyst.compensator", model)
     return f"""{HEADER}{extension}
   <worldbody><body name="motor">
     <joint name="motor" type="hinge" axis="0 0 1" armature="{MOTOR_ARMATURE}"/>
@@ -110,12 +105,7 @@ def hinge_xml(motor: str = "backlash", model: Optional[Path] = None) -> str:
     """One hinge carrying the motor's and the load's inertia and the load's damping: the
     recipe with its play closed. `motor`: "backlash" (hyst.backlash with `model`) or
     "position" (a plain <position> servo, the cost baseline)."""
-    if motor == "position":
-        extension = ""
-        actuator = f'<position joint="hinge" kp="{KP}" kv="{KV}"/>'
-    else:
-        extension = _extension("hyst.backlash", model)
-        actuator = f'<plugin joint="hinge" plugin="hyst.backlash" instance="gear" actdim="{hyst.mujoco.ACTDIM}"/>'
+    extension, actuator = _actuator("hinge", None if motor == "position" else "hyst.backlash", model)
     return f"""{HEADER}{extension}
   <worldbody><body name="load">
     <joint name="hinge" type="hinge" axis="0 0 1" armature="{MOTOR_ARMATURE}" damping="{LOAD_DAMPING}" frictionloss="{LOAD_FRICTION}"/>
@@ -126,10 +116,15 @@ def hinge_xml(motor: str = "backlash", model: Optional[Path] = None) -> str:
 </mujoco>"""
 
 
-def _extension(plugin: str, model: Path) -> str:
-    return f"""  <extension><plugin plugin="{plugin}"><instance name="gear">
+def _actuator(joint: str, plugin: Optional[str], model: Optional[Path]) -> Tuple[str, str]:
+    """The MJCF extension and actuator that drive `joint`: a plain <position> servo when
+    `plugin` is None, else that hyst plugin with `model`, both with the servo's KP and KV."""
+    if plugin is None:
+        return "", f'<position joint="{joint}" kp="{KP}" kv="{KV}"/>'
+    extension = f"""  <extension><plugin plugin="{plugin}"><instance name="gear">
     <config key="model" value="{model}"/><config key="kp" value="{KP}"/><config key="kv" value="{KV}"/>
   </instance></plugin></extension>"""
+    return extension, f'<plugin joint="{joint}" plugin="{plugin}" instance="gear" actdim="{hyst.mujoco.ACTDIM}"/>'
 
 
 def angles(xml: str, ctrl: np.ndarray) -> np.ndarray:
@@ -209,10 +204,10 @@ def write_log(path: Path, x: np.ndarray, load: np.ndarray, name: str = "command"
 
 
 def fit_model(hyst_bin: Path, data: Path, model: Path, name: str = "command") -> str:
-    """Fits the smooth model load = H[`name`] with `hyst fit`; returns its report. The start
-    rule `line` is the recipe's start: the load in the middle of the play."""
+    """Fits the smooth model load = H[`name`] with `hyst fit`; returns its report (JSON). The
+    start rule `line` is the recipe's start: the load in the middle of the play."""
     done = subprocess.run(
-        [str(hyst_bin), "fit", str(data), "--input", name, "--output", "load",
+        [str(hyst_bin), "fit", str(data), "--input", name, "--output", "load", "--json",
          "--initial-state", "line", "--input-unit", "rad", "--output-unit", "rad", "-o", str(model)],
         check=True, capture_output=True, text=True,
     )
@@ -359,10 +354,10 @@ def run(hyst_bin: Path, out: Path, cost_repeats: int = 60) -> Dict[str, object]:
 
 def fitted(report: str) -> Dict[str, float]:
     """k1 and k2 in input units (rad, 1/rad) and the training residual's RMS and max (rad)
-    from the report of `hyst fit`."""
-    k = re.search(r"in input units: k1 = (\S+) rad .*, k2 = (\S+) 1/rad", report)
-    e = re.search(r"training \(\d+ samples\)\s+(\S+) rad \(.*\)\s+(\S+) rad", report)
-    return {"k1": float(k.group(1)), "k2": float(k.group(2)), "rms": float(e.group(1)), "max": float(e.group(2))}
+    from the JSON report of `hyst fit --json`."""
+    fit = json.loads(report)
+    training = fit["model"]["metrics"]["training"]
+    return {"k1": fit["k1_input"], "k2": fit["k2_input"], "rms": training["rms"], "max": training["max_abs"]}
 
 
 def describe(results: Dict[str, object]) -> List[str]:
