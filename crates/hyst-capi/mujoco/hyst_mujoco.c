@@ -264,7 +264,7 @@ static int configure(const mjModel *m, int id, instance *in) {
   }
   const char *path = mj.get_plugin_config(m, id, "model");
   int has_model = path != NULL && path[0] != '\0';
-  if (has_model == (has_k1 || has_k2) || (!has_model && !(has_k1 && has_k2))) {
+  if (has_model ? (has_k1 || has_k2) : !(has_k1 && has_k2)) {
     mj.warning("%s: give either k1 and k2 (the operator H(k1, k2)) or model (a model file), "
                "not both", name);
     return -1;

@@ -66,7 +66,7 @@ fn _hyst(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::fit_result_from_json, m)?)?;
     m.add_function(wrap_pyfunction!(operator::bench_core, m)?)?;
     // The MuJoCo plugins (hyst.mujoco): the version they were compiled for, 0 without them.
-    m.add("_MUJOCO_VERSION", mujoco::VERSION)?;
+    m.add("_MUJOCO_VERSION", mujoco::version())?;
     m.add_function(wrap_pyfunction!(mujoco::register, m)?)?;
     Ok(())
 }

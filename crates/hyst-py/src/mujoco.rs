@@ -7,25 +7,12 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 
 /// The MuJoCo version the plugins were compiled for, as `mj_version()` gives it (4000001 for
-/// 4.0.1); 0 when the extension was built without them.
-pub const VERSION: i32 = match option_env!("HYST_MUJOCO_VERSION") {
-    Some(v) => parse(v),
-    None => 0,
-};
-
-/// A decimal integer at compile time (0 for anything else).
-const fn parse(text: &str) -> i32 {
-    let bytes = text.as_bytes();
-    let mut value: i32 = 0;
-    let mut i = 0;
-    while i < bytes.len() {
-        if !bytes[i].is_ascii_digit() || value > i32::MAX / 10 - 9 {
-            return 0;
-        }
-        value = value * 10 + (bytes[i] - b'0') as i32;
-        i += 1;
-    }
-    value
+/// 4.0.1; build.rs reads mujoco.h's `mjVERSION_HEADER`); 0 when the extension was built without
+/// them.
+pub fn version() -> i32 {
+    option_env!("HYST_MUJOCO_VERSION")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0)
 }
 
 #[cfg(hyst_mujoco)]

@@ -155,14 +155,12 @@ def test_a_prandtl_ishlinskii_model_is_refused(cli, root, tmp_path):
 
 def test_another_mujoco_version_is_refused(monkeypatch):
     # The C side: a libmujoco whose mj_version() is not the headers' version.
-    lib = ctypes.CDLL(None)
     version = ctypes.CFUNCTYPE(ctypes.c_int)(lambda: 3002001)
     addresses = [1, 1, 1, 1, ctypes.cast(version, ctypes.c_void_p).value]
     with pytest.raises(RuntimeError, match=r"built against MuJoCo 4\.0\.1.*loaded is 3\.2\.1"):
         hyst._hyst._mujoco_register(addresses)
     with pytest.raises(RuntimeError, match="missing"):
         hyst._hyst._mujoco_register([0, 0, 0, 0, 0])
-    del lib
     # hyst.mujoco.load() checks first, naming both versions.
     monkeypatch.setattr(hyst.mujoco, "_loaded", False)
     monkeypatch.setattr(mujoco, "mj_version", lambda: 3002001)

@@ -54,7 +54,7 @@ def _libmujoco(package_dir: str) -> ctypes.CDLL:
     for pattern in ("libmujoco.so*", "libmujoco*.dylib", "mujoco.dll"):
         found = sorted(glob.glob(os.path.join(package_dir, pattern)))
         if found:
-            return ctypes.CDLL(found[0], mode=getattr(ctypes, "RTLD_GLOBAL", 0))
+            return ctypes.CDLL(found[0])
     raise RuntimeError(f"no libmujoco in the mujoco package at {package_dir}")
 
 
