@@ -2,8 +2,8 @@
 //! (crates/hyst-capi/mujoco/hyst_mujoco.c, docs/mujoco.md) into the extension, against the
 //! headers of the `mujoco` package the build's Python has (the wheel's build requires it,
 //! pyproject.toml), or of `HYST_MUJOCO_INCLUDE` (a directory holding `mujoco/mujoco.h`).
-//! Without them the extension is built without the plugins, and `hyst.mujoco.load()` says so;
-//! `cargo build` and `cargo clippy` of the workspace need no MuJoCo.
+//! Without them it compiles hyst_mujoco_absent.c instead: the extension has no plugins, and
+//! `hyst.mujoco.load()` says so; `cargo build` and `cargo clippy` of the workspace need no MuJoCo.
 //!
 //! The plugins call hyst's C API (hyst-capi, linked into the extension) directly and MuJoCo
 //! through the functions `hyst.mujoco.load()` passes from the libmujoco the `mujoco` package
@@ -15,26 +15,31 @@ use std::process::Command;
 fn main() {
     println!("cargo:rerun-if-env-changed=HYST_MUJOCO_INCLUDE");
     println!("cargo:rerun-if-env-changed=PYO3_PYTHON");
-    println!("cargo:rustc-check-cfg=cfg(hyst_mujoco)");
     let root =
         PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default()).join("../..");
     let source = root.join("crates/hyst-capi/mujoco");
     println!("cargo:rerun-if-changed={}", source.display());
-    let Some(include) = mujoco_include() else {
-        return;
-    };
-    cc::Build::new()
-        .file(source.join("hyst_mujoco.c"))
-        .include(&include)
-        .include(&source)
-        .include(root.join("include"))
+    let mut build = cc::Build::new();
+    build
         .std("c11")
         // Optimised in every profile: the plugins run inside each mj_step, and a dev build's
         // -O0 would make their cost the build's rather than the method's.
         .opt_level(2)
-        .warnings_into_errors(true)
+        .warnings_into_errors(true);
+    let Some(include) = mujoco_include() else {
+        // No plugins: `hyst_mujoco_register` says why (the Rust side is the same either way,
+        // so `cargo clippy` of the workspace checks all of it).
+        build
+            .file(source.join("hyst_mujoco_absent.c"))
+            .compile("hyst_mujoco");
+        return;
+    };
+    build
+        .file(source.join("hyst_mujoco.c"))
+        .include(&include)
+        .include(&source)
+        .include(root.join("include"))
         .compile("hyst_mujoco");
-    println!("cargo:rustc-cfg=hyst_mujoco");
     // The version the plugins are compiled for (mujoco.h's mjVERSION_HEADER, 4000001 for
     // 4.0.1): `hyst.mujoco.load()` compares it with the loaded libmujoco's.
     let header = std::fs::read_to_string(include.join("mujoco/mujoco.h")).unwrap_or_default();

@@ -15,12 +15,12 @@ pub fn version() -> i32 {
         .unwrap_or(0)
 }
 
-#[cfg(hyst_mujoco)]
 #[allow(unsafe_code)]
 mod ffi {
     use std::ffi::{c_char, c_int};
 
-    // The C API the plugins call, linked into the extension.
+    // The C API the plugins call, linked into the extension. Without MuJoCo's headers,
+    // build.rs compiles hyst_mujoco_absent.c: its `hyst_mujoco_register` refuses, saying why.
     extern crate hyst as _;
 
     /// `hyst_mujoco_api` (hyst_mujoco.h): the addresses of mj_getPluginConfig, mju_warning,
@@ -60,17 +60,5 @@ mod ffi {
 #[pyfunction]
 #[pyo3(name = "_mujoco_register")]
 pub fn register(functions: [usize; 5]) -> PyResult<()> {
-    #[cfg(hyst_mujoco)]
-    {
-        ffi::register(functions).map_err(PyRuntimeError::new_err)
-    }
-    #[cfg(not(hyst_mujoco))]
-    {
-        let _ = functions;
-        Err(PyRuntimeError::new_err(
-            "this hyst was built without MuJoCo's headers, so it has no MuJoCo plugins: \
-             reinstall it on Python >= 3.11 (which MuJoCo 4 needs), where the build gets \
-             them (pip install \"./crates/hyst-py[mujoco]\", docs/mujoco.md)",
-        ))
-    }
+    ffi::register(functions).map_err(PyRuntimeError::new_err)
 }
